@@ -1,0 +1,59 @@
+/* SE(2) helpers on mrpt::math::TPose2D used across lrgc.
+ *
+ * Frames: a pose "bInA" maps coordinates of frame b into frame a: p_a = bInA (+) p_b.
+ * Composition is MRPT's: (a + b) = a (+) b; (b - a) = a^-1 (+) b, i.e. "b in a".
+ * Angles are radians, wrapped to (-pi, pi]. Distances are metres.
+ */
+#pragma once
+
+#include <mrpt/math/TPoint2D.h>
+#include <mrpt/math/TPose2D.h>
+#include <mrpt/math/wrap2pi.h>
+
+#include <Eigen/Core>
+#include <cmath>
+
+namespace lrgc
+{
+using mrpt::math::TPose2D;
+
+/** a (+) b, angle wrapped. */
+inline TPose2D compose(const TPose2D& a, const TPose2D& b)
+{
+	const double c = std::cos(a.phi), s = std::sin(a.phi);
+	return {
+		a.x + c * b.x - s * b.y, a.y + s * b.x + c * b.y, mrpt::math::wrapToPi(a.phi + b.phi)};
+}
+
+/** a^-1 */
+inline TPose2D inverse(const TPose2D& a)
+{
+	const double c = std::cos(a.phi), s = std::sin(a.phi);
+	return {-c * a.x - s * a.y, s * a.x - c * a.y, mrpt::math::wrapToPi(-a.phi)};
+}
+
+/** a^-1 (+) b: the pose of b expressed in the frame of a ("b in a"). */
+inline TPose2D between(const TPose2D& a, const TPose2D& b)
+{
+	const double c = std::cos(a.phi), s = std::sin(a.phi);
+	const double dx = b.x - a.x, dy = b.y - a.y;
+	return {c * dx + s * dy, -s * dx + c * dy, mrpt::math::wrapToPi(b.phi - a.phi)};
+}
+
+/** Applies pose to a point: R(phi) p + t. */
+inline Eigen::Vector2d transformPoint(const TPose2D& pose, const Eigen::Vector2d& p)
+{
+	const double c = std::cos(pose.phi), s = std::sin(pose.phi);
+	return {pose.x + c * p.x() - s * p.y(), pose.y + s * p.x() + c * p.y()};
+}
+
+inline Eigen::Vector3d toVector(const TPose2D& p) { return {p.x, p.y, p.phi}; }
+inline TPose2D fromVector(const Eigen::Vector3d& v)
+{
+	return {v.x(), v.y(), mrpt::math::wrapToPi(v.z())};
+}
+
+/** Translation norm [m]. */
+inline double translationNorm(const TPose2D& p) { return std::hypot(p.x, p.y); }
+
+}  // namespace lrgc

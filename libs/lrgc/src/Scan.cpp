@@ -1,0 +1,37 @@
+#include "lrgc/Scan.h"
+
+#include <cmath>
+
+namespace lrgc
+{
+TScan2D scanFromObservation(
+	const mrpt::obs::CObservation2DRangeScan& obs, TScanConversionStats* stats)
+{
+	TScan2D scan;
+	scan.maxRange = obs.maxRange;
+	scan.timestamp = obs.timestamp;
+	TScanConversionStats st;
+	const size_t n = obs.getScanSize();
+	st.total = n;
+	scan.points.reserve(n);
+
+	// Sensor pose on the robot, projected onto the ground plane (x, y, yaw).
+	const double sx = obs.sensorPose.x(), sy = obs.sensorPose.y();
+	const double sc = std::cos(obs.sensorPose.yaw()), ss = std::sin(obs.sensorPose.yaw());
+	for (size_t i = 0; i < n; ++i)
+	{
+		const double r = obs.getScanRange(i);
+		if (!obs.getScanRangeValidity(i)) { ++st.invalidFlag; continue; }
+		if (!std::isfinite(r)) { ++st.notFinite; continue; }
+		if (r <= 0) { ++st.nonPositive; continue; }
+		if (r >= obs.maxRange) { ++st.noReturn; continue; }
+		// Beam angle in the sensor frame [rad]: -aperture/2 .. +aperture/2 (rightToLeft).
+		const double a = obs.getScanAngle(i);
+		const double px = r * std::cos(a), py = r * std::sin(a);
+		scan.points.emplace_back(sx + sc * px - ss * py, sy + ss * px + sc * py);
+	}
+	if (stats) *stats = st;
+	return scan;
+}
+
+}  // namespace lrgc

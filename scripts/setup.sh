@@ -1,0 +1,30 @@
+#!/usr/bin/env bash
+# Installs the Debian 12 packages lrgc needs, and nothing when all are present.
+# Runs apt-get as root, or through sudo when not root.
+set -euo pipefail
+PACKAGES=(
+  build-essential cmake git pkg-config
+  libmrpt-dev mrpt-apps mrpt-common          # MRPT 2.5: libraries, icp-slam & co, datasets
+  libeigen3-dev libsuitesparse-dev libopencv-dev
+  libgtest-dev libgmock-dev libbenchmark-dev
+  socat                                       # pseudo-terminals for the serial-laser tests
+)
+missing=()
+for p in "${PACKAGES[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "setup: all ${#PACKAGES[@]} packages present"
+  exit 0
+fi
+echo "setup: installing ${missing[*]}"
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then
+  command -v sudo >/dev/null || { echo "setup: not root and no sudo: install ${missing[*]}" >&2; exit 1; }
+  SUDO="sudo"
+fi
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq
+$SUDO apt-get install -y -qq "${missing[@]}"
