@@ -1,0 +1,82 @@
+/* CLocalRegistration: LRGC's local registration (Gutmann & Konolige, section 2.2, use 1).
+ *
+ * Each new scan is matched against a local patch made of the last K keyframes' scans (in the
+ * frame of the newest keyframe), which gives its pose. When the scan becomes a keyframe it is
+ * linked to the previous keyframe by odometry and to every window keyframe it overlaps by a
+ * pairwise scan match, and consistent pose estimation (Lu & Milios 1997) over the window only
+ * adjusts the last K poses, all older poses held fixed: constant cost per scan.
+ *
+ * Odometry glitches (the benchmark logs have single steps turning 60-85 deg wrongly): when the
+ * match disagrees with the odometry prior beyond a chi-square gate, or fails, a wide
+ * rotational search around the prior is tried; if it finds a good match the odometry link of
+ * that step is down-weighted to the constant-velocity noise, so it cannot pull the map.
+ */
+#pragma once
+
+#include <lrgc/Keyframe.h>
+#include <lrgc/PoseGraph.h>
+#include <lrgc/PoseGraphOptimizer.h>
+#include <lrgc/ReferenceCloud.h>
+#include <lrgc/ScanMatcher.h>
+#include <mrpt/config/CLoadableOptions.h>
+
+#include <optional>
+
+namespace lrgc
+{
+struct TLocalRegistrationParams : public mrpt::config::CLoadableOptions
+{
+	size_t window_size = 10;  //!< K: keyframes in the window (paper: K >= 7 at 0.3 m)
+	double min_link_inliers = 0.5;  //!< pairwise link only if this fraction of points matched
+	double glitch_gate_chi2 = 16.27;  //!< [chi2, 3 dof] prior/match disagreement (p = 0.001)
+	double wide_search_angle = mrpt::DEG2RAD(90.0);  //!< [rad] (key wide_search_angle_deg)
+
+	void loadFromConfigFile(
+		const mrpt::config::CConfigFileBase& c, const std::string& s) override;
+	void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
+};
+
+/** Pose of one scan from the local registration. */
+struct TRegistration
+{
+	mrpt::math::TPose2D scanInMap;  //!< (map <- robot at the scan)
+	Eigen::Matrix3d cov;  //!< of the scan pose relative to the newest keyframe, map axes
+	bool matched = false;  //!< false: no acceptable match, the prior was kept
+	bool glitch = false;  //!< the odometry prior was rejected and a wide search won
+};
+
+class CLocalRegistration
+{
+   public:
+	CLocalRegistration(
+		const TLocalRegistrationParams& p, const TScanMatcherParams& matcher,
+		const TPoseGraphOptimizerParams& optimizer);
+
+	/** Matches `scan` against the window of the newest keyframes of `graph`.
+	 * priorInMap / priorCov: the motion prediction composed onto the previous scan's pose. */
+	TRegistration registerScan(
+		const CPoseGraph& graph, const TKeyframes& keyframes, const TScan2D& scan,
+		const mrpt::math::TPose2D& priorInMap, const Eigen::Matrix3d& priorCov);
+
+	/** Links the newest node (just added to `graph` at its registered pose) to the window:
+	 * `odometryLink` (from the previous keyframe) plus pairwise scan matches, then optimises
+	 * the window. Returns the number of scan-match links added. */
+	size_t linkAndOptimize(
+		CPoseGraph& graph, const TKeyframes& keyframes, const TLink& odometryLink);
+
+	/** Poses changed outside the window (loop closure): rebuild the patch on next use. */
+	void invalidate() { m_cloudNewest.reset(); }
+
+   private:
+	std::vector<size_t> windowNodes(const CPoseGraph& graph) const;
+	const CReferenceCloud& windowCloud(const CPoseGraph& graph, const TKeyframes& keyframes);
+
+	TLocalRegistrationParams m_params;
+	TScanMatcherParams m_matcherParams;
+	CScanMatcher m_matcher;
+	CPoseGraphOptimizer m_optimizer;
+	CReferenceCloud m_cloud;  //!< window patch in the frame of node *m_cloudNewest
+	std::optional<size_t> m_cloudNewest;
+};
+
+}  // namespace lrgc

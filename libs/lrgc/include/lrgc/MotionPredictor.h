@@ -1,0 +1,83 @@
+/* CMotionPredictor: the prior for each new scan's pose (the "predict" step of LRGC's data
+ * flow, paper fig. 6), from wheel odometry when the robot has it, else from a
+ * constant-velocity model so that a laser alone can map.
+ *
+ * Odometry arrives either as increments (MRPT rawlog layout 1: CActionRobotMovement2D, the
+ * motion (previous <- current) in the robot frame) or as absolute readings (layout 2 and
+ * CARMEN: CObservationOdometry, (odom <- robot)). Either way the predictor keeps the odometry
+ * pose at the last committed scan, and predicts the motion d = (lastScan <- newScan) with the
+ * usual proportional noise model (Thrun et al., Probabilistic Robotics, 5.4):
+ *   sigma_xy  = floor_xy  + k_xy_per_m * |t| + k_xy_per_rad * |dphi|      [m]
+ *   sigma_phi = floor_phi + k_phi_per_m * |t| + k_phi_per_rad * |dphi|    [rad]
+ * Odometry glitches (a step turning 60-85 deg wrongly) are not judged here: the local
+ * registration detects them from the scan match and down-weights the link.
+ */
+#pragma once
+
+#include <mrpt/config/CLoadableOptions.h>
+#include <mrpt/core/Clock.h>
+#include <mrpt/math/TPose2D.h>
+
+#include <Eigen/Core>
+#include <optional>
+
+namespace lrgc
+{
+struct TMotionPredictorParams : public mrpt::config::CLoadableOptions
+{
+	bool use_odometry = true;  //!< false: ignore odometry, constant-velocity model only
+	double sigma_floor_xy = 0.01;  //!< [m] odometry noise floor per step
+	double sigma_floor_phi = 0.0087;  //!< [rad] (key sigma_floor_phi_deg)
+	double k_xy_per_m = 0.1;  //!< [m/m] translational noise per metre travelled
+	double k_xy_per_rad = 0.05;  //!< [m/rad] translational noise per radian turned
+	double k_phi_per_m = 0.05;  //!< [rad/m] rotational noise per metre travelled
+	double k_phi_per_rad = 0.1;  //!< [rad/rad] rotational noise per radian turned
+	double cv_sigma_xy = 0.3;  //!< [m] constant-velocity model: std dev per step
+	double cv_sigma_phi = 0.35;  //!< [rad] (key cv_sigma_phi_deg)
+
+	void loadFromConfigFile(
+		const mrpt::config::CConfigFileBase& c, const std::string& s) override;
+	void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
+};
+
+struct TMotionPrediction
+{
+	mrpt::math::TPose2D motion;  //!< (lastScan <- newScan) in the last scan's robot frame
+	Eigen::Matrix3d cov = Eigen::Matrix3d::Identity();  //!< of motion (x, y, phi)
+	bool fromOdometry = false;
+};
+
+class CMotionPredictor
+{
+   public:
+	explicit CMotionPredictor(const TMotionPredictorParams& p = {}) : m_params(p) {}
+
+	/** Robot motion (previous <- current) in the robot frame, e.g. from a rawlog action. */
+	void addOdometryIncrement(const mrpt::math::TPose2D& motion);
+	/** Absolute odometry reading (odom <- robot). */
+	void addOdometryAbsolute(const mrpt::math::TPose2D& robotInOdom);
+
+	/** Prediction for a scan at time t, relative to the last committed scan. */
+	TMotionPrediction predict(mrpt::Clock::time_point t) const;
+
+	/** The scan at time t was placed; `estimatedMotion` is (lastScan <- scan) as estimated.
+	 * Odometry read so far now counts from this scan. */
+	void commitScan(mrpt::Clock::time_point t, const mrpt::math::TPose2D& estimatedMotion);
+
+	bool hasOdometry() const { return m_odomNow.has_value(); }
+	/** Covariance of an odometry motion d by the proportional noise model above. */
+	Eigen::Matrix3d odometryCov(const mrpt::math::TPose2D& d) const;
+	/** Covariance of one constant-velocity step. */
+	Eigen::Matrix3d constantVelocityCov() const;
+	const TMotionPredictorParams& params() const { return m_params; }
+
+   private:
+	TMotionPredictorParams m_params;
+	std::optional<mrpt::math::TPose2D> m_odomNow;  //!< latest (odom <- robot)
+	std::optional<mrpt::math::TPose2D> m_odomAtScan;  //!< (odom <- robot) at the last scan
+	std::optional<mrpt::Clock::time_point> m_lastScanTime;
+	mrpt::math::TPose2D m_lastMotion{0, 0, 0};  //!< estimated motion of the last step
+	double m_lastStepSeconds = 0;
+};
+
+}  // namespace lrgc

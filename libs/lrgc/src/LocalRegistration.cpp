@@ -1,0 +1,137 @@
+#include "lrgc/LocalRegistration.h"
+
+#include "lrgc/params_io.h"
+#include "lrgc/se2.h"
+
+#include <mrpt/config/CConfigFileBase.h>
+
+#include <Eigen/Dense>
+
+namespace lrgc
+{
+void TLocalRegistrationParams::loadFromConfigFile(
+	const mrpt::config::CConfigFileBase& c, const std::string& s)
+{
+	rejectUnknownKeys(TLocalRegistrationParams(), c, s);
+	window_size = c.read_uint64_t(s, "window_size", window_size);
+	min_link_inliers = c.read_double(s, "min_link_inliers", min_link_inliers);
+	glitch_gate_chi2 = c.read_double(s, "glitch_gate_chi2", glitch_gate_chi2);
+	wide_search_angle = mrpt::DEG2RAD(
+		c.read_double(s, "wide_search_angle_deg", mrpt::RAD2DEG(wide_search_angle)));
+	requireParam(window_size >= 2 && window_size <= 100, s, "window_size", "must be in [2, 100]");
+	requireParam(
+		min_link_inliers > 0 && min_link_inliers <= 1, s, "min_link_inliers", "must be in (0, 1]");
+	requireParam(glitch_gate_chi2 > 0, s, "glitch_gate_chi2", "must be > 0");
+	requireParam(
+		wide_search_angle >= 0 && wide_search_angle <= M_PI, s, "wide_search_angle_deg",
+		"must be in [0, 180]");
+}
+
+void TLocalRegistrationParams::saveToConfigFile(
+	mrpt::config::CConfigFileBase& c, const std::string& s) const
+{
+	const int np = mrpt::config::MRPT_SAVE_NAME_PADDING(), vp = mrpt::config::MRPT_SAVE_VALUE_PADDING();
+	c.write(s, "window_size", uint64_t(window_size), np, vp, "K: keyframes registered together (paper: K >= 7)");
+	c.write(s, "min_link_inliers", min_link_inliers, np, vp, "Min fraction of matched points for a pairwise scan-match link");
+	c.write(s, "glitch_gate_chi2", glitch_gate_chi2, np, vp, "[chi2, 3 dof] Odometry/match disagreement that triggers the wide search");
+	c.write(s, "wide_search_angle_deg", mrpt::RAD2DEG(wide_search_angle), np, vp, "[deg] Half-width of the rotational search after an odometry glitch");
+}
+
+CLocalRegistration::CLocalRegistration(
+	const TLocalRegistrationParams& p, const TScanMatcherParams& matcher,
+	const TPoseGraphOptimizerParams& optimizer)
+	: m_params(p), m_matcherParams(matcher), m_matcher(matcher), m_optimizer(optimizer)
+{
+}
+
+std::vector<size_t> CLocalRegistration::windowNodes(const CPoseGraph& graph) const
+{
+	const size_t n = graph.numNodes();
+	const size_t first = n > m_params.window_size ? n - m_params.window_size : 0;
+	std::vector<size_t> nodes;
+	for (size_t i = first; i < n; ++i) nodes.push_back(i);
+	return nodes;
+}
+
+const CReferenceCloud& CLocalRegistration::windowCloud(
+	const CPoseGraph& graph, const TKeyframes& keyframes)
+{
+	const size_t newest = graph.numNodes() - 1;
+	if (m_cloudNewest == newest) return m_cloud;
+	// The patch: every window scan's points, moved into the newest keyframe's frame:
+	// p_newest = (newest <- node) (+) p_node.
+	const TPose2D newestInMap = graph.pose(newest);
+	std::vector<Eigen::Vector2d> points;
+	for (const size_t node : windowNodes(graph))
+	{
+		const TPose2D nodeInNewest = between(newestInMap, graph.pose(node));
+		for (const auto& p : keyframes[node].scan.points)
+			points.push_back(transformPoint(nodeInNewest, p));
+	}
+	m_cloud = CReferenceCloud(std::move(points), m_matcherParams);
+	m_cloudNewest = newest;
+	return m_cloud;
+}
+
+TRegistration CLocalRegistration::registerScan(
+	const CPoseGraph& graph, const TKeyframes& keyframes, const TScan2D& scan,
+	const mrpt::math::TPose2D& priorInMap, const Eigen::Matrix3d& priorCov)
+{
+	TRegistration reg{priorInMap, priorCov, false, false};
+	if (graph.numNodes() == 0) return reg;
+	const CReferenceCloud& cloud = windowCloud(graph, keyframes);
+	const TPose2D newestInMap = graph.pose(*m_cloudNewest);
+	const TPose2D guess = between(newestInMap, priorInMap);
+
+	// Squared Mahalanobis distance between the prior and a match, 3 dof.
+	auto disagreement = [&](const TScanMatch& m) {
+		Eigen::Vector3d d = toVector(between(guess, m.scanInRef));
+		return double(d.transpose() * (priorCov + m.cov).inverse() * d);
+	};
+	std::optional<TScanMatch> match = m_matcher.match(cloud, scan, guess);
+	if (!match || disagreement(*match) > m_params.glitch_gate_chi2)
+	{
+		auto wide = m_matcher.matchWide(cloud, scan, guess, m_params.wide_search_angle);
+		if (wide && (!match || wide->inlierFraction > match->inlierFraction)) match = wide;
+		reg.glitch = match && disagreement(*match) > m_params.glitch_gate_chi2;
+	}
+	if (!match) return reg;
+
+	reg.matched = true;
+	reg.scanInMap = compose(newestInMap, match->scanInRef);
+	// Rotate the covariance from the newest keyframe's axes to the map axes.
+	const double c = std::cos(newestInMap.phi), s = std::sin(newestInMap.phi);
+	Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
+	R.topLeftCorner<2, 2>() << c, -s, s, c;
+	reg.cov = R * match->cov * R.transpose();
+	return reg;
+}
+
+size_t CLocalRegistration::linkAndOptimize(
+	CPoseGraph& graph, const TKeyframes& keyframes, const TLink& odometryLink)
+{
+	const size_t newNode = graph.numNodes() - 1;
+	graph.addLink(odometryLink);
+	const std::vector<size_t> window = windowNodes(graph);
+	size_t added = 0;
+	for (const size_t node : window)
+	{
+		if (node == newNode) continue;
+		// Pairwise match of the new scan against one window scan (Lu & Milios' links).
+		const CReferenceCloud ref(keyframes[node].scan.points, m_matcherParams);
+		const TPose2D guess = between(graph.pose(node), graph.pose(newNode));
+		const auto m = m_matcher.match(ref, keyframes[newNode].scan, guess);
+		if (!m || m->inlierFraction < m_params.min_link_inliers) continue;
+		graph.addLink({node, newNode, m->scanInRef, m->cov.inverse(), LinkType::ScanMatch});
+		++added;
+	}
+	// Node 0 anchors the map frame (gauge): it never moves.
+	std::vector<size_t> freeNodes;
+	for (const size_t node : window)
+		if (node != 0) freeNodes.push_back(node);
+	m_optimizer.optimizeSubset(graph, freeNodes);
+	m_cloudNewest.reset();  // window poses moved
+	return added;
+}
+
+}  // namespace lrgc

@@ -1,0 +1,77 @@
+#include "lrgc/MapBuilderParams.h"
+
+#include "lrgc/params_io.h"
+
+#include <mrpt/config/CConfigFileBase.h>
+
+#include <set>
+
+namespace lrgc
+{
+void TMapBuilderParams::loadFromConfigFile(
+	const mrpt::config::CConfigFileBase& c, const std::string& s)
+{
+	rejectUnknownKeys(TMapBuilderParams(), c, s);
+	keyframe_distance = c.read_double(s, "keyframe_distance", keyframe_distance);
+	keyframe_angle =
+		mrpt::DEG2RAD(c.read_double(s, "keyframe_angle_deg", mrpt::RAD2DEG(keyframe_angle)));
+	min_scan_points = c.read_uint64_t(s, "min_scan_points", min_scan_points);
+	grid_resolution = c.read_double(s, "grid_resolution", grid_resolution);
+	final_optimization = c.read_bool(s, "final_optimization", final_optimization);
+	requireParam(keyframe_distance > 0, s, "keyframe_distance", "must be > 0");
+	requireParam(keyframe_angle > 0, s, "keyframe_angle_deg", "must be > 0");
+	requireParam(min_scan_points >= 3, s, "min_scan_points", "must be >= 3");
+	requireParam(
+		grid_resolution >= 0.005 && grid_resolution <= 1, s, "grid_resolution",
+		"must be in [0.005, 1] m");
+}
+
+void TMapBuilderParams::saveToConfigFile(
+	mrpt::config::CConfigFileBase& c, const std::string& s) const
+{
+	const int np = mrpt::config::MRPT_SAVE_NAME_PADDING(), vp = mrpt::config::MRPT_SAVE_VALUE_PADDING();
+	c.write(s, "keyframe_distance", keyframe_distance, np, vp, "[m] A scan becomes a keyframe (graph node) after this much travel");
+	c.write(s, "keyframe_angle_deg", mrpt::RAD2DEG(keyframe_angle), np, vp, "[deg] ... or after this much turn");
+	c.write(s, "min_scan_points", uint64_t(min_scan_points), np, vp, "Scans with fewer valid returns are skipped (with a warning)");
+	c.write(s, "grid_resolution", grid_resolution, np, vp, "[m] Cell size of the exported occupancy grid map");
+	c.write(s, "final_optimization", final_optimization, np, vp, "Optimise the whole graph once more at the end of the run");
+}
+
+const std::vector<std::string>& TLRGCParams::sectionNames()
+{
+	static const std::vector<std::string> names = {
+		"MapBuilder", "MotionPredictor", "ScanMatcher", "LocalRegistration",
+		"PoseGraphOptimizer"};
+	return names;
+}
+
+void rejectUnknownSections(
+	const mrpt::config::CConfigFileBase& c, const std::vector<std::string>& allowed)
+{
+	std::vector<std::string> sections;
+	c.getAllSections(sections);
+	const std::set<std::string> known(allowed.begin(), allowed.end());
+	for (const auto& sec : sections)
+		if (!sec.empty() && !known.count(sec))
+			THROW_EXCEPTION_FMT("Unknown section [%s] in the configuration", sec.c_str());
+}
+
+void TLRGCParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string&)
+{
+	builder.loadFromConfigFile(c, "MapBuilder");
+	motion.loadFromConfigFile(c, "MotionPredictor");
+	matcher.loadFromConfigFile(c, "ScanMatcher");
+	local.loadFromConfigFile(c, "LocalRegistration");
+	optimizer.loadFromConfigFile(c, "PoseGraphOptimizer");
+}
+
+void TLRGCParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string&) const
+{
+	builder.saveToConfigFile(c, "MapBuilder");
+	motion.saveToConfigFile(c, "MotionPredictor");
+	matcher.saveToConfigFile(c, "ScanMatcher");
+	local.saveToConfigFile(c, "LocalRegistration");
+	optimizer.saveToConfigFile(c, "PoseGraphOptimizer");
+}
+
+}  // namespace lrgc

@@ -1,0 +1,24 @@
+/* The .ini of lrgc-slam: the LRGC stages' sections (TLRGCParams) plus [LogReader]. Unknown
+ * sections and keys are errors (CUsageError naming the file, section and key). */
+#pragma once
+
+#include <lrgc/MapBuilderParams.h>
+#include <lrgc_apps/io/LogReader.h>
+
+#include <string>
+
+namespace lrgc::apps
+{
+struct TAppConfig
+{
+	TLRGCParams lrgc;
+	TLogReaderOptions reader;
+};
+
+/** Defaults when `path` is empty; throws CUsageError on a missing file or a bad key. */
+TAppConfig loadAppConfig(const std::string& path);
+
+/** The default .ini, generated from the parameter structs' saveToConfigFile(). */
+std::string defaultAppConfigText();
+
+}  // namespace lrgc::apps

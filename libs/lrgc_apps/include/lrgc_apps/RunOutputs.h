@@ -1,0 +1,33 @@
+/* Everything lrgc-slam writes into its output directory at the end of a run (or when the
+ * run has to stop early): the maps, the trajectory, the graph, per-scan timing and
+ * stats.json. Each file is written atomically. */
+#pragma once
+
+#include <lrgc/CMetricMapBuilderLRGC.h>
+
+#include <string>
+#include <vector>
+
+namespace lrgc::apps
+{
+struct TRunSummary
+{
+	std::string input;  //!< input log path
+	std::string format;  //!< "rawlog" or "carmen"
+	std::string status = "complete";  //!< or "input error: ...", "interrupted"
+	size_t logEntries = 0;
+	size_t warnings = 0;
+	double dataDurationSeconds = 0;  //!< last minus first scan timestamp
+	double wallSeconds = 0, cpuSeconds = 0, peakRssMiB = 0;
+	double finalOptimizationSeconds = 0;
+	std::vector<double> latencyMs;  //!< per scan, in processing order
+	std::vector<double> latencyStamp;  //!< the scan's timestamp [s]
+};
+
+void writeRunOutputs(
+	const CMetricMapBuilderLRGC& builder, const std::string& outDir, const TRunSummary& run);
+
+/** stats.json text (exposed for tests). */
+std::string statsJson(const CMetricMapBuilderLRGC& builder, const TRunSummary& run);
+
+}  // namespace lrgc::apps

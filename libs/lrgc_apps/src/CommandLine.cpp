@@ -1,0 +1,45 @@
+#include "lrgc_apps/CommandLine.h"
+
+namespace lrgc::apps
+{
+TSlamCommandLine parseSlamCommandLine(const std::vector<std::string>& args)
+{
+	TSlamCommandLine cl;
+	for (size_t i = 0; i < args.size(); ++i)
+	{
+		const std::string& a = args[i];
+		auto value = [&](std::string& dst) {
+			if (i + 1 >= args.size() || args[i + 1].rfind("--", 0) == 0)
+				throw CUsageError("option " + a + " needs a value");
+			dst = args[++i];
+		};
+		if (a == "--input" || a == "-i") value(cl.input);
+		else if (a == "--config" || a == "-c") value(cl.config);
+		else if (a == "--out" || a == "-o") value(cl.outDir);
+		else if (a == "--save-rawlog") value(cl.saveRawlog);
+		else if (a == "--write-default-config") value(cl.writeDefaultConfig);
+		else if (a == "--quiet" || a == "-q") cl.quiet = true;
+		else if (a == "--help" || a == "-h") cl.help = true;
+		else if (a == "--version") cl.version = true;
+		else throw CUsageError("unknown argument '" + a + "'");
+	}
+	if (cl.help || cl.version || !cl.writeDefaultConfig.empty()) return cl;
+	if (cl.input.empty()) throw CUsageError("missing --input FILE");
+	if (cl.outDir.empty() && cl.saveRawlog.empty())
+		throw CUsageError("missing --out DIR (or --save-rawlog FILE to convert only)");
+	return cl;
+}
+
+std::string slamUsage()
+{
+	return "Usage:\n"
+		   "  lrgc-slam --input FILE [--config FILE.ini] --out DIR [--quiet] [--save-rawlog R]\n"
+		   "  lrgc-slam --input FILE --save-rawlog OUT.rawlog     convert to an MRPT rawlog\n"
+		   "  lrgc-slam --write-default-config FILE.ini\n"
+		   "FILE: MRPT rawlog (.rawlog, plain or gzip, both layouts) or CARMEN log\n"
+		   "(.clf/.log, optionally .gz); the format is detected from the content.\n"
+		   "Outputs in DIR: map.gridmap.gz map.png map.pgm map.yaml map.simplemap.gz\n"
+		   "trajectory.tum graph.graph timing.csv stats.json\n";
+}
+
+}  // namespace lrgc::apps

@@ -1,0 +1,112 @@
+#include "lrgc_apps/MapExport.h"
+
+#include "lrgc_apps/atomic_file.h"
+
+#include <mrpt/img/CImage.h>
+#include <mrpt/io/CFileGZOutputStream.h>
+#include <mrpt/maps/COccupancyGridMap2D.h>
+#include <mrpt/maps/CSimpleMap.h>
+#include <mrpt/serialization/CArchive.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace lrgc::apps
+{
+namespace
+{
+template <class T>
+void writeArchiveGz(const T& object, const std::string& path)
+{
+	writeFileAtomically(path, [&](const std::string& tmp) {
+		mrpt::io::CFileGZOutputStream f;
+		if (!f.open(tmp))
+			THROW_EXCEPTION_FMT("cannot open '%s' for writing", tmp.c_str());
+		auto arch = mrpt::serialization::archiveFrom(f);
+		arch << object;
+		f.close();
+	});
+}
+
+// ROS map_server trinary values for a cell's occupancy probability p(occupied).
+uint8_t rosPixel(float pOccupied)
+{
+	if (pOccupied > 0.65f) return 0;  // occupied: black
+	if (pOccupied < 0.196f) return 254;  // free: white
+	return 205;  // unknown: grey
+}
+}  // namespace
+
+void writeGridmap(const mrpt::maps::COccupancyGridMap2D& grid, const std::string& path)
+{
+	writeArchiveGz(grid, path);
+}
+
+void writeGridPng(const mrpt::maps::COccupancyGridMap2D& grid, const std::string& path)
+{
+	mrpt::img::CImage img;
+	grid.getAsImage(img, /*verticalFlip=*/false, /*forceRGB=*/false);
+	writeFileAtomically(path, [&](const std::string& tmp) {
+		// CImage picks the format from the extension: keep ".png" at the end of tmp.
+		const std::string tmpPng = tmp + ".png";
+		if (!img.saveToFile(tmpPng))
+			THROW_EXCEPTION_FMT("cannot write image '%s'", tmpPng.c_str());
+		std::filesystem::rename(tmpPng, tmp);
+	});
+}
+
+void writeRosMap(const mrpt::maps::COccupancyGridMap2D& grid, const std::string& stemPath)
+{
+	const unsigned w = grid.getSizeX(), h = grid.getSizeY();
+	std::string pgm = "P5\n" + std::to_string(w) + " " + std::to_string(h) + "\n255\n";
+	const size_t header = pgm.size();
+	pgm.resize(header + size_t(w) * h);
+	// PGM rows run top (max y) to bottom (min y); grid row 0 is min y.
+	for (unsigned r = 0; r < h; ++r)
+		for (unsigned c = 0; c < w; ++c)
+			pgm[header + size_t(r) * w + c] =
+				static_cast<char>(rosPixel(grid.getCell(c, h - 1 - r)));
+	const std::string pgmPath = stemPath + ".pgm";
+	writeTextFileAtomically(pgmPath, pgm);
+
+	std::ostringstream yaml;
+	yaml.precision(9);
+	yaml << "image: " << std::filesystem::path(pgmPath).filename().string() << "\n"
+		 << "resolution: " << grid.getResolution() << "\n"
+		 << "origin: [" << grid.getXMin() << ", " << grid.getYMin() << ", 0.0]\n"
+		 << "negate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n";
+	writeTextFileAtomically(stemPath + ".yaml", yaml.str());
+}
+
+void writeSimplemap(const mrpt::maps::CSimpleMap& map, const std::string& path)
+{
+	writeArchiveGz(map, path);
+}
+
+void writeTrajectoryTum(const TTrajectory& trajectory, const std::string& path)
+{
+	std::string out;
+	out.reserve(trajectory.size() * 80);
+	char line[160];
+	for (const auto& p : trajectory)
+	{
+		// Yaw-only rotation as a unit quaternion: (0, 0, sin(phi/2), cos(phi/2)).
+		const double half = 0.5 * p.robotInMap.phi;
+		std::snprintf(
+			line, sizeof(line), "%.6f %.6f %.6f 0 0 0 %.9f %.9f\n",
+			mrpt::Clock::toDouble(p.timestamp), p.robotInMap.x, p.robotInMap.y, std::sin(half),
+			std::cos(half));
+		out += line;
+	}
+	writeTextFileAtomically(path, out);
+}
+
+void writeGraph(const mrpt::graphs::CNetworkOfPoses2DInf& graph, const std::string& path)
+{
+	writeFileAtomically(path, [&](const std::string& tmp) { graph.saveToTextFile(tmp); });
+}
+
+}  // namespace lrgc::apps

@@ -1,0 +1,101 @@
+#include "lrgc_apps/RunOutputs.h"
+
+#include "lrgc_apps/MapExport.h"
+#include "lrgc_apps/RunStats.h"
+#include "lrgc_apps/atomic_file.h"
+
+#include <mrpt/maps/CSimpleMap.h>
+
+#include <cmath>
+#include <filesystem>
+#include <sstream>
+
+namespace lrgc::apps
+{
+namespace
+{
+std::string jsonString(const std::string& s)
+{
+	std::string out = "\"";
+	for (const char ch : s)
+	{
+		if (ch == '"' || ch == '\\') out += '\\', out += ch;
+		else if (static_cast<unsigned char>(ch) < 0x20)
+		{
+			char buf[8];
+			std::snprintf(buf, sizeof(buf), "\\u%04x", ch);
+			out += buf;
+		}
+		else out += ch;
+	}
+	return out + "\"";
+}
+
+std::string timingCsv(const TRunSummary& run)
+{
+	std::string out = "scan_index,timestamp,latency_ms\n";
+	char line[96];
+	for (size_t i = 0; i < run.latencyMs.size(); ++i)
+	{
+		std::snprintf(line, sizeof(line), "%zu,%.6f,%.4f\n", i, run.latencyStamp[i], run.latencyMs[i]);
+		out += line;
+	}
+	return out;
+}
+}  // namespace
+
+std::string statsJson(const CMetricMapBuilderLRGC& builder, const TRunSummary& run)
+{
+	const TMapBuilderStats& s = builder.stats();
+	const TLatencySummary lat = summarizeLatencies(run.latencyMs);
+	std::ostringstream j;
+	j.precision(6);
+	j << std::fixed;
+	j << "{\n"
+	  << "  \"input\": " << jsonString(run.input) << ",\n"
+	  << "  \"format\": " << jsonString(run.format) << ",\n"
+	  << "  \"status\": " << jsonString(run.status) << ",\n"
+	  << "  \"log_entries\": " << run.logEntries << ",\n"
+	  << "  \"scans\": " << s.scans << ",\n"
+	  << "  \"keyframes\": " << s.keyframes << ",\n"
+	  << "  \"skipped_scans\": " << s.skippedScans << ",\n"
+	  << "  \"unmatched_scans\": " << s.unmatchedScans << ",\n"
+	  << "  \"odometry_glitches_recovered\": " << s.glitchesRecovered << ",\n"
+	  << "  \"links\": {\"odometry\": " << s.odometryLinks << ", \"scan_match\": " << s.scanMatchLinks
+	  << ", \"loop_closure\": " << s.loopClosureLinks << "},\n"
+	  << "  \"loop_closures\": " << s.loopClosures << ",\n"
+	  << "  \"warnings\": " << run.warnings << ",\n"
+	  << "  \"data_duration_s\": " << run.dataDurationSeconds << ",\n"
+	  << "  \"wall_time_s\": " << run.wallSeconds << ",\n"
+	  << "  \"cpu_time_s\": " << run.cpuSeconds << ",\n"
+	  << "  \"real_time_factor\": "
+	  << (run.wallSeconds > 0 ? run.dataDurationSeconds / run.wallSeconds : 0) << ",\n"
+	  << "  \"final_optimization_s\": " << run.finalOptimizationSeconds << ",\n"
+	  << "  \"peak_rss_mb\": " << run.peakRssMiB << ",\n"
+	  << "  \"latency_ms\": {\"median\": " << lat.median_ms << ", \"p99\": " << lat.p99_ms
+	  << ", \"max\": " << lat.max_ms << ", \"mean\": " << lat.mean_ms << "}\n"
+	  << "}\n";
+	return j.str();
+}
+
+void writeRunOutputs(
+	const CMetricMapBuilderLRGC& builder, const std::string& outDir, const TRunSummary& run)
+{
+	namespace fs = std::filesystem;
+	fs::create_directories(outDir);
+	const auto path = [&](const char* name) { return (fs::path(outDir) / name).string(); };
+
+	writeTrajectoryTum(builder.trajectory(), path("trajectory.tum"));
+	writeGraph(builder.graph().toMrpt(), path("graph.graph"));
+	mrpt::maps::CSimpleMap keyframes;
+	builder.getCurrentlyBuiltMap(keyframes);
+	writeSimplemap(keyframes, path("map.simplemap.gz"));
+	const auto grid = builder.buildOccupancyGrid();
+	writeGridmap(*grid, path("map.gridmap.gz"));
+	writeGridPng(*grid, path("map.png"));
+	writeRosMap(*grid, path("map"));
+	writeTextFileAtomically(path("timing.csv"), timingCsv(run));
+	writeTextFileAtomically(path("stats.json"), statsJson(builder, run));
+}
+
+}  // namespace lrgc::apps
