@@ -1,0 +1,92 @@
+/* End to end: lrgc-slam on bad input says what is wrong and where, exits non-zero where the
+ * run cannot go on, and keeps what was mapped so far. */
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "app_runner.h"
+#include "test_data.h"
+
+namespace fs = std::filesystem;
+using namespace lrgc::test;
+
+TEST(SlamBadInput, MissingInputFileIsNamed)
+{
+	const std::string dir = makeTempDir("bad_missing");
+	const auto r = runProcess(
+		binaryPath("lrgc-slam"), {"--input", dir + "/nope.rawlog", "--out", dir + "/out"});
+	EXPECT_EQ(r.exitCode, 1) << r.output;
+	EXPECT_NE(r.output.find("nope.rawlog"), std::string::npos) << r.output;
+}
+
+TEST(SlamBadInput, UnknownArgumentIsAUsageError)
+{
+	const auto r = runProcess(binaryPath("lrgc-slam"), {"--inptu", "x"});
+	EXPECT_EQ(r.exitCode, 2);
+	EXPECT_NE(r.output.find("--inptu"), std::string::npos) << r.output;
+}
+
+TEST(SlamBadInput, UnknownIniKeyIsRejectedWithSuggestion)
+{
+	LRGC_SKIP_IF_MISSING(senaRawlogPath());
+	const std::string dir = makeTempDir("bad_ini");
+	writeTextFile(dir + "/bad.ini", "[MapBuilder]\nkeyframe_distanse = 0.5\n");
+	const auto r = runProcess(
+		binaryPath("lrgc-slam"),
+		{"--input", senaRawlogPath(), "--config", dir + "/bad.ini", "--out", dir + "/out"});
+	EXPECT_EQ(r.exitCode, 2) << r.output;
+	EXPECT_NE(r.output.find("keyframe_distanse"), std::string::npos) << r.output;
+	EXPECT_NE(r.output.find("keyframe_distance"), std::string::npos) << r.output;
+	EXPECT_NE(r.output.find("MapBuilder"), std::string::npos) << r.output;
+	EXPECT_FALSE(fs::exists(dir + "/out/map.gridmap.gz"));
+}
+
+TEST(SlamBadInput, UnknownIniSectionIsRejected)
+{
+	LRGC_SKIP_IF_MISSING(senaRawlogPath());
+	const std::string dir = makeTempDir("bad_section");
+	writeTextFile(dir + "/bad.ini", "[ScanMatcherr]\n");
+	const auto r = runProcess(
+		binaryPath("lrgc-slam"),
+		{"--input", senaRawlogPath(), "--config", dir + "/bad.ini", "--out", dir + "/out"});
+	EXPECT_EQ(r.exitCode, 2) << r.output;
+	EXPECT_NE(r.output.find("ScanMatcherr"), std::string::npos) << r.output;
+}
+
+TEST(SlamBadInput, TruncatedRawlogSavesWhatWasMappedAndFails)
+{
+	LRGC_SKIP_IF_MISSING(senaRawlogPath());
+	const std::string dir = makeTempDir("bad_truncated");
+	// The SENA rawlog is gzip-compressed: decompress, cut the stream at 60 %, store plain.
+	const std::string plain = dir + "/sena.rawlog";
+	ASSERT_EQ(
+		runProcess("/bin/sh", {"-c", "gzip -dc < \"$0\" > \"$1\"", senaRawlogPath(), plain}).exitCode,
+		0);
+	const auto size = fs::file_size(plain);
+	fs::resize_file(plain, size * 6 / 10);
+	const auto r = runProcess(binaryPath("lrgc-slam"), {"--input", plain, "--out", dir + "/out"});
+	EXPECT_EQ(r.exitCode, 1) << r.output;
+	EXPECT_NE(r.output.find("sena.rawlog"), std::string::npos) << r.output;
+	EXPECT_NE(r.output.find("byte"), std::string::npos) << r.output;
+	ASSERT_TRUE(fs::exists(dir + "/out/map.gridmap.gz"));
+	const std::string stats = readTextFile(dir + "/out/stats.json");
+	EXPECT_NE(stats.find("\"status\": \"input error"), std::string::npos) << stats;
+	// Roughly 60 % of the 224 scans were mapped and kept.
+	std::ifstream tum(dir + "/out/trajectory.tum");
+	size_t lines = 0;
+	for (std::string l; std::getline(tum, l);) ++lines;
+	EXPECT_GT(lines, 100u);
+	EXPECT_LT(lines, 224u);
+}
+
+TEST(SlamConfig, ShippedDefaultIniIsTheGeneratedOne)
+{
+	const std::string dir = makeTempDir("default_ini");
+	const auto r = runProcess(binaryPath("lrgc-slam"), {"--write-default-config", dir + "/d.ini"});
+	ASSERT_EQ(r.exitCode, 0) << r.output;
+	const std::string shipped = std::string(LRGC_SOURCE_DIR) + "/share/lrgc/lrgc-default.ini";
+	EXPECT_EQ(readTextFile(dir + "/d.ini"), readTextFile(shipped))
+		<< "share/lrgc/lrgc-default.ini is stale: regenerate it with "
+		   "build/bin/lrgc-slam --write-default-config share/lrgc/lrgc-default.ini";
+}

@@ -1,0 +1,142 @@
+/* End to end: lrgc-slam on the real SENA rawlog (Debian mrpt-common) writes every output,
+ * and MRPT reads each one back. */
+#include <gtest/gtest.h>
+#include <mrpt/graphs/CNetworkOfPoses.h>
+#include <mrpt/img/CImage.h>
+#include <mrpt/io/CFileGZInputStream.h>
+#include <mrpt/maps/COccupancyGridMap2D.h>
+#include <mrpt/maps/CSimpleMap.h>
+#include <mrpt/serialization/CArchive.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "app_runner.h"
+#include "test_data.h"
+
+namespace fs = std::filesystem;
+using namespace lrgc::test;
+
+namespace
+{
+// One lrgc-slam run on SENA shared by the tests of this file.
+class SenaRun : public ::testing::Test
+{
+   protected:
+	static void SetUpTestSuite()
+	{
+		if (!fileExists(senaRawlogPath())) return;
+		s_out = makeTempDir("sena_outputs");
+		s_result = runProcess(
+			binaryPath("lrgc-slam"), {"--input", senaRawlogPath(), "--out", s_out, "--quiet"});
+	}
+	void SetUp() override
+	{
+		LRGC_SKIP_IF_MISSING(senaRawlogPath());
+		ASSERT_EQ(s_result.exitCode, 0) << s_result.output;
+	}
+	static std::string out(const std::string& name) { return (fs::path(s_out) / name).string(); }
+	static inline std::string s_out;
+	static inline TProcessResult s_result;
+};
+
+template <class T>
+void readArchiveGz(const std::string& path, T& obj)
+{
+	mrpt::io::CFileGZInputStream f(path);
+	auto arch = mrpt::serialization::archiveFrom(f);
+	arch >> obj;
+}
+
+size_t countLines(const std::string& path)
+{
+	std::ifstream f(path);
+	size_t n = 0;
+	for (std::string line; std::getline(f, line);)
+		if (!line.empty()) ++n;
+	return n;
+}
+}  // namespace
+
+TEST_F(SenaRun, GridmapReadsBackAsOccupancyGrid)
+{
+	mrpt::maps::COccupancyGridMap2D grid;
+	readArchiveGz(out("map.gridmap.gz"), grid);
+	EXPECT_NEAR(grid.getResolution(), 0.05, 1e-6);
+	// The SENA building is tens of metres across.
+	EXPECT_GT(grid.getXMax() - grid.getXMin(), 10.0);
+	EXPECT_GT(grid.getYMax() - grid.getYMin(), 10.0);
+	size_t occupied = 0, freeCells = 0;
+	for (unsigned y = 0; y < grid.getSizeY(); ++y)
+		for (unsigned x = 0; x < grid.getSizeX(); ++x)
+		{
+			const float p = grid.getCell(x, y);
+			occupied += p > 0.65f;
+			freeCells += p < 0.35f;
+		}
+	EXPECT_GT(occupied, 1000u);
+	EXPECT_GT(freeCells, 10 * occupied / 2);
+}
+
+TEST_F(SenaRun, SimplemapHasOneEntryPerKeyframe)
+{
+	mrpt::maps::CSimpleMap sm;
+	readArchiveGz(out("map.simplemap.gz"), sm);
+	const std::string stats = readTextFile(out("stats.json"));
+	const auto pos = stats.find("\"keyframes\": ");
+	ASSERT_NE(pos, std::string::npos);
+	EXPECT_EQ(sm.size(), std::stoul(stats.substr(pos + 13)));
+	EXPECT_GT(sm.size(), 20u);
+}
+
+TEST_F(SenaRun, GraphLoadsInMrptWithOneVertexPerKeyframe)
+{
+	mrpt::graphs::CNetworkOfPoses2DInf g;
+	g.loadFromTextFile(out("graph.graph"));
+	mrpt::maps::CSimpleMap sm;
+	readArchiveGz(out("map.simplemap.gz"), sm);
+	EXPECT_EQ(g.nodes.size(), sm.size());
+	EXPECT_GE(g.edges.size(), g.nodes.size() - 1);
+}
+
+TEST_F(SenaRun, TrajectoryHasOneLinePerScanWithUnitQuaternions)
+{
+	EXPECT_EQ(countLines(out("trajectory.tum")), 224u);  // SENA has 224 scans
+	std::ifstream f(out("trajectory.tum"));
+	double t, x, y, z, qx, qy, qz, qw;
+	while (f >> t >> x >> y >> z >> qx >> qy >> qz >> qw)
+	{
+		EXPECT_NEAR(qx * qx + qy * qy + qz * qz + qw * qw, 1.0, 1e-6);
+		EXPECT_GT(t, 1137834225.0);  // the log's own timestamps (2006-01-21)
+		EXPECT_LT(t, 1137834285.0);
+	}
+}
+
+TEST_F(SenaRun, RosMapAndPngAreConsistent)
+{
+	const std::string yaml = readTextFile(out("map.yaml"));
+	EXPECT_NE(yaml.find("image: map.pgm"), std::string::npos);
+	EXPECT_NE(yaml.find("resolution: 0.05"), std::string::npos);
+	const std::string pgm = readTextFile(out("map.pgm"));
+	ASSERT_EQ(pgm.substr(0, 2), "P5");
+	std::istringstream hdr(pgm.substr(2, 40));
+	unsigned w = 0, h = 0;
+	hdr >> w >> h;
+	mrpt::img::CImage png;
+	ASSERT_TRUE(png.loadFromFile(out("map.png")));
+	EXPECT_EQ(png.getWidth(), w);
+	EXPECT_EQ(png.getHeight(), h);
+}
+
+TEST_F(SenaRun, StatsAndTimingAreWritten)
+{
+	const std::string stats = readTextFile(out("stats.json"));
+	for (const char* key : {"\"scans\": 224", "\"latency_ms\"", "\"peak_rss_mb\"", "\"wall_time_s\"",
+							"\"loop_closures\"", "\"status\": \"complete\""})
+		EXPECT_NE(stats.find(key), std::string::npos) << key;
+	EXPECT_EQ(countLines(out("timing.csv")), 225u);  // header + one per scan
+	for (const auto& e : fs::directory_iterator(s_out))
+		EXPECT_EQ(e.path().filename().string().rfind(".tmp.", 0), std::string::npos)
+			<< "temporary file left behind: " << e.path();
+}
