@@ -96,6 +96,8 @@ void CMetricMapBuilderLRGC::processScan(
 			m_stats.scanMatchLinks +=
 				m_local->linkAndOptimize(m_graph, m_keyframes, odometryLinkToNewest());
 			++m_stats.odometryLinks;
+			// 4. Look for a loop and close it.
+			if (m_loopCloser) lookForLoop();
 		}
 		m_lastScanInMap = m_graph.pose(node);
 		m_motionSinceKeyframe = TPose2D(0, 0, 0);
@@ -109,6 +111,28 @@ void CMetricMapBuilderLRGC::processScan(
 			{laser->timestamp, newest, between(m_graph.pose(newest), reg.scanInMap)});
 	}
 	m_metricMapDirty = true;
+}
+
+void CMetricMapBuilderLRGC::lookForLoop()
+{
+	const auto closure = m_loopCloser->process(m_graph, m_keyframes);
+	if (!closure) return;
+	++m_stats.loopClosures;
+	m_stats.loopClosureLinks += 1 + closure->rematchLinks;
+	if (closure->optimized)
+	{
+		m_local->invalidate();
+		MRPT_LOG_INFO_FMT(
+			"loop closed: keyframe %zu -> %zu (score %.2f, ambiguity %.2f), %zu re-matched "
+			"links, %.1f ms",
+			closure->newNode, closure->oldNode, closure->score, closure->ambiguity,
+			closure->rematchLinks, 1e3 * closure->seconds);
+	}
+}
+
+TLoopCloserStats CMetricMapBuilderLRGC::loopCloserStats() const
+{
+	return m_loopCloser ? m_loopCloser->stats() : TLoopCloserStats{};
 }
 
 bool CMetricMapBuilderLRGC::isNewKeyframe(const TPose2D& scanInMap) const

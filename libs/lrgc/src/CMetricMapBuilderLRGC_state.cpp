@@ -35,6 +35,10 @@ void CMetricMapBuilderLRGC::initialize(
 	m_predictor = CMotionPredictor(m_params.motion);
 	m_local = std::make_unique<CLocalRegistration>(
 		m_params.local, m_params.matcher, m_params.optimizer);
+	m_loopCloser.reset();
+	if (m_params.builder.loop_closing)
+		m_loopCloser = std::make_unique<CLoopCloser>(
+			m_params.loop, m_params.correlator, m_params.matcher, m_params.optimizer);
 	m_graph = CPoseGraph();
 	m_keyframes.clear();
 	m_scans.clear();

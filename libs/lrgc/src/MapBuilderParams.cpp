@@ -17,6 +17,7 @@ void TMapBuilderParams::loadFromConfigFile(
 		mrpt::DEG2RAD(c.read_double(s, "keyframe_angle_deg", mrpt::RAD2DEG(keyframe_angle)));
 	min_scan_points = c.read_uint64_t(s, "min_scan_points", min_scan_points);
 	grid_resolution = c.read_double(s, "grid_resolution", grid_resolution);
+	loop_closing = c.read_bool(s, "loop_closing", loop_closing);
 	final_optimization = c.read_bool(s, "final_optimization", final_optimization);
 	requireParam(keyframe_distance > 0, s, "keyframe_distance", "must be > 0");
 	requireParam(keyframe_angle > 0, s, "keyframe_angle_deg", "must be > 0");
@@ -34,6 +35,7 @@ void TMapBuilderParams::saveToConfigFile(
 	c.write(s, "keyframe_angle_deg", mrpt::RAD2DEG(keyframe_angle), np, vp, "[deg] ... or after this much turn");
 	c.write(s, "min_scan_points", uint64_t(min_scan_points), np, vp, "Scans with fewer valid returns are skipped (with a warning)");
 	c.write(s, "grid_resolution", grid_resolution, np, vp, "[m] Cell size of the exported occupancy grid map");
+	c.write(s, "loop_closing", loop_closing, np, vp, "Global correlation and loop closing (false: local registration only)");
 	c.write(s, "final_optimization", final_optimization, np, vp, "Optimise the whole graph once more at the end of the run");
 }
 
@@ -41,7 +43,7 @@ const std::vector<std::string>& TLRGCParams::sectionNames()
 {
 	static const std::vector<std::string> names = {
 		"MapBuilder", "MotionPredictor", "ScanMatcher", "LocalRegistration",
-		"PoseGraphOptimizer"};
+		"PoseGraphOptimizer", "LoopCloser", "PatchCorrelator"};
 	return names;
 }
 
@@ -63,6 +65,11 @@ void TLRGCParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, con
 	matcher.loadFromConfigFile(c, "ScanMatcher");
 	local.loadFromConfigFile(c, "LocalRegistration");
 	optimizer.loadFromConfigFile(c, "PoseGraphOptimizer");
+	loop.loadFromConfigFile(c, "LoopCloser");
+	correlator.loadFromConfigFile(c, "PatchCorrelator");
+	requireParam(
+		loop.old_map_exclusion > local.window_size, "LoopCloser", "old_map_exclusion",
+		"must exceed [LocalRegistration] window_size (the paper's m > K)");
 }
 
 void TLRGCParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string&) const
@@ -72,6 +79,8 @@ void TLRGCParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::
 	matcher.saveToConfigFile(c, "ScanMatcher");
 	local.saveToConfigFile(c, "LocalRegistration");
 	optimizer.saveToConfigFile(c, "PoseGraphOptimizer");
+	loop.saveToConfigFile(c, "LoopCloser");
+	correlator.saveToConfigFile(c, "PatchCorrelator");
 }
 
 }  // namespace lrgc

@@ -15,6 +15,7 @@
 
 #include <lrgc/Keyframe.h>
 #include <lrgc/LocalRegistration.h>
+#include <lrgc/LoopCloser.h>
 #include <lrgc/MapBuilderParams.h>
 #include <lrgc/MotionPredictor.h>
 #include <lrgc/PoseGraph.h>
@@ -83,6 +84,8 @@ class CMetricMapBuilderLRGC : public mrpt::slam::CMetricMapBuilder
 	const CPoseGraph& graph() const { return m_graph; }
 	const TKeyframes& keyframes() const { return m_keyframes; }
 	const TMapBuilderStats& stats() const { return m_stats; }
+	/** Loop-closing counters and per-closure times (empty stats if loop closing is off). */
+	TLoopCloserStats loopCloserStats() const;
 	/** Occupancy grid of the current estimate, from the keyframes' scans. */
 	mrpt::maps::COccupancyGridMap2D::Ptr buildOccupancyGrid() const;
 	/** Warnings since the last call (skipped scans, ...), for the caller to report. */
@@ -99,6 +102,7 @@ class CMetricMapBuilderLRGC : public mrpt::slam::CMetricMapBuilder
 	void processScan(
 		const mrpt::obs::CObservation2DRangeScan::Ptr& laser,
 		const mrpt::obs::CSensoryFrame::Ptr& observations);
+	void lookForLoop();
 	bool isNewKeyframe(const mrpt::math::TPose2D& scanInMap) const;
 	size_t addKeyframe(
 		const mrpt::obs::CObservation2DRangeScan::Ptr& laser,
@@ -110,6 +114,7 @@ class CMetricMapBuilderLRGC : public mrpt::slam::CMetricMapBuilder
 	TLRGCParams m_params;
 	CMotionPredictor m_predictor;
 	std::unique_ptr<CLocalRegistration> m_local;
+	std::unique_ptr<CLoopCloser> m_loopCloser;
 	CPoseGraph m_graph;
 	TKeyframes m_keyframes;
 	std::vector<TScanRecord> m_scans;

@@ -4,7 +4,9 @@
 #pragma once
 
 #include <lrgc/LocalRegistration.h>
+#include <lrgc/LoopCloser.h>
 #include <lrgc/MotionPredictor.h>
+#include <lrgc/PatchCorrelatorParams.h>
 #include <lrgc/PoseGraphOptimizer.h>
 #include <lrgc/ScanMatcher.h>
 #include <mrpt/config/CLoadableOptions.h>
@@ -20,6 +22,7 @@ struct TMapBuilderParams : public mrpt::config::CLoadableOptions
 	double keyframe_angle = mrpt::DEG2RAD(15.0);  //!< [rad] or this much turn (key keyframe_angle_deg)
 	size_t min_scan_points = 20;  //!< scans with fewer valid returns are skipped, with a warning
 	double grid_resolution = 0.05;  //!< [m] cell size of the exported occupancy grid
+	bool loop_closing = true;  //!< global correlation and loop closing (false: local only)
 	bool final_optimization = true;  //!< optimise the whole graph at the end of the run
 
 	void loadFromConfigFile(
@@ -35,6 +38,8 @@ struct TLRGCParams : public mrpt::config::CLoadableOptions
 	TScanMatcherParams matcher;  //!< [ScanMatcher]
 	TLocalRegistrationParams local;  //!< [LocalRegistration]
 	TPoseGraphOptimizerParams optimizer;  //!< [PoseGraphOptimizer]
+	TLoopCloserParams loop;  //!< [LoopCloser]
+	TPatchCorrelatorParams correlator;  //!< [PatchCorrelator]
 
 	/** Loads every stage's section (`section` is ignored: each stage has its own); other
 	 * sections are left to the caller, who checks them against sectionNames(). */
