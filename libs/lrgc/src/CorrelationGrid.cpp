@@ -40,30 +40,20 @@ std::vector<uint8_t> blurTable(double resolution, double blurSigma)
 	return lut;
 }
 
-// Next pyramid level: `prev` holds level h-1 over cells [-(s-1), W-1] x [-(s-1), H-1]
-// (s = 2^(h-1)); returns level h over [-(2s-1), W-1] x [-(2s-1), H-1].
-CCorrelationGrid::Level nextLevel(const CCorrelationGrid::Level& prev, int width, int height)
+// Next pyramid level in the common padded layout (rows x stride, row-major): with
+// s = 2^(h-1), P_h(x, y) = max over {x, x+s} x {y, y+s} of P_{h-1}; reads past the stored
+// high end are zeros of the padded copy Z.
+std::vector<uint8_t> nextLevel(const std::vector<uint8_t>& prev, int rows, int stride, int s)
 {
-	const int s = prev.offset + 1;
-	CCorrelationGrid::Level L;
-	L.offset = 2 * s - 1;
-	L.stride = width + L.offset;
-	L.rows = height + L.offset;
-	// Zero-padded copy Z of prev, indexed so that Z(r, c) holds cell (c - L.offset,
-	// r - L.offset); s extra zero columns/rows on the right/top let x + s be read.
-	cv::Mat Z = cv::Mat::zeros(L.rows + s, L.stride + s, CV_8U);
-	const cv::Mat P(
-		prev.rows, prev.stride, CV_8U, const_cast<uint8_t*>(prev.data.data()));
-	P.copyTo(Z(cv::Rect(s, s, prev.stride, prev.rows)));
-	// Rows: T(r, c) = max(Z(r, c), Z(r, c + s)).
-	cv::Mat T;
-	cv::max(
-		Z(cv::Rect(0, 0, L.stride, L.rows + s)), Z(cv::Rect(s, 0, L.stride, L.rows + s)), T);
-	// Columns: out(r, c) = max(T(r, c), T(r + s, c)).
-	L.data.resize(static_cast<size_t>(L.stride) * static_cast<size_t>(L.rows));
-	cv::Mat out(L.rows, L.stride, CV_8U, L.data.data());
-	cv::max(T(cv::Rect(0, 0, L.stride, L.rows)), T(cv::Rect(0, s, L.stride, L.rows)), out);
-	return L;
+	cv::Mat Z = cv::Mat::zeros(rows + s, stride + s, CV_8U);
+	const cv::Mat P(rows, stride, CV_8U, const_cast<uint8_t*>(prev.data()));
+	P.copyTo(Z(cv::Rect(0, 0, stride, rows)));
+	cv::Mat T;  // T(r, c) = max(Z(r, c), Z(r, c + s))
+	cv::max(Z(cv::Rect(0, 0, stride, rows + s)), Z(cv::Rect(s, 0, stride, rows + s)), T);
+	std::vector<uint8_t> next(prev.size());
+	cv::Mat out(rows, stride, CV_8U, next.data());  // out(r, c) = max(T(r, c), T(r + s, c))
+	cv::max(T(cv::Rect(0, 0, stride, rows)), T(cv::Rect(0, s, stride, rows)), out);
+	return next;
 }
 }  // namespace
 
@@ -125,14 +115,15 @@ CCorrelationGrid CCorrelationGrid::fromPoints(
 	cv::distanceTransform(free, dist, cv::DIST_L2, cv::DIST_MASK_PRECISE, CV_32F);
 
 	const std::vector<uint8_t> lut = blurTable(resolution, blurSigma);
-	Level L0;
-	L0.stride = g.m_width;
-	L0.rows = g.m_height;
-	L0.data.resize(static_cast<size_t>(g.m_width) * static_cast<size_t>(g.m_height));
+	g.m_pad = (1 << (numLevels - 1)) - 1;
+	g.m_stride = g.m_width + g.m_pad;
+	g.m_rows = g.m_height + g.m_pad;
+	std::vector<uint8_t> L0(static_cast<size_t>(g.m_stride) * static_cast<size_t>(g.m_rows), 0);
 	for (int r = 0; r < g.m_height; ++r)
 	{
 		const float* d = dist.ptr<float>(r);
-		uint8_t* out = L0.data.data() + static_cast<size_t>(r) * static_cast<size_t>(g.m_width);
+		uint8_t* out = L0.data() + static_cast<size_t>(r + g.m_pad) * size_t(g.m_stride) +
+			size_t(g.m_pad);
 		for (int c = 0; c < g.m_width; ++c)
 		{
 			// Exact distances are square roots of integers: recover d^2 by rounding.
@@ -142,7 +133,7 @@ CCorrelationGrid CCorrelationGrid::fromPoints(
 	}
 	g.m_levels.push_back(std::move(L0));
 	for (int h = 1; h < numLevels; ++h)
-		g.m_levels.push_back(nextLevel(g.m_levels.back(), g.m_width, g.m_height));
+		g.m_levels.push_back(nextLevel(g.m_levels.back(), g.m_rows, g.m_stride, 1 << (h - 1)));
 	return g;
 }
 

@@ -119,6 +119,7 @@ Eigen::Matrix3d sampledCovariance(
 	for (int t = -nTh; t <= nTh; ++t)
 		appendBaseCells(grid, pts, spec.center, spec.theta(a) + t * strideTh * spec.dtheta,
 			local.baseCells);
+	local.prepare();
 	const double scale = prm.clusterScoreScale * double(std::max<int64_t>(bestScore, 1));
 	const double qXY = strideXY * spec.res, qTh = strideTh * spec.dtheta;
 	double wsum = 0;
@@ -277,6 +278,7 @@ std::optional<TCorrelationResult> CPatchCorrelator::run(
 	pb.baseCells.reserve(size_t(pb.numAngles) * pts.size() * 2);
 	for (int a = 0; a < pb.numAngles; ++a)
 		appendBaseCells(grid, pts, center, spec.theta(a), pb.baseCells);
+	pb.prepare();
 
 	// Step 3: the best pose.
 	const auto search = exhaustive ? detail::searchExhaustive : detail::searchBranchAndBound;

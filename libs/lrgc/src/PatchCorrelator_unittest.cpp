@@ -12,7 +12,6 @@
 #include "lrgc/se2.h"
 
 #include <cmath>
-#include <iostream>
 #include <limits>
 #include <random>
 
@@ -159,10 +158,6 @@ TEST(PatchCorrelator, BranchAndBoundEqualsExhaustiveAndRecoversThePose)
 		EXPECT_LE(std::abs(bnb->patchInMap.y - truth.y), 1.5 * prm.resolution) << trial;
 		EXPECT_LE(angleDiff(bnb->patchInMap.phi, truth.phi), 1.5 * bnb->angularStep) << trial;
 		accepted += bnb->passesFilters(TPatchCorrelatorParams{});
-		std::cerr << "DBG score " << bnb->score << " amb " << bnb->ambiguity << " std "
-				  << bnb->cov.diagonal().cwiseSqrt().transpose() << " cells " << bnb->patchCells
-				  << " n " << bnb->posesScored << "/" << ex->posesScored << " "
-				  << bnb->checkFilters(prm).message() << "\n";
 	}
 	// A cluttered room seen by 8 scans is a distinctive match: nearly all pass the filters.
 	EXPECT_GE(accepted, 22);
@@ -185,10 +180,6 @@ TEST(PatchCorrelator, PatchWithoutCounterpartFailsTheFilters)
 		const Points patch = makePatch(otherWorld, robot, 8, rng);
 		const auto r = corr.correlate(map, patch, robot, 1.0, 0.2);
 		rejected += !r || !r->passesFilters(prm);
-		if (r)
-			std::cerr << "DBG score " << r->score << " amb " << r->ambiguity << " std "
-					  << r->cov.diagonal().cwiseSqrt().transpose() << " cells " << r->patchCells
-					  << " " << r->checkFilters(prm).message() << "\n";
 		// The same search with no floor shows the best score really is low.
 		TPatchCorrelatorParams noFloor = prm;
 		noFloor.minScore = 0;

@@ -27,14 +27,32 @@ constexpr int64_t kNoIndex = std::numeric_limits<int64_t>::max();
 // `required` any more.
 int64_t boundedSum(const TPoseGridProblem& pb, int h, int a, int i, int j, int64_t required)
 {
-	const CCorrelationGrid::Level& L = pb.grid->level(h);
-	const uint8_t* data = L.data.data();
-	const unsigned stride = static_cast<unsigned>(L.stride);
-	const unsigned rows = static_cast<unsigned>(L.rows);
-	const int32_t* c = pb.baseCells.data() + size_t(a) * size_t(pb.numPoints) * 2;
-	const int dx = i + L.offset, dy = j + L.offset;
-	int64_t sum = 0;
+	const CCorrelationGrid& g = *pb.grid;
+	const uint8_t* data = g.levelData(h);
+	const int dx = i + g.pad(), dy = j + g.pad();
+	const size_t first = size_t(a) * size_t(pb.numPoints);
+	const int32_t* box = pb.bbox.data() + 4 * size_t(a);
+	const bool inside = box[0] + dx >= 0 && box[1] + dx < g.stride() && box[2] + dy >= 0 &&
+		box[3] + dy < g.rows();
 	constexpr int kChunk = 32;
+	int64_t sum = 0;
+	if (inside)
+	{  // every lookup is in range: a plain gather
+		const int64_t* lin = pb.linear.data() + first;
+		const uint8_t* base = data + int64_t(dy) * g.stride() + dx;
+		for (int k0 = 0; k0 < pb.numPoints; k0 += kChunk)
+		{
+			const int k1 = std::min(pb.numPoints, k0 + kChunk);
+			uint32_t part = 0;
+			for (int k = k0; k < k1; ++k) part += base[lin[k]];
+			sum += part;
+			if (sum + int64_t(255) * (pb.numPoints - k1) < required) return -1;
+		}
+		return sum;
+	}
+	const unsigned stride = static_cast<unsigned>(g.stride());
+	const unsigned rows = static_cast<unsigned>(g.rows());
+	const int32_t* c = pb.baseCells.data() + 2 * first;
 	for (int k0 = 0; k0 < pb.numPoints; k0 += kChunk)
 	{
 		const int k1 = std::min(pb.numPoints, k0 + kChunk);
@@ -100,7 +118,8 @@ public:
 
 private:
 	// Bounds the node and appends it to `out` unless it can be pruned already.
-	void consider(int a, int h, int i0, int j0, std::vector<Node>& out)
+	template <class Nodes>
+	void consider(int a, int h, int i0, int j0, Nodes& out)
 	{
 		const int W = m_pb.halfCells;
 		const int i1 = std::min(W, i0 + (1 << h) - 1), j1 = std::min(W, j0 + (1 << h) - 1);
@@ -112,7 +131,17 @@ private:
 		if (b >= 0) out.push_back({a, h, i0, j0, b, idx});
 	}
 
-	void explore(std::vector<Node>& nodes)
+	struct Children
+	{
+		Node items[4];
+		size_t count = 0;
+		void push_back(const Node& n) { items[count++] = n; }
+		Node* begin() { return items; }
+		Node* end() { return items + count; }
+	};
+
+	template <class Nodes>
+	void explore(Nodes& nodes)
 	{
 		std::sort(nodes.begin(), nodes.end(), [](const Node& x, const Node& y) {
 			return x.bound != y.bound ? x.bound > y.bound : x.minIndex < y.minIndex;
@@ -129,8 +158,7 @@ private:
 				continue;
 			}
 			const int half = 1 << (n.h - 1), W = m_pb.halfCells;
-			std::vector<Node> children;
-			children.reserve(4);
+			Children children;
 			for (int di = 0; di < 2; ++di)
 				for (int dj = 0; dj < 2; ++dj)
 				{
@@ -147,6 +175,26 @@ private:
 	size_t m_evaluations = 0;
 };
 }  // namespace
+
+void TPoseGridProblem::prepare()
+{
+	bbox.assign(4 * size_t(numAngles), 0);
+	for (int a = 0; a < numAngles; ++a)
+	{
+		const int32_t* c = baseCells.data() + 2 * size_t(a) * size_t(numPoints);
+		int32_t* b = bbox.data() + 4 * size_t(a);
+		b[0] = b[1] = c[0], b[2] = b[3] = c[1];
+		for (int k = 1; k < numPoints; ++k)
+		{
+			b[0] = std::min(b[0], c[2 * k]), b[1] = std::max(b[1], c[2 * k]);
+			b[2] = std::min(b[2], c[2 * k + 1]), b[3] = std::max(b[3], c[2 * k + 1]);
+		}
+	}
+	const int64_t stride = grid->stride();
+	linear.resize(size_t(numAngles) * size_t(numPoints));
+	for (size_t k = 0; k < linear.size(); ++k)
+		linear[k] = int64_t(baseCells[2 * k + 1]) * stride + baseCells[2 * k];
+}
 
 int64_t scoreAt(const TPoseGridProblem& pb, int level, int a, int i, int j)
 {

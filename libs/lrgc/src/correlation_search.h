@@ -24,6 +24,12 @@ struct TPoseGridProblem
 	int numAngles = 0;
 	/** base cells, numAngles x N pairs (cx, cy), angle-major. */
 	std::vector<int32_t> baseCells;
+	/** Filled by prepare(): per angle the bounding box of its base cells (minX, maxX, minY,
+	 * maxY), and the row-major offsets cy * stride + cx of every base cell (the same at all
+	 * levels), so that blocks whose lookups all fall inside the grid need no bound checks. */
+	std::vector<int32_t> bbox;
+	std::vector<int64_t> linear;
+	void prepare();
 
 	int side() const { return 2 * halfCells + 1; }
 	int64_t linearIndex(int a, int i, int j) const

@@ -12,9 +12,10 @@
  *
  * Pyramid (Cartographer-style sliding-window max, no subsampling): level h holds
  *     P_h(x, y) = max { P_0(x + a, y + b) : 0 <= a, b < 2^h },
- * defined for x in [-(2^h - 1), width - 1] (likewise y), cells outside the map being 0. A
- * block of 2^h x 2^h translations of a patch can therefore be bounded from above by one
- * lookup per patch point (see PatchCorrelator.h).
+ * cells outside the map being 0. A block of 2^h x 2^h translations of a patch can therefore
+ * be bounded from above by one lookup per patch point (see PatchCorrelator.h). All levels
+ * share one layout, padded on the low side by pad = 2^(numLevels-1) - 1 cells (the cells
+ * where a block reaches into the map), so one row-major offset per point serves every level.
  */
 #pragma once
 
@@ -60,31 +61,32 @@ public:
 	/** Quantised value (0..255) of pyramid level `level` at cell (cx, cy); 0 outside. */
 	uint8_t value(int level, int cx, int cy) const
 	{
-		const Level& L = m_levels[static_cast<size_t>(level)];
-		const unsigned ux = static_cast<unsigned>(cx + L.offset);
-		const unsigned uy = static_cast<unsigned>(cy + L.offset);
-		if (ux >= static_cast<unsigned>(L.stride) || uy >= static_cast<unsigned>(L.rows))
+		const unsigned ux = static_cast<unsigned>(cx + m_pad);
+		const unsigned uy = static_cast<unsigned>(cy + m_pad);
+		if (ux >= static_cast<unsigned>(m_stride) || uy >= static_cast<unsigned>(m_rows))
 			return 0;
-		return L.data[static_cast<size_t>(uy) * static_cast<size_t>(L.stride) + ux];
+		return m_levels[static_cast<size_t>(level)]
+					   [static_cast<size_t>(uy) * static_cast<size_t>(m_stride) + ux];
 	}
 
-	/** Raw storage of one level, for tight loops: value(level, cx, cy) is
-	 * data[(cy + offset) * stride + (cx + offset)] when both indices are in range. */
-	struct Level
+	/** Raw storage, for tight loops: value(level, cx, cy) is
+	 * levelData(level)[(cy + pad) * stride + (cx + pad)] when cx + pad is in [0, stride) and
+	 * cy + pad in [0, rows). */
+	const uint8_t* levelData(int level) const
 	{
-		std::vector<uint8_t> data;
-		int offset = 0;  //!< 2^level - 1: the first stored cell index is -offset
-		int stride = 0;  //!< stored columns: width + offset
-		int rows = 0;  //!< stored rows: height + offset
-	};
-	const Level& level(int h) const { return m_levels[static_cast<size_t>(h)]; }
+		return m_levels[static_cast<size_t>(level)].data();
+	}
+	int pad() const { return m_pad; }
+	int stride() const { return m_stride; }  //!< width + pad
+	int rows() const { return m_rows; }  //!< height + pad
 
 private:
 	double m_resolution = 0;
 	double m_blurSigma = 0;
 	Eigen::Vector2d m_origin = Eigen::Vector2d::Zero();
 	int m_width = 0, m_height = 0;
-	std::vector<Level> m_levels;
+	int m_pad = 0, m_stride = 0, m_rows = 0;
+	std::vector<std::vector<uint8_t>> m_levels;
 };
 
 }  // namespace lrgc
