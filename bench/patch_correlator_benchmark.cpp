@@ -37,16 +37,20 @@ std::vector<Segment> office(std::mt19937& rng)
 				const double c = k * room, s0 = r * room, d0 = s0 + 0.5 + u(rng) * (room - 2);
 				const bool outer = k == 0 || k == n;
 				const auto seg = [&](double from, double to) {
-					w.push_back(axis == 0 ? Segment{{c, from}, {c, to}} : Segment{{from, c}, {to, c}});
+					w.push_back(axis == 0 ? Segment{{c, from}, {c, to}}
+										  : Segment{{from, c}, {to, c}});
 				};
-				if (outer) seg(s0, s0 + room);
-				else seg(s0, d0), seg(d0 + door, s0 + room);
+				if (outer)
+					seg(s0, s0 + room);
+				else
+					seg(s0, d0), seg(d0 + door, s0 + room);
 			}
 	for (int rx = 0; rx < n; ++rx)
 		for (int ry = 0; ry < n; ++ry)
 			for (int f = 0; f < 3; ++f)
 			{
-				const Eigen::Vector2d a(rx * room + 0.5 + 4 * u(rng), ry * room + 0.5 + 4 * u(rng));
+				const Eigen::Vector2d a(rx * room + 0.5 + 4 * u(rng),
+										ry * room + 0.5 + 4 * u(rng));
 				const double t = 2 * M_PI * u(rng), l = 0.4 + 1.1 * u(rng);
 				w.push_back({a, a + l * Eigen::Vector2d(std::cos(t), std::sin(t))});
 			}
@@ -84,7 +88,9 @@ Points raycast(const std::vector<Segment>& w, const TPose2D& robot, std::mt19937
 			const double v = (r.x() * d.y() - r.y() * d.x()) / den;
 			if (t > 0.05 && v >= 0 && v <= 1) best = std::min(best, t);
 		}
-		if (best < 8.0) pts.emplace_back((best + noise(rng)) * std::cos(beam), (best + noise(rng)) * std::sin(beam));
+		if (best < 8.0)
+			pts.emplace_back((best + noise(rng)) * std::cos(beam),
+							 (best + noise(rng)) * std::sin(beam));
 	}
 	return pts;
 }
@@ -114,7 +120,8 @@ struct Fixture
 		{
 			Case k;
 			const int room = int(64 * (0.5 + 0.5 * u(rng))) % 64;
-			k.truth = TPose2D((room % 8) * 5 + cell(rng), (room / 8) * 5 + cell(rng), M_PI * u(rng));
+			k.truth =
+				TPose2D((room % 8) * 5 + cell(rng), (room / 8) * 5 + cell(rng), M_PI * u(rng));
 			// 20 scans over a 3 m arc ending at the truth.
 			for (int s = 19; s >= 0; --s)
 			{
@@ -123,7 +130,8 @@ struct Fixture
 				for (const auto& p : raycast(world, robot, rng))
 					k.patch.push_back(lrgc::transformPoint(inPatch, p));
 			}
-			k.center = TPose2D(k.truth.x + 0.5 * u(rng), k.truth.y + 0.5 * u(rng), k.truth.phi + 0.1 * u(rng));
+			k.center = TPose2D(k.truth.x + 0.5 * u(rng), k.truth.y + 0.5 * u(rng),
+							   k.truth.phi + 0.1 * u(rng));
 			cases.push_back(std::move(k));
 		}
 	}
@@ -155,21 +163,24 @@ void BM_Correlate(benchmark::State& st)
 	for (auto _ : st)
 	{
 		const Case& c = f.cases[k++ % f.cases.size()];
-		const auto r = exhaustive ? f.corr.correlateExhaustive(f.map, c.patch, c.center, hxy, hth)
-								  : f.corr.correlate(f.map, c.patch, c.center, hxy, hth);
+		const auto r = exhaustive
+						   ? f.corr.correlateExhaustive(f.map, c.patch, c.center, hxy, hth)
+						   : f.corr.correlate(f.map, c.patch, c.center, hxy, hth);
 		++runs;
 		if (!r) continue;
 		++found;
 		accepted += r->passesFilters(f.corr.params());
 		scored += r->posesScored;
 		cells += r->patchCells;
-		errXY = std::max(errXY, std::hypot(r->patchInMap.x - c.truth.x, r->patchInMap.y - c.truth.y));
+		errXY = std::max(errXY,
+						 std::hypot(r->patchInMap.x - c.truth.x, r->patchInMap.y - c.truth.y));
 		if (!exhaustive && runs <= f.cases.size())
 		{  // check against the reference once per case (outside the timing)
 			st.PauseTiming();
 			const auto e = f.corr.correlateExhaustive(f.map, c.patch, c.center, hxy, hth);
 			samePose += e && e->patchInMap.x == r->patchInMap.x &&
-				e->patchInMap.y == r->patchInMap.y && e->patchInMap.phi == r->patchInMap.phi;
+						e->patchInMap.y == r->patchInMap.y &&
+						e->patchInMap.phi == r->patchInMap.phi;
 			st.ResumeTiming();
 		}
 	}

@@ -63,12 +63,13 @@ Eigen::Vector2i CCorrelationGrid::cellOf(const Eigen::Vector2d& pInMap) const
 	const double fy = std::floor((pInMap.y() - m_origin.y()) / m_resolution);
 	// Clamp far points to an index that is outside the grid but cannot overflow int.
 	const double lim = 1e9;
-	return {static_cast<int>(std::clamp(fx, -lim, lim)), static_cast<int>(std::clamp(fy, -lim, lim))};
+	return {static_cast<int>(std::clamp(fx, -lim, lim)),
+			static_cast<int>(std::clamp(fy, -lim, lim))};
 }
 
-CCorrelationGrid CCorrelationGrid::fromPoints(
-	const std::vector<Eigen::Vector2d>& pointsInMap, double resolution, double blurSigma,
-	double margin, int numLevels)
+CCorrelationGrid CCorrelationGrid::fromPoints(const std::vector<Eigen::Vector2d>& pointsInMap,
+											  double resolution, double blurSigma,
+											  double margin, int numLevels)
 {
 	if (pointsInMap.empty())
 		THROW_EXCEPTION("CCorrelationGrid::fromPoints: no points to build the old map from");
@@ -122,8 +123,8 @@ CCorrelationGrid CCorrelationGrid::fromPoints(
 	for (int r = 0; r < g.m_height; ++r)
 	{
 		const float* d = dist.ptr<float>(r);
-		uint8_t* out = L0.data() + static_cast<size_t>(r + g.m_pad) * size_t(g.m_stride) +
-			size_t(g.m_pad);
+		uint8_t* out =
+			L0.data() + static_cast<size_t>(r + g.m_pad) * size_t(g.m_stride) + size_t(g.m_pad);
 		for (int c = 0; c < g.m_width; ++c)
 		{
 			// Exact distances are square roots of integers: recover d^2 by rounding.

@@ -25,7 +25,8 @@ TEST(CorrelationGrid, BlurIsGaussianOfDistanceToNearestPoint)
 	const std::vector<Eigen::Vector2d> pts{{1.01, 2.03}};
 	const auto g = CCorrelationGrid::fromPoints(pts, res, sigma, 1.0);
 	EXPECT_NEAR(g.probabilityAt(pts[0]), 1.0, 1e-12);
-	const auto expected = [&](int dx, int dy) {
+	const auto expected = [&](int dx, int dy)
+	{
 		const double d2 = (dx * dx + dy * dy) * res * res;
 		return std::exp(-d2 / (2 * sigma * sigma));
 	};
@@ -82,9 +83,8 @@ TEST(CorrelationGrid, RejectsBadInput)
 	EXPECT_THROW(CCorrelationGrid::fromPoints(pts, 0, 0.1, 1), std::exception);
 	EXPECT_THROW(CCorrelationGrid::fromPoints(pts, 0.05, -1, 1), std::exception);
 	EXPECT_THROW(CCorrelationGrid::fromPoints(pts, 0.05, 0.1, 1, 0), std::exception);
-	EXPECT_THROW(
-		CCorrelationGrid::fromPoints({{0, 0}, {1e6, 0}}, 0.05, 0.1, 1), std::exception);
-	EXPECT_THROW(
-		CCorrelationGrid::fromPoints({{0, 0}, {std::nan(""), 0}}, 0.05, 0.1, 1),
-		std::exception);
+	EXPECT_THROW(CCorrelationGrid::fromPoints({{0, 0}, {1e6, 0}}, 0.05, 0.1, 1),
+				 std::exception);
+	EXPECT_THROW(CCorrelationGrid::fromPoints({{0, 0}, {std::nan(""), 0}}, 0.05, 0.1, 1),
+				 std::exception);
 }

@@ -41,8 +41,8 @@ using detail::TPoseGridProblem;
 
 // Step 1: centroids of the distinct cells of the patch, in a fixed pseudo-random order (so
 // that early-abandoned bounds see a spatially mixed sample of points first).
-std::vector<Eigen::Vector2d> distinctCells(
-	const std::vector<Eigen::Vector2d>& pts, double resolution)
+std::vector<Eigen::Vector2d> distinctCells(const std::vector<Eigen::Vector2d>& pts,
+										   double resolution)
 {
 	struct Item
 	{
@@ -53,16 +53,18 @@ std::vector<Eigen::Vector2d> distinctCells(
 	items.reserve(pts.size());
 	for (const auto& p : pts)
 	{
-		if (!p.allFinite())
-			THROW_EXCEPTION("CPatchCorrelator: a patch point is not finite");
+		if (!p.allFinite()) THROW_EXCEPTION("CPatchCorrelator: a patch point is not finite");
 		const int64_t cx = static_cast<int64_t>(std::floor(p.x() / resolution));
 		const int64_t cy = static_cast<int64_t>(std::floor(p.y() / resolution));
 		items.push_back({(cx << 32) ^ (cy & 0xffffffff), p});
 	}
-	std::sort(items.begin(), items.end(), [](const Item& a, const Item& b) {
-		return a.key != b.key ? a.key < b.key
-							  : (a.p.x() != b.p.x() ? a.p.x() < b.p.x() : a.p.y() < b.p.y());
-	});
+	std::sort(items.begin(), items.end(),
+			  [](const Item& a, const Item& b)
+			  {
+				  return a.key != b.key
+							 ? a.key < b.key
+							 : (a.p.x() != b.p.x() ? a.p.x() < b.p.x() : a.p.y() < b.p.y());
+			  });
 	std::vector<Eigen::Vector2d> out;
 	for (size_t k = 0; k < items.size();)
 	{
@@ -90,15 +92,14 @@ struct TGridSpec
 };
 
 // Base cells (cx, cy) of every point rotated by theta and moved by the window centre.
-void appendBaseCells(
-	const CCorrelationGrid& grid, const std::vector<Eigen::Vector2d>& pts,
-	const mrpt::math::TPose2D& center, double theta, std::vector<int32_t>& out)
+void appendBaseCells(const CCorrelationGrid& grid, const std::vector<Eigen::Vector2d>& pts,
+					 const mrpt::math::TPose2D& center, double theta, std::vector<int32_t>& out)
 {
 	const double c = std::cos(theta), s = std::sin(theta);
 	for (const auto& p : pts)
 	{
-		const Eigen::Vector2i cell = grid.cellOf(
-			{center.x + c * p.x() - s * p.y(), center.y + s * p.x() + c * p.y()});
+		const Eigen::Vector2i cell =
+			grid.cellOf({center.x + c * p.x() - s * p.y(), center.y + s * p.x() + c * p.y()});
 		out.push_back(cell.x());
 		out.push_back(cell.y());
 	}
@@ -107,10 +108,11 @@ void appendBaseCells(
 // Weighted covariance of the response sampled on the lattice (u strideXY, v strideXY,
 // t strideTh) around (a, i, j), |u|, |v| <= nXY, |t| <= nTh; plus the lattice's own
 // discretisation step^2 / 12.
-Eigen::Matrix3d sampledCovariance(
-	const TPatchCorrelatorParams& prm, const CCorrelationGrid& grid,
-	const std::vector<Eigen::Vector2d>& pts, const TGridSpec& spec, int a, int i, int j,
-	int64_t bestScore, int strideXY, int nXY, int strideTh, int nTh)
+Eigen::Matrix3d sampledCovariance(const TPatchCorrelatorParams& prm,
+								  const CCorrelationGrid& grid,
+								  const std::vector<Eigen::Vector2d>& pts,
+								  const TGridSpec& spec, int a, int i, int j, int64_t bestScore,
+								  int strideXY, int nXY, int strideTh, int nTh)
 {
 	TPoseGridProblem local;
 	local.grid = &grid;
@@ -118,7 +120,7 @@ Eigen::Matrix3d sampledCovariance(
 	local.numAngles = 2 * nTh + 1;
 	for (int t = -nTh; t <= nTh; ++t)
 		appendBaseCells(grid, pts, spec.center, spec.theta(a) + t * strideTh * spec.dtheta,
-			local.baseCells);
+						local.baseCells);
 	local.prepare();
 	const double scale = prm.clusterScoreScale * double(std::max<int64_t>(bestScore, 1));
 	const double qXY = strideXY * spec.res, qTh = strideTh * spec.dtheta;
@@ -129,8 +131,8 @@ Eigen::Matrix3d sampledCovariance(
 		for (int u = -nXY; u <= nXY; ++u)
 			for (int v = -nXY; v <= nXY; ++v)
 			{
-				const int64_t s = detail::scoreAt(
-					local, 0, t + nTh, i + u * strideXY, j + v * strideXY);
+				const int64_t s =
+					detail::scoreAt(local, 0, t + nTh, i + u * strideXY, j + v * strideXY);
 				const double w = std::exp(double(s - bestScore) / scale);
 				const Eigen::Vector3d d(u * qXY, v * qXY, t * qTh);
 				wsum += w;
@@ -146,10 +148,10 @@ Eigen::Matrix3d sampledCovariance(
 // Step 5, see the file comment: first the pose grid's own lattice, +-kFine steps; if the
 // response is not contained in it (a std dev above a third of its half-width), a coarser
 // lattice spanning +-3 maxStd with at most kFine samples per side.
-Eigen::Matrix3d clusterCovariance(
-	const TPatchCorrelatorParams& prm, const CCorrelationGrid& grid,
-	const std::vector<Eigen::Vector2d>& pts, const TGridSpec& spec, int a, int i, int j,
-	int64_t bestScore)
+Eigen::Matrix3d clusterCovariance(const TPatchCorrelatorParams& prm,
+								  const CCorrelationGrid& grid,
+								  const std::vector<Eigen::Vector2d>& pts,
+								  const TGridSpec& spec, int a, int i, int j, int64_t bestScore)
 {
 	constexpr int kFine = 4;
 	const Eigen::Matrix3d fine =
@@ -162,9 +164,9 @@ Eigen::Matrix3d clusterCovariance(
 	const int strideTh = std::max(1, int(std::ceil(boxTh / spec.dtheta / kFine)));
 	const int nXY = std::max(1, int(std::floor(boxXY / (strideXY * spec.res))));
 	const int nTh = std::max(1, int(std::floor(boxTh / (strideTh * spec.dtheta))));
-	const Eigen::Matrix3d coarse = sampledCovariance(
-		prm, grid, pts, spec, a, i, j, bestScore, strideXY, std::min(kFine, nXY), strideTh,
-		std::min(kFine, nTh));
+	const Eigen::Matrix3d coarse =
+		sampledCovariance(prm, grid, pts, spec, a, i, j, bestScore, strideXY,
+						  std::min(kFine, nXY), strideTh, std::min(kFine, nTh));
 	// Keep the finer estimate of any axis that the fine lattice did contain.
 	Eigen::Matrix3d out = coarse;
 	for (int k = 0; k < 3; ++k)
@@ -183,16 +185,17 @@ std::string TCorrelationVerdict::message() const
 	using R = Reason;
 	switch (rejection)
 	{
-		case R::Accepted: return "accepted";
-		case R::LowScore: return mrpt::format("score %.3f < min_score %.3f", value, limit);
+		case R::Accepted:
+			return "accepted";
+		case R::LowScore:
+			return mrpt::format("score %.3f < min_score %.3f", value, limit);
 		case R::Ambiguous:
 			return mrpt::format("ambiguity %.3f < min_ambiguity %.3f", value, limit);
 		case R::SpreadXY:
 			return mrpt::format("std dev xy %.3f m > max_std_xy %.3f m", value, limit);
 		case R::SpreadTheta:
-			return mrpt::format(
-				"std dev theta %.2f deg > max_std_theta_deg %.2f deg", mrpt::RAD2DEG(value),
-				mrpt::RAD2DEG(limit));
+			return mrpt::format("std dev theta %.2f deg > max_std_theta_deg %.2f deg",
+								mrpt::RAD2DEG(value), mrpt::RAD2DEG(limit));
 	}
 	return "unknown";
 }
@@ -214,11 +217,11 @@ CPatchCorrelator::CPatchCorrelator(const TPatchCorrelatorParams& params) : m_par
 	m_params.validate();
 }
 
-CCorrelationGrid CPatchCorrelator::makeGrid(
-	const std::vector<Eigen::Vector2d>& pointsInMap, double margin) const
+CCorrelationGrid CPatchCorrelator::makeGrid(const std::vector<Eigen::Vector2d>& pointsInMap,
+											double margin) const
 {
-	return CCorrelationGrid::fromPoints(
-		pointsInMap, m_params.resolution, m_params.blurSigma, margin);
+	return CCorrelationGrid::fromPoints(pointsInMap, m_params.resolution, m_params.blurSigma,
+										margin);
 }
 
 std::optional<TCorrelationResult> CPatchCorrelator::correlate(
@@ -258,8 +261,9 @@ std::optional<TCorrelationResult> CPatchCorrelator::run(
 	for (const auto& p : pts) maxRadius = std::max(maxRadius, p.norm());
 
 	// Step 2: the pose grid.
-	spec.dtheta = m_params.angularStep > 0 ? m_params.angularStep
-										   : std::min(0.1, spec.res / std::max(maxRadius, spec.res));
+	spec.dtheta = m_params.angularStep > 0
+					  ? m_params.angularStep
+					  : std::min(0.1, spec.res / std::max(maxRadius, spec.res));
 	TPoseGridProblem pb;
 	pb.grid = &grid;
 	pb.numPoints = static_cast<int>(pts.size());
@@ -283,7 +287,8 @@ std::optional<TCorrelationResult> CPatchCorrelator::run(
 	// Step 3: the best pose.
 	const auto search = exhaustive ? detail::searchExhaustive : detail::searchBranchAndBound;
 	const int64_t full = int64_t(255) * pb.numPoints;
-	const auto floor1 = static_cast<int64_t>(std::ceil(m_params.minScore * double(full) - 1e-9));
+	const auto floor1 =
+		static_cast<int64_t>(std::ceil(m_params.minScore * double(full) - 1e-9));
 	const detail::TSearchHit best = search(pb, floor1, detail::TExclusionZone{});
 	if (!best.found) return std::nullopt;
 
@@ -303,9 +308,9 @@ std::optional<TCorrelationResult> CPatchCorrelator::run(
 			m_params.clusterRadiusTheta + 1e-12;
 	zone.ci = best.i, zone.cj = best.j;
 	zone.r2 = std::pow(m_params.clusterRadiusXY / spec.res, 2) + 1e-9;
-	const int64_t floor2 = exhaustive
-		? 0
-		: static_cast<int64_t>(std::ceil(double(best.score) / m_params.minAmbiguity - 1e-9));
+	const int64_t floor2 = exhaustive ? 0
+									  : static_cast<int64_t>(std::ceil(
+											double(best.score) / m_params.minAmbiguity - 1e-9));
 	const detail::TSearchHit rival = search(pb, floor2, zone);
 	res.ambiguity = std::numeric_limits<double>::infinity();
 	if (rival.found)

@@ -37,8 +37,8 @@ TEST(PatchCorrelatorParams, TextRoundTripKeepsEveryValue)
 	EXPECT_NEAR(q.clusterRadiusTheta, p.clusterRadiusTheta, 1e-7);
 	EXPECT_NEAR(q.clusterScoreScale, p.clusterScoreScale, 1e-12);
 	// Keys in degrees are written in degrees.
-	EXPECT_NEAR(text.read_double("PatchCorrelator", "max_std_theta_deg", 0),
-		0.03 * 180 / M_PI, 1e-6);
+	EXPECT_NEAR(text.read_double("PatchCorrelator", "max_std_theta_deg", 0), 0.03 * 180 / M_PI,
+				1e-6);
 }
 
 TEST(PatchCorrelatorParams, UnknownKeyAndBadValueAreErrors)
@@ -56,9 +56,8 @@ TEST(PatchCorrelatorParams, UnknownKeyAndBadValueAreErrors)
 			EXPECT_NE(std::string(e.what()).find("min_score"), std::string::npos) << e.what();
 		}
 	}
-	for (const char* bad :
-		 {"min_ambiguity = 0.9", "min_score = 1.5", "resolution = 0", "max_std_xy = 0",
-		  "cluster_score_scale = 0"})
+	for (const char* bad : {"min_ambiguity = 0.9", "min_score = 1.5", "resolution = 0",
+							"max_std_xy = 0", "cluster_score_scale = 0"})
 	{
 		mrpt::config::CConfigFileMemory mem(std::string("[PatchCorrelator]\n") + bad + "\n");
 		TPatchCorrelatorParams p;

@@ -19,8 +19,8 @@
 #include "lrgc/se2.h"
 #include "test_data.h"
 
-#include <cmath>
 #include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <iostream>
 #include <map>
@@ -32,7 +32,10 @@ using Points = std::vector<Eigen::Vector2d>;
 
 namespace
 {
-int64_t key(double t) { return std::llround(t * 1e6); }
+int64_t key(double t)
+{
+	return std::llround(t * 1e6);
+}
 
 // FLASER lines of a CARMEN log: valid returns in the laser frame, by timestamp. The first
 // beam is at -90 deg; beams span 180 deg (step 180 / n, as for MIT's 361 beams at 0.5 deg).
@@ -104,18 +107,19 @@ Stats evaluate(const std::string& log, int maxLoops)
 		step[{key(r.t1), key(r.t2)}] = r.rel;
 		step[{key(r.t2), key(r.t1)}] = lrgc::inverse(r.rel);
 	}
-	const auto index = [&](int64_t k) {
-		return int(std::lower_bound(nodes.begin(), nodes.end(), k) - nodes.begin());
-	};
+	const auto index = [&](int64_t k)
+	{ return int(std::lower_bound(nodes.begin(), nodes.end(), k) - nodes.begin()); };
 	// Scan at a relation timestamp (logs and relations differ in their last decimals).
-	const auto scanAt = [&](int64_t k) -> const Points* {
+	const auto scanAt = [&](int64_t k) -> const Points*
+	{
 		const double t = nodeTime[k];
 		auto it = scans.lower_bound(t - 2e-5);
 		return it != scans.end() && std::abs(it->first - t) < 2e-5 ? &it->second : nullptr;
 	};
 	// Points of up to `before` nodes before and `after` after node `ref` (stopping at a
 	// missing link), in the frame of `ref`; also how many nodes were used.
-	const auto gather = [&](int ref, int before, int after, int& used) {
+	const auto gather = [&](int ref, int before, int after, int& used)
+	{
 		Points out;
 		used = 0;
 		for (const int dir : {-1, 1})
@@ -150,25 +154,30 @@ Stats evaluate(const std::string& log, int maxLoops)
 		if (std::abs(r.t2 - r.t1) < 30 || st.positives >= maxLoops) continue;
 		const int i1 = index(key(r.t1)), i2 = index(key(r.t2));
 		int mapNodes = 0, patchNodes = 0;
-		const Points mapPts = gather(i1, 10, 10, mapNodes), patch = gather(i2, 9, 0, patchNodes);
+		const Points mapPts = gather(i1, 10, 10, mapNodes),
+					 patch = gather(i2, 9, 0, patchNodes);
 		if (mapNodes < 5 || patchNodes < 5) continue;
 		const auto grid = corr.makeGrid(mapPts, 0.5);
 		const TPose2D guess(r.rel.x + 0.3 * u(rng), r.rel.y + 0.3 * u(rng),
-			r.rel.phi + 0.087 * u(rng));
+							r.rel.phi + 0.087 * u(rng));
 		const auto pos = corr.correlate(grid, patch, guess, 1.5, 0.26);
 		++st.positives;
-		const auto verdict = pos ? pos->checkFilters(prm) : lrgc::TCorrelationVerdict{
-			lrgc::TCorrelationVerdict::Reason::LowScore, 0, prm.minScore};
+		const auto verdict =
+			pos ? pos->checkFilters(prm)
+				: lrgc::TCorrelationVerdict{lrgc::TCorrelationVerdict::Reason::LowScore, 0,
+											prm.minScore};
 		if (verdict.accepted())
 		{
 			++st.accepted;
-			st.maxErrAccepted = std::max(st.maxErrAccepted,
-				std::hypot(pos->patchInMap.x - r.rel.x, pos->patchInMap.y - r.rel.y));
+			st.maxErrAccepted =
+				std::max(st.maxErrAccepted,
+						 std::hypot(pos->patchInMap.x - r.rel.x, pos->patchInMap.y - r.rel.y));
 		}
 		else
 			++st.reasons[verdict.message().substr(0, verdict.message().find(' '))];
 		const double dir = M_PI * u(rng);
-		const TPose2D away(guess.x + 3.5 * std::cos(dir), guess.y + 3.5 * std::sin(dir), guess.phi);
+		const TPose2D away(guess.x + 3.5 * std::cos(dir), guess.y + 3.5 * std::sin(dir),
+						   guess.phi);
 		const auto neg = corr.correlate(grid, patch, away, 1.5, 0.26);
 		++st.negatives;
 		st.falsePositives += neg && neg->passesFilters(prm);
@@ -194,8 +203,14 @@ void checkLog(const std::string& log)
 }
 }  // namespace
 
-TEST(PatchCorrelatorRealLog, IntelLoopsAcceptedDisplacedWindowsRejected) { checkLog("intel/intel"); }
-TEST(PatchCorrelatorRealLog, AcesLoopsAcceptedDisplacedWindowsRejected) { checkLog("aces/aces"); }
+TEST(PatchCorrelatorRealLog, IntelLoopsAcceptedDisplacedWindowsRejected)
+{
+	checkLog("intel/intel");
+}
+TEST(PatchCorrelatorRealLog, AcesLoopsAcceptedDisplacedWindowsRejected)
+{
+	checkLog("aces/aces");
+}
 TEST(PatchCorrelatorRealLog, MitCsailLoopsAcceptedDisplacedWindowsRejected)
 {
 	checkLog("mit-csail/mit-csail");

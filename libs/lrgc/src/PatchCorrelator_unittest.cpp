@@ -34,8 +34,10 @@ using World = std::vector<Segment>;
 // A square room of side `size` with `n` random interior walls (0.5 to 3 m).
 World randomWorld(std::mt19937& rng, double size, int n)
 {
-	World w{{{0, 0}, {size, 0}}, {{size, 0}, {size, size}}, {{size, size}, {0, size}},
-		{{0, size}, {0, 0}}};
+	World w{{{0, 0}, {size, 0}},
+			{{size, 0}, {size, size}},
+			{{size, size}, {0, size}},
+			{{0, size}, {0, 0}}};
 	std::uniform_real_distribution<double> pos(0.5, size - 0.5), len(0.5, 3.0),
 		ang(-M_PI, M_PI);
 	for (int k = 0; k < n; ++k)
@@ -88,7 +90,7 @@ Points raycast(const World& w, const TPose2D& robot, std::mt19937& rng, double m
 // Patch of `n` scans along a path ending at `last` (straight, 0.15 m per scan), in the
 // frame of `last`.
 Points makePatch(const World& w, const TPose2D& last, int n, std::mt19937& rng,
-	double maxRange = 8.0)
+				 double maxRange = 8.0)
 {
 	Points patch;
 	for (int k = n - 1; k >= 0; --k)
@@ -101,10 +103,13 @@ Points makePatch(const World& w, const TPose2D& last, int n, std::mt19937& rng,
 	return patch;
 }
 
-double angleDiff(double a, double b) { return std::abs(mrpt::math::wrapToPi(a - b)); }
+double angleDiff(double a, double b)
+{
+	return std::abs(mrpt::math::wrapToPi(a - b));
+}
 
 void expectSameResult(const TCorrelationResult& bnb, const TCorrelationResult& ex,
-	const TPatchCorrelatorParams& prm, int trial)
+					  const TPatchCorrelatorParams& prm, int trial)
 {
 	EXPECT_EQ(bnb.patchInMap.x, ex.patchInMap.x) << "trial " << trial;
 	EXPECT_EQ(bnb.patchInMap.y, ex.patchInMap.y) << "trial " << trial;
@@ -114,7 +119,8 @@ void expectSameResult(const TCorrelationResult& bnb, const TCorrelationResult& e
 	ASSERT_GE(ex.clusterPeaks.size(), 1u);
 	// The exhaustive rival is exact; branch and bound finds it whenever it could fail the
 	// ambiguity filter, and reports inf otherwise.
-	const bool rivalMatters = ex.clusterPeaks.size() > 1 &&
+	const bool rivalMatters =
+		ex.clusterPeaks.size() > 1 &&
 		ex.clusterPeaks[1].score * prm.minAmbiguity >= ex.score * (1 - 1e-12);
 	if (rivalMatters)
 	{
@@ -146,7 +152,7 @@ TEST(PatchCorrelator, BranchAndBoundEqualsExhaustiveAndRecoversThePose)
 		const TPose2D truth(inRoom(rng), inRoom(rng), ang(rng));
 		const Points patch = makePatch(w, truth, 8, rng);
 		const TPose2D center(truth.x + 0.3 * u(rng), truth.y + 0.3 * u(rng),
-			truth.phi + 0.05 * u(rng));
+							 truth.phi + 0.05 * u(rng));
 		const auto bnb = corr.correlate(map, patch, center, 0.5, 0.1);
 		const auto ex = corr.correlateExhaustive(map, patch, center, 0.5, 0.1);
 		ASSERT_EQ(bnb.has_value(), ex.has_value()) << "trial " << trial;
@@ -296,8 +302,8 @@ TEST(PatchCorrelator, EmptyPatchAndBadWindow)
 	EXPECT_FALSE(corr.correlate(map, {}, TPose2D(0, 0, 0), 1, 0.1).has_value());
 	const Points patch{{0.5, 0.5}};
 	EXPECT_THROW(corr.correlate(map, patch, TPose2D(0, 0, 0), -1, 0.1), std::exception);
-	EXPECT_THROW(
-		corr.correlate(map, patch, TPose2D(0, std::nan(""), 0), 1, 0.1), std::exception);
+	EXPECT_THROW(corr.correlate(map, patch, TPose2D(0, std::nan(""), 0), 1, 0.1),
+				 std::exception);
 	EXPECT_THROW(corr.correlate(CCorrelationGrid{}, patch, TPose2D(0, 0, 0), 1, 0.1),
-		std::exception);
+				 std::exception);
 }

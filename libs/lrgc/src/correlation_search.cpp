@@ -33,7 +33,7 @@ int64_t boundedSum(const TPoseGridProblem& pb, int h, int a, int i, int j, int64
 	const size_t first = size_t(a) * size_t(pb.numPoints);
 	const int32_t* box = pb.bbox.data() + 4 * size_t(a);
 	const bool inside = box[0] + dx >= 0 && box[1] + dx < g.stride() && box[2] + dy >= 0 &&
-		box[3] + dy < g.rows();
+						box[3] + dy < g.rows();
 	constexpr int kChunk = 32;
 	int64_t sum = 0;
 	if (inside)
@@ -143,9 +143,9 @@ private:
 	template <class Nodes>
 	void explore(Nodes& nodes)
 	{
-		std::sort(nodes.begin(), nodes.end(), [](const Node& x, const Node& y) {
-			return x.bound != y.bound ? x.bound > y.bound : x.minIndex < y.minIndex;
-		});
+		std::sort(nodes.begin(), nodes.end(),
+				  [](const Node& x, const Node& y)
+				  { return x.bound != y.bound ? x.bound > y.bound : x.minIndex < y.minIndex; });
 		for (const Node& n : nodes)
 		{
 			if (n.bound < m_best.score) break;  // sorted: no later node can beat it either
@@ -201,8 +201,8 @@ int64_t scoreAt(const TPoseGridProblem& pb, int level, int a, int i, int j)
 	return boundedSum(pb, level, a, i, j, std::numeric_limits<int64_t>::min());
 }
 
-TSearchHit searchExhaustive(
-	const TPoseGridProblem& pb, int64_t floorScore, const TExclusionZone& zone)
+TSearchHit searchExhaustive(const TPoseGridProblem& pb, int64_t floorScore,
+							const TExclusionZone& zone)
 {
 	const int W = pb.halfCells;
 	Best best{};
@@ -226,8 +226,8 @@ TSearchHit searchExhaustive(
 	return hit;
 }
 
-TSearchHit searchBranchAndBound(
-	const TPoseGridProblem& pb, int64_t floorScore, const TExclusionZone& zone)
+TSearchHit searchBranchAndBound(const TPoseGridProblem& pb, int64_t floorScore,
+								const TExclusionZone& zone)
 {
 	return BranchAndBound(pb, floorScore, zone).run();
 }

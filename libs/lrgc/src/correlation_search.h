@@ -55,7 +55,7 @@ struct TExclusionZone
 	bool excludesBlock(int a, int i0, int i1, int j0, int j1) const
 	{
 		return excludes(a, i0, j0) && excludes(a, i0, j1) && excludes(a, i1, j0) &&
-			excludes(a, i1, j1);  // the disc is convex
+			   excludes(a, i1, j1);  // the disc is convex
 	}
 };
 
@@ -63,16 +63,16 @@ struct TSearchHit
 {
 	bool found = false;
 	int a = 0, i = 0, j = 0;
-	int64_t score = 0;  //!< S in [0, 255 N]
+	int64_t score = 0;       //!< S in [0, 255 N]
 	size_t evaluations = 0;  //!< scores + bounds computed
 };
 
 /** S(a, i, j) at pyramid level h (h = 0: the exact score). */
 int64_t scoreAt(const TPoseGridProblem& pb, int level, int a, int i, int j);
 
-TSearchHit searchExhaustive(
-	const TPoseGridProblem& pb, int64_t floorScore, const TExclusionZone& zone);
-TSearchHit searchBranchAndBound(
-	const TPoseGridProblem& pb, int64_t floorScore, const TExclusionZone& zone);
+TSearchHit searchExhaustive(const TPoseGridProblem& pb, int64_t floorScore,
+							const TExclusionZone& zone);
+TSearchHit searchBranchAndBound(const TPoseGridProblem& pb, int64_t floorScore,
+								const TExclusionZone& zone);
 
 }  // namespace lrgc::detail

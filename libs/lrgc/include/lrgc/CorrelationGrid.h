@@ -33,9 +33,9 @@ public:
 	 * `numLevels` pyramid levels (level 0 = the grid itself; 2^(numLevels-1) cells should
 	 * span a search window for the fastest search). Throws if points is empty or a
 	 * parameter is out of range. */
-	static CCorrelationGrid fromPoints(
-		const std::vector<Eigen::Vector2d>& pointsInMap, double resolution, double blurSigma,
-		double margin, int numLevels = 8);
+	static CCorrelationGrid fromPoints(const std::vector<Eigen::Vector2d>& pointsInMap,
+									   double resolution, double blurSigma, double margin,
+									   int numLevels = 8);
 
 	CCorrelationGrid() = default;
 
@@ -78,7 +78,7 @@ public:
 	}
 	int pad() const { return m_pad; }
 	int stride() const { return m_stride; }  //!< width + pad
-	int rows() const { return m_rows; }  //!< height + pad
+	int rows() const { return m_rows; }      //!< height + pad
 
 private:
 	double m_resolution = 0;

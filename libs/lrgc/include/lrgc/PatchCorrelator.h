@@ -36,7 +36,7 @@ namespace lrgc
 struct TCorrelationPeak
 {
 	mrpt::math::TPose2D patchInMap;  //!< (map <- patch)
-	double score = 0;  //!< s(l) in [0,1]
+	double score = 0;                //!< s(l) in [0,1]
 };
 
 /** Outcome of the three filters; `rejection` names the first that failed. */
@@ -45,9 +45,9 @@ struct TCorrelationVerdict
 	enum class Reason
 	{
 		Accepted,
-		LowScore,  //!< value = score, limit = minScore
-		Ambiguous,  //!< value = ambiguity, limit = minAmbiguity
-		SpreadXY,  //!< value = largest std dev of x, y [m], limit = maxStdXY
+		LowScore,    //!< value = score, limit = minScore
+		Ambiguous,   //!< value = ambiguity, limit = minAmbiguity
+		SpreadXY,    //!< value = largest std dev of x, y [m], limit = maxStdXY
 		SpreadTheta  //!< value = std dev of heading [rad], limit = maxStdTheta
 	};
 	Reason rejection = Reason::Accepted;
@@ -61,7 +61,7 @@ struct TCorrelationVerdict
 struct TCorrelationResult
 {
 	mrpt::math::TPose2D patchInMap;  //!< best pose (map <- patch)
-	double score = 0;  //!< s(best) in [0,1]
+	double score = 0;                //!< s(best) in [0,1]
 	/** s(best) / s(best pose outside the best cluster). +inf when no pose outside the
 	 * cluster reaches s(best) / minAmbiguity: branch and bound does not look below that
 	 * floor, so the value is then only known to be > minAmbiguity. */
@@ -72,12 +72,15 @@ struct TCorrelationResult
 	/** Best cluster's peak, then the rival when known (the best pose outside the cluster). */
 	std::vector<TCorrelationPeak> clusterPeaks;
 
-	size_t patchCells = 0;  //!< N: distinct patch cells scored
+	size_t patchCells = 0;   //!< N: distinct patch cells scored
 	double angularStep = 0;  //!< dtheta of the pose grid [rad]
 	size_t posesScored = 0;  //!< exact scores + block bounds evaluated (search effort)
 
 	TCorrelationVerdict checkFilters(const TPatchCorrelatorParams& p) const;
-	bool passesFilters(const TPatchCorrelatorParams& p) const { return checkFilters(p).accepted(); }
+	bool passesFilters(const TPatchCorrelatorParams& p) const
+	{
+		return checkFilters(p).accepted();
+	}
 };
 
 class CPatchCorrelator
@@ -90,17 +93,19 @@ public:
 
 	/** The old-map grid with this correlator's resolution and blur; `margin` [m] around the
 	 * points' bounding box (at least 3 sigma keeps the blur of edge walls). */
-	CCorrelationGrid makeGrid(const std::vector<Eigen::Vector2d>& pointsInMap, double margin) const;
+	CCorrelationGrid makeGrid(const std::vector<Eigen::Vector2d>& pointsInMap,
+							  double margin) const;
 
 	/** Branch and bound over the pose grid centred on `centerPatchInMap` (map <- patch):
 	 * x, y within +-halfWindowXY [m], heading within +-halfWindowTheta [rad]. `patchPoints`
 	 * are in the patch frame. Returns std::nullopt if no pose scores at least minScore (the
 	 * score filter fails), or if the patch is empty. The result is the exhaustive one;
 	 * filters are not applied (see checkFilters). The grid's resolution is used. */
-	std::optional<TCorrelationResult> correlate(
-		const CCorrelationGrid& oldMap, const std::vector<Eigen::Vector2d>& patchPoints,
-		const mrpt::math::TPose2D& centerPatchInMap, double halfWindowXY,
-		double halfWindowTheta) const;
+	std::optional<TCorrelationResult> correlate(const CCorrelationGrid& oldMap,
+												const std::vector<Eigen::Vector2d>& patchPoints,
+												const mrpt::math::TPose2D& centerPatchInMap,
+												double halfWindowXY,
+												double halfWindowTheta) const;
 
 	/** The paper's exhaustive search over the same pose grid; same contract, except that the
 	 * ambiguity is always the exact ratio (inf only if every pose is inside the cluster). */
@@ -110,10 +115,10 @@ public:
 		double halfWindowTheta) const;
 
 private:
-	std::optional<TCorrelationResult> run(
-		bool exhaustive, const CCorrelationGrid& oldMap,
-		const std::vector<Eigen::Vector2d>& patchPoints, const mrpt::math::TPose2D& center,
-		double halfWindowXY, double halfWindowTheta) const;
+	std::optional<TCorrelationResult> run(bool exhaustive, const CCorrelationGrid& oldMap,
+										  const std::vector<Eigen::Vector2d>& patchPoints,
+										  const mrpt::math::TPose2D& center,
+										  double halfWindowXY, double halfWindowTheta) const;
 
 	TPatchCorrelatorParams m_params;
 };

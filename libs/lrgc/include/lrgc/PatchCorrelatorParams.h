@@ -1,8 +1,8 @@
 /* TPatchCorrelatorParams: section [PatchCorrelator] of the global correlation stage
  * (Gutmann & Konolige, section 2.3): the grid of the correlation operator and the three
  * post-match filters (score, ambiguity, variance). Memory holds metres and radians; keys in
- * degrees end in _deg. Defaults: chosen on the benchmark logs (doc/global-correlation.md, and the test
- * PatchCorrelatorRealLog: 333 of 346 true loops accepted, 0 of 346 displaced windows).
+ * degrees end in _deg. Defaults: chosen on the benchmark logs (doc/global-correlation.md, and
+ * the test PatchCorrelatorRealLog: 333 of 346 true loops accepted, 0 of 346 displaced windows).
  */
 #pragma once
 
@@ -42,10 +42,10 @@ struct TPatchCorrelatorParams : public mrpt::config::CLoadableOptions
 	 * scoring s has weight exp(-(s_best - s) / (clusterScoreScale * s_best)). */
 	double clusterScoreScale = 0.05;
 
-	void loadFromConfigFile(
-		const mrpt::config::CConfigFileBase& source, const std::string& section) override;
-	void saveToConfigFile(
-		mrpt::config::CConfigFileBase& target, const std::string& section) const override;
+	void loadFromConfigFile(const mrpt::config::CConfigFileBase& source,
+							const std::string& section) override;
+	void saveToConfigFile(mrpt::config::CConfigFileBase& target,
+						  const std::string& section) const override;
 	/** Throws, naming the key, if a value is out of range. */
 	void validate(const std::string& section = "PatchCorrelator") const;
 };
