@@ -1,0 +1,235 @@
+/* Exhaustive and branch-and-bound searches over the correlation pose grid.
+ *
+ * Branch and bound (after Olson 2009 and Hess et al. 2016, adapted to the LRGC operator): a
+ * node (a, h, i0, j0) stands for the translations [i0, i0 + 2^h) x [j0, j0 + 2^h) clipped to
+ * the window, at heading a. Its bound
+ *     B = sum_k P_h(base_ak + (i0, j0)),  P_h = max of P_0 over a 2^h x 2^h block,
+ * is >= S(a, i, j) for every (i, j) of the node, since each term dominates the corresponding
+ * term of S. Nodes are explored depth first, best bound first; a node is dropped when it
+ * cannot beat the best leaf found so far, i.e. B < S_best, or B == S_best and its smallest
+ * linear index is larger than the best's. The optimum's ancestors all satisfy B >= S_opt
+ * with a smaller or equal index, so none of them is ever dropped: the result is exact.
+ * A bound is abandoned early once the partial sum plus 255 per remaining point cannot reach
+ * the required value (the node is pruned anyway, and pruned nodes are the majority).
+ */
+#include "correlation_search.h"
+
+#include <algorithm>
+#include <limits>
+
+namespace lrgc::detail
+{
+namespace
+{
+constexpr int64_t kNoIndex = std::numeric_limits<int64_t>::max();
+
+// Sum over points of level-h values at base + (i, j), or -1 as soon as the sum cannot reach
+// `required` any more.
+int64_t boundedSum(const TPoseGridProblem& pb, int h, int a, int i, int j, int64_t required)
+{
+	const CCorrelationGrid& g = *pb.grid;
+	const uint8_t* data = g.levelData(h);
+	const int dx = i + g.pad(), dy = j + g.pad();
+	const size_t first = size_t(a) * size_t(pb.numPoints);
+	const int32_t* box = pb.bbox.data() + 4 * size_t(a);
+	const bool inside = box[0] + dx >= 0 && box[1] + dx < g.stride() && box[2] + dy >= 0 &&
+						box[3] + dy < g.rows();
+	constexpr int kChunk = 32;
+	int64_t sum = 0;
+	if (inside)
+	{  // every lookup is in range: a plain gather
+		const int64_t* lin = pb.linear.data() + first;
+		const uint8_t* base = data + int64_t(dy) * g.stride() + dx;
+		for (int k0 = 0; k0 < pb.numPoints; k0 += kChunk)
+		{
+			const int k1 = std::min(pb.numPoints, k0 + kChunk);
+			uint32_t part = 0;
+			for (int k = k0; k < k1; ++k) part += base[lin[k]];
+			sum += part;
+			if (sum + int64_t(255) * (pb.numPoints - k1) < required) return -1;
+		}
+		return sum;
+	}
+	const unsigned stride = static_cast<unsigned>(g.stride());
+	const unsigned rows = static_cast<unsigned>(g.rows());
+	const int32_t* c = pb.baseCells.data() + 2 * first;
+	for (int k0 = 0; k0 < pb.numPoints; k0 += kChunk)
+	{
+		const int k1 = std::min(pb.numPoints, k0 + kChunk);
+		uint32_t part = 0;
+		for (int k = k0; k < k1; ++k)
+		{
+			const unsigned ux = static_cast<unsigned>(c[2 * k] + dx);
+			const unsigned uy = static_cast<unsigned>(c[2 * k + 1] + dy);
+			if (ux < stride && uy < rows) part += data[size_t(uy) * stride + ux];
+		}
+		sum += part;
+		if (sum + int64_t(255) * (pb.numPoints - k1) < required) return -1;
+	}
+	return sum;
+}
+
+struct Best
+{
+	int64_t score;
+	int64_t index = kNoIndex;
+	int a = 0, i = 0, j = 0;
+	// Can something scoring <= s with index >= idx still beat the best?
+	bool beatable(int64_t s, int64_t idx) const
+	{
+		return s > score || (s == score && idx < index);
+	}
+	int64_t required(int64_t idx) const { return idx < index ? score : score + 1; }
+};
+
+struct Node
+{
+	int a, h, i0, j0;
+	int64_t bound;
+	int64_t minIndex;
+};
+
+class BranchAndBound
+{
+public:
+	BranchAndBound(const TPoseGridProblem& pb, int64_t floorScore, const TExclusionZone& z)
+		: m_pb(pb), m_zone(z)
+	{
+		m_best.score = floorScore;
+	}
+
+	TSearchHit run()
+	{
+		const int W = m_pb.halfCells;
+		int top = 0;
+		while ((1 << top) < m_pb.side() && top + 1 < m_pb.grid->numLevels()) ++top;
+		std::vector<Node> nodes;
+		for (int a = 0; a < m_pb.numAngles; ++a)
+			for (int i0 = -W; i0 <= W; i0 += 1 << top)
+				for (int j0 = -W; j0 <= W; j0 += 1 << top) consider(a, top, i0, j0, nodes);
+		explore(nodes);
+		TSearchHit hit;
+		hit.found = m_best.index != kNoIndex;
+		hit.a = m_best.a, hit.i = m_best.i, hit.j = m_best.j;
+		hit.score = m_best.score;
+		hit.evaluations = m_evaluations;
+		return hit;
+	}
+
+private:
+	// Bounds the node and appends it to `out` unless it can be pruned already.
+	template <class Nodes>
+	void consider(int a, int h, int i0, int j0, Nodes& out)
+	{
+		const int W = m_pb.halfCells;
+		const int i1 = std::min(W, i0 + (1 << h) - 1), j1 = std::min(W, j0 + (1 << h) - 1);
+		if (m_zone.excludesBlock(a, i0, i1, j0, j1)) return;
+		const int64_t idx = m_pb.linearIndex(a, i0, j0);
+		if (m_best.required(idx) > int64_t(255) * m_pb.numPoints) return;
+		++m_evaluations;
+		const int64_t b = boundedSum(m_pb, h, a, i0, j0, m_best.required(idx));
+		if (b >= 0) out.push_back({a, h, i0, j0, b, idx});
+	}
+
+	struct Children
+	{
+		Node items[4];
+		size_t count = 0;
+		void push_back(const Node& n) { items[count++] = n; }
+		Node* begin() { return items; }
+		Node* end() { return items + count; }
+	};
+
+	template <class Nodes>
+	void explore(Nodes& nodes)
+	{
+		std::sort(nodes.begin(), nodes.end(),
+				  [](const Node& x, const Node& y)
+				  { return x.bound != y.bound ? x.bound > y.bound : x.minIndex < y.minIndex; });
+		for (const Node& n : nodes)
+		{
+			if (n.bound < m_best.score) break;  // sorted: no later node can beat it either
+			if (!m_best.beatable(n.bound, n.minIndex)) continue;
+			if (n.h == 0)
+			{
+				if (m_zone.excludes(n.a, n.i0, n.j0)) continue;
+				m_best.score = n.bound, m_best.index = n.minIndex;
+				m_best.a = n.a, m_best.i = n.i0, m_best.j = n.j0;
+				continue;
+			}
+			const int half = 1 << (n.h - 1), W = m_pb.halfCells;
+			Children children;
+			for (int di = 0; di < 2; ++di)
+				for (int dj = 0; dj < 2; ++dj)
+				{
+					const int ci = n.i0 + di * half, cj = n.j0 + dj * half;
+					if (ci <= W && cj <= W) consider(n.a, n.h - 1, ci, cj, children);
+				}
+			explore(children);
+		}
+	}
+
+	const TPoseGridProblem& m_pb;
+	const TExclusionZone& m_zone;
+	Best m_best{};
+	size_t m_evaluations = 0;
+};
+}  // namespace
+
+void TPoseGridProblem::prepare()
+{
+	bbox.assign(4 * size_t(numAngles), 0);
+	for (int a = 0; a < numAngles; ++a)
+	{
+		const int32_t* c = baseCells.data() + 2 * size_t(a) * size_t(numPoints);
+		int32_t* b = bbox.data() + 4 * size_t(a);
+		b[0] = b[1] = c[0], b[2] = b[3] = c[1];
+		for (int k = 1; k < numPoints; ++k)
+		{
+			b[0] = std::min(b[0], c[2 * k]), b[1] = std::max(b[1], c[2 * k]);
+			b[2] = std::min(b[2], c[2 * k + 1]), b[3] = std::max(b[3], c[2 * k + 1]);
+		}
+	}
+	const int64_t stride = grid->stride();
+	linear.resize(size_t(numAngles) * size_t(numPoints));
+	for (size_t k = 0; k < linear.size(); ++k)
+		linear[k] = int64_t(baseCells[2 * k + 1]) * stride + baseCells[2 * k];
+}
+
+int64_t scoreAt(const TPoseGridProblem& pb, int level, int a, int i, int j)
+{
+	return boundedSum(pb, level, a, i, j, std::numeric_limits<int64_t>::min());
+}
+
+TSearchHit searchExhaustive(const TPoseGridProblem& pb, int64_t floorScore,
+							const TExclusionZone& zone)
+{
+	const int W = pb.halfCells;
+	Best best{};
+	best.score = floorScore;
+	size_t evaluations = 0;
+	for (int a = 0; a < pb.numAngles; ++a)
+		for (int i = -W; i <= W; ++i)
+			for (int j = -W; j <= W; ++j)
+			{
+				if (zone.excludes(a, i, j)) continue;
+				++evaluations;
+				const int64_t s = scoreAt(pb, 0, a, i, j);
+				const int64_t idx = pb.linearIndex(a, i, j);
+				if (best.beatable(s, idx)) best = {s, idx, a, i, j};
+			}
+	TSearchHit hit;
+	hit.found = best.index != kNoIndex;
+	hit.a = best.a, hit.i = best.i, hit.j = best.j;
+	hit.score = best.score;
+	hit.evaluations = evaluations;
+	return hit;
+}
+
+TSearchHit searchBranchAndBound(const TPoseGridProblem& pb, int64_t floorScore,
+								const TExclusionZone& zone)
+{
+	return BranchAndBound(pb, floorScore, zone).run();
+}
+
+}  // namespace lrgc::detail
