@@ -1,6 +1,6 @@
 /* Header-only test helper: reads a whole log with lrgc::apps::openLog, keeping the entries,
- * the warnings, the statistics and the error that stopped it (in openLog or next()), if any. Header-only because
- * lrgc_test_support does not link lrgc_apps. */
+ * the warnings, the statistics and the error that stopped it (in openLog or next()), if any.
+ * Header-only because lrgc_test_support does not link lrgc_apps. */
 #pragma once
 
 #include <lrgc_apps/io/LogReader.h>
@@ -17,11 +17,11 @@ struct TReadResult
 	std::vector<std::string> warnings;
 	lrgc::apps::TLogReadStats stats;
 	std::optional<std::string> error;  //!< what() of the CLogReadError that stopped it
-	std::vector<double> fractions;	//!< fractionRead() after each entry
+	std::vector<double> fractions;     //!< fractionRead() after each entry
 };
 
-inline TReadResult readWholeLog(
-	const std::string& path, const lrgc::apps::TLogReaderOptions& options = {})
+inline TReadResult readWholeLog(const std::string& path,
+								const lrgc::apps::TLogReaderOptions& options = {})
 {
 	TReadResult out;
 	std::unique_ptr<lrgc::apps::CLogReader> reader;
@@ -38,7 +38,7 @@ inline TReadResult readWholeLog(
 	{
 		out.error = e.what();
 	}
-	if (!reader) return out;	 // openLog failed
+	if (!reader) return out;  // openLog failed
 	out.warnings = reader->takeWarnings();
 	out.stats = reader->stats();
 	return out;

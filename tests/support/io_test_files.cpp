@@ -46,7 +46,10 @@ void writeGzFile(const std::string& path, const std::string& bytes)
 	out.close();
 }
 
-std::string carmenStamp(double t) { return mrpt::format("%.6f nohost %.6f", t, t); }
+std::string carmenStamp(double t)
+{
+	return mrpt::format("%.6f nohost %.6f", t, t);
+}
 
 namespace
 {
@@ -62,12 +65,11 @@ std::string pose(const mrpt::math::TPose2D& p)
 }
 }  // namespace
 
-std::string flaserLine(
-	const std::vector<double>& r, const mrpt::math::TPose2D& laser,
-	const mrpt::math::TPose2D& robot, double t, const std::string& message)
+std::string flaserLine(const std::vector<double>& r, const mrpt::math::TPose2D& laser,
+					   const mrpt::math::TPose2D& robot, double t, const std::string& message)
 {
 	return message + " " + ranges(r) + " " + pose(laser) + " " + pose(robot) + " " +
-		carmenStamp(t) + "\n";
+		   carmenStamp(t) + "\n";
 }
 
 std::string odomLine(const mrpt::math::TPose2D& p, double t)
@@ -75,16 +77,14 @@ std::string odomLine(const mrpt::math::TPose2D& p, double t)
 	return "ODOM " + pose(p) + " 0.300000 0.100000 0.000000 " + carmenStamp(t) + "\n";
 }
 
-std::string robotLaser1Line(
-	double startAngle, double fov, double resolution, double maxRange,
-	const std::vector<double>& r, const mrpt::math::TPose2D& laser,
-	const mrpt::math::TPose2D& robot, double t)
+std::string robotLaser1Line(double startAngle, double fov, double resolution, double maxRange,
+							const std::vector<double>& r, const mrpt::math::TPose2D& laser,
+							const mrpt::math::TPose2D& robot, double t)
 {
-	return mrpt::format(
-			   "ROBOTLASER1 0 %.6f %.6f %.6f %.2f 0.01 0 ", startAngle, fov, resolution,
-			   maxRange) +
-		ranges(r) + " 2 0.5 0.5 " + pose(laser) + " " + pose(robot) +
-		" 0.100000 0.200000 0.5 0.3 1.0 " + carmenStamp(t) + "\n";
+	return mrpt::format("ROBOTLASER1 0 %.6f %.6f %.6f %.2f 0.01 0 ", startAngle, fov,
+						resolution, maxRange) +
+		   ranges(r) + " 2 0.5 0.5 " + pose(laser) + " " + pose(robot) +
+		   " 0.100000 0.200000 0.5 0.3 1.0 " + carmenStamp(t) + "\n";
 }
 
 }  // namespace lrgc::test

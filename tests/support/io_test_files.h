@@ -20,14 +20,13 @@ void writeGzFile(const std::string& path, const std::string& bytes);
 std::string carmenStamp(double t);
 /** FLASER/RLASER line: n r_1..r_n laser pose, robot pose, timestamp. Ranges printed with
  * %.2f (NaN/inf as "nan"/"inf"). */
-std::string flaserLine(
-	const std::vector<double>& ranges, const mrpt::math::TPose2D& laser,
-	const mrpt::math::TPose2D& robot, double t, const std::string& message = "FLASER");
+std::string flaserLine(const std::vector<double>& ranges, const mrpt::math::TPose2D& laser,
+					   const mrpt::math::TPose2D& robot, double t,
+					   const std::string& message = "FLASER");
 std::string odomLine(const mrpt::math::TPose2D& pose, double t);
 /** ROBOTLASER1 line with 2 remission values, tv = 0.1, rv = 0.2. */
-std::string robotLaser1Line(
-	double startAngle, double fov, double resolution, double maxRange,
-	const std::vector<double>& ranges, const mrpt::math::TPose2D& laser,
-	const mrpt::math::TPose2D& robot, double t);
+std::string robotLaser1Line(double startAngle, double fov, double resolution, double maxRange,
+							const std::vector<double>& ranges, const mrpt::math::TPose2D& laser,
+							const mrpt::math::TPose2D& robot, double t);
 
 }  // namespace lrgc::test

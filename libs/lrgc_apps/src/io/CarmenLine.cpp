@@ -42,7 +42,7 @@ bool parseCount(std::string_view s, long& v)
 // Parses the fields of the record in order; the first failure is remembered.
 class CFieldParser
 {
-   public:
+public:
 	CFieldParser(const std::vector<std::string_view>& tokens, TCarmenRecord& rec)
 		: m_tokens(tokens), m_rec(rec)
 	{
@@ -68,9 +68,8 @@ class CFieldParser
 		if (!m_ok) return v;
 		const std::string_view tok = m_tokens[m_index];
 		if (!parseCount(tok, v))
-			fail(
-				std::string(name) + " '" + std::string(tok) + "' is not a count in 0.." +
-				std::to_string(kMaxReadings));
+			fail(std::string(name) + " '" + std::string(tok) + "' is not a count in 0.." +
+				 std::to_string(kMaxReadings));
 		++m_index;
 		return v;
 	}
@@ -91,9 +90,8 @@ class CFieldParser
 	bool require(size_t needed, const char* what)
 	{
 		if (m_ok && m_index + needed > m_tokens.size())
-			fail(
-				"too few fields for " + std::string(what) + " (" +
-				std::to_string(m_tokens.size()) + " in all)");
+			fail("too few fields for " + std::string(what) + " (" +
+				 std::to_string(m_tokens.size()) + " in all)");
 		return m_ok;
 	}
 	/** After the timestamp: optional hostname and logger_timestamp, nothing more. */
@@ -106,12 +104,12 @@ class CFieldParser
 			fail(std::to_string(rest - 2) + " unexpected field(s) after logger_timestamp");
 		else if (rest == 2)
 		{
-			++m_index;	// hostname
+			++m_index;  // hostname
 			number("logger_timestamp", false);
 		}
 	}
 
-   private:
+private:
 	void fail(const std::string& problem)
 	{
 		m_ok = false;
@@ -148,7 +146,7 @@ void parseRobotLaser(CFieldParser& p, TCarmenLaser& l)
 {
 	l.hasOwnGeometry = true;
 	if (!p.require(8, "the laser configuration")) return;
-	p.skip(1);	// laser_type
+	p.skip(1);  // laser_type
 	l.startAngle = p.number("start_angle", true);
 	p.number("field_of_view", true);  // implied by start, resolution and count
 	l.angularResolution = p.number("angular_resolution", true);
@@ -167,7 +165,7 @@ void parseRobotLaser(CFieldParser& p, TCarmenLaser& l)
 	l.robotPose = p.pose("odometry pose");
 	l.tv = p.number("tv", false);
 	l.rv = p.number("rv", false);
-	p.skip(3);	// forward_safety_dist side_safety_dist turn_axis
+	p.skip(3);  // forward_safety_dist side_safety_dist turn_axis
 	l.timestamp = p.number("timestamp", true);
 	p.trailer();
 }

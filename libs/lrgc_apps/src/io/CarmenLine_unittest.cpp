@@ -102,9 +102,9 @@ TEST(CarmenLine, FlagsMalformedLinesNamingTheProblem)
 	};
 	const TCase cases[] = {
 		{"FLASER", "too few fields"},
-		{"FLASER 3 1 2 0 0 0 0 0 0 5 h 5", "is not a number"},	// one reading short
+		{"FLASER 3 1 2 0 0 0 0 0 0 5 h 5", "is not a number"},  // one reading short
 		{"FLASER 2 1 2 0 0 0 0 0 0 5 h 5 extra", "unexpected field"},
-		{"FLASER 2 1 2 0 0 0 0 0 5 h 5", "timestamp 'h'"},	// one pose field short
+		{"FLASER 2 1 2 0 0 0 0 0 5 h 5", "timestamp 'h'"},  // one pose field short
 		{"FLASER two 1 2 0 0 0 0 0 0 5", "num_readings"},
 		{"FLASER 2.5 1 2 0 0 0 0 0 0 5", "num_readings"},
 		{"FLASER -2 1 2 0 0 0 0 0 0 5", "num_readings"},

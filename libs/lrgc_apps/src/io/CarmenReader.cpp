@@ -43,7 +43,7 @@ bool CCarmenReader::readLine(std::string& line)
 		if (m_in.reachedEnd())
 		{
 			if (m_bufferPos >= m_buffer.size()) return false;
-			line.assign(m_buffer, m_bufferPos, std::string::npos);	// last line, no '\n'
+			line.assign(m_buffer, m_bufferPos, std::string::npos);  // last line, no '\n'
 			m_bufferPos = m_buffer.size();
 			m_lineEndedFile = true;
 			++m_lineNumber;
@@ -68,7 +68,8 @@ std::optional<TLogEntry> CCarmenReader::next()
 		std::string line;
 		while (m_pending.empty() && !m_finished)
 		{
-			if (readLine(line)) processLine(line);
+			if (readLine(line))
+				processLine(line);
 			else
 			{
 				m_finished = true;
@@ -104,12 +105,11 @@ void CCarmenReader::processLine(const std::string& line)
 			return;
 		case Kind::Malformed:
 			++m_stats.skippedLines;
-			warn(
-				Problem::MalformedLine, place,
-				"malformed " + m_record.problem + "; line skipped" +
-					(unterminated ? " (the last line, without end of line: the file may be "
-									"truncated)"
-								  : ""));
+			warn(Problem::MalformedLine, place,
+				 "malformed " + m_record.problem + "; line skipped" +
+					 (unterminated ? " (the last line, without end of line: the file may be "
+									 "truncated)"
+								   : ""));
 			return;
 		default:
 			break;
@@ -117,15 +117,16 @@ void CCarmenReader::processLine(const std::string& line)
 	if (unterminated && m_record.fieldsAfterTimestamp == 0)
 	{
 		++m_stats.skippedLines;
-		warn(
-			Problem::MalformedLine, place,
-			m_record.message +
-				": the last line ends inside its timestamp, without end of line: the file "
-				"is truncated; line skipped");
+		warn(Problem::MalformedLine, place,
+			 m_record.message +
+				 ": the last line ends inside its timestamp, without end of line: the file "
+				 "is truncated; line skipped");
 		return;
 	}
-	if (m_record.kind == Kind::Odometry) addOdometry(m_record.odometry, place);
-	else addLaser(m_record.laser, place);
+	if (m_record.kind == Kind::Odometry)
+		addOdometry(m_record.odometry, place);
+	else
+		addLaser(m_record.laser, place);
 }
 
 void CCarmenReader::addOdometry(const TCarmenOdometry& odom, const std::string& place)
@@ -161,10 +162,9 @@ void CCarmenReader::addLaser(const TCarmenLaser& laser, const std::string& place
 	if (n < 2)
 	{
 		++m_stats.emptyScans;
-		warn(
-			Problem::EmptyScan, place,
-			mrpt::format(
-				"%s with %zu reading(s): scan skipped, its odometry kept", message.c_str(), n));
+		warn(Problem::EmptyScan, place,
+			 mrpt::format("%s with %zu reading(s): scan skipped, its odometry kept",
+						  message.c_str(), n));
 		return;
 	}
 
@@ -189,9 +189,9 @@ void CCarmenReader::addLaser(const TCarmenLaser& laser, const std::string& place
 	scan->aperture = static_cast<float>(aperture);
 	scan->rightToLeft = true;
 	scan->maxRange = static_cast<float>(maxRange);
-	scan->sensorPose = mrpt::poses::CPose3D(
-		laserInRobot.x, laserInRobot.y, 0, mrpt::math::wrapToPi(laserInRobot.phi + centre), 0,
-		0);
+	scan->sensorPose =
+		mrpt::poses::CPose3D(laserInRobot.x, laserInRobot.y, 0,
+							 mrpt::math::wrapToPi(laserInRobot.phi + centre), 0, 0);
 	scan->resizeScan(n);
 
 	// r >= maxRange - 5 mm (or +inf) and r == 0: no-return; NaN and r < 0: invalid, reported.
@@ -221,12 +221,11 @@ void CCarmenReader::addLaser(const TCarmenLaser& laser, const std::string& place
 	if (bad > 0)
 	{
 		m_stats.invalidRanges += bad;
-		warn(
-			Problem::BadRanges, place,
-			mrpt::format(
-				"%s: %zu NaN or negative reading(s) of %zu marked invalid (first: beam %zu, "
-				"%g)",
-				message.c_str(), bad, n, firstBad, laser.ranges[firstBad]));
+		warn(Problem::BadRanges, place,
+			 mrpt::format(
+				 "%s: %zu NaN or negative reading(s) of %zu marked invalid (first: beam %zu, "
+				 "%g)",
+				 message.c_str(), bad, n, firstBad, laser.ranges[firstBad]));
 	}
 	++m_stats.scans;
 	m_pending.push_back(TLogEntry{nullptr, nullptr, scan, path() + ": " + place});

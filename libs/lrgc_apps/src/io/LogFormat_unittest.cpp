@@ -71,11 +71,11 @@ TEST(LogFormat, RejectsGarbageSayingWhy)
 	EXPECT_TRUE(contains(detectionError(dir + "/noise.gz"), "unknown log format"));
 
 	lrgc::test::writeFileBytes(dir + "/prose.clf", "# a comment\nhello world\n");
-	EXPECT_TRUE(contains(
-		detectionError(dir + "/prose.clf"), "line 2 starts with 'hello', which is no CARMEN"));
+	EXPECT_TRUE(contains(detectionError(dir + "/prose.clf"),
+						 "line 2 starts with 'hello', which is no CARMEN"));
 	lrgc::test::writeFileBytes(dir + "/params.clf", "# CARMEN\nPARAM a 1 h 0\nSYNC x\n");
-	EXPECT_TRUE(contains(
-		detectionError(dir + "/params.clf"), "no FLASER, RLASER, ROBOTLASER1 or ODOM line"));
+	EXPECT_TRUE(contains(detectionError(dir + "/params.clf"),
+						 "no FLASER, RLASER, ROBOTLASER1 or ODOM line"));
 }
 
 TEST(LogFormat, DetectsByContentNotByName)
@@ -83,16 +83,16 @@ TEST(LogFormat, DetectsByContentNotByName)
 	const std::string dir = lrgc::test::makeTempDir("format_content");
 	LRGC_SKIP_IF_MISSING(lrgc::test::senaRawlogPath());
 	const std::string rawlogAsClf = dir + "/really-a-rawlog.clf";
-	lrgc::test::writeFileBytes(
-		rawlogAsClf, lrgc::test::readFileBytes(lrgc::test::senaRawlogPath()));
+	lrgc::test::writeFileBytes(rawlogAsClf,
+							   lrgc::test::readFileBytes(lrgc::test::senaRawlogPath()));
 	EXPECT_EQ(detectLogFormat(rawlogAsClf), LogFormat::MrptRawlog);
 	const std::string plainAsGz = dir + "/plain-rawlog.clf.gz";
-	lrgc::test::writeFileBytes(
-		plainAsGz, lrgc::test::readUncompressed(lrgc::test::senaRawlogPath()));
+	lrgc::test::writeFileBytes(plainAsGz,
+							   lrgc::test::readUncompressed(lrgc::test::senaRawlogPath()));
 	EXPECT_EQ(detectLogFormat(plainAsGz), LogFormat::MrptRawlog);
 	const std::string carmenAsRawlog = dir + "/carmen.rawlog";
-	lrgc::test::writeFileBytes(
-		carmenAsRawlog, "# CARMEN Logfile\nPARAM x 1 h 0\nODOM 0 0 0 0 0 0 1.5 h 1.5\n");
+	lrgc::test::writeFileBytes(carmenAsRawlog,
+							   "# CARMEN Logfile\nPARAM x 1 h 0\nODOM 0 0 0 0 0 0 1.5 h 1.5\n");
 	EXPECT_EQ(detectLogFormat(carmenAsRawlog), LogFormat::Carmen);
 	EXPECT_EQ(openLog(carmenAsRawlog)->format(), LogFormat::Carmen);
 	EXPECT_EQ(openLog(rawlogAsClf)->format(), LogFormat::MrptRawlog);
@@ -100,7 +100,7 @@ TEST(LogFormat, DetectsByContentNotByName)
 
 TEST(LogInputFile, ComputesTheGzipCrc32)
 {
-	EXPECT_EQ(crc32Update(0, "123456789", 9), 0xCBF43926u);	 // the standard check value
+	EXPECT_EQ(crc32Update(0, "123456789", 9), 0xCBF43926u);  // the standard check value
 	EXPECT_EQ(crc32Update(crc32Update(0, "1234", 4), "56789", 5), 0xCBF43926u);
 	EXPECT_EQ(crc32Update(0, "", 0), 0u);
 }

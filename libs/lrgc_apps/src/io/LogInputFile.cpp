@@ -58,9 +58,8 @@ CLogInputFile::CLogInputFile(const std::string& path) : m_path(path)
 	{
 		// 10-byte header + 8-byte trailer at least.
 		if (m_fileSize < 18)
-			throw CLogReadError(
-				path, "byte " + std::to_string(m_fileSize),
-				"gzip file truncated: shorter than a gzip header and trailer");
+			throw CLogReadError(path, "byte " + std::to_string(m_fileSize),
+								"gzip file truncated: shorter than a gzip header and trailer");
 		unsigned char trailer[8];
 		raw.seekg(static_cast<std::streamoff>(m_fileSize - 8));
 		raw.read(reinterpret_cast<char*>(trailer), 8);
@@ -81,12 +80,11 @@ size_t CLogInputFile::Read(void* buffer, size_t count)
 		// gzread takes an unsigned int and returns an int: keep chunks small.
 		const size_t want = std::min<size_t>(count - total, size_t(1) << 30);
 		const size_t got = m_in.Read(out + total, want);
-		if (got > want)	 // gzread returned -1: a zlib data error
+		if (got > want)  // gzread returned -1: a zlib data error
 		{
 			m_dataError = true;
-			throw CLogReadError(
-				m_path, "byte " + std::to_string(m_position),
-				"corrupt gzip data (zlib cannot inflate past this point)");
+			throw CLogReadError(m_path, "byte " + std::to_string(m_position),
+								"corrupt gzip data (zlib cannot inflate past this point)");
 		}
 		m_crc = crc32Update(m_crc, out + total, got);
 		m_position += got;
@@ -101,7 +99,10 @@ size_t CLogInputFile::Write(const void*, size_t)
 	throw CLogReadError(m_path, "", "internal error: writing to an input log");
 }
 
-std::string CLogInputFile::getStreamDescription() const { return "log file '" + m_path + "'"; }
+std::string CLogInputFile::getStreamDescription() const
+{
+	return "log file '" + m_path + "'";
+}
 
 double CLogInputFile::fractionRead() const
 {

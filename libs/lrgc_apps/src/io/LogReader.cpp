@@ -14,8 +14,8 @@
 
 namespace lrgc::apps
 {
-CLogReadError::CLogReadError(
-	const std::string& file, const std::string& place, const std::string& problem)
+CLogReadError::CLogReadError(const std::string& file, const std::string& place,
+							 const std::string& problem)
 	: std::runtime_error(file + (place.empty() ? "" : ": " + place) + ": " + problem),
 	  m_file(file),
 	  m_place(place)
@@ -36,9 +36,8 @@ namespace
 {
 const char* problemName(size_t kind)
 {
-	static const char* names[] = {
-		"malformed lines", "scans with bad ranges", "empty scans", "backward time jumps",
-		"other problems"};
+	static const char* names[] = {"malformed lines", "scans with bad ranges", "empty scans",
+								  "backward time jumps", "other problems"};
 	return names[kind];
 }
 }  // namespace
@@ -61,22 +60,20 @@ void CLogReader::reportUnlistedWarnings()
 	{
 		const size_t n = m_problemCounts[k];
 		if (n <= kListedPerProblem) continue;
-		std::string msg = mrpt::format(
-			"%s: %zu more %s not listed (%zu in all", m_path.c_str(), n - kListedPerProblem,
-			problemName(k), n);
+		std::string msg = mrpt::format("%s: %zu more %s not listed (%zu in all", m_path.c_str(),
+									   n - kListedPerProblem, problemName(k), n);
 		if (k == static_cast<size_t>(Problem::TimeBackwards))
 			msg += mrpt::format(
 				": %zu between scans, %zu between other messages; the largest %.3f s",
 				m_stats.scanTimeJumpsBack, m_stats.otherTimeJumpsBack,
 				m_stats.largestTimeJumpBack);
 		m_warnings.push_back(msg + ")");
-		m_problemCounts[k] = kListedPerProblem;	 // reported once
+		m_problemCounts[k] = kListedPerProblem;  // reported once
 	}
 }
 
-void CLogReader::checkTimeOrder(
-	const std::string& stream, mrpt::Clock::time_point t, const std::string& place,
-	bool isScan)
+void CLogReader::checkTimeOrder(const std::string& stream, mrpt::Clock::time_point t,
+								const std::string& place, bool isScan)
 {
 	auto [it, inserted] = m_lastTimes.try_emplace(stream, TStreamTime{t, place});
 	if (inserted) return;
@@ -85,18 +82,17 @@ void CLogReader::checkTimeOrder(
 		const double back = mrpt::Clock::toDouble(it->second.time) - mrpt::Clock::toDouble(t);
 		++(isScan ? m_stats.scanTimeJumpsBack : m_stats.otherTimeJumpsBack);
 		m_stats.largestTimeJumpBack = std::max(m_stats.largestTimeJumpBack, back);
-		warn(
-			Problem::TimeBackwards, place,
-			mrpt::format(
-				"%s timestamp %.6f is %.6f s earlier than the previous one (%s); kept in "
-				"file order",
-				stream.c_str(), mrpt::Clock::toDouble(t), back, it->second.place.c_str()));
+		warn(Problem::TimeBackwards, place,
+			 mrpt::format(
+				 "%s timestamp %.6f is %.6f s earlier than the previous one (%s); kept in "
+				 "file order",
+				 stream.c_str(), mrpt::Clock::toDouble(t), back, it->second.place.c_str()));
 	}
 	it->second = TStreamTime{t, place};
 }
 
-size_t CLogReader::markBadRangesInvalid(
-	mrpt::obs::CObservation2DRangeScan& scan, const std::string& place)
+size_t CLogReader::markBadRangesInvalid(mrpt::obs::CObservation2DRangeScan& scan,
+										const std::string& place)
 {
 	size_t bad = 0, first = 0;
 	for (size_t i = 0; i < scan.getScanSize(); ++i)
@@ -108,12 +104,11 @@ size_t CLogReader::markBadRangesInvalid(
 	}
 	if (bad == 0) return 0;
 	m_stats.invalidRanges += bad;
-	warn(
-		Problem::BadRanges, place,
-		mrpt::format(
-			"%zu NaN, infinite or negative range(s) of %zu in scan '%s' marked invalid "
-			"(first: beam %zu)",
-			bad, scan.getScanSize(), scan.sensorLabel.c_str(), first));
+	warn(Problem::BadRanges, place,
+		 mrpt::format(
+			 "%zu NaN, infinite or negative range(s) of %zu in scan '%s' marked invalid "
+			 "(first: beam %zu)",
+			 bad, scan.getScanSize(), scan.sensorLabel.c_str(), first));
 	return bad;
 }
 
@@ -176,21 +171,20 @@ TextVerdict judgeCarmenText(const std::string& b, bool complete, std::string& wh
 		const size_t e = line.find_first_of(" \t\r", s);
 		const std::string word = line.substr(s, e == std::string::npos ? e : e - s);
 		if (ours.count(word)) return TextVerdict::Carmen;
-		const bool identifier = std::all_of(word.begin(), word.end(), [](unsigned char c) {
-			return std::isupper(c) || std::isdigit(c) || c == '_';
-		});
+		const bool identifier = std::all_of(
+			word.begin(), word.end(),
+			[](unsigned char c) { return std::isupper(c) || std::isdigit(c) || c == '_'; });
 		if (!identifier)
 		{
-			why = mrpt::format(
-				"line %zu starts with '%.40s', which is no CARMEN message", lineNo,
-				word.c_str());
+			why = mrpt::format("line %zu starts with '%.40s', which is no CARMEN message",
+							   lineNo, word.c_str());
 			return TextVerdict::NotCarmen;
 		}
 	}
 	if (complete || b.size() >= kDetectMax)
 	{
-		why = mrpt::format(
-			"no FLASER, RLASER, ROBOTLASER1 or ODOM line in its first %zu bytes", b.size());
+		why = mrpt::format("no FLASER, RLASER, ROBOTLASER1 or ODOM line in its first %zu bytes",
+						   b.size());
 		return TextVerdict::NotCarmen;
 	}
 	return TextVerdict::Undecided;

@@ -17,7 +17,7 @@ namespace
 // Writes the observations of one entry; layout-1 increments become absolute odometry.
 class CObservationWriter
 {
-   public:
+public:
 	CObservationWriter(mrpt::serialization::CArchive& out, TConversionStats& stats)
 		: m_out(out), m_stats(stats)
 	{
@@ -32,7 +32,7 @@ class CObservationWriter
 		if (e.observation) write(*e.observation);
 	}
 
-   private:
+private:
 	void write(const mrpt::obs::CObservation& obs)
 	{
 		m_out << obs;
@@ -43,9 +43,8 @@ class CObservationWriter
 
 	// odometry_k = odometry_{k-1} (+) mean(increment_k), stamped with the increment's time
 	// (or, if it has none, that of the frame's first observation).
-	void writeIncrements(
-		const mrpt::obs::CActionCollection& actions,
-		const mrpt::obs::CSensoryFrame::Ptr& frame)
+	void writeIncrements(const mrpt::obs::CActionCollection& actions,
+						 const mrpt::obs::CSensoryFrame::Ptr& frame)
 	{
 		for (const auto& a : actions)
 		{
@@ -69,26 +68,30 @@ class CObservationWriter
 };
 }  // namespace
 
-TConversionStats convertToRawlog(
-	const std::string& inPath, const std::string& outRawlogPath,
-	const TLogReaderOptions& options)
+TConversionStats convertToRawlog(const std::string& inPath, const std::string& outRawlogPath,
+								 const TLogReaderOptions& options)
 {
 	const std::unique_ptr<CLogReader> reader = openLog(inPath, options);
 	TConversionStats stats;
-	writeFileAtomically(outRawlogPath, [&](const std::string& tmpPath) {
-		mrpt::io::CFileGZOutputStream file;
-		if (!file.open(tmpPath))
-			THROW_EXCEPTION_FMT("cannot open '%s' for writing", tmpPath.c_str());
-		auto out = mrpt::serialization::archiveFrom(file);
-		CObservationWriter writer(out, stats);
-		while (const std::optional<TLogEntry> entry = reader->next())
-		{
-			writer.write(*entry);
-			for (auto& w : reader->takeWarnings()) stats.warningText.push_back(std::move(w));
-		}
-		for (auto& w : reader->takeWarnings()) stats.warningText.push_back(std::move(w));
-		file.close();
-	});
+	writeFileAtomically(outRawlogPath,
+						[&](const std::string& tmpPath)
+						{
+							mrpt::io::CFileGZOutputStream file;
+							if (!file.open(tmpPath))
+								THROW_EXCEPTION_FMT("cannot open '%s' for writing",
+													tmpPath.c_str());
+							auto out = mrpt::serialization::archiveFrom(file);
+							CObservationWriter writer(out, stats);
+							while (const std::optional<TLogEntry> entry = reader->next())
+							{
+								writer.write(*entry);
+								for (auto& w : reader->takeWarnings())
+									stats.warningText.push_back(std::move(w));
+							}
+							for (auto& w : reader->takeWarnings())
+								stats.warningText.push_back(std::move(w));
+							file.close();
+						});
 	stats.warnings = reader->stats().warnings;
 	return stats;
 }

@@ -5,6 +5,7 @@
 #include <mrpt/core/format.h>
 
 #include <fcntl.h>
+#include <poll.h>
 #include <signal.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
@@ -18,6 +19,9 @@
 namespace lrgc::apps
 {
 using Result = TObjectRead::Result;
+
+// How long the reader waits for the child's report on one object [ms].
+constexpr int kReportTimeoutMs = 30000;
 
 namespace
 {
@@ -81,17 +85,16 @@ TObjectRead readArchiveObject(CLogInputFile& in, TArchive& archive)
 		what = "unknown exception";
 	}
 	if (in.hadDataError())
-		return failed(
-			in.position(), "corrupt gzip data (zlib cannot inflate past this point)");
-	if (in.position() == start && in.reachedEnd()) return TObjectRead{};	 // clean end
+		return failed(in.position(), "corrupt gzip data (zlib cannot inflate past this point)");
+	if (in.position() == start && in.reachedEnd()) return TObjectRead{};  // clean end
 	if (outOfMemory)
 		return failed(start, "corrupt object (a size field asks for more memory than exists)");
 	if (in.reachedEnd())
 		return failed(
-			start, mrpt::format(
-					   "truncated: the object starting here is cut short by the end of the "
-					   "data at byte %llu",
-					   static_cast<unsigned long long>(in.position())));
+			start,
+			mrpt::format("truncated: the object starting here is cut short by the end of the "
+						 "data at byte %llu",
+						 static_cast<unsigned long long>(in.position())));
 	return failed(start, "corrupt object: " + compactMessage(what));
 }
 
@@ -155,7 +158,7 @@ rlim_t currentAddressSpace()
 // Never returns and never flushes the parent's stdio buffers (_exit).
 [[noreturn]] void runChild(const std::string& path, int fd)
 {
-	::signal(SIGPIPE, SIG_DFL);	 // the reader went away: die quietly
+	::signal(SIGPIPE, SIG_DFL);  // the reader went away: die quietly
 	if (FILE* f = std::fopen("/proc/self/oom_score_adj", "w"))
 	{
 		std::fputs("1000", f);
@@ -174,7 +177,8 @@ rlim_t currentAddressSpace()
 			const char code = static_cast<char>(r.result);
 			if (!writeAll(fd, &code, 1)) break;
 			if (r.result == Result::Parsed) continue;
-			if (r.result == Result::Failed) writeString(fd, r.place), writeString(fd, r.problem);
+			if (r.result == Result::Failed)
+				writeString(fd, r.place), writeString(fd, r.problem);
 			break;
 		}
 	}
@@ -224,32 +228,50 @@ TObjectRead CDeserializationGuard::checkNextObject(uint64_t objectStart)
 	TObjectRead r;
 	r.result = Result::Parsed;
 	if (!active() || m_childDone) return r;
+	// A child stuck (a lock held by another thread at fork time, an endless loop in MRPT):
+	// give up guarding rather than hang the run.
+	pollfd pfd{m_fd, POLLIN, 0};
+	int ready;
+	do ready = ::poll(&pfd, 1, kReportTimeoutMs);
+	while (ready < 0 && errno == EINTR);
+	if (ready == 0)
+	{
+		::kill(m_pid, SIGKILL);
+		int status = 0;
+		while (::waitpid(m_pid, &status, 0) < 0 && errno == EINTR)
+		{
+		}
+		m_pid = -1;
+		m_gaveUp = true;
+		return r;
+	}
 	char code = 0;
 	if (readAll(m_fd, &code, 1))
 	{
 		r.result = static_cast<Result>(code);
 		if (r.result == Result::Parsed) return r;
 		m_childDone = true;
-		if (r.result == Result::Failed && !(readString(m_fd, r.place) && readString(m_fd, r.problem)))
+		if (r.result == Result::Failed &&
+			!(readString(m_fd, r.place) && readString(m_fd, r.problem)))
 			r.problem = "corrupt object (the guard's report was cut short)";
 		return r;
 	}
 	// No report: the child died on this object. Reap it and say how.
 	int status = 0;
 	pid_t w;
-	do
-		w = ::waitpid(m_pid, &status, 0);
+	do w = ::waitpid(m_pid, &status, 0);
 	while (w < 0 && errno == EINTR);
 	m_pid = -1;
 	std::string how = "it vanished";
 	if (w > 0 && WIFSIGNALED(status))
-		how = "signal " + std::to_string(WTERMSIG(status)) + ", " + ::strsignal(WTERMSIG(status));
+		how =
+			"signal " + std::to_string(WTERMSIG(status)) + ", " + ::strsignal(WTERMSIG(status));
 	else if (w > 0 && WIFEXITED(status))
 		how = "exit status " + std::to_string(WEXITSTATUS(status));
 	r.result = Result::Failed;
 	r.place = "byte " + std::to_string(objectStart);
-	r.problem = "corrupt object: MRPT's deserializer crashed on it in the guard process (" +
-		how + ")";
+	r.problem =
+		"corrupt object: MRPT's deserializer crashed on it in the guard process (" + how + ")";
 	return r;
 }
 

@@ -7,7 +7,6 @@
 #include <mrpt/obs/CObservationOdometry.h>
 #include <mrpt/obs/registerAllClasses.h>
 
-
 namespace lrgc::apps
 {
 using mrpt::obs::CActionCollection;
@@ -20,10 +19,9 @@ CRawlogReader::CRawlogReader(const std::string& path)
 	: CLogReader(path), m_in(path), m_archive(m_in), m_guard(initClassesThenGuard(path))
 {
 	if (!m_guard->active())
-		warn(
-			Problem::Other, "",
-			"could not start the guard process (fork failed): a corrupt object could crash "
-			"this run");
+		warn(Problem::Other, "",
+			 "could not start the guard process (fork failed): a corrupt object could crash "
+			 "this run");
 }
 
 std::unique_ptr<CDeserializationGuard> CRawlogReader::initClassesThenGuard(
@@ -35,14 +33,25 @@ std::unique_ptr<CDeserializationGuard> CRawlogReader::initClassesThenGuard(
 	return std::make_unique<CDeserializationGuard>(path);
 }
 
-std::string CRawlogReader::placeOf(uint64_t byte) const { return "byte " + std::to_string(byte); }
+std::string CRawlogReader::placeOf(uint64_t byte) const
+{
+	return "byte " + std::to_string(byte);
+}
 
 CSerializable::Ptr CRawlogReader::readObject(uint64_t start)
 {
 	// The guard's child meets the object first; a failure there is not repeated here.
 	TObjectRead r = m_guard->checkNextObject(start);
+	if (m_guard->gaveUp() && !m_guardLossReported)
+	{
+		m_guardLossReported = true;
+		warn(Problem::Other, placeOf(start),
+			 "the guard process sent no report for 30 s and was stopped: from here a corrupt "
+			 "object could crash this run");
+	}
 	if (r.result != TObjectRead::Result::Failed) r = readArchiveObject(m_in, m_archive);
-	if (r.result == TObjectRead::Result::Failed) throw CLogReadError(path(), r.place, r.problem);
+	if (r.result == TObjectRead::Result::Failed)
+		throw CLogReadError(path(), r.place, r.problem);
 	return r.object;  // null at the clean end
 }
 
@@ -63,10 +72,9 @@ std::optional<TLogEntry> CRawlogReader::next()
 				// Simulated rawlogs (simul.rawlog, RO-SLAM_demo) end so; MRPT ignores it too.
 				// A gzip file cut here fails the trailer check below.
 				if (actions)
-					warn(
-						Problem::Other, placeOf(actionsAt),
-						"the file ends with this action collection, without the sensory frame "
-						"that would follow it: ignored");
+					warn(Problem::Other, placeOf(actionsAt),
+						 "the file ends with this action collection, without the sensory frame "
+						 "that would follow it: ignored");
 				reportUnlistedWarnings();
 				m_in.verifyCompleteAtEnd();
 				return std::nullopt;
@@ -74,9 +82,8 @@ std::optional<TLogEntry> CRawlogReader::next()
 			if (auto acts = std::dynamic_pointer_cast<CActionCollection>(obj))
 			{
 				if (actions)
-					warn(
-						Problem::Other, placeOf(actionsAt),
-						"action collection not followed by a sensory frame: dropped");
+					warn(Problem::Other, placeOf(actionsAt),
+						 "action collection not followed by a sensory frame: dropped");
 				actions = acts;
 				actionsAt = start;
 				continue;
@@ -99,9 +106,8 @@ std::optional<TLogEntry> CRawlogReader::next()
 			{
 				if (actions)
 				{
-					warn(
-						Problem::Other, placeOf(actionsAt),
-						"action collection not followed by a sensory frame: dropped");
+					warn(Problem::Other, placeOf(actionsAt),
+						 "action collection not followed by a sensory frame: dropped");
 					actions.reset();
 				}
 				if (!checkObservation(*obs, placeOf(start))) continue;
@@ -112,10 +118,9 @@ std::optional<TLogEntry> CRawlogReader::next()
 				return entry;
 			}
 			++m_stats.ignoredObjects;
-			warn(
-				Problem::Other, placeOf(start),
-				std::string("object of class ") + obj->GetRuntimeClass()->className +
-					" ignored (neither an observation nor a sensory frame)");
+			warn(Problem::Other, placeOf(start),
+				 std::string("object of class ") + obj->GetRuntimeClass()->className +
+					 " ignored (neither an observation nor a sensory frame)");
 		}
 	}
 	catch (const CLogReadError&)
@@ -132,11 +137,9 @@ bool CRawlogReader::checkObservation(CObservation& obs, const std::string& place
 	if (scan && scan->getScanSize() < 2)
 	{
 		++m_stats.emptyScans;
-		warn(
-			Problem::EmptyScan, place,
-			mrpt::format(
-				"scan '%s' with %zu ray(s) skipped", scan->sensorLabel.c_str(),
-				scan->getScanSize()));
+		warn(Problem::EmptyScan, place,
+			 mrpt::format("scan '%s' with %zu ray(s) skipped", scan->sensorLabel.c_str(),
+						  scan->getScanSize()));
 		return false;
 	}
 	if (scan)
@@ -145,9 +148,8 @@ bool CRawlogReader::checkObservation(CObservation& obs, const std::string& place
 		++m_stats.scans;
 	}
 	if (dynamic_cast<const mrpt::obs::CObservationOdometry*>(&obs)) ++m_stats.odometry;
-	checkTimeOrder(
-		obs.sensorLabel.empty() ? obs.GetRuntimeClass()->className : obs.sensorLabel,
-		obs.timestamp, place, scan != nullptr);
+	checkTimeOrder(obs.sensorLabel.empty() ? obs.GetRuntimeClass()->className : obs.sensorLabel,
+				   obs.timestamp, place, scan != nullptr);
 	return true;
 }
 
@@ -155,8 +157,10 @@ void CRawlogReader::checkFrame(CSensoryFrame& frame, const std::string& place)
 {
 	for (auto it = frame.begin(); it != frame.end();)
 	{
-		if (*it && checkObservation(**it, place)) ++it;
-		else it = frame.erase(it);
+		if (*it && checkObservation(**it, place))
+			++it;
+		else
+			it = frame.erase(it);
 	}
 }
 

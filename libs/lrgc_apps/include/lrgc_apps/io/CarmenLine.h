@@ -26,23 +26,23 @@ namespace lrgc::apps
 {
 struct TCarmenLaser
 {
-	std::vector<double> ranges;  //!< [m], as recorded
+	std::vector<double> ranges;     //!< [m], as recorded
 	mrpt::math::TPose2D laserPose;  //!< laser in the odometry frame [m, rad]
 	mrpt::math::TPose2D robotPose;  //!< robot in the odometry frame [m, rad]
-	double timestamp = 0;  //!< ipc_timestamp [s]
+	double timestamp = 0;           //!< ipc_timestamp [s]
 	/** ROBOTLASER1 only (else false): the fields below come from the line. */
 	bool hasOwnGeometry = false;
-	double startAngle = 0;  //!< first beam in the laser frame [rad]
+	double startAngle = 0;         //!< first beam in the laser frame [rad]
 	double angularResolution = 0;  //!< step between beams, counter-clockwise [rad]
-	double maxRange = 0;  //!< [m]
-	double tv = 0, rv = 0;  //!< robot velocities [m/s], [rad/s]
+	double maxRange = 0;           //!< [m]
+	double tv = 0, rv = 0;         //!< robot velocities [m/s], [rad/s]
 };
 
 struct TCarmenOdometry
 {
-	mrpt::math::TPose2D pose;  //!< robot in the odometry frame [m, rad]
+	mrpt::math::TPose2D pose;          //!< robot in the odometry frame [m, rad]
 	double tv = 0, rv = 0, accel = 0;  //!< [m/s], [rad/s], [m/s^2]
-	double timestamp = 0;  //!< ipc_timestamp [s]
+	double timestamp = 0;              //!< ipc_timestamp [s]
 };
 
 struct TCarmenRecord
@@ -51,10 +51,10 @@ struct TCarmenRecord
 	{
 		Ignored,
 		FrontLaser,  //!< FLASER -> laser
-		RearLaser,  //!< RLASER -> laser
+		RearLaser,   //!< RLASER -> laser
 		RobotLaser,  //!< ROBOTLASER1 -> laser
-		Odometry,  //!< ODOM -> odometry
-		Malformed  //!< see problem
+		Odometry,    //!< ODOM -> odometry
+		Malformed    //!< see problem
 	};
 	Kind kind = Kind::Ignored;
 	std::string message;  //!< first word, empty for blank and comment lines

@@ -8,7 +8,9 @@
  * ROBOTLASER1, "REAR_LASER" for RLASER) with the same timestamp, rightToLeft, its aperture
  * and sensorPose (laser pose of the line relative to the robot pose of the line, rotated by
  * the offset of the beam fan's centre, see TLogReaderOptions), maxRange, and the invalid
- * flag on no-returns, NaN and negative readings. ODOM lines: a CObservationOdometry each.
+ * flag on no-returns, NaN and negative readings. ODOM lines: a CObservationOdometry each,
+ * in file order. (Every laser message read here carries its pose, so a scan's odometry never
+ * needs interpolating between ODOM lines, which would mix in their timestamp jitter.)
  * A malformed line is skipped with a warning naming its line number; a truncated gzip
  * stream throws CLogReadError at the end, after every complete line was returned.
  */
@@ -24,14 +26,14 @@ namespace lrgc::apps
 {
 class CCarmenReader final : public CLogReader
 {
-   public:
+public:
 	CCarmenReader(const std::string& path, const TLogReaderOptions& options);
 
 	std::optional<TLogEntry> next() override;
 	double fractionRead() const override { return m_in.fractionRead(); }
 	LogFormat format() const override { return LogFormat::Carmen; }
 
-   private:
+private:
 	/** The next line without its end of line; false at the end of the file. */
 	bool readLine(std::string& line);
 	/** Turns one line into entries appended to m_pending (none if skipped). */
@@ -45,7 +47,7 @@ class CCarmenReader final : public CLogReader
 	size_t m_bufferPos = 0;
 	size_t m_lineNumber = 0;
 	bool m_lineEndedFile = false;  // the current line ended with the file, not with '\n'
-	TCarmenRecord m_record;  // reused: keeps its range vector's capacity
+	TCarmenRecord m_record;        // reused: keeps its range vector's capacity
 	std::deque<TLogEntry> m_pending;
 	bool m_finished = false;
 };

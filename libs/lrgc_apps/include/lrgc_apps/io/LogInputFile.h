@@ -20,7 +20,7 @@ namespace lrgc::apps
 {
 class CLogInputFile
 {
-   public:
+public:
 	/** Opens `path`; throws CLogReadError if it is missing or unreadable. */
 	explicit CLogInputFile(const std::string& path);
 
@@ -45,13 +45,13 @@ class CLogInputFile
 	 * trailer; throws CLogReadError naming the uncompressed byte where the data stop. */
 	void verifyCompleteAtEnd();
 
-   private:
+private:
 	std::string m_path;
 	mrpt::io::CFileGZInputStream m_in;
 	bool m_isGzip = false;
 	uint64_t m_fileSize = 0;
 	uint32_t m_trailerCrc = 0, m_trailerSize = 0;  // gzip ISIZE: length mod 2^32
-	uint32_t m_crc = 0;  // CRC-32 of the bytes handed out so far
+	uint32_t m_crc = 0;                            // CRC-32 of the bytes handed out so far
 	uint64_t m_position = 0;
 	bool m_reachedEnd = false;
 	bool m_dataError = false;

@@ -9,8 +9,10 @@
  * takeWarnings(), each message naming the file and the place. Recurring kinds are listed
  * verbatim a few times, then counted, and the count is reported at the end of the file.
  * A problem the run cannot go past (missing file, truncated or corrupt rawlog, truncated or
- * damaged gzip stream) throws CLogReadError from next(), after every complete entry before
- * the damage has been returned, so the caller can save what it built and exit non-zero.
+ * damaged gzip stream, an object that crashes MRPT's deserializer: see RawlogObjects.h)
+ * throws CLogReadError from next(), after every complete entry before the damage has been
+ * returned, so the caller can save what it built and exit non-zero. Nothing else is thrown
+ * for bad input.
  *
  * Places: "<file>: line N" (1-based) for CARMEN, "<file>: byte N" for rawlogs, N being the
  * offset of the object in the uncompressed archive (= the file offset for a plain file).
@@ -21,8 +23,8 @@
 #include <lrgc_apps/io/RawlogConversion.h>
 #include <mrpt/core/Clock.h>
 #include <mrpt/obs/CActionCollection.h>
-#include <mrpt/obs/CObservation2DRangeScan.h>
 #include <mrpt/obs/CObservation.h>
+#include <mrpt/obs/CObservation2DRangeScan.h>
 #include <mrpt/obs/CSensoryFrame.h>
 
 #include <array>
@@ -62,37 +64,38 @@ enum class LogFormat
 /** Counts since the reader was opened. */
 struct TLogReadStats
 {
-	size_t entries = 0;  //!< TLogEntry returned
-	size_t scans = 0;  //!< 2D range scans returned
-	size_t odometry = 0;  //!< CObservationOdometry and CActionRobotMovement2D returned
-	size_t skippedLines = 0;  //!< malformed CARMEN lines skipped
-	size_t ignoredLines = 0;  //!< comments, blank lines, CARMEN messages not read (PARAM...)
+	size_t entries = 0;         //!< TLogEntry returned
+	size_t scans = 0;           //!< 2D range scans returned
+	size_t odometry = 0;        //!< CObservationOdometry and CActionRobotMovement2D returned
+	size_t skippedLines = 0;    //!< malformed CARMEN lines skipped
+	size_t ignoredLines = 0;    //!< comments, blank lines, CARMEN messages not read (PARAM...)
 	size_t ignoredObjects = 0;  //!< rawlog objects that are neither observation nor frame
-	size_t emptyScans = 0;  //!< scans with fewer than 2 readings, skipped
-	size_t invalidRanges = 0;  //!< NaN or negative readings marked invalid
+	size_t emptyScans = 0;      //!< scans with fewer than 2 readings, skipped
+	size_t invalidRanges = 0;   //!< NaN or negative readings marked invalid
 	size_t noReturnRanges = 0;  //!< CARMEN readings at max range or +inf marked invalid
-	size_t scanTimeJumpsBack = 0;  //!< a scan older than the previous one of its sensor
-	size_t otherTimeJumpsBack = 0;  //!< the same for odometry and other observations
+	size_t scanTimeJumpsBack = 0;    //!< a scan older than the previous one of its sensor
+	size_t otherTimeJumpsBack = 0;   //!< the same for odometry and other observations
 	double largestTimeJumpBack = 0;  //!< [s]
-	size_t warnings = 0;  //!< recoverable problems met, listed or only counted
+	size_t warnings = 0;             //!< recoverable problems met, listed or only counted
 };
 
 /** A read error the run cannot go past; what() is "<file>: <place>: <problem>". */
 class CLogReadError : public std::runtime_error
 {
-   public:
-	CLogReadError(const std::string& file, const std::string& place, const std::string& problem);
+public:
+	CLogReadError(const std::string& file, const std::string& place,
+				  const std::string& problem);
 	const std::string& file() const { return m_file; }
 	/** "byte N", "line N", or "" when the problem concerns the whole file. */
 	const std::string& place() const { return m_place; }
 
-   private:
+private:
 	std::string m_file, m_place;
 };
 
 class CLogReader
 {
-   public:
+public:
 	virtual ~CLogReader();
 	CLogReader(const CLogReader&) = delete;
 	CLogReader& operator=(const CLogReader&) = delete;
@@ -109,7 +112,7 @@ class CLogReader
 	std::vector<std::string> takeWarnings();
 	const TLogReadStats& stats() const { return m_stats; }
 
-   protected:
+protected:
 	explicit CLogReader(std::string path);
 
 	enum class Problem
@@ -124,19 +127,18 @@ class CLogReader
 	/** Records "<file>: <place>: <what>"; past kListedPerProblem of a kind, only counts. */
 	void warn(Problem kind, const std::string& place, const std::string& what);
 	/** Checks that `t` is not older than the previous time of `stream`; warns if it is. */
-	void checkTimeOrder(
-		const std::string& stream, mrpt::Clock::time_point t, const std::string& place,
-		bool isScan);
+	void checkTimeOrder(const std::string& stream, mrpt::Clock::time_point t,
+						const std::string& place, bool isScan);
 	/** Marks NaN, infinite and negative readings of valid rays invalid; returns their count. */
-	size_t markBadRangesInvalid(
-		mrpt::obs::CObservation2DRangeScan& scan, const std::string& place);
+	size_t markBadRangesInvalid(mrpt::obs::CObservation2DRangeScan& scan,
+								const std::string& place);
 	/** At the end of the file: a warning per kind with the count of those not listed. */
 	void reportUnlistedWarnings();
 
 	TLogReadStats m_stats;
 	static constexpr size_t kListedPerProblem = 5;
 
-   private:
+private:
 	struct TStreamTime
 	{
 		mrpt::Clock::time_point time;

@@ -37,10 +37,10 @@ struct TLogReaderOptions : public mrpt::config::CLoadableOptions
 	double carmenMaxRange = 50.0;
 
 	/** Reads the keys of `section`; unknown keys and invalid values throw. */
-	void loadFromConfigFile(
-		const mrpt::config::CConfigFileBase& source, const std::string& section) override;
-	void saveToConfigFile(
-		mrpt::config::CConfigFileBase& target, const std::string& section) const override;
+	void loadFromConfigFile(const mrpt::config::CConfigFileBase& source,
+							const std::string& section) override;
+	void saveToConfigFile(mrpt::config::CConfigFileBase& target,
+						  const std::string& section) const override;
 };
 
 }  // namespace lrgc::apps

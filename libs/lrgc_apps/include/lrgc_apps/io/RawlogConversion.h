@@ -20,19 +20,18 @@ namespace lrgc::apps
 {
 struct TConversionStats
 {
-	size_t scans = 0;  //!< CObservation2DRangeScan written
-	size_t odometry = 0;  //!< CObservationOdometry written
-	size_t warnings = 0;  //!< recoverable problems met (see `warningText`)
+	size_t scans = 0;                      //!< CObservation2DRangeScan written
+	size_t odometry = 0;                   //!< CObservationOdometry written
+	size_t warnings = 0;                   //!< recoverable problems met (see `warningText`)
 	std::vector<std::string> warningText;  //!< the reader's warnings, as takeWarnings()
-	size_t observations = 0;  //!< objects written, all kinds
+	size_t observations = 0;               //!< objects written, all kinds
 };
 
 /** Writes `outRawlogPath` (gzip-compressed MRPT archive of observations, as MRPT writes
  * .rawlog files) atomically: on any error no file is left behind and a previous file of
  * that name is untouched. Throws CLogReadError for unreadable input (the output is then not
  * written), and an MRPT exception if the output cannot be written. */
-TConversionStats convertToRawlog(
-	const std::string& inPath, const std::string& outRawlogPath,
-	const TLogReaderOptions& options = {});
+TConversionStats convertToRawlog(const std::string& inPath, const std::string& outRawlogPath,
+								 const TLogReaderOptions& options = {});
 
 }  // namespace lrgc::apps

@@ -15,7 +15,8 @@
  * by up to a pipe's worth of objects). The reader asks before deserializing an object: if
  * the child died on it or failed on it, the reader throws CLogReadError naming the object's
  * byte without touching it. Cost: a second deserialization, on the other core. If fork()
- * fails, the reader runs unguarded and warns.
+ * fails, or the child sends no report for 30 s (stuck, e.g. on a lock another thread held
+ * at fork time), the reader goes on unguarded and warns.
  */
 #pragma once
 
@@ -34,12 +35,12 @@ struct TObjectRead
 	enum class Result : char
 	{
 		Parsed = 'o',
-		End = 'e',	//!< clean end of the data
+		End = 'e',    //!< clean end of the data
 		Failed = 'f'  //!< see place, problem
 	};
 	Result result = Result::End;
-	mrpt::serialization::CSerializable::Ptr object;	 //!< when Parsed
-	std::string place, problem;	 //!< when Failed: "byte N", what is wrong
+	mrpt::serialization::CSerializable::Ptr object;  //!< when Parsed
+	std::string place, problem;                      //!< when Failed: "byte N", what is wrong
 };
 
 /** Reads the next object; never throws for bad data (Failed says why). */
@@ -47,7 +48,7 @@ TObjectRead readArchiveObject(CLogInputFile& in, TArchive& archive);
 
 class CDeserializationGuard
 {
-   public:
+public:
 	/** Starts the child on `path`. Call after the MRPT classes are registered. */
 	explicit CDeserializationGuard(const std::string& path);
 	/** Kills and reaps the child. */
@@ -55,17 +56,21 @@ class CDeserializationGuard
 	CDeserializationGuard(const CDeserializationGuard&) = delete;
 	CDeserializationGuard& operator=(const CDeserializationGuard&) = delete;
 
-	/** False if the child could not be started: then every object counts as safe. */
+	/** False if the child could not be started or was given up: then every object counts
+	 * as safe. */
 	bool active() const { return m_pid > 0; }
+	/** True if the child sent no report for 30 s and was killed (the reader goes on). */
+	bool gaveUp() const { return m_gaveUp; }
 	/** Blocks until the child has met the next object. Parsed or End: safe to read it.
 	 * Failed: the child's verdict (the reader must not deserialize it); if the child died,
 	 * the problem says how ("MRPT's deserializer crashed on it (signal 11 ...)"). */
 	TObjectRead checkNextObject(uint64_t objectStart);
 
-   private:
+private:
 	int m_pid = -1;
-	int m_fd = -1;	// read end of the pipe
+	int m_fd = -1;             // read end of the pipe
 	bool m_childDone = false;  // the child sent its last report and exited
+	bool m_gaveUp = false;
 };
 
 }  // namespace lrgc::apps
