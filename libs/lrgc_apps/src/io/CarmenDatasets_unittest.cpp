@@ -2,8 +2,11 @@
  * odometry counts as in /work/shared/datasets/README.md, beams, no obstacle at max range,
  * file order (Intel's 631 backward jumps kept), and every relation timestamp found among
  * the scan timestamps. Expected counts of no-return sentinels were taken independently with
- * zcat | awk over the readings (81.83 Intel, 50 ACES, 81.91 MIT-CSAIL). */
+ * zcat | awk over the readings (81.83 Intel, 50 ACES, 81.91 MIT-CSAIL). Also broken copies
+ * of MIT-CSAIL: lines swapped, a line corrupted, the text cut, the gzip stream cut. */
 #include <gtest/gtest.h>
+#include <io_read_all.h>
+#include <io_test_files.h>
 #include <lrgc_apps/io/LogReader.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
 #include <mrpt/obs/CObservationOdometry.h>
@@ -25,6 +28,12 @@ struct TDataset
 	size_t scans, odomLines, beams, noReturns, scanJumpsBack;
 	float largestRealReading;  // [m], zcat | awk: the largest reading below the sentinel
 };
+
+// gtest prints the parameter in test names: the dataset's name, not its bytes.
+void PrintTo(const TDataset& d, std::ostream* os)
+{
+	*os << d.name;
+}
 
 class CarmenDatasets : public ::testing::TestWithParam<TDataset>
 {
@@ -122,3 +131,46 @@ INSTANTIATE_TEST_SUITE_P(
 		std::replace(n.begin(), n.end(), '-', '_');
 		return n;
 	});
+
+TEST(CarmenDatasetCopies, ReadsABrokenCopyOfMitCsailSayingWhatItSkipped)
+{
+	const std::string mit = lrgc::test::sharedDatasetPath("mit-csail/mit-csail.clf.gz");
+	LRGC_SKIP_IF_MISSING(mit);
+	const std::string dir = lrgc::test::makeTempDir("carmen_mit_broken");
+	std::vector<std::string> lines;
+	{
+		const std::string text = lrgc::test::readUncompressed(mit);
+		size_t pos = 0;
+		for (size_t nl; (nl = text.find('\n', pos)) != std::string::npos; pos = nl + 1)
+			lines.push_back(text.substr(pos, nl + 1 - pos));
+	}
+	ASSERT_EQ(lines.size(), 1991u);                          // 3 comment lines, 1988 FLASER
+	std::swap(lines[100], lines[101]);                       // lines 101 and 102 reordered
+	lines[200].replace(lines[200].find(' ', 11), 1, " x ");  // line 201: a bad reading
+	std::string broken;
+	for (const auto& l : lines) broken += l;
+	broken.resize(broken.size() - 40);                    // cut inside the last line's poses
+	const std::string path = dir + "/mit-broken.rawlog";  // a misleading name, too
+	lrgc::test::writeGzFile(path, broken);
+
+	const auto r = lrgc::test::readWholeLog(path);
+	ASSERT_FALSE(r.error) << *r.error;
+	EXPECT_EQ(r.stats.scans, 1988u - 2u);
+	EXPECT_EQ(r.stats.skippedLines, 2u);
+	EXPECT_EQ(r.stats.scanTimeJumpsBack, 1u);
+	ASSERT_EQ(r.warnings.size(), 3u);
+	EXPECT_TRUE(lrgc::test::contains(r.warnings[0], path + ": line 102: FLASER timestamp"));
+	EXPECT_TRUE(lrgc::test::contains(r.warnings[1], path + ": line 201: malformed FLASER"));
+	EXPECT_TRUE(lrgc::test::contains(r.warnings[2], path + ": line 1991: malformed FLASER"));
+	EXPECT_TRUE(lrgc::test::contains(r.warnings[2], "the file may be truncated"));
+
+	// The original gzip file cut in the middle: every complete line, then the error.
+	const std::string bytes = lrgc::test::readFileBytes(mit);
+	const std::string cut = dir + "/mit-cut.clf.gz";
+	lrgc::test::writeFileBytes(cut, bytes.substr(0, bytes.size() / 2));
+	const auto c = lrgc::test::readWholeLog(cut);
+	ASSERT_TRUE(c.error);
+	EXPECT_TRUE(lrgc::test::contains(*c.error, cut + ": byte ")) << *c.error;
+	EXPECT_GT(c.stats.scans, 900u);
+	EXPECT_LT(c.stats.scans, 1100u);
+}
