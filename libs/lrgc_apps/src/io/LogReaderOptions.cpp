@@ -1,0 +1,32 @@
+#include "lrgc_apps/io/LogReaderOptions.h"
+
+#include <lrgc/params_io.h>
+#include <mrpt/config/CConfigFileBase.h>
+#include <mrpt/core/bits_math.h>
+
+namespace lrgc::apps
+{
+void TLogReaderOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& source,
+										   const std::string& section)
+{
+	lrgc::rejectUnknownKeys(*this, source, section);
+	const double fovDeg = source.read_double(section, "carmen_180_beams_fov_deg",
+											 mrpt::RAD2DEG(carmen180BeamsFov));
+	lrgc::requireParam(fovDeg > 0 && fovDeg <= 360, section, "carmen_180_beams_fov_deg",
+					   "must be in (0, 360] (180: last beam at +90 deg; 179: at +89 deg)");
+	const double maxRange = source.read_double(section, "carmen_max_range_m", carmenMaxRange);
+	lrgc::requireParam(maxRange > 0, section, "carmen_max_range_m", "must be positive");
+	carmen180BeamsFov = mrpt::DEG2RAD(fovDeg);
+	carmenMaxRange = maxRange;
+}
+
+void TLogReaderOptions::saveToConfigFile(mrpt::config::CConfigFileBase& target,
+										 const std::string& section) const
+{
+	target.write(section, "carmen_180_beams_fov_deg", mrpt::RAD2DEG(carmen180BeamsFov), -1, -1,
+				 "First to last beam of a 180-beam CARMEN FLASER/RLASER [deg]: 180 or 179");
+	target.write(section, "carmen_max_range_m", carmenMaxRange, -1, -1,
+				 "CARMEN FLASER/RLASER readings >= this (less 5 mm) are no-returns [m]");
+}
+
+}  // namespace lrgc::apps
