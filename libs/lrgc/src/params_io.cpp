@@ -2,6 +2,7 @@
 
 #include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/core/exceptions.h>
+#include <mrpt/system/string_utils.h>
 
 #include <algorithm>
 #include <set>
@@ -40,9 +41,13 @@ void rejectUnknownKeys(
 	std::vector<std::string> known, given;
 	mem.getAllKeys(section, known);
 	source.getAllKeys(section, given);
+	// CConfigFileBase::write() with a name padding stores the key padded with blanks:
+	// compare trimmed keys.
+	for (auto& k : known) k = mrpt::system::trim(k);
 	const std::set<std::string> knownSet(known.begin(), known.end());
-	for (const auto& key : given)
+	for (const auto& rawKey : given)
 	{
+		const std::string key = mrpt::system::trim(rawKey);
 		if (knownSet.count(key)) continue;
 		std::string best;
 		size_t bestDist = 1000;

@@ -48,6 +48,10 @@ std::string statsJson(const CMetricMapBuilderLRGC& builder, const TRunSummary& r
 {
 	const TMapBuilderStats& s = builder.stats();
 	const TLatencySummary lat = summarizeLatencies(run.latencyMs);
+	const TLoopCloserStats lcs = builder.loopCloserStats();
+	std::vector<double> closureMs;
+	for (const double sec : lcs.closureSeconds) closureMs.push_back(1e3 * sec);
+	const TLatencySummary closure = summarizeLatencies(closureMs);
 	std::ostringstream j;
 	j.precision(6);
 	j << std::fixed;
@@ -64,6 +68,13 @@ std::string statsJson(const CMetricMapBuilderLRGC& builder, const TRunSummary& r
 	  << "  \"links\": {\"odometry\": " << s.odometryLinks << ", \"scan_match\": " << s.scanMatchLinks
 	  << ", \"loop_closure\": " << s.loopClosureLinks << "},\n"
 	  << "  \"loop_closures\": " << s.loopClosures << ",\n"
+	  << "  \"loop_closing\": {\"attempts\": " << lcs.attempts << ", \"accepted\": " << lcs.accepted
+	  << ", \"rejected_by_filters\": " << lcs.rejectedByFilters
+	  << ", \"rejected_by_match\": " << lcs.rejectedByMatch
+	  << ", \"rejected_by_back_end\": " << lcs.rejectedByBackEnd
+	  << ", \"optimizations\": " << lcs.optimizations
+	  << ", \"closure_ms\": {\"count\": " << closureMs.size() << ", \"median\": " << closure.median_ms
+	  << ", \"max\": " << closure.max_ms << "}},\n"
 	  << "  \"warnings\": " << run.warnings << ",\n"
 	  << "  \"data_duration_s\": " << run.dataDurationSeconds << ",\n"
 	  << "  \"wall_time_s\": " << run.wallSeconds << ",\n"
