@@ -1,0 +1,105 @@
+/* The LRGC map as a graph (paper section 2.4): nodes are robot poses (each with its scan,
+ * held by the map builder under the same index), links are relative pose measurements from
+ * dead reckoning, scan matching, or map correlation (loop closure).
+ *
+ * Frames: node i stores X_i = (map <- robot_i). A link i -> j stores Z_ij = (robot_i <-
+ * robot_j), the measured pose of node j in the frame of node i, with its 3x3 information
+ * matrix Omega_ij (inverse covariance) over (x [m], y [m], phi [rad]) in the frame of node i.
+ *
+ * Links are never erased, only disabled, so link ids handed out to other stages stay valid.
+ * Each node keeps its incident link ids (adjacency), so a stage working on a few nodes (the
+ * local registration window) never scans the whole graph.
+ */
+#pragma once
+
+#include <mrpt/graphs/CNetworkOfPoses.h>
+#include <mrpt/math/TPose2D.h>
+
+#include <Eigen/Core>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace lrgc
+{
+/** Where a link comes from. Only LoopClosure links are robustified by the optimizer. */
+enum class LinkType : uint8_t
+{
+	Odometry,  //!< dead reckoning between consecutive poses
+	ScanMatch,  //!< scan matching within the local registration window
+	LoopClosure  //!< map correlation against the old map (may be wrong)
+};
+const char* toString(LinkType t);
+
+/** A relative measurement between two nodes: Z = (from <- to). */
+struct TLink
+{
+	size_t from = 0, to = 0;
+	mrpt::math::TPose2D toInFrom;  //!< Z_ij: pose of `to` in the frame of `from` [m, rad]
+	Eigen::Matrix3d information = Eigen::Matrix3d::Identity();  //!< over (x, y, phi)
+	LinkType type = LinkType::Odometry;
+};
+
+class CPoseGraph
+{
+   public:
+	/** Appends a node with pose (map <- robot); returns its index (0, 1, 2, ...). */
+	size_t addNode(const mrpt::math::TPose2D& nodeInMap);
+
+	/** Appends an enabled link; returns its id. Throws if an index is out of range, from ==
+	 * to, a value is not finite, or the information is not symmetric positive definite. */
+	size_t addLink(const TLink& link);
+
+	/** Disables (or re-enables) a link: a disabled link is kept (its id stays valid) but
+	 * every optimisation, propagation and export ignores it. */
+	void setLinkEnabled(size_t linkId, bool enabled);
+	bool isLinkEnabled(size_t linkId) const;
+
+	size_t numNodes() const { return m_poses.size(); }
+	size_t numLinks() const { return m_links.size(); }
+	const mrpt::math::TPose2D& pose(size_t node) const;
+	void setPose(size_t node, const mrpt::math::TPose2D& nodeInMap);
+	const std::vector<mrpt::math::TPose2D>& poses() const { return m_poses; }
+	const TLink& link(size_t linkId) const;
+	/** All links ever added, enabled or not (check isLinkEnabled). */
+	const std::vector<TLink>& links() const { return m_links; }
+	/** Ids of the links (enabled or not) with `node` as one end, in insertion order. */
+	const std::vector<size_t>& linksOf(size_t node) const;
+
+	/** Nodes as VERTEX_SE2, enabled links as EDGE_SE2 with their information; root = node 0.
+	 * Node ids are the indices. Write it with saveToTextFile(). The link type is not kept. */
+	mrpt::graphs::CNetworkOfPoses2DInf toMrpt() const;
+
+	/** From an MRPT network with node ids 0..n-1 (throws otherwise). The .graph format has no
+	 * link types: a link to == from + 1 becomes Odometry, any other `nonSequentialType`. */
+	static CPoseGraph fromMrpt(
+		const mrpt::graphs::CNetworkOfPoses2DInf& net,
+		LinkType nonSequentialType = LinkType::LoopClosure);
+
+   private:
+	void checkNode(size_t node, const char* where) const;
+
+	std::vector<mrpt::math::TPose2D> m_poses;
+	std::vector<TLink> m_links;
+	std::vector<uint8_t> m_enabled;  // per link
+	std::vector<std::vector<size_t>> m_adjacency;  // per node: incident link ids
+};
+
+/** A simulated pose graph with its ground truth, for tests and benchmarks. */
+struct TSimulatedPoseGraph
+{
+	CPoseGraph graph;  //!< poses = dead reckoning from the noisy odometry links
+	std::vector<mrpt::math::TPose2D> groundTruth;  //!< true (map <- robot_i)
+	size_t numLoopClosures = 0;
+};
+
+/** Manhattan world in the manner of Olson's M3500: the robot drives 1 m steps on a square
+ * grid of side `gridSide` cells, turning +-90 deg at random and at the border. Odometry links
+ * join consecutive poses; a LoopClosure link joins the new pose to the latest earlier pose in
+ * the same cell that is more than 10 poses older. Measurements = truth (+) Gaussian noise with
+ * standard deviations sigmaXY [m] and sigmaPhi [rad]; information = diag of the inverse
+ * variances. Deterministic for a given seed. */
+TSimulatedPoseGraph simulateManhattanPoseGraph(
+	size_t numNodes, size_t gridSide, double sigmaXY, double sigmaPhi, uint32_t seed);
+
+}  // namespace lrgc
