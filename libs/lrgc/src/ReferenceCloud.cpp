@@ -1,0 +1,208 @@
+/* CReferenceCloud: voxel reduction, local line fits (PCA) and a hash grid for bounded
+ * nearest-neighbour queries. See the header for the method; the formulas are below. */
+#include "lrgc/ReferenceCloud.h"
+
+#include <lrgc/ScanMatcher.h>
+#include <lrgc/se2.h>
+#include <mrpt/core/exceptions.h>
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <numeric>
+
+namespace lrgc
+{
+namespace
+{
+constexpr uint64_t kHashMul = 0x9E3779B97F4A7C15ULL;  // Fibonacci hashing
+
+int64_t cellIndex(double v, double cell) { return static_cast<int64_t>(std::floor(v / cell)); }
+
+/** Points averaged per square cell of side `res`: returns means and counts (as weights). */
+void voxelReduce(
+	const std::vector<Eigen::Vector2d>& pts, double res, std::vector<Eigen::Vector2d>& out,
+	std::vector<double>& weights)
+{
+	std::vector<std::pair<std::pair<int64_t, int64_t>, uint32_t>> keyed;
+	keyed.reserve(pts.size());
+	for (uint32_t i = 0; i < pts.size(); ++i)
+		if (pts[i].allFinite())
+			keyed.push_back({{cellIndex(pts[i].x(), res), cellIndex(pts[i].y(), res)}, i});
+	std::sort(keyed.begin(), keyed.end());
+	out.clear();
+	weights.clear();
+	for (size_t k = 0; k < keyed.size();)
+	{
+		Eigen::Vector2d sum(0, 0);
+		size_t m = k;
+		for (; m < keyed.size() && keyed[m].first == keyed[k].first; ++m)
+			sum += pts[keyed[m].second];
+		out.push_back(sum / double(m - k));
+		weights.push_back(double(m - k));
+		k = m;
+	}
+}
+}  // namespace
+
+CReferenceCloud::CReferenceCloud(std::vector<Eigen::Vector2d> pointsInRef, const TScanMatcherParams& p)
+{
+	p.validate();
+	m_inputCount = pointsInRef.size();
+	std::vector<Eigen::Vector2d> reduced;
+	std::vector<double> weights;
+	voxelReduce(pointsInRef, p.refResolution_m, reduced, weights);
+	m_anchors.resize(reduced.size());
+	for (size_t i = 0; i < reduced.size(); ++i) m_anchors[i].pos = reduced[i];
+	// Cell side of the search grid: a few reduced points per cell along a wall.
+	m_cell = std::max(0.1, 3 * p.refResolution_m);
+	buildGrid();
+	fitLines(p, weights);
+	buildGrid();  // line anchors moved (by about the noise) onto their lines
+}
+
+CReferenceCloud CReferenceCloud::fromScan(const TScan2D& scan, const TScanMatcherParams& p)
+{
+	return CReferenceCloud(scan.points, p);
+}
+
+CReferenceCloud CReferenceCloud::fromScans(
+	const std::vector<TScan2D>& scans, const std::vector<mrpt::math::TPose2D>& scansInRef,
+	const TScanMatcherParams& p)
+{
+	if (scans.size() != scansInRef.size())
+		THROW_EXCEPTION_FMT(
+			"CReferenceCloud::fromScans: %zu scans but %zu poses", scans.size(),
+			scansInRef.size());
+	std::vector<Eigen::Vector2d> pts;
+	size_t n = 0;
+	for (const auto& s : scans) n += s.points.size();
+	pts.reserve(n);
+	for (size_t k = 0; k < scans.size(); ++k)
+		for (const auto& q : scans[k].points) pts.push_back(transformPoint(scansInRef[k], q));
+	return CReferenceCloud(std::move(pts), p);
+}
+
+void CReferenceCloud::buildGrid()
+{
+	const size_t n = m_anchors.size();
+	m_table.clear();
+	m_order.resize(n);
+	if (n == 0) return;
+	std::vector<uint64_t> keys(n);
+	for (size_t i = 0; i < n; ++i)
+		keys[i] = cellKey(cellIndex(m_anchors[i].pos.x(), m_cell), cellIndex(m_anchors[i].pos.y(), m_cell));
+	std::iota(m_order.begin(), m_order.end(), 0U);
+	std::sort(m_order.begin(), m_order.end(), [&](uint32_t a, uint32_t b) { return keys[a] < keys[b]; });
+	size_t cells = 0;
+	for (size_t k = 0; k < n; ++k) cells += (k == 0 || keys[m_order[k]] != keys[m_order[k - 1]]);
+	size_t size = 16;
+	while (size < 2 * cells) size *= 2;
+	m_table.assign(size, TCell{});
+	m_mask = size - 1;
+	for (size_t k = 0; k < n;)
+	{
+		const uint64_t key = keys[m_order[k]];
+		size_t m = k;
+		while (m < n && keys[m_order[m]] == key) ++m;
+		uint64_t slot = (key * kHashMul) >> 40 & m_mask;
+		while (m_table[slot].count != 0) slot = (slot + 1) & m_mask;
+		m_table[slot] = {key, static_cast<uint32_t>(k), static_cast<uint32_t>(m - k)};
+		k = m;
+	}
+}
+
+const CReferenceCloud::TCell* CReferenceCloud::findCell(int64_t ix, int64_t iy) const
+{
+	const uint64_t key = cellKey(ix, iy);
+	for (uint64_t slot = (key * kHashMul) >> 40 & m_mask;; slot = (slot + 1) & m_mask)
+	{
+		const TCell& c = m_table[slot];
+		if (c.count == 0) return nullptr;
+		if (c.key == key) return &c;
+	}
+}
+
+int CReferenceCloud::nearest(const Eigen::Vector2d& q, double maxDist, double* d2Out) const
+{
+	if (m_table.empty() || !(maxDist > 0)) return -1;
+	// Ring search: ring k holds the cells at Chebyshev distance k from q's cell. After ring k,
+	// every unvisited anchor is at least `lb` away (distance from q to the border of the
+	// visited block), so the search stops once the best distance is <= lb or lb >= maxDist.
+	const int64_t cx = cellIndex(q.x(), m_cell), cy = cellIndex(q.y(), m_cell);
+	double best = maxDist * maxDist;
+	int bestIdx = -1;
+	auto visit = [&](int64_t ix, int64_t iy)
+	{
+		const TCell* c = findCell(ix, iy);
+		if (!c) return;
+		for (uint32_t k = c->start; k < c->start + c->count; ++k)
+		{
+			const double d2 = (m_anchors[m_order[k]].pos - q).squaredNorm();
+			if (d2 < best) best = d2, bestIdx = static_cast<int>(m_order[k]);
+		}
+	};
+	for (int64_t k = 0;; ++k)
+	{
+		if (k == 0) visit(cx, cy);
+		else
+		{
+			for (int64_t i = -k; i <= k; ++i) visit(cx + i, cy - k), visit(cx + i, cy + k);
+			for (int64_t j = -k + 1; j <= k - 1; ++j) visit(cx - k, cy + j), visit(cx + k, cy + j);
+		}
+		const double lb = std::min(
+			std::min(q.x() - (cx - k) * m_cell, (cx + k + 1) * m_cell - q.x()),
+			std::min(q.y() - (cy - k) * m_cell, (cy + k + 1) * m_cell - q.y()));
+		if (lb * lb >= best) break;
+	}
+	if (bestIdx >= 0 && d2Out) *d2Out = best;
+	return bestIdx;
+}
+
+void CReferenceCloud::fitLines(const TScanMatcherParams& p, const std::vector<double>& w)
+{
+	// Weighted PCA of the neighbourhood N (weights = raw points per voxel):
+	//   mean m = sum w_k x_k / W,  C = sum w_k (x_k - m)(x_k - m)^T / W,
+	// eigenvalues l1 >= l2 with eigenvectors t (tangent), n (normal). A LINE if at least 3
+	// reduced points and thickness sqrt(l2) < 0.25 * sqrt(l1) (spread along the line); then the
+	// anchor is the point projected onto the line: a = m + ((x - m) . t) t.
+	std::vector<Eigen::Vector2d> newPos(m_anchors.size());
+	std::vector<uint32_t> nb;
+	for (size_t i = 0; i < m_anchors.size(); ++i)
+	{
+		const Eigen::Vector2d x = m_anchors[i].pos;
+		newPos[i] = x;
+		// Widen the neighbourhood (up to 4x) while it has too few points or is too thick:
+		// range noise thickens a small neighbourhood, a corner stays thick at every size.
+		double r = p.normalRadius_m;
+		for (int widen = 0; widen < 3; ++widen, r *= 2)
+		{
+			nb.clear();
+			forEachWithin(x, r, [&](uint32_t k) { nb.push_back(k); });
+			if (nb.size() < 3) continue;
+			double W = 0;
+			Eigen::Vector2d m(0, 0);
+			for (uint32_t k : nb) W += w[k], m += w[k] * m_anchors[k].pos;
+			m /= W;
+			Eigen::Matrix2d C = Eigen::Matrix2d::Zero();
+			for (uint32_t k : nb)
+			{
+				const Eigen::Vector2d d = m_anchors[k].pos - m;
+				C += w[k] * d * d.transpose();
+			}
+			C /= W;
+			const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(C);
+			const double l2 = std::max(0.0, es.eigenvalues()(0)), l1 = es.eigenvalues()(1);
+			if (nb.size() < 4 || !(l1 > 0) || l2 > 0.0625 * l1) continue;
+			const Eigen::Vector2d n = es.eigenvectors().col(0).normalized();
+			const Eigen::Vector2d t(-n.y(), n.x());
+			m_anchors[i].normal = n;
+			m_anchors[i].isLine = true;
+			m_anchors[i].fitRadius = r;
+			newPos[i] = m + (x - m).dot(t) * t;
+			break;
+		}
+	}
+	for (size_t i = 0; i < m_anchors.size(); ++i) m_anchors[i].pos = newPos[i];
+}
+
+}  // namespace lrgc
