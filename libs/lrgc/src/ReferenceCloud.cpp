@@ -165,8 +165,17 @@ void CReferenceCloud::fitLines(const TScanMatcherParams& p, const std::vector<do
 	// eigenvalues l1 >= l2 with eigenvectors t (tangent), n (normal). A LINE if at least 3
 	// reduced points and thickness sqrt(l2) < 0.25 * sqrt(l1) (spread along the line); then the
 	// anchor is the point projected onto the line: a = m + ((x - m) . t) t.
+	// Noise model of the anchors (used by the covariance): the line's offset at the anchor,
+	// delta_j = sum_k beta_jk nu_k, with nu_k the normal-direction noise of reduced point k
+	// (variance sigma^2 / w_k) and, from the weighted least-squares line,
+	//   beta_jk = w_k / W + u_j w_k u_k / sum_l w_l u_l^2,   u = (x - m) . t.
+	// sigma^2 per raw point is estimated from each fit, l2 W / (n - 2), and its median kept.
 	std::vector<Eigen::Vector2d> newPos(m_anchors.size());
 	std::vector<uint32_t> nb;
+	std::vector<double> sigma2;
+	m_count = w;
+	m_fitStart.assign(1, 0);
+	m_fit.clear();
 	for (size_t i = 0; i < m_anchors.size(); ++i)
 	{
 		const Eigen::Vector2d x = m_anchors[i].pos;
@@ -199,10 +208,26 @@ void CReferenceCloud::fitLines(const TScanMatcherParams& p, const std::vector<do
 			m_anchors[i].isLine = true;
 			m_anchors[i].fitRadius = r;
 			newPos[i] = m + (x - m).dot(t) * t;
+			double suu = 0;
+			for (uint32_t k : nb) suu += w[k] * std::pow((m_anchors[k].pos - m).dot(t), 2);
+			const double uj = (x - m).dot(t);
+			for (uint32_t k : nb)
+			{
+				const double uk = (m_anchors[k].pos - m).dot(t);
+				m_fit.push_back({k, static_cast<float>(w[k] / W + (suu > 0 ? uj * w[k] * uk / suu : 0))});
+			}
+			sigma2.push_back(l2 * W / static_cast<double>(nb.size() - 2));
 			break;
 		}
+		m_fitStart.push_back(static_cast<uint32_t>(m_fit.size()));
 	}
 	for (size_t i = 0; i < m_anchors.size(); ++i) m_anchors[i].pos = newPos[i];
+	m_noiseVar = p.minResidualStd_m * p.minResidualStd_m;
+	if (!sigma2.empty())
+	{
+		std::nth_element(sigma2.begin(), sigma2.begin() + sigma2.size() / 2, sigma2.end());
+		m_noiseVar = std::max(m_noiseVar, sigma2[sigma2.size() / 2]);
+	}
 }
 
 }  // namespace lrgc

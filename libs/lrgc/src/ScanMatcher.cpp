@@ -52,6 +52,7 @@ void associate(
 		TCorrespondence k;
 		k.anchorPos = a.pos;
 		k.isLine = a.isLine;
+		k.anchor = static_cast<uint32_t>(j);
 		const Eigen::Vector2d d = q - a.pos;
 		if (a.isLine)
 		{
@@ -175,7 +176,7 @@ std::optional<TScanMatch> CScanMatcher::matchPoints(
 	// is up to 4 normalRadius wide where sparse).
 	double cluster = std::max(0.5, 2 * P.normalRadius_m);
 	if (std::getenv("CLUSTER")) cluster = std::atof(std::getenv("CLUSTER"));
-	m.cov = detail::poseCovariance(corr, info, kCauchy * scale, cluster, P.unobservableStd_m);
+	m.cov = detail::poseCovariance(ref, corr, info, kCauchy * scale, cluster, P.unobservableStd_m);
 	return m;
 }
 

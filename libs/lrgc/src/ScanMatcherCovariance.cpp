@@ -26,6 +26,7 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <unordered_map>
 
 namespace lrgc::detail
@@ -49,6 +50,55 @@ Eigen::Matrix3d psdMaxOnSubspace(
 	const Eigen::VectorXd d = es.eigenvalues().cwiseMax(1.0);
 	const Eigen::MatrixXd Mmax = es.eigenvectors() * d.asDiagonal() * es.eigenvectors().transpose();
 	return P * (Lb * Mmax * Lb.transpose()) * P.transpose();
+}
+/** Covariance of the score sum_i w_i J_i^T e_i under the noise model: independent scan noise
+ * (variance s_scan^2 per residual row) and the reference's anchor noise propagated through
+ * the line fits (CReferenceCloud::fitTerms), which correlates residuals sharing fit points. */
+Eigen::Matrix3d modelScoreCovariance(
+	const CReferenceCloud& ref, const std::vector<TCorrespondence>& corr)
+{
+	thread_local std::vector<Eigen::Vector3d> g;
+	thread_local std::vector<Eigen::Matrix<double, 3, 2>> G;
+	thread_local std::vector<uint32_t> touched;
+	g.assign(ref.size(), Eigen::Vector3d::Zero());
+	G.resize(ref.size());
+	touched.clear();
+	Eigen::Matrix3d Bscan = Eigen::Matrix3d::Zero();
+	double sumRes2 = 0, sumAnchorVar = 0, rows = 0;
+	for (const auto& k : corr)
+	{
+		sumRes2 += k.sqNorm();
+		if (k.isLine)
+		{
+			Bscan += k.w * k.w * k.J0 * k.J0.transpose();
+			rows += 1;
+			const auto [b, e] = ref.fitTerms(k.anchor);
+			for (auto t = b; t != e; ++t)
+			{
+				if (g[t->point].isZero() && G[t->point].isZero()) touched.push_back(t->point);
+				g[t->point] += k.w * t->beta * k.J0;
+				sumAnchorVar += t->beta * t->beta * ref.pointVariance(t->point);
+			}
+			continue;
+		}
+		Bscan += k.w * k.w * (k.J0 * k.J0.transpose() + k.J1 * k.J1.transpose());
+		rows += 2;
+		if (g[k.anchor].isZero() && G[k.anchor].isZero()) touched.push_back(k.anchor);
+		G[k.anchor].col(0) += k.w * k.J0;
+		G[k.anchor].col(1) += k.w * k.J1;
+		sumAnchorVar += 2 * ref.pointVariance(k.anchor);
+	}
+	// Scan-side variance per row: the residual variance minus the anchors' share.
+	const double res2 = sumRes2 / std::max(1.0, rows - 3);
+	const double s2scan = std::max(0.25 * res2, res2 - sumAnchorVar / std::max(1.0, rows));
+	Eigen::Matrix3d B = s2scan * Bscan;
+	for (uint32_t k : touched)
+	{
+		B += ref.pointVariance(k) * (g[k] * g[k].transpose() + G[k] * G[k].transpose());
+		g[k].setZero();
+		G[k].setZero();
+	}
+	return B;
 }
 }  // namespace
 
@@ -82,9 +132,10 @@ Eigen::Vector3d solveStep(const TScaledInfo& I, const Eigen::Vector3d& g)
 }
 
 Eigen::Matrix3d poseCovariance(
-	const std::vector<TCorrespondence>& corr, const TScaledInfo& I, double c, double cluster,
-	double unobservableStd)
+	const CReferenceCloud& ref, const std::vector<TCorrespondence>& corr, const TScaledInfo& I,
+	double c, double cluster, double unobservableStd)
 {
+	const Eigen::Matrix3d Bmodel = modelScoreCovariance(ref, corr);
 	// Cauchy: psi(e) = w e with w = 1 / (1 + |e|^2 / c^2); its derivative (the "bread") is
 	// d psi / d e = w I - 2 w^2 e e^T / c^2, i.e. w (1 - e^2/c^2) / (1 + e^2/c^2) for one row.
 	const double c2 = c * c;
@@ -159,6 +210,7 @@ Eigen::Matrix3d poseCovariance(
 		}
 		const Eigen::Matrix3d Hinv = P * HoInv * P.transpose();
 		const Eigen::Matrix3d Ciid = Hinv * (S * Biid * S) * Hinv;
+		const Eigen::Matrix3d Cmodel = Hinv * (S * Bmodel * S) * Hinv;
 		// Leave-one-cluster-out: delta_g = (H - M_g)^-1 s_g, eigenvalues of H - M_g floored at
 		// the unobservability threshold.
 		Eigen::Matrix3d Csand = Eigen::Matrix3d::Zero();
@@ -172,7 +224,10 @@ Eigen::Matrix3d poseCovariance(
 			Csand += P * d * d.transpose() * P.transpose();
 		}
 		Csand *= (G - 1) / G;
-		Cs += G > 3 ? psdMaxOnSubspace(Csand, Ciid, P) : Ciid;
+		static const int mode = std::getenv("COVMODE") ? std::atoi(std::getenv("COVMODE")) : 0;
+		if (mode == 1) Cs += Cmodel;
+		else if (mode == 2) Cs += G > 3 ? psdMaxOnSubspace(Csand, Ciid, P) : Ciid;
+		else Cs += G > 3 ? psdMaxOnSubspace(Csand, Cmodel, P) : Cmodel;
 	}
 	const Eigen::Matrix3d C = S * Cs * S;
 	return 0.5 * (C + C.transpose());

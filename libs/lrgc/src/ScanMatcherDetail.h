@@ -20,6 +20,7 @@ struct TCorrespondence
 	double w = 1;  //!< robust weight
 	Eigen::Vector2d anchorPos;  //!< for clustering correlated residuals
 	bool isLine = true;
+	uint32_t anchor = 0;  //!< index in the reference cloud
 	double sqNorm() const { return isLine ? e0 * e0 : e0 * e0 + e1 * e1; }
 };
 
@@ -45,7 +46,7 @@ Eigen::Vector3d solveStep(const TScaledInfo& I, const Eigen::Vector3d& g);
  * unobservableStd^2 along unobservable directions. `cluster` [m] is the side of the reference
  * cells whose residuals are treated as correlated. */
 Eigen::Matrix3d poseCovariance(
-	const std::vector<TCorrespondence>& corr, const TScaledInfo& I, double cauchyC,
-	double cluster, double unobservableStd);
+	const CReferenceCloud& ref, const std::vector<TCorrespondence>& corr, const TScaledInfo& I,
+	double cauchyC, double cluster, double unobservableStd);
 
 }  // namespace lrgc::detail

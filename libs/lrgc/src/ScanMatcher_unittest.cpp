@@ -61,6 +61,10 @@ void record(TTrialStats& st, const std::optional<TScanMatch>& m, const TPose2D& 
 	const Eigen::Vector3d e = poseError(m->scanInRef, truth);
 	st.sumNees += e.dot((covScale * m->cov).inverse() * e);
 	st.neesList.push_back(e.dot((covScale * m->cov).inverse() * e));
+	if (std::getenv("DEBUG_NEES") && st.neesList.back() > 15)
+		std::cout << "trial " << st.trials << " nees " << st.neesList.back() << " e " << e.transpose()
+				  << " sd " << m->cov.diagonal().cwiseSqrt().transpose() << " inl " << m->inlierFraction
+				  << " s " << m->residualStd << " it " << m->iterations << "\n";
 	st.transErr.push_back(e.head<2>().norm());
 	st.rotErr.push_back(std::abs(e.z()));
 }
@@ -89,14 +93,18 @@ std::pair<TPose2D, TPose2D> roomPosePair(const CSyntheticWorld& w, std::mt19937&
 /** Scan-to-scan trials in room worlds; covScale multiplies the reported covariance. */
 TTrialStats roomTrials(
 	int n, uint32_t seed, const TLaserSimParams& laser, double covScale = 1,
-	const TScanMatcherParams& params = {})
+	const TScanMatcherParams& params0 = {})
 {
 	TTrialStats st;
 	std::mt19937 rng(seed);
+	TScanMatcherParams params = params0;
+	if (std::getenv("NR")) params.normalRadius_m = std::atof(std::getenv("NR"));
+	if (std::getenv("RES")) params.refResolution_m = std::atof(std::getenv("RES"));
+	const int clutter = std::getenv("CLUTTER") ? std::atoi(std::getenv("CLUTTER")) : 8;
 	const CScanMatcher matcher(params);
 	for (int t = 0; t < n; ++t)
 	{
-		const auto world = makeRoomWorld(seed + t);
+		const auto world = makeRoomWorld(seed + t, clutter);
 		const auto [a, b] = roomPosePair(world, rng, 0.3, 10 * kDeg);
 		TLaserSimParams laserA = laser;
 		if (std::getenv("REF_NOISE")) laserA.rangeNoiseStd = std::atof(std::getenv("REF_NOISE"));

@@ -21,6 +21,7 @@
 #include <Eigen/Core>
 #include <cmath>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include <mrpt/math/TPose2D.h>
@@ -63,6 +64,22 @@ public:
 	 * given, *d2 is the squared distance [m^2]. */
 	int nearest(const Eigen::Vector2d& q, double maxDist, double* d2 = nullptr) const;
 
+	/** Noise model, for the covariance of a match. A LINE anchor j's offset error along its
+	 * normal is delta_j = sum over fitTerms(j) of beta * nu_point, a POINT anchor's error is
+	 * nu_j (2D); nu_k has variance pointVariance(k) [m^2] (per axis), independent over k. */
+	struct TFitTerm
+	{
+		uint32_t point;  //!< index of a reduced point (= anchor index)
+		float beta;  //!< its coefficient in the fitted offset
+	};
+	std::pair<const TFitTerm*, const TFitTerm*> fitTerms(size_t j) const
+	{
+		return {m_fit.data() + m_fitStart[j], m_fit.data() + m_fitStart[j + 1]};
+	}
+	double pointVariance(size_t k) const { return m_noiseVar / m_count[k]; }
+	/** Estimated range noise variance of one raw input point along the surface normal [m^2]. */
+	double noiseVariance() const { return m_noiseVar; }
+
 	/** Calls fn(index) for every anchor within radius [m] of q. */
 	template <class F>
 	void forEachWithin(const Eigen::Vector2d& q, double radius, F&& fn) const;
@@ -89,6 +106,10 @@ private:
 	uint64_t m_mask = 0;
 	double m_cell = 0.1;  // grid cell side [m]
 	size_t m_inputCount = 0;
+	std::vector<double> m_count;  // raw points per reduced point
+	std::vector<uint32_t> m_fitStart;  // CSR over anchors into m_fit
+	std::vector<TFitTerm> m_fit;
+	double m_noiseVar = 0;  // [m^2]
 };
 
 template <class F>

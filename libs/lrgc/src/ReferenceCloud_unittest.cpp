@@ -1,0 +1,67 @@
+/* CReferenceCloud: reduction, line fits against the known world, exact nearest neighbours. */
+#include <gtest/gtest.h>
+#include <lrgc/ReferenceCloud.h>
+#include <lrgc/ScanMatcher.h>
+#include <lrgc/se2.h>
+
+#include <Eigen/Geometry>
+#include <cmath>
+#include <iostream>
+
+#include "synthetic_world.h"
+
+using namespace lrgc;
+using namespace lrgc::test;
+using mrpt::math::TPose2D;
+
+namespace
+{
+/** Unit normal of the world segment nearest to p (world frame). */
+Eigen::Vector2d nearestSegmentNormal(const CSyntheticWorld& w, const Eigen::Vector2d& p)
+{
+	double best = 1e9;
+	Eigen::Vector2d n(0, 0);
+	for (const auto& s : w.segments())
+	{
+		const Eigen::Vector2d e = s.b - s.a;
+		const double t = std::clamp((p - s.a).dot(e) / e.squaredNorm(), 0.0, 1.0);
+		const double d = (s.a + t * e - p).norm();
+		if (d < best) best = d, n = Eigen::Vector2d(-e.y(), e.x()).normalized();
+	}
+	return n;
+}
+}  // namespace
+
+TEST(ReferenceCloud, lineAnchorsLieOnTheWallsWithTheirNormals)
+{
+	const auto world = makeRoomWorld(3);
+	std::mt19937 rng(11);
+	TLaserSimParams laser;
+	laser.rangeNoiseStd = std::getenv("REF_NOISE") ? std::atof(std::getenv("REF_NOISE")) : 0.01;
+	const TPose2D pose(5, 3.5, 0.3);
+	const auto scan = simulateScan(world, pose, laser, rng);
+	const TScanMatcherParams p;
+	const auto ref = CReferenceCloud::fromScan(scan, p);
+	ASSERT_GT(ref.size(), 100U);
+	EXPECT_LE(ref.size(), scan.points.size());
+	EXPECT_EQ(ref.inputPointCount(), scan.points.size());
+	int lines = 0, goodNormals = 0;
+	double sumOffset2 = 0;
+	for (const auto& a : ref.anchors())
+	{
+		if (!a.isLine) continue;
+		++lines;
+		const Eigen::Vector2d pw = transformPoint(pose, a.pos);
+		const double dist = world.distanceToNearest(pw);
+		sumOffset2 += dist * dist;
+		const Eigen::Vector2d nw = Eigen::Rotation2Dd(pose.phi) * a.normal;
+		if (std::abs(nw.dot(nearestSegmentNormal(world, pw))) > std::cos(5 * M_PI / 180)) ++goodNormals;
+	}
+	std::cout << "anchors " << ref.size() << " lines " << lines << " good normals " << goodNormals
+			  << " rms offset " << std::sqrt(sumOffset2 / lines) << "\n";
+	// Most of a room scan is wall: line anchors, normals within 5 deg of the true ones, and
+	// the line fit removes most of the 1 cm range noise.
+	EXPECT_GT(lines, 0.8 * ref.size());
+	EXPECT_GT(goodNormals, 0.9 * lines);
+	EXPECT_LT(std::sqrt(sumOffset2 / lines), 0.006);
+}
