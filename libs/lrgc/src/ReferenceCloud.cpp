@@ -62,7 +62,53 @@ CReferenceCloud::CReferenceCloud(std::vector<Eigen::Vector2d> pointsInRef, const
 
 CReferenceCloud CReferenceCloud::fromScan(const TScan2D& scan, const TScanMatcherParams& p)
 {
-	return CReferenceCloud(scan.points, p);
+	CReferenceCloud c(scan.points, p);
+	c.addView(scan, mrpt::math::TPose2D(0, 0, 0));
+	return c;
+}
+
+void CReferenceCloud::addView(const TScan2D& scan, const mrpt::math::TPose2D& scanInRef)
+{
+	TView v;
+	v.scanInRef = scanInRef;
+	v.minRange.assign(static_cast<size_t>(std::ceil(2 * M_PI / kViewBin)) + 1, 0.0f);
+	for (const auto& q : scan.points)
+	{
+		const double r = q.norm();
+		const auto b = static_cast<size_t>((std::atan2(q.y(), q.x()) + M_PI) / kViewBin);
+		float& m = v.minRange[std::min(b, v.minRange.size() - 1)];
+		if (m == 0 || r < m) m = static_cast<float>(r);
+	}
+	// Fill single empty bins between two returns (beam spacing vs bin phase).
+	auto& m = v.minRange;
+	for (size_t b = 1; b + 1 < m.size(); ++b)
+		if (m[b] == 0 && m[b - 1] > 0 && m[b + 1] > 0) m[b] = std::min(m[b - 1], m[b + 1]);
+	m_views.push_back(std::move(v));
+}
+
+double CReferenceCloud::freeSpaceViolation(
+	const std::vector<Eigen::Vector2d>& pts, double margin) const
+{
+	if (m_views.empty() || pts.empty()) return 0;
+	// A point at range rho and bearing b from a view's origin violates if rho < f - margin, with
+	// f the nearest return over bins b-1..b+1 (0 if any of them is empty: unknown, no test).
+	size_t violations = 0;
+	for (const auto& q : pts)
+		for (const auto& v : m_views)
+		{
+			const Eigen::Vector2d d = transformPoint(inverse(v.scanInRef), q);
+			const double rho = d.norm();
+			const auto b = static_cast<long>((std::atan2(d.y(), d.x()) + M_PI) / kViewBin);
+			const long n = static_cast<long>(v.minRange.size());
+			float f = 1e9f;
+			for (long k = b - 1; k <= b + 1; ++k) f = std::min(f, v.minRange[(k + n) % n]);
+			if (rho < f - margin)
+			{
+				++violations;
+				break;
+			}
+		}
+	return static_cast<double>(violations) / pts.size();
 }
 
 CReferenceCloud CReferenceCloud::fromScans(
@@ -79,7 +125,9 @@ CReferenceCloud CReferenceCloud::fromScans(
 	pts.reserve(n);
 	for (size_t k = 0; k < scans.size(); ++k)
 		for (const auto& q : scans[k].points) pts.push_back(transformPoint(scansInRef[k], q));
-	return CReferenceCloud(std::move(pts), p);
+	CReferenceCloud c(std::move(pts), p);
+	for (size_t k = 0; k < scans.size(); ++k) c.addView(scans[k], scansInRef[k]);
+	return c;
 }
 
 void CReferenceCloud::buildGrid()
@@ -214,8 +262,12 @@ void CReferenceCloud::fitLines(const TScanMatcherParams& p, const std::vector<do
 			for (uint32_t k : nb)
 			{
 				const double uk = (m_anchors[k].pos - m).dot(t);
-				m_fit.push_back({k, static_cast<float>(w[k] / W + (suu > 0 ? uj * w[k] * uk / suu : 0))});
+				m_fit.push_back({k, static_cast<float>(w[k] / W),
+								 static_cast<float>(suu > 0 ? w[k] * uk / suu : 0)});
 			}
+			m_anchors[i].u = static_cast<float>(uj);
+			// slope variance sigma^2 / sum w u^2, sigma^2 filled in below
+			m_anchors[i].normalVar = static_cast<float>(suu > 0 ? 1 / suu : 0);
 			sigma2.push_back(l2 * W / static_cast<double>(nb.size() - 2));
 			break;
 		}
@@ -228,6 +280,7 @@ void CReferenceCloud::fitLines(const TScanMatcherParams& p, const std::vector<do
 		std::nth_element(sigma2.begin(), sigma2.begin() + sigma2.size() / 2, sigma2.end());
 		m_noiseVar = std::max(m_noiseVar, sigma2[sigma2.size() / 2]);
 	}
+	for (auto& a : m_anchors) a.normalVar = static_cast<float>(a.normalVar * m_noiseVar);
 }
 
 }  // namespace lrgc

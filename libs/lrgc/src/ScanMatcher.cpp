@@ -21,7 +21,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
 
 #include "ScanMatcherDetail.h"
 
@@ -58,6 +57,9 @@ void associate(
 		{
 			k.e0 = a.normal.dot(d);
 			k.J0 = {a.normal.x(), a.normal.y(), a.normal.x() * -r.y() + a.normal.y() * r.x()};
+			k.tOff = a.normal.x() * d.y() - a.normal.y() * d.x();  // t = (-n_y, n_x)
+			k.Jt = {-a.normal.y(), a.normal.x(), a.normal.dot(r)};
+			k.normalVar = a.normalVar;
 		}
 		else
 		{
@@ -85,10 +87,12 @@ double robustScale(const std::vector<TCorrespondence>& corr, double floor, std::
 
 /** Robust weights and the normal equations; returns the RMS lever arm L [m]. */
 double weighAndAccumulate(
-	std::vector<TCorrespondence>& corr, double scale, Eigen::Matrix3d& H, Eigen::Vector3d& g)
+	std::vector<TCorrespondence>& corr, double scale, Eigen::Matrix3d& H, Eigen::Vector3d& g,
+	Eigen::Matrix3d& Hspur)
 {
 	const double c2 = (kCauchy * scale) * (kCauchy * scale);
 	H.setZero();
+	Hspur.setZero();
 	g.setZero();
 	double sw = 0, swl = 0;
 	for (auto& k : corr)
@@ -96,6 +100,7 @@ double weighAndAccumulate(
 		k.w = 1 / (1 + k.sqNorm() / c2);
 		H.noalias() += k.w * k.J0 * k.J0.transpose();
 		g += k.w * k.e0 * k.J0;
+		Hspur.noalias() += (k.w * k.normalVar) * k.Jt * k.Jt.transpose();
 		// Lever arm |R p| is the rotation jacobian's magnitude for a line (or point) residual.
 		const double arm2 = k.isLine ? k.J0.z() * k.J0.z() : k.J0.z() * k.J0.z() + k.J1.z() * k.J1.z();
 		if (!k.isLine)
@@ -130,7 +135,7 @@ std::optional<TScanMatch> CScanMatcher::matchPoints(
 	std::vector<TCorrespondence> corr;
 	corr.reserve(pts.size());
 	std::vector<double> tmp;
-	Eigen::Matrix3d H;
+	Eigen::Matrix3d H, Hspur;
 	Eigen::Vector3d g;
 	bool converged = false;
 	int it = 0;
@@ -139,8 +144,8 @@ std::optional<TScanMatch> CScanMatcher::matchPoints(
 		associate(ref, pts, x, gate, corr);
 		if (corr.size() < 3) return std::nullopt;
 		const double scale = robustScale(corr, P.minResidualStd_m, tmp);
-		const double L = weighAndAccumulate(corr, scale, H, g);
-		const auto info = detail::analyseInformation(H, L, scale, P.unobservableStd_m);
+		const double L = weighAndAccumulate(corr, scale, H, g, Hspur);
+		const auto info = detail::analyseInformation(H, Hspur, L, scale, P.unobservableStd_m);
 		if (info.unobservable == 3) return std::nullopt;
 		const Eigen::Vector3d dx = detail::solveStep(info, g);
 		x += dx;
@@ -155,8 +160,8 @@ std::optional<TScanMatch> CScanMatcher::matchPoints(
 	associate(ref, pts, x, gate, corr);
 	if (corr.size() < 3) return std::nullopt;
 	const double scale = robustScale(corr, P.minResidualStd_m, tmp);
-	const double L = weighAndAccumulate(corr, scale, H, g);
-	const auto info = detail::analyseInformation(H, L, scale, P.unobservableStd_m);
+	const double L = weighAndAccumulate(corr, scale, H, g, Hspur);
+	const auto info = detail::analyseInformation(H, Hspur, L, scale, P.unobservableStd_m);
 	const double c2 = (kCauchy * scale) * (kCauchy * scale);
 	size_t inliers = 0, rows = 0;
 	double se2 = 0;
@@ -172,10 +177,17 @@ std::optional<TScanMatch> CScanMatcher::matchPoints(
 	if (inliers < static_cast<size_t>(P.minInliers) || m.inlierFraction < P.minInlierFraction ||
 		m.rmsResidual > P.maxRmsResidual_m || info.unobservable > 1)
 		return std::nullopt;
+	// Free-space consistency: aligned scan points must not sit where the reference saw through.
+	{
+		std::vector<Eigen::Vector2d> inRef(pts.size());
+		const auto pose = m.scanInRef;
+		for (size_t i = 0; i < pts.size(); ++i) inRef[i] = transformPoint(pose, pts[i]);
+		m.freeSpaceViolation = ref.freeSpaceViolation(inRef, std::max(0.1, 4 * scale));
+		if (m.freeSpaceViolation > P.maxFreeSpaceViolation) return std::nullopt;
+	}
 	// Residuals of anchors closer than this share reference noise (the line fit neighbourhood
 	// is up to 4 normalRadius wide where sparse).
-	double cluster = std::max(0.5, 2 * P.normalRadius_m);
-	if (std::getenv("CLUSTER")) cluster = std::atof(std::getenv("CLUSTER"));
+	const double cluster = std::max(0.5, 2 * P.normalRadius_m);
 	m.cov = detail::poseCovariance(ref, corr, info, kCauchy * scale, cluster, P.unobservableStd_m);
 	return m;
 }

@@ -26,7 +26,6 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
 #include <unordered_map>
 
 namespace lrgc::detail
@@ -73,11 +72,13 @@ Eigen::Matrix3d modelScoreCovariance(
 			Bscan += k.w * k.w * k.J0 * k.J0.transpose();
 			rows += 1;
 			const auto [b, e] = ref.fitTerms(k.anchor);
+			const double u = ref.anchors()[k.anchor].u + k.tOff;  // line coordinate of q
 			for (auto t = b; t != e; ++t)
 			{
 				if (g[t->point].isZero() && G[t->point].isZero()) touched.push_back(t->point);
-				g[t->point] += k.w * t->beta * k.J0;
-				sumAnchorVar += t->beta * t->beta * ref.pointVariance(t->point);
+				const double beta = t->b0 + u * t->b1;
+				g[t->point] += k.w * beta * k.J0;
+				sumAnchorVar += beta * beta * ref.pointVariance(t->point);
 			}
 			continue;
 		}
@@ -103,8 +104,10 @@ Eigen::Matrix3d modelScoreCovariance(
 }  // namespace
 
 TScaledInfo analyseInformation(
-	const Eigen::Matrix3d& H, double L, double scale, double unobservableStd)
+	const Eigen::Matrix3d& H, const Eigen::Matrix3d& Hspurious, double L, double scale,
+	double unobservableStd)
 {
+	constexpr double kSpurious = 10;
 	TScaledInfo I;
 	I.L = std::max(L, 1e-3);
 	const Eigen::Matrix3d S = scaling(I.L);
@@ -115,7 +118,8 @@ TScaledInfo analyseInformation(
 	I.minInfo = minInfo;
 	for (int k = 0; k < 3; ++k)
 	{
-		I.observable[k] = I.lambda[k] >= minInfo && I.lambda[k] > 0;
+		const double fake = I.V.col(k).dot(S * Hspurious * S * I.V.col(k));
+		I.observable[k] = I.lambda[k] >= minInfo && I.lambda[k] > kSpurious * fake;
 		I.unobservable += !I.observable[k];
 	}
 	return I;
@@ -224,10 +228,8 @@ Eigen::Matrix3d poseCovariance(
 			Csand += P * d * d.transpose() * P.transpose();
 		}
 		Csand *= (G - 1) / G;
-		static const int mode = std::getenv("COVMODE") ? std::atoi(std::getenv("COVMODE")) : 0;
-		if (mode == 1) Cs += Cmodel;
-		else if (mode == 2) Cs += G > 3 ? psdMaxOnSubspace(Csand, Ciid, P) : Ciid;
-		else Cs += G > 3 ? psdMaxOnSubspace(Csand, Cmodel, P) : Cmodel;
+		(void)Ciid;
+		Cs += G > 3 ? psdMaxOnSubspace(Csand, Cmodel, P) : Cmodel;
 	}
 	const Eigen::Matrix3d C = S * Cs * S;
 	return 0.5 * (C + C.transpose());

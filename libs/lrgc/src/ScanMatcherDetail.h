@@ -21,6 +21,11 @@ struct TCorrespondence
 	Eigen::Vector2d anchorPos;  //!< for clustering correlated residuals
 	bool isLine = true;
 	uint32_t anchor = 0;  //!< index in the reference cloud
+	double tOff = 0;  //!< LINE: tangential offset t . (q - a) [m] of the point from the anchor
+	/** LINE: change of J0 per radian of normal tilt, [-n_y, n_x, n . R p], and the tilt's
+	 * variance [rad^2]: a noisy normal fakes information along the line (corridor axis). */
+	Eigen::Vector3d Jt = Eigen::Vector3d::Zero();
+	double normalVar = 0;
 	double sqNorm() const { return isLine ? e0 * e0 : e0 * e0 + e1 * e1; }
 };
 
@@ -37,9 +42,11 @@ struct TScaledInfo
 };
 
 /** Gauss-Newton step (scaled truncated eigen-solve): no motion along directions with
- * information lambda_k < s^2 / unobservableStd^2. */
+ * information lambda_k < s^2 / unobservableStd^2, or less than kSpurious times what the
+ * normals' noise alone would fake there (Hspurious = sum w normalVar Jt Jt^T). */
 TScaledInfo analyseInformation(
-	const Eigen::Matrix3d& H, double L, double scale, double unobservableStd);
+	const Eigen::Matrix3d& H, const Eigen::Matrix3d& Hspurious, double L, double scale,
+	double unobservableStd);
 Eigen::Vector3d solveStep(const TScaledInfo& I, const Eigen::Vector3d& g);
 
 /** Covariance of (tx, ty, phi): cluster-robust sandwich, bounded below by the i.i.d. model,

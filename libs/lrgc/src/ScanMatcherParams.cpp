@@ -4,6 +4,8 @@
 #include <lrgc/params_io.h>
 #include <mrpt/config/CConfigFileBase.h>
 
+#include <mrpt/core/format.h>
+
 #include <cmath>
 
 namespace lrgc
@@ -25,6 +27,7 @@ void TScanMatcherParams::loadFromConfigFile(
 	d.wideSearchStep =
 		c.read_double(s, "wideSearchStep_deg", wideSearchStep * 180 / M_PI) * M_PI / 180;
 	d.wideAmbiguityMargin = c.read_double(s, "wideAmbiguityMargin", wideAmbiguityMargin);
+	d.maxFreeSpaceViolation = c.read_double(s, "maxFreeSpaceViolation", maxFreeSpaceViolation);
 	d.validate(s);
 	*this = d;
 }
@@ -32,18 +35,22 @@ void TScanMatcherParams::loadFromConfigFile(
 void TScanMatcherParams::saveToConfigFile(
 	mrpt::config::CConfigFileBase& c, const std::string& s) const
 {
-	const int nw = 26, vw = 12;
-	c.write(s, "maxIterations", maxIterations, nw, vw, "Gauss-Newton iterations before 'no convergence'");
-	c.write(s, "maxCorrespondenceDist_m", maxCorrespondenceDist_m, nw, vw, "[m] initial correspondence gate (shrinks to a few residual sigmas)");
-	c.write(s, "refResolution_m", refResolution_m, nw, vw, "[m] voxel size reducing the reference points");
-	c.write(s, "normalRadius_m", normalRadius_m, nw, vw, "[m] neighbourhood radius of the reference line fits (widened x4 where sparse)");
-	c.write(s, "minInlierFraction", minInlierFraction, nw, vw, "[0..1] of the scan points; fewer inliers: no match");
-	c.write(s, "minInliers", minInliers, nw, vw, "absolute minimum of inlier points; fewer: no match");
-	c.write(s, "maxRmsResidual_m", maxRmsResidual_m, nw, vw, "[m] inlier RMS residual above it: no match");
-	c.write(s, "minResidualStd_m", minResidualStd_m, nw, vw, "[m] floor of the residual scale estimated from the data");
-	c.write(s, "unobservableStd_m", unobservableStd_m, nw, vw, "[m] std reported along directions the scans leave free (corridor axis)");
-	c.write(s, "wideSearchStep_deg", wideSearchStep * 180 / M_PI, nw, vw, "[deg] heading step between matchWide's starting guesses");
-	c.write(s, "wideAmbiguityMargin", wideAmbiguityMargin, nw, vw, "[0..1] matchWide: inlier fraction lead needed over a distinct alternative");
+	// No padding: MRPT 2.5.8's in-memory config keeps padded key names (with trailing blanks).
+	auto wd = [&](const char* key, double v, const char* comment)
+	{ c.write(s, key, mrpt::format("%.10g", v), -1, -1, comment); };
+	auto wi = [&](const char* key, int v, const char* comment) { c.write(s, key, v, -1, -1, comment); };
+	wi("maxIterations", maxIterations, "Gauss-Newton iterations before 'no convergence'");
+	wd("maxCorrespondenceDist_m", maxCorrespondenceDist_m, "[m] initial correspondence gate (shrinks to a few residual sigmas)");
+	wd("refResolution_m", refResolution_m, "[m] voxel size reducing the reference points");
+	wd("normalRadius_m", normalRadius_m, "[m] neighbourhood radius of the reference line fits (widened x4 where sparse)");
+	wd("minInlierFraction", minInlierFraction, "[0..1] of the scan points; fewer inliers: no match");
+	wi("minInliers", minInliers, "absolute minimum of inlier points; fewer: no match");
+	wd("maxRmsResidual_m", maxRmsResidual_m, "[m] inlier RMS residual above it: no match");
+	wd("minResidualStd_m", minResidualStd_m, "[m] floor of the residual scale estimated from the data");
+	wd("unobservableStd_m", unobservableStd_m, "[m] std reported along directions the scans leave free (corridor axis)");
+	wd("wideSearchStep_deg", wideSearchStep * 180 / M_PI, "[deg] heading step between matchWide's starting guesses");
+	wd("maxFreeSpaceViolation", maxFreeSpaceViolation, "[0..1] of the scan points; more points inside space the reference saw as free: no match");
+	wd("wideAmbiguityMargin", wideAmbiguityMargin, "[0..1] matchWide: inlier fraction lead needed over a distinct alternative");
 }
 
 void TScanMatcherParams::validate(const std::string& s) const
@@ -58,6 +65,7 @@ void TScanMatcherParams::validate(const std::string& s) const
 	requireParam(minResidualStd_m > 0, s, "minResidualStd_m", "must be > 0");
 	requireParam(unobservableStd_m > 0, s, "unobservableStd_m", "must be > 0");
 	requireParam(wideSearchStep > 0 && wideSearchStep < M_PI, s, "wideSearchStep_deg", "must be in (0, 180) deg");
+	requireParam(maxFreeSpaceViolation >= 0 && maxFreeSpaceViolation <= 1, s, "maxFreeSpaceViolation", "must be in [0, 1]");
 	requireParam(wideAmbiguityMargin >= 0 && wideAmbiguityMargin <= 1, s, "wideAmbiguityMargin", "must be in [0, 1]");
 }
 

@@ -41,6 +41,8 @@ public:
 		Eigen::Vector2d normal{0, 0};  //!< unit normal for LINE anchors, (0,0) for POINT
 		bool isLine = false;
 		float fitRadius = 0;  //!< [m] neighbourhood radius of the line fit (0 for POINT)
+		float u = 0;  //!< [m] position along the fitted line, relative to the fit's mean
+		float normalVar = 0;  //!< [rad^2] variance of the normal's direction (line fit slope)
 	};
 
 	CReferenceCloud() = default;
@@ -64,13 +66,14 @@ public:
 	 * given, *d2 is the squared distance [m^2]. */
 	int nearest(const Eigen::Vector2d& q, double maxDist, double* d2 = nullptr) const;
 
-	/** Noise model, for the covariance of a match. A LINE anchor j's offset error along its
-	 * normal is delta_j = sum over fitTerms(j) of beta * nu_point, a POINT anchor's error is
-	 * nu_j (2D); nu_k has variance pointVariance(k) [m^2] (per axis), independent over k. */
+	/** Noise model, for the covariance of a match. The error of LINE anchor j's fitted line
+	 * along its normal, at line coordinate u (anchor.u + tangent offset), is
+	 * delta_j(u) = sum over fitTerms(j) of (b0 + u b1) nu_point; a POINT anchor's error is nu_j
+	 * (2D). nu_k has variance pointVariance(k) [m^2] (per axis), independent over k. */
 	struct TFitTerm
 	{
 		uint32_t point;  //!< index of a reduced point (= anchor index)
-		float beta;  //!< its coefficient in the fitted offset
+		float b0, b1;  //!< offset and slope coefficients [1], [1/m]
 	};
 	std::pair<const TFitTerm*, const TFitTerm*> fitTerms(size_t j) const
 	{
@@ -79,6 +82,10 @@ public:
 	double pointVariance(size_t k) const { return m_noiseVar / m_count[k]; }
 	/** Estimated range noise variance of one raw input point along the surface normal [m^2]. */
 	double noiseVariance() const { return m_noiseVar; }
+
+	/** Fraction of `pointsInRef` lying, by more than margin [m], in front of the returns of a
+	 * reference scan, i.e. in space its beams crossed (free). 0 if built from bare points. */
+	double freeSpaceViolation(const std::vector<Eigen::Vector2d>& pointsInRef, double margin) const;
 
 	/** Calls fn(index) for every anchor within radius [m] of q. */
 	template <class F>
@@ -106,6 +113,15 @@ private:
 	uint64_t m_mask = 0;
 	double m_cell = 0.1;  // grid cell side [m]
 	size_t m_inputCount = 0;
+	// One per reference scan: origin and the nearest return per bearing bin (free space).
+	struct TView
+	{
+		mrpt::math::TPose2D scanInRef;
+		std::vector<float> minRange;  // [m] per bin of kViewBin rad; 0: no return (unknown)
+	};
+	static constexpr double kViewBin = 3.14159265358979 / 180;  // 1 deg
+	void addView(const TScan2D& scan, const mrpt::math::TPose2D& scanInRef);
+	std::vector<TView> m_views;
 	std::vector<double> m_count;  // raw points per reduced point
 	std::vector<uint32_t> m_fitStart;  // CSR over anchors into m_fit
 	std::vector<TFitTerm> m_fit;
