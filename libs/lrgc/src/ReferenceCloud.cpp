@@ -67,48 +67,88 @@ CReferenceCloud CReferenceCloud::fromScan(const TScan2D& scan, const TScanMatche
 	return c;
 }
 
-void CReferenceCloud::addView(const TScan2D& scan, const mrpt::math::TPose2D& scanInRef)
+namespace
 {
-	TView v;
-	v.scanInRef = scanInRef;
-	v.minRange.assign(static_cast<size_t>(std::ceil(2 * M_PI / kViewBin)) + 1, 0.0f);
-	for (const auto& q : scan.points)
+constexpr double kBin = M_PI / 180;  // 1 deg bearing bins of the range images
+constexpr size_t kBins = 361;
+
+/** Nearest return per 1-degree bearing bin of points given in the sensor frame; 0: none. */
+std::vector<float> rangeImage(const std::vector<Eigen::Vector2d>& pts)
+{
+	std::vector<float> m(kBins, 0.0f);
+	for (const auto& q : pts)
 	{
-		const double r = q.norm();
-		const auto b = static_cast<size_t>((std::atan2(q.y(), q.x()) + M_PI) / kViewBin);
-		float& m = v.minRange[std::min(b, v.minRange.size() - 1)];
-		if (m == 0 || r < m) m = static_cast<float>(r);
+		const auto b = std::min(kBins - 1, static_cast<size_t>((std::atan2(q.y(), q.x()) + M_PI) / kBin));
+		const auto r = static_cast<float>(q.norm());
+		if (m[b] == 0 || r < m[b]) m[b] = r;
 	}
 	// Fill single empty bins between two returns (beam spacing vs bin phase).
-	auto& m = v.minRange;
 	for (size_t b = 1; b + 1 < m.size(); ++b)
 		if (m[b] == 0 && m[b - 1] > 0 && m[b + 1] > 0) m[b] = std::min(m[b - 1], m[b + 1]);
-	m_views.push_back(std::move(v));
+	return m;
+}
+
+/** True if d (sensor frame) lies more than margin in front of the returns around its bearing
+ * (bins b-1..b+1, all known). */
+bool inFreeSpace(const std::vector<float>& img, const Eigen::Vector2d& d, double margin, bool* known)
+{
+	const long n = static_cast<long>(img.size());
+	const auto b = static_cast<long>((std::atan2(d.y(), d.x()) + M_PI) / kBin);
+	float f = 1e9f;
+	for (long k = b - 1; k <= b + 1; ++k) f = std::min(f, img[static_cast<size_t>((k + n) % n)]);
+	if (known) *known = f > 0;
+	return d.norm() < f - margin;
+}
+}  // namespace
+
+void CReferenceCloud::addView(const TScan2D& scan, const mrpt::math::TPose2D& scanInRef)
+{
+	m_views.push_back({scanInRef, rangeImage(scan.points)});
 }
 
 double CReferenceCloud::freeSpaceViolation(
-	const std::vector<Eigen::Vector2d>& pts, double margin) const
+	const TScan2D& scan, const mrpt::math::TPose2D& scanInRef, double margin) const
 {
-	if (m_views.empty() || pts.empty()) return 0;
-	// A point at range rho and bearing b from a view's origin violates if rho < f - margin, with
-	// f the nearest return over bins b-1..b+1 (0 if any of them is empty: unknown, no test).
-	size_t violations = 0;
-	for (const auto& q : pts)
-		for (const auto& v : m_views)
+	const auto& pts = scan.points;
+	if (pts.empty()) return 0;
+	// scan -> ref views
+	double scanToRef = 0;
+	if (!m_views.empty())
+	{
+		std::vector<char> viol(pts.size(), 0);
+		std::vector<Eigen::Vector2d> inRef(pts.size());
+		for (size_t i = 0; i < pts.size(); ++i)
 		{
-			const Eigen::Vector2d d = transformPoint(inverse(v.scanInRef), q);
-			const double rho = d.norm();
-			const auto b = static_cast<long>((std::atan2(d.y(), d.x()) + M_PI) / kViewBin);
-			const long n = static_cast<long>(v.minRange.size());
-			float f = 1e9f;
-			for (long k = b - 1; k <= b + 1; ++k) f = std::min(f, v.minRange[(k + n) % n]);
-			if (rho < f - margin)
-			{
-				++violations;
-				break;
-			}
+			inRef[i] = transformPoint(scanInRef, pts[i]);
+			for (const auto& v : m_views)
+				if (inFreeSpace(v.minRange, transformPoint(inverse(v.scanInRef), inRef[i]), margin, nullptr))
+				{
+					viol[i] = 1;
+					break;
+				}
 		}
-	return static_cast<double>(violations) / pts.size();
+		size_t count = 0;
+		for (size_t i = 0; i < pts.size(); ++i)
+		{
+			const bool prev = i > 0 && viol[i - 1] && (inRef[i] - inRef[i - 1]).norm() < 0.3;
+			const bool next = i + 1 < pts.size() && viol[i + 1] && (inRef[i] - inRef[i + 1]).norm() < 0.3;
+			count += viol[i] && (prev || next);
+		}
+		scanToRef = static_cast<double>(count) / pts.size();
+	}
+	// ref -> scan
+	const auto img = rangeImage(pts);
+	const auto refInScan = inverse(scanInRef);
+	size_t known = 0, viol = 0;
+	for (const auto& a : m_anchors)
+	{
+		if (!a.isLine) continue;
+		bool k = false;
+		const bool v = inFreeSpace(img, transformPoint(refInScan, a.pos), margin, &k);
+		known += k, viol += v && k;
+	}
+	const double refToScan = known >= 20 ? static_cast<double>(viol) / known : 0.0;
+	return std::max(scanToRef, refToScan);
 }
 
 CReferenceCloud CReferenceCloud::fromScans(
@@ -139,19 +179,22 @@ void CReferenceCloud::buildGrid()
 	std::vector<uint64_t> keys(n);
 	for (size_t i = 0; i < n; ++i)
 		keys[i] = cellKey(cellIndex(m_anchors[i].pos.x(), m_cell), cellIndex(m_anchors[i].pos.y(), m_cell));
-	std::iota(m_order.begin(), m_order.end(), 0U);
+	m_order.clear();
+	for (uint32_t i = 0; i < n; ++i)
+		if (m_anchors[i].usable) m_order.push_back(i);
 	std::sort(m_order.begin(), m_order.end(), [&](uint32_t a, uint32_t b) { return keys[a] < keys[b]; });
+	const size_t nUsable = m_order.size();
 	size_t cells = 0;
-	for (size_t k = 0; k < n; ++k) cells += (k == 0 || keys[m_order[k]] != keys[m_order[k - 1]]);
+	for (size_t k = 0; k < nUsable; ++k) cells += (k == 0 || keys[m_order[k]] != keys[m_order[k - 1]]);
 	size_t size = 16;
 	while (size < 2 * cells) size *= 2;
 	m_table.assign(size, TCell{});
 	m_mask = size - 1;
-	for (size_t k = 0; k < n;)
+	for (size_t k = 0; k < nUsable;)
 	{
 		const uint64_t key = keys[m_order[k]];
 		size_t m = k;
-		while (m < n && keys[m_order[m]] == key) ++m;
+		while (m < nUsable && keys[m_order[m]] == key) ++m;
 		uint64_t slot = (key * kHashMul) >> 40 & m_mask;
 		while (m_table[slot].count != 0) slot = (slot + 1) & m_mask;
 		m_table[slot] = {key, static_cast<uint32_t>(k), static_cast<uint32_t>(m - k)};
@@ -270,6 +313,15 @@ void CReferenceCloud::fitLines(const TScanMatcherParams& p, const std::vector<do
 			m_anchors[i].normalVar = static_cast<float>(suu > 0 ? 1 / suu : 0);
 			sigma2.push_back(l2 * W / static_cast<double>(nb.size() - 2));
 			break;
+		}
+		if (!m_anchors[i].isLine)
+		{
+			// nb holds the widest neighbourhood here (the loop ran to its end).
+			m_anchors[i].usable = nb.size() >= 3;
+			double d2 = r * r;
+			for (uint32_t k : nb)
+				if (k != i) d2 = std::min(d2, (m_anchors[k].pos - x).squaredNorm());
+			m_anchors[i].samplingVar = static_cast<float>(d2 / 12);
 		}
 		m_fitStart.push_back(static_cast<uint32_t>(m_fit.size()));
 	}

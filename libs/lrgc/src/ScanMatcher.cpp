@@ -64,6 +64,7 @@ void associate(
 		else
 		{
 			k.e0 = d.x(), k.e1 = d.y();
+			k.varAnchor = a.samplingVar + ref.pointVariance(j);
 			k.J0 = {1, 0, -r.y()};
 			k.J1 = {0, 1, r.x()};
 		}
@@ -90,14 +91,17 @@ double weighAndAccumulate(
 	std::vector<TCorrespondence>& corr, double scale, Eigen::Matrix3d& H, Eigen::Vector3d& g,
 	Eigen::Matrix3d& Hspur)
 {
-	const double c2 = (kCauchy * scale) * (kCauchy * scale);
+	const double c2 = (kCauchy * scale) * (kCauchy * scale), s2 = scale * scale;
 	H.setZero();
 	Hspur.setZero();
 	g.setZero();
 	double sw = 0, swl = 0;
 	for (auto& k : corr)
 	{
-		k.w = 1 / (1 + k.sqNorm() / c2);
+		// Heteroscedastic Cauchy: a residual of variance s^2 + v weighs s^2 / (s^2 + v).
+		const double prec = s2 / (s2 + k.varAnchor);
+		k.c2 = c2 / prec;
+		k.w = prec / (1 + k.sqNorm() / k.c2);
 		H.noalias() += k.w * k.J0 * k.J0.transpose();
 		g += k.w * k.e0 * k.J0;
 		Hspur.noalias() += (k.w * k.normalVar) * k.Jt * k.Jt.transpose();
@@ -162,11 +166,10 @@ std::optional<TScanMatch> CScanMatcher::matchPoints(
 	const double scale = robustScale(corr, P.minResidualStd_m, tmp);
 	const double L = weighAndAccumulate(corr, scale, H, g, Hspur);
 	const auto info = detail::analyseInformation(H, Hspur, L, scale, P.unobservableStd_m);
-	const double c2 = (kCauchy * scale) * (kCauchy * scale);
 	size_t inliers = 0, rows = 0;
 	double se2 = 0;
 	for (const auto& k : corr)
-		if (k.sqNorm() <= c2) ++inliers, se2 += k.sqNorm(), rows += k.isLine ? 1 : 2;
+		if (k.sqNorm() <= k.c2) ++inliers, se2 += k.sqNorm(), rows += k.isLine ? 1 : 2;
 	TScanMatch m;
 	m.scanInRef = mrpt::math::TPose2D(x.x(), x.y(), mrpt::math::wrapToPi(x.z()));
 	m.inlierFraction = static_cast<double>(inliers) / pts.size();
@@ -178,13 +181,10 @@ std::optional<TScanMatch> CScanMatcher::matchPoints(
 		m.rmsResidual > P.maxRmsResidual_m || info.unobservable > 1)
 		return std::nullopt;
 	// Free-space consistency: aligned scan points must not sit where the reference saw through.
-	{
-		std::vector<Eigen::Vector2d> inRef(pts.size());
-		const auto pose = m.scanInRef;
-		for (size_t i = 0; i < pts.size(); ++i) inRef[i] = transformPoint(pose, pts[i]);
-		m.freeSpaceViolation = ref.freeSpaceViolation(inRef, std::max(0.1, 4 * scale));
-		if (m.freeSpaceViolation > P.maxFreeSpaceViolation) return std::nullopt;
-	}
+	TScan2D asScan;
+	asScan.points = pts;
+	m.freeSpaceViolation = ref.freeSpaceViolation(asScan, m.scanInRef, std::max(0.1, 4 * scale));
+	if (m.freeSpaceViolation > P.maxFreeSpaceViolation) return std::nullopt;
 	// Residuals of anchors closer than this share reference noise (the line fit neighbourhood
 	// is up to 4 normalRadius wide where sparse).
 	const double cluster = std::max(0.5, 2 * P.normalRadius_m);

@@ -18,6 +18,10 @@ struct TCorrespondence
 	Eigen::Vector3d J0, J1;
 	double e0 = 0, e1 = 0;
 	double w = 1;  //!< robust weight
+	/** POINT: variance of the anchor per axis [m^2] (noise / count + sampling); residual
+	 * weight is scaled by s^2 / (s^2 + varAnchor), the Cauchy width by its inverse. */
+	double varAnchor = 0;
+	double c2 = 0;  //!< squared Cauchy width used for this residual [m^2]
 	Eigen::Vector2d anchorPos;  //!< for clustering correlated residuals
 	bool isLine = true;
 	uint32_t anchor = 0;  //!< index in the reference cloud

@@ -43,6 +43,12 @@ public:
 		float fitRadius = 0;  //!< [m] neighbourhood radius of the line fit (0 for POINT)
 		float u = 0;  //!< [m] position along the fitted line, relative to the fit's mean
 		float normalVar = 0;  //!< [rad^2] variance of the normal's direction (line fit slope)
+		/** POINT anchors: extra variance per axis [m^2] for sampling, (spacing to the nearest
+		 * neighbour)^2 / 12: a point-to-point pair need not be the same surface point. */
+		float samplingVar = 0;
+		/** False for isolated returns (fewer than 3 neighbours within 4 normalRadius_m): no
+		 * line and no trustworthy point (a wall sampled at grazing incidence); never matched. */
+		bool usable = true;
 	};
 
 	CReferenceCloud() = default;
@@ -83,9 +89,16 @@ public:
 	/** Estimated range noise variance of one raw input point along the surface normal [m^2]. */
 	double noiseVariance() const { return m_noiseVar; }
 
-	/** Fraction of `pointsInRef` lying, by more than margin [m], in front of the returns of a
-	 * reference scan, i.e. in space its beams crossed (free). 0 if built from bare points. */
-	double freeSpaceViolation(const std::vector<Eigen::Vector2d>& pointsInRef, double margin) const;
+	/** Free-space consistency of an alignment, in both directions, as a fraction [0..1]:
+	 *  - scan -> ref: scan points (in scan order) lying, by more than margin [m], in front of
+	 *    the returns of a reference scan (where its beams passed), counted only when a
+	 *    neighbour in scan order within 0.3 m does too (walls, not isolated spurious returns);
+	 *    over all scan points; needs a reference built from scans (else 0);
+	 *  - ref -> scan: LINE anchors lying in front of the scan's own returns, over the LINE
+	 *    anchors inside the scan's observed rays.
+	 * Returns the larger. A wrong alignment moves walls into space the other side saw empty. */
+	double freeSpaceViolation(
+		const TScan2D& scan, const mrpt::math::TPose2D& scanInRef, double margin) const;
 
 	/** Calls fn(index) for every anchor within radius [m] of q. */
 	template <class F>
@@ -117,9 +130,8 @@ private:
 	struct TView
 	{
 		mrpt::math::TPose2D scanInRef;
-		std::vector<float> minRange;  // [m] per bin of kViewBin rad; 0: no return (unknown)
+		std::vector<float> minRange;  // [m] per 1-deg bearing bin; 0: no return (unknown)
 	};
-	static constexpr double kViewBin = 3.14159265358979 / 180;  // 1 deg
 	void addView(const TScan2D& scan, const mrpt::math::TPose2D& scanInRef);
 	std::vector<TView> m_views;
 	std::vector<double> m_count;  // raw points per reduced point

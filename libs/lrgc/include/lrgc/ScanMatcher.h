@@ -43,7 +43,7 @@ struct TScanMatcherParams : public mrpt::config::CLoadableOptions
 	int minInliers = 20;  //!< absolute minimum of inlier points
 	double maxRmsResidual_m = 0.05;  //!< [m] inlier RMS residual above it: no match
 	double minResidualStd_m = 0.003;  //!< [m] floor of the estimated residual scale
-	double maxFreeSpaceViolation = 0.3;  //!< of the scan points lying where the reference's
+	double maxFreeSpaceViolation = 0.1;  //!< of the scan points lying where the reference's
 										 //!< beams passed (free space); above it: no match
 	double unobservableStd_m = 1.0;  //!< [m] std reported along directions the data do not fix
 	double wideSearchStep = 7.5 * M_PI / 180;  //!< [rad] heading step of matchWide's starts
@@ -65,8 +65,8 @@ struct TScanMatch
 	/** Covariance of (x [m], y [m], phi [rad]) of scanInRef, in the ref frame. */
 	Eigen::Matrix3d cov = Eigen::Matrix3d::Identity();
 	double inlierFraction = 0;  //!< inlier points / scan points
-	/** Scan points lying in space the reference's rays saw empty / scan points (only for
-	 * references built from scans, else 0). A wrong alignment puts points there. */
+	/** Free-space inconsistency (CReferenceCloud::freeSpaceViolation): the share of points
+	 * of either side lying where the other side's beams passed. A wrong alignment has many. */
 	double freeSpaceViolation = 0;
 	double rmsResidual = 0;  //!< [m] RMS of inlier residuals
 	double residualStd = 0;  //!< [m] robust residual scale s at convergence
