@@ -276,24 +276,27 @@ void CReferenceCloud::fitLines(const TScanMatcherParams& p, const std::vector<do
 		double r = p.normalRadius_m;
 		for (int widen = 0; widen < 3; ++widen, r *= 2)
 		{
+			// One pass of weighted moments: W, sum w x, sum w x x^T (relative to x, for
+			// numerical range), then the 2x2 eigen-decomposition in closed form.
 			nb.clear();
-			forEachWithin(x, r, [&](uint32_t k) { nb.push_back(k); });
-			if (nb.size() < 3) continue;
-			double W = 0;
-			Eigen::Vector2d m(0, 0);
-			for (uint32_t k : nb) W += w[k], m += w[k] * m_anchors[k].pos;
-			m /= W;
-			Eigen::Matrix2d C = Eigen::Matrix2d::Zero();
-			for (uint32_t k : nb)
-			{
-				const Eigen::Vector2d d = m_anchors[k].pos - m;
-				C += w[k] * d * d.transpose();
-			}
-			C /= W;
-			const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(C);
-			const double l2 = std::max(0.0, es.eigenvalues()(0)), l1 = es.eigenvalues()(1);
-			if (nb.size() < 4 || !(l1 > 0) || l2 > 0.0625 * l1) continue;
-			const Eigen::Vector2d n = es.eigenvectors().col(0).normalized();
+			double W = 0, sx = 0, sy = 0, sxx = 0, sxy = 0, syy = 0;
+			forEachWithin(x, r, [&](uint32_t k) {
+				nb.push_back(k);
+				const double dx = m_anchors[k].pos.x() - x.x(), dy = m_anchors[k].pos.y() - x.y();
+				W += w[k], sx += w[k] * dx, sy += w[k] * dy;
+				sxx += w[k] * dx * dx, sxy += w[k] * dx * dy, syy += w[k] * dy * dy;
+			});
+			if (nb.size() < 4) continue;
+			const double mx = sx / W, my = sy / W;
+			const double cxx = sxx / W - mx * mx, cxy = sxy / W - mx * my, cyy = syy / W - my * my;
+			const Eigen::Vector2d m = x + Eigen::Vector2d(mx, my);
+			const double tr = cxx + cyy, disc = std::sqrt(std::max(0.0, 0.25 * (cxx - cyy) * (cxx - cyy) + cxy * cxy));
+			const double l1 = 0.5 * tr + disc, l2 = std::max(0.0, 0.5 * tr - disc);
+			if (!(l1 > 0) || l2 > 0.0625 * l1) continue;
+			// Tangent: eigenvector of l1; the normal is its perpendicular.
+			const double ang = 0.5 * std::atan2(2 * cxy, cxx - cyy);
+			const Eigen::Vector2d tdir(std::cos(ang), std::sin(ang));
+			const Eigen::Vector2d n(-tdir.y(), tdir.x());
 			const Eigen::Vector2d t(-n.y(), n.x());
 			m_anchors[i].normal = n;
 			m_anchors[i].isLine = true;

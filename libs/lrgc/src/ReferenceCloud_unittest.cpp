@@ -112,7 +112,11 @@ TEST(ReferenceCloud, patchFromScansReducesOverlappingPoints)
 	double sum2 = 0;
 	int lines = 0;
 	for (const auto& a : ref.anchors())
-		if (a.isLine) sum2 += std::pow(world.distanceToNearest(a.pos), 2), ++lines;
+	{
+		if (!a.isLine) continue;
+		sum2 += std::pow(world.distanceToNearest(a.pos), 2);
+		++lines;
+	}
 	EXPECT_LT(std::sqrt(sum2 / lines), 0.004);
 	EXPECT_NEAR(std::sqrt(ref.noiseVariance()), laser.rangeNoiseStd, 0.5 * laser.rangeNoiseStd);
 	EXPECT_THROW(CReferenceCloud::fromScans(scans, {}, p), std::exception);
