@@ -87,7 +87,10 @@ TEST(ReferenceCloud, nearestIsExactWithinTheGate)
 		double d2 = -1;
 		const int got = ref.nearest(q, gate, &d2);
 		ASSERT_EQ(got, brute) << "query " << q.transpose() << " gate " << gate;
-		if (got >= 0) EXPECT_DOUBLE_EQ(d2, bestD);
+		if (got >= 0)
+		{
+			EXPECT_DOUBLE_EQ(d2, bestD);
+		}
 	}
 	EXPECT_EQ(CReferenceCloud().nearest({0, 0}, 1.0), -1);
 }

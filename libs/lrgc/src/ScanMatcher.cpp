@@ -33,41 +33,57 @@ namespace
 constexpr double kCauchy = 2.3849;  // Cauchy constant for 95% Gaussian efficiency
 constexpr double kMadToSigma = 1.4826;
 constexpr double kConvergedStep_m = 1e-5;
+constexpr double kFreezeStep_m = 1e-3;
 
+/** Residual and jacobians of scan point p against anchor a at pose x (R p precomputed in r). */
+void linearise(
+	const CReferenceCloud& ref, const Eigen::Vector2d& r, const Eigen::Vector3d& x, TCorrespondence& k)
+{
+	const auto& a = ref.anchors()[k.anchor];
+	const Eigen::Vector2d q(r.x() + x.x(), r.y() + x.y());
+	k.anchorPos = a.pos;
+	k.isLine = a.isLine;
+	const Eigen::Vector2d d = q - a.pos;
+	if (a.isLine)
+	{
+		k.e0 = a.normal.dot(d);
+		k.J0 = {a.normal.x(), a.normal.y(), a.normal.x() * -r.y() + a.normal.y() * r.x()};
+		k.tOff = a.normal.x() * d.y() - a.normal.y() * d.x();  // t = (-n_y, n_x)
+		k.Jt = {-a.normal.y(), a.normal.x(), a.normal.dot(r)};
+		k.normalVar = a.normalVar;
+	}
+	else
+	{
+		k.e0 = d.x(), k.e1 = d.y();
+		k.varAnchor = a.samplingVar + ref.pointVariance(k.anchor);
+		k.J0 = {1, 0, -r.y()};
+		k.J1 = {0, 1, r.x()};
+	}
+}
+
+/** Nearest-anchor association within the gate (frozen == false), or re-linearisation of the
+ * pairs already in `out` at the new pose (frozen == true). */
 void associate(
 	const CReferenceCloud& ref, const std::vector<Eigen::Vector2d>& pts, const Eigen::Vector3d& x,
-	double gate, std::vector<TCorrespondence>& out)
+	double gate, bool frozen, std::vector<TCorrespondence>& out)
 {
-	out.clear();
 	const double c = std::cos(x.z()), s = std::sin(x.z());
-	const auto& anchors = ref.anchors();
-	for (const auto& p : pts)
+	auto rot = [&](const Eigen::Vector2d& p) { return Eigen::Vector2d(c * p.x() - s * p.y(), s * p.x() + c * p.y()); };
+	if (frozen)
 	{
-		const Eigen::Vector2d r(c * p.x() - s * p.y(), s * p.x() + c * p.y());  // R p
-		const Eigen::Vector2d q(r.x() + x.x(), r.y() + x.y());
-		const int j = ref.nearest(q, gate);
+		for (auto& k : out) linearise(ref, rot(pts[k.point]), x, k);
+		return;
+	}
+	out.clear();
+	for (uint32_t i = 0; i < pts.size(); ++i)
+	{
+		const Eigen::Vector2d r = rot(pts[i]);
+		const int j = ref.nearest(Eigen::Vector2d(r.x() + x.x(), r.y() + x.y()), gate);
 		if (j < 0) continue;
-		const auto& a = anchors[j];
 		TCorrespondence k;
-		k.anchorPos = a.pos;
-		k.isLine = a.isLine;
 		k.anchor = static_cast<uint32_t>(j);
-		const Eigen::Vector2d d = q - a.pos;
-		if (a.isLine)
-		{
-			k.e0 = a.normal.dot(d);
-			k.J0 = {a.normal.x(), a.normal.y(), a.normal.x() * -r.y() + a.normal.y() * r.x()};
-			k.tOff = a.normal.x() * d.y() - a.normal.y() * d.x();  // t = (-n_y, n_x)
-			k.Jt = {-a.normal.y(), a.normal.x(), a.normal.dot(r)};
-			k.normalVar = a.normalVar;
-		}
-		else
-		{
-			k.e0 = d.x(), k.e1 = d.y();
-			k.varAnchor = a.samplingVar + ref.pointVariance(j);
-			k.J0 = {1, 0, -r.y()};
-			k.J1 = {0, 1, r.x()};
-		}
+		k.point = i;
+		linearise(ref, r, x, k);
 		out.push_back(k);
 	}
 }
@@ -141,11 +157,11 @@ std::optional<TScanMatch> CScanMatcher::matchPoints(
 	std::vector<double> tmp;
 	Eigen::Matrix3d H, Hspur;
 	Eigen::Vector3d g;
-	bool converged = false;
+	bool converged = false, frozen = false;
 	int it = 0;
 	while (!converged && ++it <= P.maxIterations)
 	{
-		associate(ref, pts, x, gate, corr);
+		associate(ref, pts, x, gate, frozen, corr);
 		if (corr.size() < 3) return std::nullopt;
 		const double scale = robustScale(corr, P.minResidualStd_m, tmp);
 		const double L = weighAndAccumulate(corr, scale, H, g, Hspur);
@@ -155,13 +171,18 @@ std::optional<TScanMatch> CScanMatcher::matchPoints(
 		x += dx;
 		const double step = dx.head<2>().norm() + L * std::abs(dx.z());
 		const double newGate = std::clamp(4 * kCauchy * scale + step, gateFloor, gate);
-		converged = step < kConvergedStep_m && newGate > 0.99 * gate;
+		const bool settled = newGate > 0.99 * gate;
+		converged = step < kConvergedStep_m && settled;
+		// Nearest-anchor switches can make ICP cycle at the 0.1 mm level; once the gate has
+		// settled and steps are sub-millimetre, keep the pairs and let Gauss-Newton converge.
+		frozen = frozen || (settled && step < kFreezeStep_m);
 		gate = newGate;
 	}
 	if (!converged) return std::nullopt;
 
-	// Final linearisation at the solution: inliers, residuals, covariance.
-	associate(ref, pts, x, gate, corr);
+	// Final linearisation at the solution, with the pairs it is optimal for: inliers,
+	// residuals, covariance.
+	associate(ref, pts, x, gate, frozen, corr);
 	if (corr.size() < 3) return std::nullopt;
 	const double scale = robustScale(corr, P.minResidualStd_m, tmp);
 	const double L = weighAndAccumulate(corr, scale, H, g, Hspur);

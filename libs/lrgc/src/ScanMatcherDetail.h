@@ -25,6 +25,7 @@ struct TCorrespondence
 	Eigen::Vector2d anchorPos;  //!< for clustering correlated residuals
 	bool isLine = true;
 	uint32_t anchor = 0;  //!< index in the reference cloud
+	uint32_t point = 0;  //!< index in the scan
 	double tOff = 0;  //!< LINE: tangential offset t . (q - a) [m] of the point from the anchor
 	/** LINE: change of J0 per radian of normal tilt, [-n_y, n_x, n . R p], and the tilt's
 	 * variance [rad^2]: a noisy normal fakes information along the line (corridor axis). */

@@ -41,9 +41,9 @@ struct TScanMatcherParams : public mrpt::config::CLoadableOptions
 	double normalRadius_m = 0.15;  //!< [m] neighbourhood radius of the local line fits
 	double minInlierFraction = 0.25;  //!< of the scan's points, below it: no match
 	int minInliers = 20;  //!< absolute minimum of inlier points
-	double maxRmsResidual_m = 0.05;  //!< [m] inlier RMS residual above it: no match
+	double maxRmsResidual_m = 0.1;  //!< [m] inlier RMS residual above it: no match
 	double minResidualStd_m = 0.003;  //!< [m] floor of the estimated residual scale
-	double maxFreeSpaceViolation = 0.1;  //!< of the scan points lying where the reference's
+	double maxFreeSpaceViolation = 0.15;  //!< of the scan points lying where the reference's
 										 //!< beams passed (free space); above it: no match
 	double unobservableStd_m = 1.0;  //!< [m] std reported along directions the data do not fix
 	double wideSearchStep = 7.5 * M_PI / 180;  //!< [rad] heading step of matchWide's starts
