@@ -117,11 +117,21 @@ double CReferenceCloud::freeSpaceViolation(
 	{
 		std::vector<char> viol(pts.size(), 0);
 		std::vector<Eigen::Vector2d> inRef(pts.size());
+		// (view <- ref) as rotation + translation, computed once per view.
+		std::vector<std::pair<Eigen::Matrix2d, Eigen::Vector2d>> toView;
+		for (const auto& v : m_views)
+		{
+			const auto inv = inverse(v.scanInRef);
+			const double c = std::cos(inv.phi), s = std::sin(inv.phi);
+			toView.push_back({(Eigen::Matrix2d() << c, -s, s, c).finished(), {inv.x, inv.y}});
+		}
+		const double c0 = std::cos(scanInRef.phi), s0 = std::sin(scanInRef.phi);
 		for (size_t i = 0; i < pts.size(); ++i)
 		{
-			inRef[i] = transformPoint(scanInRef, pts[i]);
-			for (const auto& v : m_views)
-				if (inFreeSpace(v.minRange, transformPoint(inverse(v.scanInRef), inRef[i]), margin, nullptr))
+			inRef[i] = Eigen::Vector2d(
+				scanInRef.x + c0 * pts[i].x() - s0 * pts[i].y(), scanInRef.y + s0 * pts[i].x() + c0 * pts[i].y());
+			for (size_t k = 0; k < m_views.size(); ++k)
+				if (inFreeSpace(m_views[k].minRange, toView[k].first * inRef[i] + toView[k].second, margin, nullptr))
 				{
 					viol[i] = 1;
 					break;
@@ -139,12 +149,15 @@ double CReferenceCloud::freeSpaceViolation(
 	// ref -> scan
 	const auto img = rangeImage(pts);
 	const auto refInScan = inverse(scanInRef);
+	const double c1 = std::cos(refInScan.phi), s1 = std::sin(refInScan.phi);
 	size_t known = 0, viol = 0;
 	for (const auto& a : m_anchors)
 	{
 		if (!a.isLine) continue;
 		bool k = false;
-		const bool v = inFreeSpace(img, transformPoint(refInScan, a.pos), margin, &k);
+		const Eigen::Vector2d d(
+			refInScan.x + c1 * a.pos.x() - s1 * a.pos.y(), refInScan.y + s1 * a.pos.x() + c1 * a.pos.y());
+		const bool v = inFreeSpace(img, d, margin, &k);
 		known += k, viol += v && k;
 	}
 	const double refToScan = known >= 20 ? static_cast<double>(viol) / known : 0.0;
