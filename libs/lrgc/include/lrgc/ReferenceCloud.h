@@ -1,0 +1,159 @@
+/* CReferenceCloud: the "model" side of scan matching (paper section 2.1): the points of one
+ * scan or of a local patch of scans, expressed in the reference frame, prepared once and
+ * matched against many times.
+ *
+ * Preparation (O(n log n) for n input points):
+ *  1. Voxel reduction: points are averaged per square cell of side refResolution_m, so a patch
+ *     of overlapping scans does not hold ten copies of each wall (and is denoised).
+ *  2. Local line fit (Cox's "line segments" without segmentation): for every reduced point a
+ *     weighted PCA of its neighbours within normalRadius_m (widened up to 4x where the data
+ *     are sparse). A thin neighbourhood (thickness < 1/4 of its length along the line) makes a
+ *     LINE anchor: the point projected onto the fitted line, plus the unit normal. Otherwise
+ *     (corners, clutter, isolated returns) it is a POINT anchor as in Lu & Milios' point-to-point
+ *     correspondences.
+ *  3. A hash grid over the anchors for exact nearest-neighbour queries bounded by a radius,
+ *     searched ring by ring with an exact stopping rule (about 50 ns per query indoors).
+ *
+ * Frames: everything here is in the reference frame (ref). Units: metres.
+ */
+#pragma once
+
+#include <Eigen/Core>
+#include <cmath>
+#include <cstdint>
+#include <utility>
+#include <vector>
+
+#include <mrpt/math/TPose2D.h>
+
+namespace lrgc
+{
+struct TScan2D;
+struct TScanMatcherParams;
+
+class CReferenceCloud
+{
+public:
+	/** One reduced reference point with its local geometry. */
+	struct TAnchor
+	{
+		Eigen::Vector2d pos;  //!< [m] in ref; on the fitted line for LINE anchors
+		Eigen::Vector2d normal{0, 0};  //!< unit normal for LINE anchors, (0,0) for POINT
+		bool isLine = false;
+		float fitRadius = 0;  //!< [m] neighbourhood radius of the line fit (0 for POINT)
+		float u = 0;  //!< [m] position along the fitted line, relative to the fit's mean
+		float normalVar = 0;  //!< [rad^2] variance of the normal's direction (line fit slope)
+		/** POINT anchors: extra variance per axis [m^2] for sampling, (spacing to the nearest
+		 * neighbour)^2 / 12: a point-to-point pair need not be the same surface point. */
+		float samplingVar = 0;
+		/** False for isolated returns (fewer than 3 neighbours within 4 normalRadius_m): no
+		 * line and no trustworthy point (a wall sampled at grazing incidence); never matched. */
+		bool usable = true;
+	};
+
+	CReferenceCloud() = default;
+	/** Builds from points already in the reference frame. Non-finite points are ignored. */
+	CReferenceCloud(std::vector<Eigen::Vector2d> pointsInRef, const TScanMatcherParams& p);
+
+	/** One scan as the reference (its robot frame is the reference frame). */
+	static CReferenceCloud fromScan(const TScan2D& scan, const TScanMatcherParams& p);
+	/** A local patch: scans[k] placed at scansInRef[k] (ref <- scan k). Sizes must match. */
+	static CReferenceCloud fromScans(
+		const std::vector<TScan2D>& scans, const std::vector<mrpt::math::TPose2D>& scansInRef,
+		const TScanMatcherParams& p);
+
+	bool empty() const { return m_anchors.empty(); }
+	size_t size() const { return m_anchors.size(); }
+	const std::vector<TAnchor>& anchors() const { return m_anchors; }
+	/** Number of input points before reduction. */
+	size_t inputPointCount() const { return m_inputCount; }
+
+	/** Index of the anchor nearest to q within maxDist [m] (exact), or -1. If found and d2 is
+	 * given, *d2 is the squared distance [m^2]. */
+	int nearest(const Eigen::Vector2d& q, double maxDist, double* d2 = nullptr) const;
+
+	/** Noise model, for the covariance of a match. The error of LINE anchor j's fitted line
+	 * along its normal, at line coordinate u (anchor.u + tangent offset), is
+	 * delta_j(u) = sum over fitTerms(j) of (b0 + u b1) nu_point; a POINT anchor's error is nu_j
+	 * (2D). nu_k has variance pointVariance(k) [m^2] (per axis), independent over k. */
+	struct TFitTerm
+	{
+		uint32_t point;  //!< index of a reduced point (= anchor index)
+		float b0, b1;  //!< offset and slope coefficients [1], [1/m]
+	};
+	std::pair<const TFitTerm*, const TFitTerm*> fitTerms(size_t j) const
+	{
+		return {m_fit.data() + m_fitStart[j], m_fit.data() + m_fitStart[j + 1]};
+	}
+	double pointVariance(size_t k) const { return m_noiseVar / m_count[k]; }
+	/** Estimated range noise variance of one raw input point along the surface normal [m^2]. */
+	double noiseVariance() const { return m_noiseVar; }
+
+	/** Free-space consistency of an alignment, in both directions, as a fraction [0..1]:
+	 *  - scan -> ref: scan points (in scan order) lying, by more than margin [m], in front of
+	 *    the returns of a reference scan (where its beams passed), counted only when a
+	 *    neighbour in scan order within 0.3 m does too (walls, not isolated spurious returns);
+	 *    over all scan points; needs a reference built from scans (else 0);
+	 *  - ref -> scan: LINE anchors lying in front of the scan's own returns, over the LINE
+	 *    anchors inside the scan's observed rays.
+	 * Returns the larger. A wrong alignment moves walls into space the other side saw empty. */
+	double freeSpaceViolation(
+		const TScan2D& scan, const mrpt::math::TPose2D& scanInRef, double margin) const;
+
+	/** Calls fn(index) for every anchor within radius [m] of q. */
+	template <class F>
+	void forEachWithin(const Eigen::Vector2d& q, double radius, F&& fn) const;
+
+private:
+	// Open-addressing hash of occupied grid cells -> range [start, start+count) of m_order.
+	struct TCell
+	{
+		uint64_t key = 0;
+		uint32_t start = 0, count = 0;  // count == 0: empty slot
+	};
+	static uint64_t cellKey(int64_t ix, int64_t iy)
+	{
+		return (static_cast<uint64_t>(static_cast<uint32_t>(ix)) << 32) |
+			static_cast<uint32_t>(iy);
+	}
+	const TCell* findCell(int64_t ix, int64_t iy) const;
+	void buildGrid();
+	void fitLines(const TScanMatcherParams& p, const std::vector<double>& weights);
+
+	std::vector<TAnchor> m_anchors;
+	std::vector<uint32_t> m_order;  // anchor indices sorted by cell
+	std::vector<TCell> m_table;  // size: power of two
+	uint64_t m_mask = 0;
+	double m_cell = 0.1;  // grid cell side [m]
+	size_t m_inputCount = 0;
+	// One per reference scan: origin and the nearest return per bearing bin (free space).
+	struct TView
+	{
+		mrpt::math::TPose2D scanInRef;
+		std::vector<float> minRange;  // [m] per 1-deg bearing bin; 0: no return (unknown)
+	};
+	void addView(const TScan2D& scan, const mrpt::math::TPose2D& scanInRef);
+	std::vector<TView> m_views;
+	std::vector<double> m_count;  // raw points per reduced point
+	std::vector<uint32_t> m_fitStart;  // CSR over anchors into m_fit
+	std::vector<TFitTerm> m_fit;
+	double m_noiseVar = 0;  // [m^2]
+};
+
+template <class F>
+void CReferenceCloud::forEachWithin(const Eigen::Vector2d& q, double radius, F&& fn) const
+{
+	if (m_table.empty()) return;
+	const double r2 = radius * radius;
+	const auto x0 = static_cast<int64_t>(std::floor((q.x() - radius) / m_cell));
+	const auto x1 = static_cast<int64_t>(std::floor((q.x() + radius) / m_cell));
+	const auto y0 = static_cast<int64_t>(std::floor((q.y() - radius) / m_cell));
+	const auto y1 = static_cast<int64_t>(std::floor((q.y() + radius) / m_cell));
+	for (int64_t ix = x0; ix <= x1; ++ix)
+		for (int64_t iy = y0; iy <= y1; ++iy)
+			if (const TCell* c = findCell(ix, iy))
+				for (uint32_t k = c->start; k < c->start + c->count; ++k)
+					if ((m_anchors[m_order[k]].pos - q).squaredNorm() <= r2) fn(m_order[k]);
+}
+
+}  // namespace lrgc

@@ -1,0 +1,153 @@
+/* A synthetic 2D world for tests: line segments, a ray-casting laser, world builders and a
+ * trajectory + noisy odometry generator. Everything is seeded, so a test is reproducible.
+ *
+ * Frames: world points in metres; poses are mrpt::math::TPose2D "robotInWorld" (world <- robot).
+ * simulateScan() returns a lrgc::TScan2D exactly as scanFromObservation() would (valid returns
+ * only, in the robot frame, sensor offset applied). No-returns (nothing within maxRange, or
+ * dropped beams) are simply absent, as in a real TScan2D.
+ *
+ * Typical use:
+ *   auto world = lrgc::test::makeRoomWorld(42);
+ *   std::mt19937 rng(7);
+ *   lrgc::test::TLaserSimParams laser;            // 180 deg, 361 beams, 1 cm noise
+ *   auto pose = lrgc::test::sampleFreePose(world, world.bounds(), 0.5, rng);
+ *   lrgc::TScan2D scan = lrgc::test::simulateScan(world, *pose, laser, rng);
+ */
+#pragma once
+
+#include <lrgc/Scan.h>
+#include <mrpt/math/TPose2D.h>
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <optional>
+#include <random>
+#include <vector>
+
+namespace lrgc::test
+{
+struct TSegment
+{
+	Eigen::Vector2d a, b;  //!< end points [m], world frame
+};
+
+/** Axis-aligned box [m]: used for bounds and sampling regions. */
+struct TBox
+{
+	Eigen::Vector2d min{0, 0}, max{0, 0};
+};
+
+/** A set of line segments (walls, furniture) that reflect laser beams. */
+class CSyntheticWorld
+{
+public:
+	void addSegment(const Eigen::Vector2d& a, const Eigen::Vector2d& b);
+	/** Closed polygon through the vertices (last joins first). */
+	void addPolygon(const std::vector<Eigen::Vector2d>& vertices);
+	/** Rectangle of half sizes (hx, hy) [m] rotated by angle [rad] about its centre. */
+	void addBox(const Eigen::Vector2d& centre, double hx, double hy, double angle = 0);
+	/** Regular n-gon approximating a circle (pillar, bin) of radius [m]. */
+	void addCircle(const Eigen::Vector2d& centre, double radius, int sides = 16);
+	/** Appends all segments of another world shifted by `offset` [m]. */
+	void addWorld(const CSyntheticWorld& other, const Eigen::Vector2d& offset);
+
+	const std::vector<TSegment>& segments() const { return m_segments; }
+	/** Bounding box of all segments. */
+	TBox bounds() const;
+
+	/** Distance [m] from `origin` to the first segment hit along the ray of direction `angle`
+	 * [rad, world frame], or nullopt if nothing is hit within maxRange. */
+	std::optional<double> castRay(
+		const Eigen::Vector2d& origin, double angle, double maxRange) const;
+	/** Euclidean distance [m] from p to the nearest segment (infinity if empty). */
+	double distanceToNearest(const Eigen::Vector2d& p) const;
+
+private:
+	std::vector<TSegment> m_segments;
+};
+
+/** The simulated laser. Defaults: a SICK LMS-like 180 deg, 361 beams, 1 cm noise. */
+struct TLaserSimParams
+{
+	double fov_deg = 180;  //!< aperture, first to last beam, symmetric about the sensor x axis
+	int beams = 361;
+	double maxRange = 30;  //!< [m]; hits at or beyond it are no-returns (absent)
+	double rangeNoiseStd = 0.01;  //!< Gaussian range noise [m]
+	/** Probability that a beam returns a spurious range, uniform in [minRange, true range]
+	 * (dust, people, glass): an outlier in front of the true surface. */
+	double outlierRate = 0;
+	double dropRate = 0;  //!< probability that a beam returns nothing (absent)
+	double minRange = 0.05;  //!< [m] smallest valid range
+	mrpt::math::TPose2D sensorInRobot{0, 0, 0};  //!< (robot <- sensor)
+};
+
+/** Ray-casts a scan from robotInWorld. Random draws come from rng (noise, outliers, drops). */
+lrgc::TScan2D simulateScan(
+	const CSyntheticWorld& world, const mrpt::math::TPose2D& robotInWorld,
+	const TLaserSimParams& laser, std::mt19937& rng);
+
+/** Removes the points whose bearing in the robot frame lies in [from, to] [rad]: a wide gap of
+ * no-return readings (an open door onto a hall beyond maxRange, a black surface). */
+void removeBearingSector(lrgc::TScan2D& scan, double from_rad, double to_rad);
+
+/** A uniformly drawn pose in `region` at least `clearance` [m] from every segment, heading
+ * uniform in (-pi, pi]; nullopt after 1000 failed draws. */
+std::optional<mrpt::math::TPose2D> sampleFreePose(
+	const CSyntheticWorld& world, const TBox& region, double clearance, std::mt19937& rng);
+
+// ---------------------------------------------------------------------------------------------
+// World builders
+// ---------------------------------------------------------------------------------------------
+
+/** A 10 x 7 m room (corners (0,0)-(10,7)) with two pillars, an L-shaped counter, a doorway,
+ * and `clutter` random short segments (furniture legs, boxes) drawn from `seed`. Geometry
+ * constrains all three DOF from anywhere inside. */
+CSyntheticWorld makeRoomWorld(uint32_t seed, int clutter = 8);
+
+/** A straight featureless corridor along x: two walls y = 0 and y = width from x = 0 to
+ * x = length, no end walls. From its middle with maxRange << length/2, x is unobservable. */
+CSyntheticWorld makeCorridorWorld(double length = 200, double width = 2.0);
+
+/** nx * ny identical square rooms of side `roomSize` [m] (cell (i, j) spans
+ * [i*s, (i+1)*s] x [j*s, (j+1)*s]), joined by doorways of width `door` [m] centred on each
+ * shared wall, each room furnished identically (a box and a pillar at the same place):
+ * perceptual aliasing for loop-closing tests. */
+CSyntheticWorld makeRepeatedRoomsWorld(int nx, int ny, double roomSize = 6.0, double door = 1.0);
+
+// ---------------------------------------------------------------------------------------------
+// Trajectories and odometry
+// ---------------------------------------------------------------------------------------------
+
+/** Odometry noise, proportional to motion (Thrun's alpha model, per step, standard deviations):
+ *  sd_trans = a3 * |dtrans| + a4 * |drot|  [m]
+ *  sd_rot   = a1 * |drot|   + a2 * |dtrans| [rad] */
+struct TOdometryNoise
+{
+	double a1 = 0.05;  //!< [rad/rad]
+	double a2 = 0.02;  //!< [rad/m]
+	double a3 = 0.02;  //!< [m/m]
+	double a4 = 0.01;  //!< [m/rad]
+};
+
+struct TTrajectory
+{
+	std::vector<mrpt::math::TPose2D> truePoses;  //!< (world <- robot) at each step
+	/** Noisy odometry increments: odometryIncrements[k] is the measured motion from step k to
+	 * k+1 in the frame of step k; size truePoses.size() - 1. */
+	std::vector<mrpt::math::TPose2D> odometryIncrements;
+	/** Dead-reckoned poses: truePoses[0] composed with the increments. */
+	std::vector<mrpt::math::TPose2D> odometryPoses;
+};
+
+/** Samples poses every `step` [m] along the polyline through `waypoints` (heading along the
+ * path, turning in place at corners in steps of at most `maxTurn` [rad]) and draws noisy odometry
+ * increments from `seed`. Needs at least 2 waypoints. */
+TTrajectory makeTrajectory(
+	const std::vector<Eigen::Vector2d>& waypoints, double step, const TOdometryNoise& noise,
+	uint32_t seed, double maxTurn = 0.35);
+
+/** Adds one draw of odometry noise to a true increment (the model of TOdometryNoise). */
+mrpt::math::TPose2D noisyIncrement(
+	const mrpt::math::TPose2D& trueIncrement, const TOdometryNoise& noise, std::mt19937& rng);
+
+}  // namespace lrgc::test
