@@ -211,8 +211,8 @@ def rawlog_entries(rawlog, workdir):
 
 def run_icp_slam(rawlog, workdir, timeout_s):
     """MRPT's icp-slam with the headless demo config. Its log_estimated_path.txt (`step x y
-    phi`, one line per rawlog step) and log_times.txt (seconds per step) are mapped to scan
-    timestamps through the rawlog's own entry list."""
+    phi`, one line per rawlog step) and log_times.txt (milliseconds of map building per step)
+    are mapped to scan timestamps through the rawlog's own entry list."""
     r = RunResult("icp-slam")
     os.makedirs(workdir, exist_ok=True)
     logdir = os.path.join(workdir, "out")
@@ -248,7 +248,7 @@ def run_icp_slam(rawlog, workdir, timeout_s):
         poses.append((cls[0], float(step[1]), float(step[2]), float(step[3])))
         stamps.append(cls[0])
         if k < len(times):
-            r.latencies_ms.append(1000.0 * float(times[k][0]))
+            r.latencies_ms.append(float(times[k][0]))  # already in ms
     r.scans = len(poses)
     r.data_duration_s = max(stamps) - min(stamps) if stamps else None
     r.trajectory = os.path.join(workdir, "trajectory.tum")

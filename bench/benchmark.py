@@ -6,8 +6,9 @@ with exact ground truth), a table on stdout and in doc/benchmarks.md, and a plot
 Logs found: DATA_DIR/*/*.clf.gz, *.clf, *.log, *.rawlog, each with the `*.relations` file
 beside it (same stem) when there is one; and MRPT's synthetic rawlogs with `*.GT.txt` in
 /usr/share/mrpt/datasets/graphslam-engine-demos/action_observations_map/.
-CARMEN logs are converted to a rawlog by our converter (`lrgc-slam --save-rawlog`) for
-icp-slam; rawlogs go to both systems as they are.
+lrgc-slam reads each log as it is; icp-slam reads it converted to a rawlog by our converter
+(`lrgc-slam --input LOG --save-rawlog OUT`), rawlogs included: icp-slam cannot read CARMEN
+logs, and asserts on the synthetic rawlogs, whose odometry actions carry no timestamp.
 
 Python standard library only.
 """
@@ -86,16 +87,13 @@ def run_log(tools, name, log_path, workdir, args, relations=None, ground_truth=N
     ours = bench_runs.run_lrgc_slam(tools, log_path, os.path.join(workdir, "lrgc-slam"),
                                     args.timeout, args.config)
     bench_runs.run_eval(tools, ours, os.path.join(workdir, "lrgc-slam"), relations, ground_truth)
-    rawlog = log_path
     icp = bench_runs.RunResult("icp-slam")
-    if not log_path.endswith(".rawlog"):
-        rawlog = os.path.join(workdir, "converted", name + ".rawlog")
-        os.makedirs(os.path.dirname(rawlog), exist_ok=True)
-        err = bench_runs.convert_to_rawlog(tools, log_path, rawlog, args.timeout)
-        if err:
-            icp.error = "conversion to rawlog failed: " + err
-            rawlog = None
-    if rawlog:
+    rawlog = os.path.join(workdir, "converted", name + ".rawlog")
+    os.makedirs(os.path.dirname(rawlog), exist_ok=True)
+    err = bench_runs.convert_to_rawlog(tools, log_path, rawlog, args.timeout)
+    if err:
+        icp.error = "conversion to rawlog failed: " + err
+    else:
         icp = bench_runs.run_icp_slam(rawlog, os.path.join(workdir, "icp-slam"), args.timeout)
         bench_runs.run_eval(tools, icp, os.path.join(workdir, "icp-slam"), relations,
                             ground_truth)
