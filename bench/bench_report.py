@@ -64,6 +64,8 @@ def commit_description(repo):
     head = git("rev-parse", "--short=12", "HEAD") or "unknown"
     dirty = git("status", "--porcelain", "--untracked-files=no")
     subject = git("log", "-1", "--format=%s")
+    if len(subject) > 72:
+        subject = subject[:69] + "..."
     return "%s%s (%s)" % (head, " + uncommitted changes" if dirty else "", subject)
 
 

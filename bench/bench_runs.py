@@ -145,7 +145,8 @@ def run_eval(tools, result, workdir, relations=None, ground_truth=None):
         with open(out) as f:
             result.eval = json.load(f)
     if proc.returncode != 0 and result.error is None:
-        result.error = "lrgc-eval failed (see %s)" % os.path.join(workdir, "eval.txt")
+        lines = [l.strip() for l in open(os.path.join(workdir, "eval.txt")) if l.strip()]
+        result.error = "lrgc-eval: %s" % (lines[-1] if lines else "failed")
 
 
 def convert_to_rawlog(tools, log_path, out_rawlog, timeout_s):

@@ -345,7 +345,7 @@ int CEvalApp::run(const std::vector<std::string>& args, std::ostream& out, std::
 	}
 	catch (const std::exception& e)
 	{
-		err << "lrgc-eval: " << mrpt::exception_to_str(e) << "\n";
+		err << "lrgc-eval: " << userMessage(e) << "\n";
 		return 1;
 	}
 }

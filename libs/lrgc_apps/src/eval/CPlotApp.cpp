@@ -276,7 +276,7 @@ int CPlotApp::run(const std::vector<std::string>& args, std::ostream& out, std::
 	}
 	catch (const std::exception& e)
 	{
-		err << "lrgc-plot: " << mrpt::exception_to_str(e) << "\n";
+		err << "lrgc-plot: " << userMessage(e) << "\n";
 		return 1;
 	}
 }

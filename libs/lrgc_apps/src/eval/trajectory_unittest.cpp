@@ -178,3 +178,20 @@ TEST(Trajectory, DuplicateStampPrefersFirstInFileOrder)
 	const auto tr = CTrajectory2D::parse("1 0 0 0\n2 1 0 0\n2 7 0 0\n3 2 0 0\n", "dup");
 	EXPECT_DOUBLE_EQ(tr.poseAt(2.0)->pose.x, 1);
 }
+
+TEST(Trajectory, UserMessageDropsLocationAndCallStack)
+{
+	try
+	{
+		CTrajectory2D::parse("1 2 3\n", "u.tum");
+		FAIL() << "no exception";
+	}
+	catch (const std::exception& e)
+	{
+		EXPECT_EQ(
+			userMessage(e),
+			"u.tum:1: expected 8 numbers (TUM: t x y z qx qy qz qw) or 4 numbers (t x y phi), "
+			"got 3");
+	}
+	EXPECT_EQ(userMessage(std::runtime_error("plain")), "plain");
+}

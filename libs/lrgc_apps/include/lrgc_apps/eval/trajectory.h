@@ -18,6 +18,7 @@
 #include <mrpt/math/TPose2D.h>
 
 #include <cstddef>
+#include <exception>
 #include <functional>
 #include <optional>
 #include <string>
@@ -94,6 +95,10 @@ bool isBlankOrComment(const std::string& line);
 /** Calls f(line, lineNo) for each line of `text` that is not blank or a comment. */
 void forEachDataLine(const std::string& text,
 					 const std::function<void(const std::string& line, std::size_t lineNo)>& f);
+
+/** The message of an exception for a user: for MRPT exceptions the "Message:" text without
+ * the location and call stack, otherwise what(). */
+std::string userMessage(const std::exception& e);
 
 /** Whole file as text; throws naming the file if it cannot be read. */
 std::string readTextFile(const std::string& path);
