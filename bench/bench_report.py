@@ -108,7 +108,7 @@ def system_cells(run):
     return [fmt(run.scans, "%d"), fmt(run.data_duration_s, "%.0f"), fmt(run.wall_s, "%.1f"),
             fmt(run.cpu_s, "%.1f"), fmt(run.real_time_factor(), "%.1f"),
             fmt(run.peak_rss_mb, "%.0f"),
-            "%.1f / %.1f / %.1f" % lat if lat else "–", fmt(run.loop_closures, "%d")]
+            "%.2f / %.1f / %.1f" % lat if lat else "–", fmt(run.loop_closures, "%d")]
 
 
 REAL_HEADER = ["log", "system", "scans", "data [s]", "wall [s]", "CPU [s]", "real-time ×",

@@ -84,6 +84,7 @@ def run_log(tools, name, log_path, workdir, args, relations=None, ground_truth=N
     """Both systems on one log; returns their RunResults and notes."""
     notes = []
     print("== %s: %s" % (name, log_path), flush=True)
+    shutil.rmtree(workdir, ignore_errors=True)  # no stale outputs of an earlier run
     ours = bench_runs.run_lrgc_slam(tools, log_path, os.path.join(workdir, "lrgc-slam"),
                                     args.timeout, args.config)
     bench_runs.run_eval(tools, ours, os.path.join(workdir, "lrgc-slam"), relations, ground_truth)
