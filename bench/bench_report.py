@@ -1,0 +1,215 @@
+"""Tables of bench/run: per log and per system, printed and written to doc/benchmarks.md with
+the machine and the commit they were measured on. Python standard library only."""
+
+import os
+import platform
+import re
+import subprocess
+import time
+
+
+def published_figures(readme_path):
+    """Cartographer's published figures from the datasets README, keyed by a normalised
+    dataset name ("intel", "aces", "mitcsail"): {"error": "m +/- s / deg +/- s",
+    "data_s": .., "wall_s": ..}. Empty if the README is absent."""
+    out = {}
+    if not readme_path or not os.path.exists(readme_path):
+        return out
+    text = open(readme_path, encoding="utf-8").read()
+    for m in re.finditer(r"^\|\s*([A-Za-z][A-Za-z ]*?)\s*\|\s*([0-9.]+ \+/- [0-9.]+ / "
+                         r"[0-9.]+ \+/- [0-9.]+)\s*\|", text, re.M):
+        out.setdefault(normalise(m.group(1)), {})["error"] = m.group(2)
+    wall = re.search(r"Cartographer's published wall-clock[^:]*:(.*?)\.\s*$", text, re.M | re.S)
+    if wall:
+        for m in re.finditer(r"([A-Za-z][A-Za-z ]*?)\s+(\d+)/(\d+)", wall.group(1)):
+            entry = out.setdefault(normalise(m.group(1)), {})
+            entry["data_s"], entry["wall_s"] = float(m.group(2)), float(m.group(3))
+    return out
+
+
+def normalise(name):
+    return re.sub(r"[^a-z0-9]", "", name.lower())
+
+
+def machine_description():
+    cpu = "unknown CPU"
+    try:
+        for line in open("/proc/cpuinfo"):
+            if line.startswith("model name"):
+                cpu = line.split(":", 1)[1].strip()
+                break
+    except OSError:
+        pass
+    mem = ""
+    try:
+        for line in open("/proc/meminfo"):
+            if line.startswith("MemTotal"):
+                mem = ", %.0f GiB RAM" % (int(line.split()[1]) / 1024.0 / 1024.0)
+    except OSError:
+        pass
+    debian = ""
+    if os.path.exists("/etc/debian_version"):
+        debian = ", Debian " + open("/etc/debian_version").read().strip()
+    mrpt = subprocess.run(["dpkg-query", "-W", "-f=${Version}", "libmrpt-dev"],
+                          capture_output=True, text=True).stdout.strip()
+    return "%s, %d cores%s, %s %s%s, MRPT %s" % (
+        cpu, os.cpu_count() or 0, mem, platform.system(), platform.release(), debian,
+        mrpt or "?")
+
+
+def commit_description(repo):
+    def git(*args):
+        return subprocess.run(["git", "-C", repo] + list(args), capture_output=True,
+                              text=True).stdout.strip()
+    head = git("rev-parse", "--short=12", "HEAD") or "unknown"
+    dirty = git("status", "--porcelain", "--untracked-files=no")
+    subject = git("log", "-1", "--format=%s")
+    if len(subject) > 72:
+        subject = subject[:69] + "..."
+    return "%s%s (%s)" % (head, " + uncommitted changes" if dirty else "", subject)
+
+
+def fmt(v, spec="%.2f", none="–"):
+    return none if v is None else spec % v
+
+
+def pm(stats, spec="%.3f"):
+    """"mean +/- std" of an lrgc-eval stats object."""
+    if not stats or not stats.get("count"):
+        return "–"
+    return (spec + " ± " + spec) % (stats["mean"], stats["std"])
+
+
+def ratio(a, b, spec="%.2f"):
+    if a is None or b is None or b == 0:
+        return "–"
+    return spec % (a / b)
+
+
+def relation_cells(run):
+    rel = (run.eval or {}).get("relations")
+    if not rel:
+        return ["–", "–", "–"]
+    used = "%d/%d" % (rel["used"], rel["total"])
+    return [pm(rel["translational_m"], "%.3f"), pm(rel["rotational_deg"], "%.2f"), used]
+
+
+def ate_cells(run):
+    ev = run.eval or {}
+    ate, step = ev.get("ate"), ev.get("rpe_step")
+    if not ate:
+        return ["–", "–", "–"]
+    return ["%.3f" % ate["translational_m"]["rms"], pm(ate["translational_m"], "%.3f"),
+            pm(step["translational_m"], "%.4f") if step else "–"]
+
+
+def system_cells(run):
+    lat = run.latency()
+    return [fmt(run.scans, "%d"), fmt(run.data_duration_s, "%.0f"), fmt(run.wall_s, "%.1f"),
+            fmt(run.cpu_s, "%.1f"), fmt(run.real_time_factor(), "%.1f"),
+            fmt(run.peak_rss_mb, "%.0f"),
+            "%.2f / %.1f / %.1f" % lat if lat else "–", fmt(run.loop_closures, "%d")]
+
+
+REAL_HEADER = ["log", "system", "scans", "data [s]", "wall [s]", "CPU [s]", "real-time ×",
+               "peak RSS [MB]", "latency med / p99 / max [ms]", "loops",
+               "rel. error [m]", "rel. error [deg]", "relations used"]
+SYN_HEADER = REAL_HEADER[:10] + ["ATE rmse [m]", "ATE [m]", "RPE 1 step [m]"]
+
+
+def real_rows(log_name, runs, published):
+    """Rows for one real log: each system, Cartographer's published figures, ratios."""
+    rows = []
+    for run in runs:
+        cells = [log_name, run.system] + system_cells(run) + relation_cells(run)
+        if not run.ok and run.error:
+            cells[1] += " (failed, see notes)"
+        rows.append(cells)
+    pub = published.get(normalise(log_name))
+    if pub:
+        err = pub.get("error", "– / –").split(" / ")
+        rows.append([log_name, "Cartographer (published)", "–", fmt(pub.get("data_s"), "%.0f"),
+                     fmt(pub.get("wall_s"), "%.0f"), "–",
+                     ratio(pub.get("data_s"), pub.get("wall_s"), "%.1f"), "–", "–", "–",
+                     err[0], err[1] if len(err) > 1 else "–", "–"])
+    by = {r.system: r for r in runs}
+    ours, icp = by.get("lrgc-slam"), by.get("icp-slam")
+    if ours and icp and ours.ok and icp.ok:
+        def mean_of(run, key):
+            rel = (run.eval or {}).get("relations") or {}
+            return (rel.get(key) or {}).get("mean")
+        lo, li = ours.latency(), icp.latency()
+        rows.append([log_name, "ratio lrgc-slam / icp-slam", "", "", ratio(ours.wall_s, icp.wall_s),
+                     ratio(ours.cpu_s, icp.cpu_s), "", ratio(ours.peak_rss_mb, icp.peak_rss_mb),
+                     ratio(lo[0], li[0]) + " / " + ratio(lo[1], li[1]) + " / " + ratio(lo[2], li[2])
+                     if lo and li else "–", "",
+                     ratio(mean_of(ours, "translational_m"), mean_of(icp, "translational_m")),
+                     ratio(mean_of(ours, "rotational_deg"), mean_of(icp, "rotational_deg")), ""])
+    return rows
+
+
+def synthetic_rows(log_name, runs):
+    rows = []
+    for run in runs:
+        cells = [log_name, run.system] + system_cells(run) + ate_cells(run)
+        if not run.ok and run.error:
+            cells[1] += " (failed, see notes)"
+        rows.append(cells)
+    return rows
+
+
+def markdown_table(header, rows):
+    lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
+    for r in rows:
+        lines.append("| " + " | ".join(str(c) for c in r) + " |")
+    return "\n".join(lines)
+
+
+def document(real, synthetic, plots, machine, commit, total_s, data_dir, notes):
+    """The whole doc/benchmarks.md."""
+    out = ["# Benchmarks", "",
+           "Written by `bench/run` (do not edit by hand): every system on every log, in one run, "
+           "one process after the other.", "",
+           "- Measured on: " + machine,
+           "- Commit: " + commit,
+           "- Date: " + time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()),
+           "- Data: %s; whole run %.0f s" % (data_dir or "(none)", total_s), ""]
+    out += ["Wall, CPU and peak RSS are of the whole process (`/usr/bin/time -v`), including start-up "
+            "and writing outputs. Real-time × = data duration / wall time. Latency is per scan: "
+            "lrgc-slam's `timing.csv`, icp-slam's `log_times.txt`. The relation error is the metric "
+            "of Kuemmerle et al., \"On measuring the accuracy of SLAM algorithms\", Autonomous "
+            "Robots 27(4), 2009 (mean ± std of the translational and rotational error over all "
+            "relations, computed by `lrgc-eval`); icp-slam runs MRPT's demo configuration "
+            "(`bench/icp-slam_headless.ini`) on the same log converted by `lrgc-slam "
+            "--save-rawlog`. Cartographer's figures are the published ones (Hess et al. 2016, on "
+            "a desktop Xeon), not measured here. Logs: Intel Research Lab (D. Haehnel), ACES "
+            "(P. Beeson), MIT CSAIL (C. Stachniss).", ""]
+    if real:
+        out += ["## Real logs: relation error", "", markdown_table(REAL_HEADER, real), ""]
+    if synthetic:
+        out += ["## MRPT synthetic logs: exact ground truth", "",
+                "ATE: absolute trajectory error after the best-fit SE(2) alignment (rmse, and "
+                "mean ± std); RPE: relative pose error between consecutive ground-truth poses.",
+                "", markdown_table(SYN_HEADER, synthetic), ""]
+    if notes:
+        out += ["## Notes", ""] + ["- " + n for n in notes] + [""]
+    if plots:
+        out += ["## Plots", "",
+                "Map (lrgc-slam's `map.pgm`) with its trajectory (blue) and the loop-closure "
+                "links of its pose graph (red), and the per-scan latency against scan index.", ""]
+        for name, png in plots:
+            out += ["### " + name, "", "![%s](%s)" % (name, png), ""]
+    return "\n".join(out)
+
+
+def print_table(header, rows):
+    """Plain-text table for the terminal, columns padded."""
+    widths = [len(h) for h in header]
+    for r in rows:
+        for i, c in enumerate(r):
+            widths[i] = max(widths[i], len(str(c)))
+    line = lambda cells: "  ".join(str(c).ljust(widths[i]) for i, c in enumerate(cells))
+    print(line(header))
+    print("  ".join("-" * w for w in widths))
+    for r in rows:
+        print(line(r))
