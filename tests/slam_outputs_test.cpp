@@ -71,9 +71,9 @@ TEST_F(SenaRun, GridmapReadsBackAsOccupancyGrid)
 	for (unsigned y = 0; y < grid.getSizeY(); ++y)
 		for (unsigned x = 0; x < grid.getSizeX(); ++x)
 		{
-			const float p = grid.getCell(x, y);
-			occupied += p > 0.65f;
-			freeCells += p < 0.35f;
+			const float pFree = grid.getCell(x, y);  // MRPT stores p(free)
+			occupied += pFree < 0.35f;
+			freeCells += pFree > 0.65f;
 		}
 	EXPECT_GT(occupied, 1000u);
 	EXPECT_GT(freeCells, 10 * occupied / 2);

@@ -2,6 +2,8 @@
 
 #include "lrgc/se2.h"
 
+#include <Eigen/Dense>
+
 #include <mrpt/maps/CSimpleMap.h>
 #include <mrpt/obs/CActionCollection.h>
 #include <mrpt/obs/CActionRobotMovement2D.h>
@@ -70,16 +72,17 @@ void CMetricMapBuilderLRGC::processScan(
 	const TRegistration reg =
 		m_local->registerScan(m_graph, m_keyframes, scan, priorInMap, prediction.cov);
 	if (!reg.matched && m_graph.numNodes() > 0) ++m_stats.unmatchedScans;
-	if (reg.glitch)
+	if (reg.odometryRejected) ++m_stats.odometryRejected;
+	if (reg.wideSearch && reg.odometryRejected && prediction.fromOdometry)
 	{
 		++m_stats.glitchesRecovered;
 		warn(mrpt::format(
-			"odometry glitch at t=%.6f: the odometry step (%.2f m, %.1f deg) disagrees with the "
-			"scan match; wide search used, odometry link down-weighted",
+			"odometry glitch at t=%.6f: the odometry step (%.2f m, %.1f deg) does not fit the "
+			"scans; recovered by a wide rotational search, odometry link down-weighted",
 			mrpt::Clock::toDouble(laser->timestamp), translationNorm(prediction.motion),
 			mrpt::RAD2DEG(prediction.motion.phi)));
 	}
-	if (!(prediction.fromOdometry && !reg.glitch)) m_odometryTrustedSinceKeyframe = false;
+	if (!prediction.fromOdometry || reg.odometryRejected) m_odometryTrustedSinceKeyframe = false;
 	m_motionSinceKeyframe = compose(m_motionSinceKeyframe, prediction.motion);
 	m_predictor.commitScan(laser->timestamp, between(m_lastScanInMap, reg.scanInMap));
 	m_lastScanInMap = reg.scanInMap;

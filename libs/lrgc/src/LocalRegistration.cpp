@@ -14,11 +14,15 @@ void TLocalRegistrationParams::loadFromConfigFile(
 {
 	rejectUnknownKeys(TLocalRegistrationParams(), c, s);
 	window_size = c.read_uint64_t(s, "window_size", window_size);
+	max_pairwise_links = c.read_uint64_t(s, "max_pairwise_links", max_pairwise_links);
 	min_link_inliers = c.read_double(s, "min_link_inliers", min_link_inliers);
 	glitch_gate_chi2 = c.read_double(s, "glitch_gate_chi2", glitch_gate_chi2);
 	wide_search_angle = mrpt::DEG2RAD(
 		c.read_double(s, "wide_search_angle_deg", mrpt::RAD2DEG(wide_search_angle)));
 	requireParam(window_size >= 2 && window_size <= 100, s, "window_size", "must be in [2, 100]");
+	requireParam(
+		max_pairwise_links >= 1 && max_pairwise_links < window_size, s, "max_pairwise_links",
+		"must be in [1, window_size - 1]");
 	requireParam(
 		min_link_inliers > 0 && min_link_inliers <= 1, s, "min_link_inliers", "must be in (0, 1]");
 	requireParam(glitch_gate_chi2 > 0, s, "glitch_gate_chi2", "must be > 0");
@@ -32,6 +36,7 @@ void TLocalRegistrationParams::saveToConfigFile(
 {
 	const int np = mrpt::config::MRPT_SAVE_NAME_PADDING(), vp = mrpt::config::MRPT_SAVE_VALUE_PADDING();
 	c.write(s, "window_size", uint64_t(window_size), np, vp, "K: keyframes registered together (paper: K >= 7)");
+	c.write(s, "max_pairwise_links", uint64_t(max_pairwise_links), np, vp, "Pairwise scan-match links per new keyframe, spread over the window");
 	c.write(s, "min_link_inliers", min_link_inliers, np, vp, "Min fraction of matched points for a pairwise scan-match link");
 	c.write(s, "glitch_gate_chi2", glitch_gate_chi2, np, vp, "[chi2, 3 dof] Odometry/match disagreement that triggers the wide search");
 	c.write(s, "wide_search_angle_deg", mrpt::RAD2DEG(wide_search_angle), np, vp, "[deg] Half-width of the rotational search after an odometry glitch");
@@ -58,19 +63,28 @@ const CReferenceCloud& CLocalRegistration::windowCloud(
 {
 	const size_t newest = graph.numNodes() - 1;
 	if (m_cloudNewest == newest) return m_cloud;
-	// The patch: every window scan's points, moved into the newest keyframe's frame:
-	// p_newest = (newest <- node) (+) p_node.
+	// The patch: every window scan with its pose in the newest keyframe's frame,
+	// (newest <- node); the cloud keeps their range images for the free-space check.
 	const TPose2D newestInMap = graph.pose(newest);
-	std::vector<Eigen::Vector2d> points;
+	std::vector<TScan2D> scans;
+	std::vector<TPose2D> scansInNewest;
 	for (const size_t node : windowNodes(graph))
 	{
-		const TPose2D nodeInNewest = between(newestInMap, graph.pose(node));
-		for (const auto& p : keyframes[node].scan.points)
-			points.push_back(transformPoint(nodeInNewest, p));
+		scans.push_back(keyframes[node].scan);
+		scansInNewest.push_back(between(newestInMap, graph.pose(node)));
 	}
-	m_cloud = CReferenceCloud(std::move(points), m_matcherParams);
+	m_cloud = CReferenceCloud::fromScans(scans, scansInNewest, m_matcherParams);
 	m_cloudNewest = newest;
 	return m_cloud;
+}
+
+const CReferenceCloud& CLocalRegistration::keyframeCloud(size_t node, const TKeyframes& keyframes)
+{
+	for (const auto& [n, cloud] : m_keyframeClouds)
+		if (n == node) return cloud;
+	if (m_keyframeClouds.size() >= m_params.window_size) m_keyframeClouds.pop_front();
+	m_keyframeClouds.emplace_back(node, CReferenceCloud::fromScan(keyframes[node].scan, m_matcherParams));
+	return m_keyframeClouds.back().second;
 }
 
 TRegistration CLocalRegistration::registerScan(
@@ -89,15 +103,15 @@ TRegistration CLocalRegistration::registerScan(
 		return double(d.transpose() * (priorCov + m.cov).inverse() * d);
 	};
 	std::optional<TScanMatch> match = m_matcher.match(cloud, scan, guess);
-	if (!match || disagreement(*match) > m_params.glitch_gate_chi2)
+	if (!match && m_params.wide_search_angle > 0)
 	{
-		auto wide = m_matcher.matchWide(cloud, scan, guess, m_params.wide_search_angle);
-		if (wide && (!match || wide->inlierFraction > match->inlierFraction)) match = wide;
-		reg.glitch = match && disagreement(*match) > m_params.glitch_gate_chi2;
+		match = m_matcher.matchWide(cloud, scan, guess, m_params.wide_search_angle);
+		reg.wideSearch = match.has_value();
 	}
 	if (!match) return reg;
 
 	reg.matched = true;
+	reg.odometryRejected = disagreement(*match) > m_params.glitch_gate_chi2;
 	reg.scanInMap = compose(newestInMap, match->scanInRef);
 	// Rotate the covariance from the newest keyframe's axes to the map axes.
 	const double c = std::cos(newestInMap.phi), s = std::sin(newestInMap.phi);
@@ -113,14 +127,16 @@ size_t CLocalRegistration::linkAndOptimize(
 	const size_t newNode = graph.numNodes() - 1;
 	graph.addLink(odometryLink);
 	const std::vector<size_t> window = windowNodes(graph);
+	// Pairwise matches of the new scan against up to max_pairwise_links window scans, the
+	// previous keyframe first, then spread evenly back over the window (Lu & Milios' links).
+	const size_t older = window.size() - 1;  // window nodes other than the new one
+	const size_t links = std::min(m_params.max_pairwise_links, older);
 	size_t added = 0;
-	for (const size_t node : window)
+	for (size_t l = 0; l < links; ++l)
 	{
-		if (node == newNode) continue;
-		// Pairwise match of the new scan against one window scan (Lu & Milios' links).
-		const CReferenceCloud ref(keyframes[node].scan.points, m_matcherParams);
+		const size_t node = newNode - 1 - (l * older) / links;
 		const TPose2D guess = between(graph.pose(node), graph.pose(newNode));
-		const auto m = m_matcher.match(ref, keyframes[newNode].scan, guess);
+		const auto m = m_matcher.match(keyframeCloud(node, keyframes), keyframes[newNode].scan, guess);
 		if (!m || m->inlierFraction < m_params.min_link_inliers) continue;
 		graph.addLink({node, newNode, m->scanInRef, m->cov.inverse(), LinkType::ScanMatch});
 		++added;

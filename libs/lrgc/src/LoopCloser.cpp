@@ -171,15 +171,16 @@ std::optional<TLoopClosure> CLoopCloser::process(CPoseGraph& graph, const TKeyfr
 		if (const double d = translationNorm(between(graph.pose(j), corrected)); d < best)
 			best = d, oldNode = j;
 	const TPose2D oldInMap = graph.pose(oldNode);
-	std::vector<Eigen::Vector2d> ref;
+	std::vector<TScan2D> refScans;
+	std::vector<TPose2D> refInOld;
 	for (const size_t j : candidates->nodes)
 	{
 		if (translationNorm(between(graph.pose(j), corrected)) > 2 * m_params.overlap_radius) continue;
-		const TPose2D jInOld = between(oldInMap, graph.pose(j));
-		for (const auto& p : keyframes[j].scan.points) ref.push_back(transformPoint(jInOld, p));
+		refScans.push_back(keyframes[j].scan);
+		refInOld.push_back(between(oldInMap, graph.pose(j)));
 	}
 	const auto match = m_matcher.match(
-		CReferenceCloud(std::move(ref), m_matcherParams), keyframes[newest].scan,
+		CReferenceCloud::fromScans(refScans, refInOld, m_matcherParams), keyframes[newest].scan,
 		between(oldInMap, corrected));
 	if (!match)
 	{
@@ -238,7 +239,7 @@ size_t CLoopCloser::rematch(
 		if (best > m_params.overlap_radius) continue;
 		const TPose2D guess = between(graph.pose(nearest), graph.pose(k));
 		const auto m = m_matcher.match(
-			CReferenceCloud(keyframes[nearest].scan.points, m_matcherParams), keyframes[k].scan, guess);
+			CReferenceCloud::fromScan(keyframes[nearest].scan, m_matcherParams), keyframes[k].scan, guess);
 		if (!m) continue;
 		graph.addLink({nearest, k, m->scanInRef, m->cov.inverse(), LinkType::LoopClosure});
 		++added;

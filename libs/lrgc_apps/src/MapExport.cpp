@@ -32,6 +32,7 @@ void writeArchiveGz(const T& object, const std::string& path)
 }
 
 // ROS map_server trinary values for a cell's occupancy probability p(occupied).
+// (MRPT's COccupancyGridMap2D::getCell() returns the complement, p(free).)
 uint8_t rosPixel(float pOccupied)
 {
 	if (pOccupied > 0.65f) return 0;  // occupied: black
@@ -68,7 +69,7 @@ void writeRosMap(const mrpt::maps::COccupancyGridMap2D& grid, const std::string&
 	for (unsigned r = 0; r < h; ++r)
 		for (unsigned c = 0; c < w; ++c)
 			pgm[header + size_t(r) * w + c] =
-				static_cast<char>(rosPixel(grid.getCell(c, h - 1 - r)));
+				static_cast<char>(rosPixel(1.0f - grid.getCell(c, h - 1 - r)));
 	const std::string pgmPath = stemPath + ".pgm";
 	writeTextFileAtomically(pgmPath, pgm);
 

@@ -64,6 +64,7 @@ std::string statsJson(const CMetricMapBuilderLRGC& builder, const TRunSummary& r
 	  << "  \"keyframes\": " << s.keyframes << ",\n"
 	  << "  \"skipped_scans\": " << s.skippedScans << ",\n"
 	  << "  \"unmatched_scans\": " << s.unmatchedScans << ",\n"
+	  << "  \"odometry_rejected\": " << s.odometryRejected << ",\n"
 	  << "  \"odometry_glitches_recovered\": " << s.glitchesRecovered << ",\n"
 	  << "  \"links\": {\"odometry\": " << s.odometryLinks << ", \"scan_match\": " << s.scanMatchLinks
 	  << ", \"loop_closure\": " << s.loopClosureLinks << "},\n"

@@ -36,7 +36,8 @@ struct TMapBuilderStats
 	size_t keyframes = 0;
 	size_t skippedScans = 0;  //!< too few valid returns
 	size_t unmatchedScans = 0;  //!< no acceptable local match: the prediction was kept
-	size_t glitchesRecovered = 0;  //!< odometry steps rejected in favour of a wide match
+	size_t odometryRejected = 0;  //!< scans whose match disagreed with odometry beyond the gate
+	size_t glitchesRecovered = 0;  //!< of those, recovered by the wide rotational search
 	size_t odometryLinks = 0, scanMatchLinks = 0, loopClosureLinks = 0;
 	size_t loopClosures = 0;  //!< accepted loop-closure events
 	size_t ignoredObservations = 0;  //!< observations of kinds the builder does not use

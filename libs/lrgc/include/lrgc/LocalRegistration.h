@@ -7,9 +7,15 @@
  * adjusts the last K poses, all older poses held fixed: constant cost per scan.
  *
  * Odometry glitches (the benchmark logs have single steps turning 60-85 deg wrongly): when the
- * match disagrees with the odometry prior beyond a chi-square gate, or fails, a wide
- * rotational search around the prior is tried; if it finds a good match the odometry link of
- * that step is down-weighted to the constant-velocity noise, so it cannot pull the map.
+ * match from the odometry prior fails, a wide rotational search around the prior is tried
+ * (CScanMatcher::matchWide, tens of ms, so only then). Whenever the accepted match disagrees
+ * with the prior beyond a chi-square gate, the odometry of that step is not trusted: the
+ * odometry link of the keyframe is down-weighted to the constant-velocity noise, so it cannot
+ * pull the map.
+ *
+ * Cost per keyframe: one patch build, at most `max_pairwise_links` pairwise matches against
+ * reference clouds cached per window keyframe, and a window solve; none depends on the map
+ * size.
  */
 #pragma once
 
@@ -20,13 +26,16 @@
 #include <lrgc/ScanMatcher.h>
 #include <mrpt/config/CLoadableOptions.h>
 
+#include <deque>
 #include <optional>
+#include <utility>
 
 namespace lrgc
 {
 struct TLocalRegistrationParams : public mrpt::config::CLoadableOptions
 {
 	size_t window_size = 10;  //!< K: keyframes in the window (paper: K >= 7 at 0.3 m)
+	size_t max_pairwise_links = 5;  //!< pairwise scan-match links per new keyframe (spread over the window)
 	double min_link_inliers = 0.5;  //!< pairwise link only if this fraction of points matched
 	double glitch_gate_chi2 = 16.27;  //!< [chi2, 3 dof] prior/match disagreement (p = 0.001)
 	double wide_search_angle = mrpt::DEG2RAD(90.0);  //!< [rad] (key wide_search_angle_deg)
@@ -42,7 +51,8 @@ struct TRegistration
 	mrpt::math::TPose2D scanInMap;  //!< (map <- robot at the scan)
 	Eigen::Matrix3d cov;  //!< of the scan pose relative to the newest keyframe, map axes
 	bool matched = false;  //!< false: no acceptable match, the prior was kept
-	bool glitch = false;  //!< the odometry prior was rejected and a wide search won
+	bool odometryRejected = false;  //!< the match disagrees with the prior beyond the gate
+	bool wideSearch = false;  //!< the match came from the wide rotational search
 };
 
 class CLocalRegistration
@@ -75,8 +85,12 @@ class CLocalRegistration
 	TScanMatcherParams m_matcherParams;
 	CScanMatcher m_matcher;
 	CPoseGraphOptimizer m_optimizer;
+	const CReferenceCloud& keyframeCloud(size_t node, const TKeyframes& keyframes);
+
 	CReferenceCloud m_cloud;  //!< window patch in the frame of node *m_cloudNewest
 	std::optional<size_t> m_cloudNewest;
+	/** Reference cloud of each window keyframe's own scan, for pairwise links. */
+	std::deque<std::pair<size_t, CReferenceCloud>> m_keyframeClouds;
 };
 
 }  // namespace lrgc
