@@ -175,21 +175,26 @@ class CCholmodSolver
 		return dx.allFinite();
 	}
 
-	/** Rows and columns `idx` of the inverse of the factorised matrix. */
-	Eigen::MatrixXd inverseBlock(const std::vector<int>& idx)
+	/** J M^-1 J^T for the factorised matrix M and a 3 x n matrix J whose nonzero columns
+	 * are `idx` (holding Jc): three solves. */
+	Eigen::Matrix3d projectedInverse(const std::vector<int>& idx, const Eigen::MatrixXd& Jc)
 	{
-		const size_t n = m_A->nrow, c = idx.size();
-		cholmod_dense* b = cholmod_zeros(n, c, CHOLMOD_REAL, &m_c);
+		const size_t n = m_A->nrow;
+		cholmod_dense* b = cholmod_zeros(n, 3, CHOLMOD_REAL, &m_c);
 		ASSERT_(b != nullptr);
-		for (size_t j = 0; j < c; ++j) static_cast<double*>(b->x)[j * n + idx[j]] = 1.0;
+		double* bx = static_cast<double*>(b->x);
+		for (size_t k = 0; k < idx.size(); ++k)
+			for (int r = 0; r < 3; ++r) bx[r * n + idx[k]] = Jc(r, k);
 		cholmod_dense* x = cholmod_solve(CHOLMOD_A, m_L, b, &m_c);
 		cholmod_free_dense(&b, &m_c);
 		ASSERT_(x != nullptr);
-		Eigen::MatrixXd out(c, c);
-		for (size_t j = 0; j < c; ++j)
-			for (size_t i = 0; i < c; ++i) out(i, j) = static_cast<double*>(x->x)[j * n + idx[i]];
+		const double* xx = static_cast<const double*>(x->x);
+		Eigen::Matrix3d out = Eigen::Matrix3d::Zero();
+		for (int c = 0; c < 3; ++c)
+			for (size_t k = 0; k < idx.size(); ++k)
+				for (int r = 0; r < 3; ++r) out(r, c) += Jc(r, k) * xx[c * n + idx[k]];
 		cholmod_free_dense(&x, &m_c);
-		return out;
+		return 0.5 * (out + out.transpose());
 	}
 
    private:
@@ -293,21 +298,21 @@ TPass levenbergMarquardt(
 	return pass;
 }
 
-/* Which loop links start graduated. DCS alone is a local method: a loop link whose chi2 is
- * far beyond Phi at the start (a true loop arriving with the drift of a long cycle) gets a
- * tiny weight and would pull the map to itself only over very many iterations, so it would
- * end rejected although the graph can absorb it. Each loop link with chi2 > Phi is
- * therefore tested against the graph's own uncertainty: with H the DCS-weighted normal
- * matrix, Sigma = H^-1 restricted to the link's free endpoints and J = [J_from J_to],
- *     innovation chi2 = e^T (J Sigma J^T + Omega^-1)^-1 e  [-],
+/* Which loop links start graduated. DCS alone is a local method: a loop link that starts
+ * far outside its quadratic zone (a true loop arriving with the drift of a long cycle) gets
+ * a tiny weight and pulls the map to itself only over very many iterations, so it would end
+ * rejected although the graph can absorb it. Each loop link that would be reported rejected
+ * at the start (DCS scale s < rejectScale) is therefore tested against the graph's own
+ * uncertainty: with H the DCS-weighted normal matrix and J = [J_from J_to] (free endpoints),
+ *     innovation chi2 = e^T (J H^-1 J^T + Omega^-1)^-1 e  [-],
  * the chi2 the rest of the graph would take on if it closed the link (linearised). If it is
  * below 3 Phi, the bound of DCS's penalty for rejecting the link, the objective prefers the
  * link closed, and the link starts graduated: its own Phi begins at its chi2 (least squares
  * for it) and is divided by 4 per stage down to Phi (graduated non-convexity, after Yang et
- * al., RA-L 2020). A false link fails the test and is switched off by DCS at once. When
- * more than kMaxTested links are outside (a cold start from dead reckoning: no estimate to
- * test against yet), every one of them starts graduated. */
-constexpr size_t kMaxTested = 16;
+ * al., RA-L 2020). A false link fails the test and DCS switches it off at once. With more
+ * than kMaxTested such links (a cold start from dead reckoning: no estimate to test against
+ * yet) all of them start graduated. */
+constexpr size_t kMaxTested = 32;
 
 bool scheduleLoopLinks(
 	detail::TProblem& prob, const TPoseGraphOptimizerParams& p, CCholmodSolver& solver,
@@ -321,7 +326,7 @@ bool scheduleLoopLinks(
 		if (!prob.links[i].loopClosure) continue;
 		const Eigen::Vector3d e = prob.residual(prob.links[i]);
 		chi2[i] = e.dot(prob.links[i].info * e);
-		if (chi2[i] > p.dcsPhi) outside.push_back(i);
+		if (k.scale(chi2[i], p.dcsPhi) < p.rejectScale) outside.push_back(i);
 	}
 	if (outside.empty()) return false;
 	prob.linearize(k, ne);
@@ -342,8 +347,7 @@ bool scheduleLoopLinks(
 			if (l.vi >= 0 && l.vj >= 0) J << Ji, Jj;
 			else
 				J = l.vi >= 0 ? Ji : Jj;
-			const Eigen::Matrix3d S =
-				J * solver.inverseBlock(idx) * J.transpose() + l.info.inverse();
+			const Eigen::Matrix3d S = solver.projectedInverse(idx, J) + l.info.inverse();
 			if (e.dot(S.ldlt().solve(e)) >= 3 * p.dcsPhi) continue;  // inconsistent
 		}
 		l.phiStart = chi2[i];

@@ -109,7 +109,9 @@ TEST(PoseGraph, SimulatorIsDeterministicAndConsistentWithTruth)
 	for (const TLink& l : a.graph.links())  // loop closures join poses in one grid cell
 	{
 		if (l.type == LinkType::LoopClosure)
+		{
 			EXPECT_LT(translationNorm(between(a.groundTruth[l.from], a.groundTruth[l.to])), 1e-9);
+		}
 	}
 }
 

@@ -13,7 +13,12 @@
  * s^2 with s = min(1, 2 Phi / (Phi + chi2)); this is iteratively reweighted least squares on
  * the bounded cost rho(chi2) = chi2 (chi2 <= Phi), 3 Phi - 4 Phi^2 / (Phi + chi2) (otherwise),
  * which is the objective LM minimises. A false loop closure contributes at most 3 Phi however
- * far it pulls, so it cannot bend the map. Odometry and ScanMatch links are not robustified:
+ * far it pulls, so it cannot bend the map. DCS is a local method, so a true loop that
+ * arrives with a drift far beyond its own sigma would be switched off too; a loop link that
+ * starts rejected is therefore tested against the graph's own covariance (innovation chi2 <
+ * 3 Phi: closing it is cheaper than rejecting it) and, if consistent, starts with its own
+ * Phi at its chi2, shrunk 4x per stage to Phi (graduated non-convexity). See
+ * doc/back-end.md. Odometry and ScanMatch links are not robustified:
  * they form the spanning chain that fixes the map's shape between loops, they come from
  * overlapping consecutive scans, and a chain link given a near-zero weight would leave the
  * graph without the constraints that make the solution unique.
@@ -39,8 +44,8 @@ class TProblem;  // the free nodes and their links (private, PoseGraphProblem.h)
 /** Section [PoseGraphOptimizer]. */
 struct TPoseGraphOptimizerParams : public mrpt::config::CLoadableOptions
 {
-	int maxIterations = 50;  //!< LM linearisations per solve [-]
-	double relativeCostTolerance = 1e-9;  //!< stop when the cost falls by less than this [-]
+	int maxIterations = 50;  //!< LM linearisations per solve, all stages together [-]
+	double relativeCostTolerance = 1e-6;  //!< stop when the cost falls by less than this [-]
 	double stepTolerance = 1e-7;  //!< stop when the largest step component is below [m|rad]
 	double initialLambda = 1e-6;  //!< LM damping relative to diag(H) at the first step [-]
 	bool robustLoopClosures = true;  //!< DCS on LoopClosure links (false: plain least squares)
