@@ -4,9 +4,11 @@
  * Each solve builds a TProblem: the free nodes (variables, 3 scalars each) and the enabled
  * links touching them, with fixed endpoints copied in. The normal equations are assembled
  * into a block-sparse upper-triangular CSC matrix whose pattern is built once per solve; the
- * LM loop then only rewrites values. CHOLMOD's symbolic analysis (fill-reducing ordering,
- * supernode detection) is kept in the optimizer and reused while the pattern is unchanged,
- * across iterations and across calls.
+ * LM loop then only rewrites values. CHOLMOD's symbolic analysis (fill-reducing ordering
+ * of the block graph, elimination tree, column counts) is kept in the optimizer and reused
+ * while the pattern is unchanged, across iterations and across calls. Loop links that start
+ * rejected but are consistent with the graph's covariance start graduated (see
+ * scheduleLoopLinks below).
  *
  * LM (Nielsen's damping update): (H + lambda diag(H)) dx = -g, gain ratio = actual cost
  * decrease / decrease predicted by the weighted quadratic model.
@@ -14,16 +16,15 @@
 #include "lrgc/PoseGraphOptimizer.h"
 
 #include <cholmod.h>
-#include <Eigen/Cholesky>
-#include <Eigen/LU>
 #include <mrpt/config/CConfigFileBase.h>
 #include <mrpt/core/exceptions.h>
+#include <Eigen/Cholesky>
+#include <Eigen/LU>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <mutex>
-
 
 #include "PoseGraphProblem.h"
 #include "lrgc/params_io.h"
@@ -32,12 +33,13 @@
 namespace lrgc
 {
 // ----------------------------------------------------------------------------- parameters
-void TPoseGraphOptimizerParams::loadFromConfigFile(
-	const mrpt::config::CConfigFileBase& src, const std::string& s)
+void TPoseGraphOptimizerParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& src,
+												   const std::string& s)
 {
 	rejectUnknownKeys(TPoseGraphOptimizerParams(), src, s);
 	maxIterations = src.read_int(s, "max_iterations", maxIterations);
-	relativeCostTolerance = src.read_double(s, "relative_cost_tolerance", relativeCostTolerance);
+	relativeCostTolerance =
+		src.read_double(s, "relative_cost_tolerance", relativeCostTolerance);
 	stepTolerance = src.read_double(s, "step_tolerance", stepTolerance);
 	initialLambda = src.read_double(s, "initial_lambda", initialLambda);
 	robustLoopClosures = src.read_bool(s, "robust_loop_closures", robustLoopClosures);
@@ -51,8 +53,8 @@ void TPoseGraphOptimizerParams::loadFromConfigFile(
 	requireParam(rejectScale > 0 && rejectScale <= 1, s, "reject_scale", "must be in (0, 1]");
 }
 
-void TPoseGraphOptimizerParams::saveToConfigFile(
-	mrpt::config::CConfigFileBase& c, const std::string& s) const
+void TPoseGraphOptimizerParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
+												 const std::string& s) const
 {
 	const int np = mrpt::config::MRPT_SAVE_NAME_PADDING(),
 			  vp = mrpt::config::MRPT_SAVE_VALUE_PADDING();
@@ -80,9 +82,8 @@ void TPoseGraphOptimizerParams::saveToConfigFile(
  *   d e_xy  / d phi_j =  0
  *   d e_phi / d phi_j =  1                d e_phi / d phi_i = -1           [rad/rad]
  *   d e_phi / d t     =  0 */
-Eigen::Vector3d linkResidual(
-	const TPose2D& xi, const TPose2D& xj, const TPose2D& z, Eigen::Matrix3d* Ji,
-	Eigen::Matrix3d* Jj)
+Eigen::Vector3d linkResidual(const TPose2D& xi, const TPose2D& xj, const TPose2D& z,
+							 Eigen::Matrix3d* Ji, Eigen::Matrix3d* Jj)
 {
 	const TPose2D d = between(xi, xj);
 	const TPose2D e = between(z, d);
@@ -132,7 +133,7 @@ namespace
  * expanded to scalars, and kept with the symbolic factor while the pattern is unchanged. */
 class CCholmodSolver
 {
-   public:
+public:
 	CCholmodSolver()
 	{
 		cholmod_start(&m_c);
@@ -197,7 +198,7 @@ class CCholmodSolver
 		return 0.5 * (out + out.transpose());
 	}
 
-   private:
+private:
 	void analyze(const detail::TNormalEquations& ne)
 	{
 		if (m_L) cholmod_free_factor(&m_L, &m_c);
@@ -211,8 +212,8 @@ class CCholmodSolver
 		m_rowIdx = ne.rowIdx;
 
 		// Ordering of the block graph, expanded to the scalar unknowns.
-		cholmod_sparse* B = cholmod_allocate_sparse(
-			m, m, ne.blockRowIdx.size(), 1, 1, 1, CHOLMOD_PATTERN, &m_c);
+		cholmod_sparse* B = cholmod_allocate_sparse(m, m, ne.blockRowIdx.size(), 1, 1, 1,
+													CHOLMOD_PATTERN, &m_c);
 		ASSERT_(B != nullptr);
 		std::copy(ne.blockColPtr.begin(), ne.blockColPtr.end(), static_cast<int*>(B->p));
 		std::copy(ne.blockRowIdx.begin(), ne.blockRowIdx.end(), static_cast<int*>(B->i));
@@ -243,9 +244,9 @@ struct TPass
 
 /** LM on the problem's robust cost with kernel `k`, from prob.x, updating it. Stops when
  * the relative cost decrease < relTol, the step < stepTol, or after maxIterations. */
-TPass levenbergMarquardt(
-	detail::TProblem& prob, const detail::TCostKernel& k, const TPoseGraphOptimizerParams& p,
-	double relTol, int maxIterations, CCholmodSolver& solver, detail::TNormalEquations& ne)
+TPass levenbergMarquardt(detail::TProblem& prob, const detail::TCostKernel& k,
+						 const TPoseGraphOptimizerParams& p, double relTol, int maxIterations,
+						 CCholmodSolver& solver, detail::TNormalEquations& ne)
 {
 	TPass pass;
 	pass.converged = prob.varNode.empty();
@@ -314,9 +315,8 @@ TPass levenbergMarquardt(
  * yet) all of them start graduated. */
 constexpr size_t kMaxTested = 32;
 
-bool scheduleLoopLinks(
-	detail::TProblem& prob, const TPoseGraphOptimizerParams& p, CCholmodSolver& solver,
-	detail::TNormalEquations& ne)
+bool scheduleLoopLinks(detail::TProblem& prob, const TPoseGraphOptimizerParams& p,
+					   CCholmodSolver& solver, detail::TNormalEquations& ne)
 {
 	const detail::TCostKernel k{true, p.dcsPhi};
 	std::vector<size_t> outside;
@@ -344,7 +344,8 @@ bool scheduleLoopLinks(
 				if (v >= 0)
 					for (int r = 0; r < 3; ++r) idx.push_back(3 * v + r);
 			Eigen::MatrixXd J(3, idx.size());
-			if (l.vi >= 0 && l.vj >= 0) J << Ji, Jj;
+			if (l.vi >= 0 && l.vj >= 0)
+				J << Ji, Jj;
 			else
 				J = l.vi >= 0 ? Ji : Jj;
 			const Eigen::Matrix3d S = solver.projectedInverse(idx, J) + l.info.inverse();
@@ -389,9 +390,9 @@ TOptimizationReport CPoseGraphOptimizer::solve(detail::TProblem& prob) const
 	{
 		const bool last = !graduated || maxPhiStart / k.divisor <= k.phi;
 		const int budget = m_params.maxIterations - rep.iterations;
-		const TPass pass = levenbergMarquardt(
-			prob, k, m_params, last ? m_params.relativeCostTolerance : 1e-3,
-			last ? budget : std::min(5, budget), m_impl->solver, ne);
+		const TPass pass =
+			levenbergMarquardt(prob, k, m_params, last ? m_params.relativeCostTolerance : 1e-3,
+							   last ? budget : std::min(5, budget), m_impl->solver, ne);
 		rep.iterations += pass.iterations;
 		rep.converged = last && pass.converged;
 		if (last || rep.iterations >= m_params.maxIterations) break;
