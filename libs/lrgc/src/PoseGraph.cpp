@@ -19,9 +19,12 @@ const char* toString(LinkType t)
 {
 	switch (t)
 	{
-		case LinkType::Odometry: return "Odometry";
-		case LinkType::ScanMatch: return "ScanMatch";
-		case LinkType::LoopClosure: return "LoopClosure";
+		case LinkType::Odometry:
+			return "Odometry";
+		case LinkType::ScanMatch:
+			return "ScanMatch";
+		case LinkType::LoopClosure:
+			return "LoopClosure";
 	}
 	return "?";
 }
@@ -29,19 +32,17 @@ const char* toString(LinkType t)
 void CPoseGraph::checkNode(size_t node, const char* where) const
 {
 	if (node >= m_poses.size())
-		THROW_EXCEPTION_FMT(
-			"CPoseGraph::%s: node index %zu out of range (graph has %zu nodes)", where, node,
-			m_poses.size());
+		THROW_EXCEPTION_FMT("CPoseGraph::%s: node index %zu out of range (graph has %zu nodes)",
+							where, node, m_poses.size());
 }
 
 size_t CPoseGraph::addNode(const mrpt::math::TPose2D& nodeInMap)
 {
 	if (!std::isfinite(nodeInMap.x) || !std::isfinite(nodeInMap.y) ||
 		!std::isfinite(nodeInMap.phi))
-		THROW_EXCEPTION_FMT(
-			"CPoseGraph::addNode: non-finite pose for node %zu", m_poses.size());
-	m_poses.push_back(
-		{nodeInMap.x, nodeInMap.y, mrpt::math::wrapToPi(nodeInMap.phi)});
+		THROW_EXCEPTION_FMT("CPoseGraph::addNode: non-finite pose for node %zu",
+							m_poses.size());
+	m_poses.push_back({nodeInMap.x, nodeInMap.y, mrpt::math::wrapToPi(nodeInMap.phi)});
 	m_adjacency.emplace_back();
 	return m_poses.size() - 1;
 }
@@ -52,7 +53,8 @@ size_t CPoseGraph::addLink(const TLink& link)
 	checkNode(link.from, "addLink(from)");
 	checkNode(link.to, "addLink(to)");
 	if (link.from == link.to)
-		THROW_EXCEPTION_FMT("CPoseGraph::addLink: link %zu joins node %zu to itself", id, link.from);
+		THROW_EXCEPTION_FMT("CPoseGraph::addLink: link %zu joins node %zu to itself", id,
+							link.from);
 	const auto& z = link.toInFrom;
 	if (!std::isfinite(z.x) || !std::isfinite(z.y) || !std::isfinite(z.phi) ||
 		!link.information.allFinite())
@@ -60,7 +62,8 @@ size_t CPoseGraph::addLink(const TLink& link)
 			"CPoseGraph::addLink: non-finite measurement or information in link %zu (%zu->%zu)",
 			id, link.from, link.to);
 	const Eigen::Matrix3d& I = link.information;
-	if ((I - I.transpose()).cwiseAbs().maxCoeff() > 1e-9 * std::max(1.0, I.cwiseAbs().maxCoeff()))
+	if ((I - I.transpose()).cwiseAbs().maxCoeff() >
+		1e-9 * std::max(1.0, I.cwiseAbs().maxCoeff()))
 		THROW_EXCEPTION_FMT(
 			"CPoseGraph::addLink: information of link %zu (%zu->%zu) is not symmetric", id,
 			link.from, link.to);
@@ -108,9 +111,8 @@ void CPoseGraph::setPose(size_t node, const mrpt::math::TPose2D& nodeInMap)
 const TLink& CPoseGraph::link(size_t linkId) const
 {
 	if (linkId >= m_links.size())
-		THROW_EXCEPTION_FMT(
-			"CPoseGraph: link id %zu out of range (graph has %zu links)", linkId,
-			m_links.size());
+		THROW_EXCEPTION_FMT("CPoseGraph: link id %zu out of range (graph has %zu links)",
+							linkId, m_links.size());
 	return m_links[linkId];
 }
 
@@ -123,8 +125,7 @@ const std::vector<size_t>& CPoseGraph::linksOf(size_t node) const
 mrpt::graphs::CNetworkOfPoses2DInf CPoseGraph::toMrpt() const
 {
 	mrpt::graphs::CNetworkOfPoses2DInf net;
-	for (size_t i = 0; i < m_poses.size(); ++i)
-		net.nodes[i] = mrpt::poses::CPose2D(m_poses[i]);
+	for (size_t i = 0; i < m_poses.size(); ++i) net.nodes[i] = mrpt::poses::CPose2D(m_poses[i]);
 	for (size_t id = 0; id < m_links.size(); ++id)
 	{
 		if (!m_enabled[id]) continue;
@@ -139,8 +140,8 @@ mrpt::graphs::CNetworkOfPoses2DInf CPoseGraph::toMrpt() const
 	return net;
 }
 
-CPoseGraph CPoseGraph::fromMrpt(
-	const mrpt::graphs::CNetworkOfPoses2DInf& net, LinkType nonSequentialType)
+CPoseGraph CPoseGraph::fromMrpt(const mrpt::graphs::CNetworkOfPoses2DInf& net,
+								LinkType nonSequentialType)
 {
 	CPoseGraph g;
 	size_t expected = 0;
@@ -168,15 +169,16 @@ CPoseGraph CPoseGraph::fromMrpt(
 	return g;
 }
 
-TSimulatedPoseGraph simulateManhattanPoseGraph(
-	size_t numNodes, size_t gridSide, double sigmaXY, double sigmaPhi, uint32_t seed)
+TSimulatedPoseGraph simulateManhattanPoseGraph(size_t numNodes, size_t gridSide, double sigmaXY,
+											   double sigmaPhi, uint32_t seed)
 {
 	ASSERT_(numNodes >= 1 && gridSide >= 2 && sigmaXY > 0 && sigmaPhi > 0);
 	std::mt19937 rng(seed);
 	std::normal_distribution<double> n01(0.0, 1.0);
 	std::uniform_real_distribution<double> u01(0.0, 1.0);
 	const Eigen::Matrix3d info =
-		Eigen::Vector3d(1 / (sigmaXY * sigmaXY), 1 / (sigmaXY * sigmaXY), 1 / (sigmaPhi * sigmaPhi))
+		Eigen::Vector3d(1 / (sigmaXY * sigmaXY), 1 / (sigmaXY * sigmaXY),
+						1 / (sigmaPhi * sigmaPhi))
 			.asDiagonal();
 	auto noisy = [&](const TPose2D& truth) {
 		return compose(truth, {sigmaXY * n01(rng), sigmaXY * n01(rng), sigmaPhi * n01(rng)});
@@ -205,15 +207,17 @@ TSimulatedPoseGraph simulateManhattanPoseGraph(
 		if (auto it = lastVisit.find(key); it != lastVisit.end() && it->second + 10 < i)
 		{
 			const size_t j = it->second;
-			out.graph.addLink({j, i, noisy(between(out.groundTruth[j], truth)), info,
-							   LinkType::LoopClosure});
+			out.graph.addLink(
+				{j, i, noisy(between(out.groundTruth[j], truth)), info, LinkType::LoopClosure});
 			++out.numLoopClosures;
 		}
 		lastVisit[key] = i;
 		// Next move: mostly straight, sometimes turn; never leave the grid.
 		const double r = u01(rng);
-		if (r < 0.15) heading += 1;
-		else if (r < 0.30) heading += 3;
+		if (r < 0.15)
+			heading += 1;
+		else if (r < 0.30)
+			heading += 3;
 		for (int attempt = 0; attempt < 6; ++attempt)  // tries every direction
 		{
 			static const long dx[4] = {1, 0, -1, 0}, dy[4] = {0, 1, 0, -1};

@@ -4,9 +4,11 @@
  * Each solve builds a TProblem: the free nodes (variables, 3 scalars each) and the enabled
  * links touching them, with fixed endpoints copied in. The normal equations are assembled
  * into a block-sparse upper-triangular CSC matrix whose pattern is built once per solve; the
- * LM loop then only rewrites values. CHOLMOD's symbolic analysis (fill-reducing ordering,
- * supernode detection) is kept in the optimizer and reused while the pattern is unchanged,
- * across iterations and across calls.
+ * LM loop then only rewrites values. CHOLMOD's symbolic analysis (fill-reducing ordering
+ * of the block graph, elimination tree, column counts) is kept in the optimizer and reused
+ * while the pattern is unchanged, across iterations and across calls. Loop links that start
+ * rejected but are consistent with the graph's covariance start graduated (see
+ * scheduleLoopLinks below).
  *
  * LM (Nielsen's damping update): (H + lambda diag(H)) dx = -g, gain ratio = actual cost
  * decrease / decrease predicted by the weighted quadratic model.
@@ -14,16 +16,15 @@
 #include "lrgc/PoseGraphOptimizer.h"
 
 #include <cholmod.h>
-#include <Eigen/Cholesky>
-#include <Eigen/LU>
 #include <mrpt/config/CConfigFileBase.h>
 #include <mrpt/core/exceptions.h>
+#include <Eigen/Cholesky>
+#include <Eigen/LU>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <mutex>
-
 
 #include "PoseGraphProblem.h"
 #include "lrgc/params_io.h"
@@ -32,12 +33,13 @@
 namespace lrgc
 {
 // ----------------------------------------------------------------------------- parameters
-void TPoseGraphOptimizerParams::loadFromConfigFile(
-	const mrpt::config::CConfigFileBase& src, const std::string& s)
+void TPoseGraphOptimizerParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& src,
+												   const std::string& s)
 {
 	rejectUnknownKeys(TPoseGraphOptimizerParams(), src, s);
 	maxIterations = src.read_int(s, "max_iterations", maxIterations);
-	relativeCostTolerance = src.read_double(s, "relative_cost_tolerance", relativeCostTolerance);
+	relativeCostTolerance =
+		src.read_double(s, "relative_cost_tolerance", relativeCostTolerance);
 	stepTolerance = src.read_double(s, "step_tolerance", stepTolerance);
 	initialLambda = src.read_double(s, "initial_lambda", initialLambda);
 	robustLoopClosures = src.read_bool(s, "robust_loop_closures", robustLoopClosures);
@@ -51,8 +53,8 @@ void TPoseGraphOptimizerParams::loadFromConfigFile(
 	requireParam(rejectScale > 0 && rejectScale <= 1, s, "reject_scale", "must be in (0, 1]");
 }
 
-void TPoseGraphOptimizerParams::saveToConfigFile(
-	mrpt::config::CConfigFileBase& c, const std::string& s) const
+void TPoseGraphOptimizerParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
+												 const std::string& s) const
 {
 	const int np = mrpt::config::MRPT_SAVE_NAME_PADDING(),
 			  vp = mrpt::config::MRPT_SAVE_VALUE_PADDING();
@@ -80,9 +82,8 @@ void TPoseGraphOptimizerParams::saveToConfigFile(
  *   d e_xy  / d phi_j =  0
  *   d e_phi / d phi_j =  1                d e_phi / d phi_i = -1           [rad/rad]
  *   d e_phi / d t     =  0 */
-Eigen::Vector3d linkResidual(
-	const TPose2D& xi, const TPose2D& xj, const TPose2D& z, Eigen::Matrix3d* Ji,
-	Eigen::Matrix3d* Jj)
+Eigen::Vector3d linkResidual(const TPose2D& xi, const TPose2D& xj, const TPose2D& z,
+							 Eigen::Matrix3d* Ji, Eigen::Matrix3d* Jj)
 {
 	const TPose2D d = between(xi, xj);
 	const TPose2D e = between(z, d);
@@ -132,7 +133,7 @@ namespace
  * expanded to scalars, and kept with the symbolic factor while the pattern is unchanged. */
 class CCholmodSolver
 {
-   public:
+public:
 	CCholmodSolver()
 	{
 		cholmod_start(&m_c);
@@ -175,24 +176,29 @@ class CCholmodSolver
 		return dx.allFinite();
 	}
 
-	/** Rows and columns `idx` of the inverse of the factorised matrix. */
-	Eigen::MatrixXd inverseBlock(const std::vector<int>& idx)
+	/** J M^-1 J^T for the factorised matrix M and a 3 x n matrix J whose nonzero columns
+	 * are `idx` (holding Jc): three solves. */
+	Eigen::Matrix3d projectedInverse(const std::vector<int>& idx, const Eigen::MatrixXd& Jc)
 	{
-		const size_t n = m_A->nrow, c = idx.size();
-		cholmod_dense* b = cholmod_zeros(n, c, CHOLMOD_REAL, &m_c);
+		const size_t n = m_A->nrow;
+		cholmod_dense* b = cholmod_zeros(n, 3, CHOLMOD_REAL, &m_c);
 		ASSERT_(b != nullptr);
-		for (size_t j = 0; j < c; ++j) static_cast<double*>(b->x)[j * n + idx[j]] = 1.0;
+		double* bx = static_cast<double*>(b->x);
+		for (size_t k = 0; k < idx.size(); ++k)
+			for (int r = 0; r < 3; ++r) bx[r * n + idx[k]] = Jc(r, k);
 		cholmod_dense* x = cholmod_solve(CHOLMOD_A, m_L, b, &m_c);
 		cholmod_free_dense(&b, &m_c);
 		ASSERT_(x != nullptr);
-		Eigen::MatrixXd out(c, c);
-		for (size_t j = 0; j < c; ++j)
-			for (size_t i = 0; i < c; ++i) out(i, j) = static_cast<double*>(x->x)[j * n + idx[i]];
+		const double* xx = static_cast<const double*>(x->x);
+		Eigen::Matrix3d out = Eigen::Matrix3d::Zero();
+		for (int c = 0; c < 3; ++c)
+			for (size_t k = 0; k < idx.size(); ++k)
+				for (int r = 0; r < 3; ++r) out(r, c) += Jc(r, k) * xx[c * n + idx[k]];
 		cholmod_free_dense(&x, &m_c);
-		return out;
+		return 0.5 * (out + out.transpose());
 	}
 
-   private:
+private:
 	void analyze(const detail::TNormalEquations& ne)
 	{
 		if (m_L) cholmod_free_factor(&m_L, &m_c);
@@ -206,8 +212,8 @@ class CCholmodSolver
 		m_rowIdx = ne.rowIdx;
 
 		// Ordering of the block graph, expanded to the scalar unknowns.
-		cholmod_sparse* B = cholmod_allocate_sparse(
-			m, m, ne.blockRowIdx.size(), 1, 1, 1, CHOLMOD_PATTERN, &m_c);
+		cholmod_sparse* B = cholmod_allocate_sparse(m, m, ne.blockRowIdx.size(), 1, 1, 1,
+													CHOLMOD_PATTERN, &m_c);
 		ASSERT_(B != nullptr);
 		std::copy(ne.blockColPtr.begin(), ne.blockColPtr.end(), static_cast<int*>(B->p));
 		std::copy(ne.blockRowIdx.begin(), ne.blockRowIdx.end(), static_cast<int*>(B->i));
@@ -238,9 +244,9 @@ struct TPass
 
 /** LM on the problem's robust cost with kernel `k`, from prob.x, updating it. Stops when
  * the relative cost decrease < relTol, the step < stepTol, or after maxIterations. */
-TPass levenbergMarquardt(
-	detail::TProblem& prob, const detail::TCostKernel& k, const TPoseGraphOptimizerParams& p,
-	double relTol, int maxIterations, CCholmodSolver& solver, detail::TNormalEquations& ne)
+TPass levenbergMarquardt(detail::TProblem& prob, const detail::TCostKernel& k,
+						 const TPoseGraphOptimizerParams& p, double relTol, int maxIterations,
+						 CCholmodSolver& solver, detail::TNormalEquations& ne)
 {
 	TPass pass;
 	pass.converged = prob.varNode.empty();
@@ -293,25 +299,24 @@ TPass levenbergMarquardt(
 	return pass;
 }
 
-/* Which loop links start graduated. DCS alone is a local method: a loop link whose chi2 is
- * far beyond Phi at the start (a true loop arriving with the drift of a long cycle) gets a
- * tiny weight and would pull the map to itself only over very many iterations, so it would
- * end rejected although the graph can absorb it. Each loop link with chi2 > Phi is
- * therefore tested against the graph's own uncertainty: with H the DCS-weighted normal
- * matrix, Sigma = H^-1 restricted to the link's free endpoints and J = [J_from J_to],
- *     innovation chi2 = e^T (J Sigma J^T + Omega^-1)^-1 e  [-],
+/* Which loop links start graduated. DCS alone is a local method: a loop link that starts
+ * far outside its quadratic zone (a true loop arriving with the drift of a long cycle) gets
+ * a tiny weight and pulls the map to itself only over very many iterations, so it would end
+ * rejected although the graph can absorb it. Each loop link that would be reported rejected
+ * at the start (DCS scale s < rejectScale) is therefore tested against the graph's own
+ * uncertainty: with H the DCS-weighted normal matrix and J = [J_from J_to] (free endpoints),
+ *     innovation chi2 = e^T (J H^-1 J^T + Omega^-1)^-1 e  [-],
  * the chi2 the rest of the graph would take on if it closed the link (linearised). If it is
  * below 3 Phi, the bound of DCS's penalty for rejecting the link, the objective prefers the
  * link closed, and the link starts graduated: its own Phi begins at its chi2 (least squares
  * for it) and is divided by 4 per stage down to Phi (graduated non-convexity, after Yang et
- * al., RA-L 2020). A false link fails the test and is switched off by DCS at once. When
- * more than kMaxTested links are outside (a cold start from dead reckoning: no estimate to
- * test against yet), every one of them starts graduated. */
-constexpr size_t kMaxTested = 16;
+ * al., RA-L 2020). A false link fails the test and DCS switches it off at once. With more
+ * than kMaxTested such links (a cold start from dead reckoning: no estimate to test against
+ * yet) all of them start graduated. */
+constexpr size_t kMaxTested = 32;
 
-bool scheduleLoopLinks(
-	detail::TProblem& prob, const TPoseGraphOptimizerParams& p, CCholmodSolver& solver,
-	detail::TNormalEquations& ne)
+bool scheduleLoopLinks(detail::TProblem& prob, const TPoseGraphOptimizerParams& p,
+					   CCholmodSolver& solver, detail::TNormalEquations& ne)
 {
 	const detail::TCostKernel k{true, p.dcsPhi};
 	std::vector<size_t> outside;
@@ -321,7 +326,7 @@ bool scheduleLoopLinks(
 		if (!prob.links[i].loopClosure) continue;
 		const Eigen::Vector3d e = prob.residual(prob.links[i]);
 		chi2[i] = e.dot(prob.links[i].info * e);
-		if (chi2[i] > p.dcsPhi) outside.push_back(i);
+		if (k.scale(chi2[i], p.dcsPhi) < p.rejectScale) outside.push_back(i);
 	}
 	if (outside.empty()) return false;
 	prob.linearize(k, ne);
@@ -339,11 +344,11 @@ bool scheduleLoopLinks(
 				if (v >= 0)
 					for (int r = 0; r < 3; ++r) idx.push_back(3 * v + r);
 			Eigen::MatrixXd J(3, idx.size());
-			if (l.vi >= 0 && l.vj >= 0) J << Ji, Jj;
+			if (l.vi >= 0 && l.vj >= 0)
+				J << Ji, Jj;
 			else
 				J = l.vi >= 0 ? Ji : Jj;
-			const Eigen::Matrix3d S =
-				J * solver.inverseBlock(idx) * J.transpose() + l.info.inverse();
+			const Eigen::Matrix3d S = solver.projectedInverse(idx, J) + l.info.inverse();
 			if (e.dot(S.ldlt().solve(e)) >= 3 * p.dcsPhi) continue;  // inconsistent
 		}
 		l.phiStart = chi2[i];
@@ -385,9 +390,9 @@ TOptimizationReport CPoseGraphOptimizer::solve(detail::TProblem& prob) const
 	{
 		const bool last = !graduated || maxPhiStart / k.divisor <= k.phi;
 		const int budget = m_params.maxIterations - rep.iterations;
-		const TPass pass = levenbergMarquardt(
-			prob, k, m_params, last ? m_params.relativeCostTolerance : 1e-3,
-			last ? budget : std::min(5, budget), m_impl->solver, ne);
+		const TPass pass =
+			levenbergMarquardt(prob, k, m_params, last ? m_params.relativeCostTolerance : 1e-3,
+							   last ? budget : std::min(5, budget), m_impl->solver, ne);
 		rep.iterations += pass.iterations;
 		rep.converged = last && pass.converged;
 		if (last || rep.iterations >= m_params.maxIterations) break;

@@ -56,7 +56,8 @@ TProblem TProblem::wholeGraph(const CPoseGraph& g, size_t anchor)
 	for (size_t id = 0; id < g.numLinks(); ++id)
 	{
 		const TLink& l = g.link(id);
-		if (g.isLinkEnabled(id) && reached[l.from]) p.addLink(g, id, varOf[l.from], varOf[l.to]);
+		if (g.isLinkEnabled(id) && reached[l.from])
+			p.addLink(g, id, varOf[l.from], varOf[l.to]);
 	}
 	return p;
 }
@@ -70,12 +71,13 @@ TProblem TProblem::subset(const CPoseGraph& g, const std::vector<size_t>& freeNo
 	{
 		if (node >= g.numNodes())
 			THROW_EXCEPTION_FMT(
-				"CPoseGraphOptimizer::optimizeSubset: free node %zu out of range (graph has %zu "
+				"CPoseGraphOptimizer::optimizeSubset: free node %zu out of range (graph has "
+				"%zu "
 				"nodes)",
 				node, g.numNodes());
 		if (!varOf.emplace(node, static_cast<int>(p.varNode.size())).second)
-			THROW_EXCEPTION_FMT(
-				"CPoseGraphOptimizer::optimizeSubset: node %zu listed twice", node);
+			THROW_EXCEPTION_FMT("CPoseGraphOptimizer::optimizeSubset: node %zu listed twice",
+								node);
 		p.varNode.push_back(node);
 		p.x.push_back(g.pose(node));
 	}
@@ -83,11 +85,13 @@ TProblem TProblem::subset(const CPoseGraph& g, const std::vector<size_t>& freeNo
 	std::vector<int> parent(freeNodes.size());
 	std::iota(parent.begin(), parent.end(), 0);
 	std::vector<uint8_t> anchored(freeNodes.size(), 0);
-	const auto root = [&parent](int a) {
+	const auto root = [&parent](int a)
+	{
 		while (parent[a] != a) a = parent[a] = parent[parent[a]];
 		return a;
 	};
-	const auto varIndex = [&varOf](size_t node) {
+	const auto varIndex = [&varOf](size_t node)
+	{
 		const auto it = varOf.find(node);
 		return it == varOf.end() ? -1 : it->second;
 	};
@@ -111,14 +115,15 @@ TProblem TProblem::subset(const CPoseGraph& g, const std::vector<size_t>& freeNo
 	for (size_t k = 0; k < freeNodes.size(); ++k)
 		if (!anchored[root(static_cast<int>(k))])
 			THROW_EXCEPTION_FMT(
-				"CPoseGraphOptimizer::optimizeSubset: free node %zu has no chain of enabled links "
+				"CPoseGraphOptimizer::optimizeSubset: free node %zu has no chain of enabled "
+				"links "
 				"to a fixed node, so its pose is undetermined",
 				freeNodes[k]);
 	return p;
 }
 
-double TProblem::evaluate(
-	const std::vector<TPose2D>& xs, const TCostKernel& k, double* cost) const
+double TProblem::evaluate(const std::vector<TPose2D>& xs, const TCostKernel& k,
+						  double* cost) const
 {
 	double chi2 = 0, robust = 0;
 	for (const TProblemLink& l : links)
@@ -140,8 +145,7 @@ void TProblem::buildPattern(TNormalEquations& ne)
 	const size_t m = varNode.size();
 	std::vector<std::vector<int>> above(m);
 	for (const TProblemLink& l : links)
-		if (l.vi >= 0 && l.vj >= 0)
-			above[std::max(l.vi, l.vj)].push_back(std::min(l.vi, l.vj));
+		if (l.vi >= 0 && l.vj >= 0) above[std::max(l.vi, l.vj)].push_back(std::min(l.vi, l.vj));
 	for (auto& col : above)
 	{
 		std::sort(col.begin(), col.end());
@@ -187,14 +191,16 @@ void TProblem::linearize(const TCostKernel& k, TNormalEquations& ne)
 	std::fill(ne.values.begin(), ne.values.end(), 0.0);
 	ne.rhs.setZero(3 * static_cast<Eigen::Index>(varNode.size()));
 	// Adds M (3x3) into block (a, b), a <= b, upper triangle only when a == b.
-	const auto addDiag = [&ne](int v, const Eigen::Matrix3d& M) {
+	const auto addDiag = [&ne](int v, const Eigen::Matrix3d& M)
+	{
 		for (int c = 0; c < 3; ++c)
 		{
 			const int base = ne.diagPos[3 * v + c] - c;  // position of H(3v, 3v + c)
 			for (int r = 0; r <= c; ++r) ne.values[base + r] += M(r, c);
 		}
 	};
-	const auto addOff = [&ne](int a, int b, int blockIdx, const Eigen::Matrix3d& M) {
+	const auto addOff = [&ne](int a, int b, int blockIdx, const Eigen::Matrix3d& M)
+	{
 		for (int c = 0; c < 3; ++c)
 		{
 			const int base = ne.colPtr[3 * b + c] + 3 * blockIdx;
@@ -228,7 +234,8 @@ void TProblem::linearize(const TCostKernel& k, TNormalEquations& ne)
 		}
 		if (l.vi >= 0 && l.vj >= 0)
 		{
-			if (l.vi < l.vj) addOff(l.vi, l.vj, l.offBlock, Ji.transpose() * WJj);
+			if (l.vi < l.vj)
+				addOff(l.vi, l.vj, l.offBlock, Ji.transpose() * WJj);
 			else
 				addOff(l.vj, l.vi, l.offBlock, Jj.transpose() * WJi);
 		}
@@ -251,8 +258,8 @@ std::vector<size_t> TProblem::rejectedLoopLinks(const TCostKernel& k, double rej
 	return out;
 }
 
-Eigen::Vector3d TProblem::residual(
-	const TProblemLink& l, Eigen::Matrix3d* Ji, Eigen::Matrix3d* Jj) const
+Eigen::Vector3d TProblem::residual(const TProblemLink& l, Eigen::Matrix3d* Ji,
+								   Eigen::Matrix3d* Jj) const
 {
 	const TPose2D& a = l.vi >= 0 ? x[l.vi] : l.fixedFrom;
 	const TPose2D& b = l.vj >= 0 ? x[l.vj] : l.fixedTo;

@@ -17,7 +17,7 @@ namespace lrgc::detail
 struct TCostKernel
 {
 	bool robust = true;
-	double phi = 5.0;  // target Phi [chi2]
+	double phi = 5.0;      // target Phi [chi2]
 	double divisor = 1.0;  // grows 4x per graduated stage
 	double phiFor(double phiStart) const { return std::max(phi, phiStart / divisor); }
 	/** DCS scale s = min(1, 2 phi / (phi + chi2)); the link's weight is s^2. */
@@ -37,34 +37,34 @@ struct TNormalEquations
 {
 	std::vector<int> colPtr, rowIdx;
 	std::vector<double> values;
-	std::vector<int> diagPos;  // position of H(k, k) in values
-	Eigen::VectorXd rhs;  // g = sum J^T (s^2 Omega) e
+	std::vector<int> diagPos;                   // position of H(k, k) in values
+	Eigen::VectorXd rhs;                        // g = sum J^T (s^2 Omega) e
 	std::vector<int> blockColPtr, blockRowIdx;  // the same pattern, one entry per 3x3 block
 };
 
 struct TProblemLink
 {
-	size_t id = 0;  // link id in the graph
-	int vi = -1, vj = -1;  // variable index of from / to, -1 if held fixed
+	size_t id = 0;                           // link id in the graph
+	int vi = -1, vj = -1;                    // variable index of from / to, -1 if held fixed
 	mrpt::math::TPose2D fixedFrom, fixedTo;  // poses of fixed endpoints
 	mrpt::math::TPose2D z;
 	Eigen::Matrix3d info;
 	bool loopClosure = false;
-	int offBlock = -1;  // both free: index of the (min, max) block within its block column
+	int offBlock = -1;    // both free: index of the (min, max) block within its block column
 	double phiStart = 0;  // graduated schedule start (0: the target Phi from the start)
 };
 
 class TProblem
 {
-   public:
+public:
 	/** Every node joined to `anchor` by enabled links is free except `anchor`. O(n + m). */
 	static TProblem wholeGraph(const CPoseGraph& g, size_t anchor);
 	/** `freeNodes` free, everything else fixed; touches only their adjacency lists. */
 	static TProblem subset(const CPoseGraph& g, const std::vector<size_t>& freeNodes);
 
 	/** Returns the unweighted chi2 at poses `x` of the variables; *cost = robust cost. */
-	double evaluate(
-		const std::vector<mrpt::math::TPose2D>& x, const TCostKernel& k, double* cost) const;
+	double evaluate(const std::vector<mrpt::math::TPose2D>& x, const TCostKernel& k,
+					double* cost) const;
 	/** Fills `ne` at the current x (pattern computed on the first call). */
 	void linearize(const TCostKernel& k, TNormalEquations& ne);
 	/** Residual and unweighted chi2 of link l at the current x. */
@@ -74,11 +74,11 @@ class TProblem
 	std::vector<size_t> rejectedLoopLinks(const TCostKernel& k, double rejectScale) const;
 	void writeBack(CPoseGraph& g) const;
 
-	std::vector<size_t> varNode;  // variable k -> node index
+	std::vector<size_t> varNode;         // variable k -> node index
 	std::vector<mrpt::math::TPose2D> x;  // current poses of the variables (map <- robot)
 	std::vector<TProblemLink> links;
 
-   private:
+private:
 	void addLink(const CPoseGraph& g, size_t id, int vi, int vj);
 	void buildPattern(TNormalEquations& ne);
 	bool m_patternBuilt = false;

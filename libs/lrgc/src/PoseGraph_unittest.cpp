@@ -109,7 +109,10 @@ TEST(PoseGraph, SimulatorIsDeterministicAndConsistentWithTruth)
 	for (const TLink& l : a.graph.links())  // loop closures join poses in one grid cell
 	{
 		if (l.type == LinkType::LoopClosure)
-			EXPECT_LT(translationNorm(between(a.groundTruth[l.from], a.groundTruth[l.to])), 1e-9);
+		{
+			EXPECT_LT(translationNorm(between(a.groundTruth[l.from], a.groundTruth[l.to])),
+					  1e-9);
+		}
 	}
 }
 
@@ -134,7 +137,8 @@ TEST(PoseGraph, RoundTripThroughMrptGraphFile)
 	}
 	// The multimap reorders links by (from, to): compare sorted.
 	auto key = [](const TLink& l) { return std::make_tuple(l.from, l.to, l.toInFrom.x); };
-	auto sorted = [&](const CPoseGraph& g) {
+	auto sorted = [&](const CPoseGraph& g)
+	{
 		std::vector<TLink> v = g.links();
 		std::sort(v.begin(), v.end(), [&](auto& a, auto& b) { return key(a) < key(b); });
 		return v;

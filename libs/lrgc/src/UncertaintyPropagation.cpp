@@ -24,12 +24,14 @@ struct TLabel
 	bool settled = false;
 };
 
-double positionVariance(const Eigen::Matrix3d& c) { return c(0, 0) + c(1, 1); }
+double positionVariance(const Eigen::Matrix3d& c)
+{
+	return c(0, 0) + c(1, 1);
+}
 
 /** Covariance of (source <- v) = (source <- u) (+) (u <- v), first order. */
-Eigen::Matrix3d compound(
-	const TPose2D& uInSource, const Eigen::Matrix3d& covU, const TPose2D& vInU,
-	const Eigen::Matrix3d& covUV)
+Eigen::Matrix3d compound(const TPose2D& uInSource, const Eigen::Matrix3d& covU,
+						 const TPose2D& vInU, const Eigen::Matrix3d& covUV)
 {
 	const double c = std::cos(uInSource.phi), s = std::sin(uInSource.phi);
 	Eigen::Matrix3d J1 = Eigen::Matrix3d::Identity(), J2 = Eigen::Matrix3d::Identity();
@@ -45,14 +47,14 @@ Eigen::Matrix3d inverseCovariance(const TPose2D& z, const Eigen::Matrix3d& covZ)
 	const double c = std::cos(z.phi), s = std::sin(z.phi);
 	Eigen::Matrix3d J;
 	J << -c, -s, s * z.x - c * z.y,  //
-		s, -c, c * z.x + s * z.y,  //
+		s, -c, c * z.x + s * z.y,    //
 		0, 0, -1;
 	return J * covZ * J.transpose();
 }
 }  // namespace
 
-std::vector<TRelativeUncertainty> propagateUncertainty(
-	const CPoseGraph& g, size_t source, const TUncertaintyLimits& limits)
+std::vector<TRelativeUncertainty> propagateUncertainty(const CPoseGraph& g, size_t source,
+													   const TUncertaintyLimits& limits)
 {
 	if (source >= g.numNodes())
 		THROW_EXCEPTION_FMT(
@@ -79,7 +81,7 @@ std::vector<TRelativeUncertainty> propagateUncertainty(
 		const TPose2D uInSource = between(sourceInMap, g.pose(u));
 		out.push_back({u, uInSource, lu.cov});
 		if (limits.maxNodes && out.size() >= limits.maxNodes) break;
-		if (lu.key > maxVar) continue;  // returned, not expanded
+		if (lu.key > maxVar) continue;        // returned, not expanded
 		const Eigen::Matrix3d covU = lu.cov;  // `labels` may rehash below
 		for (size_t id : g.linksOf(u))
 		{
@@ -91,7 +93,8 @@ std::vector<TRelativeUncertainty> propagateUncertainty(
 			// Linearise at the current estimate of the link's relative pose.
 			const TPose2D vInU = between(g.pose(u), g.pose(v));
 			const Eigen::Matrix3d covUV =
-				l.from == u ? covLink : inverseCovariance(between(g.pose(v), g.pose(u)), covLink);
+				l.from == u ? covLink
+							: inverseCovariance(between(g.pose(v), g.pose(u)), covLink);
 			const Eigen::Matrix3d covV = compound(uInSource, covU, vInU, covUV);
 			const double keyV = positionVariance(covV);
 			auto [it, inserted] = labels.try_emplace(v, TLabel{covV, keyV});
@@ -113,8 +116,8 @@ double positionMahalanobis2(const TRelativeUncertainty& r)
 	if (d.squaredNorm() == 0) return 0.0;
 	const Eigen::LDLT<Eigen::Matrix2d> ldlt(r.cov.topLeftCorner<2, 2>());
 	if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().array() > 0).all())
-		THROW_EXCEPTION_FMT(
-			"positionMahalanobis2: position covariance of node %zu is singular", r.node);
+		THROW_EXCEPTION_FMT("positionMahalanobis2: position covariance of node %zu is singular",
+							r.node);
 	return d.dot(ldlt.solve(d));
 }
 

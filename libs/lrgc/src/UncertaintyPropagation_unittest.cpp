@@ -23,7 +23,8 @@ CPoseGraph chain(size_t n, bool reversed)
 	for (size_t i = 0; i < n; ++i) g.addNode({kStep * double(i), 0, 0});
 	for (size_t i = 0; i + 1 < n; ++i)
 	{
-		if (!reversed) g.addLink({i, i + 1, {kStep, 0, 0}, info, LinkType::Odometry});
+		if (!reversed)
+			g.addLink({i, i + 1, {kStep, 0, 0}, info, LinkType::Odometry});
 		else
 		{
 			// The covariance of (i+1 <- i) that makes (i <- i+1) have diag(kSx, kSy, kSphi)
@@ -73,7 +74,8 @@ TEST(UncertaintyPropagation, ChainEqualsTheAnalyticSum)
 			EXPECT_NEAR(r.nodeInSource.x, kStep * double(r.node), 1e-12);
 		}
 		for (size_t k = 1; k < res.size(); ++k)  // order of increasing position variance
-			EXPECT_GE(res[k].cov(0, 0) + res[k].cov(1, 1), res[k - 1].cov(0, 0) + res[k - 1].cov(1, 1));
+			EXPECT_GE(res[k].cov(0, 0) + res[k].cov(1, 1),
+					  res[k - 1].cov(0, 0) + res[k - 1].cov(1, 1));
 	}
 }
 
@@ -92,9 +94,9 @@ TEST(UncertaintyPropagation, FromTheEndOfTheChainTheLeverArmsShift)
 	const Eigen::Matrix3d fwd = analyticChainCov(double(n - 1));
 	EXPECT_NEAR(it->cov(0, 0), fwd(0, 0), 1e-12);
 	EXPECT_NEAR(it->cov(2, 2), fwd(2, 2), 1e-12);
-	EXPECT_NEAR(
-		it->cov(1, 1), m * kSy * kSy + kStep * kStep * kSphi * kSphi * m * (m + 1) * (2 * m + 1) / 6,
-		1e-12);
+	EXPECT_NEAR(it->cov(1, 1),
+				m * kSy * kSy + kStep * kStep * kSphi * kSphi * m * (m + 1) * (2 * m + 1) / 6,
+				1e-12);
 	EXPECT_GT(it->cov(1, 1), fwd(1, 1));
 	EXPECT_NEAR(it->nodeInSource.x, -kStep * double(n - 1), 1e-12);
 }

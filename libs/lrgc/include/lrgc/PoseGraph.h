@@ -25,8 +25,8 @@ namespace lrgc
 /** Where a link comes from. Only LoopClosure links are robustified by the optimizer. */
 enum class LinkType : uint8_t
 {
-	Odometry,  //!< dead reckoning between consecutive poses
-	ScanMatch,  //!< scan matching within the local registration window
+	Odometry,    //!< dead reckoning between consecutive poses
+	ScanMatch,   //!< scan matching within the local registration window
 	LoopClosure  //!< map correlation against the old map (may be wrong)
 };
 const char* toString(LinkType t);
@@ -42,7 +42,7 @@ struct TLink
 
 class CPoseGraph
 {
-   public:
+public:
 	/** Appends a node with pose (map <- robot); returns its index (0, 1, 2, ...). */
 	size_t addNode(const mrpt::math::TPose2D& nodeInMap);
 
@@ -72,16 +72,15 @@ class CPoseGraph
 
 	/** From an MRPT network with node ids 0..n-1 (throws otherwise). The .graph format has no
 	 * link types: a link to == from + 1 becomes Odometry, any other `nonSequentialType`. */
-	static CPoseGraph fromMrpt(
-		const mrpt::graphs::CNetworkOfPoses2DInf& net,
-		LinkType nonSequentialType = LinkType::LoopClosure);
+	static CPoseGraph fromMrpt(const mrpt::graphs::CNetworkOfPoses2DInf& net,
+							   LinkType nonSequentialType = LinkType::LoopClosure);
 
-   private:
+private:
 	void checkNode(size_t node, const char* where) const;
 
 	std::vector<mrpt::math::TPose2D> m_poses;
 	std::vector<TLink> m_links;
-	std::vector<uint8_t> m_enabled;  // per link
+	std::vector<uint8_t> m_enabled;                // per link
 	std::vector<std::vector<size_t>> m_adjacency;  // per node: incident link ids
 };
 
@@ -99,7 +98,7 @@ struct TSimulatedPoseGraph
  * the same cell that is more than 10 poses older. Measurements = truth (+) Gaussian noise with
  * standard deviations sigmaXY [m] and sigmaPhi [rad]; information = diag of the inverse
  * variances. Deterministic for a given seed. */
-TSimulatedPoseGraph simulateManhattanPoseGraph(
-	size_t numNodes, size_t gridSide, double sigmaXY, double sigmaPhi, uint32_t seed);
+TSimulatedPoseGraph simulateManhattanPoseGraph(size_t numNodes, size_t gridSide, double sigmaXY,
+											   double sigmaPhi, uint32_t seed);
 
 }  // namespace lrgc

@@ -49,8 +49,8 @@ struct TUncertaintyLimits
 
 /** Returns the source (zero covariance) and every reached node, in order of increasing
  * position variance. Throws if `source` is out of range. */
-std::vector<TRelativeUncertainty> propagateUncertainty(
-	const CPoseGraph& g, size_t source, const TUncertaintyLimits& limits = {});
+std::vector<TRelativeUncertainty> propagateUncertainty(const CPoseGraph& g, size_t source,
+													   const TUncertaintyLimits& limits = {});
 
 /** Squared Mahalanobis distance of the node's position from the source's, using the xy block
  * of `cov`: (x, y) C_xy^-1 (x, y)^T [-], the loop-closing gate of paper section 2.4. A zero
