@@ -38,7 +38,8 @@ void CMetricMapBuilderLRGC::initialize(
 	m_loopCloser.reset();
 	if (m_params.builder.loop_closing)
 		m_loopCloser = std::make_unique<CLoopCloser>(
-			m_params.loop, m_params.correlator, m_params.matcher, m_params.optimizer);
+			m_params.loop, m_params.correlator, m_params.matcher, m_params.optimizer,
+			m_params.local.link_noise);
 	m_graph = CPoseGraph();
 	m_keyframes.clear();
 	m_scans.clear();

@@ -19,6 +19,11 @@ void TLocalRegistrationParams::loadFromConfigFile(
 	glitch_gate_chi2 = c.read_double(s, "glitch_gate_chi2", glitch_gate_chi2);
 	wide_search_angle = mrpt::DEG2RAD(
 		c.read_double(s, "wide_search_angle_deg", mrpt::RAD2DEG(wide_search_angle)));
+	link_noise.floorXY = c.read_double(s, "link_floor_xy", link_noise.floorXY);
+	link_noise.floorPhi =
+		mrpt::DEG2RAD(c.read_double(s, "link_floor_phi_deg", mrpt::RAD2DEG(link_noise.floorPhi)));
+	requireParam(link_noise.floorXY >= 0, s, "link_floor_xy", "must be >= 0");
+	requireParam(link_noise.floorPhi >= 0, s, "link_floor_phi_deg", "must be >= 0");
 	requireParam(window_size >= 2 && window_size <= 100, s, "window_size", "must be in [2, 100]");
 	requireParam(
 		max_pairwise_links >= 1 && max_pairwise_links < window_size, s, "max_pairwise_links",
@@ -39,6 +44,8 @@ void TLocalRegistrationParams::saveToConfigFile(
 	c.write(s, "max_pairwise_links", uint64_t(max_pairwise_links), np, vp, "Pairwise scan-match links per new keyframe, spread over the window");
 	c.write(s, "min_link_inliers", min_link_inliers, np, vp, "Min fraction of matched points for a pairwise scan-match link");
 	c.write(s, "glitch_gate_chi2", glitch_gate_chi2, np, vp, "[chi2, 3 dof] Odometry/match disagreement that triggers the wide search");
+	c.write(s, "link_floor_xy", link_noise.floorXY, np, vp, "[m] Std added to every scan-match link (real-scan errors the matcher cannot see)");
+	c.write(s, "link_floor_phi_deg", mrpt::RAD2DEG(link_noise.floorPhi), np, vp, "[deg] Heading std added to every scan-match link");
 	c.write(s, "wide_search_angle_deg", mrpt::RAD2DEG(wide_search_angle), np, vp, "[deg] Half-width of the rotational search after an odometry glitch");
 }
 
@@ -138,7 +145,9 @@ size_t CLocalRegistration::linkAndOptimize(
 		const TPose2D guess = between(graph.pose(node), graph.pose(newNode));
 		const auto m = m_matcher.match(keyframeCloud(node, keyframes), keyframes[newNode].scan, guess);
 		if (!m || m->inlierFraction < m_params.min_link_inliers) continue;
-		graph.addLink({node, newNode, m->scanInRef, m->cov.inverse(), LinkType::ScanMatch});
+		graph.addLink(
+			{node, newNode, m->scanInRef, linkInformation(m->cov, m_params.link_noise, double(links)),
+			 LinkType::ScanMatch});
 		++added;
 	}
 	// Node 0 anchors the map frame (gauge): it never moves.

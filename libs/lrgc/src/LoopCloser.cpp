@@ -70,9 +70,11 @@ struct CLoopCloser::TCandidates
 
 CLoopCloser::CLoopCloser(
 	const TLoopCloserParams& p, const TPatchCorrelatorParams& correlator,
-	const TScanMatcherParams& matcher, const TPoseGraphOptimizerParams& optimizer)
+	const TScanMatcherParams& matcher, const TPoseGraphOptimizerParams& optimizer,
+	const TLinkNoise& linkNoise)
 	: m_params(p),
 	  m_matcherParams(matcher),
+	  m_linkNoise(linkNoise),
 	  m_correlator(correlator),
 	  m_matcher(matcher),
 	  m_optimizer(optimizer)
@@ -195,7 +197,7 @@ std::optional<TLoopClosure> CLoopCloser::process(CPoseGraph& graph, const TKeyfr
 	lc.newNode = newest;
 	lc.score = corr->score;
 	lc.ambiguity = corr->ambiguity;
-	const Eigen::Matrix3d info = match->cov.inverse();
+	const Eigen::Matrix3d info = linkInformation(match->cov, m_linkNoise);
 	lc.linkId = graph.addLink({oldNode, newest, match->scanInRef, info, LinkType::LoopClosure});
 	const Eigen::Vector3d e = linkResidual(oldInMap, newestInMap, match->scanInRef);
 	if (e.dot(info * e) > m_params.consistent_chi2)
@@ -241,7 +243,8 @@ size_t CLoopCloser::rematch(
 		const auto m = m_matcher.match(
 			CReferenceCloud::fromScan(keyframes[nearest].scan, m_matcherParams), keyframes[k].scan, guess);
 		if (!m) continue;
-		graph.addLink({nearest, k, m->scanInRef, m->cov.inverse(), LinkType::LoopClosure});
+		graph.addLink(
+			{nearest, k, m->scanInRef, linkInformation(m->cov, m_linkNoise), LinkType::LoopClosure});
 		++added;
 	}
 	return added;

@@ -20,6 +20,7 @@
 #pragma once
 
 #include <lrgc/Keyframe.h>
+#include <lrgc/LinkNoise.h>
 #include <lrgc/PoseGraph.h>
 #include <lrgc/PoseGraphOptimizer.h>
 #include <lrgc/ReferenceCloud.h>
@@ -39,6 +40,7 @@ struct TLocalRegistrationParams : public mrpt::config::CLoadableOptions
 	double min_link_inliers = 0.5;  //!< pairwise link only if this fraction of points matched
 	double glitch_gate_chi2 = 16.27;  //!< [chi2, 3 dof] prior/match disagreement (p = 0.001)
 	double wide_search_angle = mrpt::DEG2RAD(90.0);  //!< [rad] (key wide_search_angle_deg)
+	TLinkNoise link_noise;  //!< keys link_floor_xy [m], link_floor_phi_deg (see LinkNoise.h)
 
 	void loadFromConfigFile(
 		const mrpt::config::CConfigFileBase& c, const std::string& s) override;

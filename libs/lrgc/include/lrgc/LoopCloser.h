@@ -21,6 +21,7 @@
 #pragma once
 
 #include <lrgc/Keyframe.h>
+#include <lrgc/LinkNoise.h>
 #include <lrgc/PatchCorrelator.h>
 #include <lrgc/PoseGraph.h>
 #include <lrgc/PoseGraphOptimizer.h>
@@ -76,7 +77,8 @@ class CLoopCloser
    public:
 	CLoopCloser(
 		const TLoopCloserParams& p, const TPatchCorrelatorParams& correlator,
-		const TScanMatcherParams& matcher, const TPoseGraphOptimizerParams& optimizer);
+		const TScanMatcherParams& matcher, const TPoseGraphOptimizerParams& optimizer,
+		const TLinkNoise& linkNoise);
 
 	/** Looks for a loop for the newest keyframe and closes it. Returns the closure if a link
 	 * was added (the graph may have been optimised: callers refresh cached poses). */
@@ -94,6 +96,7 @@ class CLoopCloser
 
 	TLoopCloserParams m_params;
 	TScanMatcherParams m_matcherParams;
+	TLinkNoise m_linkNoise;
 	CPatchCorrelator m_correlator;
 	CScanMatcher m_matcher;
 	CPoseGraphOptimizer m_optimizer;

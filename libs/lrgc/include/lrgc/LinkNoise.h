@@ -1,0 +1,34 @@
+/* Information of a scan-match link in the graph.
+ *
+ * The matcher's covariance is honest for the noise it models (NEES ~3 on synthetic scenes),
+ * but real scans add errors it cannot see from one pair: surfaces sampled differently from two
+ * poses, beam width, motion during the sweep, timing. A floor (added covariance) keeps a
+ * link from claiming sub-millimetre precision. And when one scan takes part in `share` links
+ * of the same window, its information is split among them (conservative fusion), so the
+ * window does not count the same measurement `share` times:
+ *     Omega = ( C_match + diag(fxy^2, fxy^2, fphi^2) )^-1 / share
+ */
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/LU>
+
+namespace lrgc
+{
+struct TLinkNoise
+{
+	double floorXY = 0.01;  //!< [m]
+	double floorPhi = 0.0044;  //!< [rad]
+};
+
+inline Eigen::Matrix3d linkInformation(
+	const Eigen::Matrix3d& matchCov, const TLinkNoise& noise, double share = 1.0)
+{
+	const Eigen::Vector3d floor2(
+		noise.floorXY * noise.floorXY, noise.floorXY * noise.floorXY,
+		noise.floorPhi * noise.floorPhi);
+	const Eigen::Matrix3d C = matchCov + Eigen::Matrix3d(floor2.asDiagonal());
+	return C.inverse() / share;
+}
+
+}  // namespace lrgc
