@@ -19,6 +19,11 @@ void TLocalRegistrationParams::loadFromConfigFile(
 	glitch_gate_chi2 = c.read_double(s, "glitch_gate_chi2", glitch_gate_chi2);
 	wide_search_angle = mrpt::DEG2RAD(
 		c.read_double(s, "wide_search_angle_deg", mrpt::RAD2DEG(wide_search_angle)));
+	glitch_min_turn =
+		mrpt::DEG2RAD(c.read_double(s, "glitch_min_turn_deg", mrpt::RAD2DEG(glitch_min_turn)));
+	wide_after_failures = c.read_uint64_t(s, "wide_after_failures", wide_after_failures);
+	requireParam(glitch_min_turn >= 0, s, "glitch_min_turn_deg", "must be >= 0");
+	requireParam(wide_after_failures >= 1, s, "wide_after_failures", "must be >= 1");
 	link_noise.floorXY = c.read_double(s, "link_floor_xy", link_noise.floorXY);
 	link_noise.floorPhi =
 		mrpt::DEG2RAD(c.read_double(s, "link_floor_phi_deg", mrpt::RAD2DEG(link_noise.floorPhi)));
@@ -47,6 +52,8 @@ void TLocalRegistrationParams::saveToConfigFile(
 	c.write(s, "link_floor_xy", link_noise.floorXY, np, vp, "[m] Std added to every scan-match link (real-scan errors the matcher cannot see)");
 	c.write(s, "link_floor_phi_deg", mrpt::RAD2DEG(link_noise.floorPhi), np, vp, "[deg] Heading std added to every scan-match link");
 	c.write(s, "wide_search_angle_deg", mrpt::RAD2DEG(wide_search_angle), np, vp, "[deg] Half-width of the rotational search after an odometry glitch");
+	c.write(s, "glitch_min_turn_deg", mrpt::RAD2DEG(glitch_min_turn), np, vp, "[deg] A predicted step turning more than this is suspect: wide search if the match fails");
+	c.write(s, "wide_after_failures", uint64_t(wide_after_failures), np, vp, "... as after this many failed matches in a row");
 }
 
 CLocalRegistration::CLocalRegistration(
@@ -96,7 +103,7 @@ const CReferenceCloud& CLocalRegistration::keyframeCloud(size_t node, const TKey
 
 TRegistration CLocalRegistration::registerScan(
 	const CPoseGraph& graph, const TKeyframes& keyframes, const TScan2D& scan,
-	const mrpt::math::TPose2D& priorInMap, const Eigen::Matrix3d& priorCov)
+	const mrpt::math::TPose2D& priorInMap, const Eigen::Matrix3d& priorCov, double priorStepTurn)
 {
 	TRegistration reg{priorInMap, priorCov, false, false};
 	if (graph.numNodes() == 0) return reg;
@@ -110,10 +117,14 @@ TRegistration CLocalRegistration::registerScan(
 		return double(d.transpose() * (priorCov + m.cov).inverse() * d);
 	};
 	std::optional<TScanMatch> match = m_matcher.match(cloud, scan, guess);
-	if (!match && m_params.wide_search_angle > 0)
+	m_failuresInARow = match ? 0 : m_failuresInARow + 1;
+	const bool suspect = std::abs(priorStepTurn) > m_params.glitch_min_turn ||
+		m_failuresInARow >= m_params.wide_after_failures;
+	if (!match && suspect && m_params.wide_search_angle > 0)
 	{
 		match = m_matcher.matchWide(cloud, scan, guess, m_params.wide_search_angle);
 		reg.wideSearch = match.has_value();
+		if (match) m_failuresInARow = 0;
 	}
 	if (!match) return reg;
 

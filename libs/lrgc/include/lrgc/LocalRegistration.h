@@ -7,8 +7,10 @@
  * adjusts the last K poses, all older poses held fixed: constant cost per scan.
  *
  * Odometry glitches (the benchmark logs have single steps turning 60-85 deg wrongly): when the
- * match from the odometry prior fails, a wide rotational search around the prior is tried
- * (CScanMatcher::matchWide, tens of ms, so only then). Whenever the accepted match disagrees
+ * match from the odometry prior fails and the prior is suspect (its step turns more than
+ * glitch_min_turn, or matching has failed `wide_after_failures` scans in a row), a wide
+ * rotational search around the prior is tried (CScanMatcher::matchWide: tens of ms, and a
+ * symmetric corridor can fool it, so only then). Otherwise the prior is kept for that scan. Whenever the accepted match disagrees
  * with the prior beyond a chi-square gate, the odometry of that step is not trusted: the
  * odometry link of the keyframe is down-weighted to the constant-velocity noise, so it cannot
  * pull the map.
@@ -40,6 +42,8 @@ struct TLocalRegistrationParams : public mrpt::config::CLoadableOptions
 	double min_link_inliers = 0.5;  //!< pairwise link only if this fraction of points matched
 	double glitch_gate_chi2 = 16.27;  //!< [chi2, 3 dof] prior/match disagreement (p = 0.001)
 	double wide_search_angle = mrpt::DEG2RAD(90.0);  //!< [rad] (key wide_search_angle_deg)
+	double glitch_min_turn = mrpt::DEG2RAD(30.0);  //!< [rad] a step turning more is suspect (key glitch_min_turn_deg)
+	size_t wide_after_failures = 3;  //!< or this many failed matches in a row
 	TLinkNoise link_noise;  //!< keys link_floor_xy [m], link_floor_phi_deg (see LinkNoise.h)
 
 	void loadFromConfigFile(
@@ -68,7 +72,8 @@ class CLocalRegistration
 	 * priorInMap / priorCov: the motion prediction composed onto the previous scan's pose. */
 	TRegistration registerScan(
 		const CPoseGraph& graph, const TKeyframes& keyframes, const TScan2D& scan,
-		const mrpt::math::TPose2D& priorInMap, const Eigen::Matrix3d& priorCov);
+		const mrpt::math::TPose2D& priorInMap, const Eigen::Matrix3d& priorCov,
+		double priorStepTurn);
 
 	/** Links the newest node (just added to `graph` at its registered pose) to the window:
 	 * `odometryLink` (from the previous keyframe) plus pairwise scan matches, then optimises
@@ -91,6 +96,7 @@ class CLocalRegistration
 
 	CReferenceCloud m_cloud;  //!< window patch in the frame of node *m_cloudNewest
 	std::optional<size_t> m_cloudNewest;
+	size_t m_failuresInARow = 0;
 	/** Reference cloud of each window keyframe's own scan, for pairwise links. */
 	std::deque<std::pair<size_t, CReferenceCloud>> m_keyframeClouds;
 };
