@@ -22,6 +22,11 @@ void TLocalRegistrationParams::loadFromConfigFile(
 	glitch_min_turn =
 		mrpt::DEG2RAD(c.read_double(s, "glitch_min_turn_deg", mrpt::RAD2DEG(glitch_min_turn)));
 	wide_after_failures = c.read_uint64_t(s, "wide_after_failures", wide_after_failures);
+	max_free_space_violation =
+		c.read_double(s, "max_free_space_violation", max_free_space_violation);
+	requireParam(
+		max_free_space_violation >= 0 && max_free_space_violation <= 1, s,
+		"max_free_space_violation", "must be in [0, 1]");
 	requireParam(glitch_min_turn >= 0, s, "glitch_min_turn_deg", "must be >= 0");
 	requireParam(wide_after_failures >= 1, s, "wide_after_failures", "must be >= 1");
 	link_noise.floorXY = c.read_double(s, "link_floor_xy", link_noise.floorXY);
@@ -54,13 +59,16 @@ void TLocalRegistrationParams::saveToConfigFile(
 	c.write(s, "wide_search_angle_deg", mrpt::RAD2DEG(wide_search_angle), np, vp, "[deg] Half-width of the rotational search after an odometry glitch");
 	c.write(s, "glitch_min_turn_deg", mrpt::RAD2DEG(glitch_min_turn), np, vp, "[deg] A predicted step turning more than this is suspect: wide search if the match fails");
 	c.write(s, "wide_after_failures", uint64_t(wide_after_failures), np, vp, "... as after this many failed matches in a row");
+	c.write(s, "max_free_space_violation", max_free_space_violation, np, vp, "Local matches: tolerated fraction of points where the window saw free space");
 }
 
 CLocalRegistration::CLocalRegistration(
 	const TLocalRegistrationParams& p, const TScanMatcherParams& matcher,
 	const TPoseGraphOptimizerParams& optimizer)
-	: m_params(p), m_matcherParams(matcher), m_matcher(matcher), m_optimizer(optimizer)
+	: m_params(p), m_matcherParams(matcher), m_optimizer(optimizer)
 {
+	m_matcherParams.maxFreeSpaceViolation = p.max_free_space_violation;
+	m_matcher = CScanMatcher(m_matcherParams);
 }
 
 std::vector<size_t> CLocalRegistration::windowNodes(const CPoseGraph& graph) const

@@ -18,7 +18,7 @@ namespace lrgc
 struct TLinkNoise
 {
 	double floorXY = 0.01;  //!< [m]
-	double floorPhi = 0.0044;  //!< [rad]
+	double floorPhi = 0.25 * M_PI / 180;  //!< [rad] (0.25 deg)
 };
 
 inline Eigen::Matrix3d linkInformation(

@@ -44,6 +44,10 @@ struct TLocalRegistrationParams : public mrpt::config::CLoadableOptions
 	double wide_search_angle = mrpt::DEG2RAD(90.0);  //!< [rad] (key wide_search_angle_deg)
 	double glitch_min_turn = mrpt::DEG2RAD(30.0);  //!< [rad] a step turning more is suspect (key glitch_min_turn_deg)
 	size_t wide_after_failures = 3;  //!< or this many failed matches in a row
+	/** Free-space tolerance of local matches, replacing [ScanMatcher]'s: with an odometry
+	 * prior a wrong match is unlikely, while people walking through the window's scans and
+	 * glass make the strict loop-closing value reject good local matches on real logs. */
+	double max_free_space_violation = 0.3;
 	TLinkNoise link_noise;  //!< keys link_floor_xy [m], link_floor_phi_deg (see LinkNoise.h)
 
 	void loadFromConfigFile(

@@ -43,7 +43,7 @@ struct TScanMatcherParams : public mrpt::config::CLoadableOptions
 	int minInliers = 20;  //!< absolute minimum of inlier points
 	double maxRmsResidual_m = 0.1;  //!< [m] inlier RMS residual above it: no match
 	double minResidualStd_m = 0.003;  //!< [m] floor of the estimated residual scale
-	double maxFreeSpaceViolation = 0.3;  //!< of the scan points lying where the reference's
+	double maxFreeSpaceViolation = 0.15;  //!< of the scan points lying where the reference's
 										 //!< beams passed (free space); above it: no match
 	double unobservableStd_m = 1.0;  //!< [m] std reported along directions the data do not fix
 	double wideSearchStep = 7.5 * M_PI / 180;  //!< [rad] heading step of matchWide's starts
