@@ -56,12 +56,11 @@ Eigen::Matrix3d psdMaxOnSubspace(
 Eigen::Matrix3d modelScoreCovariance(
 	const CReferenceCloud& ref, const std::vector<TCorrespondence>& corr)
 {
-	thread_local std::vector<Eigen::Vector3d> g;
-	thread_local std::vector<Eigen::Matrix<double, 3, 2>> G;
-	thread_local std::vector<uint32_t> touched;
-	g.assign(ref.size(), Eigen::Vector3d::Zero());
-	G.resize(ref.size());
-	touched.clear();
+	// Per reference point: g_k (LINE fit terms) and G_k (POINT anchors), plus which are used.
+	std::vector<Eigen::Vector3d> g(ref.size(), Eigen::Vector3d::Zero());
+	std::vector<Eigen::Matrix<double, 3, 2>> G(ref.size(), Eigen::Matrix<double, 3, 2>::Zero());
+	std::vector<char> used(ref.size(), 0);
+	std::vector<uint32_t> touched;
 	Eigen::Matrix3d Bscan = Eigen::Matrix3d::Zero();
 	double sumW2e2 = 0, sumW2 = 0, rows = 0;
 	for (const auto& k : corr)
@@ -76,7 +75,7 @@ Eigen::Matrix3d modelScoreCovariance(
 			const double u = ref.anchors()[k.anchor].u + k.tOff;  // line coordinate of q
 			for (auto t = b; t != e; ++t)
 			{
-				if (g[t->point].isZero() && G[t->point].isZero()) touched.push_back(t->point);
+				if (!used[t->point]) used[t->point] = 1, touched.push_back(t->point);
 				const double beta = t->b0 + u * t->b1;
 				g[t->point] += k.w * beta * k.J0;
 			}
@@ -84,7 +83,7 @@ Eigen::Matrix3d modelScoreCovariance(
 		}
 		Bscan += k.w * k.w * (k.J0 * k.J0.transpose() + k.J1 * k.J1.transpose());
 		rows += 2;
-		if (g[k.anchor].isZero() && G[k.anchor].isZero()) touched.push_back(k.anchor);
+		if (!used[k.anchor]) used[k.anchor] = 1, touched.push_back(k.anchor);
 		G[k.anchor].col(0) += k.w * k.J0;
 		G[k.anchor].col(1) += k.w * k.J1;
 	}
@@ -98,8 +97,6 @@ Eigen::Matrix3d modelScoreCovariance(
 	{
 		B += ref.pointVariance(k) * (g[k] * g[k].transpose() + G[k] * G[k].transpose()) +
 			ref.anchors()[k].samplingVar * G[k] * G[k].transpose();
-		g[k].setZero();
-		G[k].setZero();
 	}
 	return B;
 }
