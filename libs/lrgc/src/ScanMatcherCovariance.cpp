@@ -1,24 +1,21 @@
-/* Covariance of a scan match and the truncated Gauss-Newton solve.
+/* Covariance of a scan match and the truncated Gauss-Newton solve (doc/scan-matching.md).
  *
- * Linearising the weighted normal equations at the optimum x*,
- *   sum_i w_i J_i^T e_i(x*) = 0   =>   dx = -H^-1 sum_i w_i J_i^T eps_i,   H = sum_i w_i J_i^T J_i,
- * so Cov(x) = H^-1 Cov(sum_i w_i J_i^T eps_i) H^-1. The i.i.d. textbook model takes
- * Cov(eps) = s^2 I and gives s^2 H^-1; it is over-confident because residuals are not
- * independent: all scan points matched to one stretch of reference wall share that stretch's
- * noise (the reference line fit, the reference scan's own range errors, discretisation,
- * residual miscalibration). We therefore group residuals by the reference cell (side
- * `cluster`, larger than the line-fit neighbourhood) of their anchor and use the
- * cluster-robust "sandwich" estimate
- *   B = G/(G-3) sum_g s_g s_g^T,   s_g = sum_{i in g} w_i J_i^T e_i,    Cov = H^-1 B H^-1,
- * (G clusters, G/(G-3) the small-sample correction for the 3 fitted parameters), which
- * measures the correlation from the data instead of assuming it away. The result is bounded
- * below (in the positive-semidefinite order) by s^2 H^-1, so few clusters cannot make it
- * smaller than the i.i.d. figure.
- *
- * All of this happens in scaled coordinates (tx, ty, L phi), L the RMS lever arm of the
- * correspondences [m], where the eigenvalues of H are comparable. Eigen-directions with
- * information below s^2 / unobservableStd^2 carry no usable information (a corridor's axis):
- * the step is zero there and the covariance is unobservableStd^2 (scaled units).
+ * At the optimum sum_i psi(e_i) J_i = 0 (psi(e) = w e, Cauchy). Linearising,
+ *   dx = -A^-1 sum_i psi(eps_i) J_i,   A = sum_i psi'(e_i) J_i J_i^T   ("bread"),
+ *   Cov(x) = A^-1 M A^-1,              M = Cov(sum_i psi_i J_i)        ("meat").
+ * The i.i.d. meat s^2 sum J J^T is over-confident: scan points matched to one stretch of
+ * reference wall share that stretch's noise. Two meats are formed and the larger kept (the
+ * smallest PSD upper bound of the two resulting covariances):
+ *  - model: independent scan noise (variance = the weighted residual variance, conservative)
+ *    plus the reference's noise propagated through its line fits (CReferenceCloud::fitTerms),
+ *    which correlates exactly the residuals that share fit points;
+ *  - data: leave-one-cluster-out jackknife over reference cells of side `cluster`,
+ *    (G-1)/G sum_g d_g d_g^T with d_g = (A - A_g)^-1 s_g, s_g = sum_{i in g} psi_i J_i, which
+ *    catches correlation the model does not know and corrects the leverage of the few clusters
+ *    that pin a direction.
+ * All in scaled coordinates (tx, ty, L phi), L the RMS lever arm [m], on the observable
+ * subspace; unobservable directions (information below s^2 / unobservableStd^2, or less than
+ * kSpurious times what the normals' noise alone fakes) get unobservableStd^2.
  */
 #include "ScanMatcherDetail.h"
 
@@ -56,12 +53,11 @@ Eigen::Matrix3d psdMaxOnSubspace(
 Eigen::Matrix3d modelScoreCovariance(
 	const CReferenceCloud& ref, const std::vector<TCorrespondence>& corr)
 {
-	thread_local std::vector<Eigen::Vector3d> g;
-	thread_local std::vector<Eigen::Matrix<double, 3, 2>> G;
-	thread_local std::vector<uint32_t> touched;
-	g.assign(ref.size(), Eigen::Vector3d::Zero());
-	G.resize(ref.size());
-	touched.clear();
+	// Per reference point: g_k (LINE fit terms) and G_k (POINT anchors), plus which are used.
+	std::vector<Eigen::Vector3d> g(ref.size(), Eigen::Vector3d::Zero());
+	std::vector<Eigen::Matrix<double, 3, 2>> G(ref.size(), Eigen::Matrix<double, 3, 2>::Zero());
+	std::vector<char> used(ref.size(), 0);
+	std::vector<uint32_t> touched;
 	Eigen::Matrix3d Bscan = Eigen::Matrix3d::Zero();
 	double sumW2e2 = 0, sumW2 = 0, rows = 0;
 	for (const auto& k : corr)
@@ -76,7 +72,7 @@ Eigen::Matrix3d modelScoreCovariance(
 			const double u = ref.anchors()[k.anchor].u + k.tOff;  // line coordinate of q
 			for (auto t = b; t != e; ++t)
 			{
-				if (g[t->point].isZero() && G[t->point].isZero()) touched.push_back(t->point);
+				if (!used[t->point]) used[t->point] = 1, touched.push_back(t->point);
 				const double beta = t->b0 + u * t->b1;
 				g[t->point] += k.w * beta * k.J0;
 			}
@@ -84,7 +80,7 @@ Eigen::Matrix3d modelScoreCovariance(
 		}
 		Bscan += k.w * k.w * (k.J0 * k.J0.transpose() + k.J1 * k.J1.transpose());
 		rows += 2;
-		if (g[k.anchor].isZero() && G[k.anchor].isZero()) touched.push_back(k.anchor);
+		if (!used[k.anchor]) used[k.anchor] = 1, touched.push_back(k.anchor);
 		G[k.anchor].col(0) += k.w * k.J0;
 		G[k.anchor].col(1) += k.w * k.J1;
 	}
@@ -98,8 +94,6 @@ Eigen::Matrix3d modelScoreCovariance(
 	{
 		B += ref.pointVariance(k) * (g[k] * g[k].transpose() + G[k] * G[k].transpose()) +
 			ref.anchors()[k].samplingVar * G[k] * G[k].transpose();
-		g[k].setZero();
-		G[k].setZero();
 	}
 	return B;
 }
@@ -145,7 +139,7 @@ Eigen::Matrix3d poseCovariance(
 	// Cauchy: psi(e) = w e with w = 1 / (1 + |e|^2 / c^2); its derivative (the "bread") is
 	// d psi / d e = w I - 2 w^2 e e^T / c^2, i.e. w (1 - e^2/c^2) / (1 + e^2/c^2) for one row.
 	const double c2 = c * c;
-	Eigen::Matrix3d Hpsi = Eigen::Matrix3d::Zero(), Biid = Eigen::Matrix3d::Zero();
+	Eigen::Matrix3d Hpsi = Eigen::Matrix3d::Zero();
 	struct TCluster
 	{
 		Eigen::Vector3d s = Eigen::Vector3d::Zero();  // score sum w J^T e
@@ -153,7 +147,6 @@ Eigen::Matrix3d poseCovariance(
 	};
 	std::unordered_map<uint64_t, TCluster> clusters;
 	clusters.reserve(corr.size());
-	size_t rows = 0;
 	for (const auto& k : corr)
 	{
 		Eigen::Vector3d s;
@@ -163,7 +156,6 @@ Eigen::Matrix3d poseCovariance(
 			s = k.w * k.e0 * k.J0;
 			const double d = k.w * (1 - 2 * k.w * k.e0 * k.e0 / c2);
 			Mk = std::max(0.0, d) * k.J0 * k.J0.transpose();
-			rows += 1;
 		}
 		else
 		{
@@ -175,10 +167,8 @@ Eigen::Matrix3d poseCovariance(
 			const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(D);
 			D = es.eigenvectors() * es.eigenvalues().cwiseMax(0.0).asDiagonal() * es.eigenvectors().transpose();
 			Mk = J * D * J.transpose();
-			rows += 2;
 		}
 		Hpsi += Mk;
-		Biid += s * s.transpose();
 		const auto ix = static_cast<int64_t>(std::floor(k.anchorPos.x() / cluster));
 		const auto iy = static_cast<int64_t>(std::floor(k.anchorPos.y() / cluster));
 		const uint64_t key = (static_cast<uint64_t>(static_cast<uint32_t>(ix)) << 32) |
@@ -187,8 +177,7 @@ Eigen::Matrix3d poseCovariance(
 		cl.s += s;
 		cl.M += Mk;
 	}
-	const double n = static_cast<double>(rows), G = static_cast<double>(clusters.size());
-	if (n > 3) Biid *= n / (n - 3);
+	const double G = static_cast<double>(clusters.size());
 
 	const Eigen::Matrix3d S = scaling(I.L);
 	const double minInfo = I.minInfo;
@@ -215,7 +204,6 @@ Eigen::Matrix3d poseCovariance(
 				if (I.observable[k]) HoInv(j, j) = 1 / I.lambda[k], ++j;
 		}
 		const Eigen::Matrix3d Hinv = P * HoInv * P.transpose();
-		const Eigen::Matrix3d Ciid = Hinv * (S * Biid * S) * Hinv;
 		const Eigen::Matrix3d Cmodel = Hinv * (S * Bmodel * S) * Hinv;
 		// Leave-one-cluster-out: delta_g = (H - M_g)^-1 s_g, eigenvalues of H - M_g floored at
 		// the unobservability threshold.
@@ -230,7 +218,6 @@ Eigen::Matrix3d poseCovariance(
 			Csand += P * d * d.transpose() * P.transpose();
 		}
 		Csand *= (G - 1) / G;
-		(void)Ciid;
 		Cs += G > 3 ? psdMaxOnSubspace(Csand, Cmodel, P) : Cmodel;
 	}
 	const Eigen::Matrix3d C = S * Cs * S;

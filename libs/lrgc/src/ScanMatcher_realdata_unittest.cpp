@@ -57,25 +57,6 @@ TEST(ScanMatcherRealData, senaConsecutiveScans)
 		++pairs;
 		const auto ref = CReferenceCloud::fromScan(scans[k - 1], params);
 		const auto m = matcher.match(ref, scans[k], odoSincePrev[k]);
-		if (!m && std::getenv("LRGC_DEBUG_TRIALS"))
-		{
-			for (double frac : {0.0})
-			{
-				TScanMatcherParams loose = params;
-				loose.maxFreeSpaceViolation = 1;
-				loose.minInlierFraction = frac;
-				loose.maxIterations = 300;
-				loose.maxRmsResidual_m = 1;
-				const auto l = CScanMatcher(loose).match(ref, scans[k], odoSincePrev[k]);
-				if (l)
-					std::cout << "  rejected " << k << ": inliers " << l->inlierFraction << " free "
-							  << l->freeSpaceViolation << " rms " << l->rmsResidual << " unobs "
-							  << l->unobservableDims << " correction "
-							  << translationNorm(between(odoSincePrev[k], l->scanInRef)) << "\n";
-				else
-					std::cout << "  rejected " << k << ": no convergence / too few points\n";
-			}
-		}
 		if (!m) continue;
 		++matched;
 		const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(m->cov);

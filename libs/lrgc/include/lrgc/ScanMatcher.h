@@ -7,16 +7,17 @@
  *   POINT anchor (Lu-Milios, point):    e_i = R(phi) p_i + t - a_j  (2 rows)          [m]
  * with the nearest anchor j (exact, within a gate that shrinks to a few residual sigmas), a
  * Cauchy weight w_i = 1 / (1 + (e_i / (2.385 s))^2) whose scale s is re-estimated from the
- * residuals every iteration (1.4826 * median |e|), and a closed-form 3x3 solve per iteration.
+ * residuals every iteration (1.4826 * median |e|), and a closed-form 3x3 solve per iteration;
+ * once steps are sub-millimetre the pairs are frozen so that ICP cannot cycle.
  *
- * Covariance of (x, y, phi) in ref: a cluster-robust sandwich H^-1 B H^-1 (H = sum w J^T J;
- * B = sum over reference cells g of s_g s_g^T, s_g = sum_{i in g} w_i J_i^T e_i). Residuals that
- * share a reference neighbourhood share its noise; the sandwich counts them as one piece of
- * evidence instead of many, which is what keeps it from being over-confident. It is bounded
- * below by the i.i.d. model s^2 H^-1. Directions whose information is too small to pin the
- * pose to better than unobservableStd_m (a featureless corridor's axis) are not moved from the
- * guess and get variance unobservableStd_m^2. See doc/scan-matching.md for derivation and
- * measured consistency (NEES).
+ * Covariance of (x, y, phi) in ref: M-estimator sandwich A^-1 M A^-1 (A from the Cauchy psi'),
+ * whose meat M is the larger of (a) a noise model that propagates the reference's own noise
+ * through its line fits, so residuals sharing a stretch of reference wall count as correlated,
+ * and (b) a leave-one-cluster-out jackknife over reference cells, which measures correlation
+ * from the data. Directions the data do not fix (a featureless corridor's axis: information
+ * below s^2 / unobservableStd_m^2, or not clearly above what the normals' noise fakes) keep the
+ * guess and get variance unobservableStd_m^2. Alignments that put either side's points in
+ * space the other side saw empty are rejected. Measured NEES: doc/scan-matching.md.
  */
 #pragma once
 
