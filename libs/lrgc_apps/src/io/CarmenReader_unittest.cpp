@@ -155,9 +155,11 @@ TEST(CarmenReader, GivesBeamAnglesAsTheDatasetsReadmeExplains)
 	const std::string path = writeLog(dir, "basic.clf", basicLog());
 	const double deg = M_PI / 180;
 	{
-		const auto r = readWholeLog(path);
+		TLogReaderOptions opts;
+		opts.carmen180BeamsFov = 180 * deg;  // the other reading: -90 .. +90, step 180/179
+		const auto r = readWholeLog(path, opts);
 		ASSERT_FALSE(r.error);
-		// 180 beams, default FOV 180 deg: -90 .. +90, step 180/179 deg.
+		// 180 beams, FOV 180 deg: -90 .. +90, step 180/179 deg.
 		const auto s180 = as<CObservation2DRangeScan>(r.entries[2]);
 		ASSERT_EQ(s180->getScanSize(), 180u);
 		EXPECT_NEAR(beamInRobot(*s180, 0), -90 * deg, 1e-6);
@@ -179,9 +181,7 @@ TEST(CarmenReader, GivesBeamAnglesAsTheDatasetsReadmeExplains)
 		EXPECT_FLOAT_EQ(s180->maxRange, 50.0f);
 	}
 	{
-		TLogReaderOptions opts;
-		opts.carmen180BeamsFov = 179 * deg;  // the other reading: step 1 deg, -90 .. +89
-		const auto r = readWholeLog(path, opts);
+		const auto r = readWholeLog(path);  // default FOV 179 deg: step 1 deg, -90 .. +89
 		const auto s180 = as<CObservation2DRangeScan>(r.entries[2]);
 		EXPECT_NEAR(beamInRobot(*s180, 0), -90 * deg, 1e-6);
 		EXPECT_NEAR(beamInRobot(*s180, 179), 89 * deg, 1e-6);

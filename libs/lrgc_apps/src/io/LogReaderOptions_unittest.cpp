@@ -7,7 +7,7 @@ using lrgc::apps::TLogReaderOptions;
 TEST(LogReaderOptions, RoundTripsThroughIniText)
 {
 	TLogReaderOptions a;
-	a.carmen180BeamsFov = 179 * M_PI / 180;
+	a.carmen180BeamsFov = 170 * M_PI / 180;
 	a.carmenMaxRange = 30;
 	mrpt::config::CConfigFileMemory ini;
 	a.saveToConfigFile(ini, "LogReader");
@@ -17,18 +17,18 @@ TEST(LogReaderOptions, RoundTripsThroughIniText)
 	EXPECT_NEAR(b.carmen180BeamsFov, a.carmen180BeamsFov, 1e-9);
 	EXPECT_DOUBLE_EQ(b.carmenMaxRange, 30);
 	EXPECT_NE(ini.getContent().find("carmen_180_beams_fov_deg"), std::string::npos);
-	EXPECT_NE(ini.getContent().find("179"), std::string::npos) << "saved in degrees";
+	EXPECT_NE(ini.getContent().find("170"), std::string::npos) << "saved in degrees";
 }
 
 TEST(LogReaderOptions, DefaultsAreTheDocumentedOnes)
 {
 	const TLogReaderOptions o;
-	EXPECT_DOUBLE_EQ(o.carmen180BeamsFov, M_PI);
+	EXPECT_DOUBLE_EQ(o.carmen180BeamsFov, 179 * M_PI / 180);
 	EXPECT_DOUBLE_EQ(o.carmenMaxRange, 50.0);
 	mrpt::config::CConfigFileMemory empty;
 	TLogReaderOptions p;
 	p.loadFromConfigFile(empty, "LogReader");
-	EXPECT_DOUBLE_EQ(p.carmen180BeamsFov, M_PI);
+	EXPECT_DOUBLE_EQ(p.carmen180BeamsFov, 179 * M_PI / 180);
 }
 
 TEST(LogReaderOptions, RejectsUnknownKeysAndBadValues)
