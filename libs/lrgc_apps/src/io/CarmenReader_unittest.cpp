@@ -134,7 +134,11 @@ TEST(CarmenReader, TakesEachScansOdometryFromItsOwnLine)
 TEST(CarmenReader, PlacesTheLaserOnTheRobotFromTheTwoPosesOfItsLine)
 {
 	const std::string dir = lrgc::test::makeTempDir("carmen_sensor_pose");
-	const auto r = readWholeLog(writeLog(dir, "basic.clf", basicLog()));
+	// FOV 180 deg: the aperture is symmetric, so sensorPose is exactly the line's laser pose
+	// (with 179 deg the reader turns it by -0.5 deg to centre the aperture).
+	TLogReaderOptions opts;
+	opts.carmen180BeamsFov = M_PI;
+	const auto r = readWholeLog(writeLog(dir, "basic.clf", basicLog()), opts);
 	ASSERT_FALSE(r.error);
 	const auto front = as<CObservation2DRangeScan>(r.entries[2]);
 	ASSERT_TRUE(front);
