@@ -86,6 +86,13 @@ def ratio(a, b, spec="%.2f"):
     return spec % (a / b)
 
 
+def latency_ratio(ours_ms, icp_ms):
+    """Latency ratio, but not against a near-zero icp-slam figure: icp-slam skips the scan
+    match for most scans (it matches only after 0.2 m or 5 deg of odometry), so its median
+    is often about 0 ms and a ratio to it means nothing."""
+    return ratio(ours_ms, icp_ms) if icp_ms >= 0.1 else "–"
+
+
 def relation_cells(run):
     rel = (run.eval or {}).get("relations")
     if not rel:
@@ -104,6 +111,8 @@ def ate_cells(run):
 
 
 def system_cells(run):
+    if not run.ok:
+        return ["–"] * 8
     lat = run.latency()
     return [fmt(run.scans, "%d"), fmt(run.data_duration_s, "%.0f"), fmt(run.wall_s, "%.1f"),
             fmt(run.cpu_s, "%.1f"), fmt(run.real_time_factor(), "%.1f"),
@@ -141,8 +150,8 @@ def real_rows(log_name, runs, published):
         lo, li = ours.latency(), icp.latency()
         rows.append([log_name, "ratio lrgc-slam / icp-slam", "", "", ratio(ours.wall_s, icp.wall_s),
                      ratio(ours.cpu_s, icp.cpu_s), "", ratio(ours.peak_rss_mb, icp.peak_rss_mb),
-                     ratio(lo[0], li[0]) + " / " + ratio(lo[1], li[1]) + " / " + ratio(lo[2], li[2])
-                     if lo and li else "–", "",
+                     " / ".join(latency_ratio(a, b) for a, b in zip(lo, li)) if lo and li else "–",
+                     "",
                      ratio(mean_of(ours, "translational_m"), mean_of(icp, "translational_m")),
                      ratio(mean_of(ours, "rotational_deg"), mean_of(icp, "rotational_deg")), ""])
     return rows
