@@ -102,8 +102,10 @@ def run_timed(cmd, workdir, name, timeout_s):
         return None, "no /usr/bin/time output (log: %s)" % log_file
     t = parse_gnu_time(time_file)
     if proc.returncode != 0:
-        return t, "exit code %d after %.1f s (log: %s)" % (
-            proc.returncode, time.monotonic() - t0, log_file)
+        with open(log_file, errors="replace") as f:
+            lines = [l.strip() for l in f if l.strip() and not l.startswith("\t")]
+        return t, "exit code %d after %.1f s: %s (log: %s)" % (
+            proc.returncode, time.monotonic() - t0, lines[-1][:200] if lines else "", log_file)
     return t, None
 
 

@@ -109,7 +109,7 @@ def run_log(tools, name, log_path, workdir, args, relations=None, ground_truth=N
 def tool_paths(build_dir):
     tools = {}
     for name in ("lrgc-slam", "lrgc-eval", "lrgc-plot"):
-        path = os.path.join(build_dir, "bin", name)
+        path = os.path.abspath(os.path.join(build_dir, "bin", name))
         if os.path.exists(path):
             tools[name] = path
     missing = [n for n in ("lrgc-slam", "lrgc-eval") if n not in tools]

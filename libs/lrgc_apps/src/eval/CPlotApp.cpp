@@ -239,7 +239,7 @@ TPlotSummary CPlotApp::render(const TPlotOptions& o)
 	cv::vconcat(parts, img);
 
 	std::vector<uchar> png;
-	if (!cv::imencode(".png", img, png))
+	if (!cv::imencode(".png", img, png, {cv::IMWRITE_PNG_COMPRESSION, 9}))
 		THROW_EXCEPTION_FMT("%s: PNG encoding failed", o.out.c_str());
 	writeTextFileAtomically(o.out, std::string(png.begin(), png.end()));
 
