@@ -8,6 +8,7 @@ PACKAGES=(
   libeigen3-dev libsuitesparse-dev libopencv-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   socat                                       # pseudo-terminals for the serial-laser tests
+  time                                        # /usr/bin/time -v for bench/run
 )
 missing=()
 for p in "${PACKAGES[@]}"; do
