@@ -8,6 +8,8 @@
 #include <mrpt/maps/CSimpleMap.h>
 #include <mrpt/serialization/CArchive.h>
 
+#include <unistd.h>
+
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -27,7 +29,8 @@ class SenaRun : public ::testing::Test
 	static void SetUpTestSuite()
 	{
 		if (!fileExists(senaRawlogPath())) return;
-		s_out = makeTempDir("sena_outputs");
+		// CTest runs each test in its own process, two at a time: one directory per process.
+		s_out = makeTempDir("sena_outputs_" + std::to_string(::getpid()));
 		s_result = runProcess(
 			binaryPath("lrgc-slam"), {"--input", senaRawlogPath(), "--out", s_out, "--quiet"});
 	}
