@@ -70,7 +70,7 @@ void CMetricMapBuilderLRGC::processScan(
 
 	// 2. Register locally against the last K keyframes.
 	const TRegistration reg =
-		m_local->registerScan(m_graph, m_keyframes, scan, priorInMap, prediction.cov, prediction.motion.phi);
+		m_local->registerScan(m_graph, m_keyframes, scan, priorInMap, prediction);
 	if (!reg.matched && m_graph.numNodes() > 0) ++m_stats.unmatchedScans;
 	if (reg.odometryRejected) ++m_stats.odometryRejected;
 	if (reg.wideSearch && reg.odometryRejected && prediction.fromOdometry)

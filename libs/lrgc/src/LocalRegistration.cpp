@@ -21,14 +21,14 @@ void TLocalRegistrationParams::loadFromConfigFile(
 		c.read_double(s, "wide_search_angle_deg", mrpt::RAD2DEG(wide_search_angle)));
 	glitch_min_turn =
 		mrpt::DEG2RAD(c.read_double(s, "glitch_min_turn_deg", mrpt::RAD2DEG(glitch_min_turn)));
-	wide_after_failures = c.read_uint64_t(s, "wide_after_failures", wide_after_failures);
+	glitch_min_gap = c.read_double(s, "glitch_min_gap", glitch_min_gap);
+	requireParam(glitch_min_gap > 0, s, "glitch_min_gap", "must be > 0");
 	max_free_space_violation =
 		c.read_double(s, "max_free_space_violation", max_free_space_violation);
 	requireParam(
 		max_free_space_violation >= 0 && max_free_space_violation <= 1, s,
 		"max_free_space_violation", "must be in [0, 1]");
 	requireParam(glitch_min_turn >= 0, s, "glitch_min_turn_deg", "must be >= 0");
-	requireParam(wide_after_failures >= 1, s, "wide_after_failures", "must be >= 1");
 	link_noise.floorXY = c.read_double(s, "link_floor_xy", link_noise.floorXY);
 	link_noise.floorPhi =
 		mrpt::DEG2RAD(c.read_double(s, "link_floor_phi_deg", mrpt::RAD2DEG(link_noise.floorPhi)));
@@ -58,7 +58,7 @@ void TLocalRegistrationParams::saveToConfigFile(
 	c.write(s, "link_floor_phi_deg", mrpt::RAD2DEG(link_noise.floorPhi), np, vp, "[deg] Heading std added to every scan-match link");
 	c.write(s, "wide_search_angle_deg", mrpt::RAD2DEG(wide_search_angle), np, vp, "[deg] Half-width of the rotational search after an odometry glitch");
 	c.write(s, "glitch_min_turn_deg", mrpt::RAD2DEG(glitch_min_turn), np, vp, "[deg] A predicted step turning more than this is suspect: wide search if the match fails");
-	c.write(s, "wide_after_failures", uint64_t(wide_after_failures), np, vp, "... as after this many failed matches in a row");
+	c.write(s, "glitch_min_gap", glitch_min_gap, np, vp, "[s] A step after a longer pause in the scans is suspect too");
 	c.write(s, "max_free_space_violation", max_free_space_violation, np, vp, "Local matches: tolerated fraction of points where the window saw free space");
 }
 
@@ -111,8 +111,9 @@ const CReferenceCloud& CLocalRegistration::keyframeCloud(size_t node, const TKey
 
 TRegistration CLocalRegistration::registerScan(
 	const CPoseGraph& graph, const TKeyframes& keyframes, const TScan2D& scan,
-	const mrpt::math::TPose2D& priorInMap, const Eigen::Matrix3d& priorCov, double priorStepTurn)
+	const mrpt::math::TPose2D& priorInMap, const TMotionPrediction& prediction)
 {
+	const Eigen::Matrix3d& priorCov = prediction.cov;
 	TRegistration reg{priorInMap, priorCov, false, false};
 	if (graph.numNodes() == 0) return reg;
 	const CReferenceCloud& cloud = windowCloud(graph, keyframes);
@@ -125,15 +126,26 @@ TRegistration CLocalRegistration::registerScan(
 		return double(d.transpose() * (priorCov + m.cov).inverse() * d);
 	};
 	std::optional<TScanMatch> match = m_matcher.match(cloud, scan, guess);
-	m_failuresInARow = match ? 0 : m_failuresInARow + 1;
-	const bool suspect = std::abs(priorStepTurn) > m_params.glitch_min_turn ||
-		m_failuresInARow >= m_params.wide_after_failures;
-	if (!match && suspect && m_params.wide_search_angle > 0)
+	const bool disagrees = match && disagreement(*match) > m_params.glitch_gate_chi2;
+	// A pause in the scans or a large predicted turn, and the plain match failed or
+	// contradicts the prior: the odometry may lag or jump, so the wide search decides (it
+	// has its own ambiguity check) and may overrule the prior.
+	const bool suspect = std::abs(prediction.motion.phi) > m_params.glitch_min_turn ||
+		prediction.stepSeconds > m_params.glitch_min_gap;
+	if (suspect && (!match || disagrees) && m_params.wide_search_angle > 0)
 	{
-		match = m_matcher.matchWide(cloud, scan, guess, m_params.wide_search_angle);
-		reg.wideSearch = match.has_value();
-		if (match) m_failuresInARow = 0;
+		if (auto wide = m_matcher.matchWide(cloud, scan, guess, m_params.wide_search_angle))
+		{
+			match = wide;
+			reg.wideSearch = true;
+		}
 	}
+	// Wheels that did not turn at all are the one odometry reading to trust over a match
+	// that moves the robot: such a match is a wrong fit (people walking by a robot that
+	// stands still, a rotationally ambiguous place); keep the prior.
+	else if (disagrees && translationNorm(prediction.motion) < 1e-3 &&
+			 std::abs(prediction.motion.phi) < 1e-3)
+		match.reset();
 	if (!match) return reg;
 
 	reg.matched = true;

@@ -7,6 +7,7 @@
 #include <mrpt/core/bits_math.h>
 #include <mrpt/system/datetime.h>
 
+#include <algorithm>
 #include <cmath>
 
 namespace lrgc
@@ -72,6 +73,8 @@ Eigen::Matrix3d CMotionPredictor::odometryCov(const mrpt::math::TPose2D& d) cons
 TMotionPrediction CMotionPredictor::predict(mrpt::Clock::time_point t) const
 {
 	TMotionPrediction pred;
+	if (m_lastScanTime)
+		pred.stepSeconds = std::max(0.0, mrpt::system::timeDifference(*m_lastScanTime, t));
 	if (m_params.use_odometry && m_odomNow && m_odomAtScan)
 	{
 		pred.motion = between(*m_odomAtScan, *m_odomNow);

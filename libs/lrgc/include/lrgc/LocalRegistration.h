@@ -6,14 +6,15 @@
  * pairwise scan match, and consistent pose estimation (Lu & Milios 1997) over the window only
  * adjusts the last K poses, all older poses held fixed: constant cost per scan.
  *
- * Odometry glitches (the benchmark logs have single steps turning 60-85 deg wrongly): when the
- * match from the odometry prior fails and the prior is suspect (its step turns more than
- * glitch_min_turn, or matching has failed `wide_after_failures` scans in a row), a wide
- * rotational search around the prior is tried (CScanMatcher::matchWide: tens of ms, and a
- * symmetric corridor can fool it, so only then). Otherwise the prior is kept for that scan. Whenever the accepted match disagrees
- * with the prior beyond a chi-square gate, the odometry of that step is not trusted: the
- * odometry link of the keyframe is down-weighted to the constant-velocity noise, so it cannot
- * pull the map.
+ * Odometry glitches (the benchmark logs have single steps turning 60-85 deg wrongly, after
+ * pauses of seconds in the scans): a step is suspect when its predicted turn exceeds
+ * glitch_min_turn or the scans paused for more than glitch_min_gap. If then the plain match
+ * fails or contradicts the prior beyond the chi-square gate, a wide rotational search around
+ * the prior (CScanMatcher::matchWide: tens of ms, so only then) decides and may overrule the
+ * odometry; the keyframe's odometry link is then down-weighted to the constant-velocity noise
+ * so it cannot pull the map. Otherwise the scans win over the odometry, except when the wheels
+ * did not move at all: a match moving a robot that stands still is a wrong fit (people
+ * walking by, a rotationally ambiguous place), and the prior is kept.
  *
  * Cost per keyframe: one patch build, at most `max_pairwise_links` pairwise matches against
  * reference clouds cached per window keyframe, and a window solve; none depends on the map
@@ -23,6 +24,7 @@
 
 #include <lrgc/Keyframe.h>
 #include <lrgc/LinkNoise.h>
+#include <lrgc/MotionPredictor.h>
 #include <lrgc/PoseGraph.h>
 #include <lrgc/PoseGraphOptimizer.h>
 #include <lrgc/ReferenceCloud.h>
@@ -43,7 +45,7 @@ struct TLocalRegistrationParams : public mrpt::config::CLoadableOptions
 	double glitch_gate_chi2 = 16.27;  //!< [chi2, 3 dof] prior/match disagreement (p = 0.001)
 	double wide_search_angle = mrpt::DEG2RAD(90.0);  //!< [rad] (key wide_search_angle_deg)
 	double glitch_min_turn = mrpt::DEG2RAD(30.0);  //!< [rad] a step turning more is suspect (key glitch_min_turn_deg)
-	size_t wide_after_failures = 3;  //!< or this many failed matches in a row
+	double glitch_min_gap = 1.0;  //!< [s] a step after a longer pause in the scans is suspect
 	/** Free-space tolerance of local matches, replacing [ScanMatcher]'s: with an odometry
 	 * prior a wrong match is unlikely, while people walking through the window's scans and
 	 * glass make the strict loop-closing value reject good local matches on real logs. */
@@ -73,11 +75,10 @@ class CLocalRegistration
 		const TPoseGraphOptimizerParams& optimizer);
 
 	/** Matches `scan` against the window of the newest keyframes of `graph`.
-	 * priorInMap / priorCov: the motion prediction composed onto the previous scan's pose. */
+	 * priorInMap: `prediction` composed onto the previous scan's pose. */
 	TRegistration registerScan(
 		const CPoseGraph& graph, const TKeyframes& keyframes, const TScan2D& scan,
-		const mrpt::math::TPose2D& priorInMap, const Eigen::Matrix3d& priorCov,
-		double priorStepTurn);
+		const mrpt::math::TPose2D& priorInMap, const TMotionPrediction& prediction);
 
 	/** Links the newest node (just added to `graph` at its registered pose) to the window:
 	 * `odometryLink` (from the previous keyframe) plus pairwise scan matches, then optimises
@@ -100,7 +101,6 @@ class CLocalRegistration
 
 	CReferenceCloud m_cloud;  //!< window patch in the frame of node *m_cloudNewest
 	std::optional<size_t> m_cloudNewest;
-	size_t m_failuresInARow = 0;
 	/** Reference cloud of each window keyframe's own scan, for pairwise links. */
 	std::deque<std::pair<size_t, CReferenceCloud>> m_keyframeClouds;
 };

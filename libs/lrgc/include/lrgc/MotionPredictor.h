@@ -46,6 +46,7 @@ struct TMotionPrediction
 	mrpt::math::TPose2D motion;  //!< (lastScan <- newScan) in the last scan's robot frame
 	Eigen::Matrix3d cov = Eigen::Matrix3d::Identity();  //!< of motion (x, y, phi)
 	bool fromOdometry = false;
+	double stepSeconds = 0;  //!< time since the last committed scan [s] (0 if unknown)
 };
 
 class CMotionPredictor
