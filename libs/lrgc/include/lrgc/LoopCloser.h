@@ -41,7 +41,7 @@ struct TLoopCloserParams : public mrpt::config::CLoadableOptions
 	double gate_sigma = 3.0;  //!< Mahalanobis gate on the candidates' position [-]
 	double overlap_radius = 3.0;  //!< [m] poses this close can see the same walls
 	double window_sigmas = 3.0;  //!< search half-window in standard deviations [-]
-	double max_window_xy = 6.0;  //!< [m] cap of the translational search half-window
+	double max_window_xy = 15.0;  //!< [m] cap of the translational search half-window
 	double max_window_theta = mrpt::DEG2RAD(30.0);  //!< [rad] (key max_window_theta_deg)
 	double consistent_chi2 = 11.34;  //!< [chi2, 3 dof] a link agreeing this well needs no solve
 	size_t check_every = 1;  //!< look for a loop every this many keyframes
