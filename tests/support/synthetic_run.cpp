@@ -114,6 +114,34 @@ std::vector<TPose2D> trueKeyframePoses(
 	return out;
 }
 
+void rebuildOdometryPoses(TTrajectory& tr)
+{
+	tr.odometryPoses.resize(1);
+	for (const auto& inc : tr.odometryIncrements)
+		tr.odometryPoses.push_back(lrgc::compose(tr.odometryPoses.back(), inc));
+}
+
+CSyntheticWorld makeRingCorridorWorld(double W, double H, double w, uint32_t seed, int boxes)
+{
+	ASSERT_(W > 2 * w && H > 2 * w && w > 0.6);
+	CSyntheticWorld world;
+	world.addPolygon({{0, 0}, {W, 0}, {W, H}, {0, H}});
+	world.addPolygon({{w, w}, {W - w, w}, {W - w, H - w}, {w, H - w}});
+	std::mt19937 rng(seed);
+	std::uniform_real_distribution<double> u(0, 1);
+	for (int i = 0; i < boxes; ++i)
+	{
+		const int side = std::min(3, int(u(rng) * 4));
+		const double s = u(rng), h = 0.15;
+		const Eigen::Vector2d c = side == 0 ? Eigen::Vector2d(w + s * (W - 2 * w), h)
+			: side == 1						 ? Eigen::Vector2d(W - h, w + s * (H - 2 * w))
+			: side == 2						 ? Eigen::Vector2d(w + s * (W - 2 * w), H - h)
+											 : Eigen::Vector2d(h, w + s * (H - 2 * w));
+		world.addBox(c, h, h);
+	}
+	return world;
+}
+
 double minClearance(const CSyntheticWorld& world, const std::vector<TPose2D>& poses)
 {
 	double best = 1e18;

@@ -68,6 +68,16 @@ TTrajectoryError trajectoryError(
 std::vector<mrpt::math::TPose2D> trueKeyframePoses(
 	const lrgc::CMetricMapBuilderLRGC& builder, const std::vector<mrpt::math::TPose2D>& truth);
 
+/** Recomputes tr.odometryPoses from tr.odometryIncrements (after a test edited them: a glitch,
+ * wheel slip). */
+void rebuildOdometryPoses(TTrajectory& tr);
+
+/** A rectangular ring corridor (an office floor around a central block): outer walls
+ * (0,0)-(W,H), inner block (w,w)-(W-w,H-w), and `boxes` small boxes (0.3 m) against the
+ * outer walls at seeded places, so that motion along a corridor is observable only near a
+ * box or a corner. */
+CSyntheticWorld makeRingCorridorWorld(double W, double H, double w, uint32_t seed, int boxes);
+
 /** Smallest distance [m] from the polyline of `poses` to the world's segments. */
 double minClearance(const CSyntheticWorld& world, const std::vector<mrpt::math::TPose2D>& poses);
 
