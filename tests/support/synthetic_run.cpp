@@ -2,6 +2,7 @@
 
 #include <lrgc/se2.h>
 #include <mrpt/core/exceptions.h>
+#include <mrpt/core/format.h>
 #include <mrpt/obs/CObservationOdometry.h>
 #include <mrpt/poses/CPose2D.h>
 #include <mrpt/poses/CPose3D.h>
@@ -112,6 +113,35 @@ std::vector<TPose2D> trueKeyframePoses(
 		out.push_back(lrgc::between(truth.front(), truth[kf.scanIndex]));
 	}
 	return out;
+}
+
+TLoopLinkAudit auditLoopLinks(
+	const lrgc::CMetricMapBuilderLRGC& builder, const std::vector<TPose2D>& truth, double maxXY,
+	double maxPhi)
+{
+	const auto kfTruth = trueKeyframePoses(builder, truth);
+	const auto& g = builder.graph();
+	TLoopLinkAudit a;
+	for (size_t id = 0; id < g.numLinks(); ++id)
+	{
+		const auto& l = g.link(id);
+		if (l.type != lrgc::LinkType::LoopClosure) continue;
+		const TPose2D d = lrgc::between(lrgc::between(kfTruth[l.from], kfTruth[l.to]), l.toInFrom);
+		const double dxy = lrgc::translationNorm(d), dphi = std::abs(d.phi);
+		const bool ok = dxy <= maxXY && dphi <= maxPhi;
+		if (!g.isLinkEnabled(id))
+		{
+			++(ok ? a.disabledTrue : a.disabledFalse);
+			continue;
+		}
+		++(ok ? a.enabledTrue : a.enabledFalse);
+		a.worstEnabledXY = std::max(a.worstEnabledXY, dxy);
+		a.worstEnabledPhi = std::max(a.worstEnabledPhi, dphi);
+		if (!ok && a.firstEnabledFalse.empty())
+			a.firstEnabledFalse = mrpt::format(
+				"%zu -> %zu: %.2f m, %.1f deg off the truth", l.from, l.to, dxy, dphi * 180 / M_PI);
+	}
+	return a;
 }
 
 void rebuildOdometryPoses(TTrajectory& tr)

@@ -68,6 +68,19 @@ TTrajectoryError trajectoryError(
 std::vector<mrpt::math::TPose2D> trueKeyframePoses(
 	const lrgc::CMetricMapBuilderLRGC& builder, const std::vector<mrpt::math::TPose2D>& truth);
 
+/** The LoopClosure links of the builder's graph against the ground truth: a link is true if
+ * its measurement agrees with the true relative pose within maxXY [m] and maxPhi [rad]. */
+struct TLoopLinkAudit
+{
+	size_t enabledTrue = 0, enabledFalse = 0;  //!< in the final map
+	size_t disabledTrue = 0, disabledFalse = 0;  //!< rejected by the back-end
+	double worstEnabledXY = 0, worstEnabledPhi = 0;  //!< [m], [rad] disagreement with truth
+	std::string firstEnabledFalse;  //!< "from -> to: ..." for the failure message
+};
+TLoopLinkAudit auditLoopLinks(
+	const lrgc::CMetricMapBuilderLRGC& builder, const std::vector<mrpt::math::TPose2D>& truth,
+	double maxXY, double maxPhi);
+
 /** Recomputes tr.odometryPoses from tr.odometryIncrements (after a test edited them: a glitch,
  * wheel slip). */
 void rebuildOdometryPoses(TTrajectory& tr);
