@@ -128,7 +128,9 @@ TLoopLinkAudit auditLoopLinks(
 		if (l.type != lrgc::LinkType::LoopClosure) continue;
 		const TPose2D d = lrgc::between(lrgc::between(kfTruth[l.from], kfTruth[l.to]), l.toInFrom);
 		const double dxy = lrgc::translationNorm(d), dphi = std::abs(d.phi);
-		const bool ok = dxy <= maxXY && dphi <= maxPhi;
+		const Eigen::Vector3d e = lrgc::toVector(d);
+		const double chi2 = e.dot(l.information * e);
+		const bool ok = (dxy <= maxXY && dphi <= maxPhi) || chi2 <= 16.27;
 		if (!g.isLinkEnabled(id))
 		{
 			++(ok ? a.disabledTrue : a.disabledFalse);
@@ -137,9 +139,11 @@ TLoopLinkAudit auditLoopLinks(
 		++(ok ? a.enabledTrue : a.enabledFalse);
 		a.worstEnabledXY = std::max(a.worstEnabledXY, dxy);
 		a.worstEnabledPhi = std::max(a.worstEnabledPhi, dphi);
+		a.worstEnabledChi2 = std::max(a.worstEnabledChi2, chi2);
 		if (!ok && a.firstEnabledFalse.empty())
 			a.firstEnabledFalse = mrpt::format(
-				"%zu -> %zu: %.2f m, %.1f deg off the truth", l.from, l.to, dxy, dphi * 180 / M_PI);
+				"%zu -> %zu: %.2f m, %.1f deg off the truth, chi2 %.1f", l.from, l.to, dxy,
+				dphi * 180 / M_PI, chi2);
 	}
 	return a;
 }
