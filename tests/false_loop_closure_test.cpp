@@ -26,7 +26,7 @@ struct TBuiltMap
 {
 	CPoseGraph graph;
 	std::vector<TPose2D> truth;  //!< true keyframe poses in the map frame
-	size_t loopLinks = 0;  //!< enabled LoopClosure links the builder added
+	size_t loopLinks = 0;        //!< enabled LoopClosure links the builder added
 };
 
 const TBuiltMap& builtMap()
@@ -34,8 +34,8 @@ const TBuiltMap& builtMap()
 	static const TBuiltMap m = []
 	{
 		const auto world = makeRepeatedRoomsWorld(3, 2, 6.0, 1.0);
-		const auto tr = makeTrajectory(
-			{{1.5, 3}, {15, 3}, {15, 9}, {3, 9}, {3, 3}, {10, 3}}, 0.2, TOdometryNoise{}, 13);
+		const auto tr = makeTrajectory({{1.5, 3}, {15, 3}, {15, 9}, {3, 9}, {3, 3}, {10, 3}},
+									   0.2, TOdometryNoise{}, 13);
 		TSyntheticRunOptions opt;
 		opt.laser.maxRange = 10;
 		lrgc::CMetricMapBuilderLRGC builder;
@@ -43,7 +43,7 @@ const TBuiltMap& builtMap()
 		TBuiltMap b{builder.graph(), trueKeyframePoses(builder, tr.truePoses), 0};
 		for (size_t id = 0; id < b.graph.numLinks(); ++id)
 			b.loopLinks += b.graph.link(id).type == lrgc::LinkType::LoopClosure &&
-				b.graph.isLinkEnabled(id);
+						   b.graph.isLinkEnabled(id);
 		return b;
 	}();
 	return m;
@@ -56,7 +56,10 @@ struct TFalseLink
 	std::function<TLink(const std::vector<TPose2D>&)> make;
 	double minBendWithoutDcs;  //!< [m] least squares must move some pose at least this much
 };
-void PrintTo(const TFalseLink& f, std::ostream* os) { *os << f.name; }
+void PrintTo(const TFalseLink& f, std::ostream* os)
+{
+	*os << f.name;
+}
 
 TLink confident(size_t from, size_t to, const TPose2D& z)
 {
@@ -67,8 +70,8 @@ TLink confident(size_t from, size_t to, const TPose2D& z)
 
 /** The first pair (a, b) whose true relation is close to `offset` in the map frame, with
  * headings differing by less than maxTurn [rad]. */
-std::pair<size_t, size_t> pairAt(
-	const std::vector<TPose2D>& t, const Eigen::Vector2d& offset, double tol, double maxTurn = 0.1)
+std::pair<size_t, size_t> pairAt(const std::vector<TPose2D>& t, const Eigen::Vector2d& offset,
+								 double tol, double maxTurn = 0.1)
 {
 	for (size_t a = 0; a < t.size(); ++a)
 		for (size_t b = a + 1; b < t.size(); ++b)
@@ -88,7 +91,8 @@ double maxPositionChange(const CPoseGraph& a, const CPoseGraph& b)
 double maxHeadingChange(const CPoseGraph& a, const CPoseGraph& b)
 {
 	double m = 0;
-	for (size_t i = 0; i < a.numNodes(); ++i) m = std::max(m, std::abs(lrgc::between(a.pose(i), b.pose(i)).phi));
+	for (size_t i = 0; i < a.numNodes(); ++i)
+		m = std::max(m, std::abs(lrgc::between(a.pose(i), b.pose(i)).phi));
 	return m;
 }
 
@@ -108,7 +112,8 @@ TEST_P(FalseLoopClosure, isDownweightedAndThePosesBarelyMove)
 
 	const TLink bad = GetParam().make(m.truth);
 	const TPose2D truthRel = lrgc::between(m.truth[bad.from], m.truth[bad.to]);
-	ASSERT_GT(lrgc::translationNorm(lrgc::between(truthRel, bad.toInFrom)), 0.4) << "the link must be false";
+	ASSERT_GT(lrgc::translationNorm(lrgc::between(truthRel, bad.toInFrom)), 0.4)
+		<< "the link must be false";
 
 	CPoseGraph g = before;
 	const size_t id = g.addLink(bad);
@@ -132,22 +137,30 @@ INSTANTIATE_TEST_SUITE_P(
 	BuilderGraph, FalseLoopClosure,
 	::testing::Values(
 		// Perceptual aliasing: a keyframe claimed to be at its twin's place one room west.
-		TFalseLink{"AliasedTwinOneRoomAway", [](const std::vector<TPose2D>& kf)
+		TFalseLink{"AliasedTwinOneRoomAway",
+				   [](const std::vector<TPose2D>& kf)
 				   {
 					   const auto [a, b] = pairAt(kf, {6.0, 0.0}, 0.3);
 					   const TPose2D twin(kf[b].x - 6.0, kf[b].y, kf[b].phi);
 					   return confident(a, b, lrgc::between(kf[a], twin));
-				   }, 0.3},
+				   },
+				   0.3},
 		// Two keyframes far apart claimed to be at the same pose.
-		TFalseLink{"SamePlaceAcrossTheMap", [](const std::vector<TPose2D>& kf)
+		TFalseLink{"SamePlaceAcrossTheMap",
+				   [](const std::vector<TPose2D>& kf)
 				   {
 					   const auto [a, b] = pairAt(kf, {12.0, 6.0}, 1.5, M_PI);
 					   return confident(a, b, TPose2D(0, 0, 0));
-				   }, 0.3},
+				   },
+				   0.3},
 		// A subtle one: neighbours 1 m apart, the link off by 0.5 m and 6 deg.
-		TFalseLink{"HalfAMetreOffNearby", [](const std::vector<TPose2D>& kf)
+		TFalseLink{"HalfAMetreOffNearby",
+				   [](const std::vector<TPose2D>& kf)
 				   {
 					   const auto [a, b] = pairAt(kf, {1.0, 0.0}, 0.15);
-					   return confident(a, b, lrgc::compose(lrgc::between(kf[a], kf[b]), TPose2D(0.3, 0.4, 0.1)));
-				   }, 0.05}),
+					   return confident(
+						   a, b,
+						   lrgc::compose(lrgc::between(kf[a], kf[b]), TPose2D(0.3, 0.4, 0.1)));
+				   },
+				   0.05}),
 	[](const ::testing::TestParamInfo<TFalseLink>& p) { return std::string(p.param.name); });

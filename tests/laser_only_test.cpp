@@ -25,9 +25,9 @@ TEST(LaserOnly, constantVelocityTracksALoopInARoom)
 {
 	const auto world = makeRoomWorld(5, 4);
 	// 0.1 m per scan (0.5 m/s) and turns in place of 20 deg per scan (100 deg/s).
-	const auto tr = makeTrajectory(
-		{{1.5, 3.5}, {5.5, 3.5}, {5.5, 5.8}, {1.2, 5.8}, {1.2, 3.0}, {4.5, 3.0}}, 0.1,
-		TOdometryNoise{}, 11);
+	const auto tr =
+		makeTrajectory({{1.5, 3.5}, {5.5, 3.5}, {5.5, 5.8}, {1.2, 5.8}, {1.2, 3.0}, {4.5, 3.0}},
+					   0.1, TOdometryNoise{}, 11);
 	TSyntheticRunOptions opt;
 	opt.odometry = false;
 	CMetricMapBuilderLRGC builder;
@@ -73,7 +73,8 @@ TEST(LaserOnly, constantVelocityFollowsTurnOnsetsAtOneMetrePerSecond)
 		   "(LocalRegistration.cpp registerScan), which runs away by 20 deg per scan at a "
 		   "turn's onset; the wide search comes wide_after_failures = 3 scans late and locks "
 		   "onto a corridor alignment 90 deg off (measured: 28.5 m, 89.6 deg). "
-		   "A wide search at the first failure (as wide_after_failures = 1) fixes this run but makes ACES "
+		   "A wide search at the first failure (as wide_after_failures = 1) fixes this run but "
+		   "makes ACES "
 		   "laser-only worse (mean relation error 0.46 -> 3.2 m); see the final report";
 	// The same ring, 60 boxes, 0.2 m per scan (1 m/s at 5 Hz) then turning in place at
 	// 100 deg/s: at each corner the constant-velocity prior is 0.2 m and 20 deg off and the

@@ -56,7 +56,8 @@ TRun runRing(uint32_t worldSeed, double slip, bool loopClosing)
 	feedBuilder(builder, world, tr, opt);
 	EXPECT_EQ(builder.stats().scans, tr.truePoses.size());
 	return {trajectoryError(builder.trajectory(), tr.truePoses), builder.stats(),
-			builder.loopCloserStats(), auditLoopLinks(builder, tr.truePoses, 0.3, 5 * M_PI / 180)};
+			builder.loopCloserStats(),
+			auditLoopLinks(builder, tr.truePoses, 0.3, 5 * M_PI / 180)};
 }
 
 class LoopClosingInRing : public ::testing::TestWithParam<uint32_t>
@@ -89,15 +90,15 @@ TEST_P(LoopClosingInRing, closesTheLoopAndEndsMuchNearerTheTruth)
 	EXPECT_LT(on.error.finalXY, 0.25 * off.error.finalXY);
 }
 
-INSTANTIATE_TEST_SUITE_P(
-	SlippingOdometry, LoopClosingInRing, ::testing::Values(5u, 8u),
-	[](const ::testing::TestParamInfo<uint32_t>& p) { return "boxesSeed" + std::to_string(p.param); });
+INSTANTIATE_TEST_SUITE_P(SlippingOdometry, LoopClosingInRing, ::testing::Values(5u, 8u),
+						 [](const ::testing::TestParamInfo<uint32_t>& p)
+						 { return "boxesSeed" + std::to_string(p.param); });
 
 // A 15 % slip on the north corridor: about 1.9 m of drift when the robot is back at the start.
-// Measured (world seed 5): the gate's propagated covariance puts the start 1.0 sigma (Mahalanobis)
-// away, the correlator and the scan match confirm the loop 21 times, every link within 2 cm of
-// the truth, and the back-end rejects all 21 (innovation chi2 >= 3 Phi against the graph's
-// marginal covariance), so the map keeps its 1.9 m error.
+// Measured (world seed 5): the gate's propagated covariance puts the start 1.0 sigma
+// (Mahalanobis) away, the correlator and the scan match confirm the loop 21 times, every link
+// within 2 cm of the truth, and the back-end rejects all 21 (innovation chi2 >= 3 Phi against
+// the graph's marginal covariance), so the map keeps its 1.9 m error.
 TEST(LoopClosing, aTrueLoopWithLargeDriftIsClosed)
 {
 	GTEST_SKIP() << "product bug: true loops found within the loop closer's own gate are "

@@ -17,7 +17,7 @@ using lrgc::TLRGCParams;
 
 namespace
 {
-constexpr double kTolXY = 0.05;  // [m] every scan of the trajectory
+constexpr double kTolXY = 0.05;               // [m] every scan of the trajectory
 constexpr double kTolPhi = 1.0 * M_PI / 180;  // [rad]
 
 // 188 steps of 0.1 m along a loop through the room, turning in place by 20 deg steps.
@@ -36,7 +36,7 @@ const CSyntheticWorld& roomWorld()
 
 struct TGlitch
 {
-	size_t step;  //!< odometry increment step -> step + 1 is wrong
+	size_t step;      //!< odometry increment step -> step + 1 is wrong
 	double turn_deg;  //!< wrong extra turn
 };
 
@@ -101,12 +101,13 @@ TEST_P(OdometryGlitchAt, isRecoveredAndTheTrajectoryStaysOnTruth)
 }
 
 // Glitches while driving straight (step 20, 100) and at the start of a turn in place (43).
-INSTANTIATE_TEST_SUITE_P(
-	SyntheticRoom, OdometryGlitchAt,
-	::testing::Values(TGlitch{20, 60}, TGlitch{43, -70}, TGlitch{100, 85}, TGlitch{20, -85}),
-	[](const ::testing::TestParamInfo<TGlitch>& p)
-	{
-		const auto& g = p.param;
-		return "step" + std::to_string(g.step) + (g.turn_deg < 0 ? "_minus" : "_plus") +
-			std::to_string(int(std::abs(g.turn_deg))) + "deg";
-	});
+INSTANTIATE_TEST_SUITE_P(SyntheticRoom, OdometryGlitchAt,
+						 ::testing::Values(TGlitch{20, 60}, TGlitch{43, -70}, TGlitch{100, 85},
+										   TGlitch{20, -85}),
+						 [](const ::testing::TestParamInfo<TGlitch>& p)
+						 {
+							 const auto& g = p.param;
+							 return "step" + std::to_string(g.step) +
+									(g.turn_deg < 0 ? "_minus" : "_plus") +
+									std::to_string(int(std::abs(g.turn_deg))) + "deg";
+						 });

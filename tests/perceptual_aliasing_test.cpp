@@ -18,9 +18,9 @@ using lrgc::TLRGCParams;
 
 namespace
 {
-constexpr double kLinkTolXY = 0.3;  // [m]
+constexpr double kLinkTolXY = 0.3;                // [m]
 constexpr double kLinkTolPhi = 5.0 * M_PI / 180;  // [rad]
-constexpr double kRoom = 6.0;  // [m] the aliasing period
+constexpr double kRoom = 6.0;                     // [m] the aliasing period
 
 struct TAliasingRun
 {
@@ -37,7 +37,8 @@ TAliasingRun runRooms(const TLRGCParams& params)
 	TAliasingRun r;
 	// Through the doorways: east along y = 3 through rooms (0,0), (1,0), (2,0), north into
 	// (2,1), west through (1,1), (0,1), south back into (0,0) and east again into (1,0).
-	r.tr = makeTrajectory({{1.5, 3}, {15, 3}, {15, 9}, {3, 9}, {3, 3}, {10, 3}}, 0.2, TOdometryNoise{}, 13);
+	r.tr = makeTrajectory({{1.5, 3}, {15, 3}, {15, 9}, {3, 9}, {3, 3}, {10, 3}}, 0.2,
+						  TOdometryNoise{}, 13);
 	EXPECT_GT(minClearance(world, r.tr.truePoses), 0.4);
 	TSyntheticRunOptions opt;
 	opt.laser.maxRange = 10;
@@ -53,8 +54,10 @@ TAliasingRun runRooms(const TLRGCParams& params)
 
 void expectNoFalseLoopInTheMap(const TAliasingRun& r)
 {
-	EXPECT_EQ(r.links.enabledFalse, 0U) << "false loop closure in the final map: " << r.links.firstEnabledFalse;
-	::testing::Test::RecordProperty("worst_enabled_link_error_m", std::to_string(r.links.worstEnabledXY));
+	EXPECT_EQ(r.links.enabledFalse, 0U)
+		<< "false loop closure in the final map: " << r.links.firstEnabledFalse;
+	::testing::Test::RecordProperty("worst_enabled_link_error_m",
+									std::to_string(r.links.worstEnabledXY));
 	// The loop through the rooms is closed with true links ...
 	EXPECT_GT(r.loopClosures, 0U);
 	EXPECT_GT(r.links.enabledTrue, 0U);

@@ -53,7 +53,8 @@ std::vector<double> pairScanTimes(const std::string& rawlog)
 	mrpt::obs::CSensoryFrame::Ptr sf;
 	mrpt::obs::CObservation::Ptr obs;
 	size_t index = 0;
-	while (mrpt::obs::CRawlog::getActionObservationPairOrObservation(arch, action, sf, obs, index))
+	while (
+		mrpt::obs::CRawlog::getActionObservationPairOrObservation(arch, action, sf, obs, index))
 	{
 		if (!action || !sf) continue;
 		const auto laser = sf->getObservationByClass<mrpt::obs::CObservation2DRangeScan>();
@@ -78,20 +79,25 @@ std::vector<TPose> loggedPoses(const std::string& log, const std::string& label)
 {
 	const std::regex re(label + R"(: \(([-0-9.]+),([-0-9.]+),([-0-9.]+)deg\))");
 	std::vector<TPose> out;
-	for (auto it = std::sregex_iterator(log.begin(), log.end(), re); it != std::sregex_iterator(); ++it)
-		out.push_back({std::stod((*it)[1]), std::stod((*it)[2]), std::stod((*it)[3]) * M_PI / 180});
+	for (auto it = std::sregex_iterator(log.begin(), log.end(), re);
+		 it != std::sregex_iterator(); ++it)
+		out.push_back(
+			{std::stod((*it)[1]), std::stod((*it)[2]), std::stod((*it)[3]) * M_PI / 180});
 	return out;
 }
 
-std::string pfConfig(const std::string& map, const std::string& rawlog, const std::string& logDir)
+std::string pfConfig(const std::string& map, const std::string& rawlog,
+					 const std::string& logDir)
 {
 	std::ostringstream s;
 	s << "[KLD_options]\nKLD_binSize_PHI_deg=10\nKLD_binSize_XY=0.10\nKLD_delta=0.01\n"
-		 "KLD_epsilon=0.01\nKLD_maxSampleSize=4000\nKLD_minSampleSize=150\nKLD_minSamplesPerBin=0\n"
+		 "KLD_epsilon=0.01\nKLD_maxSampleSize=4000\nKLD_minSampleSize=150\nKLD_"
+		 "minSamplesPerBin=0\n"
 		 "\n[PF_options]\nPF_algorithm=0\nresamplingMethod=0\nadaptiveSampleSize=1\nBETA=0.5\n"
 		 "sampleSize=1\npfAuxFilterOptimal_MaximumSearchSamples=10\n"
 		 "\n[LocalizationExperiment]\nuse_3D_poses=false\n"
-	  << "map_file=" << map << "\nrawlog_file=" << rawlog << "\nlogOutput_dir=" << logDir << "\n"
+	  << "map_file=" << map << "\nrawlog_file=" << rawlog << "\nlogOutput_dir=" << logDir
+	  << "\n"
 	  << "3DSceneFrequency=-1\nSHOW_PROGRESS_3D_REAL_TIME=false\nexperimentRepetitions=1\n"
 		 "particles_count=2000\n"
 		 // Uniform over +-0.5 m and +-10 deg around our map's origin, the first pose.
@@ -106,8 +112,14 @@ std::string pfConfig(const std::string& map, const std::string& rawlog, const st
 	return s.str();
 }
 
-double headingError(const TPose& a, const TPose& b) { return std::abs(mrpt::math::wrapToPi(a.phi - b.phi)); }
-double positionError(const TPose& a, const TPose& b) { return std::hypot(a.x - b.x, a.y - b.y); }
+double headingError(const TPose& a, const TPose& b)
+{
+	return std::abs(mrpt::math::wrapToPi(a.phi - b.phi));
+}
+double positionError(const TPose& a, const TPose& b)
+{
+	return std::hypot(a.x - b.x, a.y - b.y);
+}
 }  // namespace
 
 TEST(PfLocalization, localisesTheSenaLogOnOurMapAlongOurTrajectory)
@@ -118,16 +130,17 @@ TEST(PfLocalization, localisesTheSenaLogOnOurMapAlongOurTrajectory)
 	// CTest runs test processes in parallel: one directory per process.
 	const std::string dir = makeTempDir("pf_localization_" + std::to_string(::getpid()));
 	const std::string slamOut = dir + "/slam";
-	const auto slam = runProcess(
-		binaryPath("lrgc-slam"), {"--input", senaRawlogPath(), "--out", slamOut, "--quiet"});
+	const auto slam = runProcess(binaryPath("lrgc-slam"),
+								 {"--input", senaRawlogPath(), "--out", slamOut, "--quiet"});
 	ASSERT_EQ(slam.exitCode, 0) << slam.output;
 
-	writeTextFile(
-		dir + "/pf.ini", pfConfig(slamOut + "/map.gridmap.gz", senaRawlogPath(), dir + "/LOG"));
+	writeTextFile(dir + "/pf.ini",
+				  pfConfig(slamOut + "/map.gridmap.gz", senaRawlogPath(), dir + "/LOG"));
 	const auto pf = runProcess(kPfLocalization, {dir + "/pf.ini"}, dir);
 	writeTextFile(dir + "/pf-localization.log", pf.output);
 	ASSERT_EQ(pf.exitCode, 0) << "pf-localization failed, log in " << dir << ":\n"
-							  << pf.output.substr(pf.output.size() > 3000 ? pf.output.size() - 3000 : 0);
+							  << pf.output.substr(
+									 pf.output.size() > 3000 ? pf.output.size() - 3000 : 0);
 
 	const std::vector<TPose> estimate = loggedPoses(pf.output, "PDF estimation");
 	const std::vector<TPose> odometry = loggedPoses(pf.output, "Odometry estimation");
@@ -143,9 +156,9 @@ TEST(PfLocalization, localisesTheSenaLogOnOurMapAlongOurTrajectory)
 	TPose lastOurs;
 	for (size_t k = 0; k < stepTimes.size(); ++k)
 	{
-		const auto it = std::find_if(
-			ours.begin(), ours.end(),
-			[&](const auto& tp) { return std::abs(tp.first - stepTimes[k]) < 1e-4; });
+		const auto it = std::find_if(ours.begin(), ours.end(),
+									 [&](const auto& tp)
+									 { return std::abs(tp.first - stepTimes[k]) < 1e-4; });
 		ASSERT_NE(it, ours.end()) << "no trajectory.tum line at t = " << stepTimes[k];
 		const double dxy = positionError(estimate[k], it->second);
 		errXY.push_back(dxy);

@@ -14,9 +14,10 @@ namespace lrgc::test
 {
 using mrpt::math::TPose2D;
 
-mrpt::obs::CObservation2DRangeScan::Ptr laserObservationFromScan(
-	const lrgc::TScan2D& scan, const TLaserSimParams& laser, mrpt::Clock::time_point t,
-	const std::string& label)
+mrpt::obs::CObservation2DRangeScan::Ptr laserObservationFromScan(const lrgc::TScan2D& scan,
+																 const TLaserSimParams& laser,
+																 mrpt::Clock::time_point t,
+																 const std::string& label)
 {
 	auto obs = mrpt::obs::CObservation2DRangeScan::Create();
 	obs->timestamp = t;
@@ -53,9 +54,8 @@ mrpt::Clock::time_point syntheticStepTime(size_t k, double scanPeriod)
 	return mrpt::Clock::fromDouble(1.6e9 + scanPeriod * double(k));
 }
 
-void feedBuilder(
-	lrgc::CMetricMapBuilderLRGC& builder, const CSyntheticWorld& world, const TTrajectory& tr,
-	const TSyntheticRunOptions& opt)
+void feedBuilder(lrgc::CMetricMapBuilderLRGC& builder, const CSyntheticWorld& world,
+				 const TTrajectory& tr, const TSyntheticRunOptions& opt)
 {
 	ASSERT_EQUAL_(tr.odometryPoses.size(), tr.truePoses.size());
 	std::mt19937 rng(opt.laserSeed);
@@ -76,8 +76,8 @@ void feedBuilder(
 	builder.finish();
 }
 
-TTrajectoryError trajectoryError(
-	const std::vector<TPose2D>& estimate, const std::vector<TPose2D>& truth)
+TTrajectoryError trajectoryError(const std::vector<TPose2D>& estimate,
+								 const std::vector<TPose2D>& truth)
 {
 	ASSERT_EQUAL_(estimate.size(), truth.size());
 	ASSERT_(!truth.empty());
@@ -96,15 +96,16 @@ TTrajectoryError trajectoryError(
 	return e;
 }
 
-TTrajectoryError trajectoryError(const lrgc::TTrajectory& estimate, const std::vector<TPose2D>& truth)
+TTrajectoryError trajectoryError(const lrgc::TTrajectory& estimate,
+								 const std::vector<TPose2D>& truth)
 {
 	std::vector<TPose2D> poses;
 	for (const auto& s : estimate) poses.push_back(s.robotInMap);
 	return trajectoryError(poses, truth);
 }
 
-std::vector<TPose2D> trueKeyframePoses(
-	const lrgc::CMetricMapBuilderLRGC& builder, const std::vector<TPose2D>& truth)
+std::vector<TPose2D> trueKeyframePoses(const lrgc::CMetricMapBuilderLRGC& builder,
+									   const std::vector<TPose2D>& truth)
 {
 	std::vector<TPose2D> out;
 	for (const auto& kf : builder.keyframes())
@@ -115,9 +116,8 @@ std::vector<TPose2D> trueKeyframePoses(
 	return out;
 }
 
-TLoopLinkAudit auditLoopLinks(
-	const lrgc::CMetricMapBuilderLRGC& builder, const std::vector<TPose2D>& truth, double maxXY,
-	double maxPhi)
+TLoopLinkAudit auditLoopLinks(const lrgc::CMetricMapBuilderLRGC& builder,
+							  const std::vector<TPose2D>& truth, double maxXY, double maxPhi)
 {
 	const auto kfTruth = trueKeyframePoses(builder, truth);
 	const auto& g = builder.graph();
@@ -126,7 +126,8 @@ TLoopLinkAudit auditLoopLinks(
 	{
 		const auto& l = g.link(id);
 		if (l.type != lrgc::LinkType::LoopClosure) continue;
-		const TPose2D d = lrgc::between(lrgc::between(kfTruth[l.from], kfTruth[l.to]), l.toInFrom);
+		const TPose2D d =
+			lrgc::between(lrgc::between(kfTruth[l.from], kfTruth[l.to]), l.toInFrom);
 		const double dxy = lrgc::translationNorm(d), dphi = std::abs(d.phi);
 		const Eigen::Vector3d e = lrgc::toVector(d);
 		const double chi2 = e.dot(l.information * e);
@@ -141,9 +142,9 @@ TLoopLinkAudit auditLoopLinks(
 		a.worstEnabledPhi = std::max(a.worstEnabledPhi, dphi);
 		a.worstEnabledChi2 = std::max(a.worstEnabledChi2, chi2);
 		if (!ok && a.firstEnabledFalse.empty())
-			a.firstEnabledFalse = mrpt::format(
-				"%zu -> %zu: %.2f m, %.1f deg off the truth, chi2 %.1f", l.from, l.to, dxy,
-				dphi * 180 / M_PI, chi2);
+			a.firstEnabledFalse =
+				mrpt::format("%zu -> %zu: %.2f m, %.1f deg off the truth, chi2 %.1f", l.from,
+							 l.to, dxy, dphi * 180 / M_PI, chi2);
 	}
 	return a;
 }
@@ -167,10 +168,10 @@ CSyntheticWorld makeRingCorridorWorld(double W, double H, double w, uint32_t see
 	{
 		const int side = std::min(3, int(u(rng) * 4));
 		const double s = u(rng), h = 0.15;
-		const Eigen::Vector2d c = side == 0 ? Eigen::Vector2d(w + s * (W - 2 * w), h)
-			: side == 1						 ? Eigen::Vector2d(W - h, w + s * (H - 2 * w))
-			: side == 2						 ? Eigen::Vector2d(w + s * (W - 2 * w), H - h)
-											 : Eigen::Vector2d(h, w + s * (H - 2 * w));
+		const Eigen::Vector2d c = side == 0   ? Eigen::Vector2d(w + s * (W - 2 * w), h)
+								  : side == 1 ? Eigen::Vector2d(W - h, w + s * (H - 2 * w))
+								  : side == 2 ? Eigen::Vector2d(w + s * (W - 2 * w), H - h)
+											  : Eigen::Vector2d(h, w + s * (H - 2 * w));
 		world.addBox(c, h, h);
 	}
 	return world;
@@ -184,7 +185,8 @@ double minClearance(const CSyntheticWorld& world, const std::vector<TPose2D>& po
 		const Eigen::Vector2d a(poses[k].x, poses[k].y);
 		const Eigen::Vector2d b =
 			k + 1 < poses.size() ? Eigen::Vector2d(poses[k + 1].x, poses[k + 1].y) : a;
-		for (int s = 0; s <= 4; ++s) best = std::min(best, world.distanceToNearest(a + (b - a) * (s / 4.0)));
+		for (int s = 0; s <= 4; ++s)
+			best = std::min(best, world.distanceToNearest(a + (b - a) * (s / 4.0)));
 	}
 	return best;
 }

@@ -45,24 +45,22 @@ mrpt::Clock::time_point syntheticStepTime(size_t k, double scanPeriod);
 
 /** Feeds every step of `tr` to the builder (odometry from tr.odometryPoses, scans ray-cast at
  * tr.truePoses) and calls finish(). */
-void feedBuilder(
-	lrgc::CMetricMapBuilderLRGC& builder, const CSyntheticWorld& world, const TTrajectory& tr,
-	const TSyntheticRunOptions& opt);
+void feedBuilder(lrgc::CMetricMapBuilderLRGC& builder, const CSyntheticWorld& world,
+				 const TTrajectory& tr, const TSyntheticRunOptions& opt);
 
 /** Error of an estimated trajectory (map frame = first true pose's frame) against the truth,
  * one estimate per true pose. */
 struct TTrajectoryError
 {
 	double maxXY = 0, rmsXY = 0;  //!< [m] position error
-	double maxPhi = 0;  //!< [rad] absolute heading error
-	double finalXY = 0;  //!< [m] position error of the last pose
-	size_t worstIndex = 0;  //!< pose with the largest position error
+	double maxPhi = 0;            //!< [rad] absolute heading error
+	double finalXY = 0;           //!< [m] position error of the last pose
+	size_t worstIndex = 0;        //!< pose with the largest position error
 };
-TTrajectoryError trajectoryError(
-	const std::vector<mrpt::math::TPose2D>& estimate,
-	const std::vector<mrpt::math::TPose2D>& truth);
-TTrajectoryError trajectoryError(
-	const lrgc::TTrajectory& estimate, const std::vector<mrpt::math::TPose2D>& truth);
+TTrajectoryError trajectoryError(const std::vector<mrpt::math::TPose2D>& estimate,
+								 const std::vector<mrpt::math::TPose2D>& truth);
+TTrajectoryError trajectoryError(const lrgc::TTrajectory& estimate,
+								 const std::vector<mrpt::math::TPose2D>& truth);
 
 /** True pose of each keyframe of the builder, in its map frame (truePoses[0]^-1 (+) truth). */
 std::vector<mrpt::math::TPose2D> trueKeyframePoses(
@@ -75,15 +73,15 @@ std::vector<mrpt::math::TPose2D> trueKeyframePoses(
  * corridor and keeps its guess there, which is honest, not false. */
 struct TLoopLinkAudit
 {
-	size_t enabledTrue = 0, enabledFalse = 0;  //!< in the final map
-	size_t disabledTrue = 0, disabledFalse = 0;  //!< rejected by the back-end
+	size_t enabledTrue = 0, enabledFalse = 0;        //!< in the final map
+	size_t disabledTrue = 0, disabledFalse = 0;      //!< rejected by the back-end
 	double worstEnabledXY = 0, worstEnabledPhi = 0;  //!< [m], [rad] disagreement with truth
-	double worstEnabledChi2 = 0;  //!< d^T Omega d of the enabled links
+	double worstEnabledChi2 = 0;                     //!< d^T Omega d of the enabled links
 	std::string firstEnabledFalse;  //!< "from -> to: ..." for the failure message
 };
-TLoopLinkAudit auditLoopLinks(
-	const lrgc::CMetricMapBuilderLRGC& builder, const std::vector<mrpt::math::TPose2D>& truth,
-	double maxXY, double maxPhi);
+TLoopLinkAudit auditLoopLinks(const lrgc::CMetricMapBuilderLRGC& builder,
+							  const std::vector<mrpt::math::TPose2D>& truth, double maxXY,
+							  double maxPhi);
 
 /** Recomputes tr.odometryPoses from tr.odometryIncrements (after a test edited them: a glitch,
  * wheel slip). */
@@ -96,6 +94,7 @@ void rebuildOdometryPoses(TTrajectory& tr);
 CSyntheticWorld makeRingCorridorWorld(double W, double H, double w, uint32_t seed, int boxes);
 
 /** Smallest distance [m] from the polyline of `poses` to the world's segments. */
-double minClearance(const CSyntheticWorld& world, const std::vector<mrpt::math::TPose2D>& poses);
+double minClearance(const CSyntheticWorld& world,
+					const std::vector<mrpt::math::TPose2D>& poses);
 
 }  // namespace lrgc::test

@@ -20,11 +20,17 @@ using mrpt::math::TPose2D;
 
 namespace
 {
-constexpr double kTolXY = 0.03;  // [m]
+constexpr double kTolXY = 0.03;               // [m]
 constexpr double kTolPhi = 0.5 * M_PI / 180;  // [rad]
 
-double positionError(const TPose2D& a, const TPose2D& b) { return translationNorm(between(a, b)); }
-double headingError(const TPose2D& a, const TPose2D& b) { return std::abs(between(a, b).phi); }
+double positionError(const TPose2D& a, const TPose2D& b)
+{
+	return translationNorm(between(a, b));
+}
+double headingError(const TPose2D& a, const TPose2D& b)
+{
+	return std::abs(between(a, b).phi);
+}
 
 /** Keyframes every 0.3 m along a loop in the room world, scans ray-cast at the true poses,
  * odometry increments with about 5 cm / 3 deg of noise per step. */
@@ -39,7 +45,8 @@ struct TKnownRun
 		lrgc::test::TOdometryNoise noise;
 		noise.a1 = 0.15, noise.a2 = 0.15, noise.a3 = 0.15, noise.a4 = 0.05;
 		tr = lrgc::test::makeTrajectory(
-			{{1.5, 3.5}, {5.5, 3.5}, {5.5, 5.8}, {1.2, 5.8}, {1.2, 3.0}, {4.5, 3.0}}, 0.3, noise, 21);
+			{{1.5, 3.5}, {5.5, 3.5}, {5.5, 5.8}, {1.2, 5.8}, {1.2, 3.0}, {4.5, 3.0}}, 0.3,
+			noise, 21);
 		std::mt19937 rng(4);
 		for (size_t k = 0; k < tr.truePoses.size(); ++k)
 		{
@@ -87,16 +94,17 @@ TEST(LocalRegistration, windowConvergesToTruthAndOnlyTheLastKPosesMove)
 
 		const size_t firstFree = n + 1 > K ? n + 1 - K : 1;  // node 0 never moves
 		for (size_t i = 0; i < firstFree; ++i)
-			ASSERT_TRUE(
-				graph.pose(i).x == before[i].x && graph.pose(i).y == before[i].y &&
-				graph.pose(i).phi == before[i].phi)
+			ASSERT_TRUE(graph.pose(i).x == before[i].x && graph.pose(i).y == before[i].y &&
+						graph.pose(i).phi == before[i].phi)
 				<< "node " << i << " is older than the window of node " << n << " but moved";
 		for (size_t i = firstFree; i <= n; ++i)
 		{
 			worstXY = std::max(worstXY, positionError(truth[i], graph.pose(i)));
 			worstPhi = std::max(worstPhi, headingError(truth[i], graph.pose(i)));
-			EXPECT_LT(positionError(truth[i], graph.pose(i)), kTolXY) << "node " << i << " after " << n;
-			EXPECT_LT(headingError(truth[i], graph.pose(i)), kTolPhi) << "node " << i << " after " << n;
+			EXPECT_LT(positionError(truth[i], graph.pose(i)), kTolXY)
+				<< "node " << i << " after " << n;
+			EXPECT_LT(headingError(truth[i], graph.pose(i)), kTolPhi)
+				<< "node " << i << " after " << n;
 		}
 	}
 	RecordProperty("worst_window_error_m", std::to_string(worstXY));
@@ -147,7 +155,8 @@ TEST(LocalRegistration, registerScanFromARoughPriorAndAGlitchOnlyByTheWideSearch
 	// A window of the first 6 keyframes at their true poses.
 	CPoseGraph graph;
 	TKeyframes keyframes;
-	for (size_t i = 0; i < 6; ++i) graph.addNode(truth[i]), keyframes.push_back(run.keyframes[i]);
+	for (size_t i = 0; i < 6; ++i)
+		graph.addNode(truth[i]), keyframes.push_back(run.keyframes[i]);
 	// The scan 15 cm past the newest keyframe.
 	const TPose2D scanTruth = compose(truth[5], TPose2D(0.15, 0, 0));
 	std::mt19937 rng(5);
@@ -158,7 +167,8 @@ TEST(LocalRegistration, registerScanFromARoughPriorAndAGlitchOnlyByTheWideSearch
 	{  // A prior 12 cm / 4 deg off, consistent with its covariance.
 		CLocalRegistration local(p.local, p.matcher, p.optimizer);
 		const TPose2D prior = compose(scanTruth, TPose2D(0.08, -0.09, 0.07));
-		const TRegistration reg = local.registerScan(graph, keyframes, scan, prior, priorCov, 0.0);
+		const TRegistration reg =
+			local.registerScan(graph, keyframes, scan, prior, priorCov, 0.0);
 		ASSERT_TRUE(reg.matched);
 		EXPECT_FALSE(reg.odometryRejected);
 		EXPECT_FALSE(reg.wideSearch);
