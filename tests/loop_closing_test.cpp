@@ -1,0 +1,114 @@
+/* Loop closing closes: a 20 m x 14 m ring of 2 m corridors with a few boxes along the walls,
+ * a 6 m laser, and odometry whose wheels slip on the north corridor (9 % too long there):
+ * along a bare corridor only odometry sees the motion, so the map drifts by about a metre
+ * around the ring. The robot drives one and a quarter turns, back past its start. With
+ * [MapBuilder] loop_closing = true the builder must close the loop (stats().loopClosures > 0,
+ * only true links in the map) and end much nearer the truth than with loop_closing = false
+ * on the very same observations. */
+#include <gtest/gtest.h>
+#include <lrgc/se2.h>
+
+#include "synthetic_run.h"
+
+using namespace lrgc::test;
+using lrgc::CMetricMapBuilderLRGC;
+using lrgc::TLRGCParams;
+
+namespace
+{
+constexpr double W = 20, H = 14;  // [m] ring size
+
+/** The ring trajectory with wheel slip `slip` (odometry translation factor) on the north
+ * corridor (y > H - 2). */
+TTrajectory slippingRing(double slip)
+{
+	TTrajectory tr = makeTrajectory(
+		{{4, 1}, {W - 1, 1}, {W - 1, H - 1}, {1, H - 1}, {1, 1}, {W - 1, 1}, {W - 1, 6}}, 0.2,
+		TOdometryNoise{}, 11);
+	for (size_t k = 0; k < tr.odometryIncrements.size(); ++k)
+		if (tr.truePoses[k].y > H - 2)
+		{
+			tr.odometryIncrements[k].x *= slip;
+			tr.odometryIncrements[k].y *= slip;
+		}
+	rebuildOdometryPoses(tr);
+	return tr;
+}
+
+struct TRun
+{
+	TTrajectoryError error;
+	lrgc::TMapBuilderStats stats;
+	lrgc::TLoopCloserStats loop;
+	TLoopLinkAudit links;
+};
+
+TRun runRing(uint32_t worldSeed, double slip, bool loopClosing)
+{
+	const auto world = makeRingCorridorWorld(W, H, 2.0, worldSeed, 4);
+	const TTrajectory tr = slippingRing(slip);
+	EXPECT_GT(minClearance(world, tr.truePoses), 0.5);
+	TSyntheticRunOptions opt;
+	opt.laser.maxRange = 6;
+	TLRGCParams p;
+	p.builder.loop_closing = loopClosing;
+	CMetricMapBuilderLRGC builder(p);
+	feedBuilder(builder, world, tr, opt);
+	EXPECT_EQ(builder.stats().scans, tr.truePoses.size());
+	return {trajectoryError(builder.trajectory(), tr.truePoses), builder.stats(),
+			builder.loopCloserStats(),
+			auditLoopLinks(builder, tr.truePoses, 0.3, 5 * M_PI / 180)};
+}
+
+class LoopClosingInRing : public ::testing::TestWithParam<uint32_t>
+{
+};
+}  // namespace
+
+TEST_P(LoopClosingInRing, closesTheLoopAndEndsMuchNearerTheTruth)
+{
+	const TRun off = runRing(GetParam(), 1.09, false);
+	const TRun on = runRing(GetParam(), 1.09, true);
+	RecordProperty("rms_off_m", std::to_string(off.error.rmsXY));
+	RecordProperty("rms_on_m", std::to_string(on.error.rmsXY));
+	RecordProperty("final_off_m", std::to_string(off.error.finalXY));
+	RecordProperty("final_on_m", std::to_string(on.error.finalXY));
+
+	// Without loop closing the slip leaves the map drifted, and no loop link exists.
+	EXPECT_GT(off.error.rmsXY, 0.4);
+	EXPECT_GT(off.error.finalXY, 0.5);
+	EXPECT_EQ(off.stats.loopClosures, 0U);
+	EXPECT_EQ(off.stats.loopClosureLinks, 0U);
+
+	// With it the loop is closed, by true links only ...
+	EXPECT_GT(on.stats.loopClosures, 0U);
+	EXPECT_GT(on.links.enabledTrue, 0U);
+	EXPECT_EQ(on.links.enabledFalse, 0U) << on.links.firstEnabledFalse;
+	// ... and the error is much lower: RMS at most half, the end pose (back on the start's
+	// corridor) at most a quarter of the drifted run's.
+	EXPECT_LT(on.error.rmsXY, 0.5 * off.error.rmsXY);
+	EXPECT_LT(on.error.finalXY, 0.25 * off.error.finalXY);
+}
+
+INSTANTIATE_TEST_SUITE_P(SlippingOdometry, LoopClosingInRing, ::testing::Values(5u, 8u),
+						 [](const ::testing::TestParamInfo<uint32_t>& p)
+						 { return "boxesSeed" + std::to_string(p.param); });
+
+// A 15 % slip on the north corridor: about 1.9 m of drift when the robot is back at the start.
+// Measured (world seed 5): the gate's propagated covariance puts the start 1.0 sigma
+// (Mahalanobis) away, the correlator and the scan match confirm the loop 21 times, every link
+// within 2 cm of the truth, and the back-end rejects all 21 (innovation chi2 >= 3 Phi against
+// the graph's marginal covariance), so the map keeps its 1.9 m error.
+TEST(LoopClosing, aTrueLoopWithLargeDriftIsClosed)
+{
+	GTEST_SKIP() << "product bug: true loops found within the loop closer's own gate are "
+					"all rejected by the back-end's innovation test (PoseGraphOptimizer.cpp "
+					"scheduleLoopLinks: marginal covariance much tighter than the gate's "
+					"single-path covariance in LoopCloser.cpp gate()); see the final report";
+	const TRun off = runRing(5, 1.15, false);
+	const TRun on = runRing(5, 1.15, true);
+	EXPECT_GT(off.error.finalXY, 1.0);
+	EXPECT_GT(on.stats.loopClosures, 0U);
+	EXPECT_EQ(on.links.enabledFalse, 0U) << on.links.firstEnabledFalse;
+	EXPECT_LT(on.error.finalXY, 0.25 * off.error.finalXY);
+}
