@@ -69,9 +69,12 @@ TEST(LaserOnly, constantVelocityTracksARingCorridorWithSparseFeatures)
 TEST(LaserOnly, constantVelocityFollowsTurnOnsetsAtOneMetrePerSecond)
 {
 	GTEST_SKIP()
-		<< "product bug: without odometry a failed match keeps the constant-velocity prior "
-		   "(LocalRegistration.cpp registerScan), which runs away by 20 deg per scan at a "
-		   "turn's onset; the wide search comes wide_after_failures = 3 scans late and locks "
+		<< "known limitation (open): without odometry a failed match keeps the constant-velocity "
+		   "prior (LocalRegistration.cpp registerScan), which runs away by 20 deg per scan at a "
+		   "turn's onset, and the wide search only runs for a suspect step (turn > "
+		   "glitch_min_turn or a pause in the scans), so the run loses its heading "
+		   "(measured before: 28.5 m, 89.6 deg). A wide search at every failure fixes this run "
+		   "but made ACES laser-only worse (0.46 -> 3.2 m mean relation error)"; the wide search comes wide_after_failures = 3 scans late and locks "
 		   "onto a corridor alignment 90 deg off (measured: 28.5 m, 89.6 deg). "
 		   "A wide search at the first failure (as wide_after_failures = 1) fixes this run but "
 		   "makes ACES "

@@ -163,12 +163,21 @@ TEST(LocalRegistration, registerScanFromARoughPriorAndAGlitchOnlyByTheWideSearch
 	const TScan2D scan = lrgc::test::simulateScan(run.world, scanTruth, {}, rng);
 	const Eigen::Matrix3d priorCov =
 		Eigen::Vector3d(0.1 * 0.1, 0.1 * 0.1, std::pow(5 * M_PI / 180, 2)).asDiagonal();
+	// The odometry prediction of one 0.2 s step that turns `turn` [rad].
+	const auto step = [&](double turn) {
+		lrgc::TMotionPrediction m;
+		m.motion = TPose2D(0.15, 0, turn);
+		m.cov = priorCov;
+		m.fromOdometry = true;
+		m.stepSeconds = 0.2;
+		return m;
+	};
 
 	{  // A prior 12 cm / 4 deg off, consistent with its covariance.
 		CLocalRegistration local(p.local, p.matcher, p.optimizer);
 		const TPose2D prior = compose(scanTruth, TPose2D(0.08, -0.09, 0.07));
 		const TRegistration reg =
-			local.registerScan(graph, keyframes, scan, prior, priorCov, 0.0);
+			local.registerScan(graph, keyframes, scan, prior, step(0.0));
 		ASSERT_TRUE(reg.matched);
 		EXPECT_FALSE(reg.odometryRejected);
 		EXPECT_FALSE(reg.wideSearch);
@@ -180,7 +189,7 @@ TEST(LocalRegistration, registerScanFromARoughPriorAndAGlitchOnlyByTheWideSearch
 	{  // The prior is suspect (its step turns more than glitch_min_turn): wide search.
 		CLocalRegistration local(p.local, p.matcher, p.optimizer);
 		const TRegistration reg =
-			local.registerScan(graph, keyframes, scan, glitchPrior, priorCov, 70 * M_PI / 180);
+			local.registerScan(graph, keyframes, scan, glitchPrior, step(70 * M_PI / 180));
 		ASSERT_TRUE(reg.matched);
 		EXPECT_TRUE(reg.wideSearch);
 		EXPECT_TRUE(reg.odometryRejected);
@@ -190,7 +199,7 @@ TEST(LocalRegistration, registerScanFromARoughPriorAndAGlitchOnlyByTheWideSearch
 	{  // The same prior, but its step looks harmless: the first failure keeps the prior.
 		CLocalRegistration local(p.local, p.matcher, p.optimizer);
 		const TRegistration reg =
-			local.registerScan(graph, keyframes, scan, glitchPrior, priorCov, 0.0);
+			local.registerScan(graph, keyframes, scan, glitchPrior, step(0.0));
 		EXPECT_FALSE(reg.matched);
 		EXPECT_FALSE(reg.wideSearch);
 		EXPECT_EQ(reg.scanInMap, glitchPrior);
@@ -200,7 +209,7 @@ TEST(LocalRegistration, registerScanFromARoughPriorAndAGlitchOnlyByTheWideSearch
 		narrow.local.wide_search_angle = 0;
 		CLocalRegistration local(narrow.local, narrow.matcher, narrow.optimizer);
 		const TRegistration reg =
-			local.registerScan(graph, keyframes, scan, glitchPrior, priorCov, 70 * M_PI / 180);
+			local.registerScan(graph, keyframes, scan, glitchPrior, step(70 * M_PI / 180));
 		EXPECT_FALSE(reg.matched);
 	}
 }
