@@ -74,11 +74,7 @@ TEST(LaserOnly, constantVelocityFollowsTurnOnsetsAtOneMetrePerSecond)
 		   "turn's onset, and the wide search only runs for a suspect step (turn > "
 		   "glitch_min_turn or a pause in the scans), so the run loses its heading "
 		   "(measured before: 28.5 m, 89.6 deg). A wide search at every failure fixes this run "
-		   "but made ACES laser-only worse (0.46 -> 3.2 m mean relation error)"; the wide search comes wide_after_failures = 3 scans late and locks "
-		   "onto a corridor alignment 90 deg off (measured: 28.5 m, 89.6 deg). "
-		   "A wide search at the first failure (as wide_after_failures = 1) fixes this run but "
-		   "makes ACES "
-		   "laser-only worse (mean relation error 0.46 -> 3.2 m); see the final report";
+		   "but made ACES laser-only worse (0.46 -> 3.2 m mean relation error)";
 	// The same ring, 60 boxes, 0.2 m per scan (1 m/s at 5 Hz) then turning in place at
 	// 100 deg/s: at each corner the constant-velocity prior is 0.2 m and 20 deg off and the
 	// corridor's right angles offer 90 deg-rotated alignments.
