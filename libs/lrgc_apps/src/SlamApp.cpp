@@ -51,6 +51,14 @@ int CSlamApp::run(const std::vector<std::string>& args)
 			writeTextFileAtomically(cl.writeDefaultConfig, defaultAppConfigText());
 			return kExitOk;
 		}
+		if (!cl.live.empty())
+		{
+			if (!m_live)
+				throw CUsageError(
+					"--live: this program was built without live sensor support (link "
+					"lrgc_live and pass lrgc::apps::runLiveSlam to CSlamApp)");
+			return m_live(cl, m_err);
+		}
 		if (!cl.saveRawlog.empty())
 			if (const int rc = convertOnly(cl); rc != kExitOk || cl.outDir.empty()) return rc;
 		return runOffline(cl);
