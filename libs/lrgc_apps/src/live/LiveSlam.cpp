@@ -8,6 +8,7 @@
 #include "lrgc_apps/live/LiveMapper.h"
 #include "lrgc_apps/live/LiveQueues.h"
 #include "lrgc_apps/live/SensorSupervisor.h"
+#include "lrgc_apps/live/StopSignalWatcher.h"
 
 #include <mrpt/config/CConfigFile.h>
 #include <mrpt/core/format.h>
@@ -294,8 +295,8 @@ int runLiveSlam(const TSlamCommandLine& cl, std::FILE* err)
 	setup.config = loadAppConfig(cl.config);
 	setup.outDir = cl.outDir;
 	setup.quiet = cl.quiet;
-	installStopSignalHandlers();
-	return CLiveSlam(std::move(setup), err).run([] { return stopRequested(); });
+	const CStopSignalWatcher signals;  // before the run's threads, which inherit its mask
+	return CLiveSlam(std::move(setup), err).run([&] { return signals.stopRequested(); });
 }
 
 }  // namespace lrgc::apps

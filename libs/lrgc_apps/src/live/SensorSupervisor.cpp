@@ -238,16 +238,14 @@ std::optional<std::string> CSensorSupervisor::runDriver(mrpt::hwdrivers::CGeneri
 		else if (std::chrono::duration<double>(now - lastValid).count() >
 				 m_params.sensorTimeoutSeconds)
 		{
-			std::string detail = driver.getState() ==
-					mrpt::hwdrivers::CGenericSensor::ssError
+			std::string detail = driver.getState() == mrpt::hwdrivers::CGenericSensor::ssError
 				? "driver in error state"
 				: "driver working";
 			if (rejectedSinceValid > 0)
 				detail += mrpt::format(", %zu observation(s) without data", rejectedSinceValid);
 			if (!m_outageSince) m_outageSince = lastValid;
 			return mrpt::format(
-				"sent no valid data for %.1f s (%s)", m_params.sensorTimeoutSeconds,
-				detail.c_str());
+				"sent no valid data for %.1f s: %s", m_params.sensorTimeoutSeconds, detail.c_str());
 		}
 		waitUntil(t0 + period);
 	}

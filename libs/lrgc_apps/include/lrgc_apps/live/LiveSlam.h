@@ -53,8 +53,8 @@ class CLiveSlam
 	std::FILE* m_err;
 };
 
-/** CSlamApp's live runner: loads the configuration, installs the SIGINT/SIGTERM handlers and
- * runs CLiveSlam until a signal. */
+/** CSlamApp's live runner: loads the configuration and runs CLiveSlam until SIGINT or SIGTERM
+ * (taken by a CStopSignalWatcher; a second one exits at once with status 130). */
 int runLiveSlam(const TSlamCommandLine& cl, std::FILE* err);
 
 }  // namespace lrgc::apps
