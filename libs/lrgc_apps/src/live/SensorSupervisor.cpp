@@ -133,7 +133,7 @@ void CSensorSupervisor::fail(const std::string& what, bool starting)
 {
 	const std::string said = takeDriverMessage();
 	const std::string line = mrpt::format(
-		"live: %s %s%s; %s in %.1f s", name().c_str(), what.c_str(),
+		"live: %s %s%s; %s in %.3g s", name().c_str(), what.c_str(),
 		said.empty() ? "" : (" (" + said + ")").c_str(), starting ? "retrying" : "restarting it",
 		m_backoff);
 	{
