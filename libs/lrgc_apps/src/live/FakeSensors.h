@@ -24,6 +24,8 @@ struct TFakeScript
 	size_t silentAfter = SIZE_MAX;  //!< from then on the instance sends 0-ray scans only
 	size_t throwAfter = SIZE_MAX;  //!< doProcess() throws once at this scan count
 
+	std::atomic<bool> block{false};  //!< doProcess() waits while this is true (a stuck driver)
+
 	std::atomic<size_t> next{0};  //!< next scan to emit
 	std::atomic<int> starts{0}, failedStarts{0}, throws{0};
 	/** True once doProcess() ran again after the last scan was emitted: by then the live

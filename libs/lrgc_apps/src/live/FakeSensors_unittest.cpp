@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <mutex>
+#include <thread>
 
 #include "synthetic_world.h"
 
@@ -21,6 +22,7 @@ void TFakeScript::reset()
 	scansPerCall = 1;
 	failStarts = 0;
 	silentAfter = throwAfter = SIZE_MAX;
+	block = false;
 	next = 0;
 	starts = failedStarts = throws = 0;
 	allHandedOver = false;
@@ -60,6 +62,7 @@ void CFakeLiveLaser::initialize()
 void CFakeLiveLaser::doProcess()
 {
 	TFakeScript& s = laserScript();
+	while (s.block) std::this_thread::sleep_for(std::chrono::milliseconds(5));
 	if (s.next >= s.scans.size())
 	{
 		s.allHandedOver = true;

@@ -55,7 +55,13 @@ void CSensorSupervisor::join()
 TSensorCounters CSensorSupervisor::counters() const
 {
 	std::lock_guard<std::mutex> lock(m_mutex);
-	return m_counters;
+	TSensorCounters c = m_counters;
+	if (m_inCallSince)
+	{
+		const double inCall = std::chrono::duration<double>(TClock::now() - *m_inCallSince).count();
+		if (inCall > m_params.sensorTimeoutSeconds) c.state = mrpt::format("blocked %.0f s", inCall);
+	}
+	return c;
 }
 
 bool CSensorSupervisor::stopping() const
@@ -75,6 +81,13 @@ void CSensorSupervisor::waitUntil(TClock::time_point t)
 {
 	std::unique_lock<std::mutex> lock(m_mutex);
 	m_stopCv.wait_until(lock, t, [&] { return m_stop; });
+}
+
+void CSensorSupervisor::setInCall(bool inCall)
+{
+	std::lock_guard<std::mutex> lock(m_mutex);
+	if (inCall) m_inCallSince = TClock::now();
+	else m_inCallSince.reset();
 }
 
 void CSensorSupervisor::setState(const std::string& state)
@@ -205,11 +218,14 @@ std::optional<std::string> CSensorSupervisor::runDriver(mrpt::hwdrivers::CGeneri
 		mrpt::hwdrivers::CGenericSensor::TListObservations objects;
 		try
 		{
+			setInCall(true);
 			driver.doProcess();
+			setInCall(false);
 			driver.getObservations(objects);
 		}
 		catch (const std::exception& e)
 		{
+			setInCall(false);
 			return "failed: " + shortError(e);
 		}
 		size_t valid = 0;

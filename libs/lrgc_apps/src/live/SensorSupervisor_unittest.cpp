@@ -155,3 +155,19 @@ TEST_F(SensorSupervisorTest, StopEndsABackOffWait)
 	dead->join();  // would wait an hour if the back-off ignored the stop
 	EXPECT_EQ(dead->counters().state, "stopped");
 }
+
+TEST_F(SensorSupervisorTest, ADriverStuckInACallIsShownAsBlocked)
+{
+	auto sup = make("CFakeLiveLaser");
+	sup->start();
+	ASSERT_TRUE(lrgc::test::waitUntil([&] { return scansReceived() >= 3; }, 60));
+	laserScript().block = true;
+	ASSERT_TRUE(lrgc::test::waitUntil(
+		[&] { return sup->counters().state.rfind("blocked ", 0) == 0; }, 60))
+		<< sup->counters().state;
+	laserScript().block = false;
+	ASSERT_TRUE(lrgc::test::waitUntil([&] { return scansReceived() == 20; }, 60));
+	sup->requestStop();
+	sup->join();
+	expectAllScansInOrder();
+}

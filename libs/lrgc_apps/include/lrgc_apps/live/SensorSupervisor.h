@@ -40,7 +40,9 @@ struct TSensorCounters
 	size_t observations = 0;  //!< objects handed to the sink
 	size_t scans = 0;  //!< of which 2D laser scans
 	size_t rejected = 0;  //!< objects without data (scans with < 2 rays), not handed over
-	std::string state = "starting";  //!< "starting", "ok", "retrying", "stopped"
+	/** "starting", "ok", "retrying", "stopped", or "blocked N s" while a doProcess() call has
+	 * lasted longer than sensor_timeout_s (a driver stuck in a call cannot be interrupted). */
+	std::string state = "starting";
 	std::string lastProblem;  //!< the last failure as reported, empty if none
 };
 
@@ -79,6 +81,7 @@ class CSensorSupervisor
 	bool stopping() const;
 	void fail(const std::string& what, bool starting);
 	void setState(const std::string& state);
+	void setInCall(bool inCall);
 	std::string name() const;
 	std::string takeDriverMessage();
 
@@ -97,6 +100,7 @@ class CSensorSupervisor
 	size_t m_driverMessages = 0;
 
 	double m_backoff;  //!< [s] next wait before a restart
+	std::optional<TClock::time_point> m_inCallSince;  //!< inside doProcess() since
 	bool m_flowing = false;  //!< valid data since the last (re)start
 	std::optional<TClock::time_point> m_outageSince;  //!< data stopped or never came
 };
