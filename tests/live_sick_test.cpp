@@ -9,9 +9,9 @@
  * from a log could not be synchronised with scans that the driver time-stamps on arrival; the
  * builder's constant-velocity prior covers a laser alone.
  *
- * Timing: CLMS100Eth's start-up waits about 15 s (1 s per configuration reply, then a 10 s sleep
- * after the status poll), so each test takes 20 to 45 s. Nothing here asserts a duration: every
- * wait is a generous upper bound, and the checks hold whatever the machine's load.
+ * Timing: CLMS100Eth's start-up waits about 15 s (1 s per configuration reply, then a 10 s
+ * sleep after the status poll), so each test takes 20 to 45 s. Nothing here asserts a duration:
+ * every wait is a generous upper bound, and the checks hold whatever the machine's load.
  */
 #include <gtest/gtest.h>
 #include <mrpt/graphs/CNetworkOfPoses.h>
@@ -135,7 +135,8 @@ void expectSameTrajectory(const std::string& liveTum, const std::string& replayT
 	for (size_t i = 0; i < a.size(); ++i)
 	{
 		ASSERT_EQ(a[i].size(), b[i].size()) << "line " << i;
-		for (size_t k = 0; k < a[i].size(); ++k) worst = std::max(worst, std::abs(a[i][k] - b[i][k]));
+		for (size_t k = 0; k < a[i].size(); ++k)
+			worst = std::max(worst, std::abs(a[i][k] - b[i][k]));
 	}
 	EXPECT_LE(worst, 1e-9) << "largest difference between live and replayed trajectories";
 }
@@ -170,9 +171,9 @@ double rigidAlignedRmse(const std::vector<std::vector<double>>& a,
 void expectReplayGivesSameMap(const TLiveRunDirs& d)
 {
 	const std::string replay = d.dir + "/replay";
-	const auto r = runProcess(
-		binaryPath("lrgc-slam"),
-		{"--input", d.out + "/capture.rawlog", "--config", d.config, "--out", replay, "--quiet"});
+	const auto r =
+		runProcess(binaryPath("lrgc-slam"), {"--input", d.out + "/capture.rawlog", "--config",
+											 d.config, "--out", replay, "--quiet"});
 	ASSERT_EQ(r.exitCode, 0) << r.output;
 	const std::string liveStats = readTextFile(d.out + "/stats.json");
 	const std::string replayStats = readTextFile(replay + "/stats.json");
@@ -212,7 +213,7 @@ void expectLoadableOutputs(const std::string& out)
 
 class LiveSickLms1xx : public ::testing::Test
 {
-   protected:
+protected:
 	void SetUp() override
 	{
 		LRGC_SKIP_IF_MISSING(senaRawlogPath());
@@ -251,7 +252,8 @@ TEST_F(LiveSickLms1xx, LiveMapEqualsOfflineMapOfTheCapture)
 	// reply with a 40 ms time-out); the comparison below is on what was received.
 	EXPECT_GE(received, static_cast<long>(0.9 * m_rec.scans.size())) << app.output();
 	size_t badRays = 0;
-	EXPECT_EQ(static_cast<long>(countCapturedScans(d.out + "/capture.rawlog", &badRays)), received);
+	EXPECT_EQ(static_cast<long>(countCapturedScans(d.out + "/capture.rawlog", &badRays)),
+			  received);
 	EXPECT_EQ(badRays, 0u);
 	expectLoadableOutputs(d.out);
 	expectReplayGivesSameMap(d);
@@ -261,7 +263,8 @@ TEST_F(LiveSickLms1xx, LiveMapEqualsOfflineMapOfTheCapture)
 	// trace the same path. This also proves the emulator's beam geometry: served mirrored, the
 	// path would be mirrored (RMSE ~9 m). Measured: 0.05 m.
 	const std::string sena = d.dir + "/sena_offline";
-	const auto r = runProcess(binaryPath("lrgc-slam"), {"--input", senaRawlogPath(), "--out", sena, "--quiet"});
+	const auto r = runProcess(binaryPath("lrgc-slam"),
+							  {"--input", senaRawlogPath(), "--out", sena, "--quiet"});
 	ASSERT_EQ(r.exitCode, 0) << r.output;
 	const auto offline = readTum(sena + "/trajectory.tum");
 	const auto liveTum = readTum(d.out + "/trajectory.tum");
@@ -304,12 +307,14 @@ TEST_F(LiveSickLms1xx, SurvivesDroppedConnectionAndSigtermMidRun)
 	EXPECT_GE(jsonInt(live, "starts"), 2);
 	EXPECT_GE(jsonInt(live, "failures"), 1);
 	const long received = jsonInt(live, "scans", "\"received\"");
-	EXPECT_GT(received, static_cast<long>(opt.dropAfterScans)) << "nothing after the reconnection";
+	EXPECT_GT(received, static_cast<long>(opt.dropAfterScans))
+		<< "nothing after the reconnection";
 	EXPECT_EQ(jsonInt(live, "scans_mapped"), received);
 	EXPECT_NE(readTextFile(d.out + "/stats.json").find("\"status\": \"stopped on request\""),
 			  std::string::npos);
 	size_t badRays = 0;
-	EXPECT_EQ(static_cast<long>(countCapturedScans(d.out + "/capture.rawlog", &badRays)), received);
+	EXPECT_EQ(static_cast<long>(countCapturedScans(d.out + "/capture.rawlog", &badRays)),
+			  received);
 	EXPECT_EQ(badRays, 0u);
 	expectLoadableOutputs(d.out);
 	expectReplayGivesSameMap(d);
@@ -341,7 +346,8 @@ TEST_F(LiveSickLms1xx, SecondSignalExitsAtOnceLeavingCaptureAndSavedMaps)
 	size_t captured = 0;
 	EXPECT_NO_THROW(captured = countCapturedScans(d.out + "/capture.rawlog", &badRays));
 	EXPECT_EQ(badRays, 0u);
-	EXPECT_EQ(static_cast<long>(captured), jsonInt(readTextFile(d.out + "/live.json"), "scans", "\"received\""));
+	EXPECT_EQ(static_cast<long>(captured),
+			  jsonInt(readTextFile(d.out + "/live.json"), "scans", "\"received\""));
 	expectLoadableOutputs(d.out);
 	// The capture replays offline to the end.
 	const auto r = runProcess(binaryPath("lrgc-slam"),

@@ -13,9 +13,8 @@
 
 namespace lrgc::test
 {
-CChildProcess::CChildProcess(
-	const std::string& program, const std::vector<std::string>& args,
-	const std::string& outputFile)
+CChildProcess::CChildProcess(const std::string& program, const std::vector<std::string>& args,
+							 const std::string& outputFile)
 	: m_outputFile(outputFile)
 {
 	std::vector<std::string> argvStore{program};
@@ -57,7 +56,8 @@ std::optional<int> CChildProcess::waitExit(double timeoutSeconds)
 {
 	if (m_exit) return m_exit;
 	waitUntil(
-		[&] {
+		[&]
+		{
 			int status = 0;
 			const pid_t r = ::waitpid(m_pid, &status, WNOHANG);
 			if (r == m_pid)
@@ -80,7 +80,8 @@ bool CChildProcess::waitForOutput(const std::string& text, double timeoutSeconds
 {
 	bool found = false;
 	waitUntil(
-		[&] {
+		[&]
+		{
 			const std::string out = output();
 			found = out.size() > from && out.find(text, from) != std::string::npos;
 			if (found) return true;

@@ -14,11 +14,10 @@ namespace lrgc::test
 {
 class CChildProcess
 {
-   public:
+public:
 	/** Starts `program args...`; its output goes to `outputFile`. Throws if fork fails. */
-	CChildProcess(
-		const std::string& program, const std::vector<std::string>& args,
-		const std::string& outputFile);
+	CChildProcess(const std::string& program, const std::vector<std::string>& args,
+				  const std::string& outputFile);
 	~CChildProcess();
 	CChildProcess(const CChildProcess&) = delete;
 	CChildProcess& operator=(const CChildProcess&) = delete;
@@ -33,7 +32,7 @@ class CChildProcess
 	 * child exits without writing it. */
 	bool waitForOutput(const std::string& text, double timeoutSeconds, size_t from = 0);
 
-   private:
+private:
 	pid_t m_pid = -1;
 	std::string m_outputFile;
 	std::optional<int> m_exit;

@@ -25,7 +25,7 @@ namespace
 {
 constexpr char STX = 0x02, ETX = 0x03;
 constexpr double kDriverAperture = 4.712385;  // [rad] CLMS100Eth's constant (270 deg)
-constexpr double kLms1xxMaxRange = 20.0;  // [m] CLMS100Eth's maxRange
+constexpr double kLms1xxMaxRange = 20.0;      // [m] CLMS100Eth's maxRange
 
 void appendScan(const mrpt::obs::CObservation2DRangeScan& src, TLms1xxRecording& out)
 {
@@ -62,7 +62,10 @@ void sendAll(int fd, const std::string& data)
 	}
 }
 
-std::string framed(const std::string& body) { return std::string(1, STX) + body + ETX; }
+std::string framed(const std::string& body)
+{
+	return std::string(1, STX) + body + ETX;
+}
 
 std::string garbageTelegram(std::mt19937& rng)
 {
@@ -92,7 +95,8 @@ TLms1xxRecording lms1xxScansFromRawlog(const std::string& rawlogPath, size_t max
 	mrpt::obs::CObservation::Ptr obs;
 	size_t entry = 0;
 	while (rec.scans.size() < maxScans &&
-		   mrpt::obs::CRawlog::getActionObservationPairOrObservation(arch, actions, frame, obs, entry))
+		   mrpt::obs::CRawlog::getActionObservationPairOrObservation(arch, actions, frame, obs,
+																	 entry))
 	{
 		if (frame)
 		{
@@ -114,7 +118,8 @@ std::string lms1xxScanTelegram(const TLms1xxScan& scan, uint32_t counter)
 	t << std::uppercase << std::hex;
 	t << "sRA LMDscandata 1 1 89A27F 0 0 " << counter << ' ' << counter << ' '
 	  << 0x1000 + 40 * counter << ' ' << 0x1010 + 40 * counter
-	  << " 0 0 0 0 0 9C4 168 0 1 DIST1 3F800000 00000000 FFF92230 1388 " << scan.distancesMm.size();
+	  << " 0 0 0 0 0 9C4 168 0 1 DIST1 3F800000 00000000 FFF92230 1388 "
+	  << scan.distancesMm.size();
 	for (const uint32_t d : scan.distancesMm) t << ' ' << d;
 	t << " 0 0 0 0 0 0";  // no 8-bit channel, position, name, comment, time, event
 	return framed(t.str());
@@ -156,12 +161,16 @@ bool CLms1xxEmulator::answer(int client, const std::string& request)
 	std::istringstream in(request);
 	std::string kind, name;
 	in >> kind >> name;
-	if (name == "SetAccessMode") sendAll(client, framed("sAN SetAccessMode 1"));
+	if (name == "SetAccessMode")
+		sendAll(client, framed("sAN SetAccessMode 1"));
 	else if (name == "mLMPsetscancfg")
 		sendAll(client, framed("sAN mLMPsetscancfg 0 1388 1 1388 FFF92230 225510"));
-	else if (name == "LMDscandatacfg") sendAll(client, framed("sWA LMDscandatacfg"));
-	else if (name == "LMCstartmeas") sendAll(client, framed("sAN LMCstartmeas 0"));
-	else if (name == "LMCstopmeas") sendAll(client, framed("sAN LMCstopmeas 0"));
+	else if (name == "LMDscandatacfg")
+		sendAll(client, framed("sWA LMDscandatacfg"));
+	else if (name == "LMCstartmeas")
+		sendAll(client, framed("sAN LMCstartmeas 0"));
+	else if (name == "LMCstopmeas")
+		sendAll(client, framed("sAN LMCstopmeas 0"));
 	else if (name == "STlms")  // status 7: ready, measuring
 		sendAll(client, framed("sRA STlms 7 0 8 00:00:00 8 01.01.2000 0 0 0"));
 	else if (name == "LMDscandata")
@@ -193,8 +202,8 @@ bool CLms1xxEmulator::answer(int client, const std::string& request)
 void CLms1xxEmulator::threadMain()
 {
 	const auto deadline = std::chrono::steady_clock::now() +
-		std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-			std::chrono::duration<double>(m_options.lifetimeSeconds));
+						  std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+							  std::chrono::duration<double>(m_options.lifetimeSeconds));
 	int client = -1;
 	std::string inbox;
 	while (!m_stop && !m_finished && std::chrono::steady_clock::now() < deadline)
@@ -239,8 +248,8 @@ void CLms1xxEmulator::threadMain()
 bool waitUntil(const std::function<bool()>& done, double timeoutSeconds)
 {
 	const auto end = std::chrono::steady_clock::now() +
-		std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-			std::chrono::duration<double>(timeoutSeconds));
+					 std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+						 std::chrono::duration<double>(timeoutSeconds));
 	while (!done())
 	{
 		if (std::chrono::steady_clock::now() >= end) return done();

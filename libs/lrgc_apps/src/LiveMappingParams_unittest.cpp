@@ -32,12 +32,15 @@ TEST(LiveMappingParams, UnknownKeysAndBadValuesAreErrors)
 	EXPECT_ANY_THROW(p.loadFromConfigFile(
 		mrpt::config::CConfigFileMemory("[LiveMapping]\nsave_interval = 5\n"), "LiveMapping"));
 	EXPECT_ANY_THROW(p.loadFromConfigFile(
-		mrpt::config::CConfigFileMemory("[LiveMapping]\nmax_backlog_scans = -1\n"), "LiveMapping"));
-	EXPECT_ANY_THROW(p.loadFromConfigFile(
-		mrpt::config::CConfigFileMemory("[LiveMapping]\nsensor_timeout_s = 0\n"), "LiveMapping"));
-	EXPECT_ANY_THROW(p.loadFromConfigFile(
-		mrpt::config::CConfigFileMemory("[LiveMapping]\nretry_initial_s = 5\nretry_max_s = 1\n"),
+		mrpt::config::CConfigFileMemory("[LiveMapping]\nmax_backlog_scans = -1\n"),
 		"LiveMapping"));
+	EXPECT_ANY_THROW(p.loadFromConfigFile(
+		mrpt::config::CConfigFileMemory("[LiveMapping]\nsensor_timeout_s = 0\n"),
+		"LiveMapping"));
+	EXPECT_ANY_THROW(
+		p.loadFromConfigFile(mrpt::config::CConfigFileMemory(
+								 "[LiveMapping]\nretry_initial_s = 5\nretry_max_s = 1\n"),
+							 "LiveMapping"));
 	// A failed load leaves the parameters as they were.
 	EXPECT_DOUBLE_EQ(p.sensorTimeoutSeconds, TLiveMappingParams().sensorTimeoutSeconds);
 }

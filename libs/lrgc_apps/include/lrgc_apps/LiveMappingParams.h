@@ -20,20 +20,20 @@ namespace lrgc::apps
 {
 struct TLiveMappingParams : public mrpt::config::CLoadableOptions
 {
-	double saveIntervalSeconds = 60;  //!< [s] periodic save of all maps; 0: only at the end
+	double saveIntervalSeconds = 60;   //!< [s] periodic save of all maps; 0: only at the end
 	double statusIntervalSeconds = 2;  //!< [s] status line period when stderr is not a terminal
 	/** Laser scans allowed to wait for the mapper before it skips scans; 0: never skip (the
 	 * backlog may then grow without bound, and a stop waits until it is mapped). */
 	size_t maxBacklogScans = 20;
-	double sensorTimeoutSeconds = 3;  //!< [s] no valid observation this long: restart driver
+	double sensorTimeoutSeconds = 3;   //!< [s] no valid observation this long: restart driver
 	double retryInitialSeconds = 0.5;  //!< [s] first back-off before restarting a sensor
-	double retryMaxSeconds = 30;  //!< [s] longest back-off
+	double retryMaxSeconds = 30;       //!< [s] longest back-off
 
 	/** Reads the keys of `section`; unknown keys and invalid values throw. */
-	void loadFromConfigFile(
-		const mrpt::config::CConfigFileBase& source, const std::string& section) override;
-	void saveToConfigFile(
-		mrpt::config::CConfigFileBase& target, const std::string& section) const override;
+	void loadFromConfigFile(const mrpt::config::CConfigFileBase& source,
+							const std::string& section) override;
+	void saveToConfigFile(mrpt::config::CConfigFileBase& target,
+						  const std::string& section) const override;
 };
 
 }  // namespace lrgc::apps

@@ -16,8 +16,8 @@ CCaptureWriter::CCaptureWriter(const std::string& path) : m_path(path)
 {
 	m_fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_APPEND | O_CLOEXEC, 0644);
 	if (m_fd < 0)
-		THROW_EXCEPTION_FMT(
-			"cannot create the capture file '%s': %s", path.c_str(), std::strerror(errno));
+		THROW_EXCEPTION_FMT("cannot create the capture file '%s': %s", path.c_str(),
+							std::strerror(errno));
 }
 
 CCaptureWriter::~CCaptureWriter()
@@ -69,8 +69,8 @@ void CCaptureWriter::close()
 	const int fd = m_fd;
 	m_fd = -1;
 	if (::close(fd) != 0)
-		THROW_EXCEPTION_FMT(
-			"error closing the capture file '%s': %s", m_path.c_str(), std::strerror(errno));
+		THROW_EXCEPTION_FMT("error closing the capture file '%s': %s", m_path.c_str(),
+							std::strerror(errno));
 }
 
 }  // namespace lrgc::apps

@@ -51,7 +51,8 @@ TEST(CaptureWriter, FileHoldsWholeObjectsAfterEveryAppend)
 	{
 		const auto e = reader->next();
 		ASSERT_TRUE(e && e->observation);
-		const auto s = std::dynamic_pointer_cast<mrpt::obs::CObservation2DRangeScan>(e->observation);
+		const auto s =
+			std::dynamic_pointer_cast<mrpt::obs::CObservation2DRangeScan>(e->observation);
 		ASSERT_TRUE(s);
 		EXPECT_FLOAT_EQ(s->getScanRange(7), 1.0f + 0.01f * k + 0.007f);
 		EXPECT_EQ(s->timestamp, mrpt::Clock::fromDouble(1000.0 + k));

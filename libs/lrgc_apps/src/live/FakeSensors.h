@@ -19,17 +19,18 @@ struct TFakeScript
 {
 	std::vector<mrpt::obs::CObservation2DRangeScan::Ptr> scans;  //!< emitted in order
 	std::vector<mrpt::obs::CObservationOdometry::Ptr> odometry;  //!< one before each scan
-	size_t scansPerCall = 1;  //!< scans (each with its odometry) per doProcess(); <= 100
-	int failStarts = 0;  //!< initialize() throws this many times in all
+	size_t scansPerCall = 1;        //!< scans (each with its odometry) per doProcess(); <= 100
+	int failStarts = 0;             //!< initialize() throws this many times in all
 	size_t silentAfter = SIZE_MAX;  //!< from then on the instance sends 0-ray scans only
-	size_t throwAfter = SIZE_MAX;  //!< doProcess() throws once at this scan count
+	size_t throwAfter = SIZE_MAX;   //!< doProcess() throws once at this scan count
 
 	std::atomic<bool> block{false};  //!< doProcess() waits while this is true (a stuck driver)
 
 	std::atomic<size_t> next{0};  //!< next scan to emit
 	std::atomic<int> starts{0}, failedStarts{0}, throws{0};
 	/** True once doProcess() ran again after the last scan was emitted: by then the live
-	 * code has handed every scan over (it calls doProcess only after pushing the last batch). */
+	 * code has handed every scan over (it calls doProcess only after pushing the last batch).
+	 */
 	std::atomic<bool> allHandedOver{false};
 
 	void reset();
@@ -42,15 +43,15 @@ TFakeScript& laserScript();
 class CFakeLiveLaser : public mrpt::hwdrivers::CGenericSensor
 {
 	DEFINE_GENERIC_SENSOR(CFakeLiveLaser)
-   public:
+public:
 	void initialize() override;
 	void doProcess() override;
 
-   protected:
-	void loadConfig_sensorSpecific(
-		const mrpt::config::CConfigFileBase& c, const std::string& section) override;
+protected:
+	void loadConfig_sensorSpecific(const mrpt::config::CConfigFileBase& c,
+								   const std::string& section) override;
 
-   private:
+private:
 	bool m_silent = false;
 	size_t m_emittedHere = 0;
 };
@@ -59,12 +60,13 @@ class CFakeLiveLaser : public mrpt::hwdrivers::CGenericSensor
 class CFakeDeadSensor : public mrpt::hwdrivers::CGenericSensor
 {
 	DEFINE_GENERIC_SENSOR(CFakeDeadSensor)
-   public:
+public:
 	void initialize() override;
 	void doProcess() override {}
 
-   protected:
-	void loadConfig_sensorSpecific(const mrpt::config::CConfigFileBase&, const std::string&) override
+protected:
+	void loadConfig_sensorSpecific(const mrpt::config::CConfigFileBase&,
+								   const std::string&) override
 	{
 	}
 };
@@ -72,8 +74,9 @@ class CFakeDeadSensor : public mrpt::hwdrivers::CGenericSensor
 /** Registers the fakes (idempotent). */
 void registerFakeSensors();
 
-/** At most `n` scans (the path has about 230; 181 beams, 180 deg, 20 m) ray-cast along a path through the synthetic room world,
- * 10 Hz time stamps, with odometry; as a live laser would deliver them. */
+/** At most `n` scans (the path has about 230; 181 beams, 180 deg, 20 m) ray-cast along a path
+ * through the synthetic room world, 10 Hz time stamps, with odometry; as a live laser would
+ * deliver them. */
 void makeRoomRun(size_t n, TFakeScript& script);
 
 }  // namespace lrgc_test_fakes

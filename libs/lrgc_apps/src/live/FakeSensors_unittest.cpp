@@ -37,13 +37,16 @@ TFakeScript& laserScript()
 void registerFakeSensors()
 {
 	static std::once_flag once;
-	std::call_once(once, [] {
-		CFakeLiveLaser::doRegister();
-		CFakeDeadSensor::doRegister();
-	});
+	std::call_once(once,
+				   []
+				   {
+					   CFakeLiveLaser::doRegister();
+					   CFakeDeadSensor::doRegister();
+				   });
 }
 
-void CFakeLiveLaser::loadConfig_sensorSpecific(const mrpt::config::CConfigFileBase&, const std::string&)
+void CFakeLiveLaser::loadConfig_sensorSpecific(const mrpt::config::CConfigFileBase&,
+											   const std::string&)
 {
 }
 
@@ -90,14 +93,18 @@ void CFakeLiveLaser::doProcess()
 	}
 }
 
-void CFakeDeadSensor::initialize() { THROW_EXCEPTION("fake dead sensor: cable cut"); }
+void CFakeDeadSensor::initialize()
+{
+	THROW_EXCEPTION("fake dead sensor: cable cut");
+}
 
 void makeRoomRun(size_t n, TFakeScript& script)
 {
 	using namespace lrgc::test;
 	const CSyntheticWorld world = makeRoomWorld(3);
-	const TTrajectory path = makeTrajectory(
-		{{1.5, 1.5}, {8.5, 1.5}, {8.5, 5.5}, {1.5, 5.5}, {1.5, 2.0}}, 0.1, TOdometryNoise{}, 11);
+	const TTrajectory path =
+		makeTrajectory({{1.5, 1.5}, {8.5, 1.5}, {8.5, 5.5}, {1.5, 5.5}, {1.5, 2.0}}, 0.1,
+					   TOdometryNoise{}, 11);
 	const auto t0 = mrpt::Clock::fromDouble(1.7e9);
 	for (size_t k = 0; k < n && k < path.truePoses.size(); ++k)
 	{

@@ -71,7 +71,9 @@ TEST(KeepUpPolicy, BacklogStaysBoundedForAnySlowness)
 		// Equilibrium M (s - 1), plus the s scans that arrive while one is mapped, plus M.
 		const double bound = (M + 1) * std::max(1.0, slowness) + M;
 		EXPECT_LE(double(maxBacklog), bound) << "slowness " << slowness;
-		if (slowness <= 1.0) EXPECT_EQ(p.skippedTotal(), 0u);
-		else EXPECT_GT(p.skippedTotal(), 0u);
+		if (slowness <= 1.0)
+			EXPECT_EQ(p.skippedTotal(), 0u);
+		else
+			EXPECT_GT(p.skippedTotal(), 0u);
 	}
 }

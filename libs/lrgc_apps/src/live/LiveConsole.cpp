@@ -32,7 +32,8 @@ void CLiveConsole::status(const std::string& line, bool force)
 	if (m_quiet) return;
 	std::lock_guard<std::mutex> lock(m_mutex);
 	const auto now = std::chrono::steady_clock::now();
-	if (!force && std::chrono::duration<double>(now - m_lastStatus).count() < m_interval) return;
+	if (!force && std::chrono::duration<double>(now - m_lastStatus).count() < m_interval)
+		return;
 	m_lastStatus = now;
 	if (m_terminal)
 	{

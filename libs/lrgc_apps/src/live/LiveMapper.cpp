@@ -20,7 +20,8 @@ constexpr size_t kMaxWarningsShown = 30;
 mrpt::obs::CObservation2DRangeScan::Ptr asOfflineReaderWould(
 	const mrpt::obs::CObservation2DRangeScan::Ptr& scan)
 {
-	auto bad = [&](size_t i) {
+	auto bad = [&](size_t i)
+	{
 		const float r = scan->getScanRange(i);
 		return scan->getScanRangeValidity(i) && !(std::isfinite(r) && r >= 0);
 	};
@@ -34,8 +35,8 @@ mrpt::obs::CObservation2DRangeScan::Ptr asOfflineReaderWould(
 }
 }  // namespace
 
-CLiveMapper::CLiveMapper(
-	const TAppConfig& config, std::string outDir, std::string sensorsIni, CLiveConsole& console)
+CLiveMapper::CLiveMapper(const TAppConfig& config, std::string outDir, std::string sensorsIni,
+						 CLiveConsole& console)
 	: m_builder(config.lrgc),
 	  m_outDir(std::move(outDir)),
 	  m_console(console),
@@ -62,15 +63,17 @@ void CLiveMapper::process(const TLiveItem& item, size_t scansBehind)
 				"scans to keep up, the capture keeps them all",
 				scansBehind, m_maxBacklog));
 		if (wasBehind && !m_policy.behind())
-			m_console.message(mrpt::format(
-				"live: mapping caught up (%zu scans skipped while behind)",
-				m_policy.skippedThisEpisode()));
+			m_console.message(
+				mrpt::format("live: mapping caught up (%zu scans skipped while behind)",
+							 m_policy.skippedThisEpisode()));
 		if (map) mapScan(item);
 	}
 	else if (auto obs = std::dynamic_pointer_cast<mrpt::obs::CObservation>(item.object))
 	{
-		if (std::dynamic_pointer_cast<mrpt::obs::CObservationOdometry>(obs)) ++m_counts.odometry;
-		else ++m_counts.otherObservations;
+		if (std::dynamic_pointer_cast<mrpt::obs::CObservationOdometry>(obs))
+			++m_counts.odometry;
+		else
+			++m_counts.otherObservations;
 		m_builder.processObservation(obs);
 	}
 	else
@@ -80,7 +83,8 @@ void CLiveMapper::process(const TLiveItem& item, size_t scansBehind)
 
 void CLiveMapper::mapScan(const TLiveItem& item)
 {
-	const auto scan = std::dynamic_pointer_cast<mrpt::obs::CObservation2DRangeScan>(item.object);
+	const auto scan =
+		std::dynamic_pointer_cast<mrpt::obs::CObservation2DRangeScan>(item.object);
 	const size_t scansBefore = m_builder.stats().scans;
 	const auto t0 = std::chrono::steady_clock::now();
 	m_builder.processObservation(asOfflineReaderWould(scan));
@@ -91,7 +95,8 @@ void CLiveMapper::mapScan(const TLiveItem& item)
 		m_run.latencyMs.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
 		m_run.latencyStamp.push_back(mrpt::Clock::toDouble(scan->timestamp));
 	}
-	m_queueLatencyMs.push_back(std::chrono::duration<double, std::milli>(t1 - item.arrived).count());
+	m_queueLatencyMs.push_back(
+		std::chrono::duration<double, std::milli>(t1 - item.arrived).count());
 }
 
 void CLiveMapper::reportWarnings()
@@ -99,7 +104,8 @@ void CLiveMapper::reportWarnings()
 	for (const auto& w : m_builder.takeWarnings())
 	{
 		++m_warningsTotal;
-		if (m_warningsShown++ < kMaxWarningsShown) m_console.message("warning: " + w);
+		if (m_warningsShown++ < kMaxWarningsShown)
+			m_console.message("warning: " + w);
 		else if (m_warningsShown == kMaxWarningsShown + 1)
 			m_console.message("warning: further warnings are counted in stats.json, not shown");
 	}

@@ -4,13 +4,14 @@
 
 namespace lrgc::apps
 {
-bool CLiveQueues::push(
-	const std::string& sensor, const mrpt::serialization::CSerializable::Ptr& object)
+bool CLiveQueues::push(const std::string& sensor,
+					   const mrpt::serialization::CSerializable::Ptr& object)
 {
 	TLiveItem item;
 	item.sensor = sensor;
 	item.object = object;
-	item.isScan = std::dynamic_pointer_cast<mrpt::obs::CObservation2DRangeScan>(object) != nullptr;
+	item.isScan =
+		std::dynamic_pointer_cast<mrpt::obs::CObservation2DRangeScan>(object) != nullptr;
 	item.arrived = std::chrono::steady_clock::now();
 	{
 		std::lock_guard<std::mutex> lock(m_mutex);
@@ -46,14 +47,14 @@ std::vector<TLiveItem> CLiveQueues::takeForCapture(std::chrono::milliseconds tim
 {
 	std::unique_lock<std::mutex> lock(m_mutex);
 	m_captureCv.wait_for(lock, timeout, [&] { return !m_capture.empty() || m_closed; });
-	std::vector<TLiveItem> out(
-		std::make_move_iterator(m_capture.begin()), std::make_move_iterator(m_capture.end()));
+	std::vector<TLiveItem> out(std::make_move_iterator(m_capture.begin()),
+							   std::make_move_iterator(m_capture.end()));
 	m_capture.clear();
 	return out;
 }
 
-std::optional<TLiveItem> CLiveQueues::takeForMapping(
-	std::chrono::milliseconds timeout, size_t* scansBehind)
+std::optional<TLiveItem> CLiveQueues::takeForMapping(std::chrono::milliseconds timeout,
+													 size_t* scansBehind)
 {
 	std::unique_lock<std::mutex> lock(m_mutex);
 	m_mappingCv.wait_for(lock, timeout, [&] { return !m_mapping.empty() || m_closed; });

@@ -33,17 +33,19 @@ std::string jsonString(const std::string& s)
 	std::string out = "\"";
 	for (const char ch : s)
 	{
-		if (ch == '"' || ch == '\\') out += '\\', out += ch;
+		if (ch == '"' || ch == '\\')
+			out += '\\', out += ch;
 		else if (static_cast<unsigned char>(ch) < 0x20)
 			out += mrpt::format("\\u%04x", static_cast<unsigned>(ch));
-		else out += ch;
+		else
+			out += ch;
 	}
 	return out + "\"";
 }
 
-std::string liveJson(
-	const std::string& status, const std::string& sensorsIni, const CCaptureWriter& capture,
-	const CLiveQueues& queues, const CLiveMapper& mapper, const TSensors& sensors)
+std::string liveJson(const std::string& status, const std::string& sensorsIni,
+					 const CCaptureWriter& capture, const CLiveQueues& queues,
+					 const CLiveMapper& mapper, const TSensors& sensors)
 {
 	const TLiveMapperCounts& m = mapper.counts();
 	const TLatencySummary lat = summarizeLatencies(mapper.queueLatencyMs());
@@ -53,8 +55,8 @@ std::string liveJson(
 	  << "  \"sensors_ini\": " << jsonString(sensorsIni) << ",\n"
 	  << "  \"capture\": {\"file\": \"capture.rawlog\", \"objects\": " << capture.objects()
 	  << ", \"bytes\": " << capture.bytes() << "},\n"
-	  << "  \"received\": {\"objects\": " << queues.pushed() << ", \"scans\": "
-	  << queues.scansPushed() << "},\n"
+	  << "  \"received\": {\"objects\": " << queues.pushed()
+	  << ", \"scans\": " << queues.scansPushed() << "},\n"
 	  << "  \"mapping\": {\"objects_taken\": " << m.items << ", \"scans_taken\": " << m.scans
 	  << ", \"scans_mapped\": " << m.scansMapped
 	  << ", \"skipped_to_keep_up\": " << mapper.policy().skippedTotal()
@@ -82,7 +84,7 @@ std::string liveJson(
 /** The first fatal error of the run (capture or mapping), set from any thread. */
 class CFatal
 {
-   public:
+public:
 	void set(const std::string& why)
 	{
 		std::lock_guard<std::mutex> lock(m_mutex);
@@ -96,7 +98,7 @@ class CFatal
 		return m_why;
 	}
 
-   private:
+private:
 	mutable std::mutex m_mutex;
 	std::atomic<bool> m_set{false};
 	std::string m_why;
@@ -127,7 +129,8 @@ void captureLoop(CLiveQueues& queues, CCaptureWriter& capture, CFatal& fatal)
 	}
 }
 
-std::string statusLine(const CLiveQueues& queues, const CLiveMapper& mapper, const TSensors& sensors)
+std::string statusLine(const CLiveQueues& queues, const CLiveMapper& mapper,
+					   const TSensors& sensors)
 {
 	std::string line = mrpt::format(
 		"live: received %llu scans, mapped %zu, queue %zu, loops %zu, skipped %zu |",
@@ -147,9 +150,9 @@ int CLiveSlam::run(const std::function<bool()>& stop)
 	fs::create_directories(m_setup.outDir);
 	const std::string capturePath = (fs::path(m_setup.outDir) / "capture.rawlog").string();
 	if (fs::exists(capturePath))
-		throw CUsageError(
-			"'" + capturePath + "' exists: a live run never overwrites a capture; choose " +
-			"another --out DIR or move the file");
+		throw CUsageError("'" + capturePath +
+						  "' exists: a live run never overwrites a capture; choose " +
+						  "another --out DIR or move the file");
 	CCaptureWriter capture(capturePath);
 	const mrpt::config::CConfigFile ini(m_setup.sensorsIni);
 	CLiveConsole console(m_err, m_setup.quiet, lp.statusIntervalSeconds);
@@ -165,18 +168,19 @@ int CLiveSlam::run(const std::function<bool()>& stop)
 	for (const TSensorSection& s : rig.sensors)
 		sensors.push_back(std::make_unique<CSensorSupervisor>(
 			ini, s, lp,
-			[&queues, section = s.section](const auto& obj) { return queues.push(section, obj); },
-			[&console](const std::string& line, bool important) {
-				console.message(line, important);
-			}));
+			[&queues, section = s.section](const auto& obj)
+			{ return queues.push(section, obj); },
+			[&console](const std::string& line, bool important)
+			{ console.message(line, important); }));
 	for (auto& s : sensors) s->start();
 	console.message(
 		mrpt::format(
 			"live: %zu sensor(s) from %s; capture: %s; maps saved %s and at the end; Ctrl-C "
 			"stops",
 			sensors.size(), m_setup.sensorsIni.c_str(), capturePath.c_str(),
-			lp.saveIntervalSeconds > 0 ? mrpt::format("every %g s", lp.saveIntervalSeconds).c_str()
-									   : "only on stop"),
+			lp.saveIntervalSeconds > 0
+				? mrpt::format("every %g s", lp.saveIntervalSeconds).c_str()
+				: "only on stop"),
 		false);
 
 	bool closing = false, mappingFailed = false;
@@ -190,7 +194,8 @@ int CLiveSlam::run(const std::function<bool()>& stop)
 			for (auto& s : sensors) s->requestStop();
 			console.message(
 				mrpt::format(
-					"live: stopping: mapping the %zu queued observation(s), then saving (Ctrl-C "
+					"live: stopping: mapping the %zu queued observation(s), then saving "
+					"(Ctrl-C "
 					"again exits at once; the capture and the last saved maps stay valid)",
 					queues.mappingDepth()),
 				true);
@@ -274,7 +279,8 @@ int CLiveSlam::run(const std::function<bool()>& stop)
 	std::signal(SIGPIPE, oldSigpipe);
 
 	const auto& st = mapper.builder().stats();
-	if (fatal.isSet()) console.message("lrgc-slam: " + status + " (what was mapped is saved)", true);
+	if (fatal.isSet())
+		console.message("lrgc-slam: " + status + " (what was mapped is saved)", true);
 	console.message(
 		mrpt::format(
 			"lrgc-slam: live run %s: %llu scans received (%llu objects captured), %zu mapped, "

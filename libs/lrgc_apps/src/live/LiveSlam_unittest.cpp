@@ -38,13 +38,14 @@ std::vector<std::string> lines(const std::string& path)
 /** Runs a live session on the fakes until every scripted scan was handed over. */
 class LiveSlamTest : public ::testing::Test
 {
-   protected:
+protected:
 	void SetUp() override
 	{
 		lrgc_test_fakes::registerFakeSensors();
 		laserScript().reset();
 		m_dir = lrgc::test::makeTempDir(
-			std::string("live_") + ::testing::UnitTest::GetInstance()->current_test_info()->name());
+			std::string("live_") +
+			::testing::UnitTest::GetInstance()->current_test_info()->name());
 		m_sensors = m_dir + "/sensors.ini";
 		lrgc::test::writeTextFile(
 			m_sensors,
@@ -61,7 +62,8 @@ class LiveSlamTest : public ::testing::Test
 		char* buf = nullptr;
 		size_t size = 0;
 		std::FILE* err = open_memstream(&buf, &size);
-		const int rc = CLiveSlam(m_setup, err).run([] { return laserScript().allHandedOver.load(); });
+		const int rc =
+			CLiveSlam(m_setup, err).run([] { return laserScript().allHandedOver.load(); });
 		std::fclose(err);
 		m_console.assign(buf, size);
 		std::free(buf);
@@ -84,17 +86,20 @@ TEST_F(LiveSlamTest, MapsEveryScanAndTheCaptureReplaysToTheSameTrajectory)
 	EXPECT_EQ(jsonInt(live, "odometry"), 150);
 	EXPECT_EQ(jsonInt(live, "skipped_to_keep_up"), 0);
 	EXPECT_NE(m_console.find("live: maps saved ("), std::string::npos) << "periodic save";
-	EXPECT_NE(m_console.find("live: received 150 scans, mapped 150"), std::string::npos) << m_console;
+	EXPECT_NE(m_console.find("live: received 150 scans, mapped 150"), std::string::npos)
+		<< m_console;
 
 	const std::string replay = m_dir + "/replay";
 	std::FILE* devnull = std::fopen("/dev/null", "w");
-	const int rc = CSlamApp(devnull).run({"--input", out("capture.rawlog"), "--out", replay, "--quiet"});
+	const int rc =
+		CSlamApp(devnull).run({"--input", out("capture.rawlog"), "--out", replay, "--quiet"});
 	std::fclose(devnull);
 	ASSERT_EQ(rc, kExitOk);
 	const auto a = lines(out("trajectory.tum")), b = lines(replay + "/trajectory.tum");
 	EXPECT_EQ(a.size(), 150u);
 	EXPECT_EQ(a, b) << "live and replayed trajectories differ";
-	EXPECT_EQ(lrgc::test::readTextFile(out("graph.graph")), lrgc::test::readTextFile(replay + "/graph.graph"));
+	EXPECT_EQ(lrgc::test::readTextFile(out("graph.graph")),
+			  lrgc::test::readTextFile(replay + "/graph.graph"));
 }
 
 TEST_F(LiveSlamTest, FallingBehindSkipsScansButNeverOdometryOrTheCapture)
@@ -108,7 +113,8 @@ TEST_F(LiveSlamTest, FallingBehindSkipsScansButNeverOdometryOrTheCapture)
 	m_setup.config.live.maxBacklogScans = 5;
 	ASSERT_EQ(run(), kExitOk) << m_console;
 	const std::string live = lrgc::test::readTextFile(out("live.json"));
-	const long mapped = jsonInt(live, "scans_mapped"), skipped = jsonInt(live, "skipped_to_keep_up");
+	const long mapped = jsonInt(live, "scans_mapped"),
+			   skipped = jsonInt(live, "skipped_to_keep_up");
 	EXPECT_GT(skipped, 0);
 	EXPECT_GT(mapped, 0);
 	EXPECT_EQ(mapped + skipped, n);
@@ -136,7 +142,8 @@ TEST_F(LiveSlamTest, AnUnknownDriverIsAUsageErrorBeforeAnythingIsWritten)
 	}
 	catch (const CUsageError& e)
 	{
-		EXPECT_NE(std::string(e.what()).find("[LASER]: driver 'CNoSuchLaser'"), std::string::npos)
+		EXPECT_NE(std::string(e.what()).find("[LASER]: driver 'CNoSuchLaser'"),
+				  std::string::npos)
 			<< e.what();
 	}
 	EXPECT_FALSE(fs::exists(out("capture.rawlog")));

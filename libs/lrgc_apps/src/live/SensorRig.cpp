@@ -19,26 +19,25 @@ namespace
 {
 // rawlog-grabber's [global] keys (MRPT 2.5): accepted and not used.
 const std::vector<std::string> kGrabberGlobalKeys = {
-	"rawlog_prefix", "time_between_launches", "SF_max_time_span", "use_sensoryframes",
-	"GRABBER_PERIOD_MS", "rawlog_GZ_compress_level"};
+	"rawlog_prefix",     "time_between_launches", "SF_max_time_span",
+	"use_sensoryframes", "GRABBER_PERIOD_MS",     "rawlog_GZ_compress_level"};
 
-TSensorSection checkSection(
-	const mrpt::config::CConfigFileBase& ini, const std::string& path, const std::string& section)
+TSensorSection checkSection(const mrpt::config::CConfigFileBase& ini, const std::string& path,
+							const std::string& section)
 {
 	const auto where = path + ": [" + section + "]";
 	TSensorSection s;
 	s.section = section;
 	s.driver = ini.read_string(section, "driver", "");
 	if (s.driver.empty())
-		throw CUsageError(
-			where + ": no `driver` key (every section but [global] is a sensor, as for "
-					"rawlog-grabber)");
+		throw CUsageError(where +
+						  ": no `driver` key (every section but [global] is a sensor, as for "
+						  "rawlog-grabber)");
 	const auto sensor = createDriver(s.driver);
 	if (!sensor)
-		throw CUsageError(
-			where + ": driver '" + s.driver +
-			"' is not a sensor class of mrpt::hwdrivers (for example CLMS100Eth, "
-			"CSickLaserSerial, CSickLaserUSB, CHokuyoURG, CRoboPeakLidar)");
+		throw CUsageError(where + ": driver '" + s.driver +
+						  "' is not a sensor class of mrpt::hwdrivers (for example CLMS100Eth, "
+						  "CSickLaserSerial, CSickLaserUSB, CHokuyoURG, CRoboPeakLidar)");
 	silenceDriverConsole(*sensor);
 	try
 	{
@@ -72,18 +71,16 @@ void silenceDriverConsole(mrpt::hwdrivers::CGenericSensor& sensor)
 	log->setVerbosityLevelForCallbacks(mrpt::system::LVL_WARN);
 }
 
-void routeDriverLog(
-	mrpt::hwdrivers::CGenericSensor& sensor, std::function<void(const std::string&)> sink)
+void routeDriverLog(mrpt::hwdrivers::CGenericSensor& sensor,
+					std::function<void(const std::string&)> sink)
 {
 	auto* log = dynamic_cast<mrpt::system::COutputLogger*>(&sensor);
 	if (!log) return;
 	silenceDriverConsole(sensor);
 	log->logRegisterCallback(
-		[sink = std::move(sink)](
-			std::string_view msg, const mrpt::system::VerbosityLevel, std::string_view,
-			const mrpt::Clock::time_point) {
-			sink(shortText(std::string(msg)));
-		});
+		[sink = std::move(sink)](std::string_view msg, const mrpt::system::VerbosityLevel,
+								 std::string_view, const mrpt::Clock::time_point)
+		{ sink(shortText(std::string(msg))); });
 }
 
 namespace
@@ -128,7 +125,10 @@ std::string shortText(const std::string& text)
 	return out.empty() ? text : out;
 }
 
-std::string shortError(const std::exception& e) { return shortText(mrpt::exception_to_str(e)); }
+std::string shortError(const std::exception& e)
+{
+	return shortText(mrpt::exception_to_str(e));
+}
 
 TSensorRig loadSensorRig(const std::string& iniPath)
 {
@@ -156,8 +156,8 @@ TSensorRig loadSensorRig(const std::string& iniPath)
 					": [global] is rawlog-grabber's section; lrgc-slam does not use it (the "
 					"capture goes to DIR/capture.rawlog)");
 			for (const auto& k : unknown)
-				rig.notes.push_back(
-					iniPath + ": [global] " + k + ": not a rawlog-grabber key (misspelt?)");
+				rig.notes.push_back(iniPath + ": [global] " + k +
+									": not a rawlog-grabber key (misspelt?)");
 			continue;
 		}
 		rig.sensors.push_back(checkSection(ini, iniPath, section));

@@ -50,14 +50,16 @@ TEST(SensorRig, ReadsAGrabberIniLikeRawlogGrabber)
 	EXPECT_EQ(rig.sensors[1].label, "SICK");  // CLMS100Eth's default label
 	ASSERT_EQ(rig.notes.size(), 2u);
 	EXPECT_NE(rig.notes[0].find("[global] is rawlog-grabber's section"), std::string::npos);
-	EXPECT_NE(rig.notes[1].find("[global] rawlog_prefx: not a rawlog-grabber key"), std::string::npos);
+	EXPECT_NE(rig.notes[1].find("[global] rawlog_prefx: not a rawlog-grabber key"),
+			  std::string::npos);
 }
 
 TEST(SensorRig, MrptsOwnGrabberExamplesAreAccepted)
 {
 	for (const char* name : {"SICK_LMS_serial.ini", "hokuyo_UTM.ini"})
 	{
-		const std::string path = std::string("/usr/share/mrpt/config_files/rawlog-grabber/") + name;
+		const std::string path =
+			std::string("/usr/share/mrpt/config_files/rawlog-grabber/") + name;
 		if (!lrgc::test::fileExists(path)) GTEST_SKIP() << "not installed here: " << path;
 		const auto rig = loadSensorRig(path);
 		ASSERT_EQ(rig.sensors.size(), 1u) << path;
@@ -67,7 +69,8 @@ TEST(SensorRig, MrptsOwnGrabberExamplesAreAccepted)
 
 TEST(SensorRig, ShippedLiveExampleIsValid)
 {
-	const auto rig = loadSensorRig(std::string(LRGC_SOURCE_DIR) + "/share/lrgc/live-sick-lms1xx.ini");
+	const auto rig =
+		loadSensorRig(std::string(LRGC_SOURCE_DIR) + "/share/lrgc/live-sick-lms1xx.ini");
 	ASSERT_EQ(rig.sensors.size(), 1u);
 	EXPECT_EQ(rig.sensors[0].driver, "CLMS100Eth");
 	EXPECT_GT(rig.sensors[0].processRate, 0);

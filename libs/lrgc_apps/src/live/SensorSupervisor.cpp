@@ -18,9 +18,9 @@ bool carriesNoData(const mrpt::serialization::CSerializable::Ptr& obj)
 }
 }  // namespace
 
-CSensorSupervisor::CSensorSupervisor(
-	const mrpt::config::CConfigFileBase& ini, TSensorSection sensor,
-	const TLiveMappingParams& params, TSink sink, TReport report)
+CSensorSupervisor::CSensorSupervisor(const mrpt::config::CConfigFileBase& ini,
+									 TSensorSection sensor, const TLiveMappingParams& params,
+									 TSink sink, TReport report)
 	: m_ini(ini),
 	  m_sensor(std::move(sensor)),
 	  m_params(params),
@@ -36,7 +36,10 @@ CSensorSupervisor::~CSensorSupervisor()
 	join();
 }
 
-void CSensorSupervisor::start() { m_thread = std::thread([this] { threadMain(); }); }
+void CSensorSupervisor::start()
+{
+	m_thread = std::thread([this] { threadMain(); });
+}
 
 void CSensorSupervisor::requestStop()
 {
@@ -58,8 +61,10 @@ TSensorCounters CSensorSupervisor::counters() const
 	TSensorCounters c = m_counters;
 	if (m_inCallSince)
 	{
-		const double inCall = std::chrono::duration<double>(TClock::now() - *m_inCallSince).count();
-		if (inCall > m_params.sensorTimeoutSeconds) c.state = mrpt::format("blocked %.0f s", inCall);
+		const double inCall =
+			std::chrono::duration<double>(TClock::now() - *m_inCallSince).count();
+		if (inCall > m_params.sensorTimeoutSeconds)
+			c.state = mrpt::format("blocked %.0f s", inCall);
 	}
 	return c;
 }
@@ -73,8 +78,8 @@ bool CSensorSupervisor::stopping() const
 bool CSensorSupervisor::waitFor(double seconds)
 {
 	std::unique_lock<std::mutex> lock(m_mutex);
-	return !m_stopCv.wait_for(
-		lock, std::chrono::duration<double>(seconds), [&] { return m_stop; });
+	return !m_stopCv.wait_for(lock, std::chrono::duration<double>(seconds),
+							  [&] { return m_stop; });
 }
 
 void CSensorSupervisor::waitUntil(TClock::time_point t)
@@ -86,8 +91,10 @@ void CSensorSupervisor::waitUntil(TClock::time_point t)
 void CSensorSupervisor::setInCall(bool inCall)
 {
 	std::lock_guard<std::mutex> lock(m_mutex);
-	if (inCall) m_inCallSince = TClock::now();
-	else m_inCallSince.reset();
+	if (inCall)
+		m_inCallSince = TClock::now();
+	else
+		m_inCallSince.reset();
 }
 
 void CSensorSupervisor::setState(const std::string& state)
@@ -105,10 +112,11 @@ std::string CSensorSupervisor::takeDriverMessage()
 {
 	std::lock_guard<std::mutex> lock(m_mutex);
 	std::string m;
-	if (m_driverMessages == 1) m = "driver said: '" + m_driverMessage + "'";
+	if (m_driverMessages == 1)
+		m = "driver said: '" + m_driverMessage + "'";
 	else if (m_driverMessages > 1)
-		m = mrpt::format(
-			"driver said %zu times, last: '%s'", m_driverMessages, m_driverMessage.c_str());
+		m = mrpt::format("driver said %zu times, last: '%s'", m_driverMessages,
+						 m_driverMessage.c_str());
 	m_driverMessages = 0;
 	m_driverMessage.clear();
 	return m;
@@ -145,10 +153,10 @@ void CSensorSupervisor::threadMain()
 void CSensorSupervisor::fail(const std::string& what, bool starting)
 {
 	const std::string said = takeDriverMessage();
-	const std::string line = mrpt::format(
-		"live: %s %s%s; %s in %.3g s", name().c_str(), what.c_str(),
-		said.empty() ? "" : (" (" + said + ")").c_str(), starting ? "retrying" : "restarting it",
-		m_backoff);
+	const std::string line =
+		mrpt::format("live: %s %s%s; %s in %.3g s", name().c_str(), what.c_str(),
+					 said.empty() ? "" : (" (" + said + ")").c_str(),
+					 starting ? "retrying" : "restarting it", m_backoff);
 	{
 		std::lock_guard<std::mutex> lock(m_mutex);
 		++m_counters.failures;
@@ -164,11 +172,13 @@ mrpt::hwdrivers::CGenericSensor::Ptr CSensorSupervisor::startDriver()
 {
 	auto driver = createDriver(m_sensor.driver);
 	if (!driver) THROW_EXCEPTION_FMT("unknown driver class '%s'", m_sensor.driver.c_str());
-	routeDriverLog(*driver, [this](const std::string& msg) {
-		std::lock_guard<std::mutex> lock(m_mutex);
-		m_driverMessage = msg;
-		++m_driverMessages;
-	});
+	routeDriverLog(*driver,
+				   [this](const std::string& msg)
+				   {
+					   std::lock_guard<std::mutex> lock(m_mutex);
+					   m_driverMessage = msg;
+					   ++m_driverMessages;
+				   });
 	driver->loadConfig(m_ini, m_sensor.section);
 	silenceDriverConsole(*driver);  // in case loadConfig changed the logging level
 	if (stopping()) return nullptr;
@@ -178,11 +188,9 @@ mrpt::hwdrivers::CGenericSensor::Ptr CSensorSupervisor::startDriver()
 		++m_counters.starts;
 		m_counters.state = "ok";
 	}
-	m_report(
-		mrpt::format(
-			"live: %s started (label '%s', %.0f Hz)", name().c_str(),
-			driver->getSensorLabel().c_str(), driver->getProcessRate()),
-		false);
+	m_report(mrpt::format("live: %s started (label '%s', %.0f Hz)", name().c_str(),
+						  driver->getSensorLabel().c_str(), driver->getProcessRate()),
+			 false);
 	return driver;
 }
 
@@ -242,12 +250,11 @@ std::optional<std::string> CSensorSupervisor::runDriver(mrpt::hwdrivers::CGeneri
 				m_backoff = m_params.retryInitialSeconds;
 				setState("ok");
 				if (m_outageSince)
-					m_report(
-						mrpt::format(
-							"live: %s data again after %.1f s without; mapping resumes",
-							name().c_str(),
-							std::chrono::duration<double>(now - *m_outageSince).count()),
-						true);
+					m_report(mrpt::format(
+								 "live: %s data again after %.1f s without; mapping resumes",
+								 name().c_str(),
+								 std::chrono::duration<double>(now - *m_outageSince).count()),
+							 true);
 				m_outageSince.reset();
 			}
 		}
@@ -255,13 +262,13 @@ std::optional<std::string> CSensorSupervisor::runDriver(mrpt::hwdrivers::CGeneri
 				 m_params.sensorTimeoutSeconds)
 		{
 			std::string detail = driver.getState() == mrpt::hwdrivers::CGenericSensor::ssError
-				? "driver in error state"
-				: "driver working";
+									 ? "driver in error state"
+									 : "driver working";
 			if (rejectedSinceValid > 0)
 				detail += mrpt::format(", %zu observation(s) without data", rejectedSinceValid);
 			if (!m_outageSince) m_outageSince = lastValid;
-			return mrpt::format(
-				"sent no valid data for %.1f s: %s", m_params.sensorTimeoutSeconds, detail.c_str());
+			return mrpt::format("sent no valid data for %.1f s: %s",
+								m_params.sensorTimeoutSeconds, detail.c_str());
 		}
 		waitUntil(t0 + period);
 	}

@@ -14,7 +14,7 @@ namespace
 {
 class SensorSupervisorTest : public ::testing::Test
 {
-   protected:
+protected:
 	void SetUp() override
 	{
 		lrgc_test_fakes::registerFakeSensors();
@@ -25,19 +25,22 @@ class SensorSupervisorTest : public ::testing::Test
 		m_params.retryMaxSeconds = 0.03;
 	}
 
-	std::unique_ptr<CSensorSupervisor> make(const std::string& driver, const std::string& section = "LASER")
+	std::unique_ptr<CSensorSupervisor> make(const std::string& driver,
+											const std::string& section = "LASER")
 	{
 		m_ini.write(section, "driver", driver);
 		m_ini.write(section, "process_rate", 500);
 		TSensorSection s{section, driver, section, 500};
 		return std::make_unique<CSensorSupervisor>(
 			m_ini, s, m_params,
-			[this](const mrpt::serialization::CSerializable::Ptr& o) {
+			[this](const mrpt::serialization::CSerializable::Ptr& o)
+			{
 				std::lock_guard<std::mutex> lock(m_mutex);
 				m_received.push_back(o);
 				return true;
 			},
-			[this](const std::string& line, bool) {
+			[this](const std::string& line, bool)
+			{
 				std::lock_guard<std::mutex> lock(m_mutex);
 				m_lines.push_back(line);
 			});
@@ -63,9 +66,11 @@ class SensorSupervisorTest : public ::testing::Test
 		std::lock_guard<std::mutex> lock(m_mutex);
 		std::vector<mrpt::serialization::CSerializable::Ptr> scans;
 		for (const auto& o : m_received)
-			if (std::dynamic_pointer_cast<mrpt::obs::CObservation2DRangeScan>(o)) scans.push_back(o);
+			if (std::dynamic_pointer_cast<mrpt::obs::CObservation2DRangeScan>(o))
+				scans.push_back(o);
 		ASSERT_EQ(scans.size(), laserScript().scans.size());
-		for (size_t i = 0; i < scans.size(); ++i) EXPECT_EQ(scans[i], laserScript().scans[i]) << i;
+		for (size_t i = 0; i < scans.size(); ++i)
+			EXPECT_EQ(scans[i], laserScript().scans[i]) << i;
 	}
 
 	mrpt::config::CConfigFileMemory m_ini;
@@ -84,7 +89,9 @@ TEST_F(SensorSupervisorTest, StartFailuresAreRetriedWithDoublingBackOff)
 	ASSERT_TRUE(lrgc::test::waitUntil([&] { return scansReceived() == 20; }, 60));
 	sup->requestStop();
 	sup->join();
-	EXPECT_EQ(linesWith("[LASER] CFakeLiveLaser cannot start: fake laser: no device on the port"), 3u);
+	EXPECT_EQ(
+		linesWith("[LASER] CFakeLiveLaser cannot start: fake laser: no device on the port"),
+		3u);
 	EXPECT_EQ(linesWith("retrying in 0.01 s"), 1u);
 	EXPECT_EQ(linesWith("retrying in 0.02 s"), 1u);
 	EXPECT_EQ(linesWith("retrying in 0.03 s"), 1u);  // capped at retry_max_s
@@ -137,7 +144,8 @@ TEST_F(SensorSupervisorTest, ADeadSensorDoesNotHoldUpAnother)
 	ASSERT_TRUE(lrgc::test::waitUntil([&] { return scansReceived() == 20; }, 60));
 	EXPECT_GE(dead->counters().failures, 1u);
 	EXPECT_EQ(dead->counters().starts, 0u);
-	EXPECT_GE(linesWith("[BROKEN] CFakeDeadSensor cannot start: fake dead sensor: cable cut"), 1u);
+	EXPECT_GE(linesWith("[BROKEN] CFakeDeadSensor cannot start: fake dead sensor: cable cut"),
+			  1u);
 	dead->requestStop();
 	laser->requestStop();
 	dead->join();

@@ -15,14 +15,16 @@ CStopSignalWatcher::CStopSignalWatcher()
 	sigaddset(&m_set, SIGINT);
 	sigaddset(&m_set, SIGTERM);
 	pthread_sigmask(SIG_BLOCK, &m_set, &m_oldMask);
-	m_thread = std::thread([this] {
-		const timespec poll = {0, 200 * 1000 * 1000};  // to notice m_quit
-		while (!m_quit)
+	m_thread = std::thread(
+		[this]
 		{
-			if (sigtimedwait(&m_set, nullptr, &poll) < 0) continue;  // time-out or EINTR
-			if (m_signals.fetch_add(1) >= 1) ::_exit(kExitInterrupted);
-		}
-	});
+			const timespec poll = {0, 200 * 1000 * 1000};  // to notice m_quit
+			while (!m_quit)
+			{
+				if (sigtimedwait(&m_set, nullptr, &poll) < 0) continue;  // time-out or EINTR
+				if (m_signals.fetch_add(1) >= 1) ::_exit(kExitInterrupted);
+			}
+		});
 }
 
 CStopSignalWatcher::~CStopSignalWatcher()

@@ -23,7 +23,7 @@ namespace lrgc::apps
 {
 class CCaptureWriter
 {
-   public:
+public:
 	/** Creates `path`; throws (naming it) if it exists or cannot be created. */
 	explicit CCaptureWriter(const std::string& path);
 	~CCaptureWriter();
@@ -41,7 +41,7 @@ class CCaptureWriter
 	uint64_t objects() const { return m_objects; }
 	uint64_t bytes() const { return m_bytes; }
 
-   private:
+private:
 	std::string m_path;
 	std::mutex m_fdMutex;  //!< sync() from other threads vs close()
 	int m_fd = -1;

@@ -18,7 +18,7 @@ namespace lrgc::apps
 {
 class CKeepUpPolicy
 {
-   public:
+public:
 	explicit CKeepUpPolicy(size_t maxBacklogScans) : m_max(maxBacklogScans) {}
 
 	/** For the laser scan at the head of the queue, with `waiting` laser scans queued behind
@@ -31,7 +31,7 @@ class CKeepUpPolicy
 	/** Scans skipped since the mapper last fell behind. */
 	size_t skippedThisEpisode() const { return m_skippedEpisode; }
 
-   private:
+private:
 	size_t m_max;
 	size_t m_skippedRun = 0;  //!< skipped since the last mapped scan
 	size_t m_skippedTotal = 0, m_skippedEpisode = 0;

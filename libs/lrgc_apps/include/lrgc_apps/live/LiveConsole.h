@@ -17,7 +17,7 @@ namespace lrgc::apps
 {
 class CLiveConsole
 {
-   public:
+public:
 	CLiveConsole(std::FILE* out, bool quiet, double statusIntervalSeconds);
 
 	/** A line; `important` ones (problems) are printed even when quiet. Thread-safe. */
@@ -27,7 +27,7 @@ class CLiveConsole
 	/** Ends a status line drawn in place (newline). */
 	void endStatus();
 
-   private:
+private:
 	void clearStatusLocked();
 	std::FILE* m_out;
 	bool m_quiet, m_terminal;

@@ -26,19 +26,20 @@ namespace lrgc::apps
 {
 struct TLiveMapperCounts
 {
-	size_t items = 0;  //!< objects taken from the queue
-	size_t scans = 0;  //!< laser scans taken
-	size_t scansMapped = 0;  //!< laser scans given to the builder
-	size_t odometry = 0;  //!< odometry observations given to the builder
+	size_t items = 0;              //!< objects taken from the queue
+	size_t scans = 0;              //!< laser scans taken
+	size_t scansMapped = 0;        //!< laser scans given to the builder
+	size_t odometry = 0;           //!< odometry observations given to the builder
 	size_t otherObservations = 0;  //!< other observations given to it (it ignores them)
-	size_t notObservations = 0;  //!< captured objects that are not observations (not mapped)
-	size_t saves = 0;  //!< periodic saves done
+	size_t notObservations = 0;    //!< captured objects that are not observations (not mapped)
+	size_t saves = 0;              //!< periodic saves done
 };
 
 class CLiveMapper
 {
-   public:
-	CLiveMapper(const TAppConfig& config, std::string outDir, std::string sensorsIni, CLiveConsole& console);
+public:
+	CLiveMapper(const TAppConfig& config, std::string outDir, std::string sensorsIni,
+				CLiveConsole& console);
 
 	/** Maps (or, by the keep-up policy, skips) one item; `scansBehind` laser scans wait after
 	 * it. Throws if the builder fails. */
@@ -55,7 +56,7 @@ class CLiveMapper
 	const std::vector<double>& queueLatencyMs() const { return m_queueLatencyMs; }
 	size_t warnings() const { return m_warningsTotal; }
 
-   private:
+private:
 	void mapScan(const TLiveItem& item);
 	void reportWarnings();
 

@@ -25,7 +25,7 @@ namespace lrgc::apps
 {
 struct TLiveItem
 {
-	uint64_t seq = 0;  //!< arrival order, from 0
+	uint64_t seq = 0;    //!< arrival order, from 0
 	std::string sensor;  //!< .ini section of the sensor it came from
 	mrpt::serialization::CSerializable::Ptr object;
 	bool isScan = false;  //!< a 2D laser scan (the keep-up policy counts these)
@@ -34,7 +34,7 @@ struct TLiveItem
 
 class CLiveQueues
 {
-   public:
+public:
 	/** From any sensor thread. False (and nothing queued) once closed. */
 	bool push(const std::string& sensor, const mrpt::serialization::CSerializable::Ptr& object);
 	/** Refuses further pushes and wakes the consumers. */
@@ -46,16 +46,17 @@ class CLiveQueues
 	std::vector<TLiveItem> takeForCapture(std::chrono::milliseconds timeout);
 	/** Mapping side: the oldest item, waiting up to `timeout`; `scansBehind` receives the
 	 * number of laser scans still queued after it. */
-	std::optional<TLiveItem> takeForMapping(std::chrono::milliseconds timeout, size_t* scansBehind);
+	std::optional<TLiveItem> takeForMapping(std::chrono::milliseconds timeout,
+											size_t* scansBehind);
 
 	/** True once closed and both queues are empty. */
 	bool drained() const;
-	size_t mappingDepth() const;  //!< items waiting for the mapper
+	size_t mappingDepth() const;         //!< items waiting for the mapper
 	size_t mappingScansWaiting() const;  //!< laser scans waiting for the mapper
-	uint64_t pushed() const;  //!< objects accepted so far
-	uint64_t scansPushed() const;  //!< laser scans accepted so far
+	uint64_t pushed() const;             //!< objects accepted so far
+	uint64_t scansPushed() const;        //!< laser scans accepted so far
 
-   private:
+private:
 	mutable std::mutex m_mutex;
 	std::condition_variable m_captureCv, m_mappingCv;
 	std::deque<TLiveItem> m_capture, m_mapping;

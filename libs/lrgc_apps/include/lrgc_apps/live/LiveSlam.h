@@ -32,14 +32,14 @@ namespace lrgc::apps
 struct TLiveSlamSetup
 {
 	std::string sensorsIni;  //!< rawlog-grabber .ini of the sensors
-	TAppConfig config;  //!< lrgc parameters, [LiveMapping] included
+	TAppConfig config;       //!< lrgc parameters, [LiveMapping] included
 	std::string outDir;
 	bool quiet = false;
 };
 
 class CLiveSlam
 {
-   public:
+public:
 	CLiveSlam(TLiveSlamSetup setup, std::FILE* err) : m_setup(std::move(setup)), m_err(err) {}
 
 	/** Maps until `stop()` returns true (polled about 10 times a second) or a fatal error.
@@ -48,7 +48,7 @@ class CLiveSlam
 	 * for a bad sensors file or an existing DIR/capture.rawlog (never overwritten). */
 	int run(const std::function<bool()>& stop);
 
-   private:
+private:
 	TLiveSlamSetup m_setup;
 	std::FILE* m_err;
 };

@@ -21,9 +21,9 @@ namespace lrgc::apps
 {
 struct TSensorSection
 {
-	std::string section;  //!< .ini section name
-	std::string driver;  //!< CGenericSensor class name
-	std::string label;  //!< sensorLabel after loadConfig (names the observations)
+	std::string section;     //!< .ini section name
+	std::string driver;      //!< CGenericSensor class name
+	std::string label;       //!< sensorLabel after loadConfig (names the observations)
 	double processRate = 0;  //!< [Hz] doProcess() rate, from the section
 };
 
@@ -43,8 +43,8 @@ mrpt::hwdrivers::CGenericSensor::Ptr createDriver(const std::string& driver);
 /** Sends the driver's log messages (if it is an mrpt::system::COutputLogger) of level warning
  * and above to `sink` instead of the console: some drivers (CLMS100Eth) turn debug output on in
  * their constructor and would flood stdout. */
-void routeDriverLog(
-	mrpt::hwdrivers::CGenericSensor& sensor, std::function<void(const std::string&)> sink);
+void routeDriverLog(mrpt::hwdrivers::CGenericSensor& sensor,
+					std::function<void(const std::string&)> sink);
 /** Only the console part of routeDriverLog(): console output off, level warning. */
 void silenceDriverConsole(mrpt::hwdrivers::CGenericSensor& sensor);
 

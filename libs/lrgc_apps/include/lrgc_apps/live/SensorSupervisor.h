@@ -35,11 +35,11 @@ namespace lrgc::apps
 /** A snapshot of one sensor's counters. */
 struct TSensorCounters
 {
-	size_t starts = 0;  //!< successful initialize() calls
-	size_t failures = 0;  //!< failed starts, driver errors and data time-outs
+	size_t starts = 0;        //!< successful initialize() calls
+	size_t failures = 0;      //!< failed starts, driver errors and data time-outs
 	size_t observations = 0;  //!< objects handed to the sink
-	size_t scans = 0;  //!< of which 2D laser scans
-	size_t rejected = 0;  //!< objects without data (scans with < 2 rays), not handed over
+	size_t scans = 0;         //!< of which 2D laser scans
+	size_t rejected = 0;      //!< objects without data (scans with < 2 rays), not handed over
 	/** "starting", "ok", "retrying", "stopped", or "blocked N s" while a doProcess() call has
 	 * lasted longer than sensor_timeout_s (a driver stuck in a call cannot be interrupted). */
 	std::string state = "starting";
@@ -48,15 +48,14 @@ struct TSensorCounters
 
 class CSensorSupervisor
 {
-   public:
+public:
 	/** Returns false when the intake is closed. */
 	using TSink = std::function<bool(const mrpt::serialization::CSerializable::Ptr&)>;
 	using TReport = std::function<void(const std::string& line, bool important)>;
 
 	/** `ini` must outlive the supervisor. */
-	CSensorSupervisor(
-		const mrpt::config::CConfigFileBase& ini, TSensorSection sensor,
-		const TLiveMappingParams& params, TSink sink, TReport report);
+	CSensorSupervisor(const mrpt::config::CConfigFileBase& ini, TSensorSection sensor,
+					  const TLiveMappingParams& params, TSink sink, TReport report);
 	~CSensorSupervisor();
 	CSensorSupervisor(const CSensorSupervisor&) = delete;
 	CSensorSupervisor& operator=(const CSensorSupervisor&) = delete;
@@ -68,13 +67,14 @@ class CSensorSupervisor
 	const TSensorSection& sensor() const { return m_sensor; }
 	TSensorCounters counters() const;
 
-   private:
+private:
 	using TClock = std::chrono::steady_clock;
 	void threadMain();
 	mrpt::hwdrivers::CGenericSensor::Ptr startDriver();
 	/** Runs the driver until stop (nullopt) or a failure (its description). */
 	std::optional<std::string> runDriver(mrpt::hwdrivers::CGenericSensor& driver);
-	void handOver(const mrpt::hwdrivers::CGenericSensor::TListObservations& objects, size_t& valid);
+	void handOver(const mrpt::hwdrivers::CGenericSensor::TListObservations& objects,
+				  size_t& valid);
 	/** Waits `seconds` or until stop; false if stopped. */
 	bool waitFor(double seconds);
 	void waitUntil(TClock::time_point t);
@@ -99,9 +99,9 @@ class CSensorSupervisor
 	std::string m_driverMessage;  //!< last warning/error the driver logged
 	size_t m_driverMessages = 0;
 
-	double m_backoff;  //!< [s] next wait before a restart
+	double m_backoff;                                 //!< [s] next wait before a restart
 	std::optional<TClock::time_point> m_inCallSince;  //!< inside doProcess() since
-	bool m_flowing = false;  //!< valid data since the last (re)start
+	bool m_flowing = false;                           //!< valid data since the last (re)start
 	std::optional<TClock::time_point> m_outageSince;  //!< data stopped or never came
 };
 

@@ -21,7 +21,7 @@ namespace lrgc::apps
 {
 class CStopSignalWatcher
 {
-   public:
+public:
 	CStopSignalWatcher();
 	/** Ends the watcher and restores the caller's signal mask. */
 	~CStopSignalWatcher();
@@ -30,7 +30,7 @@ class CStopSignalWatcher
 
 	bool stopRequested() const { return m_signals.load() > 0; }
 
-   private:
+private:
 	sigset_t m_set{}, m_oldMask{};
 	std::atomic<int> m_signals{0};
 	std::atomic<bool> m_quit{false};
