@@ -140,157 +140,231 @@ std::string statusLine(const CLiveQueues& queues, const CLiveMapper& mapper,
 	for (const auto& s : sensors) line += " " + s->sensor().section + " " + s->counters().state;
 	return line;
 }
+
+/** One live run: its threads and the stop sequence. */
+class CLiveSession
+{
+public:
+	CLiveSession(const TLiveSlamSetup& setup, const TSensorRig& rig, std::FILE* err)
+		: m_setup(setup),
+		  m_params(setup.config.live),
+		  m_capture(captureFileOf(setup.outDir)),
+		  m_ini(setup.sensorsIni),
+		  m_console(err, setup.quiet, m_params.statusIntervalSeconds),
+		  m_mapper(setup.config, setup.outDir, setup.sensorsIni, m_console)
+	{
+		for (const auto& note : rig.notes) m_console.message("live: " + note, false);
+		m_writer = std::thread([this] { captureLoop(m_queues, m_capture, m_fatal); });
+		for (const TSensorSection& s : rig.sensors)
+			m_sensors.push_back(std::make_unique<CSensorSupervisor>(
+				m_ini, s, m_params,
+				[this, section = s.section](const auto& obj)
+				{ return m_queues.push(section, obj); },
+				[this](const std::string& line, bool important)
+				{ m_console.message(line, important); }));
+		for (auto& s : m_sensors) s->start();
+		m_console.message(
+			mrpt::format(
+				"live: %zu sensor(s) from %s; capture: %s; maps saved %s and at the end; "
+				"Ctrl-C stops",
+				m_sensors.size(), setup.sensorsIni.c_str(), m_capture.path().c_str(),
+				m_params.saveIntervalSeconds > 0
+					? mrpt::format("every %g s", m_params.saveIntervalSeconds).c_str()
+					: "only on stop"),
+			false);
+	}
+	~CLiveSession()
+	{
+		m_queues.close();  // on an exception: let the writer finish
+		if (m_writer.joinable()) m_writer.join();
+	}
+
+	/** Maps until stop() or a fatal error, then maps what is queued. */
+	void mapUntilStopped(const std::function<bool()>& stop)
+	{
+		bool closing = false;
+		auto lastSave = std::chrono::steady_clock::now();
+		while (true)
+		{
+			if (!closing && (stop() || m_fatal.isSet()))
+			{
+				closing = true;
+				beginStop();
+			}
+			size_t behind = 0;
+			const std::optional<TLiveItem> item = m_queues.takeForMapping(100ms, &behind);
+			if (!item && closing) break;
+			if (item) mapItem(*item, behind);
+			m_console.status(statusLine(m_queues, m_mapper, m_sensors));
+			const auto now = std::chrono::steady_clock::now();
+			if (!closing && m_params.saveIntervalSeconds > 0 &&
+				std::chrono::duration<double>(now - lastSave).count() >=
+					m_params.saveIntervalSeconds &&
+				m_mapper.builder().stats().scans > 0)
+			{
+				lastSave = now;
+				periodicSave();
+			}
+		}
+		m_console.status(statusLine(m_queues, m_mapper, m_sensors), true);
+		m_console.endStatus();
+	}
+
+	/** Closes the capture, final optimisation and save, waits for the drivers; exit status. */
+	int finish()
+	{
+		m_writer.join();
+		try
+		{
+			m_capture.close();
+		}
+		catch (const std::exception& e)
+		{
+			m_fatal.set("capture: " + shortError(e));
+		}
+		const std::string status =
+			m_fatal.isSet() ? "error: " + m_fatal.why() : "stopped on request";
+		int exitCode = m_fatal.isSet() ? kExitInputError : kExitOk;
+		try
+		{
+			if (!m_mappingFailed) m_mapper.finish();
+			m_mapper.save(status);
+			writeLiveJson(status);
+		}
+		catch (const std::exception& e)
+		{
+			m_console.message("live: saving the final maps failed: " + shortError(e), true);
+			exitCode = kExitInputError;
+		}
+		m_console.message(
+			"live: maps saved; waiting for the sensor drivers to return from their current "
+			"call",
+			false);
+		for (auto& s : m_sensors) s->join();
+		try
+		{
+			writeLiveJson(status);  // the sensors' final counts
+		}
+		catch (const std::exception&)
+		{
+			// The version written before the wait stands.
+		}
+		summary(status);
+		return exitCode;
+	}
+
+private:
+	static std::string captureFileOf(const std::string& outDir)
+	{
+		return (std::filesystem::path(outDir) / "capture.rawlog").string();
+	}
+
+	void beginStop()
+	{
+		m_queues.close();
+		for (auto& s : m_sensors) s->requestStop();
+		m_console.message(
+			mrpt::format(
+				"live: stopping: mapping the %zu queued observation(s), then saving (Ctrl-C "
+				"again exits at once; the capture and the last saved maps stay valid)",
+				m_queues.mappingDepth()),
+			true);
+	}
+
+	void mapItem(const TLiveItem& item, size_t behind)
+	{
+		if (m_mappingFailed) return;  // drained without mapping: the capture gets it all
+		try
+		{
+			m_mapper.process(item, behind);
+		}
+		catch (const std::exception& e)
+		{
+			m_mappingFailed = true;
+			m_fatal.set("mapping: " + shortError(e));
+		}
+	}
+
+	void periodicSave()
+	{
+		const auto t0 = std::chrono::steady_clock::now();
+		try
+		{
+			m_capture.sync();
+			m_mapper.save("running (periodic save)");
+			writeLiveJson("running");
+			m_console.message(
+				mrpt::format(
+					"live: maps saved (%zu scans, %zu keyframes) in %.2f s",
+					m_mapper.builder().stats().scans, m_mapper.builder().stats().keyframes,
+					std::chrono::duration<double>(std::chrono::steady_clock::now() - t0)
+						.count()),
+				false);
+		}
+		catch (const std::exception& e)
+		{
+			m_console.message("live: periodic save failed: " + shortError(e), true);
+		}
+	}
+
+	void writeLiveJson(const std::string& status)
+	{
+		writeTextFileAtomically(
+			(std::filesystem::path(m_setup.outDir) / "live.json").string(),
+			liveJson(status, m_setup.sensorsIni, m_capture, m_queues, m_mapper, m_sensors));
+	}
+
+	void summary(const std::string& status)
+	{
+		const auto& st = m_mapper.builder().stats();
+		if (m_fatal.isSet())
+			m_console.message("lrgc-slam: " + status + " (what was mapped is saved)", true);
+		m_console.message(
+			mrpt::format(
+				"lrgc-slam: live run %s: %llu scans received (%llu objects captured), %zu "
+				"mapped, %zu skipped to keep up, %zu keyframes, %zu loop closures; outputs in "
+				"%s",
+				m_fatal.isSet() ? "failed" : "stopped",
+				static_cast<unsigned long long>(m_queues.scansPushed()),
+				static_cast<unsigned long long>(m_capture.objects()),
+				m_mapper.counts().scansMapped, m_mapper.policy().skippedTotal(), st.keyframes,
+				st.loopClosures, m_setup.outDir.c_str()),
+			m_fatal.isSet());
+	}
+
+	const TLiveSlamSetup& m_setup;
+	const TLiveMappingParams& m_params;
+	CCaptureWriter m_capture;
+	const mrpt::config::CConfigFile m_ini;  //!< read by the sensor threads
+	CLiveConsole m_console;
+	CLiveQueues m_queues;
+	CLiveMapper m_mapper;
+	CFatal m_fatal;
+	bool m_mappingFailed = false;
+	std::thread m_writer;
+	TSensors m_sensors;  //!< last: destroyed (stopped and joined) first
+};
 }  // namespace
 
 int CLiveSlam::run(const std::function<bool()>& stop)
 {
-	namespace fs = std::filesystem;
 	const TSensorRig rig = loadSensorRig(m_setup.sensorsIni);
-	const TLiveMappingParams& lp = m_setup.config.live;
-	fs::create_directories(m_setup.outDir);
-	const std::string capturePath = (fs::path(m_setup.outDir) / "capture.rawlog").string();
-	if (fs::exists(capturePath))
-		throw CUsageError("'" + capturePath +
-						  "' exists: a live run never overwrites a capture; choose " +
-						  "another --out DIR or move the file");
-	CCaptureWriter capture(capturePath);
-	const mrpt::config::CConfigFile ini(m_setup.sensorsIni);
-	CLiveConsole console(m_err, m_setup.quiet, lp.statusIntervalSeconds);
-	for (const auto& note : rig.notes) console.message("live: " + note, false);
-
+	std::filesystem::create_directories(m_setup.outDir);
+	const auto capturePath = std::filesystem::path(m_setup.outDir) / "capture.rawlog";
+	if (std::filesystem::exists(capturePath))
+		throw CUsageError(
+			"'" + capturePath.string() +
+			"' exists: a live run never overwrites a capture; choose another --out DIR or move "
+			"the file");
 	// A socket driver writing to a peer that went away must get EPIPE, not kill the process.
 	const auto oldSigpipe = std::signal(SIGPIPE, SIG_IGN);
-	CLiveQueues queues;
-	CLiveMapper mapper(m_setup.config, m_setup.outDir, m_setup.sensorsIni, console);
-	CFatal fatal;
-	std::thread writer([&] { captureLoop(queues, capture, fatal); });
-	TSensors sensors;
-	for (const TSensorSection& s : rig.sensors)
-		sensors.push_back(std::make_unique<CSensorSupervisor>(
-			ini, s, lp,
-			[&queues, section = s.section](const auto& obj)
-			{ return queues.push(section, obj); },
-			[&console](const std::string& line, bool important)
-			{ console.message(line, important); }));
-	for (auto& s : sensors) s->start();
-	console.message(
-		mrpt::format(
-			"live: %zu sensor(s) from %s; capture: %s; maps saved %s and at the end; Ctrl-C "
-			"stops",
-			sensors.size(), m_setup.sensorsIni.c_str(), capturePath.c_str(),
-			lp.saveIntervalSeconds > 0
-				? mrpt::format("every %g s", lp.saveIntervalSeconds).c_str()
-				: "only on stop"),
-		false);
-
-	bool closing = false, mappingFailed = false;
-	auto lastSave = std::chrono::steady_clock::now();
-	while (true)
+	int exitCode;
 	{
-		if (!closing && (stop() || fatal.isSet()))
-		{
-			closing = true;
-			queues.close();
-			for (auto& s : sensors) s->requestStop();
-			console.message(
-				mrpt::format(
-					"live: stopping: mapping the %zu queued observation(s), then saving "
-					"(Ctrl-C "
-					"again exits at once; the capture and the last saved maps stay valid)",
-					queues.mappingDepth()),
-				true);
-		}
-		size_t behind = 0;
-		const std::optional<TLiveItem> item = queues.takeForMapping(100ms, &behind);
-		if (!item && closing) break;
-		if (item && !mappingFailed)
-		{
-			try
-			{
-				mapper.process(*item, behind);
-			}
-			catch (const std::exception& e)
-			{
-				mappingFailed = true;
-				fatal.set("mapping: " + shortError(e));
-			}
-		}
-		console.status(statusLine(queues, mapper, sensors));
-		const auto now = std::chrono::steady_clock::now();
-		if (!closing && lp.saveIntervalSeconds > 0 &&
-			std::chrono::duration<double>(now - lastSave).count() >= lp.saveIntervalSeconds &&
-			mapper.builder().stats().scans > 0)
-		{
-			lastSave = now;
-			try
-			{
-				capture.sync();
-				mapper.save("running (periodic save)");
-				writeTextFileAtomically(
-					(fs::path(m_setup.outDir) / "live.json").string(),
-					liveJson("running", m_setup.sensorsIni, capture, queues, mapper, sensors));
-				console.message(
-					mrpt::format(
-						"live: maps saved (%zu scans, %zu keyframes) in %.2f s",
-						mapper.builder().stats().scans, mapper.builder().stats().keyframes,
-						std::chrono::duration<double>(std::chrono::steady_clock::now() - now)
-							.count()),
-					false);
-			}
-			catch (const std::exception& e)
-			{
-				console.message("live: periodic save failed: " + shortError(e), true);
-			}
-		}
+		CLiveSession session(m_setup, rig, m_err);
+		session.mapUntilStopped(stop);
+		exitCode = session.finish();
 	}
-	console.status(statusLine(queues, mapper, sensors), true);
-	console.endStatus();
-
-	writer.join();
-	try
-	{
-		capture.close();
-	}
-	catch (const std::exception& e)
-	{
-		fatal.set("capture: " + shortError(e));
-	}
-	const std::string status = fatal.isSet() ? "error: " + fatal.why() : "stopped on request";
-	int exitCode = fatal.isSet() ? kExitInputError : kExitOk;
-	try
-	{
-		if (!mappingFailed) mapper.finish();
-		mapper.save(status);
-	}
-	catch (const std::exception& e)
-	{
-		console.message("live: saving the final maps failed: " + shortError(e), true);
-		exitCode = kExitInputError;
-	}
-	const std::string liveJsonPath = (fs::path(m_setup.outDir) / "live.json").string();
-	writeTextFileAtomically(
-		liveJsonPath, liveJson(status, m_setup.sensorsIni, capture, queues, mapper, sensors));
-	console.message(
-		"live: maps saved; waiting for the sensor drivers to return from their current call",
-		false);
-	for (auto& s : sensors) s->join();
-	writeTextFileAtomically(
-		liveJsonPath, liveJson(status, m_setup.sensorsIni, capture, queues, mapper, sensors));
 	std::signal(SIGPIPE, oldSigpipe);
-
-	const auto& st = mapper.builder().stats();
-	if (fatal.isSet())
-		console.message("lrgc-slam: " + status + " (what was mapped is saved)", true);
-	console.message(
-		mrpt::format(
-			"lrgc-slam: live run %s: %llu scans received (%llu objects captured), %zu mapped, "
-			"%zu skipped to keep up, %zu keyframes, %zu loop closures; outputs in %s",
-			fatal.isSet() ? "failed" : "stopped",
-			static_cast<unsigned long long>(queues.scansPushed()),
-			static_cast<unsigned long long>(capture.objects()), mapper.counts().scansMapped,
-			mapper.policy().skippedTotal(), st.keyframes, st.loopClosures,
-			m_setup.outDir.c_str()),
-		fatal.isSet());
 	return exitCode;
 }
 
