@@ -355,3 +355,28 @@ TEST_F(LiveSickLms1xx, SecondSignalExitsAtOnceLeavingCaptureAndSavedMaps)
 							   "--config", d.config, "--quiet"});
 	EXPECT_EQ(r.exitCode, 0) << r.output;
 }
+
+// Usage errors of --live end the program with status 2 before anything is created.
+TEST(LiveCommandLine, BadSensorsFileOrExistingCaptureIsAUsageError)
+{
+	const std::string dir = makeTempDir("live_usage_" + std::to_string(::getpid()));
+	writeTextFile(dir + "/bad.ini", "[LASER]\ndriver = CSickLaserSerail\nprocess_rate = 10\n");
+	auto r =
+		runProcess(binaryPath("lrgc-slam"), {"--live", dir + "/bad.ini", "--out", dir + "/o1"});
+	EXPECT_EQ(r.exitCode, 2) << r.output;
+	EXPECT_NE(r.output.find("driver 'CSickLaserSerail' is not a sensor class"),
+			  std::string::npos)
+		<< r.output;
+	EXPECT_FALSE(fs::exists(dir + "/o1/capture.rawlog"));
+
+	writeTextFile(dir + "/ok.ini", "[LASER]\ndriver = CLMS100Eth\nprocess_rate = 10\n");
+	fs::create_directories(dir + "/o2");
+	writeTextFile(dir + "/o2/capture.rawlog", "an earlier capture");
+	r = runProcess(binaryPath("lrgc-slam"), {"--live", dir + "/ok.ini", "--out", dir + "/o2"});
+	EXPECT_EQ(r.exitCode, 2) << r.output;
+	EXPECT_EQ(readTextFile(dir + "/o2/capture.rawlog"), "an earlier capture");
+
+	r = runProcess(binaryPath("lrgc-slam"), {"--live", dir + "/ok.ini"});
+	EXPECT_EQ(r.exitCode, 2) << r.output;
+	EXPECT_NE(r.output.find("missing --out DIR for --live"), std::string::npos) << r.output;
+}
