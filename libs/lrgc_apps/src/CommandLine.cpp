@@ -14,6 +14,7 @@ TSlamCommandLine parseSlamCommandLine(const std::vector<std::string>& args)
 			dst = args[++i];
 		};
 		if (a == "--input" || a == "-i") value(cl.input);
+		else if (a == "--live") value(cl.live);
 		else if (a == "--config" || a == "-c") value(cl.config);
 		else if (a == "--out" || a == "-o") value(cl.outDir);
 		else if (a == "--save-rawlog") value(cl.saveRawlog);
@@ -24,7 +25,15 @@ TSlamCommandLine parseSlamCommandLine(const std::vector<std::string>& args)
 		else throw CUsageError("unknown argument '" + a + "'");
 	}
 	if (cl.help || cl.version || !cl.writeDefaultConfig.empty()) return cl;
-	if (cl.input.empty()) throw CUsageError("missing --input FILE");
+	if (!cl.live.empty())
+	{
+		if (!cl.input.empty()) throw CUsageError("--live and --input exclude each other");
+		if (!cl.saveRawlog.empty())
+			throw CUsageError("--save-rawlog is for --input; a live run writes DIR/capture.rawlog");
+		if (cl.outDir.empty()) throw CUsageError("missing --out DIR for --live");
+		return cl;
+	}
+	if (cl.input.empty()) throw CUsageError("missing --input FILE (or --live SENSORS.ini)");
 	if (cl.outDir.empty() && cl.saveRawlog.empty())
 		throw CUsageError("missing --out DIR (or --save-rawlog FILE to convert only)");
 	return cl;
@@ -35,11 +44,16 @@ std::string slamUsage()
 	return "Usage:\n"
 		   "  lrgc-slam --input FILE [--config FILE.ini] --out DIR [--quiet] [--save-rawlog R]\n"
 		   "  lrgc-slam --input FILE --save-rawlog OUT.rawlog     convert to an MRPT rawlog\n"
+		   "  lrgc-slam --live SENSORS.ini [--config FILE.ini] --out DIR [--quiet]\n"
 		   "  lrgc-slam --write-default-config FILE.ini\n"
 		   "FILE: MRPT rawlog (.rawlog, plain or gzip, both layouts) or CARMEN log\n"
 		   "(.clf/.log, optionally .gz); the format is detected from the content.\n"
 		   "Outputs in DIR: map.gridmap.gz map.png map.pgm map.yaml map.simplemap.gz\n"
-		   "trajectory.tum graph.graph timing.csv stats.json\n";
+		   "trajectory.tum graph.graph timing.csv stats.json\n"
+		   "--live: map from the sensors of a rawlog-grabber .ini (mrpt::hwdrivers drivers)\n"
+		   "until Ctrl-C or SIGTERM; everything received goes to DIR/capture.rawlog, maps are\n"
+		   "saved every [LiveMapping] save_interval_s and at the end, live.json has per-sensor\n"
+		   "counts. A second Ctrl-C exits at once (the capture and last saved maps stay valid).\n";
 }
 
 }  // namespace lrgc::apps

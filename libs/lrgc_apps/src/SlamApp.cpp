@@ -8,6 +8,7 @@
 
 #include <atomic>
 #include <csignal>
+#include <signal.h>
 #include <unistd.h>
 
 namespace lrgc::apps
@@ -26,8 +27,15 @@ extern "C" void onStopSignal(int)
 
 void installStopSignalHandlers()
 {
-	std::signal(SIGINT, onStopSignal);
-	std::signal(SIGTERM, onStopSignal);
+	// sigaction, not std::signal: with -std=c++17 (strict ANSI) glibc's signal() has System V
+	// semantics and resets the handler after the first signal, so a second SIGTERM would kill
+	// the process with the default action (status 143) instead of reaching _exit(130) here.
+	struct sigaction sa = {};
+	sa.sa_handler = onStopSignal;
+	sigemptyset(&sa.sa_mask);
+	sa.sa_flags = SA_RESTART;
+	::sigaction(SIGINT, &sa, nullptr);
+	::sigaction(SIGTERM, &sa, nullptr);
 }
 bool stopRequested() { return g_stopSignals.load() > 0; }
 void clearStopRequest() { g_stopSignals = 0; }
@@ -50,6 +58,14 @@ int CSlamApp::run(const std::vector<std::string>& args)
 		{
 			writeTextFileAtomically(cl.writeDefaultConfig, defaultAppConfigText());
 			return kExitOk;
+		}
+		if (!cl.live.empty())
+		{
+			if (!m_live)
+				throw CUsageError(
+					"--live: this program was built without live sensor support (link "
+					"lrgc_live and pass lrgc::apps::runLiveSlam to CSlamApp)");
+			return m_live(cl, m_err);
 		}
 		if (!cl.saveRawlog.empty())
 			if (const int rc = convertOnly(cl); rc != kExitOk || cl.outDir.empty()) return rc;

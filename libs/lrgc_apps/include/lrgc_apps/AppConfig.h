@@ -1,8 +1,10 @@
-/* The .ini of lrgc-slam: the LRGC stages' sections (TLRGCParams) plus [LogReader]. Unknown
- * sections and keys are errors (CUsageError naming the file, section and key). */
+/* The .ini of lrgc-slam: the LRGC stages' sections (TLRGCParams), [LogReader] and, for
+ * --live runs, [LiveMapping]. Unknown sections and keys are errors (CUsageError naming the
+ * file, section and key). */
 #pragma once
 
 #include <lrgc/MapBuilderParams.h>
+#include <lrgc_apps/LiveMappingParams.h>
 #include <lrgc_apps/io/LogReader.h>
 
 #include <string>
@@ -13,6 +15,7 @@ struct TAppConfig
 {
 	TLRGCParams lrgc;
 	TLogReaderOptions reader;
+	TLiveMappingParams live;  //!< only used by --live
 };
 
 /** Defaults when `path` is empty; throws CUsageError on a missing file or a bad key. */

@@ -2,6 +2,7 @@
  *
  *   lrgc-slam --input FILE [--config FILE.ini] --out DIR [--quiet] [--save-rawlog OUT.rawlog]
  *   lrgc-slam --input FILE --save-rawlog OUT.rawlog          (convert only)
+ *   lrgc-slam --live SENSORS.ini [--config FILE.ini] --out DIR [--quiet]   (live sensors)
  *   lrgc-slam --write-default-config FILE.ini
  */
 #pragma once
@@ -16,6 +17,7 @@ namespace lrgc::apps
 struct TSlamCommandLine
 {
 	std::string input;  //!< log file (rawlog or CARMEN)
+	std::string live;  //!< rawlog-grabber .ini of the live sensors (instead of --input)
 	std::string config;  //!< optional .ini with lrgc parameters
 	std::string outDir;
 	std::string saveRawlog;  //!< convert the input into this MRPT rawlog

@@ -5,12 +5,17 @@
  * from (a malformed line, a skipped scan) is reported and skipped; one it cannot (a
  * truncated or corrupt rawlog) ends the run with the maps built so far saved and a non-zero
  * exit status. SIGINT/SIGTERM stop the run the same way.
+ *
+ * Live (--live SENSORS.ini): runs the live runner given at construction. It lives in the
+ * separate library lrgc_live (lrgc_apps/live/LiveSlam.h, runLiveSlam), so that only programs
+ * that map live link mrpt::hwdrivers and its hundreds of shared libraries.
  */
 #pragma once
 
 #include <lrgc_apps/CommandLine.h>
 
 #include <cstdio>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -28,8 +33,15 @@ enum ExitStatus : int
 class CSlamApp
 {
    public:
-	/** err: where progress, warnings and errors go (stderr in the real app). */
-	explicit CSlamApp(std::FILE* err = stderr) : m_err(err) {}
+	/** Runs `lrgc-slam --live` and returns the exit status; may throw CUsageError. */
+	using TLiveRunner = std::function<int(const TSlamCommandLine&, std::FILE* err)>;
+
+	/** err: where progress, warnings and errors go (stderr in the real app). live: the live
+	 * runner (lrgc::apps::runLiveSlam); without one, --live is a usage error. */
+	explicit CSlamApp(std::FILE* err = stderr, TLiveRunner live = {})
+		: m_err(err), m_live(std::move(live))
+	{
+	}
 
 	/** Runs lrgc-slam with argv without argv[0]; returns the exit status. Never throws. */
 	int run(const std::vector<std::string>& args);
@@ -40,6 +52,7 @@ class CSlamApp
 	void report(const std::string& line);
 
 	std::FILE* m_err;
+	TLiveRunner m_live;
 	size_t m_warningsShown = 0, m_warningsTotal = 0;
 };
 

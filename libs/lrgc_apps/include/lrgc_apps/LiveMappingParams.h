@@ -1,0 +1,39 @@
+/* Options of `lrgc-slam --live` (section [LiveMapping] of the lrgc .ini): how often maps are
+ * saved and the status line is printed, how mapping keeps up when it falls behind, and how a
+ * silent or failing sensor is restarted. The sensors themselves are described by the
+ * rawlog-grabber .ini given to --live (see doc/live.md); these keys are about the run.
+ *
+ * Keep-up policy (CKeepUpPolicy in live/KeepUpPolicy.h): while more than max_backlog_scans
+ * laser scans wait for the mapper, it maps one scan and then skips floor(waiting /
+ * max_backlog_scans) waiting scans. Odometry is never skipped and the capture keeps every scan.
+ * Restart policy (CSensorSupervisor): a driver that throws, or delivers no valid observation
+ * for sensor_timeout_s, is destroyed and started again after a back-off that doubles from
+ * retry_initial_s up to retry_max_s, and goes back to retry_initial_s once data flows.
+ */
+#pragma once
+
+#include <mrpt/config/CLoadableOptions.h>
+
+#include <cstddef>
+
+namespace lrgc::apps
+{
+struct TLiveMappingParams : public mrpt::config::CLoadableOptions
+{
+	double saveIntervalSeconds = 60;   //!< [s] periodic save of all maps; 0: only at the end
+	double statusIntervalSeconds = 2;  //!< [s] status line period when stderr is not a terminal
+	/** Laser scans allowed to wait for the mapper before it skips scans; 0: never skip (the
+	 * backlog may then grow without bound, and a stop waits until it is mapped). */
+	size_t maxBacklogScans = 20;
+	double sensorTimeoutSeconds = 3;   //!< [s] no valid observation this long: restart driver
+	double retryInitialSeconds = 0.5;  //!< [s] first back-off before restarting a sensor
+	double retryMaxSeconds = 30;       //!< [s] longest back-off
+
+	/** Reads the keys of `section`; unknown keys and invalid values throw. */
+	void loadFromConfigFile(const mrpt::config::CConfigFileBase& source,
+							const std::string& section) override;
+	void saveToConfigFile(mrpt::config::CConfigFileBase& target,
+						  const std::string& section) const override;
+};
+
+}  // namespace lrgc::apps

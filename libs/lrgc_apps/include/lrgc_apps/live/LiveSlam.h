@@ -1,0 +1,60 @@
+/* lrgc-slam --live SENSORS.ini --out DIR: mapping from live mrpt::hwdrivers sensors, with
+ * nothing lost.
+ *
+ * Threads. One per sensor (CSensorSupervisor: the driver loop of rawlog-grabber, plus
+ * restarts with back-off), one capture writer (CCaptureWriter: DIR/capture.rawlog, each object
+ * on disk as it arrives), and the calling thread, which maps (CLiveMapper: the offline map
+ * builder), prints the status line and saves. The sensors hand every observation to
+ * CLiveQueues, which gives the writer and the mapper the same objects in the same order; the
+ * queues are unbounded, so acquisition never waits for disk or mapping.
+ *
+ * Falling behind. The mapper skips laser scans by CKeepUpPolicy ([LiveMapping]
+ * max_backlog_scans) and says so; the capture is never thinned.
+ *
+ * Saving. Every output of an offline run (maps, trajectory, graph, stats.json, timing.csv) is
+ * written atomically every [LiveMapping] save_interval_s and at the end, with live.json
+ * (per-sensor counts, restarts, capture size, queue latency). A stop (the first Ctrl-C or
+ * SIGTERM, or `stop()` returning true) closes the intake, maps what is queued, runs the final
+ * optimisation and saves; a second signal exits at once (_exit in the handler): the capture is
+ * whole objects and the last saved maps are whole files, so both stay valid.
+ */
+#pragma once
+
+#include <lrgc_apps/AppConfig.h>
+#include <lrgc_apps/CommandLine.h>
+
+#include <cstdio>
+#include <functional>
+#include <string>
+
+namespace lrgc::apps
+{
+struct TLiveSlamSetup
+{
+	std::string sensorsIni;  //!< rawlog-grabber .ini of the sensors
+	TAppConfig config;       //!< lrgc parameters, [LiveMapping] included
+	std::string outDir;
+	bool quiet = false;
+};
+
+class CLiveSlam
+{
+public:
+	CLiveSlam(TLiveSlamSetup setup, std::FILE* err) : m_setup(std::move(setup)), m_err(err) {}
+
+	/** Maps until `stop()` returns true (polled about 10 times a second) or a fatal error.
+	 * Returns kExitOk after a stop with everything saved, kExitInputError if mapping or the
+	 * capture failed (what was mapped is saved). Throws CUsageError, before anything starts,
+	 * for a bad sensors file or an existing DIR/capture.rawlog (never overwritten). */
+	int run(const std::function<bool()>& stop);
+
+private:
+	TLiveSlamSetup m_setup;
+	std::FILE* m_err;
+};
+
+/** CSlamApp's live runner: loads the configuration and runs CLiveSlam until SIGINT or SIGTERM
+ * (taken by a CStopSignalWatcher; a second one exits at once with status 130). */
+int runLiveSlam(const TSlamCommandLine& cl, std::FILE* err);
+
+}  // namespace lrgc::apps

@@ -1,0 +1,382 @@
+/* CLiveSlam::run: the live run's threads, stop sequence and live.json. */
+#include "lrgc_apps/live/LiveSlam.h"
+
+#include "lrgc_apps/SlamApp.h"
+#include "lrgc_apps/atomic_file.h"
+#include "lrgc_apps/live/CaptureWriter.h"
+#include "lrgc_apps/live/LiveConsole.h"
+#include "lrgc_apps/live/LiveMapper.h"
+#include "lrgc_apps/live/LiveQueues.h"
+#include "lrgc_apps/live/SensorSupervisor.h"
+#include "lrgc_apps/live/StopSignalWatcher.h"
+
+#include <mrpt/config/CConfigFile.h>
+#include <mrpt/core/format.h>
+
+#include <atomic>
+#include <csignal>
+#include <filesystem>
+#include <memory>
+#include <mutex>
+#include <sstream>
+#include <thread>
+
+namespace lrgc::apps
+{
+namespace
+{
+using namespace std::chrono_literals;
+using TSensors = std::vector<std::unique_ptr<CSensorSupervisor>>;
+
+std::string jsonString(const std::string& s)
+{
+	std::string out = "\"";
+	for (const char ch : s)
+	{
+		if (ch == '"' || ch == '\\')
+			out += '\\', out += ch;
+		else if (static_cast<unsigned char>(ch) < 0x20)
+			out += mrpt::format("\\u%04x", static_cast<unsigned>(ch));
+		else
+			out += ch;
+	}
+	return out + "\"";
+}
+
+std::string liveJson(const std::string& status, const std::string& sensorsIni,
+					 const CCaptureWriter& capture, const CLiveQueues& queues,
+					 const CLiveMapper& mapper, const TSensors& sensors)
+{
+	const TLiveMapperCounts& m = mapper.counts();
+	const TLatencySummary lat = summarizeLatencies(mapper.queueLatencyMs());
+	std::ostringstream j;
+	j << "{\n"
+	  << "  \"status\": " << jsonString(status) << ",\n"
+	  << "  \"sensors_ini\": " << jsonString(sensorsIni) << ",\n"
+	  << "  \"capture\": {\"file\": \"capture.rawlog\", \"objects\": " << capture.objects()
+	  << ", \"bytes\": " << capture.bytes() << "},\n"
+	  << "  \"received\": {\"objects\": " << queues.pushed()
+	  << ", \"scans\": " << queues.scansPushed() << "},\n"
+	  << "  \"mapping\": {\"objects_taken\": " << m.items << ", \"scans_taken\": " << m.scans
+	  << ", \"scans_mapped\": " << m.scansMapped
+	  << ", \"skipped_to_keep_up\": " << mapper.policy().skippedTotal()
+	  << ", \"odometry\": " << m.odometry << ", \"other_observations\": " << m.otherObservations
+	  << ", \"not_observations\": " << m.notObservations << ", \"saves\": " << m.saves
+	  << mrpt::format(
+			 ", \"queue_latency_ms\": {\"median\": %.3f, \"p99\": %.3f, \"max\": %.3f}},\n",
+			 lat.median_ms, lat.p99_ms, lat.max_ms)
+	  << "  \"sensors\": [";
+	for (size_t i = 0; i < sensors.size(); ++i)
+	{
+		const TSensorSection& s = sensors[i]->sensor();
+		const TSensorCounters c = sensors[i]->counters();
+		j << (i ? ",\n" : "\n") << "    {\"section\": " << jsonString(s.section)
+		  << ", \"driver\": " << jsonString(s.driver) << ", \"label\": " << jsonString(s.label)
+		  << ", \"state\": " << jsonString(c.state) << ", \"starts\": " << c.starts
+		  << ", \"failures\": " << c.failures << ", \"observations\": " << c.observations
+		  << ", \"scans\": " << c.scans << ", \"rejected_without_data\": " << c.rejected
+		  << ", \"last_problem\": " << jsonString(c.lastProblem) << "}";
+	}
+	j << "\n  ]\n}\n";
+	return j.str();
+}
+
+/** The first fatal error of the run (capture or mapping), set from any thread. */
+class CFatal
+{
+public:
+	void set(const std::string& why)
+	{
+		std::lock_guard<std::mutex> lock(m_mutex);
+		if (m_why.empty()) m_why = why;
+		m_set = true;
+	}
+	bool isSet() const { return m_set; }
+	std::string why() const
+	{
+		std::lock_guard<std::mutex> lock(m_mutex);
+		return m_why;
+	}
+
+private:
+	mutable std::mutex m_mutex;
+	std::atomic<bool> m_set{false};
+	std::string m_why;
+};
+
+/** The capture writer's thread body: everything queued goes to disk, in order, until the
+ * intake is closed and drained. After a write error the rest is drained and dropped. */
+void captureLoop(CLiveQueues& queues, CCaptureWriter& capture, CFatal& fatal)
+{
+	bool failed = false;
+	while (true)
+	{
+		const std::vector<TLiveItem> items = queues.takeForCapture(200ms);
+		for (const TLiveItem& it : items)
+		{
+			if (failed) break;
+			try
+			{
+				capture.append(*it.object);
+			}
+			catch (const std::exception& e)
+			{
+				failed = true;
+				fatal.set("capture: " + shortError(e));
+			}
+		}
+		if (items.empty() && queues.closed()) return;
+	}
+}
+
+std::string statusLine(const CLiveQueues& queues, const CLiveMapper& mapper,
+					   const TSensors& sensors)
+{
+	std::string line = mrpt::format(
+		"live: received %llu scans, mapped %zu, queue %zu, loops %zu, skipped %zu |",
+		static_cast<unsigned long long>(queues.scansPushed()), mapper.counts().scansMapped,
+		queues.mappingDepth(), mapper.builder().stats().loopClosures,
+		mapper.policy().skippedTotal());
+	for (const auto& s : sensors) line += " " + s->sensor().section + " " + s->counters().state;
+	return line;
+}
+
+/** One live run: its threads and the stop sequence. */
+class CLiveSession
+{
+public:
+	CLiveSession(const TLiveSlamSetup& setup, const TSensorRig& rig, std::FILE* err)
+		: m_setup(setup),
+		  m_params(setup.config.live),
+		  m_capture(captureFileOf(setup.outDir)),
+		  m_ini(setup.sensorsIni),
+		  m_console(err, setup.quiet, m_params.statusIntervalSeconds),
+		  m_mapper(setup.config, setup.outDir, setup.sensorsIni, m_console)
+	{
+		for (const auto& note : rig.notes) m_console.message("live: " + note, false);
+		m_writer = std::thread([this] { captureLoop(m_queues, m_capture, m_fatal); });
+		for (const TSensorSection& s : rig.sensors)
+			m_sensors.push_back(std::make_unique<CSensorSupervisor>(
+				m_ini, s, m_params,
+				[this, section = s.section](const auto& obj)
+				{ return m_queues.push(section, obj); },
+				[this](const std::string& line, bool important)
+				{ m_console.message(line, important); }));
+		for (auto& s : m_sensors) s->start();
+		m_console.message(
+			mrpt::format(
+				"live: %zu sensor(s) from %s; capture: %s; maps saved %s and at the end; "
+				"Ctrl-C stops",
+				m_sensors.size(), setup.sensorsIni.c_str(), m_capture.path().c_str(),
+				m_params.saveIntervalSeconds > 0
+					? mrpt::format("every %g s", m_params.saveIntervalSeconds).c_str()
+					: "only on stop"),
+			false);
+	}
+	~CLiveSession()
+	{
+		m_queues.close();  // on an exception: let the writer finish
+		if (m_writer.joinable()) m_writer.join();
+	}
+
+	/** Maps until stop() or a fatal error, then maps what is queued. */
+	void mapUntilStopped(const std::function<bool()>& stop)
+	{
+		bool closing = false;
+		auto lastSave = std::chrono::steady_clock::now();
+		while (true)
+		{
+			if (!closing && (stop() || m_fatal.isSet()))
+			{
+				closing = true;
+				beginStop();
+			}
+			size_t behind = 0;
+			const std::optional<TLiveItem> item = m_queues.takeForMapping(100ms, &behind);
+			if (!item && closing) break;
+			if (item) mapItem(*item, behind);
+			m_console.status(statusLine(m_queues, m_mapper, m_sensors));
+			const auto now = std::chrono::steady_clock::now();
+			if (!closing && m_params.saveIntervalSeconds > 0 &&
+				std::chrono::duration<double>(now - lastSave).count() >=
+					m_params.saveIntervalSeconds &&
+				m_mapper.builder().stats().scans > 0)
+			{
+				lastSave = now;
+				periodicSave();
+			}
+		}
+		m_console.status(statusLine(m_queues, m_mapper, m_sensors), true);
+		m_console.endStatus();
+	}
+
+	/** Closes the capture, final optimisation and save, waits for the drivers; exit status. */
+	int finish()
+	{
+		m_writer.join();
+		try
+		{
+			m_capture.close();
+		}
+		catch (const std::exception& e)
+		{
+			m_fatal.set("capture: " + shortError(e));
+		}
+		const std::string status =
+			m_fatal.isSet() ? "error: " + m_fatal.why() : "stopped on request";
+		int exitCode = m_fatal.isSet() ? kExitInputError : kExitOk;
+		try
+		{
+			if (!m_mappingFailed) m_mapper.finish();
+			m_mapper.save(status);
+			writeLiveJson(status);
+		}
+		catch (const std::exception& e)
+		{
+			m_console.message("live: saving the final maps failed: " + shortError(e), true);
+			exitCode = kExitInputError;
+		}
+		m_console.message(
+			"live: maps saved; waiting for the sensor drivers to return from their current "
+			"call",
+			false);
+		for (auto& s : m_sensors) s->join();
+		try
+		{
+			writeLiveJson(status);  // the sensors' final counts
+		}
+		catch (const std::exception&)
+		{
+			// The version written before the wait stands.
+		}
+		summary(status);
+		return exitCode;
+	}
+
+private:
+	static std::string captureFileOf(const std::string& outDir)
+	{
+		return (std::filesystem::path(outDir) / "capture.rawlog").string();
+	}
+
+	void beginStop()
+	{
+		m_queues.close();
+		for (auto& s : m_sensors) s->requestStop();
+		m_console.message(
+			mrpt::format(
+				"live: stopping: mapping the %zu queued observation(s), then saving (Ctrl-C "
+				"again exits at once; the capture and the last saved maps stay valid)",
+				m_queues.mappingDepth()),
+			true);
+	}
+
+	void mapItem(const TLiveItem& item, size_t behind)
+	{
+		if (m_mappingFailed) return;  // drained without mapping: the capture gets it all
+		try
+		{
+			m_mapper.process(item, behind);
+		}
+		catch (const std::exception& e)
+		{
+			m_mappingFailed = true;
+			m_fatal.set("mapping: " + shortError(e));
+		}
+	}
+
+	void periodicSave()
+	{
+		const auto t0 = std::chrono::steady_clock::now();
+		try
+		{
+			m_capture.sync();
+			m_mapper.save("running (periodic save)");
+			writeLiveJson("running");
+			m_console.message(
+				mrpt::format(
+					"live: maps saved (%zu scans, %zu keyframes) in %.2f s",
+					m_mapper.builder().stats().scans, m_mapper.builder().stats().keyframes,
+					std::chrono::duration<double>(std::chrono::steady_clock::now() - t0)
+						.count()),
+				false);
+		}
+		catch (const std::exception& e)
+		{
+			m_console.message("live: periodic save failed: " + shortError(e), true);
+		}
+	}
+
+	void writeLiveJson(const std::string& status)
+	{
+		writeTextFileAtomically(
+			(std::filesystem::path(m_setup.outDir) / "live.json").string(),
+			liveJson(status, m_setup.sensorsIni, m_capture, m_queues, m_mapper, m_sensors));
+	}
+
+	void summary(const std::string& status)
+	{
+		const auto& st = m_mapper.builder().stats();
+		if (m_fatal.isSet())
+			m_console.message("lrgc-slam: " + status + " (what was mapped is saved)", true);
+		m_console.message(
+			mrpt::format(
+				"lrgc-slam: live run %s: %llu scans received (%llu objects captured), %zu "
+				"mapped, %zu skipped to keep up, %zu keyframes, %zu loop closures; outputs in "
+				"%s",
+				m_fatal.isSet() ? "failed" : "stopped",
+				static_cast<unsigned long long>(m_queues.scansPushed()),
+				static_cast<unsigned long long>(m_capture.objects()),
+				m_mapper.counts().scansMapped, m_mapper.policy().skippedTotal(), st.keyframes,
+				st.loopClosures, m_setup.outDir.c_str()),
+			m_fatal.isSet());
+	}
+
+	const TLiveSlamSetup& m_setup;
+	const TLiveMappingParams& m_params;
+	CCaptureWriter m_capture;
+	const mrpt::config::CConfigFile m_ini;  //!< read by the sensor threads
+	CLiveConsole m_console;
+	CLiveQueues m_queues;
+	CLiveMapper m_mapper;
+	CFatal m_fatal;
+	bool m_mappingFailed = false;
+	std::thread m_writer;
+	TSensors m_sensors;  //!< last: destroyed (stopped and joined) first
+};
+}  // namespace
+
+int CLiveSlam::run(const std::function<bool()>& stop)
+{
+	const TSensorRig rig = loadSensorRig(m_setup.sensorsIni);
+	std::filesystem::create_directories(m_setup.outDir);
+	const auto capturePath = std::filesystem::path(m_setup.outDir) / "capture.rawlog";
+	if (std::filesystem::exists(capturePath))
+		throw CUsageError(
+			"'" + capturePath.string() +
+			"' exists: a live run never overwrites a capture; choose another --out DIR or move "
+			"the file");
+	// A socket driver writing to a peer that went away must get EPIPE, not kill the process.
+	const auto oldSigpipe = std::signal(SIGPIPE, SIG_IGN);
+	int exitCode;
+	{
+		CLiveSession session(m_setup, rig, m_err);
+		session.mapUntilStopped(stop);
+		exitCode = session.finish();
+	}
+	std::signal(SIGPIPE, oldSigpipe);
+	return exitCode;
+}
+
+int runLiveSlam(const TSlamCommandLine& cl, std::FILE* err)
+{
+	TLiveSlamSetup setup;
+	setup.sensorsIni = cl.live;
+	setup.config = loadAppConfig(cl.config);
+	setup.outDir = cl.outDir;
+	setup.quiet = cl.quiet;
+	const CStopSignalWatcher signals;  // before the run's threads, which inherit its mask
+	return CLiveSlam(std::move(setup), err).run([&] { return signals.stopRequested(); });
+}
+
+}  // namespace lrgc::apps

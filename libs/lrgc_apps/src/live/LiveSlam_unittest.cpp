@@ -1,0 +1,150 @@
+/* CLiveSlam in-process with scripted fake sensors: the whole live pipeline (sensor thread,
+ * queues, capture writer, mapper, saves) in a fraction of a second, no hardware, no network. */
+#include <gtest/gtest.h>
+#include <lrgc_apps/SlamApp.h>
+#include <lrgc_apps/live/LiveSlam.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <sstream>
+
+#include "FakeSensors.h"
+#include "app_runner.h"
+#include "test_data.h"
+
+using namespace lrgc::apps;
+using lrgc_test_fakes::laserScript;
+namespace fs = std::filesystem;
+
+namespace
+{
+long jsonInt(const std::string& json, const std::string& key)
+{
+	std::smatch m;
+	if (!std::regex_search(json, m, std::regex("\"" + key + "\": (-?[0-9]+)"))) return -1;
+	return std::stol(m[1]);
+}
+
+std::vector<std::string> lines(const std::string& path)
+{
+	std::ifstream f(path);
+	std::vector<std::string> out;
+	for (std::string l; std::getline(f, l);) out.push_back(l);
+	return out;
+}
+
+/** Runs a live session on the fakes until every scripted scan was handed over. */
+class LiveSlamTest : public ::testing::Test
+{
+protected:
+	void SetUp() override
+	{
+		lrgc_test_fakes::registerFakeSensors();
+		laserScript().reset();
+		m_dir = lrgc::test::makeTempDir(
+			std::string("live_") +
+			::testing::UnitTest::GetInstance()->current_test_info()->name());
+		m_sensors = m_dir + "/sensors.ini";
+		lrgc::test::writeTextFile(
+			m_sensors,
+			"[global]\nrawlog_prefix = ./x\n\n[LASER]\ndriver = CFakeLiveLaser\n"
+			"process_rate = 200\nsensorLabel = FAKE\n");
+		m_setup.sensorsIni = m_sensors;
+		m_setup.outDir = m_dir + "/out";
+		m_setup.config.live.statusIntervalSeconds = 0.05;
+		m_setup.config.live.saveIntervalSeconds = 0.05;
+		m_setup.config.live.maxBacklogScans = 0;
+	}
+	int run()
+	{
+		char* buf = nullptr;
+		size_t size = 0;
+		std::FILE* err = open_memstream(&buf, &size);
+		const int rc =
+			CLiveSlam(m_setup, err).run([] { return laserScript().allHandedOver.load(); });
+		std::fclose(err);
+		m_console.assign(buf, size);
+		std::free(buf);
+		return rc;
+	}
+	std::string out(const std::string& name) const { return m_setup.outDir + "/" + name; }
+
+	std::string m_dir, m_sensors, m_console;
+	TLiveSlamSetup m_setup;
+};
+}  // namespace
+
+TEST_F(LiveSlamTest, MapsEveryScanAndTheCaptureReplaysToTheSameTrajectory)
+{
+	lrgc_test_fakes::makeRoomRun(150, laserScript());
+	ASSERT_EQ(run(), kExitOk) << m_console;
+	const std::string live = lrgc::test::readTextFile(out("live.json"));
+	EXPECT_EQ(jsonInt(live, "objects"), 300) << live;  // capture: 150 scans + 150 odometry
+	EXPECT_EQ(jsonInt(live, "scans_mapped"), 150);
+	EXPECT_EQ(jsonInt(live, "odometry"), 150);
+	EXPECT_EQ(jsonInt(live, "skipped_to_keep_up"), 0);
+	EXPECT_NE(m_console.find("live: maps saved ("), std::string::npos) << "periodic save";
+	EXPECT_NE(m_console.find("live: received 150 scans, mapped 150"), std::string::npos)
+		<< m_console;
+
+	const std::string replay = m_dir + "/replay";
+	std::FILE* devnull = std::fopen("/dev/null", "w");
+	const int rc =
+		CSlamApp(devnull).run({"--input", out("capture.rawlog"), "--out", replay, "--quiet"});
+	std::fclose(devnull);
+	ASSERT_EQ(rc, kExitOk);
+	const auto a = lines(out("trajectory.tum")), b = lines(replay + "/trajectory.tum");
+	EXPECT_EQ(a.size(), 150u);
+	EXPECT_EQ(a, b) << "live and replayed trajectories differ";
+	EXPECT_EQ(lrgc::test::readTextFile(out("graph.graph")),
+			  lrgc::test::readTextFile(replay + "/graph.graph"));
+}
+
+TEST_F(LiveSlamTest, FallingBehindSkipsScansButNeverOdometryOrTheCapture)
+{
+	lrgc_test_fakes::makeRoomRun(1000, laserScript());  // the whole path
+	const long n = static_cast<long>(laserScript().scans.size());
+	ASSERT_GT(n, 200);
+	// Bursts of 100 scans (+100 odometry: CGenericSensor keeps at most max_queue_len = 200
+	// objects between two getObservations()): the mapper is far behind at once.
+	laserScript().scansPerCall = 100;
+	m_setup.config.live.maxBacklogScans = 5;
+	ASSERT_EQ(run(), kExitOk) << m_console;
+	const std::string live = lrgc::test::readTextFile(out("live.json"));
+	const long mapped = jsonInt(live, "scans_mapped"),
+			   skipped = jsonInt(live, "skipped_to_keep_up");
+	EXPECT_GT(skipped, 0);
+	EXPECT_GT(mapped, 0);
+	EXPECT_EQ(mapped + skipped, n);
+	EXPECT_EQ(jsonInt(live, "odometry"), n) << "odometry is never skipped";
+	EXPECT_EQ(jsonInt(live, "objects"), 2 * n) << "the capture keeps everything";
+	EXPECT_NE(m_console.find("live: mapping is behind"), std::string::npos) << m_console;
+	EXPECT_EQ(lines(out("trajectory.tum")).size(), static_cast<size_t>(mapped));
+}
+
+TEST_F(LiveSlamTest, AnExistingCaptureIsNeverOverwritten)
+{
+	fs::create_directories(m_setup.outDir);
+	lrgc::test::writeTextFile(out("capture.rawlog"), "precious");
+	EXPECT_THROW(run(), CUsageError);
+	EXPECT_EQ(lrgc::test::readTextFile(out("capture.rawlog")), "precious");
+}
+
+TEST_F(LiveSlamTest, AnUnknownDriverIsAUsageErrorBeforeAnythingIsWritten)
+{
+	lrgc::test::writeTextFile(m_sensors, "[LASER]\ndriver = CNoSuchLaser\nprocess_rate = 10\n");
+	try
+	{
+		run();
+		ADD_FAILURE() << "no error";
+	}
+	catch (const CUsageError& e)
+	{
+		EXPECT_NE(std::string(e.what()).find("[LASER]: driver 'CNoSuchLaser'"),
+				  std::string::npos)
+			<< e.what();
+	}
+	EXPECT_FALSE(fs::exists(out("capture.rawlog")));
+}

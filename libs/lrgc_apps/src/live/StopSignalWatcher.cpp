@@ -1,0 +1,37 @@
+#include "lrgc_apps/live/StopSignalWatcher.h"
+
+#include "lrgc_apps/SlamApp.h"  // kExitInterrupted
+
+#include <pthread.h>
+#include <unistd.h>
+
+#include <ctime>
+
+namespace lrgc::apps
+{
+CStopSignalWatcher::CStopSignalWatcher()
+{
+	sigemptyset(&m_set);
+	sigaddset(&m_set, SIGINT);
+	sigaddset(&m_set, SIGTERM);
+	pthread_sigmask(SIG_BLOCK, &m_set, &m_oldMask);
+	m_thread = std::thread(
+		[this]
+		{
+			const timespec poll = {0, 200 * 1000 * 1000};  // to notice m_quit
+			while (!m_quit)
+			{
+				if (sigtimedwait(&m_set, nullptr, &poll) < 0) continue;  // time-out or EINTR
+				if (m_signals.fetch_add(1) >= 1) ::_exit(kExitInterrupted);
+			}
+		});
+}
+
+CStopSignalWatcher::~CStopSignalWatcher()
+{
+	m_quit = true;
+	if (m_thread.joinable()) m_thread.join();
+	pthread_sigmask(SIG_SETMASK, &m_oldMask, nullptr);
+}
+
+}  // namespace lrgc::apps
