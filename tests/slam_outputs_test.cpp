@@ -130,8 +130,20 @@ TEST_F(SenaRun, RosMapAndPngAreConsistent)
 	hdr >> w >> h;
 	mrpt::img::CImage png;
 	ASSERT_TRUE(png.loadFromFile(out("map.png")));
-	EXPECT_EQ(png.getWidth(), w);
-	EXPECT_EQ(png.getHeight(), h);
+	ASSERT_EQ(png.getWidth(), w);
+	ASSERT_EQ(png.getHeight(), h);
+	// Same orientation (north up): the PNG's clearly free pixels are free in the PGM.
+	const size_t header = pgm.size() - size_t(w) * h;
+	size_t whitePng = 0, agree = 0;
+	for (unsigned r = 0; r < h; r += 3)
+		for (unsigned c = 0; c < w; c += 3)
+			if (png.at<uint8_t>(c, r) > 240)
+			{
+				++whitePng;
+				agree += static_cast<uint8_t>(pgm[header + size_t(r) * w + c]) == 254;
+			}
+	ASSERT_GT(whitePng, 1000u);
+	EXPECT_GT(agree, whitePng * 9 / 10) << agree << " of " << whitePng;
 }
 
 TEST_F(SenaRun, StatsAndTimingAreWritten)

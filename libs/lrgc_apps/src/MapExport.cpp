@@ -49,6 +49,7 @@ void writeGridmap(const mrpt::maps::COccupancyGridMap2D& grid, const std::string
 void writeGridPng(const mrpt::maps::COccupancyGridMap2D& grid, const std::string& path)
 {
 	mrpt::img::CImage img;
+	// MRPT already puts the grid's top (max y) in image row 0: north up, as map.pgm (tested).
 	grid.getAsImage(img, /*verticalFlip=*/false, /*forceRGB=*/false);
 	writeFileAtomically(path, [&](const std::string& tmp) {
 		// CImage picks the format from the extension: keep ".png" at the end of tmp.
