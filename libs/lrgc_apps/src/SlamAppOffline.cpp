@@ -96,7 +96,7 @@ int CSlamApp::runOffline(const TSlamCommandLine& cl)
 			run.latencyMs.push_back(
 				std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
 					.count());
-			run.latencyStamp.push_back(mrpt::Clock::toDouble(builder.trajectory().back().timestamp));
+			run.latencyStamp.push_back(mrpt::Clock::toDouble(builder.lastScanTimestamp()));
 		}
 		flushWarnings(reader->takeWarnings());
 		flushWarnings(builder.takeWarnings());

@@ -82,6 +82,11 @@ class CMetricMapBuilderLRGC : public mrpt::slam::CMetricMapBuilder
 
 	// --- results ---
 	TTrajectory trajectory() const;  //!< one pose per scan, at its timestamp, file order
+	/** Timestamp of the last scan placed (default-constructed before the first). O(1). */
+	mrpt::Clock::time_point lastScanTimestamp() const
+	{
+		return m_scans.empty() ? mrpt::Clock::time_point{} : m_scans.back().timestamp;
+	}
 	const CPoseGraph& graph() const { return m_graph; }
 	const TKeyframes& keyframes() const { return m_keyframes; }
 	const TMapBuilderStats& stats() const { return m_stats; }
