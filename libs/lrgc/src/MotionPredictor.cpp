@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 namespace lrgc
 {
@@ -82,13 +83,15 @@ TMotionPrediction CMotionPredictor::predict(mrpt::Clock::time_point t) const
 		pred.fromOdometry = true;
 		return pred;
 	}
-	// Constant velocity: repeat the last step's motion, scaled by the time ratio when the
-	// timestamps are sane (jittered logs can run backwards: then one step per scan).
+	// Constant velocity: the last step's motion over its interval, times this interval, on a
+	// regular clock (bridges dropped scans, up to 5 of the last interval); one step per scan
+	// on a jittered clock.
 	double ratio = 1.0;
-	if (m_lastScanTime && m_lastStepSeconds > 1e-3)
+	if (m_lastScanTime && !m_recentSteps.empty() && !clockJittered())
 	{
+		const double last = m_recentSteps.back();
 		const double dt = mrpt::system::timeDifference(*m_lastScanTime, t);
-		if (dt > 0 && dt < 5 * m_lastStepSeconds) ratio = dt / m_lastStepSeconds;
+		if (last > 0 && dt > 0 && dt < 5 * last) ratio = dt / last;
 	}
 	pred.motion = {ratio * m_lastMotion.x, ratio * m_lastMotion.y, ratio * m_lastMotion.phi};
 	pred.cov = constantVelocityCov();
@@ -101,13 +104,32 @@ Eigen::Matrix3d CMotionPredictor::constantVelocityCov() const
 	return Eigen::Vector3d(sxy * sxy, sxy * sxy, sphi * sphi).asDiagonal();
 }
 
+double CMotionPredictor::scanPeriod() const
+{
+	std::vector<double> positive;
+	for (const double dt : m_recentSteps)
+		if (dt > 0) positive.push_back(dt);
+	if (positive.empty()) return 0;
+	auto mid = positive.begin() + positive.size() / 2;
+	std::nth_element(positive.begin(), mid, positive.end());
+	return *mid;
+}
+
+bool CMotionPredictor::clockJittered() const
+{
+	const double T = scanPeriod();
+	return std::any_of(m_recentSteps.begin(), m_recentSteps.end(), [T](double dt) {
+		return dt < kJitterFraction * T;
+	});
+}
+
 void CMotionPredictor::commitScan(
 	mrpt::Clock::time_point t, const mrpt::math::TPose2D& estimatedMotion)
 {
 	if (m_lastScanTime)
 	{
-		const double dt = mrpt::system::timeDifference(*m_lastScanTime, t);
-		if (dt > 1e-3) m_lastStepSeconds = dt;
+		m_recentSteps.push_back(mrpt::system::timeDifference(*m_lastScanTime, t));
+		if (m_recentSteps.size() > kClockSteps) m_recentSteps.pop_front();
 	}
 	m_lastMotion = estimatedMotion;
 	m_lastScanTime = t;

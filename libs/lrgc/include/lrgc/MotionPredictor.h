@@ -11,6 +11,15 @@
  *   sigma_phi = floor_phi + k_phi_per_m * |t| + k_phi_per_rad * |dphi|    [rad]
  * Odometry glitches (a step turning 60-85 deg wrongly) are not judged here: the local
  * registration detects them from the scan match and down-weights the link.
+ *
+ * Constant velocity (no odometry): the last step's motion d_last over its interval dt_last,
+ * times this scan's interval dt: d = d_last * dt / dt_last (bridges dropped scans and
+ * irregular logging, ACES: 0.07-0.32 s). Only on a regular scan clock: logged timestamps can
+ * be jittered in bursts (Intel: 631 backward jumps up to 0.9 s, the file order being the
+ * true order), and scaling by such intervals turns a 5 deg step into a 25 deg prediction. A
+ * clock that ran backwards or took a step under kJitterFraction * T (T: median of the
+ * positive intervals) within the last kClockSteps scans is taken as jittered, and the
+ * prediction is then one step per scan (d = d_last).
  */
 #pragma once
 
@@ -20,6 +29,7 @@
 #include <mrpt/math/TPose2D.h>
 
 #include <Eigen/Core>
+#include <deque>
 #include <optional>
 
 namespace lrgc
@@ -71,6 +81,10 @@ class CMotionPredictor
 	Eigen::Matrix3d odometryCov(const mrpt::math::TPose2D& d) const;
 	/** Covariance of one constant-velocity step. */
 	Eigen::Matrix3d constantVelocityCov() const;
+	/** Scan period T [s] (median of recent intervals), 0 before two scans. */
+	double scanPeriod() const;
+	/** The recent scan timestamps are jittered (see the file comment). */
+	bool clockJittered() const;
 	const TMotionPredictorParams& params() const { return m_params; }
 
    private:
@@ -79,7 +93,9 @@ class CMotionPredictor
 	std::optional<mrpt::math::TPose2D> m_odomAtScan;  //!< (odom <- robot) at the last scan
 	std::optional<mrpt::Clock::time_point> m_lastScanTime;
 	mrpt::math::TPose2D m_lastMotion{0, 0, 0};  //!< estimated motion of the last step
-	double m_lastStepSeconds = 0;
+	std::deque<double> m_recentSteps;  //!< the last kClockSteps scan intervals [s], any sign
+	static constexpr size_t kClockSteps = 50;
+	static constexpr double kJitterFraction = 0.3;
 };
 
 }  // namespace lrgc
