@@ -376,13 +376,13 @@ TEST(ScanMatcherParams, roundTripUnknownKeysAndValidation)
 	EXPECT_EQ(q.maxIterations, 33);
 	EXPECT_DOUBLE_EQ(q.normalRadius_m, 0.21);
 	EXPECT_NEAR(q.wideSearchStep, 5 * kDeg, 1e-12);
-	EXPECT_NEAR(mem.read_double("ScanMatcher", "wideSearchStep_deg", 0), 5.0, 1e-12);
+	EXPECT_NEAR(mem.read_double("ScanMatcher", "wide_search_step_deg", 0), 5.0, 1e-12);
 
 	mrpt::config::CConfigFileMemory bad;
 	bad.write("ScanMatcher", "normalRadius", 0.2);  // misspelt key
 	EXPECT_THROW(q.loadFromConfigFile(bad, "ScanMatcher"), std::exception);
 	mrpt::config::CConfigFileMemory invalid;
-	invalid.write("ScanMatcher", "minInlierFraction", 1.5);
+	invalid.write("ScanMatcher", "min_inlier_fraction", 1.5);
 	EXPECT_THROW(q.loadFromConfigFile(invalid, "ScanMatcher"), std::exception);
 	EXPECT_EQ(q.maxIterations, 33);  // a failed load leaves the values untouched
 	TScanMatcherParams neg;
