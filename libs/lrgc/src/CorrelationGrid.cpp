@@ -1,10 +1,12 @@
 /* Building the blurred old-map grid and its max-pooled pyramid (see CorrelationGrid.h).
  *
- * Blur: one exact Euclidean distance transform (OpenCV, DIST_MASK_PRECISE) of the occupied
- * cells gives the distance d [cells] from every cell to its nearest occupied cell; then
- * p = exp(-(d * res)^2 / (2 sigma^2)) through a lookup table on the integer d^2.
+ * Blur: p = exp(-(d * res)^2 / (2 sigma^2)) through a lookup table on the integer squared
+ * distance d^2 [cells^2] from a cell to its nearest occupied cell, zero beyond the table.
+ * Either the table's disc is stamped (max) around every occupied cell -- cheap for sparse
+ * points and a small sigma, the loop-closing case -- or one exact Euclidean distance
+ * transform (OpenCV, DIST_MASK_PRECISE) gives d; both yield the same values.
  * Pyramid: level h from level h-1 by doubling, P_h(x) = max(P_{h-1}(x), P_{h-1}(x + s)) with
- * s = 2^(h-1), first along rows then along columns, on zero-padded OpenCV views (SIMD max).
+ * s = 2^(h-1), first along rows then along columns.
  */
 #include "lrgc/CorrelationGrid.h"
 
@@ -41,19 +43,46 @@ std::vector<uint8_t> blurTable(double resolution, double blurSigma)
 }
 
 // Next pyramid level in the common padded layout (rows x stride, row-major): with
-// s = 2^(h-1), P_h(x, y) = max over {x, x+s} x {y, y+s} of P_{h-1}; reads past the stored
-// high end are zeros of the padded copy Z.
+// s = 2^(h-1), P_h(x, y) = max over {x, x+s} x {y, y+s} of P_{h-1}, reads past the stored high
+// end being zeros (so the max is the value itself there). Rows then columns; plain loops the
+// compiler vectorises, without padded copies.
 std::vector<uint8_t> nextLevel(const std::vector<uint8_t>& prev, int rows, int stride, int s)
 {
-	cv::Mat Z = cv::Mat::zeros(rows + s, stride + s, CV_8U);
-	const cv::Mat P(rows, stride, CV_8U, const_cast<uint8_t*>(prev.data()));
-	P.copyTo(Z(cv::Rect(0, 0, stride, rows)));
-	cv::Mat T;  // T(r, c) = max(Z(r, c), Z(r, c + s))
-	cv::max(Z(cv::Rect(0, 0, stride, rows + s)), Z(cv::Rect(s, 0, stride, rows + s)), T);
+	const size_t w = size_t(stride);
 	std::vector<uint8_t> next(prev.size());
-	cv::Mat out(rows, stride, CV_8U, next.data());  // out(r, c) = max(T(r, c), T(r + s, c))
-	cv::max(T(cv::Rect(0, 0, stride, rows)), T(cv::Rect(0, s, stride, rows)), out);
+	for (size_t r = 0; r < size_t(rows); ++r)
+	{  // next(r, c) = max(prev(r, c), prev(r, c + s))
+		const uint8_t* in = prev.data() + r * w;
+		uint8_t* out = next.data() + r * w;
+		const size_t n = w > size_t(s) ? w - size_t(s) : 0;
+		for (size_t c = 0; c < n; ++c) out[c] = std::max(in[c], in[c + size_t(s)]);
+		for (size_t c = n; c < w; ++c) out[c] = in[c];
+	}
+	for (size_t r = 0; r + size_t(s) < size_t(rows); ++r)
+	{  // next(r, c) = max(next(r, c), next(r + s, c)), rows in increasing order
+		uint8_t* out = next.data() + r * w;
+		const uint8_t* below = out + size_t(s) * w;
+		for (size_t c = 0; c < w; ++c) out[c] = std::max(out[c], below[c]);
+	}
 	return next;
+}
+
+// Level 0 from the occupied cells, by stamping the disc of the lookup table around each:
+// max_j lut[d2(i, j)] = lut[min_j d2(i, j)] since the table does not increase with d2, so this
+// equals the distance-transform result whenever the stamps are cheaper than a whole-grid pass.
+void stampLevel0(const std::vector<Eigen::Vector2i>& occupied, const std::vector<uint8_t>& lut,
+				 int width, int height, int pad, int stride, uint8_t* L0)
+{
+	const int R = static_cast<int>(std::floor(std::sqrt(double(lut.size() - 1))));
+	for (const auto& o : occupied)
+		for (int dy = std::max(-R, -o.y()); dy <= std::min(R, height - 1 - o.y()); ++dy)
+		{
+			const int rx = static_cast<int>(std::floor(std::sqrt(double(lut.size() - 1 - size_t(dy * dy)))));
+			const int x0 = std::max(-rx, -o.x()), x1 = std::min(rx, width - 1 - o.x());
+			uint8_t* row = L0 + size_t(o.y() + dy + pad) * size_t(stride) + size_t(o.x() + pad);
+			for (int dx = x0; dx <= x1; ++dx)
+				row[dx] = std::max(row[dx], lut[size_t(dx * dx + dy * dy)]);
+		}
 }
 }  // namespace
 
@@ -104,22 +133,40 @@ CCorrelationGrid CCorrelationGrid::fromPoints(const std::vector<Eigen::Vector2d>
 	g.m_width = static_cast<int>(wd);
 	g.m_height = static_cast<int>(hd);
 
-	// Occupied cells are 0 (distanceTransform measures the distance to the nearest zero).
-	cv::Mat free(g.m_height, g.m_width, CV_8U, cv::Scalar(255));
-	for (const auto& p : pointsInMap)
-	{
-		const Eigen::Vector2i c = g.cellOf(p);
-		if (c.x() >= 0 && c.y() >= 0 && c.x() < g.m_width && c.y() < g.m_height)
-			free.at<uint8_t>(c.y(), c.x()) = 0;
-	}
-	cv::Mat dist;
-	cv::distanceTransform(free, dist, cv::DIST_L2, cv::DIST_MASK_PRECISE, CV_32F);
-
 	const std::vector<uint8_t> lut = blurTable(resolution, blurSigma);
 	g.m_pad = (1 << (numLevels - 1)) - 1;
 	g.m_stride = g.m_width + g.m_pad;
 	g.m_rows = g.m_height + g.m_pad;
 	std::vector<uint8_t> L0(static_cast<size_t>(g.m_stride) * static_cast<size_t>(g.m_rows), 0);
+
+	// Occupied cells, each once.
+	std::vector<uint8_t> occ(size_t(g.m_width) * size_t(g.m_height), 0);
+	std::vector<Eigen::Vector2i> occupied;
+	for (const auto& p : pointsInMap)
+	{
+		const Eigen::Vector2i c = g.cellOf(p);
+		if (c.x() < 0 || c.y() < 0 || c.x() >= g.m_width || c.y() >= g.m_height) continue;
+		uint8_t& o = occ[size_t(c.y()) * size_t(g.m_width) + size_t(c.x())];
+		if (!o) o = 1, occupied.push_back(c);
+	}
+	// Stamp cost ~ (occupied cells) x (disc of the table); a distance transform ~ a few passes
+	// over the grid. Both give the same values (see stampLevel0).
+	const double stampCost = double(occupied.size()) * M_PI * double(lut.size());
+	if (stampCost < 4.0 * wd * hd)
+	{
+		stampLevel0(occupied, lut, g.m_width, g.m_height, g.m_pad, g.m_stride, L0.data());
+		g.m_levels.push_back(std::move(L0));
+		for (int h = 1; h < numLevels; ++h)
+			g.m_levels.push_back(nextLevel(g.m_levels.back(), g.m_rows, g.m_stride, 1 << (h - 1)));
+		return g;
+	}
+
+	// Occupied cells are 0 (distanceTransform measures the distance to the nearest zero).
+	cv::Mat free(g.m_height, g.m_width, CV_8U, cv::Scalar(255));
+	for (const auto& c : occupied) free.at<uint8_t>(c.y(), c.x()) = 0;
+	cv::Mat dist;
+	cv::distanceTransform(free, dist, cv::DIST_L2, cv::DIST_MASK_PRECISE, CV_32F);
+
 	for (int r = 0; r < g.m_height; ++r)
 	{
 		const float* d = dist.ptr<float>(r);

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <random>
 
 using lrgc::CCorrelationGrid;
@@ -72,6 +73,35 @@ TEST(CorrelationGrid, PyramidLevelIsMaxOverBlockIncludingNegativeCells)
 				for (int b = 0; b < w; ++b)
 					for (int a = 0; a < w; ++a) m = std::max(m, g.value(0, x + a, y + b));
 				ASSERT_EQ(g.value(h, x, y), m) << "level " << h << " cell " << x << "," << y;
+			}
+	}
+}
+
+// Level 0 against its definition, round(255 exp(-min_j d2_ij res^2 / (2 sigma^2))) over the
+// occupied cells j, for sparse points with a small blur (the disc-stamping path) and dense
+// points with a wide one (the distance-transform path): both must give the same values.
+TEST(CorrelationGrid, LevelZeroMatchesBruteForceForSparseAndDenseInput)
+{
+	std::mt19937 rng(7);
+	for (const auto& [count, sigma] : {std::pair{12, 0.08}, std::pair{400, 0.6}})
+	{
+		std::uniform_real_distribution<double> u(0, 3.0);
+		std::vector<Eigen::Vector2d> pts;
+		for (int k = 0; k < count; ++k) pts.emplace_back(u(rng), u(rng));
+		const double res = 0.05;
+		const auto g = CCorrelationGrid::fromPoints(pts, res, sigma, 0.3, 3);
+		std::vector<Eigen::Vector2i> occ;
+		for (const auto& p : pts) occ.push_back(g.cellOf(p));
+		for (int y = 0; y < g.height(); ++y)
+			for (int x = 0; x < g.width(); ++x)
+			{
+				long d2 = std::numeric_limits<long>::max();
+				for (const auto& o : occ)
+					d2 = std::min(d2, long(o.x() - x) * (o.x() - x) + long(o.y() - y) * (o.y() - y));
+				const double p = 255.0 * std::exp(-double(d2) * res * res / (2 * sigma * sigma));
+				const long expected = p < 0.5 ? 0 : std::lround(p);
+				ASSERT_EQ(long(g.value(0, x, y)), expected)
+					<< count << " points, sigma " << sigma << ", cell " << x << "," << y;
 			}
 	}
 }

@@ -9,7 +9,7 @@
 #include <cmath>
 #include <functional>
 #include <queue>
-#include <unordered_map>
+#include <limits>
 
 #include "lrgc/se2.h"
 
@@ -20,8 +20,8 @@ namespace
 struct TLabel
 {
 	Eigen::Matrix3d cov;
-	double key;  // trace of the xy block [m^2]
-	bool settled = false;
+	double key = std::numeric_limits<double>::infinity();  // trace of the xy block [m^2]
+	bool reached = false, settled = false;
 };
 
 double positionVariance(const Eigen::Matrix3d& c)
@@ -64,10 +64,12 @@ std::vector<TRelativeUncertainty> propagateUncertainty(const CPoseGraph& g, size
 	const double maxVar = limits.maxPositionStd * limits.maxPositionStd;
 	const TPose2D& sourceInMap = g.pose(source);
 
-	std::unordered_map<size_t, TLabel> labels;
+	// Labels indexed by node: a flat array is much cheaper than a hash map when the search
+	// reaches most of the graph, as it does once loops have shrunk the uncertainty.
+	std::vector<TLabel> labels(g.numNodes());
 	using QItem = std::pair<double, size_t>;
 	std::priority_queue<QItem, std::vector<QItem>, std::greater<QItem>> queue;
-	labels[source] = {Eigen::Matrix3d::Zero(), 0.0};
+	labels[source] = {Eigen::Matrix3d::Zero(), 0.0, true};
 	queue.push({0.0, source});
 
 	std::vector<TRelativeUncertainty> out;
@@ -82,13 +84,13 @@ std::vector<TRelativeUncertainty> propagateUncertainty(const CPoseGraph& g, size
 		out.push_back({u, uInSource, lu.cov});
 		if (limits.maxNodes && out.size() >= limits.maxNodes) break;
 		if (lu.key > maxVar) continue;        // returned, not expanded
-		const Eigen::Matrix3d covU = lu.cov;  // `labels` may rehash below
+		const Eigen::Matrix3d covU = lu.cov;
 		for (size_t id : g.linksOf(u))
 		{
 			if (!g.isLinkEnabled(id)) continue;
 			const TLink& l = g.link(id);
 			const size_t v = l.from == u ? l.to : l.from;
-			if (auto it = labels.find(v); it != labels.end() && it->second.settled) continue;
+			if (labels[v].settled) continue;
 			const Eigen::Matrix3d covLink = l.information.inverse();
 			// Linearise at the current estimate of the link's relative pose.
 			const TPose2D vInU = between(g.pose(u), g.pose(v));
@@ -97,13 +99,11 @@ std::vector<TRelativeUncertainty> propagateUncertainty(const CPoseGraph& g, size
 							: inverseCovariance(between(g.pose(v), g.pose(u)), covLink);
 			const Eigen::Matrix3d covV = compound(uInSource, covU, vInU, covUV);
 			const double keyV = positionVariance(covV);
-			auto [it, inserted] = labels.try_emplace(v, TLabel{covV, keyV});
-			if (!inserted)
-			{
-				if (keyV >= it->second.key) continue;
-				it->second.cov = covV;
-				it->second.key = keyV;
-			}
+			TLabel& lv = labels[v];
+			if (lv.reached && keyV >= lv.key) continue;
+			lv.cov = covV;
+			lv.key = keyV;
+			lv.reached = true;
 			queue.push({keyV, v});
 		}
 	}
