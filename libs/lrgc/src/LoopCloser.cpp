@@ -31,6 +31,8 @@ void TLoopCloserParams::loadFromConfigFile(
 		c.read_double(s, "max_window_theta_deg", mrpt::RAD2DEG(max_window_theta)));
 	consistent_chi2 = c.read_double(s, "consistent_chi2", consistent_chi2);
 	check_every = c.read_uint64_t(s, "check_every", check_every);
+	patch_max_range = c.read_double(s, "patch_max_range", patch_max_range);
+	requireParam(patch_max_range > 0, s, "patch_max_range", "must be > 0");
 	requireParam(
 		patch_min_keyframes >= 1 && patch_min_keyframes <= old_map_exclusion, s,
 		"patch_min_keyframes", "must be in [1, old_map_exclusion]");
@@ -60,6 +62,7 @@ void TLoopCloserParams::saveToConfigFile(
 	c.write(s, "max_window_theta_deg", mrpt::RAD2DEG(max_window_theta), np, vp, "[deg] Cap of the rotational search half-window");
 	c.write(s, "consistent_chi2", consistent_chi2, np, vp, "[chi2, 3 dof] A loop link this consistent is added without a full solve");
 	c.write(s, "check_every", uint64_t(check_every), np, vp, "Look for a loop every this many keyframes");
+	c.write(s, "patch_max_range", patch_max_range, np, vp, "[m] Patch points farther than this from the newest keyframe are left out of the correlation");
 }
 
 struct CLoopCloser::TCandidates
@@ -138,19 +141,24 @@ std::optional<TLoopClosure> CLoopCloser::process(CPoseGraph& graph, const TKeyfr
 	double patchRadius = 0;
 	for (size_t k = patchFirst; k <= newest; ++k)
 	{
-		const TPose2D kInNewest = between(newestInMap, graph.pose(k));
+		const CPointTransform kInNewest(between(newestInMap, graph.pose(k)));
 		for (const auto& p : keyframes[k].scan.points)
 		{
-			patch.push_back(transformPoint(kInNewest, p));
-			patchRadius = std::max(patchRadius, patch.back().norm());
+			const Eigen::Vector2d q = kInNewest(p);
+			if (q.norm() > m_params.patch_max_range) continue;
+			patch.push_back(q);
+			patchRadius = std::max(patchRadius, q.norm());
 		}
 	}
 	const Eigen::Vector2d centre(newestInMap.x, newestInMap.y);
 	const double reach = winXY + patchRadius + 3 * m_correlator.params().blurSigma;
 	for (const size_t j : candidates->nodes)
+	{
+		const CPointTransform toMap(graph.pose(j));
 		for (const auto& p : keyframes[j].scan.points)
-			if (Eigen::Vector2d q = transformPoint(graph.pose(j), p); (q - centre).norm() <= reach)
+			if (Eigen::Vector2d q = toMap(p); (q - centre).squaredNorm() <= reach * reach)
 				oldMap.push_back(q);
+	}
 	if (oldMap.empty()) return std::nullopt;
 	++m_stats.attempts;
 	const CCorrelationGrid grid =
@@ -181,9 +189,17 @@ std::optional<TLoopClosure> CLoopCloser::process(CPoseGraph& graph, const TKeyfr
 		refScans.push_back(keyframes[j].scan);
 		refInOld.push_back(between(oldInMap, graph.pose(j)));
 	}
+	// Only the old points the new scan can reach at the correlated pose (a few cm off):
+	// correspondence gate plus the widest line fit, with margin to spare.
+	const TPose2D guessInOld = between(oldInMap, corrected);
+	std::vector<Eigen::Vector2d> scanInOld;
+	const CPointTransform toOld(guessInOld);
+	for (const auto& p : keyframes[newest].scan.points) scanInOld.push_back(toOld(p));
+	const double cropMargin =
+		m_matcherParams.maxCorrespondenceDist_m + 4 * m_matcherParams.normalRadius_m + 0.2;
 	const auto match = m_matcher.match(
-		CReferenceCloud::fromScans(refScans, refInOld, m_matcherParams), keyframes[newest].scan,
-		between(oldInMap, corrected));
+		CReferenceCloud::fromScansNear(refScans, refInOld, m_matcherParams, scanInOld, cropMargin),
+		keyframes[newest].scan, guessInOld);
 	if (!match)
 	{
 		++m_stats.rejectedByMatch;

@@ -177,7 +177,50 @@ CReferenceCloud CReferenceCloud::fromScans(
 	for (const auto& s : scans) n += s.points.size();
 	pts.reserve(n);
 	for (size_t k = 0; k < scans.size(); ++k)
-		for (const auto& q : scans[k].points) pts.push_back(transformPoint(scansInRef[k], q));
+	{
+		const CPointTransform toRef(scansInRef[k]);
+		for (const auto& q : scans[k].points) pts.push_back(toRef(q));
+	}
+	CReferenceCloud c(std::move(pts), p);
+	for (size_t k = 0; k < scans.size(); ++k) c.addView(scans[k], scansInRef[k]);
+	return c;
+}
+
+CReferenceCloud CReferenceCloud::fromScansNear(
+	const std::vector<TScan2D>& scans, const std::vector<mrpt::math::TPose2D>& scansInRef,
+	const TScanMatcherParams& p, const std::vector<Eigen::Vector2d>& nearInRef, double margin)
+{
+	if (scans.size() != scansInRef.size() || !(margin > 0))
+		THROW_EXCEPTION_FMT(
+			"CReferenceCloud::fromScansNear: %zu scans, %zu poses, margin %g m", scans.size(),
+			scansInRef.size(), margin);
+	// Cells of side `margin` holding a query point, dilated by one cell: every point within
+	// `margin` of a query point lies in a marked cell, and a point in a marked cell is within
+	// 2 sqrt(2) margin of one.
+	std::vector<std::pair<int64_t, int64_t>> marked;
+	marked.reserve(9 * nearInRef.size());
+	for (const auto& q : nearInRef)
+	{
+		if (!q.allFinite()) continue;
+		const int64_t ix = cellIndex(q.x(), margin), iy = cellIndex(q.y(), margin);
+		for (int64_t dx = -1; dx <= 1; ++dx)
+			for (int64_t dy = -1; dy <= 1; ++dy) marked.emplace_back(ix + dx, iy + dy);
+	}
+	std::sort(marked.begin(), marked.end());
+	marked.erase(std::unique(marked.begin(), marked.end()), marked.end());
+	std::vector<Eigen::Vector2d> pts;
+	for (size_t k = 0; k < scans.size(); ++k)
+	{
+		const CPointTransform toRef(scansInRef[k]);
+		for (const auto& q : scans[k].points)
+		{
+			const Eigen::Vector2d r = toRef(q);
+			if (std::binary_search(
+					marked.begin(), marked.end(),
+					std::pair{cellIndex(r.x(), margin), cellIndex(r.y(), margin)}))
+				pts.push_back(r);
+		}
+	}
 	CReferenceCloud c(std::move(pts), p);
 	for (size_t k = 0; k < scans.size(); ++k) c.addView(scans[k], scansInRef[k]);
 	return c;
@@ -306,9 +349,11 @@ void CReferenceCloud::fitLines(const TScanMatcherParams& p, const std::vector<do
 			const double tr = cxx + cyy, disc = std::sqrt(std::max(0.0, 0.25 * (cxx - cyy) * (cxx - cyy) + cxy * cxy));
 			const double l1 = 0.5 * tr + disc, l2 = std::max(0.0, 0.5 * tr - disc);
 			if (!(l1 > 0) || l2 > 0.0625 * l1) continue;
-			// Tangent: eigenvector of l1; the normal is its perpendicular.
-			const double ang = 0.5 * std::atan2(2 * cxy, cxx - cyy);
-			const Eigen::Vector2d tdir(std::cos(ang), std::sin(ang));
+			// Tangent: eigenvector of l1, (l1 - cyy, cxy) or (cxy, l1 - cxx), whichever is
+			// longer (both are, unless one vanishes); the normal is its perpendicular.
+			const Eigen::Vector2d v1(l1 - cyy, cxy), v2(cxy, l1 - cxx);
+			const Eigen::Vector2d tdir =
+				(v1.squaredNorm() >= v2.squaredNorm() ? v1 : v2).normalized();
 			const Eigen::Vector2d n(-tdir.y(), tdir.x());
 			const Eigen::Vector2d t(-n.y(), n.x());
 			m_anchors[i].normal = n;

@@ -124,3 +124,49 @@ TEST(ReferenceCloud, patchFromScansReducesOverlappingPoints)
 	EXPECT_NEAR(std::sqrt(ref.noiseVariance()), laser.rangeNoiseStd, 0.5 * laser.rangeNoiseStd);
 	EXPECT_THROW(CReferenceCloud::fromScans(scans, {}, p), std::exception);
 }
+
+TEST(ReferenceCloud, cropAroundAScanKeepsEveryAnchorTheScanCanReach)
+{
+	// Six scans of a room; the query is a seventh scan, the crop margin the one the loop
+	// closer uses (correspondence gate + widest line fit + 0.2 m). Every anchor within the
+	// gate of a query point must be the same, with the same line, in both clouds, and the
+	// crop must actually drop points.
+	const auto world = makeRoomWorld(7);
+	std::mt19937 rng(5);
+	std::vector<TScan2D> scans;
+	std::vector<TPose2D> poses;
+	for (int k = 0; k < 6; ++k)
+		if (auto pose = sampleFreePose(world, world.bounds(), 0.5, rng))
+		{
+			scans.push_back(simulateScan(world, *pose, {}, rng));
+			poses.push_back(*pose);
+		}
+	ASSERT_GE(scans.size(), 4U);
+	TScanMatcherParams p;
+	TLaserSimParams shortLaser;
+	shortLaser.maxRange = 3.0;
+	const auto queryPose = sampleFreePose(world, world.bounds(), 0.5, rng);
+	ASSERT_TRUE(queryPose);
+	const TScan2D query = simulateScan(world, *queryPose, shortLaser, rng);
+	std::vector<Eigen::Vector2d> queryInRef;
+	for (const auto& q : query.points) queryInRef.push_back(transformPoint(*queryPose, q));
+	const double margin = p.maxCorrespondenceDist_m + 4 * p.normalRadius_m + 0.2;
+	const CReferenceCloud full = CReferenceCloud::fromScans(scans, poses, p);
+	const CReferenceCloud cropped = CReferenceCloud::fromScansNear(scans, poses, p, queryInRef, margin);
+	EXPECT_LT(cropped.size(), full.size());
+	size_t compared = 0;
+	for (const auto& q : queryInRef)
+	{
+		const int a = full.nearest(q, p.maxCorrespondenceDist_m);
+		const int b = cropped.nearest(q, p.maxCorrespondenceDist_m);
+		ASSERT_EQ(a < 0, b < 0);
+		if (a < 0) continue;
+		const auto& fa = full.anchors()[size_t(a)];
+		const auto& cb = cropped.anchors()[size_t(b)];
+		EXPECT_NEAR((fa.pos - cb.pos).norm(), 0.0, 1e-12);
+		EXPECT_NEAR((fa.normal - cb.normal).norm(), 0.0, 1e-12);
+		EXPECT_EQ(fa.isLine, cb.isLine);
+		++compared;
+	}
+	EXPECT_GT(compared, query.points.size() / 2);
+}

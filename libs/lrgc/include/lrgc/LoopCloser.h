@@ -45,6 +45,10 @@ struct TLoopCloserParams : public mrpt::config::CLoadableOptions
 	double max_window_theta = mrpt::DEG2RAD(30.0);  //!< [rad] (key max_window_theta_deg)
 	double consistent_chi2 = 11.34;  //!< [chi2, 3 dof] a link agreeing this well needs no solve
 	size_t check_every = 1;  //!< look for a loop every this many keyframes
+	/** [m] Patch points farther from the newest keyframe are left out of the correlation:
+	 * the heading step is resolution / patch radius, so 40 m returns (ACES) would need
+	 * ~900 headings over +-30 deg; far returns are also the noisiest. */
+	double patch_max_range = 12.0;
 
 	void loadFromConfigFile(
 		const mrpt::config::CConfigFileBase& c, const std::string& s) override;

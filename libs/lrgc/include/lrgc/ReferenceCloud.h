@@ -61,6 +61,16 @@ public:
 	static CReferenceCloud fromScans(
 		const std::vector<TScan2D>& scans, const std::vector<mrpt::math::TPose2D>& scansInRef,
 		const TScanMatcherParams& p);
+	/** fromScans keeping only the points within about `margin` [m] of some point of
+	 * `nearInRef` (cells of side margin: a kept point is within 2 sqrt(2) margin).
+	 * For matching a scan known to lie at nearInRef to within a few cm: with margin >=
+	 * maxCorrespondenceDist + 4 normalRadius (the widest line fit) every anchor the match can
+	 * reach gets the same line fit as without the crop. The views (free-space check) are
+	 * kept whole. */
+	static CReferenceCloud fromScansNear(
+		const std::vector<TScan2D>& scans, const std::vector<mrpt::math::TPose2D>& scansInRef,
+		const TScanMatcherParams& p, const std::vector<Eigen::Vector2d>& nearInRef,
+		double margin);
 
 	bool empty() const { return m_anchors.empty(); }
 	size_t size() const { return m_anchors.size(); }

@@ -47,6 +47,23 @@ inline Eigen::Vector2d transformPoint(const TPose2D& pose, const Eigen::Vector2d
 	return {pose.x + c * p.x() - s * p.y(), pose.y + s * p.x() + c * p.y()};
 }
 
+/** transformPoint with the rotation computed once, for loops over the points of a scan. */
+class CPointTransform
+{
+   public:
+	explicit CPointTransform(const TPose2D& pose)
+		: m_x(pose.x), m_y(pose.y), m_c(std::cos(pose.phi)), m_s(std::sin(pose.phi))
+	{
+	}
+	Eigen::Vector2d operator()(const Eigen::Vector2d& p) const
+	{
+		return {m_x + m_c * p.x() - m_s * p.y(), m_y + m_s * p.x() + m_c * p.y()};
+	}
+
+   private:
+	double m_x, m_y, m_c, m_s;
+};
+
 inline Eigen::Vector3d toVector(const TPose2D& p) { return {p.x, p.y, p.phi}; }
 inline TPose2D fromVector(const Eigen::Vector3d& v)
 {
