@@ -142,6 +142,14 @@ void CMetricMapBuilderLRGC::saveCurrentEstimationToImage(const std::string& file
 void CMetricMapBuilderLRGC::finish()
 {
 	if (!m_params.builder.final_optimization || m_graph.numNodes() < 2) return;
+	if (m_loopCloser && m_params.revisits.enabled)
+	{
+		const size_t added = CRevisitLinker(m_params.revisits, m_params.matcher, m_params.local.link_noise)
+								 .linkRevisits(m_graph, m_keyframes);
+		m_stats.loopClosureLinks += added;
+		m_stats.revisitLinks = added;
+		MRPT_LOG_INFO_FMT("end of run: %zu revisit links re-matched", added);
+	}
 	const auto report = CPoseGraphOptimizer(m_params.optimizer).optimize(m_graph, 0);
 	MRPT_LOG_INFO_FMT(
 		"final optimisation: %zu nodes, %d iterations, chi2 %.3g -> %.3g", m_graph.numNodes(),

@@ -43,7 +43,7 @@ const std::vector<std::string>& TLRGCParams::sectionNames()
 {
 	static const std::vector<std::string> names = {
 		"MapBuilder", "MotionPredictor", "ScanMatcher", "LocalRegistration",
-		"PoseGraphOptimizer", "LoopCloser", "PatchCorrelator"};
+		"PoseGraphOptimizer", "LoopCloser", "PatchCorrelator", "RevisitLinker"};
 	return names;
 }
 
@@ -67,6 +67,7 @@ void TLRGCParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, con
 	optimizer.loadFromConfigFile(c, "PoseGraphOptimizer");
 	loop.loadFromConfigFile(c, "LoopCloser");
 	correlator.loadFromConfigFile(c, "PatchCorrelator");
+	revisits.loadFromConfigFile(c, "RevisitLinker");
 	requireParam(
 		loop.old_map_exclusion > local.window_size, "LoopCloser", "old_map_exclusion",
 		"must exceed [LocalRegistration] window_size (the paper's m > K)");
@@ -81,6 +82,7 @@ void TLRGCParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::
 	optimizer.saveToConfigFile(c, "PoseGraphOptimizer");
 	loop.saveToConfigFile(c, "LoopCloser");
 	correlator.saveToConfigFile(c, "PatchCorrelator");
+	revisits.saveToConfigFile(c, "RevisitLinker");
 }
 
 }  // namespace lrgc

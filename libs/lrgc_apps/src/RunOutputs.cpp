@@ -69,6 +69,7 @@ std::string statsJson(const CMetricMapBuilderLRGC& builder, const TRunSummary& r
 	  << "  \"links\": {\"odometry\": " << s.odometryLinks << ", \"scan_match\": " << s.scanMatchLinks
 	  << ", \"loop_closure\": " << s.loopClosureLinks << "},\n"
 	  << "  \"loop_closures\": " << s.loopClosures << ",\n"
+	  << "  \"revisit_links\": " << s.revisitLinks << ",\n"
 	  << "  \"loop_closing\": {\"attempts\": " << lcs.attempts << ", \"accepted\": " << lcs.accepted
 	  << ", \"rejected_by_filters\": " << lcs.rejectedByFilters
 	  << ", \"rejected_by_match\": " << lcs.rejectedByMatch

@@ -40,6 +40,7 @@ struct TMapBuilderStats
 	size_t glitchesRecovered = 0;  //!< of those, recovered by the wide rotational search
 	size_t odometryLinks = 0, scanMatchLinks = 0, loopClosureLinks = 0;
 	size_t loopClosures = 0;  //!< accepted loop-closure events
+	size_t revisitLinks = 0;  //!< links added by the end-of-run revisit sweep (CRevisitLinker)
 	size_t ignoredObservations = 0;  //!< observations of kinds the builder does not use
 };
 

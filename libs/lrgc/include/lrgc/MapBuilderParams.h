@@ -7,6 +7,7 @@
 #include <lrgc/LoopCloser.h>
 #include <lrgc/MotionPredictor.h>
 #include <lrgc/PatchCorrelatorParams.h>
+#include <lrgc/RevisitLinker.h>
 #include <lrgc/PoseGraphOptimizer.h>
 #include <lrgc/ScanMatcher.h>
 #include <mrpt/config/CLoadableOptions.h>
@@ -40,6 +41,7 @@ struct TLRGCParams : public mrpt::config::CLoadableOptions
 	TPoseGraphOptimizerParams optimizer;  //!< [PoseGraphOptimizer]
 	TLoopCloserParams loop;  //!< [LoopCloser]
 	TPatchCorrelatorParams correlator;  //!< [PatchCorrelator]
+	TRevisitLinkerParams revisits;  //!< [RevisitLinker]
 
 	/** Loads every stage's section (`section` is ignored: each stage has its own); other
 	 * sections are left to the caller, who checks them against sectionNames(). */
