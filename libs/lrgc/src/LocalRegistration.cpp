@@ -41,6 +41,13 @@ void TLocalRegistrationParams::loadFromConfigFile(
 	requireParam(
 		min_link_inliers > 0 && min_link_inliers <= 1, s, "min_link_inliers", "must be in (0, 1]");
 	requireParam(glitch_gate_chi2 > 0, s, "glitch_gate_chi2", "must be > 0");
+	patch_link = c.read_bool(s, "patch_link", patch_link);
+	pairwise_link_weight = c.read_double(s, "pairwise_link_weight", pairwise_link_weight);
+	requireParam(
+		pairwise_link_weight > 0 && pairwise_link_weight <= 1, s, "pairwise_link_weight",
+		"must be in (0, 1]");
+	patch_link_share = c.read_double(s, "patch_link_share", patch_link_share);
+	requireParam(patch_link_share >= 1, s, "patch_link_share", "must be >= 1");
 	requireParam(
 		wide_search_angle >= 0 && wide_search_angle <= M_PI, s, "wide_search_angle_deg",
 		"must be in [0, 180]");
@@ -60,6 +67,9 @@ void TLocalRegistrationParams::saveToConfigFile(
 	c.write(s, "glitch_min_turn_deg", mrpt::RAD2DEG(glitch_min_turn), np, vp, "[deg] A predicted step turning more than this is suspect: wide search if the match fails");
 	c.write(s, "glitch_min_gap", glitch_min_gap, np, vp, "[s] A step after a longer pause in the scans is suspect too");
 	c.write(s, "max_free_space_violation", max_free_space_violation, np, vp, "Local matches: tolerated fraction of points where the window saw free space");
+	c.write(s, "patch_link", patch_link, np, vp, "Link each keyframe to the previous one by its match against the window patch (scan to map)");
+	c.write(s, "patch_link_share", patch_link_share, np, vp, "The patch link's information is divided by this (>= 1)");
+	c.write(s, "pairwise_link_weight", pairwise_link_weight, np, vp, "Pairwise (scan to scan) links' information is scaled by this, after the split among them");
 }
 
 CLocalRegistration::CLocalRegistration(
@@ -115,6 +125,7 @@ TRegistration CLocalRegistration::registerScan(
 {
 	const Eigen::Matrix3d& priorCov = prediction.cov;
 	TRegistration reg{priorInMap, priorCov, false, false};
+	m_lastPatchMatch.reset();
 	if (graph.numNodes() == 0) return reg;
 	const CReferenceCloud& cloud = windowCloud(graph, keyframes);
 	const TPose2D newestInMap = graph.pose(*m_cloudNewest);
@@ -149,6 +160,10 @@ TRegistration CLocalRegistration::registerScan(
 	if (!match) return reg;
 
 	reg.matched = true;
+	// Only with an odometry prior: laser alone, the patch link let a robot standing at the
+	// start of Intel slide 0.6 m per 20 scans (laser-only relation error 0.44 -> 1.48 m).
+	if (prediction.fromOdometry)
+		m_lastPatchMatch = TPatchMatch{*m_cloudNewest, match->scanInRef, match->cov};
 	reg.odometryRejected = disagreement(*match) > m_params.glitch_gate_chi2;
 	reg.scanInMap = compose(newestInMap, match->scanInRef);
 	// Rotate the covariance from the newest keyframe's axes to the map axes.
@@ -170,6 +185,20 @@ size_t CLocalRegistration::linkAndOptimize(
 	const size_t older = window.size() - 1;  // window nodes other than the new one
 	const size_t links = std::min(m_params.max_pairwise_links, older);
 	size_t added = 0;
+	// Scan to map: the keyframe's registration against the window patch, in the frame of
+	// the patch's reference node (the previous keyframe). Without it (the patch match failed)
+	// the pairwise links keep their full weight: they are all the scans say then.
+	double pairwiseWeight = 1.0;
+	if (m_params.patch_link && m_lastPatchMatch && m_lastPatchMatch->node == newNode - 1)
+	{
+		pairwiseWeight = m_params.pairwise_link_weight;
+		graph.addLink(
+			{m_lastPatchMatch->node, newNode, m_lastPatchMatch->scanInNode,
+			 linkInformation(m_lastPatchMatch->cov, m_params.link_noise, m_params.patch_link_share),
+			 LinkType::ScanMatch});
+		++added;
+	}
+	m_lastPatchMatch.reset();
 	for (size_t l = 0; l < links; ++l)
 	{
 		const size_t node = newNode - 1 - (l * older) / links;
@@ -177,7 +206,7 @@ size_t CLocalRegistration::linkAndOptimize(
 		const auto m = m_matcher.match(keyframeCloud(node, keyframes), keyframes[newNode].scan, guess);
 		if (!m || m->inlierFraction < m_params.min_link_inliers) continue;
 		graph.addLink(
-			{node, newNode, m->scanInRef, linkInformation(m->cov, m_params.link_noise, double(links)),
+			{node, newNode, m->scanInRef, linkInformation(m->cov, m_params.link_noise, double(links) / pairwiseWeight),
 			 LinkType::ScanMatch});
 		++added;
 	}

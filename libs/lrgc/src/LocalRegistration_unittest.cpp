@@ -213,3 +213,63 @@ TEST(LocalRegistration, registerScanFromARoughPriorAndAGlitchOnlyByTheWideSearch
 		EXPECT_FALSE(reg.matched);
 	}
 }
+
+TEST(LocalRegistration, keyframeRegisteredAgainstThePatchGetsThePatchLink)
+{
+	// As the builder does it: the keyframe's scan is registered against the window patch
+	// (odometry prior), placed at the registered pose, then linked. The patch link
+	// (previous -> new, the registration's pose) joins the odometry link and the pairwise
+	// links, which are down-weighted by pairwise_link_weight; without an odometry prior
+	// there is no patch link and the pairwise links keep their full weight.
+	const TKnownRun run;
+	const auto& truth = run.tr.truePoses;
+	TLRGCParams p;
+	for (const bool fromOdometry : {true, false})
+	{
+		CLocalRegistration local(p.local, p.matcher, p.optimizer);
+		CPoseGraph graph;
+		TKeyframes keyframes;
+		for (size_t i = 0; i < 6; ++i)
+		{
+			graph.addNode(truth[i]), keyframes.push_back(run.keyframes[i]);
+			if (i > 0)
+				graph.addLink(
+					{i - 1, i, between(truth[i - 1], truth[i]), Eigen::Matrix3d::Identity() * 1e4,
+					 LinkType::ScanMatch});
+		}
+		const size_t n = 6;
+		lrgc::TMotionPrediction pred;
+		pred.motion = compose(run.tr.odometryIncrements[n - 1], TPose2D(0.05, -0.04, 0.03));
+		pred.cov = CMotionPredictor().odometryCov(pred.motion);
+		pred.fromOdometry = fromOdometry;
+		pred.stepSeconds = 0.2;
+		const TRegistration reg = local.registerScan(
+			graph, keyframes, run.keyframes[n].scan, compose(graph.pose(n - 1), pred.motion), pred);
+		ASSERT_TRUE(reg.matched);
+		EXPECT_LT(positionError(truth[n], reg.scanInMap), kTolXY);
+		graph.addNode(reg.scanInMap);
+		keyframes.push_back(run.keyframes[n]);
+		const size_t linksBefore = graph.numLinks();
+		local.linkAndOptimize(
+			graph, keyframes,
+			{n - 1, n, pred.motion, CMotionPredictor().odometryCov(pred.motion).inverse(),
+			 LinkType::Odometry});
+		// The first link after the odometry one is the patch link, if any.
+		const TLink& first = graph.link(linksBefore + 1);
+		const TPose2D registered = between(truth[n - 1], reg.scanInMap);
+		const bool isPatchLink = first.from == n - 1 && first.to == n &&
+			translationNorm(between(first.toInFrom, registered)) < 1e-9;
+		EXPECT_EQ(isPatchLink, fromOdometry);
+		// Pairwise links: information scaled by pairwise_link_weight with the patch link.
+		double maxPairwiseInfo = 0;
+		for (size_t id = linksBefore + 1 + (fromOdometry ? 1 : 0); id < graph.numLinks(); ++id)
+			maxPairwiseInfo = std::max(maxPairwiseInfo, graph.link(id).information(2, 2));
+		const double floorPhiInfo = 1 / std::pow(p.local.link_noise.floorPhi, 2);
+		if (fromOdometry)
+			EXPECT_LT(maxPairwiseInfo, p.local.pairwise_link_weight * floorPhiInfo * 1.0001);
+		else
+			EXPECT_GT(maxPairwiseInfo, p.local.pairwise_link_weight * floorPhiInfo * 1.0001);
+		EXPECT_LT(positionError(truth[n], graph.pose(n)), kTolXY);
+		EXPECT_LT(headingError(truth[n], graph.pose(n)), kTolPhi);
+	}
+}

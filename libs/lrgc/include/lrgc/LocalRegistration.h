@@ -51,6 +51,16 @@ struct TLocalRegistrationParams : public mrpt::config::CLoadableOptions
 	 * glass make the strict loop-closing value reject good local matches on real logs. */
 	double max_free_space_violation = 0.3;
 	TLinkNoise link_noise;  //!< keys link_floor_xy [m], link_floor_phi_deg (see LinkNoise.h)
+	/** Link each new keyframe to the previous one by its registration against the window
+	 * patch (scan to map), besides the pairwise links (scan to scan). Used where the scan's
+	 * prior came from odometry (laser-only runs keep the pairwise links alone). */
+	bool patch_link = true;
+	double patch_link_share = 1.0;  //!< its information is divided by this [-]
+	/** Scale of the pairwise links' information (after the split among them). Scan-to-scan
+	 * matches against one sparse scan err more than their covariance says: at full weight
+	 * they doubled the heading drift of local registration on Intel (1.5 vs 0.8 deg per
+	 * 1000 scans, median); at 0.05 they only hold the window where the patch match fails. */
+	double pairwise_link_weight = 0.05;
 
 	void loadFromConfigFile(
 		const mrpt::config::CConfigFileBase& c, const std::string& s) override;
@@ -98,6 +108,16 @@ class CLocalRegistration
 	CScanMatcher m_matcher;
 	CPoseGraphOptimizer m_optimizer;
 	const CReferenceCloud& keyframeCloud(size_t node, const TKeyframes& keyframes);
+
+	/** The last registration against the patch: (node <- scan) and its covariance in the
+	 * node's frame, for the patch link of the keyframe it may become. */
+	struct TPatchMatch
+	{
+		size_t node;
+		mrpt::math::TPose2D scanInNode;
+		Eigen::Matrix3d cov;
+	};
+	std::optional<TPatchMatch> m_lastPatchMatch;
 
 	CReferenceCloud m_cloud;  //!< window patch in the frame of node *m_cloudNewest
 	std::optional<size_t> m_cloudNewest;
