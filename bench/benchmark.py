@@ -88,6 +88,21 @@ def run_log(tools, name, log_path, workdir, args, relations=None, ground_truth=N
     ours = bench_runs.run_lrgc_slam(tools, log_path, os.path.join(workdir, "lrgc-slam"),
                                     args.timeout, args.config)
     bench_runs.run_eval(tools, ours, os.path.join(workdir, "lrgc-slam"), relations, ground_truth)
+    runs = [ours]
+    if relations:
+        # Local registration alone (issue #3): the same run with loop closing switched off.
+        local_ini = os.path.join(workdir, "local-only.ini")
+        os.makedirs(workdir, exist_ok=True)
+        with open(local_ini, "w") as f:
+            if args.config:
+                with open(args.config) as base:
+                    f.write(base.read() + "\n")
+            f.write("[MapBuilder]\nloop_closing = false\n")
+        local = bench_runs.run_lrgc_slam(tools, log_path, os.path.join(workdir, "local-only"),
+                                         args.timeout, local_ini)
+        local.system = "lrgc-slam, local registration only"
+        bench_runs.run_eval(tools, local, os.path.join(workdir, "local-only"), relations)
+        runs.append(local)
     icp = bench_runs.RunResult("icp-slam")
     rawlog = os.path.join(workdir, "converted", name + ".rawlog")
     os.makedirs(os.path.dirname(rawlog), exist_ok=True)
@@ -98,12 +113,13 @@ def run_log(tools, name, log_path, workdir, args, relations=None, ground_truth=N
         icp = bench_runs.run_icp_slam(rawlog, os.path.join(workdir, "icp-slam"), args.timeout)
         bench_runs.run_eval(tools, icp, os.path.join(workdir, "icp-slam"), relations,
                             ground_truth)
-    for r in (ours, icp):
+    runs.append(icp)
+    for r in runs:
         if r.error:
             notes.append("%s, %s: %s" % (name, r.system, r.error))
         print("   %-9s %s" % (r.system, "ok, wall %.1f s" % r.wall_s if r.ok and r.wall_s
                                 else "FAILED: %s" % r.error), flush=True)
-    return [ours, icp], notes
+    return runs, notes
 
 
 def tool_paths(build_dir):
