@@ -217,7 +217,7 @@ def document(real, synthetic, plots, machine, commit, total_s, data_dir, notes):
     if plots:
         out += ["## Plots", "",
                 "Map (lrgc-slam's `map.pgm`) with its trajectory (blue) and the loop-closure "
-                "links of its pose graph (red: edges between keyframes more than 10 ids apart, "
+                "links of its pose graph (red: edges between keyframes more than 15 ids apart, "
                 "beyond the local registration window), and the per-scan latency against scan "
                 "index.", ""]
         for name, png in plots:

@@ -39,7 +39,7 @@ void CMetricMapBuilderLRGC::initialize(
 	if (m_params.builder.loop_closing)
 		m_loopCloser = std::make_unique<CLoopCloser>(
 			m_params.loop, m_params.correlator, m_params.matcher, m_params.optimizer,
-			m_params.local.link_noise);
+			m_params.loop.link_noise);
 	m_graph = CPoseGraph();
 	m_keyframes.clear();
 	m_scans.clear();
@@ -144,7 +144,7 @@ void CMetricMapBuilderLRGC::finish()
 	if (!m_params.builder.final_optimization || m_graph.numNodes() < 2) return;
 	if (m_loopCloser && m_params.revisits.enabled)
 	{
-		const size_t added = CRevisitLinker(m_params.revisits, m_params.matcher, m_params.local.link_noise)
+		const size_t added = CRevisitLinker(m_params.revisits, m_params.matcher, m_params.loop.link_noise)
 								 .linkRevisits(m_graph, m_keyframes);
 		m_stats.loopClosureLinks += added;
 		m_stats.revisitLinks = added;

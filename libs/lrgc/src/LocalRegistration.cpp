@@ -42,6 +42,11 @@ void TLocalRegistrationParams::loadFromConfigFile(
 		min_link_inliers > 0 && min_link_inliers <= 1, s, "min_link_inliers", "must be in (0, 1]");
 	requireParam(glitch_gate_chi2 > 0, s, "glitch_gate_chi2", "must be > 0");
 	patch_link = c.read_bool(s, "patch_link", patch_link);
+	patch_link_noise.floorXY = c.read_double(s, "patch_link_floor_xy", patch_link_noise.floorXY);
+	patch_link_noise.floorPhi = mrpt::DEG2RAD(c.read_double(
+		s, "patch_link_floor_phi_deg", mrpt::RAD2DEG(patch_link_noise.floorPhi)));
+	requireParam(patch_link_noise.floorXY >= 0, s, "patch_link_floor_xy", "must be >= 0");
+	requireParam(patch_link_noise.floorPhi >= 0, s, "patch_link_floor_phi_deg", "must be >= 0");
 	pairwise_link_weight = c.read_double(s, "pairwise_link_weight", pairwise_link_weight);
 	requireParam(
 		pairwise_link_weight > 0 && pairwise_link_weight <= 1, s, "pairwise_link_weight",
@@ -69,6 +74,8 @@ void TLocalRegistrationParams::saveToConfigFile(
 	c.write(s, "max_free_space_violation", max_free_space_violation, np, vp, "Local matches: tolerated fraction of points where the window saw free space");
 	c.write(s, "patch_link", patch_link, np, vp, "Link each keyframe to the previous one by its match against the window patch (scan to map)");
 	c.write(s, "patch_link_share", patch_link_share, np, vp, "The patch link's information is divided by this (>= 1)");
+	c.write(s, "patch_link_floor_xy", patch_link_noise.floorXY, np, vp, "[m] Std added to the patch link");
+	c.write(s, "patch_link_floor_phi_deg", mrpt::RAD2DEG(patch_link_noise.floorPhi), np, vp, "[deg] Heading std added to the patch link");
 	c.write(s, "pairwise_link_weight", pairwise_link_weight, np, vp, "Pairwise (scan to scan) links' information is scaled by this, after the split among them");
 }
 
@@ -194,7 +201,8 @@ size_t CLocalRegistration::linkAndOptimize(
 		pairwiseWeight = m_params.pairwise_link_weight;
 		graph.addLink(
 			{m_lastPatchMatch->node, newNode, m_lastPatchMatch->scanInNode,
-			 linkInformation(m_lastPatchMatch->cov, m_params.link_noise, m_params.patch_link_share),
+			 linkInformation(
+				 m_lastPatchMatch->cov, m_params.patch_link_noise, m_params.patch_link_share),
 			 LinkType::ScanMatch});
 		++added;
 	}

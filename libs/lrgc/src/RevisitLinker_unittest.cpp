@@ -64,7 +64,7 @@ TEST(RevisitLinker, linksTheRevisitedLegAtTheTrueRelativePoses)
 {
 	TRevisitRun run;
 	const TLRGCParams defaults;
-	const CRevisitLinker linker(testParams(), defaults.matcher, defaults.local.link_noise);
+	const CRevisitLinker linker(testParams(), defaults.matcher, defaults.loop.link_noise);
 	const size_t linksBefore = run.graph.numLinks();
 	const size_t added = linker.linkRevisits(run.graph, run.keyframes);
 	EXPECT_GE(added, 3U);
@@ -89,7 +89,7 @@ TEST(RevisitLinker, recentKeyframesAreNotRevisits)
 	const TLRGCParams defaults;
 	TRevisitLinkerParams p = testParams();
 	p.min_index_gap = run.graph.numNodes();  // everything is "recent"
-	const CRevisitLinker linker(p, defaults.matcher, defaults.local.link_noise);
+	const CRevisitLinker linker(p, defaults.matcher, defaults.loop.link_noise);
 	EXPECT_EQ(linker.linkRevisits(run.graph, run.keyframes), 0U);
 }
 
@@ -103,7 +103,7 @@ TEST(RevisitLinker, scansOfAnotherPlaceAreNotLinked)
 	for (size_t k = run.graph.numNodes() / 2; k < run.graph.numNodes(); ++k)
 		run.keyframes[k].scan = test::simulateScan(
 			run.world, compose(run.tr.truePoses[k], TPose2D(2.0, 0.0, M_PI / 2)), {}, rng);
-	const CRevisitLinker linker(testParams(), defaults.matcher, defaults.local.link_noise);
+	const CRevisitLinker linker(testParams(), defaults.matcher, defaults.loop.link_noise);
 	EXPECT_EQ(linker.linkRevisits(run.graph, run.keyframes), 0U);
 }
 

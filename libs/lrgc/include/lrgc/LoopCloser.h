@@ -49,6 +49,10 @@ struct TLoopCloserParams : public mrpt::config::CLoadableOptions
 	 * the heading step is resolution / patch radius, so 40 m returns (ACES) would need
 	 * ~900 headings over +-30 deg; far returns are also the noisiest. */
 	double patch_max_range = 12.0;
+	/** Noise floor of loop links (and end-of-run revisit links); keys link_floor_xy [m],
+	 * link_floor_phi_deg. Looser than local registration's: a loop link joins scans taken
+	 * minutes apart (people, doors, chairs moved). */
+	TLinkNoise link_noise;
 
 	void loadFromConfigFile(
 		const mrpt::config::CConfigFileBase& c, const std::string& s) override;

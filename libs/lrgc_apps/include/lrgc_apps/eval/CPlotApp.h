@@ -21,7 +21,7 @@ namespace lrgc::apps::eval
 struct TPlotOptions
 {
 	std::string mapYaml, trajectory, graph, timing, out, title;
-	std::size_t loopMinGap = 10;  //!< edges with a larger id gap are loop-closure links
+	std::size_t loopMinGap = 15;  //!< edges with a larger id gap are loop-closure links (window K)
 	int width = 1200;             //!< [pixels] of the output image
 	int maxMapHeight = 1000;      //!< [pixels] of the map panel at most
 };
