@@ -144,8 +144,8 @@ void CMetricMapBuilderLRGC::finish()
 	if (!m_params.builder.final_optimization || m_graph.numNodes() < 2) return;
 	if (m_loopCloser && m_params.revisits.enabled)
 	{
-		const size_t added = CRevisitLinker(m_params.revisits, m_params.matcher, m_params.loop.link_noise)
-								 .linkRevisits(m_graph, m_keyframes);
+		const CRevisitLinker linker(m_params.revisits, m_params.matcher, m_params.loop.link_noise);
+		const size_t added = linker.linkRevisits(m_graph, m_keyframes);
 		m_stats.loopClosureLinks += added;
 		m_stats.revisitLinks = added;
 		MRPT_LOG_INFO_FMT("end of run: %zu revisit links re-matched", added);

@@ -29,11 +29,7 @@ void TLocalRegistrationParams::loadFromConfigFile(
 		max_free_space_violation >= 0 && max_free_space_violation <= 1, s,
 		"max_free_space_violation", "must be in [0, 1]");
 	requireParam(glitch_min_turn >= 0, s, "glitch_min_turn_deg", "must be >= 0");
-	link_noise.floorXY = c.read_double(s, "link_floor_xy", link_noise.floorXY);
-	link_noise.floorPhi =
-		mrpt::DEG2RAD(c.read_double(s, "link_floor_phi_deg", mrpt::RAD2DEG(link_noise.floorPhi)));
-	requireParam(link_noise.floorXY >= 0, s, "link_floor_xy", "must be >= 0");
-	requireParam(link_noise.floorPhi >= 0, s, "link_floor_phi_deg", "must be >= 0");
+	link_noise.load(c, s, "");
 	requireParam(window_size >= 2 && window_size <= 100, s, "window_size", "must be in [2, 100]");
 	requireParam(
 		max_pairwise_links >= 1 && max_pairwise_links < window_size, s, "max_pairwise_links",
@@ -42,17 +38,11 @@ void TLocalRegistrationParams::loadFromConfigFile(
 		min_link_inliers > 0 && min_link_inliers <= 1, s, "min_link_inliers", "must be in (0, 1]");
 	requireParam(glitch_gate_chi2 > 0, s, "glitch_gate_chi2", "must be > 0");
 	patch_link = c.read_bool(s, "patch_link", patch_link);
-	patch_link_noise.floorXY = c.read_double(s, "patch_link_floor_xy", patch_link_noise.floorXY);
-	patch_link_noise.floorPhi = mrpt::DEG2RAD(c.read_double(
-		s, "patch_link_floor_phi_deg", mrpt::RAD2DEG(patch_link_noise.floorPhi)));
-	requireParam(patch_link_noise.floorXY >= 0, s, "patch_link_floor_xy", "must be >= 0");
-	requireParam(patch_link_noise.floorPhi >= 0, s, "patch_link_floor_phi_deg", "must be >= 0");
+	patch_link_noise.load(c, s, "patch_");
 	pairwise_link_weight = c.read_double(s, "pairwise_link_weight", pairwise_link_weight);
 	requireParam(
 		pairwise_link_weight > 0 && pairwise_link_weight <= 1, s, "pairwise_link_weight",
 		"must be in (0, 1]");
-	patch_link_share = c.read_double(s, "patch_link_share", patch_link_share);
-	requireParam(patch_link_share >= 1, s, "patch_link_share", "must be >= 1");
 	requireParam(
 		wide_search_angle >= 0 && wide_search_angle <= M_PI, s, "wide_search_angle_deg",
 		"must be in [0, 180]");
@@ -66,16 +56,13 @@ void TLocalRegistrationParams::saveToConfigFile(
 	c.write(s, "max_pairwise_links", uint64_t(max_pairwise_links), np, vp, "Pairwise scan-match links per new keyframe, spread over the window");
 	c.write(s, "min_link_inliers", min_link_inliers, np, vp, "Min fraction of matched points for a pairwise scan-match link");
 	c.write(s, "glitch_gate_chi2", glitch_gate_chi2, np, vp, "[chi2, 3 dof] Odometry/match disagreement that triggers the wide search");
-	c.write(s, "link_floor_xy", link_noise.floorXY, np, vp, "[m] Std added to every scan-match link (real-scan errors the matcher cannot see)");
-	c.write(s, "link_floor_phi_deg", mrpt::RAD2DEG(link_noise.floorPhi), np, vp, "[deg] Heading std added to every scan-match link");
+	link_noise.save(c, s, "", "every pairwise scan-match link (real-scan errors the matcher cannot see)");
 	c.write(s, "wide_search_angle_deg", mrpt::RAD2DEG(wide_search_angle), np, vp, "[deg] Half-width of the rotational search after an odometry glitch");
 	c.write(s, "glitch_min_turn_deg", mrpt::RAD2DEG(glitch_min_turn), np, vp, "[deg] A predicted step turning more than this is suspect: wide search if the match fails");
 	c.write(s, "glitch_min_gap", glitch_min_gap, np, vp, "[s] A step after a longer pause in the scans is suspect too");
 	c.write(s, "max_free_space_violation", max_free_space_violation, np, vp, "Local matches: tolerated fraction of points where the window saw free space");
 	c.write(s, "patch_link", patch_link, np, vp, "Link each keyframe to the previous one by its match against the window patch (scan to map)");
-	c.write(s, "patch_link_share", patch_link_share, np, vp, "The patch link's information is divided by this (>= 1)");
-	c.write(s, "patch_link_floor_xy", patch_link_noise.floorXY, np, vp, "[m] Std added to the patch link");
-	c.write(s, "patch_link_floor_phi_deg", mrpt::RAD2DEG(patch_link_noise.floorPhi), np, vp, "[deg] Heading std added to the patch link");
+	patch_link_noise.save(c, s, "patch_", "the patch link");
 	c.write(s, "pairwise_link_weight", pairwise_link_weight, np, vp, "Pairwise (scan to scan) links' information is scaled by this, after the split among them");
 }
 
@@ -201,8 +188,7 @@ size_t CLocalRegistration::linkAndOptimize(
 		pairwiseWeight = m_params.pairwise_link_weight;
 		graph.addLink(
 			{m_lastPatchMatch->node, newNode, m_lastPatchMatch->scanInNode,
-			 linkInformation(
-				 m_lastPatchMatch->cov, m_params.patch_link_noise, m_params.patch_link_share),
+			 linkInformation(m_lastPatchMatch->cov, m_params.patch_link_noise),
 			 LinkType::ScanMatch});
 		++added;
 	}
@@ -214,7 +200,8 @@ size_t CLocalRegistration::linkAndOptimize(
 		const auto m = m_matcher.match(keyframeCloud(node, keyframes), keyframes[newNode].scan, guess);
 		if (!m || m->inlierFraction < m_params.min_link_inliers) continue;
 		graph.addLink(
-			{node, newNode, m->scanInRef, linkInformation(m->cov, m_params.link_noise, double(links) / pairwiseWeight),
+			{node, newNode, m->scanInRef,
+			 linkInformation(m->cov, m_params.link_noise, double(links) / pairwiseWeight),
 			 LinkType::ScanMatch});
 		++added;
 	}

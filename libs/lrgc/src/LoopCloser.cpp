@@ -32,11 +32,7 @@ void TLoopCloserParams::loadFromConfigFile(
 	consistent_chi2 = c.read_double(s, "consistent_chi2", consistent_chi2);
 	check_every = c.read_uint64_t(s, "check_every", check_every);
 	patch_max_range = c.read_double(s, "patch_max_range", patch_max_range);
-	link_noise.floorXY = c.read_double(s, "link_floor_xy", link_noise.floorXY);
-	link_noise.floorPhi =
-		mrpt::DEG2RAD(c.read_double(s, "link_floor_phi_deg", mrpt::RAD2DEG(link_noise.floorPhi)));
-	requireParam(link_noise.floorXY >= 0, s, "link_floor_xy", "must be >= 0");
-	requireParam(link_noise.floorPhi >= 0, s, "link_floor_phi_deg", "must be >= 0");
+	link_noise.load(c, s, "");
 	requireParam(patch_max_range > 0, s, "patch_max_range", "must be > 0");
 	requireParam(
 		patch_min_keyframes >= 1 && patch_min_keyframes <= old_map_exclusion, s,
@@ -68,8 +64,7 @@ void TLoopCloserParams::saveToConfigFile(
 	c.write(s, "consistent_chi2", consistent_chi2, np, vp, "[chi2, 3 dof] A loop link this consistent is added without a full solve");
 	c.write(s, "check_every", uint64_t(check_every), np, vp, "Look for a loop every this many keyframes");
 	c.write(s, "patch_max_range", patch_max_range, np, vp, "[m] Patch points farther than this from the newest keyframe are left out of the correlation");
-	c.write(s, "link_floor_xy", link_noise.floorXY, np, vp, "[m] Std added to every loop link (scans minutes apart: moved objects)");
-	c.write(s, "link_floor_phi_deg", mrpt::RAD2DEG(link_noise.floorPhi), np, vp, "[deg] Heading std added to every loop link");
+	link_noise.save(c, s, "", "every loop link (scans minutes apart: moved objects)");
 }
 
 struct CLoopCloser::TCandidates
@@ -152,9 +147,10 @@ std::optional<TLoopClosure> CLoopCloser::process(CPoseGraph& graph, const TKeyfr
 		for (const auto& p : keyframes[k].scan.points)
 		{
 			const Eigen::Vector2d q = kInNewest(p);
-			if (q.norm() > m_params.patch_max_range) continue;
+			const double range = q.norm();
+			if (range > m_params.patch_max_range) continue;
 			patch.push_back(q);
-			patchRadius = std::max(patchRadius, q.norm());
+			patchRadius = std::max(patchRadius, range);
 		}
 	}
 	const Eigen::Vector2d centre(newestInMap.x, newestInMap.y);

@@ -5,6 +5,7 @@
 #include <mrpt/config/CConfigFileBase.h>
 
 #include <set>
+#include <utility>
 
 namespace lrgc
 {
@@ -39,11 +40,33 @@ void TMapBuilderParams::saveToConfigFile(
 	c.write(s, "final_optimization", final_optimization, np, vp, "Optimise the whole graph once more at the end of the run");
 }
 
+namespace
+{
+/** Every stage's section with its parameters, in the order they are saved: the one list
+ * that load, save and sectionNames() walk. */
+template <class Params, class Stage>
+std::vector<std::pair<const char*, Stage*>> stages(Params& p)
+{
+	return {{"MapBuilder", &p.builder},
+			{"MotionPredictor", &p.motion},
+			{"ScanMatcher", &p.matcher},
+			{"LocalRegistration", &p.local},
+			{"PoseGraphOptimizer", &p.optimizer},
+			{"LoopCloser", &p.loop},
+			{"PatchCorrelator", &p.correlator},
+			{"RevisitLinker", &p.revisits}};
+}
+}  // namespace
+
 const std::vector<std::string>& TLRGCParams::sectionNames()
 {
-	static const std::vector<std::string> names = {
-		"MapBuilder", "MotionPredictor", "ScanMatcher", "LocalRegistration",
-		"PoseGraphOptimizer", "LoopCloser", "PatchCorrelator", "RevisitLinker"};
+	static const std::vector<std::string> names = [] {
+		TLRGCParams p;
+		std::vector<std::string> out;
+		for (const auto& [name, stage] : stages<TLRGCParams, mrpt::config::CLoadableOptions>(p))
+			out.push_back(name);
+		return out;
+	}();
 	return names;
 }
 
@@ -60,14 +83,8 @@ void rejectUnknownSections(
 
 void TLRGCParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string&)
 {
-	builder.loadFromConfigFile(c, "MapBuilder");
-	motion.loadFromConfigFile(c, "MotionPredictor");
-	matcher.loadFromConfigFile(c, "ScanMatcher");
-	local.loadFromConfigFile(c, "LocalRegistration");
-	optimizer.loadFromConfigFile(c, "PoseGraphOptimizer");
-	loop.loadFromConfigFile(c, "LoopCloser");
-	correlator.loadFromConfigFile(c, "PatchCorrelator");
-	revisits.loadFromConfigFile(c, "RevisitLinker");
+	for (const auto& [name, stage] : stages<TLRGCParams, mrpt::config::CLoadableOptions>(*this))
+		stage->loadFromConfigFile(c, name);
 	requireParam(
 		loop.old_map_exclusion > local.window_size, "LoopCloser", "old_map_exclusion",
 		"must exceed [LocalRegistration] window_size (the paper's m > K)");
@@ -75,14 +92,9 @@ void TLRGCParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, con
 
 void TLRGCParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string&) const
 {
-	builder.saveToConfigFile(c, "MapBuilder");
-	motion.saveToConfigFile(c, "MotionPredictor");
-	matcher.saveToConfigFile(c, "ScanMatcher");
-	local.saveToConfigFile(c, "LocalRegistration");
-	optimizer.saveToConfigFile(c, "PoseGraphOptimizer");
-	loop.saveToConfigFile(c, "LoopCloser");
-	correlator.saveToConfigFile(c, "PatchCorrelator");
-	revisits.saveToConfigFile(c, "RevisitLinker");
+	for (const auto& [name, stage] :
+		 stages<const TLRGCParams, const mrpt::config::CLoadableOptions>(*this))
+		stage->saveToConfigFile(c, name);
 }
 
 }  // namespace lrgc

@@ -8,6 +8,7 @@
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
+#include <functional>
 #include <numeric>
 
 namespace lrgc
@@ -164,9 +165,9 @@ double CReferenceCloud::freeSpaceViolation(
 	return std::max(scanToRef, refToScan);
 }
 
-CReferenceCloud CReferenceCloud::fromScans(
+CReferenceCloud CReferenceCloud::fromScansWhere(
 	const std::vector<TScan2D>& scans, const std::vector<mrpt::math::TPose2D>& scansInRef,
-	const TScanMatcherParams& p)
+	const TScanMatcherParams& p, const std::function<bool(const Eigen::Vector2d&)>& keep)
 {
 	if (scans.size() != scansInRef.size())
 		THROW_EXCEPTION_FMT(
@@ -179,21 +180,27 @@ CReferenceCloud CReferenceCloud::fromScans(
 	for (size_t k = 0; k < scans.size(); ++k)
 	{
 		const CPointTransform toRef(scansInRef[k]);
-		for (const auto& q : scans[k].points) pts.push_back(toRef(q));
+		for (const auto& q : scans[k].points)
+			if (const Eigen::Vector2d r = toRef(q); !keep || keep(r)) pts.push_back(r);
 	}
 	CReferenceCloud c(std::move(pts), p);
 	for (size_t k = 0; k < scans.size(); ++k) c.addView(scans[k], scansInRef[k]);
 	return c;
 }
 
+CReferenceCloud CReferenceCloud::fromScans(
+	const std::vector<TScan2D>& scans, const std::vector<mrpt::math::TPose2D>& scansInRef,
+	const TScanMatcherParams& p)
+{
+	return fromScansWhere(scans, scansInRef, p, {});
+}
+
 CReferenceCloud CReferenceCloud::fromScansNear(
 	const std::vector<TScan2D>& scans, const std::vector<mrpt::math::TPose2D>& scansInRef,
 	const TScanMatcherParams& p, const std::vector<Eigen::Vector2d>& nearInRef, double margin)
 {
-	if (scans.size() != scansInRef.size() || !(margin > 0))
-		THROW_EXCEPTION_FMT(
-			"CReferenceCloud::fromScansNear: %zu scans, %zu poses, margin %g m", scans.size(),
-			scansInRef.size(), margin);
+	if (!(margin > 0))
+		THROW_EXCEPTION_FMT("CReferenceCloud::fromScansNear: margin %g m must be > 0", margin);
 	// Cells of side `margin` holding a query point, dilated by one cell: every point within
 	// `margin` of a query point lies in a marked cell, and a point in a marked cell is within
 	// 2 sqrt(2) margin of one.
@@ -208,22 +215,11 @@ CReferenceCloud CReferenceCloud::fromScansNear(
 	}
 	std::sort(marked.begin(), marked.end());
 	marked.erase(std::unique(marked.begin(), marked.end()), marked.end());
-	std::vector<Eigen::Vector2d> pts;
-	for (size_t k = 0; k < scans.size(); ++k)
-	{
-		const CPointTransform toRef(scansInRef[k]);
-		for (const auto& q : scans[k].points)
-		{
-			const Eigen::Vector2d r = toRef(q);
-			if (std::binary_search(
-					marked.begin(), marked.end(),
-					std::pair{cellIndex(r.x(), margin), cellIndex(r.y(), margin)}))
-				pts.push_back(r);
-		}
-	}
-	CReferenceCloud c(std::move(pts), p);
-	for (size_t k = 0; k < scans.size(); ++k) c.addView(scans[k], scansInRef[k]);
-	return c;
+	return fromScansWhere(scans, scansInRef, p, [&](const Eigen::Vector2d& r) {
+		return std::binary_search(
+			marked.begin(), marked.end(),
+			std::pair{cellIndex(r.x(), margin), cellIndex(r.y(), margin)});
+	});
 }
 
 void CReferenceCloud::buildGrid()

@@ -21,7 +21,7 @@ struct TLabel
 {
 	Eigen::Matrix3d cov;
 	double key = std::numeric_limits<double>::infinity();  // trace of the xy block [m^2]
-	bool reached = false, settled = false;
+	bool settled = false;
 };
 
 double positionVariance(const Eigen::Matrix3d& c)
@@ -69,7 +69,7 @@ std::vector<TRelativeUncertainty> propagateUncertainty(const CPoseGraph& g, size
 	std::vector<TLabel> labels(g.numNodes());
 	using QItem = std::pair<double, size_t>;
 	std::priority_queue<QItem, std::vector<QItem>, std::greater<QItem>> queue;
-	labels[source] = {Eigen::Matrix3d::Zero(), 0.0, true};
+	labels[source] = {Eigen::Matrix3d::Zero(), 0.0};
 	queue.push({0.0, source});
 
 	std::vector<TRelativeUncertainty> out;
@@ -83,8 +83,7 @@ std::vector<TRelativeUncertainty> propagateUncertainty(const CPoseGraph& g, size
 		const TPose2D uInSource = between(sourceInMap, g.pose(u));
 		out.push_back({u, uInSource, lu.cov});
 		if (limits.maxNodes && out.size() >= limits.maxNodes) break;
-		if (lu.key > maxVar) continue;        // returned, not expanded
-		const Eigen::Matrix3d covU = lu.cov;
+		if (lu.key > maxVar) continue;  // returned, not expanded
 		for (size_t id : g.linksOf(u))
 		{
 			if (!g.isLinkEnabled(id)) continue;
@@ -97,13 +96,12 @@ std::vector<TRelativeUncertainty> propagateUncertainty(const CPoseGraph& g, size
 			const Eigen::Matrix3d covUV =
 				l.from == u ? covLink
 							: inverseCovariance(between(g.pose(v), g.pose(u)), covLink);
-			const Eigen::Matrix3d covV = compound(uInSource, covU, vInU, covUV);
+			const Eigen::Matrix3d covV = compound(uInSource, lu.cov, vInU, covUV);
 			const double keyV = positionVariance(covV);
 			TLabel& lv = labels[v];
-			if (lv.reached && keyV >= lv.key) continue;
+			if (keyV >= lv.key) continue;  // unreached nodes have key +inf
 			lv.cov = covV;
 			lv.key = keyV;
-			lv.reached = true;
 			queue.push({keyV, v});
 		}
 	}

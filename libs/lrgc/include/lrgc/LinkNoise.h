@@ -13,12 +13,26 @@
 #include <Eigen/Core>
 #include <Eigen/LU>
 
+#include <string>
+
+namespace mrpt::config
+{
+class CConfigFileBase;
+}
+
 namespace lrgc
 {
 struct TLinkNoise
 {
 	double floorXY = 0.01;  //!< [m]
 	double floorPhi = 0.25 * M_PI / 180;  //!< [rad] (0.25 deg)
+
+	/** Keys <prefix>link_floor_xy [m] and <prefix>link_floor_phi_deg of section s (each
+	 * must be >= 0); missing keys keep the current values. */
+	void load(const mrpt::config::CConfigFileBase& c, const std::string& s, const std::string& prefix);
+	/** The same keys, commented "Std added to <what>". */
+	void save(mrpt::config::CConfigFileBase& c, const std::string& s, const std::string& prefix,
+			  const std::string& what) const;
 };
 
 inline Eigen::Matrix3d linkInformation(

@@ -2,9 +2,11 @@
  *
  * Each new scan is matched against a local patch made of the last K keyframes' scans (in the
  * frame of the newest keyframe), which gives its pose. When the scan becomes a keyframe it is
- * linked to the previous keyframe by odometry and to every window keyframe it overlaps by a
- * pairwise scan match, and consistent pose estimation (Lu & Milios 1997) over the window only
- * adjusts the last K poses, all older poses held fixed: constant cost per scan.
+ * linked to the previous keyframe by odometry and by that patch match (the "patch link", scan
+ * to map; with an odometry prior only), and to window keyframes it overlaps by pairwise scan
+ * matches (down-weighted when the patch link is there), and consistent pose estimation (Lu &
+ * Milios 1997) over the window only adjusts the last K poses, all older poses held fixed:
+ * constant cost per scan.
  *
  * Odometry glitches (the benchmark logs have single steps turning 60-85 deg wrongly, after
  * pauses of seconds in the scans): a step is suspect when its predicted turn exceeds
@@ -59,11 +61,11 @@ struct TLocalRegistrationParams : public mrpt::config::CLoadableOptions
 	 * patch (scan to map), besides the pairwise links (scan to scan). Used where the scan's
 	 * prior came from odometry (laser-only runs keep the pairwise links alone). */
 	bool patch_link = true;
-	double patch_link_share = 1.0;  //!< its information is divided by this [-]
 	/** Scale of the pairwise links' information (after the split among them). Scan-to-scan
 	 * matches against one sparse scan err more than their covariance says: at full weight
-	 * they doubled the heading drift of local registration on Intel (1.5 vs 0.8 deg per
-	 * 1000 scans, median); at 0.05 they only hold the window where the patch match fails. */
+	 * they doubled the heading drift of local registration on Intel (1.5 vs 0.7 deg per
+	 * 1000 scans, median, at 0.05); at 0.05 they mainly hold the window where the patch match
+	 * fails (doc/architecture.md). */
 	double pairwise_link_weight = 0.05;
 
 	void loadFromConfigFile(

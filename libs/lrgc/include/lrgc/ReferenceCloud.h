@@ -21,6 +21,7 @@
 #include <Eigen/Core>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <utility>
 #include <vector>
 
@@ -143,6 +144,10 @@ private:
 		std::vector<float> minRange;  // [m] per 1-deg bearing bin; 0: no return (unknown)
 	};
 	void addView(const TScan2D& scan, const mrpt::math::TPose2D& scanInRef);
+	/** fromScans keeping only the points (in ref) for which keep() is true (all if empty). */
+	static CReferenceCloud fromScansWhere(
+		const std::vector<TScan2D>& scans, const std::vector<mrpt::math::TPose2D>& scansInRef,
+		const TScanMatcherParams& p, const std::function<bool(const Eigen::Vector2d&)>& keep);
 	std::vector<TView> m_views;
 	std::vector<double> m_count;  // raw points per reduced point
 	std::vector<uint32_t> m_fitStart;  // CSR over anchors into m_fit
