@@ -49,8 +49,10 @@ void CMetricMapBuilderLRGC::processScan(
 	const mrpt::obs::CObservation2DRangeScan::Ptr& laser,
 	const mrpt::obs::CSensoryFrame::Ptr& observations)
 {
+	// 1. Predict, and de-skew the scan by the predicted motion over its sweep.
+	const TMotionPrediction prediction = m_predictor.predict(laser->timestamp);
 	TScanConversionStats conv;
-	TScan2D scan = scanFromObservation(*laser, &conv);
+	TScan2D scan = scanFromObservation(*laser, &conv, sweepMotion(prediction));
 	if (scan.points.size() < m_params.builder.min_scan_points)
 	{
 		++m_stats.skippedScans;
@@ -61,8 +63,6 @@ void CMetricMapBuilderLRGC::processScan(
 		return;
 	}
 
-	// 1. Predict.
-	const TMotionPrediction prediction = m_predictor.predict(laser->timestamp);
 	const TPose2D priorInMap = m_nextScanPrior ? *m_nextScanPrior
 		: m_scans.empty()						 ? TPose2D(0, 0, 0)
 												 : compose(m_lastScanInMap, prediction.motion);
@@ -136,6 +136,21 @@ void CMetricMapBuilderLRGC::lookForLoop()
 TLoopCloserStats CMetricMapBuilderLRGC::loopCloserStats() const
 {
 	return m_loopCloser ? m_loopCloser->stats() : TLoopCloserStats{};
+}
+
+// The robot's motion over the laser sweep: the predicted step scaled by sweep / step time.
+// Where the logged intervals are not the true ones (a jittered clock, or a step shorter than
+// half the scan period: the first of a jitter burst) the step time is the mean scan period.
+TPose2D CMetricMapBuilderLRGC::sweepMotion(const TMotionPrediction& prediction) const
+{
+	const double sweep = m_params.builder.scan_sweep_time;
+	const double step =
+		m_predictor.clockJittered() || prediction.stepSeconds < 0.5 * m_predictor.scanPeriod()
+		? m_predictor.meanScanPeriod()
+		: prediction.stepSeconds;
+	if (sweep <= 0 || step <= 0) return TPose2D(0, 0, 0);
+	const double k = std::min(1.0, sweep / step);
+	return TPose2D(k * prediction.motion.x, k * prediction.motion.y, k * prediction.motion.phi);
 }
 
 bool CMetricMapBuilderLRGC::isNewKeyframe(const TPose2D& scanInMap) const

@@ -20,6 +20,9 @@ void TMapBuilderParams::loadFromConfigFile(
 	grid_resolution = c.read_double(s, "grid_resolution", grid_resolution);
 	loop_closing = c.read_bool(s, "loop_closing", loop_closing);
 	final_optimization = c.read_bool(s, "final_optimization", final_optimization);
+	scan_sweep_time = c.read_double(s, "scan_sweep_time", scan_sweep_time);
+	requireParam(
+		scan_sweep_time >= 0 && scan_sweep_time < 1, s, "scan_sweep_time", "must be in [0, 1) s");
 	requireParam(keyframe_distance > 0, s, "keyframe_distance", "must be > 0");
 	requireParam(keyframe_angle > 0, s, "keyframe_angle_deg", "must be > 0");
 	requireParam(min_scan_points >= 3, s, "min_scan_points", "must be >= 3");
@@ -38,6 +41,7 @@ void TMapBuilderParams::saveToConfigFile(
 	c.write(s, "grid_resolution", grid_resolution, np, vp, "[m] Cell size of the exported occupancy grid map");
 	c.write(s, "loop_closing", loop_closing, np, vp, "Global correlation and loop closing (false: local registration only)");
 	c.write(s, "final_optimization", final_optimization, np, vp, "Optimise the whole graph once more at the end of the run");
+	c.write(s, "scan_sweep_time", scan_sweep_time, np, vp, "[s] Laser's first beam to last (SICK LMS 2xx: 0.0067): scans are de-skewed by the motion over it; 0: off");
 }
 
 namespace

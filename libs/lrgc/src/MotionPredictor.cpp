@@ -115,6 +115,14 @@ double CMotionPredictor::scanPeriod() const
 	return *mid;
 }
 
+double CMotionPredictor::meanScanPeriod() const
+{
+	if (m_recentSteps.empty()) return 0;
+	double span = 0;
+	for (const double dt : m_recentSteps) span += dt;
+	return std::max(0.0, span / double(m_recentSteps.size()));
+}
+
 bool CMotionPredictor::clockJittered() const
 {
 	const double T = scanPeriod();

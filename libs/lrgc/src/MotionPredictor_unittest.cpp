@@ -76,6 +76,19 @@ TEST(MotionPredictor, jitteredClockPredictsOneStepPerScan)
 	EXPECT_NEAR(p.motion.x, 0.1, 1e-6);
 }
 
+TEST(MotionPredictor, meanScanPeriodIsTheTrueRateOnAJitteredClock)
+{
+	// Scans every 0.2 s, logged in Intel-like bursts: three stamps per 0.6 s, 1 ms apart and
+	// then 0.1 s back. No interval is the true one; the span over the count is.
+	std::vector<double> times;
+	for (int k = 0; k < 20; ++k)
+		for (const double d : {0.0, 0.001, -0.1}) times.push_back(0.6 * k + d);
+	const CMotionPredictor predictor = fedAt(times);
+	EXPECT_TRUE(predictor.clockJittered());
+	EXPECT_GT(std::abs(predictor.scanPeriod() - 0.2), 0.1);
+	EXPECT_NEAR(predictor.meanScanPeriod(), 0.2, 0.015);  // the last stamp is 0.1 s early: 0.19
+}
+
 TEST(MotionPredictor, jitterIsForgottenAfterARegularStretch)
 {
 	std::vector<double> times{0.0, 0.2, 0.1, 0.4};  // one backward jump

@@ -5,7 +5,8 @@
 namespace lrgc
 {
 TScan2D scanFromObservation(
-	const mrpt::obs::CObservation2DRangeScan& obs, TScanConversionStats* stats)
+	const mrpt::obs::CObservation2DRangeScan& obs, TScanConversionStats* stats,
+	const mrpt::math::TPose2D& sweepMotion)
 {
 	TScan2D scan;
 	scan.maxRange = obs.maxRange;
@@ -28,7 +29,12 @@ TScan2D scanFromObservation(
 		// Beam angle in the sensor frame [rad]: -aperture/2 .. +aperture/2 (rightToLeft).
 		const double a = obs.getScanAngle(i);
 		const double px = r * std::cos(a), py = r * std::sin(a);
-		scan.points.emplace_back(sx + sc * px - ss * py, sy + ss * px + sc * py);
+		const double rx = sx + sc * px - ss * py, ry = sy + ss * px + sc * py;
+		// De-skew (file comment of Scan.h): into the robot frame at the middle beam's time.
+		const double f = n > 1 ? double(i) / double(n - 1) - 0.5 : 0.0;
+		const double fc = std::cos(f * sweepMotion.phi), fs = std::sin(f * sweepMotion.phi);
+		scan.points.emplace_back(
+			fc * rx - fs * ry + f * sweepMotion.x, fs * rx + fc * ry + f * sweepMotion.y);
 	}
 	if (stats) *stats = st;
 	return scan;

@@ -111,6 +111,7 @@ class CMetricMapBuilderLRGC : public mrpt::slam::CMetricMapBuilder
 		const mrpt::obs::CSensoryFrame::Ptr& observations);
 	void lookForLoop();
 	bool isNewKeyframe(const mrpt::math::TPose2D& scanInMap) const;
+	mrpt::math::TPose2D sweepMotion(const TMotionPrediction& prediction) const;
 	size_t addKeyframe(
 		const mrpt::obs::CObservation2DRangeScan::Ptr& laser,
 		const mrpt::obs::CSensoryFrame::Ptr& observations, TScan2D&& scan,

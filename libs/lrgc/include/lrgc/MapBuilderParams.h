@@ -25,6 +25,9 @@ struct TMapBuilderParams : public mrpt::config::CLoadableOptions
 	double grid_resolution = 0.05;  //!< [m] cell size of the exported occupancy grid
 	bool loop_closing = true;  //!< global correlation and loop closing (false: local only)
 	bool final_optimization = true;  //!< optimise the whole graph at the end of the run
+	/** [s] time from the laser's first beam to its last (SICK LMS 2xx, 180 deg: 6.7 ms);
+	 * scans are de-skewed by the predicted motion over it (Scan.h); 0: off */
+	double scan_sweep_time = 0.0;
 
 	void loadFromConfigFile(
 		const mrpt::config::CConfigFileBase& c, const std::string& s) override;

@@ -83,6 +83,9 @@ class CMotionPredictor
 	Eigen::Matrix3d constantVelocityCov() const;
 	/** Scan period T [s] (median of recent intervals), 0 before two scans. */
 	double scanPeriod() const;
+	/** Mean scan interval [s]: the span of the recent timestamps over their count, right on
+	 * a jittered clock too (where the intervals within a burst are ~1 ms); 0 before two. */
+	double meanScanPeriod() const;
 	/** The recent scan timestamps are jittered (see the file comment). */
 	bool clockJittered() const;
 	const TMotionPredictorParams& params() const { return m_params; }

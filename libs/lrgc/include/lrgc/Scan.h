@@ -2,12 +2,27 @@
  *
  * Only the valid returns are kept, as points in the robot (base) frame, i.e. the sensor pose
  * on the robot is already applied: p_robot = sensorInRobot (+) (r cos(a), r sin(a)).
+ *
+ * De-skewing: a rotating-mirror laser fires its beams one after the other (SICK LMS 2xx: the
+ * 180 deg of a scan in 6.7 ms, first beam first), so a scan taken while turning at w rad/s is
+ * stretched (w > 0, beams sweeping the same way) or squeezed in angle by w * sweep. Matched
+ * against each other, two such scans under-estimate a counter-clockwise turn and over-estimate
+ * a clockwise one, both by |dphi| * |w| * sweep / pi: a clockwise heading drift at every turn,
+ * whichever way the robot turns. Local registration alone drifts clockwise on all three
+ * benchmark logs (Intel -5, ACES -13, MIT-CSAIL -7 deg over the log, against the loop-closed
+ * trajectory). Given the robot's motion over the sweep (first beam -> last beam, robot frame),
+ * each point is moved into the robot frame at the middle beam's time, with the fraction
+ * f = i / (n - 1) - 1/2 of that motion at its beam i:  p = R(f dphi) p_i + f (dx, dy).
+ * The sweep time is a property of the laser set-up ([MapBuilder] scan_sweep_time, 0 = off by
+ * default); scripts/calibrate-sweep-time finds it from a log with loops, without ground truth
+ * (Intel and MIT-CSAIL: 4.5 ms, ACES: 26.7 ms).
  * No-return readings (invalid flag, NaN, r <= 0, r >= maxRange) are not obstacles and are
  * dropped here; the count of each kind is reported so callers can say what they skipped.
  */
 #pragma once
 
 #include <mrpt/core/Clock.h>
+#include <mrpt/math/TPose2D.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
 
 #include <Eigen/Core>
@@ -36,8 +51,11 @@ struct TScanConversionStats
 	size_t kept() const { return total - invalidFlag - notFinite - nonPositive - noReturn; }
 };
 
-/** Converts an MRPT laser observation; never throws on bad ranges (they are counted). */
+/** Converts an MRPT laser observation; never throws on bad ranges (they are counted).
+ * `sweepMotion`: the robot's motion over the sweep, first beam -> last beam, in the robot
+ * frame [m, m, rad] (zero: no de-skewing). */
 TScan2D scanFromObservation(
-	const mrpt::obs::CObservation2DRangeScan& obs, TScanConversionStats* stats = nullptr);
+	const mrpt::obs::CObservation2DRangeScan& obs, TScanConversionStats* stats = nullptr,
+	const mrpt::math::TPose2D& sweepMotion = mrpt::math::TPose2D(0, 0, 0));
 
 }  // namespace lrgc
