@@ -103,6 +103,21 @@ def run_log(tools, name, log_path, workdir, args, relations=None, ground_truth=N
         local.system = "lrgc-slam, local registration only"
         bench_runs.run_eval(tools, local, os.path.join(workdir, "local-only"), relations)
         runs.append(local)
+        sweep = args.sweep_times.get(name)
+        if sweep is not None:
+            # The same with this log's laser sweep time, as scripts/calibrate-sweep-time finds
+            # it from the log itself (no ground truth).
+            sweep_ini = os.path.join(workdir, "local-only-sweep.ini")
+            with open(local_ini) as base, open(sweep_ini, "w") as f:
+                f.write(base.read() + "scan_sweep_time = %g\n" % sweep)
+            cal = bench_runs.run_lrgc_slam(tools, log_path, os.path.join(workdir, "local-sweep"),
+                                           args.timeout, sweep_ini)
+            cal.system = "lrgc-slam, local registration only, sweep %g s" % sweep
+            notes.append("%s, local registration only, sweep %g s: [MapBuilder] scan_sweep_time = "
+                         "%g, the laser sweep time scripts/calibrate-sweep-time finds from this "
+                         "log without ground truth (bench/run --sweep-times)" % (name, sweep, sweep))
+            bench_runs.run_eval(tools, cal, os.path.join(workdir, "local-sweep"), relations)
+            runs.append(cal)
     icp = bench_runs.RunResult("icp-slam")
     rawlog = os.path.join(workdir, "converted", name + ".rawlog")
     os.makedirs(os.path.dirname(rawlog), exist_ok=True)
@@ -149,7 +164,15 @@ def main():
     ap.add_argument("--timeout", type=int, default=600, help="per process [s]")
     ap.add_argument("--only", help="run only logs whose name contains this")
     ap.add_argument("--no-synthetic", action="store_true")
+    ap.add_argument("--sweep-times", default="",
+                    help="NAME=SECONDS,...: also run local registration alone on log NAME with "
+                         "[MapBuilder] scan_sweep_time SECONDS (scripts/calibrate-sweep-time)")
     args = ap.parse_args()
+    try:
+        args.sweep_times = {k: float(v) for k, v in
+                            (item.split("=") for item in args.sweep_times.split(",") if item)}
+    except ValueError:
+        sys.exit("bench: --sweep-times wants NAME=SECONDS,... (got %r)" % args.sweep_times)
 
     t0 = time.monotonic()
     tools, missing = tool_paths(args.build_dir)
