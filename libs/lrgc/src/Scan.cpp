@@ -19,6 +19,7 @@ TScan2D scanFromObservation(
 	// Sensor pose on the robot, projected onto the ground plane (x, y, yaw).
 	const double sx = obs.sensorPose.x(), sy = obs.sensorPose.y();
 	const double sc = std::cos(obs.sensorPose.yaw()), ss = std::sin(obs.sensorPose.yaw());
+	const bool deskew = sweepMotion.x != 0 || sweepMotion.y != 0 || sweepMotion.phi != 0;
 	for (size_t i = 0; i < n; ++i)
 	{
 		const double r = obs.getScanRange(i);
@@ -30,6 +31,11 @@ TScan2D scanFromObservation(
 		const double a = obs.getScanAngle(i);
 		const double px = r * std::cos(a), py = r * std::sin(a);
 		const double rx = sx + sc * px - ss * py, ry = sy + ss * px + sc * py;
+		if (!deskew)
+		{
+			scan.points.emplace_back(rx, ry);
+			continue;
+		}
 		// De-skew (file comment of Scan.h): into the robot frame at the middle beam's time.
 		const double f = n > 1 ? double(i) / double(n - 1) - 0.5 : 0.0;
 		const double fc = std::cos(f * sweepMotion.phi), fs = std::sin(f * sweepMotion.phi);
