@@ -8,8 +8,8 @@
  */
 #include <benchmark/benchmark.h>
 
-#include "lrgc/PatchCorrelator.h"
-#include "lrgc/se2.h"
+#include <lrgc/loop_closing/PatchCorrelator.h>
+#include <lrgc/common/se2.h>
 
 #include <cmath>
 #include <random>

@@ -9,9 +9,9 @@
  * Counters: lm_iterations, nodes, links. Run: build/bin/pose_graph_benchmark.
  * With --lrgc_figures=DIR it also writes the SVG figures of doc/back-end.md and exits. */
 #include <benchmark/benchmark.h>
-#include <lrgc/PoseGraphOptimizer.h>
-#include <lrgc/UncertaintyPropagation.h>
-#include <lrgc/se2.h>
+#include <lrgc/pose_graph/PoseGraphOptimizer.h>
+#include <lrgc/loop_closing/UncertaintyPropagation.h>
+#include <lrgc/common/se2.h>
 
 #include <cmath>
 #include <fstream>

@@ -3,8 +3,8 @@
  * truth perturbed by 5 cm / 2 deg, so the figure includes a realistic number of iterations.
  * Run: build/bin/scan_matcher_benchmark [--benchmark_min_time=0.5] */
 #include <benchmark/benchmark.h>
-#include <lrgc/ScanMatcher.h>
-#include <lrgc/se2.h>
+#include <lrgc/scan_matching/ScanMatcher.h>
+#include <lrgc/common/se2.h>
 
 #include "synthetic_world.h"
 

@@ -5,8 +5,8 @@
  * downweightedLinks (none of the builder's own, true, loop links) and the poses must barely
  * move; with plain least squares the same link bends the map, so the check can fail. */
 #include <gtest/gtest.h>
-#include <lrgc/PoseGraphOptimizer.h>
-#include <lrgc/se2.h>
+#include <lrgc/pose_graph/PoseGraphOptimizer.h>
+#include <lrgc/common/se2.h>
 
 #include <algorithm>
 #include <functional>

@@ -4,7 +4,7 @@
  * turns in place (20 deg per scan, the constant-velocity prior is then 20 deg and 0.1-0.2 m
  * off at the turn's onset). */
 #include <gtest/gtest.h>
-#include <lrgc/se2.h>
+#include <lrgc/common/se2.h>
 
 #include "synthetic_run.h"
 

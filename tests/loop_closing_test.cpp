@@ -6,7 +6,7 @@
  * only true links in the map) and end much nearer the truth than with loop_closing = false
  * on the very same observations. */
 #include <gtest/gtest.h>
-#include <lrgc/se2.h>
+#include <lrgc/common/se2.h>
 
 #include "synthetic_run.h"
 

@@ -7,7 +7,7 @@
  * A run without the glitch is the reference, and a run with the wide search switched off
  * shows that the glitch does break the map when nothing handles it. */
 #include <gtest/gtest.h>
-#include <lrgc/se2.h>
+#include <lrgc/common/se2.h>
 
 #include "synthetic_run.h"
 

@@ -9,7 +9,7 @@
  * looser local registration, so that every correlation sees an aliased twin inside its window
  * and aliased links reach the robust back-end. */
 #include <gtest/gtest.h>
-#include <lrgc/se2.h>
+#include <lrgc/common/se2.h>
 
 #include "synthetic_run.h"
 

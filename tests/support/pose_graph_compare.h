@@ -1,7 +1,7 @@
 /* Comparisons of pose graphs for the back-end tests. */
 #pragma once
 
-#include <lrgc/PoseGraph.h>
+#include <lrgc/pose_graph/PoseGraph.h>
 #include <mrpt/math/wrap2pi.h>
 
 #include <algorithm>

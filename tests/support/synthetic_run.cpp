@@ -1,6 +1,6 @@
 #include "synthetic_run.h"
 
-#include <lrgc/se2.h>
+#include <lrgc/common/se2.h>
 #include <mrpt/core/exceptions.h>
 #include <mrpt/core/format.h>
 #include <mrpt/obs/CObservationOdometry.h>

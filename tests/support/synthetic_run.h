@@ -16,7 +16,7 @@
  */
 #pragma once
 
-#include <lrgc/CMetricMapBuilderLRGC.h>
+#include <lrgc/map_builder/CMetricMapBuilderLRGC.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
 
 #include <string>

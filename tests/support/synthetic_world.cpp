@@ -1,6 +1,6 @@
 #include "synthetic_world.h"
 
-#include <lrgc/se2.h>
+#include <lrgc/common/se2.h>
 #include <mrpt/core/exceptions.h>
 #include <mrpt/math/wrap2pi.h>
 

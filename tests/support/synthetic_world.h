@@ -15,7 +15,7 @@
  */
 #pragma once
 
-#include <lrgc/Scan.h>
+#include <lrgc/scan_matching/Scan.h>
 #include <mrpt/math/TPose2D.h>
 
 #include <Eigen/Core>

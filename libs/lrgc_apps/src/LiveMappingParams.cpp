@@ -1,6 +1,6 @@
 #include "lrgc_apps/LiveMappingParams.h"
 
-#include <lrgc/params_io.h>
+#include <lrgc/common/params_io.h>
 #include <mrpt/config/CConfigFileBase.h>
 
 namespace lrgc::apps

@@ -6,7 +6,7 @@
 #include "lrgc_apps/SlamApp.h"
 #include "lrgc_apps/io/LogReader.h"
 
-#include <lrgc/CMetricMapBuilderLRGC.h>
+#include <lrgc/map_builder/CMetricMapBuilderLRGC.h>
 #include <mrpt/obs/CActionCollection.h>
 
 #include <algorithm>

@@ -3,7 +3,7 @@
  * file, section and key). */
 #pragma once
 
-#include <lrgc/MapBuilderParams.h>
+#include <lrgc/map_builder/MapBuilderParams.h>
 #include <lrgc_apps/LiveMappingParams.h>
 #include <lrgc_apps/io/LogReader.h>
 

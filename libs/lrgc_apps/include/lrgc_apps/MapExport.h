@@ -10,7 +10,7 @@
  */
 #pragma once
 
-#include <lrgc/Trajectory.h>
+#include <lrgc/map_builder/Trajectory.h>
 #include <mrpt/graphs/CNetworkOfPoses.h>
 
 #include <string>

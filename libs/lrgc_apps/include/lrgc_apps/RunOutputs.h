@@ -3,7 +3,7 @@
  * stats.json. Each file is written atomically. */
 #pragma once
 
-#include <lrgc/CMetricMapBuilderLRGC.h>
+#include <lrgc/map_builder/CMetricMapBuilderLRGC.h>
 
 #include <string>
 #include <vector>

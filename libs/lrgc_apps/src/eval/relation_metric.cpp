@@ -2,7 +2,7 @@
  * transforms and their statistics. Formulas in relation_metric.h. */
 #include "lrgc_apps/eval/relation_metric.h"
 
-#include <lrgc/se2.h>
+#include <lrgc/common/se2.h>
 #include <mrpt/core/exceptions.h>
 #include <mrpt/core/format.h>
 #include <mrpt/math/wrap2pi.h>

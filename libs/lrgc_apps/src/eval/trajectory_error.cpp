@@ -2,7 +2,7 @@
  * the relative trajectory error. Formulas in trajectory_error.h. */
 #include "lrgc_apps/eval/trajectory_error.h"
 
-#include <lrgc/se2.h>
+#include <lrgc/common/se2.h>
 #include <mrpt/core/exceptions.h>
 #include <mrpt/math/wrap2pi.h>
 

@@ -1,7 +1,7 @@
 /* ATE after best-fit SE(2) alignment and ground-truth relations for the RPE, on hand-computed
  * cases. */
 #include <gtest/gtest.h>
-#include <lrgc/se2.h>
+#include <lrgc/common/se2.h>
 #include <lrgc_apps/eval/trajectory_error.h>
 
 #include <cmath>

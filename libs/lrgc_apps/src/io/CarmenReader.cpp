@@ -1,6 +1,6 @@
 #include "lrgc_apps/io/CarmenReader.h"
 
-#include <lrgc/se2.h>
+#include <lrgc/common/se2.h>
 #include <mrpt/core/format.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
 #include <mrpt/obs/CObservationOdometry.h>

@@ -4,8 +4,8 @@
 #include <gtest/gtest.h>
 #include <io_read_all.h>
 #include <io_test_files.h>
-#include <lrgc/Scan.h>
-#include <lrgc/se2.h>
+#include <lrgc/scan_matching/Scan.h>
+#include <lrgc/common/se2.h>
 #include <lrgc_apps/io/LogReader.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
 #include <mrpt/obs/CObservationOdometry.h>

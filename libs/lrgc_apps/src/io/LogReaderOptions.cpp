@@ -1,6 +1,6 @@
 #include "lrgc_apps/io/LogReaderOptions.h"
 
-#include <lrgc/params_io.h>
+#include <lrgc/common/params_io.h>
 #include <mrpt/config/CConfigFileBase.h>
 #include <mrpt/core/bits_math.h>
 

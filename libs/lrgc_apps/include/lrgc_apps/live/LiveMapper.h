@@ -11,7 +11,7 @@
  */
 #pragma once
 
-#include <lrgc/CMetricMapBuilderLRGC.h>
+#include <lrgc/map_builder/CMetricMapBuilderLRGC.h>
 #include <lrgc_apps/AppConfig.h>
 #include <lrgc_apps/RunOutputs.h>
 #include <lrgc_apps/RunStats.h>

@@ -1,0 +1,134 @@
+/* CLocalRegistration: LRGC's local registration (Gutmann & Konolige, section 2.2, use 1).
+ *
+ * Each new scan is matched against a local patch made of the last K keyframes' scans (in the
+ * frame of the newest keyframe), which gives its pose. When the scan becomes a keyframe it is
+ * linked to the previous keyframe by odometry and by that patch match (the "patch link", scan
+ * to map; with an odometry prior only), and to window keyframes it overlaps by pairwise scan
+ * matches (down-weighted when the patch link is there), and consistent pose estimation (Lu &
+ * Milios 1997) over the window only adjusts the last K poses, all older poses held fixed:
+ * constant cost per scan.
+ *
+ * Odometry glitches (the benchmark logs have single steps turning 60-85 deg wrongly, after
+ * pauses of seconds in the scans): a step is suspect when its predicted turn exceeds
+ * glitch_min_turn or the scans paused for more than glitch_min_gap. If then the plain match
+ * fails or contradicts the prior beyond the chi-square gate, a wide rotational search around
+ * the prior (CScanMatcher::matchWide: tens of ms, so only then) decides and may overrule the
+ * odometry; the keyframe's odometry link is then down-weighted to the constant-velocity noise
+ * so it cannot pull the map. Otherwise the scans win over the odometry, except when the wheels
+ * did not move at all: a match moving a robot that stands still is a wrong fit (people
+ * walking by, a rotationally ambiguous place), and the prior is kept.
+ *
+ * Cost per keyframe: one patch build, at most `max_pairwise_links` pairwise matches against
+ * reference clouds cached per window keyframe, and a window solve; none depends on the map
+ * size.
+ */
+#pragma once
+
+#include <lrgc/pose_graph/Keyframe.h>
+#include <lrgc/pose_graph/LinkNoise.h>
+#include <lrgc/local_registration/MotionPredictor.h>
+#include <lrgc/pose_graph/PoseGraph.h>
+#include <lrgc/pose_graph/PoseGraphOptimizer.h>
+#include <lrgc/scan_matching/ReferenceCloud.h>
+#include <lrgc/scan_matching/ScanMatcher.h>
+#include <mrpt/config/CLoadableOptions.h>
+
+#include <deque>
+#include <optional>
+#include <utility>
+
+namespace lrgc
+{
+struct TLocalRegistrationParams : public mrpt::config::CLoadableOptions
+{
+	size_t window_size = 10;  //!< K: keyframes in the window (paper: K >= 7 at 0.3 m)
+	size_t max_pairwise_links = 5;  //!< pairwise scan-match links per new keyframe (spread over the window)
+	double min_link_inliers = 0.5;  //!< pairwise link only if this fraction of points matched
+	double glitch_gate_chi2 = 16.27;  //!< [chi2, 3 dof] prior/match disagreement (p = 0.001)
+	double wide_search_angle = mrpt::DEG2RAD(90.0);  //!< [rad] (key wide_search_angle_deg)
+	double glitch_min_turn = mrpt::DEG2RAD(30.0);  //!< [rad] a step turning more is suspect (key glitch_min_turn_deg)
+	double glitch_min_gap = 1.0;  //!< [s] a step after a longer pause in the scans is suspect
+	/** Free-space tolerance of local matches, replacing [ScanMatcher]'s: with an odometry
+	 * prior a wrong match is unlikely, while people walking through the window's scans and
+	 * glass make the strict loop-closing value reject good local matches on real logs. */
+	double max_free_space_violation = 0.3;
+	TLinkNoise link_noise;  //!< pairwise links; keys link_floor_xy [m], link_floor_phi_deg
+	/** Noise floor of the patch link; keys patch_link_floor_xy [m], patch_link_floor_phi_deg.
+	 * Tighter than the pairwise links': the patch of K scans has dense, well-fitted lines.
+	 * Measured, local registration alone: see doc/architecture.md. */
+	TLinkNoise patch_link_noise{0.005, 0.1 * M_PI / 180};
+	/** Link each new keyframe to the previous one by its registration against the window
+	 * patch (scan to map), besides the pairwise links (scan to scan). Used where the scan's
+	 * prior came from odometry (laser-only runs keep the pairwise links alone). */
+	bool patch_link = true;
+	/** Scale of the pairwise links' information (after the split among them). Scan-to-scan
+	 * matches against one sparse scan err more than their covariance says: at full weight
+	 * they doubled the heading drift of local registration on Intel (1.5 vs 0.7 deg per
+	 * 1000 scans, median, at 0.05); at 0.05 they mainly hold the window where the patch match
+	 * fails (doc/architecture.md). */
+	double pairwise_link_weight = 0.05;
+
+	void loadFromConfigFile(
+		const mrpt::config::CConfigFileBase& c, const std::string& s) override;
+	void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
+};
+
+/** Pose of one scan from the local registration. */
+struct TRegistration
+{
+	mrpt::math::TPose2D scanInMap;  //!< (map <- robot at the scan)
+	Eigen::Matrix3d cov;  //!< of the scan pose relative to the newest keyframe, map axes
+	bool matched = false;  //!< false: no acceptable match, the prior was kept
+	bool odometryRejected = false;  //!< the match disagrees with the prior beyond the gate
+	bool wideSearch = false;  //!< the match came from the wide rotational search
+};
+
+class CLocalRegistration
+{
+   public:
+	CLocalRegistration(
+		const TLocalRegistrationParams& p, const TScanMatcherParams& matcher,
+		const TPoseGraphOptimizerParams& optimizer);
+
+	/** Matches `scan` against the window of the newest keyframes of `graph`.
+	 * priorInMap: `prediction` composed onto the previous scan's pose. */
+	TRegistration registerScan(
+		const CPoseGraph& graph, const TKeyframes& keyframes, const TScan2D& scan,
+		const mrpt::math::TPose2D& priorInMap, const TMotionPrediction& prediction);
+
+	/** Links the newest node (just added to `graph` at its registered pose) to the window:
+	 * `odometryLink` (from the previous keyframe) plus pairwise scan matches, then optimises
+	 * the window. Returns the number of scan-match links added. */
+	size_t linkAndOptimize(
+		CPoseGraph& graph, const TKeyframes& keyframes, const TLink& odometryLink);
+
+	/** Poses changed outside the window (loop closure): rebuild the patch on next use. */
+	void invalidate() { m_cloudNewest.reset(); }
+
+   private:
+	std::vector<size_t> windowNodes(const CPoseGraph& graph) const;
+	const CReferenceCloud& windowCloud(const CPoseGraph& graph, const TKeyframes& keyframes);
+
+	TLocalRegistrationParams m_params;
+	TScanMatcherParams m_matcherParams;
+	CScanMatcher m_matcher;
+	CPoseGraphOptimizer m_optimizer;
+	const CReferenceCloud& keyframeCloud(size_t node, const TKeyframes& keyframes);
+
+	/** The last registration against the patch: (node <- scan) and its covariance in the
+	 * node's frame, for the patch link of the keyframe it may become. */
+	struct TPatchMatch
+	{
+		size_t node;
+		mrpt::math::TPose2D scanInNode;
+		Eigen::Matrix3d cov;
+	};
+	std::optional<TPatchMatch> m_lastPatchMatch;
+
+	CReferenceCloud m_cloud;  //!< window patch in the frame of node *m_cloudNewest
+	std::optional<size_t> m_cloudNewest;
+	/** Reference cloud of each window keyframe's own scan, for pairwise links. */
+	std::deque<std::pair<size_t, CReferenceCloud>> m_keyframeClouds;
+};
+
+}  // namespace lrgc

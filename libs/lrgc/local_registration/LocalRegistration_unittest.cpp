@@ -1,0 +1,275 @@
+/* CLocalRegistration on a known graph: keyframes ray-cast from known poses in the synthetic
+ * room world, noisy odometry priors, and the window solve of Lu & Milios over the last K
+ * poses (paper 2.2). Checked: the window converges to the truth, only the last K poses move,
+ * older ones are left bit for bit; registerScan finds a scan's pose from a rough prior, and
+ * an odometry glitch (a prior turned 70 deg wrongly) only by the wide rotational search. */
+#include <gtest/gtest.h>
+#include <lrgc/local_registration/LocalRegistration.h>
+#include <lrgc/map_builder/MapBuilderParams.h>
+#include <lrgc/local_registration/MotionPredictor.h>
+#include <lrgc/common/se2.h>
+
+#include <cmath>
+#include <random>
+
+#include "synthetic_world.h"
+
+using namespace lrgc;
+using lrgc::test::CSyntheticWorld;
+using mrpt::math::TPose2D;
+
+namespace
+{
+constexpr double kTolXY = 0.03;               // [m]
+constexpr double kTolPhi = 0.5 * M_PI / 180;  // [rad]
+
+double positionError(const TPose2D& a, const TPose2D& b)
+{
+	return translationNorm(between(a, b));
+}
+double headingError(const TPose2D& a, const TPose2D& b)
+{
+	return std::abs(between(a, b).phi);
+}
+
+/** Keyframes every 0.3 m along a loop in the room world, scans ray-cast at the true poses,
+ * odometry increments with about 5 cm / 3 deg of noise per step. */
+struct TKnownRun
+{
+	CSyntheticWorld world = lrgc::test::makeRoomWorld(5, 4);
+	lrgc::test::TTrajectory tr;
+	TKeyframes keyframes;
+
+	TKnownRun()
+	{
+		lrgc::test::TOdometryNoise noise;
+		noise.a1 = 0.15, noise.a2 = 0.15, noise.a3 = 0.15, noise.a4 = 0.05;
+		tr = lrgc::test::makeTrajectory(
+			{{1.5, 3.5}, {5.5, 3.5}, {5.5, 5.8}, {1.2, 5.8}, {1.2, 3.0}, {4.5, 3.0}}, 0.3,
+			noise, 21);
+		std::mt19937 rng(4);
+		for (size_t k = 0; k < tr.truePoses.size(); ++k)
+		{
+			TKeyframe kf;
+			kf.scan = lrgc::test::simulateScan(world, tr.truePoses[k], {}, rng);
+			kf.scanIndex = k;
+			keyframes.push_back(std::move(kf));
+		}
+	}
+};
+
+/** Odometry link k-1 -> k with the builder's odometry noise model. */
+TLink odometryLink(const lrgc::test::TTrajectory& tr, size_t k)
+{
+	const TPose2D inc = tr.odometryIncrements[k - 1];
+	return {k - 1, k, inc, CMotionPredictor().odometryCov(inc).inverse(), LinkType::Odometry};
+}
+}  // namespace
+
+TEST(LocalRegistration, windowConvergesToTruthAndOnlyTheLastKPosesMove)
+{
+	const TKnownRun run;
+	const auto& truth = run.tr.truePoses;
+	TLRGCParams defaults;
+	const size_t K = defaults.local.window_size;
+	CLocalRegistration local(defaults.local, defaults.matcher, defaults.optimizer);
+
+	// The graph is in the world frame; node 0 (the gauge) sits at its true pose.
+	CPoseGraph graph;
+	graph.addNode(truth[0]);
+	TKeyframes keyframes{run.keyframes[0]};
+	double worstPrior = 0, worstXY = 0, worstPhi = 0;
+	for (size_t n = 1; n < truth.size(); ++n)
+	{
+		// The new node starts at the odometry prior from the current estimate of its
+		// predecessor, as the builder would place it before the window solve.
+		const TPose2D prior = compose(graph.pose(n - 1), run.tr.odometryIncrements[n - 1]);
+		worstPrior = std::max(worstPrior, positionError(truth[n], prior));
+		graph.addNode(prior);
+		keyframes.push_back(run.keyframes[n]);
+		const std::vector<TPose2D> before = graph.poses();
+
+		const size_t links = local.linkAndOptimize(graph, keyframes, odometryLink(run.tr, n));
+		EXPECT_GE(links, 1U) << "node " << n << ": no pairwise scan match in the window";
+
+		const size_t firstFree = n + 1 > K ? n + 1 - K : 1;  // node 0 never moves
+		for (size_t i = 0; i < firstFree; ++i)
+			ASSERT_TRUE(graph.pose(i).x == before[i].x && graph.pose(i).y == before[i].y &&
+						graph.pose(i).phi == before[i].phi)
+				<< "node " << i << " is older than the window of node " << n << " but moved";
+		for (size_t i = firstFree; i <= n; ++i)
+		{
+			worstXY = std::max(worstXY, positionError(truth[i], graph.pose(i)));
+			worstPhi = std::max(worstPhi, headingError(truth[i], graph.pose(i)));
+			EXPECT_LT(positionError(truth[i], graph.pose(i)), kTolXY)
+				<< "node " << i << " after " << n;
+			EXPECT_LT(headingError(truth[i], graph.pose(i)), kTolPhi)
+				<< "node " << i << " after " << n;
+		}
+	}
+	RecordProperty("worst_window_error_m", std::to_string(worstXY));
+	RecordProperty("worst_window_error_deg", std::to_string(worstPhi * 180 / M_PI));
+	RecordProperty("worst_prior_error_m", std::to_string(worstPrior));
+	// The priors were off by much more than the tolerance: the window did the work.
+	EXPECT_GT(worstPrior, 3 * kTolXY);
+	const auto deadReckoning = run.tr.odometryPoses.back();
+	EXPECT_GT(positionError(truth.back(), deadReckoning), 0.5);
+
+	// Knock the last K-1 poses off by up to 15 cm / 4 deg and add one more keyframe: the
+	// window solve pulls all K poses back to the truth from the links it already has, and
+	// nothing older moves.
+	const size_t n0 = graph.numNodes();
+	std::mt19937 rng(8);
+	std::uniform_real_distribution<double> dxy(-0.15, 0.15), dphi(-0.07, 0.07);
+	for (size_t i = n0 + 1 - K; i < n0; ++i)
+		graph.setPose(i, compose(graph.pose(i), TPose2D(dxy(rng), dxy(rng), dphi(rng))));
+	std::mt19937 scanRng(99);
+	const TPose2D extraTruth = compose(truth.back(), TPose2D(0.3, 0, 0));
+	TKeyframe extra;
+	extra.scan = lrgc::test::simulateScan(run.world, extraTruth, {}, scanRng);
+	extra.scanIndex = n0;
+	keyframes.push_back(extra);
+	const TPose2D step(0.3, 0.02, 0.01);
+	graph.addNode(compose(graph.pose(n0 - 1), step));
+	const std::vector<TPose2D> before = graph.poses();
+	local.linkAndOptimize(
+		graph, keyframes,
+		{n0 - 1, n0, step, CMotionPredictor().odometryCov(step).inverse(), LinkType::Odometry});
+	for (size_t i = 0; i + K <= n0; ++i)
+		ASSERT_TRUE(graph.pose(i).x == before[i].x && graph.pose(i).y == before[i].y &&
+					graph.pose(i).phi == before[i].phi)
+			<< "node " << i << " moved";
+	for (size_t i = n0 + 1 - K; i <= n0; ++i)
+	{
+		const TPose2D t = i < n0 ? truth[i] : extraTruth;
+		EXPECT_LT(positionError(t, graph.pose(i)), kTolXY) << "window node " << i;
+		EXPECT_LT(headingError(t, graph.pose(i)), kTolPhi) << "window node " << i;
+	}
+}
+
+TEST(LocalRegistration, registerScanFromARoughPriorAndAGlitchOnlyByTheWideSearch)
+{
+	const TKnownRun run;
+	const auto& truth = run.tr.truePoses;
+	TLRGCParams p;
+	// A window of the first 6 keyframes at their true poses.
+	CPoseGraph graph;
+	TKeyframes keyframes;
+	for (size_t i = 0; i < 6; ++i)
+		graph.addNode(truth[i]), keyframes.push_back(run.keyframes[i]);
+	// The scan 15 cm past the newest keyframe.
+	const TPose2D scanTruth = compose(truth[5], TPose2D(0.15, 0, 0));
+	std::mt19937 rng(5);
+	const TScan2D scan = lrgc::test::simulateScan(run.world, scanTruth, {}, rng);
+	const Eigen::Matrix3d priorCov =
+		Eigen::Vector3d(0.1 * 0.1, 0.1 * 0.1, std::pow(5 * M_PI / 180, 2)).asDiagonal();
+	// The odometry prediction of one 0.2 s step that turns `turn` [rad].
+	const auto step = [&](double turn) {
+		lrgc::TMotionPrediction m;
+		m.motion = TPose2D(0.15, 0, turn);
+		m.cov = priorCov;
+		m.fromOdometry = true;
+		m.stepSeconds = 0.2;
+		return m;
+	};
+
+	{  // A prior 12 cm / 4 deg off, consistent with its covariance.
+		CLocalRegistration local(p.local, p.matcher, p.optimizer);
+		const TPose2D prior = compose(scanTruth, TPose2D(0.08, -0.09, 0.07));
+		const TRegistration reg =
+			local.registerScan(graph, keyframes, scan, prior, step(0.0));
+		ASSERT_TRUE(reg.matched);
+		EXPECT_FALSE(reg.odometryRejected);
+		EXPECT_FALSE(reg.wideSearch);
+		EXPECT_LT(positionError(scanTruth, reg.scanInMap), 0.02);
+		EXPECT_LT(headingError(scanTruth, reg.scanInMap), 0.3 * M_PI / 180);
+	}
+	// An odometry glitch: the step claims a 70 deg turn that did not happen.
+	const TPose2D glitchPrior = compose(scanTruth, TPose2D(0, 0, 70 * M_PI / 180));
+	{  // The prior is suspect (its step turns more than glitch_min_turn): wide search.
+		CLocalRegistration local(p.local, p.matcher, p.optimizer);
+		const TRegistration reg =
+			local.registerScan(graph, keyframes, scan, glitchPrior, step(70 * M_PI / 180));
+		ASSERT_TRUE(reg.matched);
+		EXPECT_TRUE(reg.wideSearch);
+		EXPECT_TRUE(reg.odometryRejected);
+		EXPECT_LT(positionError(scanTruth, reg.scanInMap), 0.02);
+		EXPECT_LT(headingError(scanTruth, reg.scanInMap), 0.3 * M_PI / 180);
+	}
+	{  // The same prior, but its step looks harmless: the first failure keeps the prior.
+		CLocalRegistration local(p.local, p.matcher, p.optimizer);
+		const TRegistration reg =
+			local.registerScan(graph, keyframes, scan, glitchPrior, step(0.0));
+		EXPECT_FALSE(reg.matched);
+		EXPECT_FALSE(reg.wideSearch);
+		EXPECT_EQ(reg.scanInMap, glitchPrior);
+	}
+	{  // Without a wide search the glitch cannot be recovered at all.
+		TLRGCParams narrow = p;
+		narrow.local.wide_search_angle = 0;
+		CLocalRegistration local(narrow.local, narrow.matcher, narrow.optimizer);
+		const TRegistration reg =
+			local.registerScan(graph, keyframes, scan, glitchPrior, step(70 * M_PI / 180));
+		EXPECT_FALSE(reg.matched);
+	}
+}
+
+TEST(LocalRegistration, keyframeRegisteredAgainstThePatchGetsThePatchLink)
+{
+	// As the builder does it: the keyframe's scan is registered against the window patch
+	// (odometry prior), placed at the registered pose, then linked. The patch link
+	// (previous -> new, the registration's pose) joins the odometry link and the pairwise
+	// links, which are down-weighted by pairwise_link_weight; without an odometry prior
+	// there is no patch link and the pairwise links keep their full weight.
+	const TKnownRun run;
+	const auto& truth = run.tr.truePoses;
+	TLRGCParams p;
+	for (const bool fromOdometry : {true, false})
+	{
+		CLocalRegistration local(p.local, p.matcher, p.optimizer);
+		CPoseGraph graph;
+		TKeyframes keyframes;
+		for (size_t i = 0; i < 6; ++i)
+		{
+			graph.addNode(truth[i]), keyframes.push_back(run.keyframes[i]);
+			if (i > 0)
+				graph.addLink(
+					{i - 1, i, between(truth[i - 1], truth[i]), Eigen::Matrix3d::Identity() * 1e4,
+					 LinkType::ScanMatch});
+		}
+		const size_t n = 6;
+		lrgc::TMotionPrediction pred;
+		pred.motion = compose(run.tr.odometryIncrements[n - 1], TPose2D(0.05, -0.04, 0.03));
+		pred.cov = CMotionPredictor().odometryCov(pred.motion);
+		pred.fromOdometry = fromOdometry;
+		pred.stepSeconds = 0.2;
+		const TRegistration reg = local.registerScan(
+			graph, keyframes, run.keyframes[n].scan, compose(graph.pose(n - 1), pred.motion), pred);
+		ASSERT_TRUE(reg.matched);
+		EXPECT_LT(positionError(truth[n], reg.scanInMap), kTolXY);
+		graph.addNode(reg.scanInMap);
+		keyframes.push_back(run.keyframes[n]);
+		const size_t linksBefore = graph.numLinks();
+		local.linkAndOptimize(
+			graph, keyframes,
+			{n - 1, n, pred.motion, CMotionPredictor().odometryCov(pred.motion).inverse(),
+			 LinkType::Odometry});
+		// The first link after the odometry one is the patch link, if any.
+		const TLink& first = graph.link(linksBefore + 1);
+		const TPose2D registered = between(truth[n - 1], reg.scanInMap);
+		const bool isPatchLink = first.from == n - 1 && first.to == n &&
+			translationNorm(between(first.toInFrom, registered)) < 1e-9;
+		EXPECT_EQ(isPatchLink, fromOdometry);
+		// Pairwise links: information scaled by pairwise_link_weight with the patch link.
+		double maxPairwiseInfo = 0;
+		for (size_t id = linksBefore + 1 + (fromOdometry ? 1 : 0); id < graph.numLinks(); ++id)
+			maxPairwiseInfo = std::max(maxPairwiseInfo, graph.link(id).information(2, 2));
+		const double floorPhiInfo = 1 / std::pow(p.local.link_noise.floorPhi, 2);
+		if (fromOdometry)
+			EXPECT_LT(maxPairwiseInfo, p.local.pairwise_link_weight * floorPhiInfo * 1.0001);
+		else
+			EXPECT_GT(maxPairwiseInfo, p.local.pairwise_link_weight * floorPhiInfo * 1.0001);
+		EXPECT_LT(positionError(truth[n], graph.pose(n)), kTolXY);
+		EXPECT_LT(headingError(truth[n], graph.pose(n)), kTolPhi);
+	}
+}

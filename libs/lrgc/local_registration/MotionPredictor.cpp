@@ -1,0 +1,147 @@
+#include <lrgc/local_registration/MotionPredictor.h>
+
+#include <lrgc/common/params_io.h>
+#include <lrgc/common/se2.h>
+
+#include <mrpt/config/CConfigFileBase.h>
+#include <mrpt/core/bits_math.h>
+#include <mrpt/system/datetime.h>
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+namespace lrgc
+{
+void TMotionPredictorParams::loadFromConfigFile(
+	const mrpt::config::CConfigFileBase& c, const std::string& s)
+{
+	rejectUnknownKeys(TMotionPredictorParams(), c, s);
+	use_odometry = c.read_bool(s, "use_odometry", use_odometry);
+	sigma_floor_xy = c.read_double(s, "sigma_floor_xy", sigma_floor_xy);
+	sigma_floor_phi =
+		mrpt::DEG2RAD(c.read_double(s, "sigma_floor_phi_deg", mrpt::RAD2DEG(sigma_floor_phi)));
+	k_xy_per_m = c.read_double(s, "k_xy_per_m", k_xy_per_m);
+	k_xy_per_rad = c.read_double(s, "k_xy_per_rad", k_xy_per_rad);
+	k_phi_per_m = c.read_double(s, "k_phi_per_m", k_phi_per_m);
+	k_phi_per_rad = c.read_double(s, "k_phi_per_rad", k_phi_per_rad);
+	cv_sigma_xy = c.read_double(s, "cv_sigma_xy", cv_sigma_xy);
+	cv_sigma_phi = mrpt::DEG2RAD(c.read_double(s, "cv_sigma_phi_deg", mrpt::RAD2DEG(cv_sigma_phi)));
+	for (const auto& [key, v] :
+		 {std::pair{"sigma_floor_xy", sigma_floor_xy}, {"sigma_floor_phi_deg", sigma_floor_phi},
+		  {"cv_sigma_xy", cv_sigma_xy}, {"cv_sigma_phi_deg", cv_sigma_phi}})
+		requireParam(v > 0, s, key, "must be > 0");
+	for (const auto& [key, v] :
+		 {std::pair{"k_xy_per_m", k_xy_per_m}, {"k_xy_per_rad", k_xy_per_rad},
+		  {"k_phi_per_m", k_phi_per_m}, {"k_phi_per_rad", k_phi_per_rad}})
+		requireParam(v >= 0, s, key, "must be >= 0");
+}
+
+void TMotionPredictorParams::saveToConfigFile(
+	mrpt::config::CConfigFileBase& c, const std::string& s) const
+{
+	const int np = mrpt::config::MRPT_SAVE_NAME_PADDING(), vp = mrpt::config::MRPT_SAVE_VALUE_PADDING();
+	c.write(s, "use_odometry", use_odometry, np, vp, "Use wheel odometry if the log has it (else constant velocity)");
+	c.write(s, "sigma_floor_xy", sigma_floor_xy, np, vp, "[m] Odometry noise floor per step");
+	c.write(s, "sigma_floor_phi_deg", mrpt::RAD2DEG(sigma_floor_phi), np, vp, "[deg] Odometry heading noise floor per step");
+	c.write(s, "k_xy_per_m", k_xy_per_m, np, vp, "[m/m] Translational noise per metre travelled");
+	c.write(s, "k_xy_per_rad", k_xy_per_rad, np, vp, "[m/rad] Translational noise per radian turned");
+	c.write(s, "k_phi_per_m", k_phi_per_m, np, vp, "[rad/m] Heading noise per metre travelled");
+	c.write(s, "k_phi_per_rad", k_phi_per_rad, np, vp, "[rad/rad] Heading noise per radian turned");
+	c.write(s, "cv_sigma_xy", cv_sigma_xy, np, vp, "[m] Constant-velocity model (no odometry): std dev per step");
+	c.write(s, "cv_sigma_phi_deg", mrpt::RAD2DEG(cv_sigma_phi), np, vp, "[deg] Constant-velocity model: heading std dev per step");
+}
+
+void CMotionPredictor::addOdometryIncrement(const mrpt::math::TPose2D& motion)
+{
+	m_odomNow = compose(m_odomNow.value_or(mrpt::math::TPose2D(0, 0, 0)), motion);
+}
+
+void CMotionPredictor::addOdometryAbsolute(const mrpt::math::TPose2D& robotInOdom)
+{
+	m_odomNow = robotInOdom;
+}
+
+Eigen::Matrix3d CMotionPredictor::odometryCov(const mrpt::math::TPose2D& d) const
+{
+	const auto& p = m_params;
+	const double t = translationNorm(d), a = std::abs(d.phi);
+	const double sxy = p.sigma_floor_xy + p.k_xy_per_m * t + p.k_xy_per_rad * a;
+	const double sphi = p.sigma_floor_phi + p.k_phi_per_m * t + p.k_phi_per_rad * a;
+	return Eigen::Vector3d(sxy * sxy, sxy * sxy, sphi * sphi).asDiagonal();
+}
+
+TMotionPrediction CMotionPredictor::predict(mrpt::Clock::time_point t) const
+{
+	TMotionPrediction pred;
+	if (m_lastScanTime)
+		pred.stepSeconds = std::max(0.0, mrpt::system::timeDifference(*m_lastScanTime, t));
+	if (m_params.use_odometry && m_odomNow && m_odomAtScan)
+	{
+		pred.motion = between(*m_odomAtScan, *m_odomNow);
+		pred.cov = odometryCov(pred.motion);
+		pred.fromOdometry = true;
+		return pred;
+	}
+	// Constant velocity: the last step's motion over its interval, times this interval, on a
+	// regular clock (bridges dropped scans, up to 5 of the last interval); one step per scan
+	// on a jittered clock.
+	double ratio = 1.0;
+	if (m_lastScanTime && !m_recentSteps.empty() && !clockJittered())
+	{
+		const double last = m_recentSteps.back();
+		const double dt = mrpt::system::timeDifference(*m_lastScanTime, t);
+		if (last > 0 && dt > 0 && dt < 5 * last) ratio = dt / last;
+	}
+	pred.motion = {ratio * m_lastMotion.x, ratio * m_lastMotion.y, ratio * m_lastMotion.phi};
+	pred.cov = constantVelocityCov();
+	return pred;
+}
+
+Eigen::Matrix3d CMotionPredictor::constantVelocityCov() const
+{
+	const double sxy = m_params.cv_sigma_xy, sphi = m_params.cv_sigma_phi;
+	return Eigen::Vector3d(sxy * sxy, sxy * sxy, sphi * sphi).asDiagonal();
+}
+
+double CMotionPredictor::scanPeriod() const
+{
+	std::vector<double> positive;
+	for (const double dt : m_recentSteps)
+		if (dt > 0) positive.push_back(dt);
+	if (positive.empty()) return 0;
+	auto mid = positive.begin() + positive.size() / 2;
+	std::nth_element(positive.begin(), mid, positive.end());
+	return *mid;
+}
+
+double CMotionPredictor::meanScanPeriod() const
+{
+	if (m_recentSteps.empty()) return 0;
+	double span = 0;
+	for (const double dt : m_recentSteps) span += dt;
+	return std::max(0.0, span / double(m_recentSteps.size()));
+}
+
+bool CMotionPredictor::clockJittered() const
+{
+	const double T = scanPeriod();
+	return std::any_of(m_recentSteps.begin(), m_recentSteps.end(), [T](double dt) {
+		return dt < kJitterFraction * T;
+	});
+}
+
+void CMotionPredictor::commitScan(
+	mrpt::Clock::time_point t, const mrpt::math::TPose2D& estimatedMotion)
+{
+	if (m_lastScanTime)
+	{
+		m_recentSteps.push_back(mrpt::system::timeDifference(*m_lastScanTime, t));
+		if (m_recentSteps.size() > kClockSteps) m_recentSteps.pop_front();
+	}
+	m_lastMotion = estimatedMotion;
+	m_lastScanTime = t;
+	if (m_odomNow) m_odomAtScan = m_odomNow;
+}
+
+}  // namespace lrgc

@@ -1,0 +1,114 @@
+/* CMotionPredictor's constant-velocity model (no odometry): the last step's motion scaled by
+ * the time ratio on a regular scan clock, so a dropped scan is bridged; one step per scan on a
+ * jittered clock (timestamps running backwards in bursts, as in the Intel log), where the
+ * time ratio would multiply a 5 deg step into 25 deg. And the odometry model's prior. */
+#include <gtest/gtest.h>
+#include <lrgc/local_registration/MotionPredictor.h>
+#include <lrgc/common/se2.h>
+#include <mrpt/system/datetime.h>
+
+#include <cmath>
+#include <vector>
+
+using namespace lrgc;
+using mrpt::math::TPose2D;
+
+namespace
+{
+constexpr double kStepPhi = 5 * M_PI / 180;  // [rad] turned per step
+const TPose2D kStep(0.1, 0.0, kStepPhi);
+
+mrpt::Clock::time_point at(double seconds)
+{
+	return mrpt::Clock::fromDouble(1000.0 + seconds);
+}
+
+/** A laser-only predictor fed scans at the given times, each after the motion kStep. */
+CMotionPredictor fedAt(const std::vector<double>& times)
+{
+	TMotionPredictorParams p;
+	p.use_odometry = false;
+	CMotionPredictor predictor(p);
+	for (const double t : times) predictor.commitScan(at(t), kStep);
+	return predictor;
+}
+}  // namespace
+
+TEST(MotionPredictor, regularClockScalesTheLastStepByTheTimeRatio)
+{
+	std::vector<double> times;
+	for (int k = 0; k < 20; ++k) times.push_back(0.2 * k);
+	const CMotionPredictor predictor = fedAt(times);
+	EXPECT_FALSE(predictor.clockJittered());
+	EXPECT_NEAR(predictor.scanPeriod(), 0.2, 1e-6);
+	// Next scan on time: one step.
+	const auto onTime = predictor.predict(at(times.back() + 0.2));
+	EXPECT_FALSE(onTime.fromOdometry);
+	EXPECT_NEAR(onTime.motion.phi, kStepPhi, 1e-6);
+	EXPECT_NEAR(onTime.motion.x, 0.1, 1e-6);
+	// One scan dropped: two steps' worth.
+	const auto afterDrop = predictor.predict(at(times.back() + 0.4));
+	EXPECT_NEAR(afterDrop.motion.phi, 2 * kStepPhi, 1e-6);
+	EXPECT_NEAR(afterDrop.stepSeconds, 0.4, 1e-6);
+}
+
+TEST(MotionPredictor, irregularButMonotonicClockStillScales)
+{
+	// ACES logs scans every 0.07-0.32 s: true intervals, so the ratio applies.
+	const CMotionPredictor predictor = fedAt({0.0, 0.16, 0.32, 0.40, 0.64, 0.80});
+	EXPECT_FALSE(predictor.clockJittered());
+	// The last step (0.16 s) turned kStepPhi; 0.08 s later: half of it.
+	EXPECT_NEAR(predictor.predict(at(0.88)).motion.phi, 0.5 * kStepPhi, 1e-6);
+}
+
+TEST(MotionPredictor, jitteredClockPredictsOneStepPerScan)
+{
+	// Intel-like bursts: a regular 0.2 s clock, then timestamps bunched and running back.
+	std::vector<double> times;
+	for (int k = 0; k < 20; ++k) times.push_back(0.2 * k);
+	for (const double t : {4.0, 4.001, 3.5, 4.6, 4.601}) times.push_back(t);
+	const CMotionPredictor predictor = fedAt(times);
+	EXPECT_TRUE(predictor.clockJittered());
+	// 0.6 s after a 1 ms step: the time ratio would be 600 (capped before at 5 steps); the
+	// scans arrive in order at their own rate, so one step.
+	const auto p = predictor.predict(at(5.2));
+	EXPECT_NEAR(p.motion.phi, kStepPhi, 1e-6);
+	EXPECT_NEAR(p.motion.x, 0.1, 1e-6);
+}
+
+TEST(MotionPredictor, meanScanPeriodIsTheTrueRateOnAJitteredClock)
+{
+	// Scans every 0.2 s, logged in Intel-like bursts: three stamps per 0.6 s, 1 ms apart and
+	// then 0.1 s back. No interval is the true one; the span over the count is.
+	std::vector<double> times;
+	for (int k = 0; k < 20; ++k)
+		for (const double d : {0.0, 0.001, -0.1}) times.push_back(0.6 * k + d);
+	const CMotionPredictor predictor = fedAt(times);
+	EXPECT_TRUE(predictor.clockJittered());
+	EXPECT_GT(std::abs(predictor.scanPeriod() - 0.2), 0.1);
+	EXPECT_NEAR(predictor.meanScanPeriod(), 0.2, 0.015);  // the last stamp is 0.1 s early: 0.19
+}
+
+TEST(MotionPredictor, jitterIsForgottenAfterARegularStretch)
+{
+	std::vector<double> times{0.0, 0.2, 0.1, 0.4};  // one backward jump
+	for (int k = 3; k < 60; ++k) times.push_back(0.2 * k);
+	const CMotionPredictor predictor = fedAt(times);
+	EXPECT_FALSE(predictor.clockJittered());
+	EXPECT_NEAR(predictor.predict(at(times.back() + 0.4)).motion.phi, 2 * kStepPhi, 1e-6);
+}
+
+TEST(MotionPredictor, odometryPriorIsTheOdometryMotionWithProportionalNoise)
+{
+	CMotionPredictor predictor;
+	predictor.addOdometryAbsolute(TPose2D(1.0, 2.0, 0.5));
+	predictor.commitScan(at(0), TPose2D(0, 0, 0));
+	predictor.addOdometryAbsolute(compose(TPose2D(1.0, 2.0, 0.5), TPose2D(0.3, 0.0, 0.1)));
+	const auto p = predictor.predict(at(0.2));
+	ASSERT_TRUE(p.fromOdometry);
+	EXPECT_NEAR(p.motion.x, 0.3, 1e-9);
+	EXPECT_NEAR(p.motion.y, 0.0, 1e-9);
+	EXPECT_NEAR(p.motion.phi, 0.1, 1e-9);
+	// sigma_xy = 0.01 + 0.1 * 0.3 + 0.05 * 0.1 = 0.045 m (defaults).
+	EXPECT_NEAR(std::sqrt(p.cov(0, 0)), 0.045, 1e-9);
+}

@@ -1,0 +1,116 @@
+/* CLoopCloser: LRGC's loop closing (Gutmann & Konolige, sections 2.2 use 2, 2.3 and 2.4).
+ *
+ * After each new keyframe n:
+ *  1. Gate. The uncertainty of every old pose relative to n comes from the graph
+ *     (propagateUncertainty). Old poses (all but the newest m keyframes, m > K) whose position
+ *     could lie within `overlap_radius` of n's, at Mahalanobis distance <= gate_sigma, are
+ *     candidates. Their largest position std sigma sets the search window
+ *     (+- window_sigmas * sigma) and the patch size (grows linearly with sigma), so a large
+ *     loop is closed only on strong evidence; both shrink back once a loop is closed.
+ *  2. Correlate. The patch (newest P keyframes' scans, in n's frame) is correlated against the
+ *     old map built from the candidates' scans (CPatchCorrelator: branch and bound over
+ *     (x, y, theta)); the match must pass the score, ambiguity and variance filters.
+ *  3. Link. The correlation's pose seeds a scan match of n against the old scans around the
+ *     nearest candidate j; the result becomes a LoopClosure link j -> n.
+ *  4. Close. If the link disagrees with the current estimate, the whole graph is optimised
+ *     (sparse, CHOLMOD) with robust loop links (DCS): a false link is down-weighted and the
+ *     closure is counted as rejected. Then the newly linked poses are re-matched (each patch
+ *     keyframe against its nearest old keyframe) and the graph optimised again, as the paper
+ *     does.
+ */
+#pragma once
+
+#include <lrgc/pose_graph/Keyframe.h>
+#include <lrgc/pose_graph/LinkNoise.h>
+#include <lrgc/loop_closing/PatchCorrelator.h>
+#include <lrgc/pose_graph/PoseGraph.h>
+#include <lrgc/pose_graph/PoseGraphOptimizer.h>
+#include <lrgc/scan_matching/ScanMatcher.h>
+#include <mrpt/config/CLoadableOptions.h>
+
+#include <optional>
+#include <string>
+
+namespace lrgc
+{
+struct TLoopCloserParams : public mrpt::config::CLoadableOptions
+{
+	size_t old_map_exclusion = 40;  //!< m: newest keyframes left out of the old map (m > K)
+	size_t patch_min_keyframes = 10;  //!< patch size at zero uncertainty
+	double patch_keyframes_per_m = 8;  //!< patch growth per metre of position std [1/m]
+	double gate_sigma = 3.0;  //!< Mahalanobis gate on the candidates' position [-]
+	double overlap_radius = 3.0;  //!< [m] poses this close can see the same walls
+	double window_sigmas = 3.0;  //!< search half-window in standard deviations [-]
+	double max_window_xy = 15.0;  //!< [m] cap of the translational search half-window
+	double max_window_theta = mrpt::DEG2RAD(30.0);  //!< [rad] (key max_window_theta_deg)
+	double consistent_chi2 = 11.34;  //!< [chi2, 3 dof] a link agreeing this well needs no solve
+	size_t check_every = 1;  //!< look for a loop every this many keyframes
+	/** [m] Patch points farther from the newest keyframe are left out of the correlation:
+	 * the heading step is resolution / patch radius, so 40 m returns (ACES) would need
+	 * ~900 headings over +-30 deg; far returns are also the noisiest. */
+	double patch_max_range = 12.0;
+	/** Noise floor of loop links (and end-of-run revisit links); keys link_floor_xy [m],
+	 * link_floor_phi_deg. Looser than local registration's: a loop link joins scans taken
+	 * minutes apart (people, doors, chairs moved). */
+	TLinkNoise link_noise;
+
+	void loadFromConfigFile(
+		const mrpt::config::CConfigFileBase& c, const std::string& s) override;
+	void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
+};
+
+/** One accepted loop closure. */
+struct TLoopClosure
+{
+	size_t oldNode = 0, newNode = 0;
+	size_t linkId = 0;
+	double score = 0, ambiguity = 0;  //!< of the correlation
+	bool optimized = false;  //!< the link moved the map: whole graph optimised
+	size_t rematchLinks = 0;  //!< links added by re-matching after the closure
+	double seconds = 0;  //!< time of the whole closure step [s]
+};
+
+/** Counters for logs and stats. */
+struct TLoopCloserStats
+{
+	size_t attempts = 0;  //!< correlations run
+	size_t accepted = 0;  //!< links added
+	size_t rejectedByFilters = 0, rejectedByMatch = 0, rejectedByBackEnd = 0;
+	size_t optimizations = 0;
+	std::vector<double> closureSeconds;  //!< per optimised closure
+};
+
+class CLoopCloser
+{
+   public:
+	CLoopCloser(
+		const TLoopCloserParams& p, const TPatchCorrelatorParams& correlator,
+		const TScanMatcherParams& matcher, const TPoseGraphOptimizerParams& optimizer,
+		const TLinkNoise& linkNoise);
+
+	/** Looks for a loop for the newest keyframe and closes it. Returns the closure if a link
+	 * was added (the graph may have been optimised: callers refresh cached poses). */
+	std::optional<TLoopClosure> process(CPoseGraph& graph, const TKeyframes& keyframes);
+
+	const TLoopCloserStats& stats() const { return m_stats; }
+	/** Why the last attempt was rejected (empty if accepted or not attempted). */
+	const std::string& lastRejection() const { return m_lastRejection; }
+
+   private:
+	struct TCandidates;
+	std::optional<TCandidates> gate(const CPoseGraph& graph, size_t newest) const;
+	size_t rematch(CPoseGraph& graph, const TKeyframes& keyframes, const TCandidates& c,
+				   size_t patchFirst, size_t newest);
+
+	TLoopCloserParams m_params;
+	TScanMatcherParams m_matcherParams;
+	TLinkNoise m_linkNoise;
+	CPatchCorrelator m_correlator;
+	CScanMatcher m_matcher;
+	CPoseGraphOptimizer m_optimizer;
+	TLoopCloserStats m_stats;
+	std::string m_lastRejection;
+	size_t m_keyframesSinceCheck = 0;
+};
+
+}  // namespace lrgc

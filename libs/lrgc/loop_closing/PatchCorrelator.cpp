@@ -1,0 +1,329 @@
+/* Global correlation (Gutmann & Konolige 2000, section 2.3): patch preparation, the pose
+ * grid, the best pose and its rival, the best cluster's covariance, and the three filters.
+ * The searches themselves are in correlation_search.cpp.
+ *
+ * Steps of one query:
+ *  1. Reduce the patch to its distinct cells (resolution in the patch frame, centroid of the
+ *     points of each), so the score is the paper's sum over cells, not over raw points
+ *     (overlapping scans would otherwise weight walls by how often they were seen).
+ *  2. Pose grid: dtheta = resolution / max_k |p_k| unless given; base cells per angle.
+ *  3. Best pose: searched with floor = minScore (nothing below it could pass filter 1).
+ *  4. Rival: the same search with the best cluster excluded, floor = S_best / minAmbiguity
+ *     for branch and bound (a weaker rival cannot fail filter 2: ambiguity reported inf),
+ *     floor 0 for the exhaustive reference.
+ *  5. Covariance: the response is sampled on a lattice around the best pose, weighted
+ *         w = exp(-(S_best - S) / (clusterScoreScale S_best)),
+ *     and its weighted covariance is taken, plus the lattice's own discretisation (step^2/12).
+ *     First lattice: the pose grid itself, +-4 steps on each axis. If the response is not
+ *     contained in it, a coarser one over +-3 maxStd (at most 4 samples per side). A
+ *     response flat over that lattice gives std ~ 3 maxStd / sqrt(3) > maxStd, so filter 3
+ *     still rejects it although the lattice truncates it.
+ */
+#include <lrgc/loop_closing/PatchCorrelator.h>
+
+#include <mrpt/core/bits_math.h>
+#include <mrpt/core/exceptions.h>
+#include <mrpt/core/format.h>
+#include <mrpt/math/wrap2pi.h>
+
+#include "correlation_search.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <random>
+
+namespace lrgc
+{
+namespace
+{
+using detail::TPoseGridProblem;
+
+// Step 1: centroids of the distinct cells of the patch, in a fixed pseudo-random order (so
+// that early-abandoned bounds see a spatially mixed sample of points first).
+std::vector<Eigen::Vector2d> distinctCells(const std::vector<Eigen::Vector2d>& pts,
+										   double resolution)
+{
+	struct Item
+	{
+		int64_t key;
+		Eigen::Vector2d p;
+	};
+	std::vector<Item> items;
+	items.reserve(pts.size());
+	for (const auto& p : pts)
+	{
+		if (!p.allFinite()) THROW_EXCEPTION("CPatchCorrelator: a patch point is not finite");
+		const int64_t cx = static_cast<int64_t>(std::floor(p.x() / resolution));
+		const int64_t cy = static_cast<int64_t>(std::floor(p.y() / resolution));
+		items.push_back({(cx << 32) ^ (cy & 0xffffffff), p});
+	}
+	std::sort(items.begin(), items.end(),
+			  [](const Item& a, const Item& b)
+			  {
+				  return a.key != b.key
+							 ? a.key < b.key
+							 : (a.p.x() != b.p.x() ? a.p.x() < b.p.x() : a.p.y() < b.p.y());
+			  });
+	std::vector<Eigen::Vector2d> out;
+	for (size_t k = 0; k < items.size();)
+	{
+		size_t e = k;
+		Eigen::Vector2d sum = Eigen::Vector2d::Zero();
+		for (; e < items.size() && items[e].key == items[k].key; ++e) sum += items[e].p;
+		out.push_back(sum / double(e - k));
+		k = e;
+	}
+	std::mt19937 rng(12345);
+	std::shuffle(out.begin(), out.end(), rng);
+	return out;
+}
+
+struct TGridSpec
+{
+	mrpt::math::TPose2D center;
+	double res = 0, dtheta = 0;
+	int angle0 = 0;  //!< theta_a = center.phi + (a - angle0) dtheta
+	double theta(int a) const { return center.phi + (a - angle0) * dtheta; }
+	mrpt::math::TPose2D pose(int a, int i, int j) const
+	{
+		return {center.x + i * res, center.y + j * res, mrpt::math::wrapToPi(theta(a))};
+	}
+};
+
+// Base cells (cx, cy) of every point rotated by theta and moved by the window centre.
+void appendBaseCells(const CCorrelationGrid& grid, const std::vector<Eigen::Vector2d>& pts,
+					 const mrpt::math::TPose2D& center, double theta, std::vector<int32_t>& out)
+{
+	const double c = std::cos(theta), s = std::sin(theta);
+	for (const auto& p : pts)
+	{
+		const Eigen::Vector2i cell =
+			grid.cellOf({center.x + c * p.x() - s * p.y(), center.y + s * p.x() + c * p.y()});
+		out.push_back(cell.x());
+		out.push_back(cell.y());
+	}
+}
+
+// Weighted covariance of the response sampled on the lattice (u strideXY, v strideXY,
+// t strideTh) around (a, i, j), |u|, |v| <= nXY, |t| <= nTh; plus the lattice's own
+// discretisation step^2 / 12.
+Eigen::Matrix3d sampledCovariance(const TPatchCorrelatorParams& prm,
+								  const CCorrelationGrid& grid,
+								  const std::vector<Eigen::Vector2d>& pts,
+								  const TGridSpec& spec, int a, int i, int j, int64_t bestScore,
+								  int strideXY, int nXY, int strideTh, int nTh)
+{
+	TPoseGridProblem local;
+	local.grid = &grid;
+	local.numPoints = static_cast<int>(pts.size());
+	local.numAngles = 2 * nTh + 1;
+	for (int t = -nTh; t <= nTh; ++t)
+		appendBaseCells(grid, pts, spec.center, spec.theta(a) + t * strideTh * spec.dtheta,
+						local.baseCells);
+	local.prepare();
+	const double scale = prm.clusterScoreScale * double(std::max<int64_t>(bestScore, 1));
+	const double qXY = strideXY * spec.res, qTh = strideTh * spec.dtheta;
+	double wsum = 0;
+	Eigen::Vector3d m1 = Eigen::Vector3d::Zero();
+	Eigen::Matrix3d m2 = Eigen::Matrix3d::Zero();
+	for (int t = -nTh; t <= nTh; ++t)
+		for (int u = -nXY; u <= nXY; ++u)
+			for (int v = -nXY; v <= nXY; ++v)
+			{
+				const int64_t s =
+					detail::scoreAt(local, 0, t + nTh, i + u * strideXY, j + v * strideXY);
+				const double w = std::exp(double(s - bestScore) / scale);
+				const Eigen::Vector3d d(u * qXY, v * qXY, t * qTh);
+				wsum += w;
+				m1 += w * d;
+				m2 += w * d * d.transpose();
+			}
+	m1 /= wsum;
+	Eigen::Matrix3d cov = m2 / wsum - m1 * m1.transpose();
+	cov.diagonal() += Eigen::Vector3d(qXY * qXY, qXY * qXY, qTh * qTh) / 12.0;
+	return cov;
+}
+
+// Step 5, see the file comment: first the pose grid's own lattice, +-kFine steps; if the
+// response is not contained in it (a std dev above a third of its half-width), a coarser
+// lattice spanning +-3 maxStd with at most kFine samples per side.
+Eigen::Matrix3d clusterCovariance(const TPatchCorrelatorParams& prm,
+								  const CCorrelationGrid& grid,
+								  const std::vector<Eigen::Vector2d>& pts,
+								  const TGridSpec& spec, int a, int i, int j, int64_t bestScore)
+{
+	constexpr int kFine = 4;
+	const Eigen::Matrix3d fine =
+		sampledCovariance(prm, grid, pts, spec, a, i, j, bestScore, 1, kFine, 1, kFine);
+	const double lim2XY = std::pow(kFine * spec.res / 3, 2);
+	const double lim2Th = std::pow(kFine * spec.dtheta / 3, 2);
+	if (fine(0, 0) <= lim2XY && fine(1, 1) <= lim2XY && fine(2, 2) <= lim2Th) return fine;
+	const double boxXY = 3 * prm.maxStdXY, boxTh = 3 * prm.maxStdTheta;
+	const int strideXY = std::max(1, int(std::ceil(boxXY / spec.res / kFine)));
+	const int strideTh = std::max(1, int(std::ceil(boxTh / spec.dtheta / kFine)));
+	const int nXY = std::max(1, int(std::floor(boxXY / (strideXY * spec.res))));
+	const int nTh = std::max(1, int(std::floor(boxTh / (strideTh * spec.dtheta))));
+	const Eigen::Matrix3d coarse =
+		sampledCovariance(prm, grid, pts, spec, a, i, j, bestScore, strideXY,
+						  std::min(kFine, nXY), strideTh, std::min(kFine, nTh));
+	// Keep the finer estimate of any axis that the fine lattice did contain.
+	Eigen::Matrix3d out = coarse;
+	for (int k = 0; k < 3; ++k)
+		if (fine(k, k) <= (k < 2 ? lim2XY : lim2Th) && fine(k, k) < coarse(k, k))
+		{
+			const double f = std::sqrt(fine(k, k) / coarse(k, k));
+			out.row(k) *= f;
+			out.col(k) *= f;
+		}
+	return out;
+}
+}  // namespace
+
+std::string TCorrelationVerdict::message() const
+{
+	using R = Reason;
+	switch (rejection)
+	{
+		case R::Accepted:
+			return "accepted";
+		case R::LowScore:
+			return mrpt::format("score %.3f < min_score %.3f", value, limit);
+		case R::Ambiguous:
+			return mrpt::format("ambiguity %.3f < min_ambiguity %.3f", value, limit);
+		case R::SpreadXY:
+			return mrpt::format("std dev xy %.3f m > max_std_xy %.3f m", value, limit);
+		case R::SpreadTheta:
+			return mrpt::format("std dev theta %.2f deg > max_std_theta_deg %.2f deg",
+								mrpt::RAD2DEG(value), mrpt::RAD2DEG(limit));
+	}
+	return "unknown";
+}
+
+TCorrelationVerdict TCorrelationResult::checkFilters(const TPatchCorrelatorParams& p) const
+{
+	using R = TCorrelationVerdict::Reason;
+	const double stdXY = std::sqrt(std::max(cov(0, 0), cov(1, 1)));
+	const double stdTh = std::sqrt(cov(2, 2));
+	if (score < p.minScore) return {R::LowScore, score, p.minScore};
+	if (ambiguity < p.minAmbiguity) return {R::Ambiguous, ambiguity, p.minAmbiguity};
+	if (stdXY > p.maxStdXY) return {R::SpreadXY, stdXY, p.maxStdXY};
+	if (stdTh > p.maxStdTheta) return {R::SpreadTheta, stdTh, p.maxStdTheta};
+	return {};
+}
+
+CPatchCorrelator::CPatchCorrelator(const TPatchCorrelatorParams& params) : m_params(params)
+{
+	m_params.validate();
+}
+
+CCorrelationGrid CPatchCorrelator::makeGrid(const std::vector<Eigen::Vector2d>& pointsInMap,
+											double margin) const
+{
+	return CCorrelationGrid::fromPoints(pointsInMap, m_params.resolution, m_params.blurSigma,
+										margin);
+}
+
+std::optional<TCorrelationResult> CPatchCorrelator::correlate(
+	const CCorrelationGrid& oldMap, const std::vector<Eigen::Vector2d>& patchPoints,
+	const mrpt::math::TPose2D& center, double halfWindowXY, double halfWindowTheta) const
+{
+	return run(false, oldMap, patchPoints, center, halfWindowXY, halfWindowTheta);
+}
+
+std::optional<TCorrelationResult> CPatchCorrelator::correlateExhaustive(
+	const CCorrelationGrid& oldMap, const std::vector<Eigen::Vector2d>& patchPoints,
+	const mrpt::math::TPose2D& center, double halfWindowXY, double halfWindowTheta) const
+{
+	return run(true, oldMap, patchPoints, center, halfWindowXY, halfWindowTheta);
+}
+
+std::optional<TCorrelationResult> CPatchCorrelator::run(
+	bool exhaustive, const CCorrelationGrid& grid,
+	const std::vector<Eigen::Vector2d>& patchPoints, const mrpt::math::TPose2D& center,
+	double halfWindowXY, double halfWindowTheta) const
+{
+	if (grid.empty()) THROW_EXCEPTION("CPatchCorrelator: the old-map grid is empty");
+	if (!(halfWindowXY >= 0 && halfWindowXY <= 1e3) ||
+		!(halfWindowTheta >= 0 && halfWindowTheta <= 1e3) ||
+		!std::isfinite(center.x + center.y + center.phi))
+		THROW_EXCEPTION_FMT(
+			"CPatchCorrelator: bad search window: centre (%g, %g, %g), halfWindowXY=%g m, "
+			"halfWindowTheta=%g rad",
+			center.x, center.y, center.phi, halfWindowXY, halfWindowTheta);
+
+	TGridSpec spec;
+	spec.center = center;
+	spec.res = grid.resolution();
+	const std::vector<Eigen::Vector2d> pts = distinctCells(patchPoints, spec.res);
+	if (pts.empty()) return std::nullopt;
+	double maxRadius = 0;
+	for (const auto& p : pts) maxRadius = std::max(maxRadius, p.norm());
+
+	// Step 2: the pose grid.
+	spec.dtheta = m_params.angularStep > 0
+					  ? m_params.angularStep
+					  : std::min(0.1, spec.res / std::max(maxRadius, spec.res));
+	TPoseGridProblem pb;
+	pb.grid = &grid;
+	pb.numPoints = static_cast<int>(pts.size());
+	pb.halfCells = static_cast<int>(std::ceil(halfWindowXY / spec.res - 1e-9));
+	if (2 * halfWindowTheta + spec.dtheta >= 2 * M_PI)
+	{  // the whole circle, each heading once
+		pb.numAngles = static_cast<int>(std::ceil(2 * M_PI / spec.dtheta));
+		spec.dtheta = 2 * M_PI / pb.numAngles;
+		spec.angle0 = pb.numAngles / 2;
+	}
+	else
+	{
+		spec.angle0 = static_cast<int>(std::ceil(halfWindowTheta / spec.dtheta - 1e-9));
+		pb.numAngles = 2 * spec.angle0 + 1;
+	}
+	pb.baseCells.reserve(size_t(pb.numAngles) * pts.size() * 2);
+	for (int a = 0; a < pb.numAngles; ++a)
+		appendBaseCells(grid, pts, center, spec.theta(a), pb.baseCells);
+	pb.prepare();
+
+	// Step 3: the best pose.
+	const auto search = exhaustive ? detail::searchExhaustive : detail::searchBranchAndBound;
+	const int64_t full = int64_t(255) * pb.numPoints;
+	const auto floor1 =
+		static_cast<int64_t>(std::ceil(m_params.minScore * double(full) - 1e-9));
+	const detail::TSearchHit best = search(pb, floor1, detail::TExclusionZone{});
+	if (!best.found) return std::nullopt;
+
+	TCorrelationResult res;
+	res.patchInMap = spec.pose(best.a, best.i, best.j);
+	res.score = double(best.score) / double(full);
+	res.clusterPeaks.push_back({res.patchInMap, res.score});
+	res.patchCells = pts.size();
+	res.angularStep = spec.dtheta;
+
+	// Step 4: the rival, outside the best cluster.
+	detail::TExclusionZone zone;
+	zone.inAngle.resize(size_t(pb.numAngles));
+	for (int a = 0; a < pb.numAngles; ++a)
+		zone.inAngle[size_t(a)] =
+			std::abs(mrpt::math::wrapToPi(spec.theta(a) - spec.theta(best.a))) <=
+			m_params.clusterRadiusTheta + 1e-12;
+	zone.ci = best.i, zone.cj = best.j;
+	zone.r2 = std::pow(m_params.clusterRadiusXY / spec.res, 2) + 1e-9;
+	const int64_t floor2 = exhaustive ? 0
+									  : static_cast<int64_t>(std::ceil(
+											double(best.score) / m_params.minAmbiguity - 1e-9));
+	const detail::TSearchHit rival = search(pb, floor2, zone);
+	res.ambiguity = std::numeric_limits<double>::infinity();
+	if (rival.found)
+	{
+		if (rival.score > 0) res.ambiguity = double(best.score) / double(rival.score);
+		res.clusterPeaks.push_back(
+			{spec.pose(rival.a, rival.i, rival.j), double(rival.score) / double(full)});
+	}
+	res.posesScored = best.evaluations + rival.evaluations;
+
+	// Step 5: the spread of the best cluster.
+	res.cov = clusterCovariance(m_params, grid, pts, spec, best.a, best.i, best.j, best.score);
+	return res;
+}
+
+}  // namespace lrgc

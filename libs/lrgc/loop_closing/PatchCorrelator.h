@@ -1,0 +1,126 @@
+/* CPatchCorrelator: global correlation of a map patch (the newest scans) against the old map
+ * (Gutmann & Konolige, section 2.3), with the paper's three false-positive filters.
+ *
+ * Operator: for a pose l = (x, y, theta) of the patch in the map, with the patch reduced to
+ * its N distinct occupied cells p_k (cells of `resolution` in the patch frame; centroid of
+ * the points in each), the unnormalised score is
+ *     s(l) = 1/N sum_k p_m( cell( R(theta) p_k + t ) )   in [0,1],
+ * the paper's sum_i p(r_i) p(m_i) with p(r_i) = 1 on patch cells and all uncertainty folded
+ * into the blurred map p_m (CCorrelationGrid).
+ *
+ * Pose grid: theta_a = theta_c + a dtheta (a = -A..A), t = t_c + (i, j) resolution
+ * (i, j = -W..W), W = ceil(halfWindowXY / resolution), A = ceil(halfWindowTheta / dtheta)
+ * (the whole circle, once, if the window reaches +-pi).
+ *
+ * correlateExhaustive() scores every pose of the grid (the paper's reference). correlate()
+ * returns the same best pose by branch and bound: for each angle, 2^h x 2^h blocks of
+ * translations are bounded by the level-h max-pooled grid (an upper bound of every score in
+ * the block, so pruning a block whose bound is below the best score found loses nothing);
+ * ties are broken towards the lowest (a, i, j) in both searches. Details, proofs and timings:
+ * doc/global-correlation.md.
+ */
+#pragma once
+
+#include <lrgc/loop_closing/CorrelationGrid.h>
+#include <lrgc/loop_closing/PatchCorrelatorParams.h>
+#include <mrpt/math/TPose2D.h>
+
+#include <Eigen/Core>
+#include <cstddef>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace lrgc
+{
+struct TCorrelationPeak
+{
+	mrpt::math::TPose2D patchInMap;  //!< (map <- patch)
+	double score = 0;                //!< s(l) in [0,1]
+};
+
+/** Outcome of the three filters; `rejection` names the first that failed. */
+struct TCorrelationVerdict
+{
+	enum class Reason
+	{
+		Accepted,
+		LowScore,    //!< value = score, limit = minScore
+		Ambiguous,   //!< value = ambiguity, limit = minAmbiguity
+		SpreadXY,    //!< value = largest std dev of x, y [m], limit = maxStdXY
+		SpreadTheta  //!< value = std dev of heading [rad], limit = maxStdTheta
+	};
+	Reason rejection = Reason::Accepted;
+	double value = 0;
+	double limit = 0;
+	bool accepted() const { return rejection == Reason::Accepted; }
+	/** One line for a log, e.g. "ambiguity 1.04 < min_ambiguity 1.15". */
+	std::string message() const;
+};
+
+struct TCorrelationResult
+{
+	mrpt::math::TPose2D patchInMap;  //!< best pose (map <- patch)
+	double score = 0;                //!< s(best) in [0,1]
+	/** s(best) / s(best pose outside the best cluster). +inf when no pose outside the
+	 * cluster reaches s(best) / minAmbiguity: branch and bound does not look below that
+	 * floor, so the value is then only known to be > minAmbiguity. */
+	double ambiguity = 0;
+	/** Covariance of patchInMap [m^2, rad^2] from the normalised response around the peak
+	 * (see TPatchCorrelatorParams::clusterScoreScale), plus the grid's discretisation. */
+	Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+	/** Best cluster's peak, then the rival when known (the best pose outside the cluster). */
+	std::vector<TCorrelationPeak> clusterPeaks;
+
+	size_t patchCells = 0;   //!< N: distinct patch cells scored
+	double angularStep = 0;  //!< dtheta of the pose grid [rad]
+	size_t posesScored = 0;  //!< exact scores + block bounds evaluated (search effort)
+
+	TCorrelationVerdict checkFilters(const TPatchCorrelatorParams& p) const;
+	bool passesFilters(const TPatchCorrelatorParams& p) const
+	{
+		return checkFilters(p).accepted();
+	}
+};
+
+class CPatchCorrelator
+{
+public:
+	/** Validates the parameters (throws naming the bad key). */
+	explicit CPatchCorrelator(const TPatchCorrelatorParams& params = {});
+
+	const TPatchCorrelatorParams& params() const { return m_params; }
+
+	/** The old-map grid with this correlator's resolution and blur; `margin` [m] around the
+	 * points' bounding box (at least 3 sigma keeps the blur of edge walls). */
+	CCorrelationGrid makeGrid(const std::vector<Eigen::Vector2d>& pointsInMap,
+							  double margin) const;
+
+	/** Branch and bound over the pose grid centred on `centerPatchInMap` (map <- patch):
+	 * x, y within +-halfWindowXY [m], heading within +-halfWindowTheta [rad]. `patchPoints`
+	 * are in the patch frame. Returns std::nullopt if no pose scores at least minScore (the
+	 * score filter fails), or if the patch is empty. The result is the exhaustive one;
+	 * filters are not applied (see checkFilters). The grid's resolution is used. */
+	std::optional<TCorrelationResult> correlate(const CCorrelationGrid& oldMap,
+												const std::vector<Eigen::Vector2d>& patchPoints,
+												const mrpt::math::TPose2D& centerPatchInMap,
+												double halfWindowXY,
+												double halfWindowTheta) const;
+
+	/** The paper's exhaustive search over the same pose grid; same contract, except that the
+	 * ambiguity is always the exact ratio (inf only if every pose is inside the cluster). */
+	std::optional<TCorrelationResult> correlateExhaustive(
+		const CCorrelationGrid& oldMap, const std::vector<Eigen::Vector2d>& patchPoints,
+		const mrpt::math::TPose2D& centerPatchInMap, double halfWindowXY,
+		double halfWindowTheta) const;
+
+private:
+	std::optional<TCorrelationResult> run(bool exhaustive, const CCorrelationGrid& oldMap,
+										  const std::vector<Eigen::Vector2d>& patchPoints,
+										  const mrpt::math::TPose2D& center,
+										  double halfWindowXY, double halfWindowTheta) const;
+
+	TPatchCorrelatorParams m_params;
+};
+
+}  // namespace lrgc

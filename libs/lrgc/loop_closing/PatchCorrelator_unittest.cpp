@@ -1,0 +1,309 @@
+/* CPatchCorrelator on synthetic segment worlds with known poses.
+ *
+ * A small generator lives here (a shared synthetic world is being written separately): a
+ * world is a set of wall segments; the old map is the walls sampled every 2 cm; a patch is
+ * the ray-cast scans (180 beams, 1 cm noise) of a short robot path, expressed in the frame
+ * of the path's last pose, which is therefore the true patchInMap.
+ */
+#include <gtest/gtest.h>
+#include <mrpt/math/wrap2pi.h>
+
+#include <lrgc/loop_closing/PatchCorrelator.h>
+#include <lrgc/common/se2.h>
+
+#include <cmath>
+#include <limits>
+#include <random>
+
+using lrgc::CCorrelationGrid;
+using lrgc::CPatchCorrelator;
+using lrgc::TCorrelationResult;
+using lrgc::TPatchCorrelatorParams;
+using mrpt::math::TPose2D;
+using Reason = lrgc::TCorrelationVerdict::Reason;
+using Points = std::vector<Eigen::Vector2d>;
+
+namespace
+{
+struct Segment
+{
+	Eigen::Vector2d a, b;
+};
+using World = std::vector<Segment>;
+
+// A square room of side `size` with `n` random interior walls (0.5 to 3 m).
+World randomWorld(std::mt19937& rng, double size, int n)
+{
+	World w{{{0, 0}, {size, 0}},
+			{{size, 0}, {size, size}},
+			{{size, size}, {0, size}},
+			{{0, size}, {0, 0}}};
+	std::uniform_real_distribution<double> pos(0.5, size - 0.5), len(0.5, 3.0),
+		ang(-M_PI, M_PI);
+	for (int k = 0; k < n; ++k)
+	{
+		const Eigen::Vector2d a(pos(rng), pos(rng));
+		const double t = ang(rng), l = len(rng);
+		w.push_back({a, a + l * Eigen::Vector2d(std::cos(t), std::sin(t))});
+	}
+	return w;
+}
+
+Points rasterise(const World& w, double spacing = 0.02)
+{
+	Points pts;
+	for (const auto& s : w)
+	{
+		const int n = std::max(1, int(std::ceil((s.b - s.a).norm() / spacing)));
+		for (int k = 0; k <= n; ++k) pts.push_back(s.a + (s.b - s.a) * (double(k) / n));
+	}
+	return pts;
+}
+
+// Scan from `robot`: nearest hit of each beam (-90..+90 deg) in the robot frame.
+Points raycast(const World& w, const TPose2D& robot, std::mt19937& rng, double maxRange)
+{
+	std::normal_distribution<double> noise(0, 0.01);
+	Points pts;
+	const Eigen::Vector2d o(robot.x, robot.y);
+	for (int k = 0; k < 180; ++k)
+	{
+		const double beam = -M_PI / 2 + M_PI * k / 179.0;
+		const Eigen::Vector2d d(std::cos(robot.phi + beam), std::sin(robot.phi + beam));
+		double best = maxRange;
+		for (const auto& s : w)
+		{
+			const Eigen::Vector2d e = s.b - s.a, r = s.a - o;
+			const double den = d.x() * e.y() - d.y() * e.x();
+			if (std::abs(den) < 1e-12) continue;
+			const double t = (r.x() * e.y() - r.y() * e.x()) / den;
+			const double u = (r.x() * d.y() - r.y() * d.x()) / den;
+			if (t > 0.05 && u >= 0 && u <= 1) best = std::min(best, t);
+		}
+		if (best >= maxRange) continue;
+		const double r = best + noise(rng);
+		pts.emplace_back(r * std::cos(beam), r * std::sin(beam));
+	}
+	return pts;
+}
+
+// Patch of `n` scans along a path ending at `last` (straight, 0.15 m per scan), in the
+// frame of `last`.
+Points makePatch(const World& w, const TPose2D& last, int n, std::mt19937& rng,
+				 double maxRange = 8.0)
+{
+	Points patch;
+	for (int k = n - 1; k >= 0; --k)
+	{
+		const TPose2D robot = lrgc::compose(last, TPose2D(-0.15 * k, 0, 0.01 * k));
+		const TPose2D robotInPatch = lrgc::between(last, robot);
+		for (const auto& p : raycast(w, robot, rng, maxRange))
+			patch.push_back(lrgc::transformPoint(robotInPatch, p));
+	}
+	return patch;
+}
+
+double angleDiff(double a, double b)
+{
+	return std::abs(mrpt::math::wrapToPi(a - b));
+}
+
+void expectSameResult(const TCorrelationResult& bnb, const TCorrelationResult& ex,
+					  const TPatchCorrelatorParams& prm, int trial)
+{
+	EXPECT_EQ(bnb.patchInMap.x, ex.patchInMap.x) << "trial " << trial;
+	EXPECT_EQ(bnb.patchInMap.y, ex.patchInMap.y) << "trial " << trial;
+	EXPECT_EQ(bnb.patchInMap.phi, ex.patchInMap.phi) << "trial " << trial;
+	EXPECT_EQ(bnb.score, ex.score) << "trial " << trial;
+	EXPECT_TRUE(bnb.cov.isApprox(ex.cov)) << "trial " << trial;
+	ASSERT_GE(ex.clusterPeaks.size(), 1u);
+	// The exhaustive rival is exact; branch and bound finds it whenever it could fail the
+	// ambiguity filter, and reports inf otherwise.
+	const bool rivalMatters =
+		ex.clusterPeaks.size() > 1 &&
+		ex.clusterPeaks[1].score * prm.minAmbiguity >= ex.score * (1 - 1e-12);
+	if (rivalMatters)
+	{
+		ASSERT_EQ(bnb.clusterPeaks.size(), 2u) << "trial " << trial;
+		EXPECT_EQ(bnb.clusterPeaks[1].score, ex.clusterPeaks[1].score) << "trial " << trial;
+		EXPECT_EQ(bnb.clusterPeaks[1].patchInMap.x, ex.clusterPeaks[1].patchInMap.x);
+		EXPECT_EQ(bnb.clusterPeaks[1].patchInMap.y, ex.clusterPeaks[1].patchInMap.y);
+		EXPECT_EQ(bnb.clusterPeaks[1].patchInMap.phi, ex.clusterPeaks[1].patchInMap.phi);
+		EXPECT_EQ(bnb.ambiguity, ex.ambiguity) << "trial " << trial;
+	}
+	else
+		EXPECT_TRUE(std::isinf(bnb.ambiguity)) << "trial " << trial;
+	EXPECT_EQ(bnb.checkFilters(prm).rejection, ex.checkFilters(prm).rejection);
+}
+}  // namespace
+
+TEST(PatchCorrelator, BranchAndBoundEqualsExhaustiveAndRecoversThePose)
+{
+	std::mt19937 rng(2024);
+	std::uniform_real_distribution<double> u(-1, 1), inRoom(2.5, 9.5), ang(-M_PI, M_PI);
+	int accepted = 0;
+	for (int trial = 0; trial < 24; ++trial)
+	{
+		TPatchCorrelatorParams prm;
+		prm.minScore = trial % 3 == 0 ? 0.0 : prm.minScore;  // also the unpruned search
+		const CPatchCorrelator corr(prm);
+		const World w = randomWorld(rng, 12, 10);
+		const CCorrelationGrid map = corr.makeGrid(rasterise(w), 0.5);
+		const TPose2D truth(inRoom(rng), inRoom(rng), ang(rng));
+		const Points patch = makePatch(w, truth, 8, rng);
+		const TPose2D center(truth.x + 0.3 * u(rng), truth.y + 0.3 * u(rng),
+							 truth.phi + 0.05 * u(rng));
+		const auto bnb = corr.correlate(map, patch, center, 0.5, 0.1);
+		const auto ex = corr.correlateExhaustive(map, patch, center, 0.5, 0.1);
+		ASSERT_EQ(bnb.has_value(), ex.has_value()) << "trial " << trial;
+		ASSERT_TRUE(ex.has_value()) << "trial " << trial << ": the true pose is in the window";
+		expectSameResult(*bnb, *ex, prm, trial);
+		EXPECT_LT(bnb->posesScored, ex->posesScored) << "trial " << trial;
+		// Within about one cell and one heading step of the truth.
+		EXPECT_LE(std::abs(bnb->patchInMap.x - truth.x), 1.5 * prm.resolution) << trial;
+		EXPECT_LE(std::abs(bnb->patchInMap.y - truth.y), 1.5 * prm.resolution) << trial;
+		EXPECT_LE(angleDiff(bnb->patchInMap.phi, truth.phi), 1.5 * bnb->angularStep) << trial;
+		accepted += bnb->passesFilters(TPatchCorrelatorParams{});
+	}
+	// A cluttered room seen by 8 scans is a distinctive match: nearly all pass the filters.
+	EXPECT_GE(accepted, 22);
+}
+
+TEST(PatchCorrelator, PatchWithoutCounterpartFailsTheFilters)
+{
+	std::mt19937 rng(77);
+	std::uniform_real_distribution<double> inRoom(2.5, 6.5), ang(-M_PI, M_PI);
+	const TPatchCorrelatorParams prm;
+	const CPatchCorrelator corr(prm);
+	int rejected = 0;
+	const int trials = 10;
+	for (int trial = 0; trial < trials; ++trial)
+	{
+		const World mapWorld = randomWorld(rng, 12, 10);
+		const World otherWorld = randomWorld(rng, 9, 8);  // another room, other clutter
+		const CCorrelationGrid map = corr.makeGrid(rasterise(mapWorld), 0.5);
+		const TPose2D robot(inRoom(rng), inRoom(rng), ang(rng));
+		const Points patch = makePatch(otherWorld, robot, 8, rng);
+		const auto r = corr.correlate(map, patch, robot, 1.0, 0.2);
+		rejected += !r || !r->passesFilters(prm);
+		// The same search with no floor shows the best score really is low.
+		TPatchCorrelatorParams noFloor = prm;
+		noFloor.minScore = 0;
+		const auto best = CPatchCorrelator(noFloor).correlate(map, patch, robot, 1.0, 0.2);
+		ASSERT_TRUE(best.has_value());
+		EXPECT_LT(best->score, 0.9) << "trial " << trial;
+	}
+	EXPECT_EQ(rejected, trials);
+}
+
+namespace
+{
+// Corridor along x (walls at y = +-1) from -20 to 20 m; with `period` > 0, a 0.9 m door
+// every `period` metres in both walls, each with 0.4 m jambs.
+World corridor(double period)
+{
+	World w;
+	const double x0 = -20, x1 = 20, door = 0.9;
+	for (const double y : {-1.0, 1.0})
+	{
+		if (period <= 0)
+		{
+			w.push_back({{x0, y}, {x1, y}});
+			continue;
+		}
+		for (double x = x0; x < x1; x += period)
+		{
+			w.push_back({{x, y}, {x + period - door, y}});
+			const double s = y > 0 ? 1 : -1;
+			w.push_back({{x + period - door, y}, {x + period - door, y + 0.4 * s}});
+			w.push_back({{x + period, y}, {x + period, y + 0.4 * s}});
+		}
+	}
+	return w;
+}
+}  // namespace
+
+TEST(PatchCorrelator, RepeatedDoorsAreRejectedAsAmbiguous)
+{
+	std::mt19937 rng(5);
+	const TPatchCorrelatorParams prm;
+	const CPatchCorrelator corr(prm);
+	const World w = corridor(3.0);
+	const CCorrelationGrid map = corr.makeGrid(rasterise(w), 0.5);
+	const TPose2D truth(0.4, 0.1, 0.02);
+	const Points patch = makePatch(w, truth, 10, rng, 5.0);
+	// The window covers the copies of the patch 3 m before and after the truth.
+	const auto r = corr.correlate(map, patch, truth, 3.5, 0.05);
+	ASSERT_TRUE(r.has_value());
+	ASSERT_EQ(r->clusterPeaks.size(), 2u);
+	EXPECT_LT(r->ambiguity, 1.05);
+	const double shift = std::abs(r->clusterPeaks[1].patchInMap.x - r->patchInMap.x);
+	EXPECT_NEAR(shift, 3.0, 0.1) << "the rival is the next door";
+	const auto v = r->checkFilters(prm);
+	EXPECT_EQ(v.rejection, Reason::Ambiguous) << v.message();
+	// With a window too small to hold a copy, the same patch is unambiguous and accepted.
+	const auto local = corr.correlate(map, patch, truth, 1.0, 0.05);
+	ASSERT_TRUE(local.has_value());
+	EXPECT_TRUE(local->passesFilters(prm)) << local->checkFilters(prm).message();
+	EXPECT_LE(std::abs(local->patchInMap.x - truth.x), 1.5 * prm.resolution);
+}
+
+TEST(PatchCorrelator, FeaturelessCorridorIsRejectedForItsSpreadAlongTheAxis)
+{
+	std::mt19937 rng(6);
+	TPatchCorrelatorParams prm;
+	prm.clusterRadiusXY = 10;  // one cluster over the whole window: the variance decides
+	const CPatchCorrelator corr(prm);
+	const World w = corridor(0);
+	const CCorrelationGrid map = corr.makeGrid(rasterise(w), 0.5);
+	const TPose2D truth(0.4, 0.1, 0.0);
+	const Points patch = makePatch(w, truth, 10, rng, 5.0);
+	const auto r = corr.correlate(map, patch, truth, 1.0, 0.05);
+	ASSERT_TRUE(r.has_value());
+	EXPECT_GT(std::sqrt(r->cov(0, 0)), prm.maxStdXY) << "along the corridor";
+	EXPECT_LT(std::sqrt(r->cov(1, 1)), 0.05) << "across the corridor";
+	EXPECT_NEAR(r->patchInMap.y, truth.y, 1.5 * prm.resolution);
+	EXPECT_EQ(r->checkFilters(prm).rejection, Reason::SpreadXY);
+	// With the default cluster radius, poses further along score as well: ambiguous.
+	const auto d = CPatchCorrelator().correlate(map, patch, truth, 1.0, 0.05);
+	ASSERT_TRUE(d.has_value());
+	EXPECT_FALSE(d->passesFilters(TPatchCorrelatorParams{}));
+}
+
+TEST(PatchCorrelator, HeadingWindowAcrossPlusMinusPiAndFullCircle)
+{
+	std::mt19937 rng(9);
+	const TPatchCorrelatorParams prm;
+	const CPatchCorrelator corr(prm);
+	const World w = randomWorld(rng, 12, 10);
+	const CCorrelationGrid map = corr.makeGrid(rasterise(w), 0.5);
+	const TPose2D truth(6.1, 5.3, M_PI - 0.02);
+	const Points patch = makePatch(w, truth, 8, rng);
+	// Centre on the other side of the wrap: -pi + 0.03, i.e. 0.05 rad from the truth.
+	const auto r = corr.correlate(map, patch, TPose2D(6.0, 5.4, -M_PI + 0.03), 0.5, 0.1);
+	ASSERT_TRUE(r.has_value());
+	EXPECT_LE(angleDiff(r->patchInMap.phi, truth.phi), 1.5 * r->angularStep);
+	EXPECT_GT(r->patchInMap.phi, -M_PI);
+	EXPECT_LE(r->patchInMap.phi, M_PI);
+	EXPECT_TRUE(r->passesFilters(prm)) << r->checkFilters(prm).message();
+	// Whole circle from a heading guess that is off by 2.3 rad; exhaustive agrees.
+	const TPose2D far(6.1, 5.3, truth.phi + 2.3);
+	const auto bnb = corr.correlate(map, patch, far, 0.1, M_PI);
+	const auto ex = corr.correlateExhaustive(map, patch, far, 0.1, M_PI);
+	ASSERT_TRUE(bnb.has_value() && ex.has_value());
+	expectSameResult(*bnb, *ex, prm, -1);
+	EXPECT_LE(angleDiff(bnb->patchInMap.phi, truth.phi), 1.5 * bnb->angularStep);
+}
+
+TEST(PatchCorrelator, EmptyPatchAndBadWindow)
+{
+	const CPatchCorrelator corr;
+	const CCorrelationGrid map = corr.makeGrid({{0, 0}, {1, 1}}, 0.5);
+	EXPECT_FALSE(corr.correlate(map, {}, TPose2D(0, 0, 0), 1, 0.1).has_value());
+	const Points patch{{0.5, 0.5}};
+	EXPECT_THROW(corr.correlate(map, patch, TPose2D(0, 0, 0), -1, 0.1), std::exception);
+	EXPECT_THROW(corr.correlate(map, patch, TPose2D(0, std::nan(""), 0), 1, 0.1),
+				 std::exception);
+	EXPECT_THROW(corr.correlate(CCorrelationGrid{}, patch, TPose2D(0, 0, 0), 1, 0.1),
+				 std::exception);
+}

@@ -1,0 +1,129 @@
+/* CRevisitLinker: the end-of-run re-matching of revisited places. Keyframes every 0.3 m along
+ * a loop in the synthetic room world whose last leg drives over the first one again; the graph
+ * holds only the odometry chain, the poses at the truth plus a few cm. The linker must link
+ * the revisits (measured relative poses at the truth), leave recent keyframes and already
+ * linked places alone, and refuse a pair whose scans do not show the same place. */
+#include <gtest/gtest.h>
+#include <lrgc/map_builder/MapBuilderParams.h>
+#include <lrgc/loop_closing/RevisitLinker.h>
+#include <lrgc/common/se2.h>
+#include <mrpt/config/CConfigFileMemory.h>
+
+#include <cmath>
+#include <random>
+
+#include "synthetic_world.h"
+
+using namespace lrgc;
+using mrpt::math::TPose2D;
+
+namespace
+{
+struct TRevisitRun
+{
+	test::CSyntheticWorld world = test::makeRoomWorld(5, 4);
+	test::TTrajectory tr;
+	TKeyframes keyframes;
+	CPoseGraph graph;
+
+	TRevisitRun()
+	{
+		tr = test::makeTrajectory(
+			{{1.5, 3.5}, {5.5, 3.5}, {5.5, 5.8}, {1.2, 5.8}, {1.2, 3.0}, {4.5, 3.0}}, 0.3,
+			test::TOdometryNoise{}, 21);
+		std::mt19937 rng(4);
+		std::normal_distribution<double> noise(0.0, 1.0);
+		for (size_t k = 0; k < tr.truePoses.size(); ++k)
+		{
+			TKeyframe kf;
+			kf.scan = test::simulateScan(world, tr.truePoses[k], {}, rng);
+			kf.scanIndex = k;
+			keyframes.push_back(std::move(kf));
+			// A loop-closed map: a few cm and a fraction of a degree off the truth.
+			graph.addNode(compose(
+				tr.truePoses[k],
+				TPose2D(0.03 * noise(rng), 0.03 * noise(rng), 0.005 * noise(rng))));
+			if (k > 0)
+				graph.addLink(
+					{k - 1, k, between(tr.truePoses[k - 1], tr.truePoses[k]),
+					 Eigen::Matrix3d::Identity() * 1e4, LinkType::Odometry});
+		}
+	}
+};
+
+TRevisitLinkerParams testParams()
+{
+	TRevisitLinkerParams p;
+	p.min_index_gap = 10;  // the run has ~60 keyframes
+	p.stride = 1;
+	return p;
+}
+}  // namespace
+
+TEST(RevisitLinker, linksTheRevisitedLegAtTheTrueRelativePoses)
+{
+	TRevisitRun run;
+	const TLRGCParams defaults;
+	const CRevisitLinker linker(testParams(), defaults.matcher, defaults.loop.link_noise);
+	const size_t linksBefore = run.graph.numLinks();
+	const size_t added = linker.linkRevisits(run.graph, run.keyframes);
+	EXPECT_GE(added, 3U);
+	ASSERT_EQ(run.graph.numLinks(), linksBefore + added);
+	for (size_t id = linksBefore; id < run.graph.numLinks(); ++id)
+	{
+		const TLink& l = run.graph.link(id);
+		EXPECT_EQ(l.type, LinkType::LoopClosure);
+		EXPECT_GT(l.to, l.from + 10) << "a revisit, not the local window";
+		const TPose2D truth = between(run.tr.truePoses[l.from], run.tr.truePoses[l.to]);
+		EXPECT_LT(translationNorm(between(truth, l.toInFrom)), 0.02) << l.from << " -> " << l.to;
+		EXPECT_LT(std::abs(between(truth, l.toInFrom).phi), mrpt::DEG2RAD(0.3));
+		EXPECT_LT(translationNorm(truth), testParams().radius + 0.2);
+	}
+	// A second sweep finds every revisit linked already.
+	EXPECT_EQ(linker.linkRevisits(run.graph, run.keyframes), 0U);
+}
+
+TEST(RevisitLinker, recentKeyframesAreNotRevisits)
+{
+	TRevisitRun run;
+	const TLRGCParams defaults;
+	TRevisitLinkerParams p = testParams();
+	p.min_index_gap = run.graph.numNodes();  // everything is "recent"
+	const CRevisitLinker linker(p, defaults.matcher, defaults.loop.link_noise);
+	EXPECT_EQ(linker.linkRevisits(run.graph, run.keyframes), 0U);
+}
+
+TEST(RevisitLinker, scansOfAnotherPlaceAreNotLinked)
+{
+	TRevisitRun run;
+	const TLRGCParams defaults;
+	// The scans of the revisited leg replaced by scans taken 2 m away (rotated 90 deg): the
+	// map says "same place", the scans say otherwise.
+	std::mt19937 rng(9);
+	for (size_t k = run.graph.numNodes() / 2; k < run.graph.numNodes(); ++k)
+		run.keyframes[k].scan = test::simulateScan(
+			run.world, compose(run.tr.truePoses[k], TPose2D(2.0, 0.0, M_PI / 2)), {}, rng);
+	const CRevisitLinker linker(testParams(), defaults.matcher, defaults.loop.link_noise);
+	EXPECT_EQ(linker.linkRevisits(run.graph, run.keyframes), 0U);
+}
+
+TEST(RevisitLinker, parametersRoundTripAndUnknownKeysAreRejected)
+{
+	TRevisitLinkerParams p;
+	p.radius = 1.7;
+	p.stride = 3;
+	p.max_heading = mrpt::DEG2RAD(30.0);
+	mrpt::config::CConfigFileMemory saved;
+	p.saveToConfigFile(saved, "RevisitLinker");
+	// Through the text, as a user's .ini (MRPT 2.5.8's in-memory config keeps padded keys).
+	mrpt::config::CConfigFileMemory mem(saved.getContent());
+	TRevisitLinkerParams q;
+	q.loadFromConfigFile(mem, "RevisitLinker");
+	EXPECT_DOUBLE_EQ(q.radius, 1.7);
+	EXPECT_EQ(q.stride, 3U);
+	EXPECT_NEAR(q.max_heading, mrpt::DEG2RAD(30.0), 1e-12);
+	mrpt::config::CConfigFileMemory bad("[RevisitLinker]\nradious = 2\n");
+	EXPECT_THROW(q.loadFromConfigFile(bad, "RevisitLinker"), std::exception);
+	mrpt::config::CConfigFileMemory zero("[RevisitLinker]\nstride = 0\n");
+	EXPECT_THROW(q.loadFromConfigFile(zero, "RevisitLinker"), std::exception);
+}

@@ -1,0 +1,122 @@
+/* Dijkstra propagation of first-order relative pose covariance over the pose graph (see
+ * UncertaintyPropagation.h for the method and what it approximates). */
+#include <lrgc/loop_closing/UncertaintyPropagation.h>
+
+#include <mrpt/core/exceptions.h>
+
+#include <Eigen/Cholesky>
+#include <Eigen/LU>
+#include <cmath>
+#include <functional>
+#include <queue>
+#include <limits>
+
+#include <lrgc/common/se2.h>
+
+namespace lrgc
+{
+namespace
+{
+struct TLabel
+{
+	Eigen::Matrix3d cov;
+	double key = std::numeric_limits<double>::infinity();  // trace of the xy block [m^2]
+	bool settled = false;
+};
+
+double positionVariance(const Eigen::Matrix3d& c)
+{
+	return c(0, 0) + c(1, 1);
+}
+
+/** Covariance of (source <- v) = (source <- u) (+) (u <- v), first order. */
+Eigen::Matrix3d compound(const TPose2D& uInSource, const Eigen::Matrix3d& covU,
+						 const TPose2D& vInU, const Eigen::Matrix3d& covUV)
+{
+	const double c = std::cos(uInSource.phi), s = std::sin(uInSource.phi);
+	Eigen::Matrix3d J1 = Eigen::Matrix3d::Identity(), J2 = Eigen::Matrix3d::Identity();
+	J1(0, 2) = -(s * vInU.x + c * vInU.y);
+	J1(1, 2) = c * vInU.x - s * vInU.y;
+	J2(0, 0) = c, J2(0, 1) = -s, J2(1, 0) = s, J2(1, 1) = c;
+	return J1 * covU * J1.transpose() + J2 * covUV * J2.transpose();
+}
+
+/** Covariance of Z^-1 given that of Z = (x, y, phi), first order at Z. */
+Eigen::Matrix3d inverseCovariance(const TPose2D& z, const Eigen::Matrix3d& covZ)
+{
+	const double c = std::cos(z.phi), s = std::sin(z.phi);
+	Eigen::Matrix3d J;
+	J << -c, -s, s * z.x - c * z.y,  //
+		s, -c, c * z.x + s * z.y,    //
+		0, 0, -1;
+	return J * covZ * J.transpose();
+}
+}  // namespace
+
+std::vector<TRelativeUncertainty> propagateUncertainty(const CPoseGraph& g, size_t source,
+													   const TUncertaintyLimits& limits)
+{
+	if (source >= g.numNodes())
+		THROW_EXCEPTION_FMT(
+			"propagateUncertainty: source node %zu out of range (graph has %zu nodes)", source,
+			g.numNodes());
+	ASSERT_(limits.maxPositionStd >= 0);
+	const double maxVar = limits.maxPositionStd * limits.maxPositionStd;
+	const TPose2D& sourceInMap = g.pose(source);
+
+	// Labels indexed by node: a flat array is much cheaper than a hash map when the search
+	// reaches most of the graph, as it does once loops have shrunk the uncertainty.
+	std::vector<TLabel> labels(g.numNodes());
+	using QItem = std::pair<double, size_t>;
+	std::priority_queue<QItem, std::vector<QItem>, std::greater<QItem>> queue;
+	labels[source] = {Eigen::Matrix3d::Zero(), 0.0};
+	queue.push({0.0, source});
+
+	std::vector<TRelativeUncertainty> out;
+	while (!queue.empty())
+	{
+		const auto [key, u] = queue.top();
+		queue.pop();
+		TLabel& lu = labels[u];
+		if (lu.settled || key > lu.key) continue;  // stale entry
+		lu.settled = true;
+		const TPose2D uInSource = between(sourceInMap, g.pose(u));
+		out.push_back({u, uInSource, lu.cov});
+		if (limits.maxNodes && out.size() >= limits.maxNodes) break;
+		if (lu.key > maxVar) continue;  // returned, not expanded
+		for (size_t id : g.linksOf(u))
+		{
+			if (!g.isLinkEnabled(id)) continue;
+			const TLink& l = g.link(id);
+			const size_t v = l.from == u ? l.to : l.from;
+			if (labels[v].settled) continue;
+			const Eigen::Matrix3d covLink = l.information.inverse();
+			// Linearise at the current estimate of the link's relative pose.
+			const TPose2D vInU = between(g.pose(u), g.pose(v));
+			const Eigen::Matrix3d covUV =
+				l.from == u ? covLink
+							: inverseCovariance(between(g.pose(v), g.pose(u)), covLink);
+			const Eigen::Matrix3d covV = compound(uInSource, lu.cov, vInU, covUV);
+			const double keyV = positionVariance(covV);
+			TLabel& lv = labels[v];
+			if (keyV >= lv.key) continue;  // unreached nodes have key +inf
+			lv.cov = covV;
+			lv.key = keyV;
+			queue.push({keyV, v});
+		}
+	}
+	return out;
+}
+
+double positionMahalanobis2(const TRelativeUncertainty& r)
+{
+	const Eigen::Vector2d d(r.nodeInSource.x, r.nodeInSource.y);
+	if (d.squaredNorm() == 0) return 0.0;
+	const Eigen::LDLT<Eigen::Matrix2d> ldlt(r.cov.topLeftCorner<2, 2>());
+	if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().array() > 0).all())
+		THROW_EXCEPTION_FMT("positionMahalanobis2: position covariance of node %zu is singular",
+							r.node);
+	return d.dot(ldlt.solve(d));
+}
+
+}  // namespace lrgc

@@ -1,0 +1,60 @@
+/* Pose uncertainty relative to a node, from the graph (LRGC paper section 2.4: loop closing
+ * searches only old poses within a Mahalanobis distance of the current estimate, and that
+ * search area grows with the robot's position uncertainty and shrinks after a loop closes).
+ *
+ * Method: Dijkstra from `source` over the enabled links, each link an independent Gaussian
+ * relative measurement with covariance Omega^-1. Along a path the relative pose is composed
+ * and its covariance propagated to first order (Smith, Self & Cheeseman compounding):
+ *     T_sv = T_su (+) T_uv,   C_sv = J1 C_su J1^T + J2 C_uv J2^T
+ *     J1 = [1 0 -(s x_uv + c y_uv); 0 1 (c x_uv - s y_uv); 0 0 1],  J2 = [R(phi_su) 0; 0 1]
+ * (a link walked against its direction contributes the inverse pose, C = Ji C_l Ji^T).
+ * The Jacobians are evaluated at the graph's current poses, so `nodeInSource` equals
+ * between(pose(source), pose(node)) exactly. The priority is the position variance
+ * trace(C_xy) [m^2]: each node keeps the covariance of the single most certain path found.
+ *
+ * What it approximates: the marginal covariance of X_source^-1 X_node under the linearised
+ * graph with the source fixed. It ignores the information of every other path (parallel
+ * paths, loops not on the chosen path) and correlations between them, so the result is an
+ * over-estimate (conservative: search areas are too large rather than too small). On a tree
+ * (no loops) it is exact to first order. Cost O((V + E) log V) for the V nodes and E links it
+ * reaches, independent of the graph size when bounded by `maxNodes` or `maxPositionStd`.
+ */
+#pragma once
+
+#include <mrpt/math/TPose2D.h>
+
+#include <Eigen/Core>
+#include <limits>
+#include <vector>
+
+#include <lrgc/pose_graph/PoseGraph.h>
+
+namespace lrgc
+{
+struct TRelativeUncertainty
+{
+	size_t node = 0;
+	mrpt::math::TPose2D nodeInSource;  //!< (source <- node) at the current estimate
+	Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();  //!< of nodeInSource, (x, y, phi) [m, rad]
+};
+
+struct TUncertaintyLimits
+{
+	/** Stop after this many nodes (source included) have been reached (0: no limit). */
+	size_t maxNodes = 0;
+	/** Do not expand beyond a node whose position std sqrt(trace C_xy) exceeds this [m]
+	 * (the node itself is returned). Bounds the search to where a loop could still be. */
+	double maxPositionStd = std::numeric_limits<double>::infinity();
+};
+
+/** Returns the source (zero covariance) and every reached node, in order of increasing
+ * position variance. Throws if `source` is out of range. */
+std::vector<TRelativeUncertainty> propagateUncertainty(const CPoseGraph& g, size_t source,
+													   const TUncertaintyLimits& limits = {});
+
+/** Squared Mahalanobis distance of the node's position from the source's, using the xy block
+ * of `cov`: (x, y) C_xy^-1 (x, y)^T [-], the loop-closing gate of paper section 2.4. A zero
+ * offset gives 0; throws if C_xy is singular while the offset is not zero. */
+double positionMahalanobis2(const TRelativeUncertainty& r);
+
+}  // namespace lrgc

@@ -1,0 +1,145 @@
+/* propagateUncertainty: analytic chain covariance, loops shrinking uncertainty, limits, and
+ * the Mahalanobis gate. */
+#include <gtest/gtest.h>
+#include <lrgc/loop_closing/UncertaintyPropagation.h>
+#include <lrgc/common/se2.h>
+
+#include <Eigen/LU>
+#include <algorithm>
+#include <cmath>
+
+using namespace lrgc;
+
+namespace
+{
+constexpr double kStep = 0.5, kSx = 0.02, kSy = 0.03, kSphi = 0.01;  // [m], [m], [m], [rad]
+
+/** Straight chain along x; `reversed` stores every link backwards (to -> from). */
+CPoseGraph chain(size_t n, bool reversed)
+{
+	CPoseGraph g;
+	const Eigen::Matrix3d info =
+		Eigen::Vector3d(1 / (kSx * kSx), 1 / (kSy * kSy), 1 / (kSphi * kSphi)).asDiagonal();
+	for (size_t i = 0; i < n; ++i) g.addNode({kStep * double(i), 0, 0});
+	for (size_t i = 0; i + 1 < n; ++i)
+	{
+		if (!reversed)
+			g.addLink({i, i + 1, {kStep, 0, 0}, info, LinkType::Odometry});
+		else
+		{
+			// The covariance of (i+1 <- i) that makes (i <- i+1) have diag(kSx, kSy, kSphi)
+			// to first order: C' = J C J^T with J the Jacobian of the inverse at (kStep,0,0).
+			Eigen::Matrix3d J;
+			J << -1, 0, 0, 0, -1, kStep, 0, 0, -1;
+			const Eigen::Matrix3d C =
+				Eigen::Vector3d(kSx * kSx, kSy * kSy, kSphi * kSphi).asDiagonal();
+			const Eigen::Matrix3d Cinv = J * C * J.transpose();
+			g.addLink({i + 1, i, {-kStep, 0, 0}, Cinv.inverse(), LinkType::Odometry});
+		}
+	}
+	return g;
+}
+
+/** First-order covariance of pose n of a straight chain of n steps (kStep, 0, 0), each with
+ * independent noise diag(kSx^2, kSy^2, kSphi^2):
+ *   y_n = sum_m (uy_m + kStep theta_{m-1}),  theta_m = sum_{k<=m} uphi_k, so
+ *   var x = n kSx^2,  var phi = n kSphi^2,
+ *   var y = n kSy^2 + kStep^2 kSphi^2 sum_{k=1}^{n-1} (n-k)^2 = ... (n-1) n (2n-1) / 6,
+ *   cov(y, phi) = kStep kSphi^2 sum_{k=1}^{n-1} (n-k) = kStep kSphi^2 n (n-1) / 2. */
+Eigen::Matrix3d analyticChainCov(double n)
+{
+	Eigen::Matrix3d C = Eigen::Matrix3d::Zero();
+	C(0, 0) = n * kSx * kSx;
+	C(1, 1) = n * kSy * kSy + kStep * kStep * kSphi * kSphi * (n - 1) * n * (2 * n - 1) / 6;
+	C(2, 2) = n * kSphi * kSphi;
+	C(1, 2) = C(2, 1) = kStep * kSphi * kSphi * n * (n - 1) / 2;
+	return C;
+}
+}  // namespace
+
+TEST(UncertaintyPropagation, ChainEqualsTheAnalyticSum)
+{
+	for (bool reversed : {false, true})
+	{
+		const CPoseGraph g = chain(30, reversed);
+		const auto res = propagateUncertainty(g, 0);
+		ASSERT_EQ(res.size(), 30u);
+		EXPECT_EQ(res[0].node, 0u);
+		EXPECT_EQ(res[0].cov, Eigen::Matrix3d::Zero());
+		for (const auto& r : res)
+		{
+			const Eigen::Matrix3d expected = analyticChainCov(double(r.node));
+			EXPECT_LT((r.cov - expected).cwiseAbs().maxCoeff(), 1e-12 + 1e-9 * expected.norm())
+				<< "node " << r.node << (reversed ? " reversed" : "");
+			EXPECT_NEAR(r.nodeInSource.x, kStep * double(r.node), 1e-12);
+		}
+		for (size_t k = 1; k < res.size(); ++k)  // order of increasing position variance
+			EXPECT_GE(res[k].cov(0, 0) + res[k].cov(1, 1),
+					  res[k - 1].cov(0, 0) + res[k - 1].cov(1, 1));
+	}
+}
+
+TEST(UncertaintyPropagation, FromTheEndOfTheChainTheLeverArmsShift)
+{
+	// Seen from the last node (m = n - 1 steps away from node 0): the same variances of x
+	// and phi. The heading noise of link k -> k+1 turns the pose of node k+1, so its lever
+	// arm is (m - k - 1) steps forward but (k + 1) steps backward:
+	//   var y = m kSy^2 + kStep^2 kSphi^2 sum_{j=1}^{m} j^2 = ... m (m+1) (2m+1) / 6.
+	const size_t n = 20;
+	const double m = double(n - 1);
+	const CPoseGraph g = chain(n, false);
+	const auto res = propagateUncertainty(g, n - 1);
+	const auto it = std::find_if(res.begin(), res.end(), [](auto& r) { return r.node == 0; });
+	ASSERT_NE(it, res.end());
+	const Eigen::Matrix3d fwd = analyticChainCov(double(n - 1));
+	EXPECT_NEAR(it->cov(0, 0), fwd(0, 0), 1e-12);
+	EXPECT_NEAR(it->cov(2, 2), fwd(2, 2), 1e-12);
+	EXPECT_NEAR(it->cov(1, 1),
+				m * kSy * kSy + kStep * kStep * kSphi * kSphi * m * (m + 1) * (2 * m + 1) / 6,
+				1e-12);
+	EXPECT_GT(it->cov(1, 1), fwd(1, 1));
+	EXPECT_NEAR(it->nodeInSource.x, -kStep * double(n - 1), 1e-12);
+}
+
+TEST(UncertaintyPropagation, ALoopClosureShortensTheMostCertainPath)
+{
+	CPoseGraph g = chain(40, false);
+	const double before = propagateUncertainty(g, 0).back().cov(1, 1);
+	const Eigen::Matrix3d info = Eigen::Vector3d(2500, 2500, 10000).asDiagonal();
+	g.addLink({0, 39, {kStep * 39, 0, 0}, info, LinkType::LoopClosure});
+	const auto res = propagateUncertainty(g, 0);
+	const auto it = std::find_if(res.begin(), res.end(), [](auto& r) { return r.node == 39; });
+	ASSERT_NE(it, res.end());
+	EXPECT_NEAR(it->cov(0, 0), 1.0 / 2500, 1e-12);  // straight through the loop link
+	EXPECT_LT(it->cov(1, 1), 0.01 * before);
+	// Disabled again, it no longer counts.
+	g.setLinkEnabled(g.numLinks() - 1, false);
+	EXPECT_NEAR(propagateUncertainty(g, 0).back().cov(1, 1), before, 1e-15);
+}
+
+TEST(UncertaintyPropagation, LimitsBoundTheSearch)
+{
+	const CPoseGraph g = chain(100, false);
+	TUncertaintyLimits lim;
+	lim.maxNodes = 7;
+	EXPECT_EQ(propagateUncertainty(g, 50, lim).size(), 7u);
+	lim = {};
+	lim.maxPositionStd = std::sqrt(analyticChainCov(10)(0, 0) + analyticChainCov(10)(1, 1));
+	const auto res = propagateUncertainty(g, 0, lim);
+	// Nodes 0..10 are within the bound; node 11 is reached from 10 but not expanded.
+	EXPECT_EQ(res.size(), 12u);
+	EXPECT_THROW(propagateUncertainty(g, 100), std::exception);
+}
+
+TEST(UncertaintyPropagation, MahalanobisGateUsesThePositionCovariance)
+{
+	TRelativeUncertainty r;
+	r.nodeInSource = {3, 4, 0.2};
+	r.cov = Eigen::Vector3d(4, 16, 1).asDiagonal();
+	EXPECT_NEAR(positionMahalanobis2(r), 9.0 / 4 + 16.0 / 16, 1e-12);
+	r.nodeInSource = {0, 0, 1};
+	EXPECT_EQ(positionMahalanobis2(r), 0.0);
+	r.nodeInSource = {1, 0, 0};
+	r.cov.setZero();
+	EXPECT_THROW(positionMahalanobis2(r), std::exception);
+}

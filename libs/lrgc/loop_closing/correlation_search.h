@@ -1,0 +1,78 @@
+/* Internal to lrgc (not installed): the two searches over the correlation pose grid.
+ *
+ * A pose of the grid is (a, i, j): heading theta_a, translation t_c + (i, j) res. Point k of
+ * the patch, rotated by theta_a and moved by t_c, falls in cell base_ak; at (a, i, j) it
+ * falls in base_ak + (i, j). Integer score S(a, i, j) = sum_k P_0(base_ak + (i, j)) in
+ * [0, 255 N]. Both searches return, among poses with S >= floor outside an optional
+ * exclusion zone, the one with the largest S and, among equal S, the smallest linear index
+ * (a, i, j) -- so the branch and bound result is bit-identical to the exhaustive one.
+ */
+#pragma once
+
+#include <lrgc/loop_closing/CorrelationGrid.h>
+
+#include <cstdint>
+#include <vector>
+
+namespace lrgc::detail
+{
+struct TPoseGridProblem
+{
+	const CCorrelationGrid* grid = nullptr;
+	int numPoints = 0;  //!< N
+	int halfCells = 0;  //!< W: i, j in [-W, W]
+	int numAngles = 0;
+	/** base cells, numAngles x N pairs (cx, cy), angle-major. */
+	std::vector<int32_t> baseCells;
+	/** Filled by prepare(): per angle the bounding box of its base cells (minX, maxX, minY,
+	 * maxY), and the row-major offsets cy * stride + cx of every base cell (the same at all
+	 * levels), so that blocks whose lookups all fall inside the grid need no bound checks. */
+	std::vector<int32_t> bbox;
+	std::vector<int64_t> linear;
+	void prepare();
+
+	int side() const { return 2 * halfCells + 1; }
+	int64_t linearIndex(int a, int i, int j) const
+	{
+		return (int64_t(a) * side() + (i + halfCells)) * side() + (j + halfCells);
+	}
+};
+
+/** Poses excluded from a search: those with inAngle[a] and (i-ci)^2 + (j-cj)^2 <= r2. */
+struct TExclusionZone
+{
+	std::vector<bool> inAngle;  //!< empty = no exclusion
+	int ci = 0, cj = 0;
+	double r2 = -1;  //!< squared radius [cells^2]
+
+	bool excludes(int a, int i, int j) const
+	{
+		if (inAngle.empty() || !inAngle[size_t(a)]) return false;
+		const double di = i - ci, dj = j - cj;
+		return di * di + dj * dj <= r2;
+	}
+	/** True if every pose of the block [i0, i1] x [j0, j1] at angle a is excluded. */
+	bool excludesBlock(int a, int i0, int i1, int j0, int j1) const
+	{
+		return excludes(a, i0, j0) && excludes(a, i0, j1) && excludes(a, i1, j0) &&
+			   excludes(a, i1, j1);  // the disc is convex
+	}
+};
+
+struct TSearchHit
+{
+	bool found = false;
+	int a = 0, i = 0, j = 0;
+	int64_t score = 0;       //!< S in [0, 255 N]
+	size_t evaluations = 0;  //!< scores + bounds computed
+};
+
+/** S(a, i, j) at pyramid level h (h = 0: the exact score). */
+int64_t scoreAt(const TPoseGridProblem& pb, int level, int a, int i, int j);
+
+TSearchHit searchExhaustive(const TPoseGridProblem& pb, int64_t floorScore,
+							const TExclusionZone& zone);
+TSearchHit searchBranchAndBound(const TPoseGridProblem& pb, int64_t floorScore,
+								const TExclusionZone& zone);
+
+}  // namespace lrgc::detail

@@ -1,0 +1,171 @@
+/* CMetricMapBuilderLRGC: initialisation, the current estimate, and what the map builder
+ * hands out (CSimpleMap of keyframes, occupancy grid, trajectory). */
+#include <lrgc/map_builder/CMetricMapBuilderLRGC.h>
+#include <lrgc/pose_graph/PoseGraphOptimizer.h>
+#include <lrgc/common/se2.h>
+
+#include <mrpt/img/CImage.h>
+#include <mrpt/maps/CSimpleMap.h>
+#include <mrpt/poses/CPose3D.h>
+#include <mrpt/poses/CPose3DPDFGaussian.h>
+#include <mrpt/poses/CPosePDF.h>
+
+namespace lrgc
+{
+using mrpt::math::TPose2D;
+
+namespace
+{
+mrpt::poses::CPose3DPDFGaussian::Ptr gaussian3D(const TPose2D& p, const Eigen::Matrix3d& cov2D)
+{
+	auto pdf = mrpt::poses::CPose3DPDFGaussian::Create();
+	pdf->mean = mrpt::poses::CPose3D(p.x, p.y, 0, p.phi, 0, 0);
+	pdf->cov.setZero();
+	// 2D (x, y, phi) into 3D (x, y, z, yaw, pitch, roll).
+	const int idx[3] = {0, 1, 3};
+	for (int r = 0; r < 3; ++r)
+		for (int c = 0; c < 3; ++c) pdf->cov(idx[r], idx[c]) = cov2D(r, c);
+	return pdf;
+}
+}  // namespace
+
+void CMetricMapBuilderLRGC::initialize(
+	const mrpt::maps::CSimpleMap& initialMap, const mrpt::poses::CPosePDF* x0)
+{
+	m_predictor = CMotionPredictor(m_params.motion);
+	m_local = std::make_unique<CLocalRegistration>(
+		m_params.local, m_params.matcher, m_params.optimizer);
+	m_loopCloser.reset();
+	if (m_params.builder.loop_closing)
+		m_loopCloser = std::make_unique<CLoopCloser>(
+			m_params.loop, m_params.correlator, m_params.matcher, m_params.optimizer,
+			m_params.loop.link_noise);
+	m_graph = CPoseGraph();
+	m_keyframes.clear();
+	m_scans.clear();
+	m_stats = {};
+	m_laserLabel.clear();
+	m_lastScanInMap = TPose2D(0, 0, 0);
+	m_lastScanCov.setZero();
+	m_nextScanPrior.reset();
+	m_motionSinceKeyframe = TPose2D(0, 0, 0);
+	m_odometryTrustedSinceKeyframe = true;
+	m_metricMapDirty = true;
+
+	// Continue an existing map: its keyframes become nodes at their stored poses, each
+	// linked to the previous one by the stored relative pose (tight: the map is given).
+	for (size_t i = 0; i < initialMap.size(); ++i)
+	{
+		const auto [posePDF, sf] = initialMap.get(i);
+		if (!posePDF || !sf) continue;
+		mrpt::obs::CObservation2DRangeScan::Ptr laser;
+		for (const auto& o : *sf)
+			if ((laser = std::dynamic_pointer_cast<mrpt::obs::CObservation2DRangeScan>(o))) break;
+		if (!laser) continue;
+		const auto mean = posePDF->getMeanVal();
+		const TPose2D pose(mean.x(), mean.y(), mean.yaw());
+		TScan2D scan = scanFromObservation(*laser);
+		if (scan.points.size() < m_params.builder.min_scan_points) continue;
+		auto sfCopy = std::const_pointer_cast<mrpt::obs::CSensoryFrame>(sf);
+		if (m_laserLabel.empty()) m_laserLabel = laser->sensorLabel;
+		const size_t node = addKeyframe(laser, sfCopy, std::move(scan), pose, m_stats.scans++);
+		m_scans.push_back({laser->timestamp, node, TPose2D(0, 0, 0)});
+		if (node > 0)
+		{
+			const Eigen::Vector3d sigma(0.01, 0.01, mrpt::DEG2RAD(0.5));
+			m_graph.addLink(
+				{node - 1, node, between(m_graph.pose(node - 1), pose),
+				 sigma.cwiseProduct(sigma).cwiseInverse().asDiagonal(), LinkType::Odometry});
+			++m_stats.odometryLinks;
+		}
+		m_lastScanInMap = pose;
+	}
+	if (x0)
+	{
+		const auto mean = x0->getMeanVal();
+		m_nextScanPrior = TPose2D(mean.x(), mean.y(), mean.phi());
+	}
+	else if (m_graph.numNodes() > 0)
+		m_nextScanPrior = m_lastScanInMap;
+}
+
+mrpt::poses::CPose3DPDF::Ptr CMetricMapBuilderLRGC::getCurrentPoseEstimation() const
+{
+	return gaussian3D(m_lastScanInMap, m_lastScanCov);
+}
+
+void CMetricMapBuilderLRGC::getCurrentlyBuiltMap(mrpt::maps::CSimpleMap& out_map) const
+{
+	out_map.clear();
+	for (size_t i = 0; i < m_keyframes.size(); ++i)
+		out_map.insert(gaussian3D(m_graph.pose(i), Eigen::Matrix3d::Zero()), m_keyframes[i].observations);
+}
+
+unsigned int CMetricMapBuilderLRGC::getCurrentlyBuiltMapSize()
+{
+	return static_cast<unsigned int>(m_keyframes.size());
+}
+
+mrpt::maps::COccupancyGridMap2D::Ptr CMetricMapBuilderLRGC::buildOccupancyGrid() const
+{
+	const double res = m_params.builder.grid_resolution;
+	auto grid = mrpt::maps::COccupancyGridMap2D::Create(-10, 10, -10, 10, res);
+	// Rays beyond 30 m add little and cost much (MRPT's default is 15 m).
+	grid->insertionOptions.maxDistanceInsertion = 30;
+	for (size_t i = 0; i < m_keyframes.size(); ++i)
+	{
+		const TPose2D p = m_graph.pose(i);
+		const mrpt::poses::CPose3D robotInMap(p.x, p.y, 0, p.phi, 0, 0);
+		grid->insertObservation(*m_keyframes[i].laser, robotInMap);
+	}
+	return grid;
+}
+
+const mrpt::maps::CMultiMetricMap* CMetricMapBuilderLRGC::getCurrentlyBuiltMetricMap() const
+{
+	if (!m_metricMap) m_metricMap = std::make_unique<mrpt::maps::CMultiMetricMap>();
+	if (m_metricMapDirty)
+	{
+		m_metricMap->maps.clear();
+		m_metricMap->maps.push_back(buildOccupancyGrid());
+		m_metricMapDirty = false;
+	}
+	return m_metricMap.get();
+}
+
+void CMetricMapBuilderLRGC::saveCurrentEstimationToImage(const std::string& file, bool)
+{
+	if (!buildOccupancyGrid()->saveAsBitmapFile(file))
+		THROW_EXCEPTION_FMT("cannot write image '%s'", file.c_str());
+}
+
+void CMetricMapBuilderLRGC::finish()
+{
+	if (!m_params.builder.final_optimization || m_graph.numNodes() < 2) return;
+	if (m_loopCloser && m_params.revisits.enabled)
+	{
+		const CRevisitLinker linker(m_params.revisits, m_params.matcher, m_params.loop.link_noise);
+		const size_t added = linker.linkRevisits(m_graph, m_keyframes);
+		m_stats.loopClosureLinks += added;
+		m_stats.revisitLinks = added;
+		MRPT_LOG_INFO_FMT("end of run: %zu revisit links re-matched", added);
+	}
+	const auto report = CPoseGraphOptimizer(m_params.optimizer).optimize(m_graph, 0);
+	MRPT_LOG_INFO_FMT(
+		"final optimisation: %zu nodes, %d iterations, chi2 %.3g -> %.3g", m_graph.numNodes(),
+		report.iterations, report.initialChi2, report.finalChi2);
+	m_lastScanInMap = m_scans.empty()
+		? m_lastScanInMap
+		: compose(m_graph.pose(m_scans.back().node), m_scans.back().robotInNode);
+	m_metricMapDirty = true;
+}
+
+TTrajectory CMetricMapBuilderLRGC::trajectory() const
+{
+	TTrajectory t;
+	t.reserve(m_scans.size());
+	for (const auto& s : m_scans) t.push_back({s.timestamp, compose(m_graph.pose(s.node), s.robotInNode)});
+	return t;
+}
+
+}  // namespace lrgc

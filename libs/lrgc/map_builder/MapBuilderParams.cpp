@@ -1,0 +1,104 @@
+#include <lrgc/map_builder/MapBuilderParams.h>
+
+#include <lrgc/common/params_io.h>
+
+#include <mrpt/config/CConfigFileBase.h>
+
+#include <set>
+#include <utility>
+
+namespace lrgc
+{
+void TMapBuilderParams::loadFromConfigFile(
+	const mrpt::config::CConfigFileBase& c, const std::string& s)
+{
+	rejectUnknownKeys(TMapBuilderParams(), c, s);
+	keyframe_distance = c.read_double(s, "keyframe_distance", keyframe_distance);
+	keyframe_angle =
+		mrpt::DEG2RAD(c.read_double(s, "keyframe_angle_deg", mrpt::RAD2DEG(keyframe_angle)));
+	min_scan_points = c.read_uint64_t(s, "min_scan_points", min_scan_points);
+	grid_resolution = c.read_double(s, "grid_resolution", grid_resolution);
+	loop_closing = c.read_bool(s, "loop_closing", loop_closing);
+	final_optimization = c.read_bool(s, "final_optimization", final_optimization);
+	scan_sweep_time = c.read_double(s, "scan_sweep_time", scan_sweep_time);
+	requireParam(
+		scan_sweep_time >= 0 && scan_sweep_time < 1, s, "scan_sweep_time", "must be in [0, 1) s");
+	requireParam(keyframe_distance > 0, s, "keyframe_distance", "must be > 0");
+	requireParam(keyframe_angle > 0, s, "keyframe_angle_deg", "must be > 0");
+	requireParam(min_scan_points >= 3, s, "min_scan_points", "must be >= 3");
+	requireParam(
+		grid_resolution >= 0.005 && grid_resolution <= 1, s, "grid_resolution",
+		"must be in [0.005, 1] m");
+}
+
+void TMapBuilderParams::saveToConfigFile(
+	mrpt::config::CConfigFileBase& c, const std::string& s) const
+{
+	const int np = mrpt::config::MRPT_SAVE_NAME_PADDING(), vp = mrpt::config::MRPT_SAVE_VALUE_PADDING();
+	c.write(s, "keyframe_distance", keyframe_distance, np, vp, "[m] A scan becomes a keyframe (graph node) after this much travel");
+	c.write(s, "keyframe_angle_deg", mrpt::RAD2DEG(keyframe_angle), np, vp, "[deg] ... or after this much turn");
+	c.write(s, "min_scan_points", uint64_t(min_scan_points), np, vp, "Scans with fewer valid returns are skipped (with a warning)");
+	c.write(s, "grid_resolution", grid_resolution, np, vp, "[m] Cell size of the exported occupancy grid map");
+	c.write(s, "loop_closing", loop_closing, np, vp, "Global correlation and loop closing (false: local registration only)");
+	c.write(s, "final_optimization", final_optimization, np, vp, "Optimise the whole graph once more at the end of the run");
+	c.write(s, "scan_sweep_time", scan_sweep_time, np, vp, "[s] Laser's first beam to last (SICK LMS 2xx: 0.0067): scans are de-skewed by the motion over it; 0: off");
+}
+
+namespace
+{
+/** Every stage's section with its parameters, in the order they are saved: the one list
+ * that load, save and sectionNames() walk. */
+template <class Params, class Stage>
+std::vector<std::pair<const char*, Stage*>> stages(Params& p)
+{
+	return {{"MapBuilder", &p.builder},
+			{"MotionPredictor", &p.motion},
+			{"ScanMatcher", &p.matcher},
+			{"LocalRegistration", &p.local},
+			{"PoseGraphOptimizer", &p.optimizer},
+			{"LoopCloser", &p.loop},
+			{"PatchCorrelator", &p.correlator},
+			{"RevisitLinker", &p.revisits}};
+}
+}  // namespace
+
+const std::vector<std::string>& TLRGCParams::sectionNames()
+{
+	static const std::vector<std::string> names = [] {
+		TLRGCParams p;
+		std::vector<std::string> out;
+		for (const auto& [name, stage] : stages<TLRGCParams, mrpt::config::CLoadableOptions>(p))
+			out.push_back(name);
+		return out;
+	}();
+	return names;
+}
+
+void rejectUnknownSections(
+	const mrpt::config::CConfigFileBase& c, const std::vector<std::string>& allowed)
+{
+	std::vector<std::string> sections;
+	c.getAllSections(sections);
+	const std::set<std::string> known(allowed.begin(), allowed.end());
+	for (const auto& sec : sections)
+		if (!sec.empty() && !known.count(sec))
+			THROW_EXCEPTION_FMT("Unknown section [%s] in the configuration", sec.c_str());
+}
+
+void TLRGCParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string&)
+{
+	for (const auto& [name, stage] : stages<TLRGCParams, mrpt::config::CLoadableOptions>(*this))
+		stage->loadFromConfigFile(c, name);
+	requireParam(
+		loop.old_map_exclusion > local.window_size, "LoopCloser", "old_map_exclusion",
+		"must exceed [LocalRegistration] window_size (the paper's m > K)");
+}
+
+void TLRGCParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string&) const
+{
+	for (const auto& [name, stage] :
+		 stages<const TLRGCParams, const mrpt::config::CLoadableOptions>(*this))
+		stage->saveToConfigFile(c, name);
+}
+
+}  // namespace lrgc

@@ -1,0 +1,64 @@
+/* Parameters of CMetricMapBuilderLRGC: its own [MapBuilder] section and one section per
+ * algorithm stage, loaded from and saved to an .ini in MRPT's way. An unknown section in an
+ * lrgc .ini, or an unknown key in a known one, is an error. */
+#pragma once
+
+#include <lrgc/local_registration/LocalRegistration.h>
+#include <lrgc/loop_closing/LoopCloser.h>
+#include <lrgc/local_registration/MotionPredictor.h>
+#include <lrgc/loop_closing/PatchCorrelatorParams.h>
+#include <lrgc/loop_closing/RevisitLinker.h>
+#include <lrgc/pose_graph/PoseGraphOptimizer.h>
+#include <lrgc/scan_matching/ScanMatcher.h>
+#include <mrpt/config/CLoadableOptions.h>
+
+#include <string>
+#include <vector>
+
+namespace lrgc
+{
+struct TMapBuilderParams : public mrpt::config::CLoadableOptions
+{
+	double keyframe_distance = 0.3;  //!< [m] new keyframe after this much travel (paper: 0.3 m)
+	double keyframe_angle = mrpt::DEG2RAD(15.0);  //!< [rad] or this much turn (key keyframe_angle_deg)
+	size_t min_scan_points = 20;  //!< scans with fewer valid returns are skipped, with a warning
+	double grid_resolution = 0.05;  //!< [m] cell size of the exported occupancy grid
+	bool loop_closing = true;  //!< global correlation and loop closing (false: local only)
+	bool final_optimization = true;  //!< optimise the whole graph at the end of the run
+	/** [s] time from the laser's first beam to its last (SICK LMS 2xx, 180 deg: 6.7 ms);
+	 * scans are de-skewed by the predicted motion over it (Scan.h); 0: off */
+	double scan_sweep_time = 0.0;
+
+	void loadFromConfigFile(
+		const mrpt::config::CConfigFileBase& c, const std::string& s) override;
+	void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
+};
+
+/** Every parameter of the LRGC pipeline, one .ini section per stage. */
+struct TLRGCParams : public mrpt::config::CLoadableOptions
+{
+	TMapBuilderParams builder;  //!< [MapBuilder]
+	TMotionPredictorParams motion;  //!< [MotionPredictor]
+	TScanMatcherParams matcher;  //!< [ScanMatcher]
+	TLocalRegistrationParams local;  //!< [LocalRegistration]
+	TPoseGraphOptimizerParams optimizer;  //!< [PoseGraphOptimizer]
+	TLoopCloserParams loop;  //!< [LoopCloser]
+	TPatchCorrelatorParams correlator;  //!< [PatchCorrelator]
+	TRevisitLinkerParams revisits;  //!< [RevisitLinker]
+
+	/** Loads every stage's section (`section` is ignored: each stage has its own); other
+	 * sections are left to the caller, who checks them against sectionNames(). */
+	void loadFromConfigFile(
+		const mrpt::config::CConfigFileBase& c, const std::string& section = {}) override;
+	void saveToConfigFile(
+		mrpt::config::CConfigFileBase& c, const std::string& section = {}) const override;
+	/** The .ini sections of the stages, in the order they are saved. */
+	static const std::vector<std::string>& sectionNames();
+};
+
+/** Throws naming the first section of `c` that is not in `allowed` (a misspelt section
+ * would otherwise be silently ignored). */
+void rejectUnknownSections(
+	const mrpt::config::CConfigFileBase& c, const std::vector<std::string>& allowed);
+
+}  // namespace lrgc

@@ -1,0 +1,24 @@
+/* A keyframe: a node of the LRGC map graph with its scan (paper 2.4: "nodes are robot poses
+ * with associated scans"). The node's pose lives in CPoseGraph; this holds the data. */
+#pragma once
+
+#include <lrgc/scan_matching/Scan.h>
+#include <mrpt/obs/CObservation2DRangeScan.h>
+#include <mrpt/obs/CSensoryFrame.h>
+
+#include <vector>
+
+namespace lrgc
+{
+struct TKeyframe
+{
+	TScan2D scan;  //!< valid points in the robot frame, for matching
+	/** The sensory frame as it came (laser and any other observations), for CSimpleMap and
+	 * for rendering grid maps with MRPT's own insertion. */
+	mrpt::obs::CSensoryFrame::Ptr observations;
+	mrpt::obs::CObservation2DRangeScan::Ptr laser;
+	size_t scanIndex = 0;  //!< index of the scan in the run (0-based)
+};
+using TKeyframes = std::vector<TKeyframe>;
+
+}  // namespace lrgc

@@ -1,0 +1,395 @@
+/* CReferenceCloud: voxel reduction, local line fits (PCA) and a hash grid for bounded
+ * nearest-neighbour queries. See the header for the method; the formulas are below. */
+#include <lrgc/scan_matching/ReferenceCloud.h>
+
+#include <lrgc/scan_matching/ScanMatcher.h>
+#include <lrgc/common/se2.h>
+#include <mrpt/core/exceptions.h>
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <functional>
+#include <numeric>
+
+namespace lrgc
+{
+namespace
+{
+constexpr uint64_t kHashMul = 0x9E3779B97F4A7C15ULL;  // Fibonacci hashing
+
+int64_t cellIndex(double v, double cell) { return static_cast<int64_t>(std::floor(v / cell)); }
+
+/** Points averaged per square cell of side `res`: returns means and counts (as weights). */
+void voxelReduce(
+	const std::vector<Eigen::Vector2d>& pts, double res, std::vector<Eigen::Vector2d>& out,
+	std::vector<double>& weights)
+{
+	std::vector<std::pair<std::pair<int64_t, int64_t>, uint32_t>> keyed;
+	keyed.reserve(pts.size());
+	for (uint32_t i = 0; i < pts.size(); ++i)
+		if (pts[i].allFinite())
+			keyed.push_back({{cellIndex(pts[i].x(), res), cellIndex(pts[i].y(), res)}, i});
+	std::sort(keyed.begin(), keyed.end());
+	out.clear();
+	weights.clear();
+	for (size_t k = 0; k < keyed.size();)
+	{
+		Eigen::Vector2d sum(0, 0);
+		size_t m = k;
+		for (; m < keyed.size() && keyed[m].first == keyed[k].first; ++m)
+			sum += pts[keyed[m].second];
+		out.push_back(sum / double(m - k));
+		weights.push_back(double(m - k));
+		k = m;
+	}
+}
+}  // namespace
+
+CReferenceCloud::CReferenceCloud(std::vector<Eigen::Vector2d> pointsInRef, const TScanMatcherParams& p)
+{
+	p.validate();
+	m_inputCount = pointsInRef.size();
+	std::vector<Eigen::Vector2d> reduced;
+	std::vector<double> weights;
+	voxelReduce(pointsInRef, p.refResolution_m, reduced, weights);
+	m_anchors.resize(reduced.size());
+	for (size_t i = 0; i < reduced.size(); ++i) m_anchors[i].pos = reduced[i];
+	// Cell side of the search grid: a few reduced points per cell along a wall.
+	m_cell = std::max(0.1, 3 * p.refResolution_m);
+	buildGrid();
+	fitLines(p, weights);
+	buildGrid();  // line anchors moved (by about the noise) onto their lines
+}
+
+CReferenceCloud CReferenceCloud::fromScan(const TScan2D& scan, const TScanMatcherParams& p)
+{
+	CReferenceCloud c(scan.points, p);
+	c.addView(scan, mrpt::math::TPose2D(0, 0, 0));
+	return c;
+}
+
+namespace
+{
+constexpr double kBin = M_PI / 180;  // 1 deg bearing bins of the range images
+constexpr size_t kBins = 361;
+
+/** Nearest return per 1-degree bearing bin of points given in the sensor frame; 0: none. */
+std::vector<float> rangeImage(const std::vector<Eigen::Vector2d>& pts)
+{
+	std::vector<float> m(kBins, 0.0f);
+	for (const auto& q : pts)
+	{
+		const auto b = std::min(kBins - 1, static_cast<size_t>((std::atan2(q.y(), q.x()) + M_PI) / kBin));
+		const auto r = static_cast<float>(q.norm());
+		if (m[b] == 0 || r < m[b]) m[b] = r;
+	}
+	// Fill single empty bins between two returns (beam spacing vs bin phase).
+	for (size_t b = 1; b + 1 < m.size(); ++b)
+		if (m[b] == 0 && m[b - 1] > 0 && m[b + 1] > 0) m[b] = std::min(m[b - 1], m[b + 1]);
+	return m;
+}
+
+/** True if d (sensor frame) lies more than margin in front of the returns around its bearing
+ * (bins b-1..b+1, all known). */
+bool inFreeSpace(const std::vector<float>& img, const Eigen::Vector2d& d, double margin, bool* known)
+{
+	const long n = static_cast<long>(img.size());
+	const auto b = static_cast<long>((std::atan2(d.y(), d.x()) + M_PI) / kBin);
+	float f = 1e9f;
+	for (long k = b - 1; k <= b + 1; ++k) f = std::min(f, img[static_cast<size_t>((k + n) % n)]);
+	if (known) *known = f > 0;
+	return d.norm() < f - margin;
+}
+}  // namespace
+
+void CReferenceCloud::addView(const TScan2D& scan, const mrpt::math::TPose2D& scanInRef)
+{
+	m_views.push_back({scanInRef, rangeImage(scan.points)});
+}
+
+double CReferenceCloud::freeSpaceViolation(
+	const TScan2D& scan, const mrpt::math::TPose2D& scanInRef, double margin) const
+{
+	const auto& pts = scan.points;
+	if (pts.empty()) return 0;
+	// scan -> ref views
+	double scanToRef = 0;
+	if (!m_views.empty())
+	{
+		std::vector<char> viol(pts.size(), 0);
+		std::vector<Eigen::Vector2d> inRef(pts.size());
+		// (view <- ref) as rotation + translation, computed once per view.
+		std::vector<std::pair<Eigen::Matrix2d, Eigen::Vector2d>> toView;
+		for (const auto& v : m_views)
+		{
+			const auto inv = inverse(v.scanInRef);
+			const double c = std::cos(inv.phi), s = std::sin(inv.phi);
+			toView.push_back({(Eigen::Matrix2d() << c, -s, s, c).finished(), {inv.x, inv.y}});
+		}
+		const double c0 = std::cos(scanInRef.phi), s0 = std::sin(scanInRef.phi);
+		for (size_t i = 0; i < pts.size(); ++i)
+		{
+			inRef[i] = Eigen::Vector2d(
+				scanInRef.x + c0 * pts[i].x() - s0 * pts[i].y(), scanInRef.y + s0 * pts[i].x() + c0 * pts[i].y());
+			for (size_t k = 0; k < m_views.size(); ++k)
+				if (inFreeSpace(m_views[k].minRange, toView[k].first * inRef[i] + toView[k].second, margin, nullptr))
+				{
+					viol[i] = 1;
+					break;
+				}
+		}
+		size_t count = 0;
+		for (size_t i = 0; i < pts.size(); ++i)
+		{
+			const bool prev = i > 0 && viol[i - 1] && (inRef[i] - inRef[i - 1]).norm() < 0.3;
+			const bool next = i + 1 < pts.size() && viol[i + 1] && (inRef[i] - inRef[i + 1]).norm() < 0.3;
+			count += viol[i] && (prev || next);
+		}
+		scanToRef = static_cast<double>(count) / pts.size();
+	}
+	// ref -> scan
+	const auto img = rangeImage(pts);
+	const auto refInScan = inverse(scanInRef);
+	const double c1 = std::cos(refInScan.phi), s1 = std::sin(refInScan.phi);
+	size_t known = 0, viol = 0;
+	for (const auto& a : m_anchors)
+	{
+		if (!a.isLine) continue;
+		bool k = false;
+		const Eigen::Vector2d d(
+			refInScan.x + c1 * a.pos.x() - s1 * a.pos.y(), refInScan.y + s1 * a.pos.x() + c1 * a.pos.y());
+		const bool v = inFreeSpace(img, d, margin, &k);
+		known += k, viol += v && k;
+	}
+	const double refToScan = known >= 20 ? static_cast<double>(viol) / known : 0.0;
+	return std::max(scanToRef, refToScan);
+}
+
+CReferenceCloud CReferenceCloud::fromScansWhere(
+	const std::vector<TScan2D>& scans, const std::vector<mrpt::math::TPose2D>& scansInRef,
+	const TScanMatcherParams& p, const std::function<bool(const Eigen::Vector2d&)>& keep)
+{
+	if (scans.size() != scansInRef.size())
+		THROW_EXCEPTION_FMT(
+			"CReferenceCloud::fromScans: %zu scans but %zu poses", scans.size(),
+			scansInRef.size());
+	std::vector<Eigen::Vector2d> pts;
+	size_t n = 0;
+	for (const auto& s : scans) n += s.points.size();
+	pts.reserve(n);
+	for (size_t k = 0; k < scans.size(); ++k)
+	{
+		const CPointTransform toRef(scansInRef[k]);
+		for (const auto& q : scans[k].points)
+			if (const Eigen::Vector2d r = toRef(q); !keep || keep(r)) pts.push_back(r);
+	}
+	CReferenceCloud c(std::move(pts), p);
+	for (size_t k = 0; k < scans.size(); ++k) c.addView(scans[k], scansInRef[k]);
+	return c;
+}
+
+CReferenceCloud CReferenceCloud::fromScans(
+	const std::vector<TScan2D>& scans, const std::vector<mrpt::math::TPose2D>& scansInRef,
+	const TScanMatcherParams& p)
+{
+	return fromScansWhere(scans, scansInRef, p, {});
+}
+
+CReferenceCloud CReferenceCloud::fromScansNear(
+	const std::vector<TScan2D>& scans, const std::vector<mrpt::math::TPose2D>& scansInRef,
+	const TScanMatcherParams& p, const std::vector<Eigen::Vector2d>& nearInRef, double margin)
+{
+	if (!(margin > 0))
+		THROW_EXCEPTION_FMT("CReferenceCloud::fromScansNear: margin %g m must be > 0", margin);
+	// Cells of side `margin` holding a query point, dilated by one cell: every point within
+	// `margin` of a query point lies in a marked cell, and a point in a marked cell is within
+	// 2 sqrt(2) margin of one.
+	std::vector<std::pair<int64_t, int64_t>> marked;
+	marked.reserve(9 * nearInRef.size());
+	for (const auto& q : nearInRef)
+	{
+		if (!q.allFinite()) continue;
+		const int64_t ix = cellIndex(q.x(), margin), iy = cellIndex(q.y(), margin);
+		for (int64_t dx = -1; dx <= 1; ++dx)
+			for (int64_t dy = -1; dy <= 1; ++dy) marked.emplace_back(ix + dx, iy + dy);
+	}
+	std::sort(marked.begin(), marked.end());
+	marked.erase(std::unique(marked.begin(), marked.end()), marked.end());
+	return fromScansWhere(scans, scansInRef, p, [&](const Eigen::Vector2d& r) {
+		return std::binary_search(
+			marked.begin(), marked.end(),
+			std::pair{cellIndex(r.x(), margin), cellIndex(r.y(), margin)});
+	});
+}
+
+void CReferenceCloud::buildGrid()
+{
+	const size_t n = m_anchors.size();
+	m_table.clear();
+	m_order.resize(n);
+	if (n == 0) return;
+	std::vector<uint64_t> keys(n);
+	for (size_t i = 0; i < n; ++i)
+		keys[i] = cellKey(cellIndex(m_anchors[i].pos.x(), m_cell), cellIndex(m_anchors[i].pos.y(), m_cell));
+	m_order.clear();
+	for (uint32_t i = 0; i < n; ++i)
+		if (m_anchors[i].usable) m_order.push_back(i);
+	std::sort(m_order.begin(), m_order.end(), [&](uint32_t a, uint32_t b) { return keys[a] < keys[b]; });
+	const size_t nUsable = m_order.size();
+	size_t cells = 0;
+	for (size_t k = 0; k < nUsable; ++k) cells += (k == 0 || keys[m_order[k]] != keys[m_order[k - 1]]);
+	size_t size = 16;
+	while (size < 2 * cells) size *= 2;
+	m_table.assign(size, TCell{});
+	m_mask = size - 1;
+	for (size_t k = 0; k < nUsable;)
+	{
+		const uint64_t key = keys[m_order[k]];
+		size_t m = k;
+		while (m < nUsable && keys[m_order[m]] == key) ++m;
+		uint64_t slot = (key * kHashMul) >> 40 & m_mask;
+		while (m_table[slot].count != 0) slot = (slot + 1) & m_mask;
+		m_table[slot] = {key, static_cast<uint32_t>(k), static_cast<uint32_t>(m - k)};
+		k = m;
+	}
+}
+
+const CReferenceCloud::TCell* CReferenceCloud::findCell(int64_t ix, int64_t iy) const
+{
+	const uint64_t key = cellKey(ix, iy);
+	for (uint64_t slot = (key * kHashMul) >> 40 & m_mask;; slot = (slot + 1) & m_mask)
+	{
+		const TCell& c = m_table[slot];
+		if (c.count == 0) return nullptr;
+		if (c.key == key) return &c;
+	}
+}
+
+int CReferenceCloud::nearest(const Eigen::Vector2d& q, double maxDist, double* d2Out) const
+{
+	if (m_table.empty() || !(maxDist > 0)) return -1;
+	// Ring search: ring k holds the cells at Chebyshev distance k from q's cell. After ring k,
+	// every unvisited anchor is at least `lb` away (distance from q to the border of the
+	// visited block), so the search stops once the best distance is <= lb or lb >= maxDist.
+	const int64_t cx = cellIndex(q.x(), m_cell), cy = cellIndex(q.y(), m_cell);
+	double best = maxDist * maxDist;
+	int bestIdx = -1;
+	auto visit = [&](int64_t ix, int64_t iy)
+	{
+		const TCell* c = findCell(ix, iy);
+		if (!c) return;
+		for (uint32_t k = c->start; k < c->start + c->count; ++k)
+		{
+			const double d2 = (m_anchors[m_order[k]].pos - q).squaredNorm();
+			if (d2 < best) best = d2, bestIdx = static_cast<int>(m_order[k]);
+		}
+	};
+	for (int64_t k = 0;; ++k)
+	{
+		if (k == 0) visit(cx, cy);
+		else
+		{
+			for (int64_t i = -k; i <= k; ++i) visit(cx + i, cy - k), visit(cx + i, cy + k);
+			for (int64_t j = -k + 1; j <= k - 1; ++j) visit(cx - k, cy + j), visit(cx + k, cy + j);
+		}
+		const double lb = std::min(
+			std::min(q.x() - (cx - k) * m_cell, (cx + k + 1) * m_cell - q.x()),
+			std::min(q.y() - (cy - k) * m_cell, (cy + k + 1) * m_cell - q.y()));
+		if (lb * lb >= best) break;
+	}
+	if (bestIdx >= 0 && d2Out) *d2Out = best;
+	return bestIdx;
+}
+
+void CReferenceCloud::fitLines(const TScanMatcherParams& p, const std::vector<double>& w)
+{
+	// Weighted PCA of the neighbourhood N (weights = raw points per voxel):
+	//   mean m = sum w_k x_k / W,  C = sum w_k (x_k - m)(x_k - m)^T / W,
+	// eigenvalues l1 >= l2 with eigenvectors t (tangent), n (normal). A LINE if at least 3
+	// reduced points and thickness sqrt(l2) < 0.25 * sqrt(l1) (spread along the line); then the
+	// anchor is the point projected onto the line: a = m + ((x - m) . t) t.
+	// Noise model of the anchors (used by the covariance): the line's offset at the anchor,
+	// delta_j = sum_k beta_jk nu_k, with nu_k the normal-direction noise of reduced point k
+	// (variance sigma^2 / w_k) and, from the weighted least-squares line,
+	//   beta_jk = w_k / W + u_j w_k u_k / sum_l w_l u_l^2,   u = (x - m) . t.
+	// sigma^2 per raw point is estimated from each fit, l2 W / (n - 2), and its median kept.
+	std::vector<Eigen::Vector2d> newPos(m_anchors.size());
+	std::vector<uint32_t> nb;
+	std::vector<double> sigma2;
+	m_count = w;
+	m_fitStart.assign(1, 0);
+	m_fit.clear();
+	for (size_t i = 0; i < m_anchors.size(); ++i)
+	{
+		const Eigen::Vector2d x = m_anchors[i].pos;
+		newPos[i] = x;
+		// Widen the neighbourhood (up to 4x) while it has too few points or is too thick:
+		// range noise thickens a small neighbourhood, a corner stays thick at every size.
+		double r = p.normalRadius_m;
+		for (int widen = 0; widen < 3; ++widen, r *= 2)
+		{
+			// One pass of weighted moments: W, sum w x, sum w x x^T (relative to x, for
+			// numerical range), then the 2x2 eigen-decomposition in closed form.
+			nb.clear();
+			double W = 0, sx = 0, sy = 0, sxx = 0, sxy = 0, syy = 0;
+			forEachWithin(x, r, [&](uint32_t k) {
+				nb.push_back(k);
+				const double dx = m_anchors[k].pos.x() - x.x(), dy = m_anchors[k].pos.y() - x.y();
+				W += w[k], sx += w[k] * dx, sy += w[k] * dy;
+				sxx += w[k] * dx * dx, sxy += w[k] * dx * dy, syy += w[k] * dy * dy;
+			});
+			if (nb.size() < 4) continue;
+			const double mx = sx / W, my = sy / W;
+			const double cxx = sxx / W - mx * mx, cxy = sxy / W - mx * my, cyy = syy / W - my * my;
+			const Eigen::Vector2d m = x + Eigen::Vector2d(mx, my);
+			const double tr = cxx + cyy, disc = std::sqrt(std::max(0.0, 0.25 * (cxx - cyy) * (cxx - cyy) + cxy * cxy));
+			const double l1 = 0.5 * tr + disc, l2 = std::max(0.0, 0.5 * tr - disc);
+			if (!(l1 > 0) || l2 > 0.0625 * l1) continue;
+			// Tangent: eigenvector of l1, (l1 - cyy, cxy) or (cxy, l1 - cxx), whichever is
+			// longer (both are, unless one vanishes); the normal is its perpendicular.
+			const Eigen::Vector2d v1(l1 - cyy, cxy), v2(cxy, l1 - cxx);
+			const Eigen::Vector2d tdir =
+				(v1.squaredNorm() >= v2.squaredNorm() ? v1 : v2).normalized();
+			const Eigen::Vector2d n(-tdir.y(), tdir.x());
+			const Eigen::Vector2d t(-n.y(), n.x());
+			m_anchors[i].normal = n;
+			m_anchors[i].isLine = true;
+			m_anchors[i].fitRadius = r;
+			newPos[i] = m + (x - m).dot(t) * t;
+			double suu = 0;
+			for (uint32_t k : nb) suu += w[k] * std::pow((m_anchors[k].pos - m).dot(t), 2);
+			const double uj = (x - m).dot(t);
+			for (uint32_t k : nb)
+			{
+				const double uk = (m_anchors[k].pos - m).dot(t);
+				m_fit.push_back({k, static_cast<float>(w[k] / W),
+								 static_cast<float>(suu > 0 ? w[k] * uk / suu : 0)});
+			}
+			m_anchors[i].u = static_cast<float>(uj);
+			// slope variance sigma^2 / sum w u^2, sigma^2 filled in below
+			m_anchors[i].normalVar = static_cast<float>(suu > 0 ? 1 / suu : 0);
+			sigma2.push_back(l2 * W / static_cast<double>(nb.size() - 2));
+			break;
+		}
+		if (!m_anchors[i].isLine)
+		{
+			// nb holds the widest neighbourhood here (the loop ran to its end).
+			m_anchors[i].usable = nb.size() >= 3;
+			double d2 = r * r;
+			for (uint32_t k : nb)
+				if (k != i) d2 = std::min(d2, (m_anchors[k].pos - x).squaredNorm());
+			m_anchors[i].samplingVar = static_cast<float>(d2 / 12);
+		}
+		m_fitStart.push_back(static_cast<uint32_t>(m_fit.size()));
+	}
+	for (size_t i = 0; i < m_anchors.size(); ++i) m_anchors[i].pos = newPos[i];
+	m_noiseVar = p.minResidualStd_m * p.minResidualStd_m;
+	if (!sigma2.empty())
+	{
+		std::nth_element(sigma2.begin(), sigma2.begin() + sigma2.size() / 2, sigma2.end());
+		m_noiseVar = std::max(m_noiseVar, sigma2[sigma2.size() / 2]);
+	}
+	for (auto& a : m_anchors) a.normalVar = static_cast<float>(a.normalVar * m_noiseVar);
+}
+
+}  // namespace lrgc

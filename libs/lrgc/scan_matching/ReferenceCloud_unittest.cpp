@@ -1,0 +1,172 @@
+/* CReferenceCloud: reduction, line fits against the known world, exact nearest neighbours. */
+#include <gtest/gtest.h>
+#include <lrgc/scan_matching/ReferenceCloud.h>
+#include <lrgc/scan_matching/ScanMatcher.h>
+#include <lrgc/common/se2.h>
+
+#include <Eigen/Geometry>
+#include <cmath>
+#include <iostream>
+
+#include "synthetic_world.h"
+
+using namespace lrgc;
+using namespace lrgc::test;
+using mrpt::math::TPose2D;
+
+namespace
+{
+/** Unit normal of the world segment nearest to p (world frame). */
+Eigen::Vector2d nearestSegmentNormal(const CSyntheticWorld& w, const Eigen::Vector2d& p)
+{
+	double best = 1e9;
+	Eigen::Vector2d n(0, 0);
+	for (const auto& s : w.segments())
+	{
+		const Eigen::Vector2d e = s.b - s.a;
+		const double t = std::clamp((p - s.a).dot(e) / e.squaredNorm(), 0.0, 1.0);
+		const double d = (s.a + t * e - p).norm();
+		if (d < best) best = d, n = Eigen::Vector2d(-e.y(), e.x()).normalized();
+	}
+	return n;
+}
+}  // namespace
+
+TEST(ReferenceCloud, lineAnchorsLieOnTheWallsWithTheirNormals)
+{
+	const auto world = makeRoomWorld(3);
+	std::mt19937 rng(11);
+	TLaserSimParams laser;
+	laser.rangeNoiseStd = 0.01;
+	const TPose2D pose(5, 3.5, 0.3);
+	const auto scan = simulateScan(world, pose, laser, rng);
+	const TScanMatcherParams p;
+	const auto ref = CReferenceCloud::fromScan(scan, p);
+	ASSERT_GT(ref.size(), 100U);
+	EXPECT_LE(ref.size(), scan.points.size());
+	EXPECT_EQ(ref.inputPointCount(), scan.points.size());
+	int lines = 0, goodNormals = 0;
+	double sumOffset2 = 0;
+	for (const auto& a : ref.anchors())
+	{
+		if (!a.isLine) continue;
+		++lines;
+		const Eigen::Vector2d pw = transformPoint(pose, a.pos);
+		const double dist = world.distanceToNearest(pw);
+		sumOffset2 += dist * dist;
+		const Eigen::Vector2d nw = Eigen::Rotation2Dd(pose.phi) * a.normal;
+		if (std::abs(nw.dot(nearestSegmentNormal(world, pw))) > std::cos(5 * M_PI / 180)) ++goodNormals;
+	}
+	std::cout << "anchors " << ref.size() << " lines " << lines << " good normals " << goodNormals
+			  << " rms offset " << std::sqrt(sumOffset2 / lines) << "\n";
+	// Most of a room scan is wall: line anchors, normals within 5 deg of the true ones, and
+	// the line fit removes most of the 1 cm range noise.
+	EXPECT_GT(lines, 0.8 * ref.size());
+	EXPECT_GT(goodNormals, 0.85 * lines);
+	EXPECT_LT(std::sqrt(sumOffset2 / lines), 0.006);
+}
+
+TEST(ReferenceCloud, nearestIsExactWithinTheGate)
+{
+	std::mt19937 rng(5);
+	std::uniform_real_distribution<double> u(-3, 3);
+	std::vector<Eigen::Vector2d> pts;
+	for (int i = 0; i < 2000; ++i) pts.emplace_back(u(rng), u(rng));
+	TScanMatcherParams p;
+	p.refResolution_m = 0.001;  // no two random points share a voxel: anchors = input points
+	const CReferenceCloud ref(pts, p);
+	ASSERT_EQ(ref.size(), pts.size());
+	for (int t = 0; t < 2000; ++t)
+	{
+		const Eigen::Vector2d q(1.2 * u(rng), 1.2 * u(rng));
+		const double gate = 0.02 + 0.3 * (t % 7) / 6.0;
+		int brute = -1;
+		double bestD = gate * gate;
+		for (size_t i = 0; i < ref.size(); ++i)
+			if (const double d = (ref.anchors()[i].pos - q).squaredNorm(); d < bestD) bestD = d, brute = int(i);
+		double d2 = -1;
+		const int got = ref.nearest(q, gate, &d2);
+		ASSERT_EQ(got, brute) << "query " << q.transpose() << " gate " << gate;
+		if (got >= 0)
+		{
+			EXPECT_DOUBLE_EQ(d2, bestD);
+		}
+	}
+	EXPECT_EQ(CReferenceCloud().nearest({0, 0}, 1.0), -1);
+}
+
+TEST(ReferenceCloud, patchFromScansReducesOverlappingPoints)
+{
+	const auto world = makeRoomWorld(4);
+	std::mt19937 rng(2);
+	TLaserSimParams laser;
+	std::vector<TScan2D> scans;
+	std::vector<TPose2D> poses;
+	for (int k = 0; k < 10; ++k)
+	{
+		poses.emplace_back(3 + 0.2 * k, 3.5, 0.05 * k);
+		scans.push_back(simulateScan(world, poses.back(), laser, rng));
+	}
+	const TScanMatcherParams p;
+	const auto ref = CReferenceCloud::fromScans(scans, poses, p);
+	EXPECT_GT(ref.inputPointCount(), 3000U);
+	EXPECT_LT(ref.size(), 0.6 * ref.inputPointCount());  // ten views of the same walls
+	// Ten scans average out: anchors lie closer to the walls than a single scan's.
+	double sum2 = 0;
+	int lines = 0;
+	for (const auto& a : ref.anchors())
+	{
+		if (!a.isLine) continue;
+		sum2 += std::pow(world.distanceToNearest(a.pos), 2);
+		++lines;
+	}
+	EXPECT_LT(std::sqrt(sum2 / lines), 0.004);
+	EXPECT_NEAR(std::sqrt(ref.noiseVariance()), laser.rangeNoiseStd, 0.5 * laser.rangeNoiseStd);
+	EXPECT_THROW(CReferenceCloud::fromScans(scans, {}, p), std::exception);
+}
+
+TEST(ReferenceCloud, cropAroundAScanKeepsEveryAnchorTheScanCanReach)
+{
+	// Six scans of a room; the query is a seventh scan, the crop margin the one the loop
+	// closer uses (correspondence gate + widest line fit + 0.2 m). Every anchor within the
+	// gate of a query point must be the same, with the same line, in both clouds, and the
+	// crop must actually drop points.
+	const auto world = makeRoomWorld(7);
+	std::mt19937 rng(5);
+	std::vector<TScan2D> scans;
+	std::vector<TPose2D> poses;
+	for (int k = 0; k < 6; ++k)
+		if (auto pose = sampleFreePose(world, world.bounds(), 0.5, rng))
+		{
+			scans.push_back(simulateScan(world, *pose, {}, rng));
+			poses.push_back(*pose);
+		}
+	ASSERT_GE(scans.size(), 4U);
+	TScanMatcherParams p;
+	TLaserSimParams shortLaser;
+	shortLaser.maxRange = 3.0;
+	const auto queryPose = sampleFreePose(world, world.bounds(), 0.5, rng);
+	ASSERT_TRUE(queryPose);
+	const TScan2D query = simulateScan(world, *queryPose, shortLaser, rng);
+	std::vector<Eigen::Vector2d> queryInRef;
+	for (const auto& q : query.points) queryInRef.push_back(transformPoint(*queryPose, q));
+	const double margin = p.maxCorrespondenceDist_m + 4 * p.normalRadius_m + 0.2;
+	const CReferenceCloud full = CReferenceCloud::fromScans(scans, poses, p);
+	const CReferenceCloud cropped = CReferenceCloud::fromScansNear(scans, poses, p, queryInRef, margin);
+	EXPECT_LT(cropped.size(), full.size());
+	size_t compared = 0;
+	for (const auto& q : queryInRef)
+	{
+		const int a = full.nearest(q, p.maxCorrespondenceDist_m);
+		const int b = cropped.nearest(q, p.maxCorrespondenceDist_m);
+		ASSERT_EQ(a < 0, b < 0);
+		if (a < 0) continue;
+		const auto& fa = full.anchors()[size_t(a)];
+		const auto& cb = cropped.anchors()[size_t(b)];
+		EXPECT_NEAR((fa.pos - cb.pos).norm(), 0.0, 1e-12);
+		EXPECT_NEAR((fa.normal - cb.normal).norm(), 0.0, 1e-12);
+		EXPECT_EQ(fa.isLine, cb.isLine);
+		++compared;
+	}
+	EXPECT_GT(compared, query.points.size() / 2);
+}

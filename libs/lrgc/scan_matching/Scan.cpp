@@ -1,0 +1,49 @@
+#include <lrgc/scan_matching/Scan.h>
+
+#include <cmath>
+
+namespace lrgc
+{
+TScan2D scanFromObservation(
+	const mrpt::obs::CObservation2DRangeScan& obs, TScanConversionStats* stats,
+	const mrpt::math::TPose2D& sweepMotion)
+{
+	TScan2D scan;
+	scan.maxRange = obs.maxRange;
+	scan.timestamp = obs.timestamp;
+	TScanConversionStats st;
+	const size_t n = obs.getScanSize();
+	st.total = n;
+	scan.points.reserve(n);
+
+	// Sensor pose on the robot, projected onto the ground plane (x, y, yaw).
+	const double sx = obs.sensorPose.x(), sy = obs.sensorPose.y();
+	const double sc = std::cos(obs.sensorPose.yaw()), ss = std::sin(obs.sensorPose.yaw());
+	const bool deskew = sweepMotion.x != 0 || sweepMotion.y != 0 || sweepMotion.phi != 0;
+	for (size_t i = 0; i < n; ++i)
+	{
+		const double r = obs.getScanRange(i);
+		if (!obs.getScanRangeValidity(i)) { ++st.invalidFlag; continue; }
+		if (!std::isfinite(r)) { ++st.notFinite; continue; }
+		if (r <= 0) { ++st.nonPositive; continue; }
+		if (r >= obs.maxRange) { ++st.noReturn; continue; }
+		// Beam angle in the sensor frame [rad]: -aperture/2 .. +aperture/2 (rightToLeft).
+		const double a = obs.getScanAngle(i);
+		const double px = r * std::cos(a), py = r * std::sin(a);
+		const double rx = sx + sc * px - ss * py, ry = sy + ss * px + sc * py;
+		if (!deskew)
+		{
+			scan.points.emplace_back(rx, ry);
+			continue;
+		}
+		// De-skew (file comment of Scan.h): into the robot frame at the middle beam's time.
+		const double f = n > 1 ? double(i) / double(n - 1) - 0.5 : 0.0;
+		const double fc = std::cos(f * sweepMotion.phi), fs = std::sin(f * sweepMotion.phi);
+		scan.points.emplace_back(
+			fc * rx - fs * ry + f * sweepMotion.x, fs * rx + fc * ry + f * sweepMotion.y);
+	}
+	if (stats) *stats = st;
+	return scan;
+}
+
+}  // namespace lrgc

@@ -1,0 +1,250 @@
+/* CScanMatcher: robust Gauss-Newton on combined point-to-line (Cox) and point-to-point
+ * (Lu & Milios) residuals; see ScanMatcher.h for the method and ScanMatcherCovariance.cpp for
+ * the covariance.
+ *
+ * One iteration at pose x = (tx, ty, phi):
+ *  1. associate: each scan point q_i = R(phi) p_i + t to its nearest reference anchor within
+ *     the gate (exact search in CReferenceCloud);
+ *  2. scale: s = max(minResidualStd, 1.4826 median |e|) [m] over all residual rows;
+ *  3. weights: Cauchy w = 1 / (1 + |e|^2 / c^2), c = 2.3849 s (95% efficiency at Gaussian
+ *     noise; an outlier's influence vanishes as 1/|e|);
+ *  4. step: dx = -H^+ g, H = sum w J^T J, g = sum w J^T e, truncated along unobservable
+ *     directions;
+ *  5. gate <- clamp(4 c + |dx|, floor, gate): never grows, tracks the residual scale so the
+ *     final pairs are the ones the noise explains.
+ * Converged when the step is below 10 um (lever-arm scaled) and the gate has settled.
+ */
+#include <lrgc/scan_matching/ScanMatcher.h>
+#include <lrgc/common/se2.h>
+#include <mrpt/core/exceptions.h>
+#include <mrpt/math/wrap2pi.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "ScanMatcherDetail.h"
+
+namespace lrgc
+{
+using detail::TCorrespondence;
+
+namespace
+{
+constexpr double kCauchy = 2.3849;  // Cauchy constant for 95% Gaussian efficiency
+constexpr double kMadToSigma = 1.4826;
+constexpr double kConvergedStep_m = 1e-5;
+constexpr double kFreezeStep_m = 1e-3;
+
+/** Residual and jacobians of scan point p against anchor a at pose x (R p precomputed in r). */
+void linearise(
+	const CReferenceCloud& ref, const Eigen::Vector2d& r, const Eigen::Vector3d& x, TCorrespondence& k)
+{
+	const auto& a = ref.anchors()[k.anchor];
+	const Eigen::Vector2d q(r.x() + x.x(), r.y() + x.y());
+	k.anchorPos = a.pos;
+	k.isLine = a.isLine;
+	const Eigen::Vector2d d = q - a.pos;
+	if (a.isLine)
+	{
+		k.e0 = a.normal.dot(d);
+		k.J0 = {a.normal.x(), a.normal.y(), a.normal.x() * -r.y() + a.normal.y() * r.x()};
+		k.tOff = a.normal.x() * d.y() - a.normal.y() * d.x();  // t = (-n_y, n_x)
+		k.Jt = {-a.normal.y(), a.normal.x(), a.normal.dot(r)};
+		k.normalVar = a.normalVar;
+	}
+	else
+	{
+		k.e0 = d.x(), k.e1 = d.y();
+		k.varAnchor = a.samplingVar + ref.pointVariance(k.anchor);
+		k.J0 = {1, 0, -r.y()};
+		k.J1 = {0, 1, r.x()};
+	}
+}
+
+/** Nearest-anchor association within the gate (frozen == false), or re-linearisation of the
+ * pairs already in `out` at the new pose (frozen == true). */
+void associate(
+	const CReferenceCloud& ref, const std::vector<Eigen::Vector2d>& pts, const Eigen::Vector3d& x,
+	double gate, bool frozen, std::vector<TCorrespondence>& out)
+{
+	const double c = std::cos(x.z()), s = std::sin(x.z());
+	auto rot = [&](const Eigen::Vector2d& p) { return Eigen::Vector2d(c * p.x() - s * p.y(), s * p.x() + c * p.y()); };
+	if (frozen)
+	{
+		for (auto& k : out) linearise(ref, rot(pts[k.point]), x, k);
+		return;
+	}
+	out.clear();
+	for (uint32_t i = 0; i < pts.size(); ++i)
+	{
+		const Eigen::Vector2d r = rot(pts[i]);
+		const int j = ref.nearest(Eigen::Vector2d(r.x() + x.x(), r.y() + x.y()), gate);
+		if (j < 0) continue;
+		TCorrespondence k;
+		k.anchor = static_cast<uint32_t>(j);
+		k.point = i;
+		linearise(ref, r, x, k);
+		out.push_back(k);
+	}
+}
+
+double robustScale(const std::vector<TCorrespondence>& corr, double floor, std::vector<double>& tmp)
+{
+	tmp.clear();
+	for (const auto& k : corr)
+	{
+		tmp.push_back(std::abs(k.e0));
+		if (!k.isLine) tmp.push_back(std::abs(k.e1));
+	}
+	if (tmp.empty()) return floor;
+	auto mid = tmp.begin() + tmp.size() / 2;
+	std::nth_element(tmp.begin(), mid, tmp.end());
+	return std::max(floor, kMadToSigma * *mid);
+}
+
+/** Robust weights and the normal equations; returns the RMS lever arm L [m]. */
+double weighAndAccumulate(
+	std::vector<TCorrespondence>& corr, double scale, Eigen::Matrix3d& H, Eigen::Vector3d& g,
+	Eigen::Matrix3d& Hspur)
+{
+	const double c2 = (kCauchy * scale) * (kCauchy * scale), s2 = scale * scale;
+	H.setZero();
+	Hspur.setZero();
+	g.setZero();
+	double sw = 0, swl = 0;
+	for (auto& k : corr)
+	{
+		// Heteroscedastic Cauchy: a residual of variance s^2 + v weighs s^2 / (s^2 + v).
+		const double prec = s2 / (s2 + k.varAnchor);
+		k.c2 = c2 / prec;
+		k.w = prec / (1 + k.sqNorm() / k.c2);
+		H.noalias() += k.w * k.J0 * k.J0.transpose();
+		g += k.w * k.e0 * k.J0;
+		Hspur.noalias() += (k.w * k.normalVar) * k.Jt * k.Jt.transpose();
+		// Lever arm |R p| is the rotation jacobian's magnitude for a line (or point) residual.
+		const double arm2 = k.isLine ? k.J0.z() * k.J0.z() : k.J0.z() * k.J0.z() + k.J1.z() * k.J1.z();
+		if (!k.isLine)
+		{
+			H.noalias() += k.w * k.J1 * k.J1.transpose();
+			g += k.w * k.e1 * k.J1;
+		}
+		sw += k.w;
+		swl += k.w * arm2;
+	}
+	return sw > 0 ? std::sqrt(swl / sw) : 1.0;
+}
+}  // namespace
+
+CScanMatcher::CScanMatcher(const TScanMatcherParams& p) : m_params(p) { m_params.validate(); }
+
+std::optional<TScanMatch> CScanMatcher::match(
+	const CReferenceCloud& ref, const TScan2D& scan, const mrpt::math::TPose2D& guess) const
+{
+	return matchPoints(ref, scan.points, guess, m_params.maxCorrespondenceDist_m);
+}
+
+std::optional<TScanMatch> CScanMatcher::matchPoints(
+	const CReferenceCloud& ref, const std::vector<Eigen::Vector2d>& pts,
+	const mrpt::math::TPose2D& guess, double gate0) const
+{
+	const auto& P = m_params;
+	if (ref.empty() || pts.size() < static_cast<size_t>(P.minInliers)) return std::nullopt;
+	Eigen::Vector3d x(guess.x, guess.y, guess.phi);
+	double gate = gate0;
+	const double gateFloor = std::max(5 * P.minResidualStd_m, 2 * P.refResolution_m);
+	std::vector<TCorrespondence> corr;
+	corr.reserve(pts.size());
+	std::vector<double> tmp;
+	Eigen::Matrix3d H, Hspur;
+	Eigen::Vector3d g;
+	bool converged = false, frozen = false;
+	int it = 0;
+	while (!converged && ++it <= P.maxIterations)
+	{
+		associate(ref, pts, x, gate, frozen, corr);
+		if (corr.size() < 3) return std::nullopt;
+		const double scale = robustScale(corr, P.minResidualStd_m, tmp);
+		const double L = weighAndAccumulate(corr, scale, H, g, Hspur);
+		const auto info = detail::analyseInformation(H, Hspur, L, scale, P.unobservableStd_m);
+		if (info.unobservable == 3) return std::nullopt;
+		const Eigen::Vector3d dx = detail::solveStep(info, g);
+		x += dx;
+		const double step = dx.head<2>().norm() + L * std::abs(dx.z());
+		const double newGate = std::clamp(4 * kCauchy * scale + step, gateFloor, gate);
+		const bool settled = newGate > 0.99 * gate;
+		converged = step < kConvergedStep_m && settled;
+		// Nearest-anchor switches can make ICP cycle at the 0.1 mm level; once the gate has
+		// settled and steps are sub-millimetre, keep the pairs and let Gauss-Newton converge.
+		frozen = frozen || (settled && step < kFreezeStep_m);
+		gate = newGate;
+	}
+	if (!converged) return std::nullopt;
+
+	// Final linearisation at the solution, with the pairs it is optimal for: inliers,
+	// residuals, covariance.
+	associate(ref, pts, x, gate, frozen, corr);
+	if (corr.size() < 3) return std::nullopt;
+	const double scale = robustScale(corr, P.minResidualStd_m, tmp);
+	const double L = weighAndAccumulate(corr, scale, H, g, Hspur);
+	const auto info = detail::analyseInformation(H, Hspur, L, scale, P.unobservableStd_m);
+	size_t inliers = 0, rows = 0;
+	double se2 = 0;
+	for (const auto& k : corr)
+		if (k.sqNorm() <= k.c2) ++inliers, se2 += k.sqNorm(), rows += k.isLine ? 1 : 2;
+	TScanMatch m;
+	m.scanInRef = mrpt::math::TPose2D(x.x(), x.y(), mrpt::math::wrapToPi(x.z()));
+	m.inlierFraction = static_cast<double>(inliers) / pts.size();
+	m.rmsResidual = rows ? std::sqrt(se2 / rows) : 0.0;
+	m.residualStd = scale;
+	m.iterations = it;
+	m.unobservableDims = info.unobservable;
+	if (inliers < static_cast<size_t>(P.minInliers) || m.inlierFraction < P.minInlierFraction ||
+		m.rmsResidual > P.maxRmsResidual_m || info.unobservable > 1)
+		return std::nullopt;
+	// Free-space consistency: aligned scan points must not sit where the reference saw through.
+	TScan2D asScan;
+	asScan.points = pts;
+	m.freeSpaceViolation = ref.freeSpaceViolation(asScan, m.scanInRef, std::max(0.1, 4 * scale));
+	if (m.freeSpaceViolation > P.maxFreeSpaceViolation) return std::nullopt;
+	// Residuals of anchors closer than this share reference noise (the line fit neighbourhood
+	// is up to 4 normalRadius wide where sparse).
+	const double cluster = std::max(0.5, 2 * P.normalRadius_m);
+	m.cov = detail::poseCovariance(ref, corr, info, kCauchy * scale, cluster, P.unobservableStd_m);
+	return m;
+}
+
+std::optional<TScanMatch> CScanMatcher::matchWide(
+	const CReferenceCloud& ref, const TScan2D& scan, const mrpt::math::TPose2D& guess,
+	double searchAngle) const
+{
+	ASSERT_(searchAngle >= 0);
+	// Explore with at most ~120 evenly spread points and a doubled gate; refine the winner
+	// with the whole scan.
+	const size_t stride = std::max<size_t>(1, scan.points.size() / 120);
+	std::vector<Eigen::Vector2d> sub;
+	for (size_t i = 0; i < scan.points.size(); i += stride) sub.push_back(scan.points[i]);
+	const int n = static_cast<int>(std::floor(searchAngle / m_params.wideSearchStep + 1e-9));
+	std::vector<TScanMatch> found;
+	for (int k = -n; k <= n; ++k)
+	{
+		mrpt::math::TPose2D g = guess;
+		g.phi = mrpt::math::wrapToPi(guess.phi + k * m_params.wideSearchStep);
+		if (auto m = matchPoints(ref, sub, g, 2 * m_params.maxCorrespondenceDist_m)) found.push_back(*m);
+	}
+	if (found.empty()) return std::nullopt;
+	std::sort(found.begin(), found.end(), [](const TScanMatch& a, const TScanMatch& b) {
+		return a.inlierFraction > b.inlierFraction;
+	});
+	const auto& best = found.front();
+	// Distinct: farther than 0.2 m or 3 deg from the best.
+	for (size_t i = 1; i < found.size(); ++i)
+	{
+		const auto d = between(best.scanInRef, found[i].scanInRef);
+		const bool distinct = translationNorm(d) > 0.2 || std::abs(d.phi) > 3 * M_PI / 180;
+		if (distinct && best.inlierFraction - found[i].inlierFraction < m_params.wideAmbiguityMargin)
+			return std::nullopt;
+	}
+	return matchPoints(ref, scan.points, best.scanInRef, m_params.maxCorrespondenceDist_m);
+}
+
+}  // namespace lrgc

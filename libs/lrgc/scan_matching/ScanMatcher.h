@@ -1,0 +1,108 @@
+/* CScanMatcher: pairwise 2D scan matching (paper section 2.1) returning the pose of a scan in
+ * a reference (one scan or a local patch, see CReferenceCloud) and an honest covariance.
+ *
+ * Method: iteratively re-weighted Gauss-Newton on the combined Cox / Lu-Milios error, as in
+ * Gutmann & Schlegel's combination the paper uses:
+ *   LINE anchor (Cox, point-to-line):   e_i = n_j . (R(phi) p_i + t - a_j)            [m]
+ *   POINT anchor (Lu-Milios, point):    e_i = R(phi) p_i + t - a_j  (2 rows)          [m]
+ * with the nearest anchor j (exact, within a gate that shrinks to a few residual sigmas), a
+ * Cauchy weight w_i = 1 / (1 + (e_i / (2.385 s))^2) whose scale s is re-estimated from the
+ * residuals every iteration (1.4826 * median |e|), and a closed-form 3x3 solve per iteration;
+ * once steps are sub-millimetre the pairs are frozen so that ICP cannot cycle.
+ *
+ * Covariance of (x, y, phi) in ref: M-estimator sandwich A^-1 M A^-1 (A from the Cauchy psi'),
+ * whose meat M is the larger of (a) a noise model that propagates the reference's own noise
+ * through its line fits, so residuals sharing a stretch of reference wall count as correlated,
+ * and (b) a leave-one-cluster-out jackknife over reference cells, which measures correlation
+ * from the data. Directions the data do not fix (a featureless corridor's axis: information
+ * below s^2 / unobservableStd_m^2, or not clearly above what the normals' noise fakes) keep the
+ * guess and get variance unobservableStd_m^2. Alignments that put either side's points in
+ * space the other side saw empty are rejected. Measured NEES: doc/scan-matching.md.
+ */
+#pragma once
+
+#include <lrgc/scan_matching/ReferenceCloud.h>
+#include <lrgc/scan_matching/Scan.h>
+#include <mrpt/config/CLoadableOptions.h>
+#include <mrpt/math/TPose2D.h>
+
+#include <Eigen/Core>
+#include <cmath>
+#include <optional>
+#include <vector>
+
+namespace lrgc
+{
+/** Section [ScanMatcher]. */
+struct TScanMatcherParams : public mrpt::config::CLoadableOptions
+{
+	int maxIterations = 50;  //!< Gauss-Newton iterations before giving up (no convergence)
+	double maxCorrespondenceDist_m = 0.5;  //!< [m] initial gate: farther pairs are not formed
+	double refResolution_m = 0.02;  //!< [m] voxel size for reducing the reference points
+	double normalRadius_m = 0.15;  //!< [m] neighbourhood radius of the local line fits
+	double minInlierFraction = 0.25;  //!< of the scan's points, below it: no match
+	int minInliers = 20;  //!< absolute minimum of inlier points
+	double maxRmsResidual_m = 0.1;  //!< [m] inlier RMS residual above it: no match
+	double minResidualStd_m = 0.003;  //!< [m] floor of the estimated residual scale
+	double maxFreeSpaceViolation = 0.15;  //!< of the scan points lying where the reference's
+										 //!< beams passed (free space); above it: no match
+	double unobservableStd_m = 1.0;  //!< [m] std reported along directions the data do not fix
+	double wideSearchStep = 7.5 * M_PI / 180;  //!< [rad] heading step of matchWide's starts
+												//!< (.ini key wideSearchStep_deg, degrees)
+	double wideAmbiguityMargin = 0.15;  //!< matchWide: best inlier fraction must beat the
+										//!< best distinct alternative by this much
+
+	void loadFromConfigFile(
+		const mrpt::config::CConfigFileBase& source, const std::string& section) override;
+	void saveToConfigFile(
+		mrpt::config::CConfigFileBase& target, const std::string& section) const override;
+	/** Throws (naming section and key) if a value is out of range. */
+	void validate(const std::string& section = "ScanMatcher") const;
+};
+
+struct TScanMatch
+{
+	mrpt::math::TPose2D scanInRef;  //!< (ref <- scan)
+	/** Covariance of (x [m], y [m], phi [rad]) of scanInRef, in the ref frame. */
+	Eigen::Matrix3d cov = Eigen::Matrix3d::Identity();
+	double inlierFraction = 0;  //!< inlier points / scan points
+	/** Free-space inconsistency (CReferenceCloud::freeSpaceViolation): the share of points
+	 * of either side lying where the other side's beams passed. A wrong alignment has many. */
+	double freeSpaceViolation = 0;
+	double rmsResidual = 0;  //!< [m] RMS of inlier residuals
+	double residualStd = 0;  //!< [m] robust residual scale s at convergence
+	int iterations = 0;
+	/** Directions (0..1) the data leave free (corridor axis); cov is unobservableStd_m^2 there
+	 * and scanInRef keeps the guess along them. */
+	int unobservableDims = 0;
+};
+
+class CScanMatcher
+{
+public:
+	/** Validates p (throws on bad values). */
+	explicit CScanMatcher(const TScanMatcherParams& p = {});
+	const TScanMatcherParams& params() const { return m_params; }
+
+	/** Local match from guessScanInRef (ref <- scan). nullopt: too few inliers, no convergence,
+	 * RMS too large, or geometry degenerate in more than one direction. Never the guess. */
+	std::optional<TScanMatch> match(
+		const CReferenceCloud& ref, const TScan2D& scan,
+		const mrpt::math::TPose2D& guessScanInRef) const;
+
+	/** For odometry glitches: starts match() from headings guess.phi + k * wideSearchStep
+	 * over [-searchAngle_rad, +searchAngle_rad], and returns the best converged match if its
+	 * inlier fraction beats every distinct alternative by wideAmbiguityMargin, else nullopt. */
+	std::optional<TScanMatch> matchWide(
+		const CReferenceCloud& ref, const TScan2D& scan,
+		const mrpt::math::TPose2D& guessScanInRef, double searchAngle_rad) const;
+
+private:
+	std::optional<TScanMatch> matchPoints(
+		const CReferenceCloud& ref, const std::vector<Eigen::Vector2d>& pts,
+		const mrpt::math::TPose2D& guess, double initialGate) const;
+
+	TScanMatcherParams m_params;
+};
+
+}  // namespace lrgc

@@ -1,0 +1,93 @@
+/* The synthetic world used by the scan matcher tests (tests/support/synthetic_world.h):
+ * ray casting, laser simulation, builders and the odometry generator. */
+#include <gtest/gtest.h>
+#include <lrgc/common/se2.h>
+
+#include <cmath>
+
+#include "synthetic_world.h"
+
+using namespace lrgc::test;
+using mrpt::math::TPose2D;
+
+TEST(SyntheticWorld, castRayHitsTheNearestSegment)
+{
+	CSyntheticWorld w;
+	w.addSegment({2, -1}, {2, 1});
+	w.addSegment({5, -1}, {5, 1});
+	ASSERT_TRUE(w.castRay({0, 0}, 0, 10));
+	EXPECT_NEAR(*w.castRay({0, 0}, 0, 10), 2.0, 1e-12);
+	EXPECT_NEAR(*w.castRay({3, 0}, 0, 10), 2.0, 1e-12);  // from between the walls
+	EXPECT_FALSE(w.castRay({0, 0}, M_PI / 2, 10));  // nothing up there
+	EXPECT_FALSE(w.castRay({0, 0}, 0, 1.5));  // beyond max range: a no-return
+	EXPECT_NEAR(*w.castRay({0, 0.5}, 0, 10), 2.0, 1e-12);
+	EXPECT_NEAR(w.distanceToNearest({3, 0}), 1.0, 1e-12);
+}
+
+TEST(SyntheticWorld, noiselessScanPointsLieOnTheWalls)
+{
+	const auto world = makeRoomWorld(9);
+	std::mt19937 rng(1);
+	TLaserSimParams laser;
+	laser.rangeNoiseStd = 0;
+	laser.sensorInRobot = TPose2D(0.2, 0.05, 0.1);  // an offset sensor
+	const TPose2D robot(4, 3, 0.7);
+	const auto scan = simulateScan(world, robot, laser, rng);
+	ASSERT_GT(scan.points.size(), 300U);
+	for (const auto& p : scan.points)
+		ASSERT_LT(world.distanceToNearest(lrgc::transformPoint(robot, p)), 1e-9);
+	// Drops and outliers do what they say, and the same seed gives the same scan.
+	laser.dropRate = 0.5;
+	std::mt19937 a(3), b(3);
+	const auto s1 = simulateScan(world, robot, laser, a), s2 = simulateScan(world, robot, laser, b);
+	EXPECT_EQ(s1.points, s2.points);
+	EXPECT_NEAR(double(s1.points.size()) / scan.points.size(), 0.5, 0.1);
+	auto cut = scan;
+	removeBearingSector(cut, -0.5, 0.5);
+	for (const auto& p : cut.points) EXPECT_FALSE(std::abs(std::atan2(p.y(), p.x())) <= 0.5);
+}
+
+TEST(SyntheticWorld, corridorAndRepeatedRooms)
+{
+	const auto corridor = makeCorridorWorld(100, 2);
+	EXPECT_EQ(corridor.segments().size(), 2U);
+	const auto rooms = makeRepeatedRoomsWorld(3, 2, 6.0, 1.0);
+	const TBox b = rooms.bounds();
+	EXPECT_NEAR(b.max.x(), 18, 1e-12);
+	EXPECT_NEAR(b.max.y(), 12, 1e-12);
+	// Identical rooms: the same relative pose in two rooms sees the same scan.
+	std::mt19937 r1(4), r2(4);
+	TLaserSimParams laser;
+	laser.rangeNoiseStd = 0;
+	laser.maxRange = 2.5;  // stays inside one room
+	const auto s1 = simulateScan(rooms, TPose2D(2, 2.5, 0.3), laser, r1);
+	const auto s2 = simulateScan(rooms, TPose2D(8, 8.5, 0.3), laser, r2);
+	ASSERT_EQ(s1.points.size(), s2.points.size());
+	for (size_t i = 0; i < s1.points.size(); ++i) EXPECT_LT((s1.points[i] - s2.points[i]).norm(), 1e-9);
+}
+
+TEST(SyntheticWorld, trajectoryAndOdometry)
+{
+	const std::vector<Eigen::Vector2d> wp{{1, 1}, {5, 1}, {5, 4}};
+	const auto tr = makeTrajectory(wp, 0.2, TOdometryNoise{}, 7);
+	ASSERT_GE(tr.truePoses.size(), 36U);  // 20 + turns + 15
+	EXPECT_EQ(tr.odometryIncrements.size(), tr.truePoses.size() - 1);
+	EXPECT_EQ(tr.odometryPoses.size(), tr.truePoses.size());
+	EXPECT_NEAR(tr.truePoses.back().x, 5, 1e-9);
+	EXPECT_NEAR(tr.truePoses.back().y, 4, 1e-9);
+	double maxStep = 0, maxTurn = 0;
+	for (size_t k = 0; k + 1 < tr.truePoses.size(); ++k)
+	{
+		const auto d = lrgc::between(tr.truePoses[k], tr.truePoses[k + 1]);
+		maxStep = std::max(maxStep, lrgc::translationNorm(d));
+		maxTurn = std::max(maxTurn, std::abs(d.phi));
+	}
+	EXPECT_LE(maxStep, 0.2 + 1e-9);
+	EXPECT_LE(maxTurn, 0.35 + 1e-9);
+	// Odometry drifts (noise on), but stays near the truth over this short path.
+	const double drift = lrgc::translationNorm(lrgc::between(tr.truePoses.back(), tr.odometryPoses.back()));
+	EXPECT_GT(drift, 1e-4);
+	EXPECT_LT(drift, 1.0);
+	const auto exact = makeTrajectory(wp, 0.2, TOdometryNoise{0, 0, 0, 0}, 7);
+	EXPECT_LT(lrgc::translationNorm(lrgc::between(exact.truePoses.back(), exact.odometryPoses.back())), 1e-9);
+}
