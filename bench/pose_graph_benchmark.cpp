@@ -10,6 +10,7 @@
  * With --lrgc_figures=DIR it also writes the SVG figures of doc/back-end.md and exits. */
 #include <benchmark/benchmark.h>
 #include <lrgc/pose_graph/PoseGraphOptimizer.h>
+#include "manhattan_pose_graph.h"
 #include <lrgc/loop_closing/UncertaintyPropagation.h>
 #include <lrgc/common/se2.h>
 

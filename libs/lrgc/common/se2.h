@@ -10,6 +10,7 @@
 #include <mrpt/math/TPose2D.h>
 #include <mrpt/math/wrap2pi.h>
 
+#include <Eigen/Cholesky>
 #include <Eigen/Core>
 #include <cmath>
 
@@ -72,5 +73,17 @@ inline TPose2D fromVector(const Eigen::Vector3d& v)
 
 /** Translation norm [m]. */
 inline double translationNorm(const TPose2D& p) { return std::hypot(p.x, p.y); }
+
+/** Chi-square of the disagreement between two independent estimates of one relative pose:
+ *     d = v(expected^-1 (+) measured),   chi2 = d^T C^-1 d   [-, 3 dof]
+ * with C the sum of both covariances over (x [m], y [m], phi [rad]) in the frame the poses
+ * are expressed in. The gates of local registration (odometry glitches) and of the revisit
+ * sweep compare it with a chi-square quantile. */
+inline double disagreementChi2(
+	const TPose2D& expected, const TPose2D& measured, const Eigen::Matrix3d& C)
+{
+	const Eigen::Vector3d d = toVector(between(expected, measured));
+	return d.dot(C.ldlt().solve(d));
+}
 
 }  // namespace lrgc

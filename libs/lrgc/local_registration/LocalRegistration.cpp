@@ -9,63 +9,6 @@
 
 namespace lrgc
 {
-void TLocalRegistrationParams::loadFromConfigFile(
-	const mrpt::config::CConfigFileBase& c, const std::string& s)
-{
-	rejectUnknownKeys(TLocalRegistrationParams(), c, s);
-	window_size = c.read_uint64_t(s, "window_size", window_size);
-	max_pairwise_links = c.read_uint64_t(s, "max_pairwise_links", max_pairwise_links);
-	min_link_inliers = c.read_double(s, "min_link_inliers", min_link_inliers);
-	glitch_gate_chi2 = c.read_double(s, "glitch_gate_chi2", glitch_gate_chi2);
-	wide_search_angle = mrpt::DEG2RAD(
-		c.read_double(s, "wide_search_angle_deg", mrpt::RAD2DEG(wide_search_angle)));
-	glitch_min_turn =
-		mrpt::DEG2RAD(c.read_double(s, "glitch_min_turn_deg", mrpt::RAD2DEG(glitch_min_turn)));
-	glitch_min_gap = c.read_double(s, "glitch_min_gap", glitch_min_gap);
-	requireParam(glitch_min_gap > 0, s, "glitch_min_gap", "must be > 0");
-	max_free_space_violation =
-		c.read_double(s, "max_free_space_violation", max_free_space_violation);
-	requireParam(
-		max_free_space_violation >= 0 && max_free_space_violation <= 1, s,
-		"max_free_space_violation", "must be in [0, 1]");
-	requireParam(glitch_min_turn >= 0, s, "glitch_min_turn_deg", "must be >= 0");
-	link_noise.load(c, s, "");
-	requireParam(window_size >= 2 && window_size <= 100, s, "window_size", "must be in [2, 100]");
-	requireParam(
-		max_pairwise_links >= 1 && max_pairwise_links < window_size, s, "max_pairwise_links",
-		"must be in [1, window_size - 1]");
-	requireParam(
-		min_link_inliers > 0 && min_link_inliers <= 1, s, "min_link_inliers", "must be in (0, 1]");
-	requireParam(glitch_gate_chi2 > 0, s, "glitch_gate_chi2", "must be > 0");
-	patch_link = c.read_bool(s, "patch_link", patch_link);
-	patch_link_noise.load(c, s, "patch_");
-	pairwise_link_weight = c.read_double(s, "pairwise_link_weight", pairwise_link_weight);
-	requireParam(
-		pairwise_link_weight > 0 && pairwise_link_weight <= 1, s, "pairwise_link_weight",
-		"must be in (0, 1]");
-	requireParam(
-		wide_search_angle >= 0 && wide_search_angle <= M_PI, s, "wide_search_angle_deg",
-		"must be in [0, 180]");
-}
-
-void TLocalRegistrationParams::saveToConfigFile(
-	mrpt::config::CConfigFileBase& c, const std::string& s) const
-{
-	const int np = mrpt::config::MRPT_SAVE_NAME_PADDING(), vp = mrpt::config::MRPT_SAVE_VALUE_PADDING();
-	c.write(s, "window_size", uint64_t(window_size), np, vp, "K: keyframes registered together (paper: K >= 7)");
-	c.write(s, "max_pairwise_links", uint64_t(max_pairwise_links), np, vp, "Pairwise scan-match links per new keyframe, spread over the window");
-	c.write(s, "min_link_inliers", min_link_inliers, np, vp, "Min fraction of matched points for a pairwise scan-match link");
-	c.write(s, "glitch_gate_chi2", glitch_gate_chi2, np, vp, "[chi2, 3 dof] Odometry/match disagreement that triggers the wide search");
-	link_noise.save(c, s, "", "every pairwise scan-match link (real-scan errors the matcher cannot see)");
-	c.write(s, "wide_search_angle_deg", mrpt::RAD2DEG(wide_search_angle), np, vp, "[deg] Half-width of the rotational search after an odometry glitch");
-	c.write(s, "glitch_min_turn_deg", mrpt::RAD2DEG(glitch_min_turn), np, vp, "[deg] A predicted step turning more than this is suspect: wide search if the match fails");
-	c.write(s, "glitch_min_gap", glitch_min_gap, np, vp, "[s] A step after a longer pause in the scans is suspect too");
-	c.write(s, "max_free_space_violation", max_free_space_violation, np, vp, "Local matches: tolerated fraction of points where the window saw free space");
-	c.write(s, "patch_link", patch_link, np, vp, "Link each keyframe to the previous one by its match against the window patch (scan to map)");
-	patch_link_noise.save(c, s, "patch_", "the patch link");
-	c.write(s, "pairwise_link_weight", pairwise_link_weight, np, vp, "Pairwise (scan to scan) links' information is scaled by this, after the split among them");
-}
-
 CLocalRegistration::CLocalRegistration(
 	const TLocalRegistrationParams& p, const TScanMatcherParams& matcher,
 	const TPoseGraphOptimizerParams& optimizer)
@@ -127,8 +70,7 @@ TRegistration CLocalRegistration::registerScan(
 
 	// Squared Mahalanobis distance between the prior and a match, 3 dof.
 	auto disagreement = [&](const TScanMatch& m) {
-		Eigen::Vector3d d = toVector(between(guess, m.scanInRef));
-		return double(d.transpose() * (priorCov + m.cov).inverse() * d);
+		return disagreementChi2(guess, m.scanInRef, priorCov + m.cov);
 	};
 	std::optional<TScanMatch> match = m_matcher.match(cloud, scan, guess);
 	const bool disagrees = match && disagreement(*match) > m_params.glitch_gate_chi2;

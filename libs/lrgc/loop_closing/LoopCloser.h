@@ -20,6 +20,8 @@
  */
 #pragma once
 
+#include <lrgc/loop_closing/LoopCloserParams.h>
+#include <lrgc/loop_closing/LoopCloserStats.h>
 #include <lrgc/pose_graph/Keyframe.h>
 #include <lrgc/pose_graph/LinkNoise.h>
 #include <lrgc/loop_closing/PatchCorrelator.h>
@@ -33,32 +35,6 @@
 
 namespace lrgc
 {
-struct TLoopCloserParams : public mrpt::config::CLoadableOptions
-{
-	size_t old_map_exclusion = 40;  //!< m: newest keyframes left out of the old map (m > K)
-	size_t patch_min_keyframes = 10;  //!< patch size at zero uncertainty
-	double patch_keyframes_per_m = 8;  //!< patch growth per metre of position std [1/m]
-	double gate_sigma = 3.0;  //!< Mahalanobis gate on the candidates' position [-]
-	double overlap_radius = 3.0;  //!< [m] poses this close can see the same walls
-	double window_sigmas = 3.0;  //!< search half-window in standard deviations [-]
-	double max_window_xy = 15.0;  //!< [m] cap of the translational search half-window
-	double max_window_theta = mrpt::DEG2RAD(30.0);  //!< [rad] (key max_window_theta_deg)
-	double consistent_chi2 = 11.34;  //!< [chi2, 3 dof] a link agreeing this well needs no solve
-	size_t check_every = 1;  //!< look for a loop every this many keyframes
-	/** [m] Patch points farther from the newest keyframe are left out of the correlation:
-	 * the heading step is resolution / patch radius, so 40 m returns (ACES) would need
-	 * ~900 headings over +-30 deg; far returns are also the noisiest. */
-	double patch_max_range = 12.0;
-	/** Noise floor of loop links (and end-of-run revisit links); keys link_floor_xy [m],
-	 * link_floor_phi_deg. Looser than local registration's: a loop link joins scans taken
-	 * minutes apart (people, doors, chairs moved). */
-	TLinkNoise link_noise;
-
-	void loadFromConfigFile(
-		const mrpt::config::CConfigFileBase& c, const std::string& s) override;
-	void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
-};
-
 /** One accepted loop closure. */
 struct TLoopClosure
 {
@@ -70,23 +46,14 @@ struct TLoopClosure
 	double seconds = 0;  //!< time of the whole closure step [s]
 };
 
-/** Counters for logs and stats. */
-struct TLoopCloserStats
-{
-	size_t attempts = 0;  //!< correlations run
-	size_t accepted = 0;  //!< links added
-	size_t rejectedByFilters = 0, rejectedByMatch = 0, rejectedByBackEnd = 0;
-	size_t optimizations = 0;
-	std::vector<double> closureSeconds;  //!< per optimised closure
-};
-
 class CLoopCloser
 {
    public:
+	/** The loop closer's own section, and those of the three stages it drives (correlator,
+	 * matcher, optimizer). Its loop links' noise floor is p.link_noise. */
 	CLoopCloser(
 		const TLoopCloserParams& p, const TPatchCorrelatorParams& correlator,
-		const TScanMatcherParams& matcher, const TPoseGraphOptimizerParams& optimizer,
-		const TLinkNoise& linkNoise);
+		const TScanMatcherParams& matcher, const TPoseGraphOptimizerParams& optimizer);
 
 	/** Looks for a loop for the newest keyframe and closes it. Returns the closure if a link
 	 * was added (the graph may have been optimised: callers refresh cached poses). */
@@ -104,7 +71,6 @@ class CLoopCloser
 
 	TLoopCloserParams m_params;
 	TScanMatcherParams m_matcherParams;
-	TLinkNoise m_linkNoise;
 	CPatchCorrelator m_correlator;
 	CScanMatcher m_matcher;
 	CPoseGraphOptimizer m_optimizer;

@@ -15,46 +15,6 @@ namespace lrgc
 {
 using mrpt::math::TPose2D;
 
-void TRevisitLinkerParams::loadFromConfigFile(
-	const mrpt::config::CConfigFileBase& c, const std::string& s)
-{
-	rejectUnknownKeys(TRevisitLinkerParams(), c, s);
-	enabled = c.read_bool(s, "enabled", enabled);
-	radius = c.read_double(s, "radius", radius);
-	max_heading =
-		mrpt::DEG2RAD(c.read_double(s, "max_heading_deg", mrpt::RAD2DEG(max_heading)));
-	min_index_gap = c.read_uint64_t(s, "min_index_gap", min_index_gap);
-	stride = c.read_uint64_t(s, "stride", stride);
-	min_inliers = c.read_double(s, "min_inliers", min_inliers);
-	gate_chi2 = c.read_double(s, "gate_chi2", gate_chi2);
-	prior_std_xy = c.read_double(s, "prior_std_xy", prior_std_xy);
-	prior_std_phi =
-		mrpt::DEG2RAD(c.read_double(s, "prior_std_phi_deg", mrpt::RAD2DEG(prior_std_phi)));
-	requireParam(radius > 0, s, "radius", "must be > 0");
-	requireParam(
-		max_heading > 0 && max_heading <= M_PI, s, "max_heading_deg", "must be in (0, 180]");
-	requireParam(stride >= 1, s, "stride", "must be >= 1");
-	requireParam(min_inliers > 0 && min_inliers <= 1, s, "min_inliers", "must be in (0, 1]");
-	requireParam(gate_chi2 > 0, s, "gate_chi2", "must be > 0");
-	requireParam(prior_std_xy > 0, s, "prior_std_xy", "must be > 0");
-	requireParam(prior_std_phi > 0, s, "prior_std_phi_deg", "must be > 0");
-}
-
-void TRevisitLinkerParams::saveToConfigFile(
-	mrpt::config::CConfigFileBase& c, const std::string& s) const
-{
-	const int np = mrpt::config::MRPT_SAVE_NAME_PADDING(), vp = mrpt::config::MRPT_SAVE_VALUE_PADDING();
-	c.write(s, "enabled", enabled, np, vp, "End of run: scan match revisited places the online gate missed");
-	c.write(s, "radius", radius, np, vp, "[m] Old keyframes this close to a keyframe are candidates");
-	c.write(s, "max_heading_deg", mrpt::RAD2DEG(max_heading), np, vp, "[deg] ... and this close in heading");
-	c.write(s, "min_index_gap", uint64_t(min_index_gap), np, vp, "Candidates are older than this many keyframes");
-	c.write(s, "stride", uint64_t(stride), np, vp, "Every stride-th keyframe is tried");
-	c.write(s, "min_inliers", min_inliers, np, vp, "Least fraction of the keyframe's points matched");
-	c.write(s, "gate_chi2", gate_chi2, np, vp, "[chi2, 3 dof] Agreement of the match with the current relative pose");
-	c.write(s, "prior_std_xy", prior_std_xy, np, vp, "[m] Std of the current relative pose (loop-closed map)");
-	c.write(s, "prior_std_phi_deg", mrpt::RAD2DEG(prior_std_phi), np, vp, "[deg] Heading std of the current relative pose");
-}
-
 CRevisitLinker::CRevisitLinker(
 	const TRevisitLinkerParams& p, const TScanMatcherParams& matcher, const TLinkNoise& linkNoise)
 	: m_params(p), m_matcherParams(matcher), m_linkNoise(linkNoise), m_matcher(matcher)
@@ -126,8 +86,7 @@ size_t CRevisitLinker::linkRevisits(CPoseGraph& graph, const TKeyframes& keyfram
 		const auto m = m_matcher.match(
 			CReferenceCloud::fromScan(keyframes[best].scan, m_matcherParams), keyframes[k].scan, guess);
 		if (!m || m->inlierFraction < m_params.min_inliers) continue;
-		const Eigen::Vector3d e = toVector(between(guess, m->scanInRef));
-		if (e.dot((prior + m->cov).ldlt().solve(e)) > m_params.gate_chi2) continue;
+		if (disagreementChi2(guess, m->scanInRef, prior + m->cov) > m_params.gate_chi2) continue;
 		graph.addLink(
 			{best, k, m->scanInRef, linkInformation(m->cov, m_linkNoise), LinkType::LoopClosure});
 		linked.insert(pairKey(best, k));

@@ -1,6 +1,9 @@
 #include <lrgc/map_builder/CMetricMapBuilderLRGC.h>
 
 #include <lrgc/common/se2.h>
+#include <lrgc/local_registration/LocalRegistration.h>
+#include <lrgc/local_registration/MotionPredictor.h>
+#include <lrgc/loop_closing/LoopCloser.h>
 
 #include <Eigen/Dense>
 
@@ -50,7 +53,7 @@ void CMetricMapBuilderLRGC::processScan(
 	const mrpt::obs::CSensoryFrame::Ptr& observations)
 {
 	// 1. Predict, and de-skew the scan by the predicted motion over its sweep.
-	const TMotionPrediction prediction = m_predictor.predict(laser->timestamp);
+	const TMotionPrediction prediction = m_predictor->predict(laser->timestamp);
 	TScanConversionStats conv;
 	TScan2D scan = scanFromObservation(*laser, &conv, sweepMotion(prediction));
 	if (scan.points.size() < m_params.builder.min_scan_points)
@@ -84,7 +87,7 @@ void CMetricMapBuilderLRGC::processScan(
 	}
 	if (!prediction.fromOdometry || reg.odometryRejected) m_odometryTrustedSinceKeyframe = false;
 	m_motionSinceKeyframe = compose(m_motionSinceKeyframe, prediction.motion);
-	m_predictor.commitScan(laser->timestamp, between(m_lastScanInMap, reg.scanInMap));
+	m_predictor->commitScan(laser->timestamp, between(m_lastScanInMap, reg.scanInMap));
 	m_lastScanInMap = reg.scanInMap;
 	m_lastScanCov = reg.cov;
 	const size_t scanIndex = m_stats.scans++;
@@ -145,8 +148,8 @@ TPose2D CMetricMapBuilderLRGC::sweepMotion(const TMotionPrediction& prediction) 
 {
 	const double sweep = m_params.builder.scan_sweep_time;
 	const double step =
-		m_predictor.clockJittered() || prediction.stepSeconds < 0.5 * m_predictor.scanPeriod()
-		? m_predictor.meanScanPeriod()
+		m_predictor->clockJittered() || prediction.stepSeconds < 0.5 * m_predictor->scanPeriod()
+		? m_predictor->meanScanPeriod()
 		: prediction.stepSeconds;
 	if (sweep <= 0 || step <= 0) return TPose2D(0, 0, 0);
 	const double k = std::min(1.0, sweep / step);
@@ -186,12 +189,12 @@ TLink CMetricMapBuilderLRGC::odometryLinkToNewest() const
 	if (m_odometryTrustedSinceKeyframe)
 	{
 		link.toInFrom = m_motionSinceKeyframe;
-		link.information = m_predictor.odometryCov(m_motionSinceKeyframe).inverse();
+		link.information = m_predictor->odometryCov(m_motionSinceKeyframe).inverse();
 	}
 	else
 	{
 		link.toInFrom = between(m_graph.pose(from), m_graph.pose(to));
-		link.information = m_predictor.constantVelocityCov().inverse();
+		link.information = m_predictor->constantVelocityCov().inverse();
 	}
 	return link;
 }
@@ -203,7 +206,7 @@ void CMetricMapBuilderLRGC::processObservation(const mrpt::obs::CObservation::Pt
 {
 	ASSERT_(obs);
 	if (auto odo = std::dynamic_pointer_cast<mrpt::obs::CObservationOdometry>(obs))
-		m_predictor.addOdometryAbsolute(odo->odometry.asTPose());
+		m_predictor->addOdometryAbsolute(odo->odometry.asTPose());
 	else if (auto laser = std::dynamic_pointer_cast<mrpt::obs::CObservation2DRangeScan>(obs))
 	{
 		if (m_laserLabel.empty()) m_laserLabel = laser->sensorLabel;
@@ -220,7 +223,7 @@ void CMetricMapBuilderLRGC::processActionObservation(
 	mrpt::obs::CActionCollection& action, mrpt::obs::CSensoryFrame& observations)
 {
 	if (auto odo = action.getBestMovementEstimation(); odo && odo->poseChange)
-		m_predictor.addOdometryIncrement(odo->poseChange->getMeanVal().asTPose());
+		m_predictor->addOdometryIncrement(odo->poseChange->getMeanVal().asTPose());
 	auto sf = mrpt::obs::CSensoryFrame::Create(observations);
 	mrpt::obs::CObservation2DRangeScan::Ptr laser;
 	for (const auto& o : observations)
@@ -230,7 +233,7 @@ void CMetricMapBuilderLRGC::processActionObservation(
 			if (l->sensorLabel == m_laserLabel && !laser) laser = l;
 		}
 		else if (auto od = std::dynamic_pointer_cast<mrpt::obs::CObservationOdometry>(o))
-			m_predictor.addOdometryAbsolute(od->odometry.asTPose());
+			m_predictor->addOdometryAbsolute(od->odometry.asTPose());
 	if (laser) processScan(laser, sf);
 	else ++m_stats.ignoredObservations;
 }

@@ -13,13 +13,11 @@
  */
 #pragma once
 
-#include <lrgc/pose_graph/Keyframe.h>
-#include <lrgc/local_registration/LocalRegistration.h>
-#include <lrgc/loop_closing/LoopCloser.h>
+#include <lrgc/loop_closing/LoopCloserStats.h>
 #include <lrgc/map_builder/MapBuilderParams.h>
-#include <lrgc/local_registration/MotionPredictor.h>
-#include <lrgc/pose_graph/PoseGraph.h>
 #include <lrgc/map_builder/Trajectory.h>
+#include <lrgc/pose_graph/Keyframe.h>
+#include <lrgc/pose_graph/PoseGraph.h>
 #include <mrpt/maps/CMultiMetricMap.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
 #include <mrpt/slam/CMetricMapBuilder.h>
@@ -29,6 +27,13 @@
 
 namespace lrgc
 {
+// The stages are the builder's internals: users see its products (graph, keyframes,
+// trajectory) and its parameters, not the classes that make them.
+class CMotionPredictor;
+class CLocalRegistration;
+class CLoopCloser;
+struct TMotionPrediction;
+
 /** Counters of a run, for stats.json and logs. */
 struct TMapBuilderStats
 {
@@ -120,7 +125,7 @@ class CMetricMapBuilderLRGC : public mrpt::slam::CMetricMapBuilder
 	void warn(std::string message);
 
 	TLRGCParams m_params;
-	CMotionPredictor m_predictor;
+	std::unique_ptr<CMotionPredictor> m_predictor;
 	std::unique_ptr<CLocalRegistration> m_local;
 	std::unique_ptr<CLoopCloser> m_loopCloser;
 	CPoseGraph m_graph;

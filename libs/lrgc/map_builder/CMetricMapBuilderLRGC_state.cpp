@@ -1,6 +1,10 @@
 /* CMetricMapBuilderLRGC: initialisation, the current estimate, and what the map builder
  * hands out (CSimpleMap of keyframes, occupancy grid, trajectory). */
 #include <lrgc/map_builder/CMetricMapBuilderLRGC.h>
+#include <lrgc/local_registration/LocalRegistration.h>
+#include <lrgc/local_registration/MotionPredictor.h>
+#include <lrgc/loop_closing/LoopCloser.h>
+#include <lrgc/loop_closing/RevisitLinker.h>
 #include <lrgc/pose_graph/PoseGraphOptimizer.h>
 #include <lrgc/common/se2.h>
 
@@ -16,6 +20,13 @@ using mrpt::math::TPose2D;
 
 namespace
 {
+/** [m] Laser rays are inserted into the exported grid up to this range: farther ones add
+ * little and cost much (MRPT's default is 15 m; ACES has 40 m returns). */
+constexpr double kGridMaxRayLength_m = 30;
+/** Std of the links that chain the keyframes of a map given to initialize() [m, m, rad]:
+ * tight, since that map's poses are taken as they are. */
+const Eigen::Vector3d kContinuationLinkStd(0.01, 0.01, mrpt::DEG2RAD(0.5));
+
 mrpt::poses::CPose3DPDFGaussian::Ptr gaussian3D(const TPose2D& p, const Eigen::Matrix3d& cov2D)
 {
 	auto pdf = mrpt::poses::CPose3DPDFGaussian::Create();
@@ -32,14 +43,13 @@ mrpt::poses::CPose3DPDFGaussian::Ptr gaussian3D(const TPose2D& p, const Eigen::M
 void CMetricMapBuilderLRGC::initialize(
 	const mrpt::maps::CSimpleMap& initialMap, const mrpt::poses::CPosePDF* x0)
 {
-	m_predictor = CMotionPredictor(m_params.motion);
+	m_predictor = std::make_unique<CMotionPredictor>(m_params.motion);
 	m_local = std::make_unique<CLocalRegistration>(
 		m_params.local, m_params.matcher, m_params.optimizer);
 	m_loopCloser.reset();
 	if (m_params.builder.loop_closing)
 		m_loopCloser = std::make_unique<CLoopCloser>(
-			m_params.loop, m_params.correlator, m_params.matcher, m_params.optimizer,
-			m_params.loop.link_noise);
+			m_params.loop, m_params.correlator, m_params.matcher, m_params.optimizer);
 	m_graph = CPoseGraph();
 	m_keyframes.clear();
 	m_scans.clear();
@@ -72,10 +82,10 @@ void CMetricMapBuilderLRGC::initialize(
 		m_scans.push_back({laser->timestamp, node, TPose2D(0, 0, 0)});
 		if (node > 0)
 		{
-			const Eigen::Vector3d sigma(0.01, 0.01, mrpt::DEG2RAD(0.5));
 			m_graph.addLink(
 				{node - 1, node, between(m_graph.pose(node - 1), pose),
-				 sigma.cwiseProduct(sigma).cwiseInverse().asDiagonal(), LinkType::Odometry});
+				 kContinuationLinkStd.cwiseProduct(kContinuationLinkStd).cwiseInverse().asDiagonal(),
+				 LinkType::Odometry});
 			++m_stats.odometryLinks;
 		}
 		m_lastScanInMap = pose;
@@ -110,8 +120,7 @@ mrpt::maps::COccupancyGridMap2D::Ptr CMetricMapBuilderLRGC::buildOccupancyGrid()
 {
 	const double res = m_params.builder.grid_resolution;
 	auto grid = mrpt::maps::COccupancyGridMap2D::Create(-10, 10, -10, 10, res);
-	// Rays beyond 30 m add little and cost much (MRPT's default is 15 m).
-	grid->insertionOptions.maxDistanceInsertion = 30;
+	grid->insertionOptions.maxDistanceInsertion = kGridMaxRayLength_m;
 	for (size_t i = 0; i < m_keyframes.size(); ++i)
 	{
 		const TPose2D p = m_graph.pose(i);

@@ -3,13 +3,13 @@
  * lrgc .ini, or an unknown key in a known one, is an error. */
 #pragma once
 
-#include <lrgc/local_registration/LocalRegistration.h>
-#include <lrgc/loop_closing/LoopCloser.h>
-#include <lrgc/local_registration/MotionPredictor.h>
+#include <lrgc/local_registration/LocalRegistrationParams.h>
+#include <lrgc/local_registration/MotionPredictorParams.h>
+#include <lrgc/loop_closing/LoopCloserParams.h>
 #include <lrgc/loop_closing/PatchCorrelatorParams.h>
-#include <lrgc/loop_closing/RevisitLinker.h>
-#include <lrgc/pose_graph/PoseGraphOptimizer.h>
-#include <lrgc/scan_matching/ScanMatcher.h>
+#include <lrgc/loop_closing/RevisitLinkerParams.h>
+#include <lrgc/pose_graph/PoseGraphOptimizerParams.h>
+#include <lrgc/scan_matching/ScanMatcherParams.h>
 #include <mrpt/config/CLoadableOptions.h>
 
 #include <string>

@@ -32,47 +32,6 @@
 
 namespace lrgc
 {
-// ----------------------------------------------------------------------------- parameters
-void TPoseGraphOptimizerParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& src,
-												   const std::string& s)
-{
-	rejectUnknownKeys(TPoseGraphOptimizerParams(), src, s);
-	maxIterations = src.read_int(s, "max_iterations", maxIterations);
-	relativeCostTolerance =
-		src.read_double(s, "relative_cost_tolerance", relativeCostTolerance);
-	stepTolerance = src.read_double(s, "step_tolerance", stepTolerance);
-	initialLambda = src.read_double(s, "initial_lambda", initialLambda);
-	robustLoopClosures = src.read_bool(s, "robust_loop_closures", robustLoopClosures);
-	dcsPhi = src.read_double(s, "dcs_phi", dcsPhi);
-	rejectScale = src.read_double(s, "reject_scale", rejectScale);
-	requireParam(maxIterations >= 1, s, "max_iterations", "must be >= 1");
-	requireParam(relativeCostTolerance >= 0, s, "relative_cost_tolerance", "must be >= 0");
-	requireParam(stepTolerance >= 0, s, "step_tolerance", "must be >= 0");
-	requireParam(initialLambda > 0, s, "initial_lambda", "must be > 0");
-	requireParam(dcsPhi > 0, s, "dcs_phi", "must be > 0");
-	requireParam(rejectScale > 0 && rejectScale <= 1, s, "reject_scale", "must be in (0, 1]");
-}
-
-void TPoseGraphOptimizerParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
-												 const std::string& s) const
-{
-	const int np = mrpt::config::MRPT_SAVE_NAME_PADDING(),
-			  vp = mrpt::config::MRPT_SAVE_VALUE_PADDING();
-	c.write(s, "max_iterations", maxIterations, np, vp, "LM linearisations per solve [-]");
-	c.write(s, "relative_cost_tolerance", relativeCostTolerance, np, vp,
-			"Stop when the cost falls by less than this fraction [-]");
-	c.write(s, "step_tolerance", stepTolerance, np, vp,
-			"Stop when the largest pose update is below this [m | rad]");
-	c.write(s, "initial_lambda", initialLambda, np, vp,
-			"LM damping at the first step, relative to diag(H) [-]");
-	c.write(s, "robust_loop_closures", robustLoopClosures, np, vp,
-			"Dynamic Covariance Scaling on LoopClosure links [bool]");
-	c.write(s, "dcs_phi", dcsPhi, np, vp,
-			"DCS Phi: loop links with chi2 <= Phi keep full weight [chi2]");
-	c.write(s, "reject_scale", rejectScale, np, vp,
-			"Loop link reported as rejected if its final DCS scale is below [-]");
-}
-
 // ------------------------------------------------------------------------------ residual
 /* e = ( R_z^T (R_i^T (t_j - t_i) - t_z) ,  wrap(phi_j - phi_i - phi_z) )
  * with t = (x, y) [m] in the map frame (t_z in frame i), R_a the rotation by phi_a [rad].

@@ -2,6 +2,7 @@
  * bending the map, true loops (also with large drift) kept. */
 #include <gtest/gtest.h>
 #include <lrgc/pose_graph/PoseGraphOptimizer.h>
+#include "manhattan_pose_graph.h"
 #include <lrgc/common/se2.h>
 #include <mrpt/config/CConfigFileMemory.h>
 

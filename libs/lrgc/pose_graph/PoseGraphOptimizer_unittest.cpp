@@ -2,6 +2,7 @@
  * optimiser, windowed solves, parameters. False loop closures: PoseGraphOptimizerRobust_unittest. */
 #include <gtest/gtest.h>
 #include <lrgc/pose_graph/PoseGraphOptimizer.h>
+#include "manhattan_pose_graph.h"
 #include <lrgc/common/se2.h>
 #include <mrpt/config/CConfigFileMemory.h>
 

@@ -2,6 +2,7 @@
  * through an MRPT .graph text file. */
 #include <gtest/gtest.h>
 #include <lrgc/pose_graph/PoseGraph.h>
+#include "manhattan_pose_graph.h"
 #include <lrgc/pose_graph/PoseGraphOptimizer.h>
 #include <lrgc/common/se2.h>
 #include <mrpt/core/exceptions.h>

@@ -213,14 +213,21 @@ std::optional<TScanMatch> CScanMatcher::matchPoints(
 	return m;
 }
 
+namespace
+{
+/** Points of the scan matchWide explores each start heading with [points]: enough to fix a
+ * pose on two walls, few enough for ~25 starts in a few ms. */
+constexpr size_t kWideSearchSample = 120;
+}  // namespace
+
 std::optional<TScanMatch> CScanMatcher::matchWide(
 	const CReferenceCloud& ref, const TScan2D& scan, const mrpt::math::TPose2D& guess,
 	double searchAngle) const
 {
 	ASSERT_(searchAngle >= 0);
-	// Explore with at most ~120 evenly spread points and a doubled gate; refine the winner
-	// with the whole scan.
-	const size_t stride = std::max<size_t>(1, scan.points.size() / 120);
+	// Explore with at most ~kWideSearchSample evenly spread points and a doubled gate; refine
+	// the winner with the whole scan.
+	const size_t stride = std::max<size_t>(1, scan.points.size() / kWideSearchSample);
 	std::vector<Eigen::Vector2d> sub;
 	for (size_t i = 0; i < scan.points.size(); i += stride) sub.push_back(scan.points[i]);
 	const int n = static_cast<int>(std::floor(searchAngle / m_params.wideSearchStep + 1e-9));

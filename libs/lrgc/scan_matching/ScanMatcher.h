@@ -21,6 +21,7 @@
  */
 #pragma once
 
+#include <lrgc/scan_matching/ScanMatcherParams.h>
 #include <lrgc/scan_matching/ReferenceCloud.h>
 #include <lrgc/scan_matching/Scan.h>
 #include <mrpt/config/CLoadableOptions.h>
@@ -33,33 +34,6 @@
 
 namespace lrgc
 {
-/** Section [ScanMatcher]. */
-struct TScanMatcherParams : public mrpt::config::CLoadableOptions
-{
-	int maxIterations = 50;  //!< Gauss-Newton iterations before giving up (no convergence)
-	double maxCorrespondenceDist_m = 0.5;  //!< [m] initial gate: farther pairs are not formed
-	double refResolution_m = 0.02;  //!< [m] voxel size for reducing the reference points
-	double normalRadius_m = 0.15;  //!< [m] neighbourhood radius of the local line fits
-	double minInlierFraction = 0.25;  //!< of the scan's points, below it: no match
-	int minInliers = 20;  //!< absolute minimum of inlier points
-	double maxRmsResidual_m = 0.1;  //!< [m] inlier RMS residual above it: no match
-	double minResidualStd_m = 0.003;  //!< [m] floor of the estimated residual scale
-	double maxFreeSpaceViolation = 0.15;  //!< of the scan points lying where the reference's
-										 //!< beams passed (free space); above it: no match
-	double unobservableStd_m = 1.0;  //!< [m] std reported along directions the data do not fix
-	double wideSearchStep = 7.5 * M_PI / 180;  //!< [rad] heading step of matchWide's starts
-												//!< (.ini key wideSearchStep_deg, degrees)
-	double wideAmbiguityMargin = 0.15;  //!< matchWide: best inlier fraction must beat the
-										//!< best distinct alternative by this much
-
-	void loadFromConfigFile(
-		const mrpt::config::CConfigFileBase& source, const std::string& section) override;
-	void saveToConfigFile(
-		mrpt::config::CConfigFileBase& target, const std::string& section) const override;
-	/** Throws (naming section and key) if a value is out of range. */
-	void validate(const std::string& section = "ScanMatcher") const;
-};
-
 struct TScanMatch
 {
 	mrpt::math::TPose2D scanInRef;  //!< (ref <- scan)

@@ -49,7 +49,7 @@ void TScanMatcherParams::saveToConfigFile(
 	wd("min_residual_std", minResidualStd_m, "[m] floor of the residual scale estimated from the data");
 	wd("unobservable_std", unobservableStd_m, "[m] std reported along directions the scans leave free (corridor axis)");
 	wd("wide_search_step_deg", wideSearchStep * 180 / M_PI, "[deg] heading step between matchWide's starting guesses");
-	wd("max_free_space_violation", maxFreeSpaceViolation, "[0..1] of the scan points; more points inside space the reference saw as free: no match");
+	wd("max_free_space_violation", maxFreeSpaceViolation, "[0..1] of the scan points; more points inside space the reference saw as free: no match. Loop-closing and revisit matches; local registration uses [LocalRegistration] max_free_space_violation");
 	wd("wide_ambiguity_margin", wideAmbiguityMargin, "[0..1] matchWide: inlier fraction lead needed over a distinct alternative");
 }
 

@@ -1,0 +1,49 @@
+/* Section [LocalRegistration]: the parameters of CLocalRegistration, apart from the class so that the
+ * map builder's public header (MapBuilderParams.h) needs none of the stage's internals. */
+#pragma once
+
+#include <mrpt/config/CLoadableOptions.h>
+#include <mrpt/core/bits_math.h>
+#include <lrgc/pose_graph/LinkNoise.h>
+
+#include <cmath>
+#include <cstddef>
+#include <string>
+
+namespace lrgc
+{
+struct TLocalRegistrationParams : public mrpt::config::CLoadableOptions
+{
+	size_t window_size = 10;  //!< K: keyframes in the window (paper: K >= 7 at 0.3 m)
+	size_t max_pairwise_links = 5;  //!< pairwise scan-match links per new keyframe (spread over the window)
+	double min_link_inliers = 0.5;  //!< pairwise link only if this fraction of points matched
+	double glitch_gate_chi2 = 16.27;  //!< [chi2, 3 dof] prior/match disagreement (p = 0.001)
+	double wide_search_angle = mrpt::DEG2RAD(90.0);  //!< [rad] (key wide_search_angle_deg)
+	double glitch_min_turn = mrpt::DEG2RAD(30.0);  //!< [rad] a step turning more is suspect (key glitch_min_turn_deg)
+	double glitch_min_gap = 1.0;  //!< [s] a step after a longer pause in the scans is suspect
+	/** Free-space tolerance of local matches, replacing [ScanMatcher]'s: with an odometry
+	 * prior a wrong match is unlikely, while people walking through the window's scans and
+	 * glass make the strict loop-closing value reject good local matches on real logs. */
+	double max_free_space_violation = 0.3;
+	TLinkNoise link_noise;  //!< pairwise links; keys link_floor_xy [m], link_floor_phi_deg
+	/** Noise floor of the patch link; keys patch_link_floor_xy [m], patch_link_floor_phi_deg.
+	 * Tighter than the pairwise links': the patch of K scans has dense, well-fitted lines.
+	 * Measured, local registration alone: see doc/architecture.md. */
+	TLinkNoise patch_link_noise{0.005, 0.1 * M_PI / 180};
+	/** Link each new keyframe to the previous one by its registration against the window
+	 * patch (scan to map), besides the pairwise links (scan to scan). Used where the scan's
+	 * prior came from odometry (laser-only runs keep the pairwise links alone). */
+	bool patch_link = true;
+	/** Scale of the pairwise links' information (after the split among them). Scan-to-scan
+	 * matches against one sparse scan err more than their covariance says: at full weight
+	 * they doubled the heading drift of local registration on Intel (1.5 vs 0.7 deg per
+	 * 1000 scans, median, at 0.05); at 0.05 they mainly hold the window where the patch match
+	 * fails (doc/architecture.md). */
+	double pairwise_link_weight = 0.05;
+
+	void loadFromConfigFile(
+		const mrpt::config::CConfigFileBase& c, const std::string& s) override;
+	void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
+};
+
+}  // namespace lrgc

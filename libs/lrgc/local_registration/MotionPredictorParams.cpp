@@ -1,0 +1,47 @@
+#include <lrgc/local_registration/MotionPredictorParams.h>
+#include <lrgc/common/params_io.h>
+#include <mrpt/config/CConfigFileBase.h>
+#include <mrpt/core/bits_math.h>
+
+namespace lrgc
+{
+void TMotionPredictorParams::loadFromConfigFile(
+	const mrpt::config::CConfigFileBase& c, const std::string& s)
+{
+	rejectUnknownKeys(TMotionPredictorParams(), c, s);
+	use_odometry = c.read_bool(s, "use_odometry", use_odometry);
+	sigma_floor_xy = c.read_double(s, "sigma_floor_xy", sigma_floor_xy);
+	sigma_floor_phi =
+		mrpt::DEG2RAD(c.read_double(s, "sigma_floor_phi_deg", mrpt::RAD2DEG(sigma_floor_phi)));
+	k_xy_per_m = c.read_double(s, "k_xy_per_m", k_xy_per_m);
+	k_xy_per_rad = c.read_double(s, "k_xy_per_rad", k_xy_per_rad);
+	k_phi_per_m = c.read_double(s, "k_phi_per_m", k_phi_per_m);
+	k_phi_per_rad = c.read_double(s, "k_phi_per_rad", k_phi_per_rad);
+	cv_sigma_xy = c.read_double(s, "cv_sigma_xy", cv_sigma_xy);
+	cv_sigma_phi = mrpt::DEG2RAD(c.read_double(s, "cv_sigma_phi_deg", mrpt::RAD2DEG(cv_sigma_phi)));
+	for (const auto& [key, v] :
+		 {std::pair{"sigma_floor_xy", sigma_floor_xy}, {"sigma_floor_phi_deg", sigma_floor_phi},
+		  {"cv_sigma_xy", cv_sigma_xy}, {"cv_sigma_phi_deg", cv_sigma_phi}})
+		requireParam(v > 0, s, key, "must be > 0");
+	for (const auto& [key, v] :
+		 {std::pair{"k_xy_per_m", k_xy_per_m}, {"k_xy_per_rad", k_xy_per_rad},
+		  {"k_phi_per_m", k_phi_per_m}, {"k_phi_per_rad", k_phi_per_rad}})
+		requireParam(v >= 0, s, key, "must be >= 0");
+}
+
+void TMotionPredictorParams::saveToConfigFile(
+	mrpt::config::CConfigFileBase& c, const std::string& s) const
+{
+	const int np = mrpt::config::MRPT_SAVE_NAME_PADDING(), vp = mrpt::config::MRPT_SAVE_VALUE_PADDING();
+	c.write(s, "use_odometry", use_odometry, np, vp, "Use wheel odometry if the log has it (else constant velocity)");
+	c.write(s, "sigma_floor_xy", sigma_floor_xy, np, vp, "[m] Odometry noise floor per step");
+	c.write(s, "sigma_floor_phi_deg", mrpt::RAD2DEG(sigma_floor_phi), np, vp, "[deg] Odometry heading noise floor per step");
+	c.write(s, "k_xy_per_m", k_xy_per_m, np, vp, "[m/m] Translational noise per metre travelled");
+	c.write(s, "k_xy_per_rad", k_xy_per_rad, np, vp, "[m/rad] Translational noise per radian turned");
+	c.write(s, "k_phi_per_m", k_phi_per_m, np, vp, "[rad/m] Heading noise per metre travelled");
+	c.write(s, "k_phi_per_rad", k_phi_per_rad, np, vp, "[rad/rad] Heading noise per radian turned");
+	c.write(s, "cv_sigma_xy", cv_sigma_xy, np, vp, "[m] Constant-velocity model (no odometry): std dev per step");
+	c.write(s, "cv_sigma_phi_deg", mrpt::RAD2DEG(cv_sigma_phi), np, vp, "[deg] Constant-velocity model: heading std dev per step");
+}
+
+}  // namespace lrgc

@@ -1,0 +1,58 @@
+#include <lrgc/loop_closing/LoopCloserParams.h>
+#include <lrgc/common/params_io.h>
+#include <mrpt/config/CConfigFileBase.h>
+
+namespace lrgc
+{
+void TLoopCloserParams::loadFromConfigFile(
+	const mrpt::config::CConfigFileBase& c, const std::string& s)
+{
+	rejectUnknownKeys(TLoopCloserParams(), c, s);
+	old_map_exclusion = c.read_uint64_t(s, "old_map_exclusion", old_map_exclusion);
+	patch_min_keyframes = c.read_uint64_t(s, "patch_min_keyframes", patch_min_keyframes);
+	patch_keyframes_per_m = c.read_double(s, "patch_keyframes_per_m", patch_keyframes_per_m);
+	gate_sigma = c.read_double(s, "gate_sigma", gate_sigma);
+	overlap_radius = c.read_double(s, "overlap_radius", overlap_radius);
+	window_sigmas = c.read_double(s, "window_sigmas", window_sigmas);
+	max_window_xy = c.read_double(s, "max_window_xy", max_window_xy);
+	max_window_theta = mrpt::DEG2RAD(
+		c.read_double(s, "max_window_theta_deg", mrpt::RAD2DEG(max_window_theta)));
+	consistent_chi2 = c.read_double(s, "consistent_chi2", consistent_chi2);
+	check_every = c.read_uint64_t(s, "check_every", check_every);
+	patch_max_range = c.read_double(s, "patch_max_range", patch_max_range);
+	link_noise.load(c, s, "");
+	requireParam(patch_max_range > 0, s, "patch_max_range", "must be > 0");
+	requireParam(
+		patch_min_keyframes >= 1 && patch_min_keyframes <= old_map_exclusion, s,
+		"patch_min_keyframes", "must be in [1, old_map_exclusion]");
+	requireParam(patch_keyframes_per_m >= 0, s, "patch_keyframes_per_m", "must be >= 0");
+	requireParam(gate_sigma > 0, s, "gate_sigma", "must be > 0");
+	requireParam(overlap_radius >= 0, s, "overlap_radius", "must be >= 0");
+	requireParam(window_sigmas > 0, s, "window_sigmas", "must be > 0");
+	requireParam(max_window_xy > 0, s, "max_window_xy", "must be > 0");
+	requireParam(
+		max_window_theta > 0 && max_window_theta <= M_PI, s, "max_window_theta_deg",
+		"must be in (0, 180]");
+	requireParam(consistent_chi2 > 0, s, "consistent_chi2", "must be > 0");
+	requireParam(check_every >= 1, s, "check_every", "must be >= 1");
+}
+
+void TLoopCloserParams::saveToConfigFile(
+	mrpt::config::CConfigFileBase& c, const std::string& s) const
+{
+	const int np = mrpt::config::MRPT_SAVE_NAME_PADDING(), vp = mrpt::config::MRPT_SAVE_VALUE_PADDING();
+	c.write(s, "old_map_exclusion", uint64_t(old_map_exclusion), np, vp, "m: newest keyframes left out of the old map (m > K)");
+	c.write(s, "patch_min_keyframes", uint64_t(patch_min_keyframes), np, vp, "Map patch size (keyframes) at zero uncertainty");
+	c.write(s, "patch_keyframes_per_m", patch_keyframes_per_m, np, vp, "[1/m] Patch growth per metre of position std (capped at old_map_exclusion)");
+	c.write(s, "gate_sigma", gate_sigma, np, vp, "Mahalanobis gate on old poses' position relative to the current one");
+	c.write(s, "overlap_radius", overlap_radius, np, vp, "[m] Poses closer than this can see the same walls");
+	c.write(s, "window_sigmas", window_sigmas, np, vp, "Correlation search half-window, in position/heading std devs");
+	c.write(s, "max_window_xy", max_window_xy, np, vp, "[m] Cap of the translational search half-window");
+	c.write(s, "max_window_theta_deg", mrpt::RAD2DEG(max_window_theta), np, vp, "[deg] Cap of the rotational search half-window");
+	c.write(s, "consistent_chi2", consistent_chi2, np, vp, "[chi2, 3 dof] A loop link this consistent is added without a full solve");
+	c.write(s, "check_every", uint64_t(check_every), np, vp, "Look for a loop every this many keyframes");
+	c.write(s, "patch_max_range", patch_max_range, np, vp, "[m] Patch points farther than this from the newest keyframe are left out of the correlation");
+	link_noise.save(c, s, "", "every loop link (scans minutes apart: moved objects)");
+}
+
+}  // namespace lrgc

@@ -1,0 +1,43 @@
+/* Section [ScanMatcher]: the parameters of CScanMatcher, apart from the class so that the
+ * map builder's public header (MapBuilderParams.h) needs none of the stage's internals. */
+#pragma once
+
+#include <mrpt/config/CLoadableOptions.h>
+#include <mrpt/core/bits_math.h>
+
+#include <cmath>
+#include <cstddef>
+#include <string>
+
+namespace lrgc
+{
+/** Section [ScanMatcher]. */
+struct TScanMatcherParams : public mrpt::config::CLoadableOptions
+{
+	int maxIterations = 50;  //!< Gauss-Newton iterations before giving up (no convergence)
+	double maxCorrespondenceDist_m = 0.5;  //!< [m] initial gate: farther pairs are not formed
+	double refResolution_m = 0.02;  //!< [m] voxel size for reducing the reference points
+	double normalRadius_m = 0.15;  //!< [m] neighbourhood radius of the local line fits
+	double minInlierFraction = 0.25;  //!< of the scan's points, below it: no match
+	int minInliers = 20;  //!< absolute minimum of inlier points
+	double maxRmsResidual_m = 0.1;  //!< [m] inlier RMS residual above it: no match
+	double minResidualStd_m = 0.003;  //!< [m] floor of the estimated residual scale
+	/** Of the scan points lying where the reference's beams passed (free space); above it: no
+	 * match. Used by loop closing and revisits; local registration matches with its own
+	 * [LocalRegistration] max_free_space_violation instead. */
+	double maxFreeSpaceViolation = 0.15;
+	double unobservableStd_m = 1.0;  //!< [m] std reported along directions the data do not fix
+	double wideSearchStep = 7.5 * M_PI / 180;  //!< [rad] heading step of matchWide's starts
+												//!< (.ini key wideSearchStep_deg, degrees)
+	double wideAmbiguityMargin = 0.15;  //!< matchWide: best inlier fraction must beat the
+										//!< best distinct alternative by this much
+
+	void loadFromConfigFile(
+		const mrpt::config::CConfigFileBase& source, const std::string& section) override;
+	void saveToConfigFile(
+		mrpt::config::CConfigFileBase& target, const std::string& section) const override;
+	/** Throws (naming section and key) if a value is out of range. */
+	void validate(const std::string& section = "ScanMatcher") const;
+};
+
+}  // namespace lrgc
