@@ -1,5 +1,5 @@
-/* CReferenceCloud: voxel reduction, local line fits (PCA) and a hash grid for bounded
- * nearest-neighbour queries. See the header for the method; the formulas are below. */
+/* CReferenceCloud: voxel reduction, local line fits (PCA) and their noise model. See the
+ * header for the method; the formulas are below. */
 #include <lrgc/scan_matching/ReferenceCloud.h>
 
 #include <lrgc/scan_matching/ScanMatcher.h>
@@ -15,9 +15,7 @@ namespace lrgc
 {
 namespace
 {
-constexpr uint64_t kHashMul = 0x9E3779B97F4A7C15ULL;  // Fibonacci hashing
-
-int64_t cellIndex(double v, double cell) { return static_cast<int64_t>(std::floor(v / cell)); }
+int64_t cellIndex(double v, double cell) { return CAnchorGrid::cellIndex(v, cell); }
 
 /** Points averaged per square cell of side `res`: returns means and counts (as weights). */
 void voxelReduce(
@@ -64,47 +62,8 @@ CReferenceCloud::CReferenceCloud(std::vector<Eigen::Vector2d> pointsInRef, const
 CReferenceCloud CReferenceCloud::fromScan(const TScan2D& scan, const TScanMatcherParams& p)
 {
 	CReferenceCloud c(scan.points, p);
-	c.addView(scan, mrpt::math::TPose2D(0, 0, 0));
+	c.m_views.add(scan, mrpt::math::TPose2D(0, 0, 0));
 	return c;
-}
-
-namespace
-{
-constexpr double kBin = M_PI / 180;  // 1 deg bearing bins of the range images
-constexpr size_t kBins = 361;
-
-/** Nearest return per 1-degree bearing bin of points given in the sensor frame; 0: none. */
-std::vector<float> rangeImage(const std::vector<Eigen::Vector2d>& pts)
-{
-	std::vector<float> m(kBins, 0.0f);
-	for (const auto& q : pts)
-	{
-		const auto b = std::min(kBins - 1, static_cast<size_t>((std::atan2(q.y(), q.x()) + M_PI) / kBin));
-		const auto r = static_cast<float>(q.norm());
-		if (m[b] == 0 || r < m[b]) m[b] = r;
-	}
-	// Fill single empty bins between two returns (beam spacing vs bin phase).
-	for (size_t b = 1; b + 1 < m.size(); ++b)
-		if (m[b] == 0 && m[b - 1] > 0 && m[b + 1] > 0) m[b] = std::min(m[b - 1], m[b + 1]);
-	return m;
-}
-
-/** True if d (sensor frame) lies more than margin in front of the returns around its bearing
- * (bins b-1..b+1, all known). */
-bool inFreeSpace(const std::vector<float>& img, const Eigen::Vector2d& d, double margin, bool* known)
-{
-	const long n = static_cast<long>(img.size());
-	const auto b = static_cast<long>((std::atan2(d.y(), d.x()) + M_PI) / kBin);
-	float f = 1e9f;
-	for (long k = b - 1; k <= b + 1; ++k) f = std::min(f, img[static_cast<size_t>((k + n) % n)]);
-	if (known) *known = f > 0;
-	return d.norm() < f - margin;
-}
-}  // namespace
-
-void CReferenceCloud::addView(const TScan2D& scan, const mrpt::math::TPose2D& scanInRef)
-{
-	m_views.push_back({scanInRef, rangeImage(scan.points)});
 }
 
 double CReferenceCloud::freeSpaceViolation(
@@ -112,43 +71,9 @@ double CReferenceCloud::freeSpaceViolation(
 {
 	const auto& pts = scan.points;
 	if (pts.empty()) return 0;
-	// scan -> ref views
-	double scanToRef = 0;
-	if (!m_views.empty())
-	{
-		std::vector<char> viol(pts.size(), 0);
-		std::vector<Eigen::Vector2d> inRef(pts.size());
-		// (view <- ref) as rotation + translation, computed once per view.
-		std::vector<std::pair<Eigen::Matrix2d, Eigen::Vector2d>> toView;
-		for (const auto& v : m_views)
-		{
-			const auto inv = inverse(v.scanInRef);
-			const double c = std::cos(inv.phi), s = std::sin(inv.phi);
-			toView.push_back({(Eigen::Matrix2d() << c, -s, s, c).finished(), {inv.x, inv.y}});
-		}
-		const double c0 = std::cos(scanInRef.phi), s0 = std::sin(scanInRef.phi);
-		for (size_t i = 0; i < pts.size(); ++i)
-		{
-			inRef[i] = Eigen::Vector2d(
-				scanInRef.x + c0 * pts[i].x() - s0 * pts[i].y(), scanInRef.y + s0 * pts[i].x() + c0 * pts[i].y());
-			for (size_t k = 0; k < m_views.size(); ++k)
-				if (inFreeSpace(m_views[k].minRange, toView[k].first * inRef[i] + toView[k].second, margin, nullptr))
-				{
-					viol[i] = 1;
-					break;
-				}
-		}
-		size_t count = 0;
-		for (size_t i = 0; i < pts.size(); ++i)
-		{
-			const bool prev = i > 0 && viol[i - 1] && (inRef[i] - inRef[i - 1]).norm() < 0.3;
-			const bool next = i + 1 < pts.size() && viol[i + 1] && (inRef[i] - inRef[i + 1]).norm() < 0.3;
-			count += viol[i] && (prev || next);
-		}
-		scanToRef = static_cast<double>(count) / pts.size();
-	}
-	// ref -> scan
-	const auto img = rangeImage(pts);
+	const double scanToRef = m_views.scanViolation(scan, scanInRef, margin);
+	// ref -> scan: LINE anchors in front of the scan's own returns
+	const CRangeImage img(pts);
 	const auto refInScan = inverse(scanInRef);
 	const double c1 = std::cos(refInScan.phi), s1 = std::sin(refInScan.phi);
 	size_t known = 0, viol = 0;
@@ -158,7 +83,7 @@ double CReferenceCloud::freeSpaceViolation(
 		bool k = false;
 		const Eigen::Vector2d d(
 			refInScan.x + c1 * a.pos.x() - s1 * a.pos.y(), refInScan.y + s1 * a.pos.x() + c1 * a.pos.y());
-		const bool v = inFreeSpace(img, d, margin, &k);
+		const bool v = img.inFreeSpace(d, margin, &k);
 		known += k, viol += v && k;
 	}
 	const double refToScan = known >= 20 ? static_cast<double>(viol) / known : 0.0;
@@ -184,7 +109,7 @@ CReferenceCloud CReferenceCloud::fromScansWhere(
 			if (const Eigen::Vector2d r = toRef(q); !keep || keep(r)) pts.push_back(r);
 	}
 	CReferenceCloud c(std::move(pts), p);
-	for (size_t k = 0; k < scans.size(); ++k) c.addView(scans[k], scansInRef[k]);
+	for (size_t k = 0; k < scans.size(); ++k) c.m_views.add(scans[k], scansInRef[k]);
 	return c;
 }
 
@@ -224,81 +149,11 @@ CReferenceCloud CReferenceCloud::fromScansNear(
 
 void CReferenceCloud::buildGrid()
 {
-	const size_t n = m_anchors.size();
-	m_table.clear();
-	m_order.resize(n);
-	if (n == 0) return;
-	std::vector<uint64_t> keys(n);
-	for (size_t i = 0; i < n; ++i)
-		keys[i] = cellKey(cellIndex(m_anchors[i].pos.x(), m_cell), cellIndex(m_anchors[i].pos.y(), m_cell));
-	m_order.clear();
-	for (uint32_t i = 0; i < n; ++i)
-		if (m_anchors[i].usable) m_order.push_back(i);
-	std::sort(m_order.begin(), m_order.end(), [&](uint32_t a, uint32_t b) { return keys[a] < keys[b]; });
-	const size_t nUsable = m_order.size();
-	size_t cells = 0;
-	for (size_t k = 0; k < nUsable; ++k) cells += (k == 0 || keys[m_order[k]] != keys[m_order[k - 1]]);
-	size_t size = 16;
-	while (size < 2 * cells) size *= 2;
-	m_table.assign(size, TCell{});
-	m_mask = size - 1;
-	for (size_t k = 0; k < nUsable;)
-	{
-		const uint64_t key = keys[m_order[k]];
-		size_t m = k;
-		while (m < nUsable && keys[m_order[m]] == key) ++m;
-		uint64_t slot = (key * kHashMul) >> 40 & m_mask;
-		while (m_table[slot].count != 0) slot = (slot + 1) & m_mask;
-		m_table[slot] = {key, static_cast<uint32_t>(k), static_cast<uint32_t>(m - k)};
-		k = m;
-	}
-}
-
-const CReferenceCloud::TCell* CReferenceCloud::findCell(int64_t ix, int64_t iy) const
-{
-	const uint64_t key = cellKey(ix, iy);
-	for (uint64_t slot = (key * kHashMul) >> 40 & m_mask;; slot = (slot + 1) & m_mask)
-	{
-		const TCell& c = m_table[slot];
-		if (c.count == 0) return nullptr;
-		if (c.key == key) return &c;
-	}
-}
-
-int CReferenceCloud::nearest(const Eigen::Vector2d& q, double maxDist, double* d2Out) const
-{
-	if (m_table.empty() || !(maxDist > 0)) return -1;
-	// Ring search: ring k holds the cells at Chebyshev distance k from q's cell. After ring k,
-	// every unvisited anchor is at least `lb` away (distance from q to the border of the
-	// visited block), so the search stops once the best distance is <= lb or lb >= maxDist.
-	const int64_t cx = cellIndex(q.x(), m_cell), cy = cellIndex(q.y(), m_cell);
-	double best = maxDist * maxDist;
-	int bestIdx = -1;
-	auto visit = [&](int64_t ix, int64_t iy)
-	{
-		const TCell* c = findCell(ix, iy);
-		if (!c) return;
-		for (uint32_t k = c->start; k < c->start + c->count; ++k)
-		{
-			const double d2 = (m_anchors[m_order[k]].pos - q).squaredNorm();
-			if (d2 < best) best = d2, bestIdx = static_cast<int>(m_order[k]);
-		}
-	};
-	for (int64_t k = 0;; ++k)
-	{
-		if (k == 0) visit(cx, cy);
-		else
-		{
-			for (int64_t i = -k; i <= k; ++i) visit(cx + i, cy - k), visit(cx + i, cy + k);
-			for (int64_t j = -k + 1; j <= k - 1; ++j) visit(cx - k, cy + j), visit(cx + k, cy + j);
-		}
-		const double lb = std::min(
-			std::min(q.x() - (cx - k) * m_cell, (cx + k + 1) * m_cell - q.x()),
-			std::min(q.y() - (cy - k) * m_cell, (cy + k + 1) * m_cell - q.y()));
-		if (lb * lb >= best) break;
-	}
-	if (bestIdx >= 0 && d2Out) *d2Out = best;
-	return bestIdx;
+	std::vector<Eigen::Vector2d> pos(m_anchors.size());
+	std::vector<bool> usable(m_anchors.size());
+	for (size_t i = 0; i < m_anchors.size(); ++i)
+		pos[i] = m_anchors[i].pos, usable[i] = m_anchors[i].usable;
+	m_grid = CAnchorGrid(pos, usable, m_cell);
 }
 
 void CReferenceCloud::fitLines(const TScanMatcherParams& p, const std::vector<double>& w)

@@ -11,21 +11,24 @@
  *     LINE anchor: the point projected onto the fitted line, plus the unit normal. Otherwise
  *     (corners, clutter, isolated returns) it is a POINT anchor as in Lu & Milios' point-to-point
  *     correspondences.
- *  3. A hash grid over the anchors for exact nearest-neighbour queries bounded by a radius,
- *     searched ring by ring with an exact stopping rule (about 50 ns per query indoors).
+ *  3. Noise model: how each fitted line's error depends on the reduced points' noise, for the
+ *     match covariance (ScanMatcherCovariance.cpp).
+ * Queries go through a CAnchorGrid over the anchors (exact bounded nearest neighbour), and the
+ * free-space check through the views of the scans that made the cloud (CFreeSpaceViews).
  *
  * Frames: everything here is in the reference frame (ref). Units: metres.
  */
 #pragma once
 
+#include <lrgc/scan_matching/AnchorGrid.h>
+#include <lrgc/scan_matching/FreeSpace.h>
+#include <mrpt/math/TPose2D.h>
+
 #include <Eigen/Core>
-#include <cmath>
 #include <cstdint>
 #include <functional>
 #include <utility>
 #include <vector>
-
-#include <mrpt/math/TPose2D.h>
 
 namespace lrgc
 {
@@ -81,7 +84,10 @@ public:
 
 	/** Index of the anchor nearest to q within maxDist [m] (exact), or -1. If found and d2 is
 	 * given, *d2 is the squared distance [m^2]. */
-	int nearest(const Eigen::Vector2d& q, double maxDist, double* d2 = nullptr) const;
+	int nearest(const Eigen::Vector2d& q, double maxDist, double* d2 = nullptr) const
+	{
+		return m_grid.nearest(q, maxDist, d2);
+	}
 
 	/** Noise model, for the covariance of a match. The error of LINE anchor j's fitted line
 	 * along its normal, at line coordinate u (anchor.u + tangent offset), is
@@ -111,64 +117,31 @@ public:
 	double freeSpaceViolation(
 		const TScan2D& scan, const mrpt::math::TPose2D& scanInRef, double margin) const;
 
-	/** Calls fn(index) for every anchor within radius [m] of q. */
+	/** Calls fn(index) for every usable anchor within radius [m] of q. */
 	template <class F>
-	void forEachWithin(const Eigen::Vector2d& q, double radius, F&& fn) const;
+	void forEachWithin(const Eigen::Vector2d& q, double radius, F&& fn) const
+	{
+		m_grid.forEachWithin(q, radius, std::forward<F>(fn));
+	}
 
 private:
-	// Open-addressing hash of occupied grid cells -> range [start, start+count) of m_order.
-	struct TCell
-	{
-		uint64_t key = 0;
-		uint32_t start = 0, count = 0;  // count == 0: empty slot
-	};
-	static uint64_t cellKey(int64_t ix, int64_t iy)
-	{
-		return (static_cast<uint64_t>(static_cast<uint32_t>(ix)) << 32) |
-			static_cast<uint32_t>(iy);
-	}
-	const TCell* findCell(int64_t ix, int64_t iy) const;
+	/** Indexes the usable anchors at their current positions. */
 	void buildGrid();
 	void fitLines(const TScanMatcherParams& p, const std::vector<double>& weights);
 
 	std::vector<TAnchor> m_anchors;
-	std::vector<uint32_t> m_order;  // anchor indices sorted by cell
-	std::vector<TCell> m_table;  // size: power of two
-	uint64_t m_mask = 0;
+	CAnchorGrid m_grid;
 	double m_cell = 0.1;  // grid cell side [m]
 	size_t m_inputCount = 0;
-	// One per reference scan: origin and the nearest return per bearing bin (free space).
-	struct TView
-	{
-		mrpt::math::TPose2D scanInRef;
-		std::vector<float> minRange;  // [m] per 1-deg bearing bin; 0: no return (unknown)
-	};
-	void addView(const TScan2D& scan, const mrpt::math::TPose2D& scanInRef);
+	CFreeSpaceViews m_views;  // one per scan the cloud was built from
 	/** fromScans keeping only the points (in ref) for which keep() is true (all if empty). */
 	static CReferenceCloud fromScansWhere(
 		const std::vector<TScan2D>& scans, const std::vector<mrpt::math::TPose2D>& scansInRef,
 		const TScanMatcherParams& p, const std::function<bool(const Eigen::Vector2d&)>& keep);
-	std::vector<TView> m_views;
 	std::vector<double> m_count;  // raw points per reduced point
 	std::vector<uint32_t> m_fitStart;  // CSR over anchors into m_fit
 	std::vector<TFitTerm> m_fit;
 	double m_noiseVar = 0;  // [m^2]
 };
-
-template <class F>
-void CReferenceCloud::forEachWithin(const Eigen::Vector2d& q, double radius, F&& fn) const
-{
-	if (m_table.empty()) return;
-	const double r2 = radius * radius;
-	const auto x0 = static_cast<int64_t>(std::floor((q.x() - radius) / m_cell));
-	const auto x1 = static_cast<int64_t>(std::floor((q.x() + radius) / m_cell));
-	const auto y0 = static_cast<int64_t>(std::floor((q.y() - radius) / m_cell));
-	const auto y1 = static_cast<int64_t>(std::floor((q.y() + radius) / m_cell));
-	for (int64_t ix = x0; ix <= x1; ++ix)
-		for (int64_t iy = y0; iy <= y1; ++iy)
-			if (const TCell* c = findCell(ix, iy))
-				for (uint32_t k = c->start; k < c->start + c->count; ++k)
-					if ((m_anchors[m_order[k]].pos - q).squaredNorm() <= r2) fn(m_order[k]);
-}
 
 }  // namespace lrgc

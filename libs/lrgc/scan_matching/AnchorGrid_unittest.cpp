@@ -1,0 +1,77 @@
+/* CAnchorGrid against brute force: nearest and radius queries on random points, cells of
+ * several sizes, queries inside and outside the cloud, unusable points never returned. */
+#include <gtest/gtest.h>
+#include <lrgc/scan_matching/AnchorGrid.h>
+
+#include <random>
+#include <set>
+
+using namespace lrgc;
+
+namespace
+{
+struct TCloud
+{
+	std::vector<Eigen::Vector2d> pts;
+	std::vector<bool> usable;
+};
+
+TCloud randomCloud(size_t n, uint32_t seed)
+{
+	std::mt19937 rng(seed);
+	std::uniform_real_distribution<double> u(-5, 5);
+	std::bernoulli_distribution keep(0.8);
+	TCloud c;
+	for (size_t i = 0; i < n; ++i) c.pts.emplace_back(u(rng), u(rng)), c.usable.push_back(keep(rng));
+	return c;
+}
+}  // namespace
+
+TEST(AnchorGrid, nearestEqualsBruteForceWithinTheGate)
+{
+	const TCloud c = randomCloud(2000, 7);
+	std::mt19937 rng(8);
+	std::uniform_real_distribution<double> u(-7, 7);
+	for (const double cell : {0.05, 0.3, 2.0})
+	{
+		const CAnchorGrid grid(c.pts, c.usable, cell);
+		for (int t = 0; t < 500; ++t)
+		{
+			const Eigen::Vector2d q(u(rng), u(rng));
+			const double gate = 0.4;
+			double best = gate * gate;
+			int expected = -1;
+			for (size_t i = 0; i < c.pts.size(); ++i)
+				if (c.usable[i] && (c.pts[i] - q).squaredNorm() < best)
+					best = (c.pts[i] - q).squaredNorm(), expected = static_cast<int>(i);
+			double d2 = -1;
+			const int got = grid.nearest(q, gate, &d2);
+			ASSERT_EQ(got, expected) << "cell " << cell << " query " << q.transpose();
+			if (got >= 0) EXPECT_DOUBLE_EQ(d2, best);
+		}
+	}
+}
+
+TEST(AnchorGrid, forEachWithinVisitsExactlyTheUsablePointsInTheDisc)
+{
+	const TCloud c = randomCloud(1000, 9);
+	const CAnchorGrid grid(c.pts, c.usable, 0.25);
+	for (const Eigen::Vector2d q : {Eigen::Vector2d(0, 0), Eigen::Vector2d(4.9, -4.9), Eigen::Vector2d(9, 9)})
+	{
+		std::set<size_t> got, expected;
+		grid.forEachWithin(q, 0.8, [&](uint32_t i) { got.insert(i); });
+		for (size_t i = 0; i < c.pts.size(); ++i)
+			if (c.usable[i] && (c.pts[i] - q).norm() <= 0.8) expected.insert(i);
+		EXPECT_EQ(got, expected);
+	}
+}
+
+TEST(AnchorGrid, emptyAndUnusableCloudsFindNothing)
+{
+	EXPECT_EQ(CAnchorGrid().nearest({0, 0}, 1.0), -1);
+	const CAnchorGrid none({{0, 0}, {0.1, 0}}, {false, false}, 0.1);
+	EXPECT_EQ(none.nearest({0, 0}, 1.0), -1);
+	const CAnchorGrid one({{0, 0}}, {true}, 0.1);
+	EXPECT_EQ(one.nearest({0.05, 0}, 0.0), -1) << "a zero gate finds nothing";
+	EXPECT_EQ(one.nearest({0.05, 0}, 0.1), 0);
+}

@@ -1,0 +1,57 @@
+/* Free-space consistency of an alignment (a check beyond the paper: a wrong match moves walls
+ * into space the other scan saw empty).
+ *
+ * A scan's beams pass through free space up to their returns. CRangeImage keeps, per 1-degree
+ * bearing bin of a scan (sensor frame), the nearest return [m]; a point lies in free space when
+ * it is nearer than the returns around its bearing by more than a margin. CFreeSpaceViews keeps
+ * the range images of the scans that made a reference, with their poses in the reference frame.
+ */
+#pragma once
+
+#include <Eigen/Core>
+#include <mrpt/math/TPose2D.h>
+
+#include <vector>
+
+namespace lrgc
+{
+struct TScan2D;
+
+class CRangeImage
+{
+public:
+	/** Bins the points (sensor frame, [m]) by bearing: nearest return per bin, 0 where none;
+	 * a single empty bin between two returns takes the nearer (beam spacing vs bin phase). */
+	explicit CRangeImage(const std::vector<Eigen::Vector2d>& pointsInSensor);
+
+	/** True if d (sensor frame) lies more than margin [m] in front of the returns of the bins
+	 * around its bearing; *known (if given): all those bins hold a return. */
+	bool inFreeSpace(const Eigen::Vector2d& d, double margin, bool* known = nullptr) const;
+
+private:
+	std::vector<float> m_minRange;  // [m] per bearing bin; 0: no return (unknown)
+};
+
+class CFreeSpaceViews
+{
+public:
+	/** Adds the view of `scan`, taken at scanInRef (ref <- scan). */
+	void add(const TScan2D& scan, const mrpt::math::TPose2D& scanInRef);
+	bool empty() const { return m_views.empty(); }
+
+	/** Share [0..1] of `scan`'s points (placed at scanInRef) lying in the free space of some
+	 * view, counted only when a neighbour in scan order within kWallGap_m does too (walls, not
+	 * isolated spurious returns). 0 without views. */
+	double scanViolation(
+		const TScan2D& scan, const mrpt::math::TPose2D& scanInRef, double margin) const;
+
+private:
+	struct TView
+	{
+		mrpt::math::TPose2D scanInRef;
+		CRangeImage image;
+	};
+	std::vector<TView> m_views;
+};
+
+}  // namespace lrgc

@@ -1,0 +1,51 @@
+/* Free space: a straight wall 4 m ahead seen by a scan; points in front of it are in free
+ * space, points behind it or beyond the scan's field of view are not. */
+#include <gtest/gtest.h>
+#include <lrgc/scan_matching/FreeSpace.h>
+#include <lrgc/scan_matching/Scan.h>
+
+#include <cmath>
+
+using namespace lrgc;
+
+namespace
+{
+/** A wall x = 4 m seen over bearings -40..40 deg, one return per 0.5 deg. */
+TScan2D wallScan()
+{
+	TScan2D s;
+	for (double a = -40; a <= 40; a += 0.5)
+	{
+		const double t = a * M_PI / 180;
+		s.points.emplace_back(4.0, 4.0 * std::tan(t));
+	}
+	return s;
+}
+}  // namespace
+
+TEST(FreeSpace, rangeImageKnowsWhatTheBeamsCrossed)
+{
+	const CRangeImage img(wallScan().points);
+	bool known = false;
+	EXPECT_TRUE(img.inFreeSpace({2.0, 0.0}, 0.1, &known));
+	EXPECT_TRUE(known);
+	EXPECT_FALSE(img.inFreeSpace({3.95, 0.0}, 0.1, &known)) << "within the margin of the wall";
+	EXPECT_FALSE(img.inFreeSpace({6.0, 1.0}, 0.1, &known)) << "behind the wall";
+	EXPECT_FALSE(img.inFreeSpace({-2.0, 0.0}, 0.1, &known)) << "no beam went backwards";
+	EXPECT_FALSE(known);
+}
+
+TEST(FreeSpace, aScanPushedIntoSeenFreeSpaceViolatesItAndTheTrueOneDoesNot)
+{
+	CFreeSpaceViews views;
+	EXPECT_DOUBLE_EQ(views.scanViolation(wallScan(), {0, 0, 0}, 0.1), 0.0) << "no views yet";
+	views.add(wallScan(), {0, 0, 0});
+	EXPECT_DOUBLE_EQ(views.scanViolation(wallScan(), {0, 0, 0}, 0.1), 0.0);
+	// The same wall placed 1.5 m nearer (x = 2.5 m): the points the view's +-40 deg beams
+	// crossed (|y| < 2.1 m, 68 % of them) lie in its free space, the outer ones it never saw.
+	const double v = views.scanViolation(wallScan(), {-1.5, 0, 0}, 0.1);
+	EXPECT_GT(v, 0.6);
+	EXPECT_LT(v, 0.75);
+	// Placed farther away: behind the seen wall, unknown space, no violation.
+	EXPECT_DOUBLE_EQ(views.scanViolation(wallScan(), {1.5, 0, 0}, 0.1), 0.0);
+}
