@@ -204,7 +204,8 @@ def document(real, synthetic, plots, machine, commit, total_s, data_dir, notes):
             "same run with `[MapBuilder] loop_closing = false` (no global correlation, no loop "
             "closing), to compare with the published \"scan matching only\" baseline of "
             "Kuemmerle et al. (2009). Logs: Intel Research Lab (D. Haehnel), ACES "
-            "(P. Beeson), MIT CSAIL (C. Stachniss).", ""]
+            "(P. Beeson), MIT CSAIL (C. Stachniss), MIT Killian Court (mit-killian: M. Bosse and "
+            "J. Leonard).", ""]
     if real:
         out += ["## Real logs: relation error", "", markdown_table(REAL_HEADER, real), ""]
     if synthetic:
