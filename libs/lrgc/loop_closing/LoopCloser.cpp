@@ -33,11 +33,35 @@ std::pair<size_t, double> nearestCandidate(
 			best = d, nearest = j;
 	return {nearest, best};
 }
+
+/* Innovation chi2 of a loop link i -> j (Z = (i <- j), information Omega) against the gate's
+ * covariance C of P = (j <- i) (propagateUncertainty from j):
+ *     T = P^-1 = (i <- j),  C_T = Jinv C Jinv^T,  Jinv = d(P^-1)/dP
+ *       = [-c -s  s x - c y;  s -c  c x + s y;  0 0 -1]   (P = (x, y, phi), c, s of phi)
+ *     e = v(Z^-1 (+) T),  S = A C_T A^T + Omega^-1,  A = diag(R(z_phi)^T, 1)
+ *     chi2 = e^T S^-1 e   [-, 3 dof]
+ * the same form as the back-end's test (PoseGraphOptimizer.cpp), with the gate's covariance in
+ * place of the graph's marginal. */
+double gateInnovationChi2(
+	const TRelativeUncertainty& iFromJ, const TPose2D& z, const Eigen::Matrix3d& omega)
+{
+	const TPose2D& P = iFromJ.nodeInSource;
+	const double c = std::cos(P.phi), s = std::sin(P.phi);
+	Eigen::Matrix3d Jinv;
+	Jinv << -c, -s, s * P.x - c * P.y, s, -c, c * P.x + s * P.y, 0, 0, -1;
+	Eigen::Matrix3d A = Eigen::Matrix3d::Identity();
+	const double cz = std::cos(z.phi), sz = std::sin(z.phi);
+	A.topLeftCorner<2, 2>() << cz, sz, -sz, cz;
+	const Eigen::Matrix3d S = A * Jinv * iFromJ.cov * Jinv.transpose() * A.transpose() + omega.inverse();
+	const Eigen::Vector3d e = toVector(between(z, inverse(P)));
+	return e.dot(S.ldlt().solve(e));
+}
 }  // namespace
 
 struct CLoopCloser::TCandidates
 {
 	std::vector<size_t> nodes;  //!< gated old nodes
+	std::vector<TRelativeUncertainty> relative;  //!< per node: (newest <- node), covariance
 	double sigmaXY = 0, sigmaTheta = 0;  //!< largest position / heading std among them
 };
 
@@ -73,6 +97,7 @@ auto CLoopCloser::gate(const CPoseGraph& graph, size_t newest) const -> std::opt
 		const Eigen::Matrix2d Cxy = r.cov.topLeftCorner<2, 2>() + 1e-6 * Eigen::Matrix2d::Identity();
 		if (ts.dot(Cxy.ldlt().solve(ts)) > m_params.gate_sigma * m_params.gate_sigma) continue;
 		c.nodes.push_back(r.node);
+		c.relative.push_back(r);
 		c.sigmaXY = std::max(c.sigmaXY, std::sqrt(std::max(Cxy(0, 0), Cxy(1, 1))));
 		c.sigmaTheta = std::max(c.sigmaTheta, std::sqrt(r.cov(2, 2)));
 	}
@@ -145,6 +170,9 @@ std::optional<TLoopClosure> CLoopCloser::process(CPoseGraph& graph, const TKeyfr
 	// Step 3: refine with the scan matcher against the old scans near the nearest candidate.
 	const TPose2D corrected = corr->patchInMap;
 	const size_t oldNode = nearestCandidate(graph, candidates->nodes, corrected).first;
+	const TRelativeUncertainty& oldFromNewest = candidates->relative[static_cast<size_t>(
+		std::find(candidates->nodes.begin(), candidates->nodes.end(), oldNode) -
+		candidates->nodes.begin())];
 	const TPose2D oldInMap = graph.pose(oldNode);
 	std::vector<TScan2D> refScans;
 	std::vector<TPose2D> refInOld;
@@ -183,7 +211,12 @@ std::optional<TLoopClosure> CLoopCloser::process(CPoseGraph& graph, const TKeyfr
 	const Eigen::Vector3d e = linkResidual(oldInMap, newestInMap, match->scanInRef);
 	if (e.dot(info * e) > m_params.consistent_chi2)
 	{
-		const auto report = m_optimizer.optimize(graph, 0);
+		// The gate found the old pose within its covariance; the back-end judges the link with
+		// the same covariance and the same bound (3 Phi) before its own, tighter test.
+		const bool vetted = gateInnovationChi2(oldFromNewest, match->scanInRef, info) <
+			3 * m_optimizer.params().dcsPhi;
+		const auto report =
+			m_optimizer.optimize(graph, 0, vetted ? std::vector<size_t>{lc.linkId} : std::vector<size_t>{});
 		++m_stats.optimizations;
 		if (std::binary_search(
 				report.downweightedLinks.begin(), report.downweightedLinks.end(), lc.linkId))

@@ -271,11 +271,15 @@ TPass levenbergMarquardt(detail::TProblem& prob, const detail::TCostKernel& k,
  * for it) and is divided by 4 per stage down to Phi (graduated non-convexity, after Yang et
  * al., RA-L 2020). A false link fails the test and DCS switches it off at once. With more
  * than kMaxTested such links (a cold start from dead reckoning: no estimate to test against
- * yet) all of them start graduated. */
+ * yet) all of them start graduated. A link the caller vetted against its own, more
+ * conservative covariance (`vetted`: the loop closer's gate, which propagates the odometry
+ * and scan-match links along one path and so does not let many parallel links of the same
+ * corridor shrink the uncertainty of a drift they all share) starts graduated untested. */
 constexpr size_t kMaxTested = 32;
 
 bool scheduleLoopLinks(detail::TProblem& prob, const TPoseGraphOptimizerParams& p,
-					   CCholmodSolver& solver, detail::TNormalEquations& ne)
+					   CCholmodSolver& solver, detail::TNormalEquations& ne,
+					   const std::vector<size_t>& vetted)
 {
 	const detail::TCostKernel k{true, p.dcsPhi};
 	std::vector<size_t> outside;
@@ -294,7 +298,7 @@ bool scheduleLoopLinks(detail::TProblem& prob, const TPoseGraphOptimizerParams& 
 	for (size_t i : outside)
 	{
 		detail::TProblemLink& l = prob.links[i];
-		if (test)
+		if (test && std::find(vetted.begin(), vetted.end(), l.id) == vetted.end())
 		{
 			Eigen::Matrix3d Ji, Jj;
 			const Eigen::Vector3d e = prob.residual(l, &Ji, &Jj);
@@ -331,7 +335,8 @@ CPoseGraphOptimizer::~CPoseGraphOptimizer() = default;
 CPoseGraphOptimizer::CPoseGraphOptimizer(CPoseGraphOptimizer&&) noexcept = default;
 CPoseGraphOptimizer& CPoseGraphOptimizer::operator=(CPoseGraphOptimizer&&) noexcept = default;
 
-TOptimizationReport CPoseGraphOptimizer::solve(detail::TProblem& prob) const
+TOptimizationReport CPoseGraphOptimizer::solve(
+	detail::TProblem& prob, const std::vector<size_t>& vettedLoopLinks) const
 {
 	TOptimizationReport rep;
 	rep.numFreeNodes = prob.varNode.size();
@@ -340,7 +345,7 @@ TOptimizationReport CPoseGraphOptimizer::solve(detail::TProblem& prob) const
 	rep.initialChi2 = prob.evaluate(prob.x, k, &rep.initialCost);
 	std::lock_guard<std::mutex> lock(m_impl->mutex);
 	detail::TNormalEquations ne;
-	const bool graduated = k.robust && scheduleLoopLinks(prob, m_params, m_impl->solver, ne);
+	const bool graduated = k.robust && scheduleLoopLinks(prob, m_params, m_impl->solver, ne, vettedLoopLinks);
 	double maxPhiStart = 0;
 	for (const auto& l : prob.links) maxPhiStart = std::max(maxPhiStart, l.phiStart);
 	// Stages: the graduated links' Phi shrinks 4x per stage (a few LM iterations each) until
@@ -363,7 +368,8 @@ TOptimizationReport CPoseGraphOptimizer::solve(detail::TProblem& prob) const
 	return rep;
 }
 
-TOptimizationReport CPoseGraphOptimizer::optimize(CPoseGraph& g, size_t anchor) const
+TOptimizationReport CPoseGraphOptimizer::optimize(
+	CPoseGraph& g, size_t anchor, const std::vector<size_t>& vettedLoopLinks) const
 {
 	const auto t0 = std::chrono::steady_clock::now();
 	if (anchor >= g.numNodes())
@@ -371,7 +377,7 @@ TOptimizationReport CPoseGraphOptimizer::optimize(CPoseGraph& g, size_t anchor) 
 			"CPoseGraphOptimizer::optimize: anchor %zu out of range (graph has %zu nodes)",
 			anchor, g.numNodes());
 	detail::TProblem prob = detail::TProblem::wholeGraph(g, anchor);
-	TOptimizationReport rep = solve(prob);
+	TOptimizationReport rep = solve(prob, vettedLoopLinks);
 	prob.writeBack(g);
 	rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 	return rep;

@@ -66,8 +66,12 @@ public:
 	const TPoseGraphOptimizerParams& params() const { return m_params; }
 
 	/** Optimises every node joined to `anchor` through enabled links; `anchor` stays fixed,
-	 * nodes not joined to it are left untouched. Writes the poses back into `g`. */
-	TOptimizationReport optimize(CPoseGraph& g, size_t anchor = 0) const;
+	 * nodes not joined to it are left untouched. Writes the poses back into `g`.
+	 * `vettedLoopLinks`: ids of LoopClosure links that their caller has already found
+	 * consistent with the graph's uncertainty (CLoopCloser's gate covariance); they start
+	 * graduated without the back-end's own innovation test (see scheduleLoopLinks). */
+	TOptimizationReport optimize(
+		CPoseGraph& g, size_t anchor = 0, const std::vector<size_t>& vettedLoopLinks = {}) const;
 
 	/** Optimises only `freeNodes` (e.g. the local registration window of the last K poses);
 	 * every other node reached by their enabled links is held fixed. Uses per-node adjacency
@@ -77,7 +81,8 @@ public:
 									   const std::vector<size_t>& freeNodes) const;
 
 private:
-	TOptimizationReport solve(detail::TProblem& prob) const;
+	TOptimizationReport solve(
+		detail::TProblem& prob, const std::vector<size_t>& vettedLoopLinks = {}) const;
 
 	struct Impl;  // CHOLMOD workspace and the cached symbolic factorisation
 	TPoseGraphOptimizerParams m_params;
