@@ -36,8 +36,7 @@ std::pair<size_t, double> nearestCandidate(
 
 /* Innovation chi2 of a loop link i -> j (Z = (i <- j), information Omega) against the gate's
  * covariance C of P = (j <- i) (propagateUncertainty from j):
- *     T = P^-1 = (i <- j),  C_T = Jinv C Jinv^T,  Jinv = d(P^-1)/dP
- *       = [-c -s  s x - c y;  s -c  c x + s y;  0 0 -1]   (P = (x, y, phi), c, s of phi)
+ *     T = P^-1 = (i <- j),  C_T = inverseCovariance(P, C)
  *     e = v(Z^-1 (+) T),  S = A C_T A^T + Omega^-1,  A = diag(R(z_phi)^T, 1)
  *     chi2 = e^T S^-1 e   [-, 3 dof]
  * the same form as the back-end's test (PoseGraphOptimizer.cpp), with the gate's covariance in
@@ -46,13 +45,11 @@ double gateInnovationChi2(
 	const TRelativeUncertainty& iFromJ, const TPose2D& z, const Eigen::Matrix3d& omega)
 {
 	const TPose2D& P = iFromJ.nodeInSource;
-	const double c = std::cos(P.phi), s = std::sin(P.phi);
-	Eigen::Matrix3d Jinv;
-	Jinv << -c, -s, s * P.x - c * P.y, s, -c, c * P.x + s * P.y, 0, 0, -1;
 	Eigen::Matrix3d A = Eigen::Matrix3d::Identity();
 	const double cz = std::cos(z.phi), sz = std::sin(z.phi);
 	A.topLeftCorner<2, 2>() << cz, sz, -sz, cz;
-	const Eigen::Matrix3d S = A * Jinv * iFromJ.cov * Jinv.transpose() * A.transpose() + omega.inverse();
+	const Eigen::Matrix3d S =
+		A * inverseCovariance(P, iFromJ.cov) * A.transpose() + omega.inverse();
 	const Eigen::Vector3d e = toVector(between(z, inverse(P)));
 	return e.dot(S.ldlt().solve(e));
 }
@@ -83,10 +80,11 @@ auto CLoopCloser::gate(const CPoseGraph& graph, size_t newest) const -> std::opt
 {
 	if (newest < m_params.old_map_exclusion) return std::nullopt;
 	const size_t lastOld = newest - m_params.old_map_exclusion;
-	TUncertaintyLimits limits;
-	limits.maxPositionStd = m_params.max_window_xy / m_params.window_sigmas * 2;
+	// The whole graph: a search cut at the uncertainty the window can cover (10 m std) never
+	// reached the start of Killian's big loop (1.1 m away in truth, 10+ m std by the
+	// single-path propagation), so the gate had no candidates and no correlation was tried.
 	TCandidates c;
-	for (const auto& r : propagateUncertainty(graph, newest, limits))
+	for (const auto& r : propagateUncertainty(graph, newest))
 	{
 		if (r.node > lastOld) continue;
 		const Eigen::Vector2d t(r.nodeInSource.x, r.nodeInSource.y);
@@ -128,6 +126,12 @@ std::optional<TLoopClosure> CLoopCloser::process(CPoseGraph& graph, const TKeyfr
 		m_params.patch_min_keyframes +
 			static_cast<size_t>(m_params.patch_keyframes_per_m * candidates->sigmaXY));
 	const size_t patchFirst = newest + 1 - std::min(patchSize, newest + 1);
+	// A patch grown with the uncertainty overlaps the last attempt's almost entirely: while it
+	// is large, correlate only every attempt_stride * (patch - patch_min) checks.
+	if (double(++m_checksSinceAttempt) <=
+		m_params.attempt_stride * double(patchSize - m_params.patch_min_keyframes))
+		return std::nullopt;
+	m_checksSinceAttempt = 0;
 
 	// Step 2: the patch (in the newest keyframe's frame) against the old map (map frame).
 	std::vector<Eigen::Vector2d> patch, oldMap;

@@ -77,6 +77,7 @@ class CLoopCloser
 	TLoopCloserStats m_stats;
 	std::string m_lastRejection;
 	size_t m_keyframesSinceCheck = 0;
+	size_t m_checksSinceAttempt = 0;  //!< for attempt_stride
 };
 
 }  // namespace lrgc

@@ -20,6 +20,8 @@ void TLoopCloserParams::loadFromConfigFile(
 	consistent_chi2 = c.read_double(s, "consistent_chi2", consistent_chi2);
 	check_every = c.read_uint64_t(s, "check_every", check_every);
 	patch_max_range = c.read_double(s, "patch_max_range", patch_max_range);
+	attempt_stride = c.read_double(s, "attempt_stride", attempt_stride);
+	requireParam(attempt_stride >= 0, s, "attempt_stride", "must be >= 0");
 	link_noise.load(c, s, "");
 	requireParam(patch_max_range > 0, s, "patch_max_range", "must be > 0");
 	requireParam(
@@ -52,6 +54,7 @@ void TLoopCloserParams::saveToConfigFile(
 	c.write(s, "consistent_chi2", consistent_chi2, np, vp, "[chi2, 3 dof] A loop link this consistent is added without a full solve");
 	c.write(s, "check_every", uint64_t(check_every), np, vp, "Look for a loop every this many keyframes");
 	c.write(s, "patch_max_range", patch_max_range, np, vp, "[m] Patch points farther than this from the newest keyframe are left out of the correlation");
+	c.write(s, "attempt_stride", attempt_stride, np, vp, "While the patch is grown, correlate once every attempt_stride * (patch - patch_min_keyframes) checks (0: every check)");
 	link_noise.save(c, s, "", "every loop link (scans minutes apart: moved objects)");
 }
 

@@ -28,6 +28,11 @@ struct TLoopCloserParams : public mrpt::config::CLoadableOptions
 	 * the heading step is resolution / patch radius, so 40 m returns (ACES) would need
 	 * ~900 headings over +-30 deg; far returns are also the noisiest. */
 	double patch_max_range = 12.0;
+	/** While the patch is larger than patch_min_keyframes (large uncertainty), correlate only
+	 * once every attempt_stride * (patch - patch_min_keyframes) checks: consecutive large
+	 * patches are nearly the same evidence, and a large window is the costly case (Killian:
+	 * 1357 -> 146 correlations at the window cap, same error). 0: every check. */
+	double attempt_stride = 0.25;
 	/** Noise floor of loop links (and end-of-run revisit links); keys link_floor_xy [m],
 	 * link_floor_phi_deg. Looser than local registration's: a loop link joins scans taken
 	 * minutes apart (people, doors, chairs moved). */

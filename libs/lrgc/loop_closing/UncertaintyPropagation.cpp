@@ -40,8 +40,8 @@ Eigen::Matrix3d compound(const TPose2D& uInSource, const Eigen::Matrix3d& covU,
 	J2(0, 0) = c, J2(0, 1) = -s, J2(1, 0) = s, J2(1, 1) = c;
 	return J1 * covU * J1.transpose() + J2 * covUV * J2.transpose();
 }
+}  // namespace
 
-/** Covariance of Z^-1 given that of Z = (x, y, phi), first order at Z. */
 Eigen::Matrix3d inverseCovariance(const TPose2D& z, const Eigen::Matrix3d& covZ)
 {
 	const double c = std::cos(z.phi), s = std::sin(z.phi);
@@ -51,7 +51,6 @@ Eigen::Matrix3d inverseCovariance(const TPose2D& z, const Eigen::Matrix3d& covZ)
 		0, 0, -1;
 	return J * covZ * J.transpose();
 }
-}  // namespace
 
 std::vector<TRelativeUncertainty> propagateUncertainty(const CPoseGraph& g, size_t source,
 													   const TUncertaintyLimits& limits)

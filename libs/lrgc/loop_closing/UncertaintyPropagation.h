@@ -52,6 +52,10 @@ struct TUncertaintyLimits
 std::vector<TRelativeUncertainty> propagateUncertainty(const CPoseGraph& g, size_t source,
 													   const TUncertaintyLimits& limits = {});
 
+/** Covariance of Z^-1 given that of Z = (x, y, phi), first order at Z:
+ *     J = d(Z^-1)/dZ = [-c -s  s x - c y;  s -c  c x + s y;  0 0 -1],  C' = J C J^T. */
+Eigen::Matrix3d inverseCovariance(const mrpt::math::TPose2D& z, const Eigen::Matrix3d& covZ);
+
 /** Squared Mahalanobis distance of the node's position from the source's, using the xy block
  * of `cov`: (x, y) C_xy^-1 (x, y)^T [-], the loop-closing gate of paper section 2.4. A zero
  * offset gives 0; throws if C_xy is singular while the offset is not zero. */

@@ -1,0 +1,166 @@
+/* A large loop (paper: "large cyclic environments"): 320 m around a 100 m x 50 m block of 2.4 m
+ * corridors whose corners are 20 m halls, seen with a 6 m laser. In the middle of a hall the
+ * laser sees nothing, so each 90-degree turn is dead-reckoned, with a gyro-like bias of the
+ * odometry on turns (8 % too much): the heading drifts by about 7 degrees per corner, over
+ * 20 degrees by the time the robot is back on its first corridor, and the position there is
+ * off by metres. With [MapBuilder] loop_closing = true and the defaults otherwise, the loop
+ * closer must find the start again (the search window set by the propagated covariance, its
+ * heading range included), close the loop with true links only, and end near the truth. */
+#include <gtest/gtest.h>
+#include <lrgc/common/se2.h>
+
+#include <random>
+
+#include "synthetic_run.h"
+
+using namespace lrgc::test;
+using lrgc::CMetricMapBuilderLRGC;
+using lrgc::TLRGCParams;
+
+namespace
+{
+constexpr double L = 100, H = 50;  // [m] the loop's corners: (0,0), (L,0), (L,H), (0,H)
+constexpr double kCorridor = 2.4;  // [m] corridor width
+constexpr double kHall = 10;  // [m] half side of the corner halls
+constexpr double kTurnBias = 1.08;  // odometry turn / true turn
+
+/** A wall from a to b (axis-aligned) with a doorway of width `door` centred at `door_at`
+ * (a point on the wall), or no doorway if door <= 0. */
+void wallWithDoor(
+	CSyntheticWorld& w, const Eigen::Vector2d& a, const Eigen::Vector2d& b,
+	const Eigen::Vector2d& doorAt, double door)
+{
+	if (door <= 0)
+	{
+		w.addSegment(a, b);
+		return;
+	}
+	const Eigen::Vector2d u = (b - a).normalized();
+	w.addSegment(a, doorAt - 0.5 * door * u);
+	w.addSegment(doorAt + 0.5 * door * u, b);
+}
+
+CSyntheticWorld makeHallLoopWorld(uint32_t seed)
+{
+	CSyntheticWorld w;
+	const std::vector<Eigen::Vector2d> corners{{0, 0}, {L, 0}, {L, H}, {0, H}};
+	// Halls: square, doorways where the corridors to the neighbouring corners enter.
+	for (size_t i = 0; i < 4; ++i)
+	{
+		const Eigen::Vector2d c = corners[i];
+		const Eigen::Vector2d toNext = (corners[(i + 1) % 4] - c).normalized();
+		const Eigen::Vector2d toPrev = (corners[(i + 3) % 4] - c).normalized();
+		const Eigen::Vector2d sx(kHall, 0), sy(0, kHall);
+		const Eigen::Vector2d p00 = c - sx - sy, p10 = c + sx - sy, p11 = c + sx + sy,
+							  p01 = c - sx + sy;
+		auto door = [&](const Eigen::Vector2d& dir) {
+			return (dir == toNext || dir == toPrev) ? kCorridor : 0.0;
+		};
+		wallWithDoor(w, p00, p10, c - sy, door({0, -1}));
+		wallWithDoor(w, p10, p11, c + sx, door({1, 0}));
+		wallWithDoor(w, p11, p01, c + sy, door({0, 1}));
+		wallWithDoor(w, p01, p00, c - sx, door({-1, 0}));
+	}
+	// Corridors between the halls' doorways, with boxes against their walls now and then, so
+	// that motion along them is observable.
+	std::mt19937 rng(seed);
+	std::uniform_real_distribution<double> u(0, 1);
+	for (size_t i = 0; i < 4; ++i)
+	{
+		const Eigen::Vector2d a = corners[i], b = corners[(i + 1) % 4];
+		const Eigen::Vector2d d = (b - a).normalized(), n(-d.y(), d.x());
+		const Eigen::Vector2d s = a + kHall * d, e = b - kHall * d;
+		for (const double side : {-1.0, 1.0})
+			w.addSegment(s + side * 0.5 * kCorridor * n, e + side * 0.5 * kCorridor * n);
+		const double len = (e - s).norm();
+		for (double t = 3 + 6 * u(rng); t < len - 2; t += 4 + 8 * u(rng))
+		{
+			const double side = u(rng) < 0.5 ? -1.0 : 1.0;
+			w.addBox(s + t * d + side * (0.5 * kCorridor - 0.15) * n, 0.15, 0.15);
+		}
+	}
+	return w;
+}
+
+/** Once around from (20, 0) and on to (40, 0), past the start; odometry turns kTurnBias too
+ * much (a gyro scale error) on top of the usual noise. */
+TTrajectory hallLoop()
+{
+	TTrajectory tr = makeTrajectory(
+		{{20, 0}, {L, 0}, {L, H}, {0, H}, {0, 0}, {40, 0}}, 0.2, TOdometryNoise{}, 3);
+	for (auto& inc : tr.odometryIncrements) inc.phi *= kTurnBias;
+	rebuildOdometryPoses(tr);
+	return tr;
+}
+
+struct TRun
+{
+	TTrajectoryError error;
+	double headingErrorAtReturn = 0;  //!< [rad] when first back at the start (x = 20 m, y = 0)
+	lrgc::TMapBuilderStats stats;
+	TLoopLinkAudit links;
+};
+
+TRun runHallLoop(bool loopClosing)
+{
+	const auto world = makeHallLoopWorld(17);
+	const TTrajectory tr = hallLoop();
+	EXPECT_GT(minClearance(world, tr.truePoses), 0.5);
+	TSyntheticRunOptions opt;
+	opt.laser.maxRange = 6;
+	TLRGCParams p;
+	p.builder.loop_closing = loopClosing;
+	CMetricMapBuilderLRGC builder(p);
+	builder.setMinLoggingLevel(mrpt::system::LVL_ERROR);  // every hall scan is skipped
+	feedBuilder(builder, world, tr, opt);
+	TRun run;
+	run.stats = builder.stats();
+	// Scans from the middle of a hall saw nothing and were skipped: compare the others, each
+	// with the true pose of its step (feedBuilder stamps step k at 1.6e9 + k * scanPeriod).
+	const auto est = builder.trajectory();
+	std::vector<size_t> step;
+	std::vector<mrpt::math::TPose2D> truth;
+	for (const auto& e : est)
+	{
+		step.push_back(static_cast<size_t>(std::lround(
+			(mrpt::Clock::toDouble(e.timestamp) - 1.6e9) / opt.scanPeriod)));
+		truth.push_back(tr.truePoses.at(step.back()));
+	}
+	run.error = trajectoryError(est, truth);
+	// The first pose back on the first corridor past the start, after the whole loop.
+	for (size_t i = est.size() / 2; i < est.size(); ++i)
+		if (std::abs(truth[i].y) < 0.1 && truth[i].x >= 20 && truth[i].x < 30)
+		{
+			const double trueTurn = lrgc::between(truth.front(), truth[i]).phi;
+			const double estTurn = lrgc::between(est.front().robotInMap, est[i].robotInMap).phi;
+			run.headingErrorAtReturn = std::abs(mrpt::math::wrapToPi(estTurn - trueTurn));
+			break;
+		}
+	run.links = auditLoopLinks(builder, truth, 0.3, 5 * M_PI / 180);
+	return run;
+}
+}  // namespace
+
+TEST(LargeLoop, threeHundredMetresWithTwentyDegreesOfHeadingDriftIsClosed)
+{
+	GTEST_SKIP() << "product gap (issue 11, item 1): measured without loop closing 25.7 deg "
+					"of heading drift and 11.8 m at the end; with it no loop is closed: the "
+					"search window is capped at 15 m / 30 deg ([LoopCloser] max_window_*), "
+					"while uncapped the propagated covariance (70-80 m, 60 deg std here: "
+					"odometry noise linear in distance over the blind halls) makes each "
+					"correlation take 2-7 s over +-240 m and the full heading range";
+	const TRun off = runHallLoop(false);
+	RecordProperty("heading_drift_deg", std::to_string(mrpt::RAD2DEG(off.headingErrorAtReturn)));
+	RecordProperty("final_off_m", std::to_string(off.error.finalXY));
+	EXPECT_GT(mrpt::RAD2DEG(off.headingErrorAtReturn), 20.0) << "the loop must drift enough";
+	EXPECT_GT(off.error.finalXY, 3.0);
+
+	const TRun on = runHallLoop(true);
+	RecordProperty("final_on_m", std::to_string(on.error.finalXY));
+	RecordProperty("rms_on_m", std::to_string(on.error.rmsXY));
+	EXPECT_GT(on.stats.loopClosures, 0U);
+	EXPECT_GT(on.links.enabledTrue, 0U);
+	EXPECT_EQ(on.links.enabledFalse, 0U) << on.links.firstEnabledFalse;
+	EXPECT_LT(on.error.finalXY, 0.5) << "drifted run: " << off.error.finalXY << " m";
+	EXPECT_LT(mrpt::RAD2DEG(on.headingErrorAtReturn), 2.0);
+}
