@@ -70,8 +70,16 @@ void feedBuilder(lrgc::CMetricMapBuilderLRGC& builder, const CSyntheticWorld& wo
 			odo->odometry = mrpt::poses::CPose2D(tr.odometryPoses[k]);
 			builder.processObservation(odo);
 		}
-		const TScan2D scan = simulateScan(world, tr.truePoses[k], opt.laser, rng);
-		builder.processObservation(laserObservationFromScan(scan, opt.laser, t));
+		TLaserSimParams laser = opt.laser;
+		laser.sensorInRobot = lrgc::compose(
+			opt.laser.sensorInRobot,
+			TPose2D(0, 0, opt.beamOffsetStep * double(k % std::max(1, opt.beamOffsetCycle))));
+		const auto& p = tr.truePoses[k];
+		const TScan2D scan = opt.crowd
+			? simulateScan(
+				  opt.crowd->addTo(world, opt.scanPeriod * double(k), {p.x, p.y}), p, laser, rng)
+			: simulateScan(world, p, laser, rng);
+		builder.processObservation(laserObservationFromScan(scan, laser, t));
 	}
 	builder.finish();
 }

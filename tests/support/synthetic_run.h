@@ -38,6 +38,13 @@ struct TSyntheticRunOptions
 	double scanPeriod = 0.2;  //!< [s] between steps
 	TLaserSimParams laser;
 	uint32_t laserSeed = 1;  //!< range noise, outliers, drops
+	/** People walking through the scans (their positions at each step's time), or none. */
+	const CCrowd* crowd = nullptr;
+	/** Interleaved beams (SICK LMS in 0.25 deg mode, CARMEN ROBOTLASER start angles): scan k
+	 * is rotated by (k mod beamOffsetCycle) * beamOffsetStep [rad] in the sensor frame, as
+	 * a log's changing start angle rotates the beam fan. */
+	double beamOffsetStep = 0;
+	int beamOffsetCycle = 1;
 };
 
 /** Timestamp of step k of a synthetic run. */

@@ -228,6 +228,112 @@ CSyntheticWorld makeRepeatedRoomsWorld(int nx, int ny, double s, double door)
 	return w;
 }
 
+CSyntheticWorld makeOpenHallWorld(uint32_t seed, double L, double W, int alcoves)
+{
+	ASSERT_(L > 30 && W > 15 && alcoves >= 0);
+	CSyntheticWorld w;
+	constexpr double kDepth = 1.5, kAlcoveWidth = 3.0, kOpening = 12.0, kPillar = 0.3;
+	// South wall with niches at seeded, non-overlapping places along x.
+	std::mt19937 rng(seed);
+	std::uniform_real_distribution<double> ux(4, L - 4 - kAlcoveWidth);
+	std::vector<double> starts;
+	while (starts.size() < static_cast<size_t>(alcoves))
+	{
+		const double x = ux(rng);
+		if (std::all_of(starts.begin(), starts.end(), [&](double s) { return std::abs(s - x) > kAlcoveWidth + 1; }))
+			starts.push_back(x);
+	}
+	std::sort(starts.begin(), starts.end());
+	double x = 0;
+	for (const double s : starts)
+	{
+		w.addSegment({x, 0}, {s, 0});
+		w.addSegment({s, 0}, {s, -kDepth});
+		w.addSegment({s, -kDepth}, {s + kAlcoveWidth, -kDepth});
+		w.addSegment({s + kAlcoveWidth, -kDepth}, {s + kAlcoveWidth, 0});
+		x = s + kAlcoveWidth;
+	}
+	w.addSegment({x, 0}, {L, 0});
+	// West end closed, east end with an opening in its middle.
+	w.addSegment({0, 0}, {0, W});
+	w.addSegment({L, 0}, {L, (W - kOpening) / 2});
+	w.addSegment({L, (W + kOpening) / 2}, {L, W});
+	// North: glass facade between two 6 m stretches of wall.
+	w.addSegment({0, W}, {6, W});
+	w.addSegment({L - 6, W}, {L, W});
+	// Pillars: rows at y = W/4, W/2 (offset by half a bay), 3W/4, every 10 m.
+	for (int row = 1; row <= 3; ++row)
+		for (double px = (row == 2 ? 10.0 : 5.0); px < L - 2; px += 10)
+			w.addCircle({px, row * W / 4}, kPillar, 12);
+	return w;
+}
+
+CSyntheticWorld makeAlcoveGalleryWorld(double L, double W, double pitch)
+{
+	ASSERT_(L > 2 * pitch && W > 2 && pitch > 2.5);
+	constexpr double kWidth = 2.0, kDepth = 1.5;
+	CSyntheticWorld w;
+	w.addSegment({0, 0}, {0, W});
+	w.addSegment({L, 0}, {L, W});
+	for (const double y : {0.0, W})
+	{
+		const double out = y == 0 ? -kDepth : W + kDepth;  // the niche's back wall
+		double x = 0;
+		for (double s = pitch - kWidth / 2; s + kWidth < L - 1; s += pitch)
+		{
+			w.addSegment({x, y}, {s, y});
+			w.addSegment({s, y}, {s, out});
+			w.addSegment({s, out}, {s + kWidth, out});
+			w.addSegment({s + kWidth, out}, {s + kWidth, y});
+			x = s + kWidth;
+		}
+		w.addSegment({x, y}, {L, y});
+	}
+	return w;
+}
+
+CCrowd::CCrowd(const TBox& region, int count, uint32_t seed) : m_region(region)
+{
+	ASSERT_(count >= 0);
+	std::mt19937 rng(seed);
+	std::uniform_real_distribution<double> ux(region.min.x(), region.max.x()),
+		uy(region.min.y(), region.max.y()), ua(-M_PI, M_PI), us(0.5, 1.5);
+	for (int i = 0; i < count; ++i)
+	{
+		m_start.emplace_back(ux(rng), uy(rng));
+		const double a = ua(rng), v = us(rng);
+		m_velocity.emplace_back(v * std::cos(a), v * std::sin(a));
+	}
+}
+
+Eigen::Vector2d CCrowd::position(size_t i, double t) const
+{
+	// Straight walk folded back into the region (a bounce off each edge): the coordinate
+	// u = start + v t taken modulo 2 * size and mirrored in its second half.
+	Eigen::Vector2d p;
+	for (int d = 0; d < 2; ++d)
+	{
+		const double lo = m_region.min[d], size = m_region.max[d] - lo;
+		double u = std::fmod(m_start[i][d] - lo + m_velocity[i][d] * t, 2 * size);
+		if (u < 0) u += 2 * size;
+		p[d] = lo + (u <= size ? u : 2 * size - u);
+	}
+	return p;
+}
+
+CSyntheticWorld CCrowd::addTo(
+	const CSyntheticWorld& world, double t, const Eigen::Vector2d& robot, double keepOut) const
+{
+	constexpr double kPersonRadius = 0.25;  // [m]
+	CSyntheticWorld w = world;
+	for (size_t i = 0; i < size(); ++i)
+	{
+		const Eigen::Vector2d p = position(i, t);
+		if ((p - robot).norm() >= keepOut + kPersonRadius) w.addCircle(p, kPersonRadius, 8);
+	}
+	return w;
+}
+
 mrpt::math::TPose2D noisyIncrement(
 	const mrpt::math::TPose2D& inc, const TOdometryNoise& n, std::mt19937& rng)
 {

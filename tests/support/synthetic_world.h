@@ -114,6 +114,37 @@ CSyntheticWorld makeCorridorWorld(double length = 200, double width = 2.0);
  * perceptual aliasing for loop-closing tests. */
 CSyntheticWorld makeRepeatedRoomsWorld(int nx, int ny, double roomSize = 6.0, double door = 1.0);
 
+/** A wide open hall, corners (0,0)-(L,W) (default 60 x 30 m), where a long laser sees few
+ * walls: the north side is a glass facade (no segments: no returns) except for 6 m of wall
+ * at each end, the east end has a 12 m opening onto nothing, the south wall has `alcoves`
+ * 1.5 m deep niches at seeded places, and three rows of 0.3 m pillars stand 10 m apart. */
+CSyntheticWorld makeOpenHallWorld(uint32_t seed, double L = 60, double W = 30, int alcoves = 5);
+
+/** A long museum gallery along x, corners (0,0)-(L,W), both long walls lined with identical
+ * alcoves (`pitch` [m] apart, 2 m wide, 1.5 m deep) facing each other, and closed ends: from
+ * inside with a laser shorter than L/2 every place looks like the one `pitch` metres on. */
+CSyntheticWorld makeAlcoveGalleryWorld(double L = 80, double W = 8, double pitch = 4);
+
+/** People walking through the scene: `count` circles of radius 0.25 m at seeded places in
+ * `region`, each walking at a seeded 0.5-1.5 m/s in a straight line and bouncing off the
+ * region's edges. at(t) [s] adds them to a copy of a world, leaving out anyone closer than
+ * `keepOut` [m] to `robot` (nobody walks through the robot). */
+class CCrowd
+{
+public:
+	CCrowd(const TBox& region, int count, uint32_t seed);
+	CSyntheticWorld addTo(
+		const CSyntheticWorld& world, double t, const Eigen::Vector2d& robot,
+		double keepOut = 1.0) const;
+	/** Position [m] of person i at time t [s]. */
+	Eigen::Vector2d position(size_t i, double t) const;
+	size_t size() const { return m_start.size(); }
+
+private:
+	TBox m_region;
+	std::vector<Eigen::Vector2d> m_start, m_velocity;
+};
+
 // ---------------------------------------------------------------------------------------------
 // Trajectories and odometry
 // ---------------------------------------------------------------------------------------------

@@ -75,17 +75,16 @@ TRegistration CLocalRegistration::registerScan(
 	std::optional<TScanMatch> match = m_matcher.match(cloud, scan, guess);
 	const bool disagrees = match && disagreement(*match) > m_params.glitch_gate_chi2;
 	// A pause in the scans or a large predicted turn, and the plain match failed or
-	// contradicts the prior: the odometry may lag or jump, so the wide search decides (it
-	// has its own ambiguity check) and may overrule the prior.
+	// contradicts the prior: the odometry may lag or jump, so the wide search decides and
+	// may overrule the prior, but only with evidence an aliased scene cannot fake (matchWide:
+	// a clear majority of the scan matched, a clear lead over every other heading and over
+	// the prior's own optimum). A doubtful case keeps the prior, not a contradicting match.
 	const bool suspect = std::abs(prediction.motion.phi) > m_params.glitch_min_turn ||
 		prediction.stepSeconds > m_params.glitch_min_gap;
 	if (suspect && (!match || disagrees) && m_params.wide_search_angle > 0)
 	{
-		if (auto wide = m_matcher.matchWide(cloud, scan, guess, m_params.wide_search_angle))
-		{
-			match = wide;
-			reg.wideSearch = true;
-		}
+		match = m_matcher.matchWide(cloud, scan, guess, m_params.wide_search_angle);
+		reg.wideSearch = match.has_value();
 	}
 	// Wheels that did not turn at all are the one odometry reading to trust over a match
 	// that moves the robot: such a match is a wrong fit (people walking by a robot that

@@ -13,8 +13,12 @@
  * glitch_min_turn or the scans paused for more than glitch_min_gap. If then the plain match
  * fails or contradicts the prior beyond the chi-square gate, a wide rotational search around
  * the prior (CScanMatcher::matchWide: tens of ms, so only then) decides and may overrule the
- * odometry; the keyframe's odometry link is then down-weighted to the constant-velocity noise
- * so it cannot pull the map. Otherwise the scans win over the odometry, except when the wheels
+ * odometry, but only with evidence a symmetric or repetitive scene cannot fake (a clear
+ * majority of the scan matched, a clear lead over every other heading and over the prior's
+ * own optimum); a doubtful case keeps the prior rather than risk a wrong pose (issue 11: a
+ * true 31-deg turn in an alcoved hall overruled, a 29 %-inlier 108-deg "recovery" on Intel).
+ * After an override the keyframe's odometry link is down-weighted to the constant-velocity
+ * noise so it cannot pull the map. Otherwise the scans win over the odometry, except when the wheels
  * did not move at all: a match moving a robot that stands still is a wrong fit (people
  * walking by, a rotationally ambiguous place), and the prior is kept.
  *

@@ -145,7 +145,7 @@ std::optional<TScanMatch> CScanMatcher::match(
 
 std::optional<TScanMatch> CScanMatcher::matchPoints(
 	const CReferenceCloud& ref, const std::vector<Eigen::Vector2d>& pts,
-	const mrpt::math::TPose2D& guess, double gate0) const
+	const mrpt::math::TPose2D& guess, double gate0, bool check) const
 {
 	const auto& P = m_params;
 	if (ref.empty() || pts.size() < static_cast<size_t>(P.minInliers)) return std::nullopt;
@@ -198,6 +198,8 @@ std::optional<TScanMatch> CScanMatcher::matchPoints(
 	m.residualStd = scale;
 	m.iterations = it;
 	m.unobservableDims = info.unobservable;
+	// Unchecked (matchWide's alternatives): the converged pose and its inliers, no verdict.
+	if (!check) return m;
 	if (inliers < static_cast<size_t>(P.minInliers) || m.inlierFraction < P.minInlierFraction ||
 		m.rmsResidual > P.maxRmsResidual_m || info.unobservable > 1)
 		return std::nullopt;
@@ -218,6 +220,20 @@ namespace
 /** Points of the scan matchWide explores each start heading with [points]: enough to fix a
  * pose on two walls, few enough for ~25 starts in a few ms. */
 constexpr size_t kWideSearchSample = 120;
+
+/** Share of the points `pts` (scan frame) lying within `tol` [m] of a reference anchor at
+ * pose x (ref <- scan). matchWide compares hypotheses by it: a match's own inlier fraction
+ * counts residuals within a few of *its* residual scales, which a wrong fit inflates. */
+double explainedFraction(
+	const CReferenceCloud& ref, const std::vector<Eigen::Vector2d>& pts,
+	const mrpt::math::TPose2D& x, double tol)
+{
+	if (pts.empty()) return 0;
+	const CPointTransform toRef(x);
+	size_t n = 0;
+	for (const auto& p : pts) n += ref.nearest(toRef(p), tol) >= 0;
+	return static_cast<double>(n) / pts.size();
+}
 }  // namespace
 
 std::optional<TScanMatch> CScanMatcher::matchWide(
@@ -225,33 +241,50 @@ std::optional<TScanMatch> CScanMatcher::matchWide(
 	double searchAngle) const
 {
 	ASSERT_(searchAngle >= 0);
-	// Explore with at most ~kWideSearchSample evenly spread points and a doubled gate; refine
-	// the winner with the whole scan.
+	const double margin = m_params.wideAmbiguityMargin;
+	// Every hypothesis is scored alike: the share of points within the largest inlier RMS a
+	// match may have (max_rms_residual [m]) of the reference.
+	const double tol = m_params.maxRmsResidual_m;
+	// Distinct hypotheses: farther apart than 0.2 m or 3 deg.
+	auto distinct = [](const mrpt::math::TPose2D& a, const mrpt::math::TPose2D& b) {
+		const auto d = between(a, b);
+		return translationNorm(d) > 0.2 || std::abs(d.phi) > 3 * M_PI / 180;
+	};
+	// Explore with at most ~kWideSearchSample evenly spread points and a doubled gate, every
+	// converged start counting as a hypothesis whether match() would accept it or not (an
+	// aliased twin that fails the free-space test is still a twin).
 	const size_t stride = std::max<size_t>(1, scan.points.size() / kWideSearchSample);
 	std::vector<Eigen::Vector2d> sub;
 	for (size_t i = 0; i < scan.points.size(); i += stride) sub.push_back(scan.points[i]);
 	const int n = static_cast<int>(std::floor(searchAngle / m_params.wideSearchStep + 1e-9));
-	std::vector<TScanMatch> found;
+	std::vector<std::pair<double, mrpt::math::TPose2D>> found;  // (score, ref <- scan)
 	for (int k = -n; k <= n; ++k)
 	{
 		mrpt::math::TPose2D g = guess;
 		g.phi = mrpt::math::wrapToPi(guess.phi + k * m_params.wideSearchStep);
-		if (auto m = matchPoints(ref, sub, g, 2 * m_params.maxCorrespondenceDist_m)) found.push_back(*m);
+		if (auto m = matchPoints(ref, sub, g, 2 * m_params.maxCorrespondenceDist_m, false))
+			found.emplace_back(explainedFraction(ref, sub, m->scanInRef, tol), m->scanInRef);
 	}
 	if (found.empty()) return std::nullopt;
-	std::sort(found.begin(), found.end(), [](const TScanMatch& a, const TScanMatch& b) {
-		return a.inlierFraction > b.inlierFraction;
-	});
-	const auto& best = found.front();
-	// Distinct: farther than 0.2 m or 3 deg from the best.
+	std::sort(found.begin(), found.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+	const auto& [bestScore, bestPose] = found.front();
 	for (size_t i = 1; i < found.size(); ++i)
-	{
-		const auto d = between(best.scanInRef, found[i].scanInRef);
-		const bool distinct = translationNorm(d) > 0.2 || std::abs(d.phi) > 3 * M_PI / 180;
-		if (distinct && best.inlierFraction - found[i].inlierFraction < m_params.wideAmbiguityMargin)
+		if (distinct(bestPose, found[i].second) && bestScore - found[i].first < margin)
 			return std::nullopt;
-	}
-	return matchPoints(ref, scan.points, best.scanInRef, m_params.maxCorrespondenceDist_m);
+	// Refine the winner with the whole scan, match()'s checks applying, and ask for a clear
+	// majority of the scan matched.
+	auto won = matchPoints(ref, scan.points, bestPose, m_params.maxCorrespondenceDist_m);
+	if (!won || won->inlierFraction < m_params.wideMinInlierFraction) return std::nullopt;
+	// The guess's own hypothesis on the same footing (whole scan, plain gate, unchecked): the
+	// winner must explain clearly more of the scan than the guess's local optimum does.
+	if (const auto atGuess =
+			matchPoints(ref, scan.points, guess, m_params.maxCorrespondenceDist_m, false);
+		atGuess && distinct(won->scanInRef, atGuess->scanInRef) &&
+		explainedFraction(ref, scan.points, won->scanInRef, tol) -
+				explainedFraction(ref, scan.points, atGuess->scanInRef, tol) <
+			margin)
+		return std::nullopt;
+	return won;
 }
 
 }  // namespace lrgc

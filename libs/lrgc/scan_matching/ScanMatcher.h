@@ -65,8 +65,13 @@ public:
 		const mrpt::math::TPose2D& guessScanInRef) const;
 
 	/** For odometry glitches: starts match() from headings guess.phi + k * wideSearchStep
-	 * over [-searchAngle_rad, +searchAngle_rad], and returns the best converged match if its
-	 * inlier fraction beats every distinct alternative by wideAmbiguityMargin, else nullopt. */
+	 * over [-searchAngle_rad, +searchAngle_rad] and returns the best converged match, refined
+	 * with the whole scan, only with evidence that a symmetric or repetitive scene cannot
+	 * fake: (1) its inlier fraction is at least wideMinInlierFraction; (2) it beats every
+	 * distinct alternative start by wideAmbiguityMargin, counting the alternatives match()
+	 * would reject (an aliased twin rejected for its free-space test is still a twin); (3) it
+	 * beats by the same margin the local optimum from the guess itself (the hypothesis "the
+	 * guess was right"), converged on the whole scan. Else nullopt. */
 	std::optional<TScanMatch> matchWide(
 		const CReferenceCloud& ref, const TScan2D& scan,
 		const mrpt::math::TPose2D& guessScanInRef, double searchAngle_rad) const;
@@ -74,7 +79,7 @@ public:
 private:
 	std::optional<TScanMatch> matchPoints(
 		const CReferenceCloud& ref, const std::vector<Eigen::Vector2d>& pts,
-		const mrpt::math::TPose2D& guess, double initialGate) const;
+		const mrpt::math::TPose2D& guess, double initialGate, bool check = true) const;
 
 	TScanMatcherParams m_params;
 };

@@ -27,6 +27,7 @@ void TScanMatcherParams::loadFromConfigFile(
 	d.wideSearchStep =
 		c.read_double(s, "wide_search_step_deg", wideSearchStep * 180 / M_PI) * M_PI / 180;
 	d.wideAmbiguityMargin = c.read_double(s, "wide_ambiguity_margin", wideAmbiguityMargin);
+	d.wideMinInlierFraction = c.read_double(s, "wide_min_inlier_fraction", wideMinInlierFraction);
 	d.maxFreeSpaceViolation = c.read_double(s, "max_free_space_violation", maxFreeSpaceViolation);
 	d.validate(s);
 	*this = d;
@@ -50,7 +51,8 @@ void TScanMatcherParams::saveToConfigFile(
 	wd("unobservable_std", unobservableStd_m, "[m] std reported along directions the scans leave free (corridor axis)");
 	wd("wide_search_step_deg", wideSearchStep * 180 / M_PI, "[deg] heading step between matchWide's starting guesses");
 	wd("max_free_space_violation", maxFreeSpaceViolation, "[0..1] of the scan points; more points inside space the reference saw as free: no match. Loop-closing and revisit matches; local registration uses [LocalRegistration] max_free_space_violation");
-	wd("wide_ambiguity_margin", wideAmbiguityMargin, "[0..1] matchWide: inlier fraction lead needed over a distinct alternative");
+	wd("wide_ambiguity_margin", wideAmbiguityMargin, "[0..1] matchWide: lead in share of points within max_rms_residual needed over a distinct alternative and over the guess's own optimum");
+	wd("wide_min_inlier_fraction", wideMinInlierFraction, "[0..1] matchWide: least fraction of the scan's points the winner must match");
 }
 
 void TScanMatcherParams::validate(const std::string& s) const
@@ -67,6 +69,7 @@ void TScanMatcherParams::validate(const std::string& s) const
 	requireParam(wideSearchStep > 0 && wideSearchStep < M_PI, s, "wide_search_step_deg", "must be in (0, 180) deg");
 	requireParam(maxFreeSpaceViolation >= 0 && maxFreeSpaceViolation <= 1, s, "max_free_space_violation", "must be in [0, 1]");
 	requireParam(wideAmbiguityMargin >= 0 && wideAmbiguityMargin <= 1, s, "wide_ambiguity_margin", "must be in [0, 1]");
+	requireParam(wideMinInlierFraction >= 0 && wideMinInlierFraction <= 1, s, "wide_min_inlier_fraction", "must be in [0, 1]");
 }
 
 }  // namespace lrgc
