@@ -20,6 +20,24 @@ TEST(SlamBadInput, MissingInputFileIsNamed)
 	EXPECT_NE(r.output.find("nope.rawlog"), std::string::npos) << r.output;
 }
 
+TEST(SlamBadInput, SaveRawlogOverTheInputIsRefusedAndTheInputKept)
+{
+	const std::string dir = makeTempDir("bad_overwrite");
+	const std::string input = dir + "/log.clf";
+	const std::string content = "# a CARMEN log the user cannot get back\n";
+	writeTextFile(input, content);
+	fs::create_symlink(input, dir + "/link.clf");
+	for (const std::string& target : {input, dir + "/./log.clf", dir + "/link.clf"})
+	{
+		const auto r = runProcess(binaryPath("lrgc-slam"), {"--input", input, "--save-rawlog", target});
+		EXPECT_EQ(r.exitCode, 2) << target << ": " << r.output;
+		EXPECT_NE(r.output.find("refusing to overwrite"), std::string::npos) << r.output;
+		std::ifstream in(input);
+		const std::string now((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+		EXPECT_EQ(now, content) << "the input was changed by --save-rawlog " << target;
+	}
+}
+
 TEST(SlamBadInput, UnknownArgumentIsAUsageError)
 {
 	const auto r = runProcess(binaryPath("lrgc-slam"), {"--inptu", "x"});

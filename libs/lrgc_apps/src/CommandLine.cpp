@@ -1,5 +1,8 @@
 #include "lrgc_apps/CommandLine.h"
 
+#include <filesystem>
+#include <system_error>
+
 namespace lrgc::apps
 {
 TSlamCommandLine parseSlamCommandLine(const std::vector<std::string>& args)
@@ -36,6 +39,13 @@ TSlamCommandLine parseSlamCommandLine(const std::vector<std::string>& args)
 	if (cl.input.empty()) throw CUsageError("missing --input FILE (or --live SENSORS.ini)");
 	if (cl.outDir.empty() && cl.saveRawlog.empty())
 		throw CUsageError("missing --out DIR (or --save-rawlog FILE to convert only)");
+	// Never write over the input (a CARMEN log would be gone, a layout-1 rawlog would become
+	// observations-only): the same file under any spelling of its path, links included.
+	std::error_code ec;
+	if (!cl.saveRawlog.empty() && std::filesystem::equivalent(cl.input, cl.saveRawlog, ec))
+		throw CUsageError(
+			"--save-rawlog '" + cl.saveRawlog + "' is the input file '" + cl.input +
+			"': refusing to overwrite it; name another file");
 	return cl;
 }
 
