@@ -1,4 +1,5 @@
 /* lrgc-eval: command line, evaluation, and the text and JSON reports. */
+#include <algorithm>
 #include "lrgc_apps/eval/CEvalApp.h"
 
 #include <lrgc_apps/atomic_file.h>
@@ -321,6 +322,12 @@ std::string CEvalApp::toJson(const TEvalResult& r, const TEvalOptions& o)
 
 int CEvalApp::run(const std::vector<std::string>& args, std::ostream& out, std::ostream& err)
 {
+	if (std::find(args.begin(), args.end(), "--help") != args.end() ||
+		std::find(args.begin(), args.end(), "-h") != args.end())
+	{
+		out << usage();
+		return 0;
+	}
 	TEvalOptions o;
 	try
 	{

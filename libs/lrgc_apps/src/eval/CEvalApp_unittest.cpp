@@ -143,3 +143,14 @@ TEST_F(EvalApp, UsageErrors)
 	EXPECT_EQ(runEval({"--trajectory", tum, "--relations", rel, "--time-tolerance", "x"}).code,
 			  2);
 }
+
+TEST_F(EvalApp, HelpPrintsTheUsageAndSucceeds)
+{
+	for (const std::string h : {"--help", "-h"})
+	{
+		const auto r = runEval({h});
+		EXPECT_EQ(r.code, 0) << h << ": " << r.err;
+		EXPECT_TRUE(contains(r.out, "Usage: lrgc-eval")) << r.out;
+		EXPECT_TRUE(r.err.empty()) << r.err;
+	}
+}

@@ -256,6 +256,12 @@ TPlotSummary CPlotApp::render(const TPlotOptions& o)
 
 int CPlotApp::run(const std::vector<std::string>& args, std::ostream& out, std::ostream& err)
 {
+	if (std::find(args.begin(), args.end(), "--help") != args.end() ||
+		std::find(args.begin(), args.end(), "-h") != args.end())
+	{
+		out << usage();
+		return 0;
+	}
 	TPlotOptions o;
 	try
 	{

@@ -160,6 +160,17 @@ TEST(PlotApp, DrawsTrajectoryAndLoopLinksWhereTheMapSays)
 	EXPECT_FALSE(isBlue(at(0, 0)));
 }
 
+TEST(PlotApp, HelpPrintsTheUsageAndSucceeds)
+{
+	for (const std::string h : {"--help", "-h"})
+	{
+		std::ostringstream out, err;
+		EXPECT_EQ(CPlotApp::run({h}, out, err), 0) << h << ": " << err.str();
+		EXPECT_NE(out.str().find("Usage: lrgc-plot"), std::string::npos) << out.str();
+		EXPECT_TRUE(err.str().empty()) << err.str();
+	}
+}
+
 TEST(PlotApp, CommandLineErrors)
 {
 	std::ostringstream out, err;
