@@ -22,15 +22,16 @@ namespace
  * see the same walls, so every second one adds nearly all the information at half the cost. */
 constexpr size_t kRematchStride = 2;
 
-/** The candidate nearest to `pose` (map frame) and its distance [m]; the first on ties. */
+/** Index in `candidates` of the node nearest to `pose` (map frame) and its distance [m]; the
+ * first on ties. */
 std::pair<size_t, double> nearestCandidate(
 	const CPoseGraph& graph, const std::vector<size_t>& candidates, const TPose2D& pose)
 {
-	size_t nearest = candidates.front();
+	size_t nearest = 0;
 	double best = 1e18;
-	for (const size_t j : candidates)
-		if (const double d = translationNorm(between(graph.pose(j), pose)); d < best)
-			best = d, nearest = j;
+	for (size_t i = 0; i < candidates.size(); ++i)
+		if (const double d = translationNorm(between(graph.pose(candidates[i]), pose)); d < best)
+			best = d, nearest = i;
 	return {nearest, best};
 }
 
@@ -173,10 +174,9 @@ std::optional<TLoopClosure> CLoopCloser::process(CPoseGraph& graph, const TKeyfr
 
 	// Step 3: refine with the scan matcher against the old scans near the nearest candidate.
 	const TPose2D corrected = corr->patchInMap;
-	const size_t oldNode = nearestCandidate(graph, candidates->nodes, corrected).first;
-	const TRelativeUncertainty& oldFromNewest = candidates->relative[static_cast<size_t>(
-		std::find(candidates->nodes.begin(), candidates->nodes.end(), oldNode) -
-		candidates->nodes.begin())];
+	const size_t oldIndex = nearestCandidate(graph, candidates->nodes, corrected).first;
+	const size_t oldNode = candidates->nodes[oldIndex];
+	const TRelativeUncertainty& oldFromNewest = candidates->relative[oldIndex];
 	const TPose2D oldInMap = graph.pose(oldNode);
 	std::vector<TScan2D> refScans;
 	std::vector<TPose2D> refInOld;
@@ -251,8 +251,9 @@ size_t CLoopCloser::rematch(
 	size_t added = 0;
 	for (size_t k = patchFirst; k < newest; k += kRematchStride)
 	{
-		const auto [nearest, distance] = nearestCandidate(graph, c.nodes, graph.pose(k));
+		const auto [index, distance] = nearestCandidate(graph, c.nodes, graph.pose(k));
 		if (distance > m_params.overlap_radius) continue;
+		const size_t nearest = c.nodes[index];
 		const TPose2D guess = between(graph.pose(nearest), graph.pose(k));
 		const auto m = m_matcher.match(
 			CReferenceCloud::fromScan(keyframes[nearest].scan, m_matcherParams), keyframes[k].scan, guess);
