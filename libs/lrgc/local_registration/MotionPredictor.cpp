@@ -26,7 +26,11 @@ void CMotionPredictor::addOdometryAbsolute(const mrpt::math::TPose2D& robotInOdo
 Eigen::Matrix3d CMotionPredictor::odometryCov(const mrpt::math::TPose2D& d) const
 {
 	const auto& p = m_params;
-	const double t = translationNorm(d), a = std::abs(d.phi);
+	// Distance term: proportional up to the correlation length L, then a random walk of
+	// independent L-long pieces (variance linear in distance): t_eff = t or sqrt(L t).
+	const double d_m = translationNorm(d), a = std::abs(d.phi);
+	const double L = p.noise_correlation_length;
+	const double t = d_m <= L ? d_m : std::sqrt(L * d_m);
 	const double sxy = p.sigma_floor_xy + p.k_xy_per_m * t + p.k_xy_per_rad * a;
 	const double sphi = p.sigma_floor_phi + p.k_phi_per_m * t + p.k_phi_per_rad * a;
 	return Eigen::Vector3d(sxy * sxy, sxy * sxy, sphi * sphi).asDiagonal();

@@ -17,11 +17,14 @@ void TMotionPredictorParams::loadFromConfigFile(
 	k_xy_per_rad = c.read_double(s, "k_xy_per_rad", k_xy_per_rad);
 	k_phi_per_m = c.read_double(s, "k_phi_per_m", k_phi_per_m);
 	k_phi_per_rad = c.read_double(s, "k_phi_per_rad", k_phi_per_rad);
+	noise_correlation_length =
+		c.read_double(s, "noise_correlation_length", noise_correlation_length);
 	cv_sigma_xy = c.read_double(s, "cv_sigma_xy", cv_sigma_xy);
 	cv_sigma_phi = mrpt::DEG2RAD(c.read_double(s, "cv_sigma_phi_deg", mrpt::RAD2DEG(cv_sigma_phi)));
 	for (const auto& [key, v] :
 		 {std::pair{"sigma_floor_xy", sigma_floor_xy}, {"sigma_floor_phi_deg", sigma_floor_phi},
-		  {"cv_sigma_xy", cv_sigma_xy}, {"cv_sigma_phi_deg", cv_sigma_phi}})
+		  {"cv_sigma_xy", cv_sigma_xy}, {"cv_sigma_phi_deg", cv_sigma_phi},
+		  {"noise_correlation_length", noise_correlation_length}})
 		requireParam(v > 0, s, key, "must be > 0");
 	for (const auto& [key, v] :
 		 {std::pair{"k_xy_per_m", k_xy_per_m}, {"k_xy_per_rad", k_xy_per_rad},
@@ -40,6 +43,7 @@ void TMotionPredictorParams::saveToConfigFile(
 	c.write(s, "k_xy_per_rad", k_xy_per_rad, np, vp, "[m/rad] Translational noise per radian turned");
 	c.write(s, "k_phi_per_m", k_phi_per_m, np, vp, "[rad/m] Heading noise per metre travelled");
 	c.write(s, "k_phi_per_rad", k_phi_per_rad, np, vp, "[rad/rad] Heading noise per radian turned");
+	c.write(s, "noise_correlation_length", noise_correlation_length, np, vp, "[m] Per-metre noise is proportional up to this distance, random-walk (std ~ sqrt) beyond");
 	c.write(s, "cv_sigma_xy", cv_sigma_xy, np, vp, "[m] Constant-velocity model (no odometry): std dev per step");
 	c.write(s, "cv_sigma_phi_deg", mrpt::RAD2DEG(cv_sigma_phi), np, vp, "[deg] Constant-velocity model: heading std dev per step");
 }

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <lrgc/local_registration/MotionPredictor.h>
 #include <lrgc/common/se2.h>
+#include <mrpt/core/bits_math.h>
 #include <mrpt/system/datetime.h>
 
 #include <cmath>
@@ -111,4 +112,23 @@ TEST(MotionPredictor, odometryPriorIsTheOdometryMotionWithProportionalNoise)
 	EXPECT_NEAR(p.motion.phi, 0.1, 1e-9);
 	// sigma_xy = 0.01 + 0.1 * 0.3 + 0.05 * 0.1 = 0.045 m (defaults).
 	EXPECT_NEAR(std::sqrt(p.cov(0, 0)), 0.045, 1e-9);
+}
+
+// Beyond noise_correlation_length (1 m), a straight odometry-only motion is a random walk:
+// the distance terms' variance grows linearly, so 16 m is 4x the std of 1 m, not 16x.
+TEST(MotionPredictor, odometryNoiseOfALongBlindStretchGrowsWithTheSquareRootOfDistance)
+{
+	const CMotionPredictor predictor;
+	const auto distanceStd = [&](double d) {
+		const Eigen::Matrix3d c = predictor.odometryCov(TPose2D(d, 0, 0));
+		return Eigen::Vector2d(std::sqrt(c(0, 0)) - 0.01, std::sqrt(c(2, 2)) - mrpt::DEG2RAD(0.5));
+	};
+	// Proportional up to 1 m: 0.1 m/m and 0.05 rad/m (defaults).
+	EXPECT_NEAR(distanceStd(0.5).x(), 0.05, 1e-12);
+	EXPECT_NEAR(distanceStd(1.0).y(), 0.05, 1e-12);
+	// Continuous at 1 m, then sqrt(L d).
+	EXPECT_NEAR(distanceStd(1.0 + 1e-9).x(), 0.1, 1e-9);
+	EXPECT_NEAR(distanceStd(16.0).x(), 0.4, 1e-12);
+	EXPECT_NEAR(distanceStd(16.0).y(), 0.2, 1e-12);
+	EXPECT_NEAR(distanceStd(16.0).y() / distanceStd(4.0).y(), 2.0, 1e-12);
 }
