@@ -9,7 +9,9 @@
  * cannot beat the best leaf found so far, i.e. B < S_best, or B == S_best and its smallest
  * linear index is larger than the best's. The optimum's ancestors all satisfy B >= S_opt
  * with a smaller or equal index, so none of them is ever dropped: the result is exact.
- * A bound is abandoned early once the partial sum plus 255 per remaining point cannot reach
+ * Top-level nodes tile only the translations that put a patch point inside the grid (the
+ * rest score 0, below any positive floor), so a window much wider than the old map costs
+ * what the map's extent costs. A bound is abandoned early once the partial sum plus 255 per remaining point cannot reach
  * the required value (the node is pruned anyway, and pruned nodes are the majority).
  */
 #include "correlation_search.h"
@@ -105,8 +107,11 @@ public:
 		while ((1 << top) < m_pb.side() && top + 1 < m_pb.grid->numLevels()) ++top;
 		std::vector<Node> nodes;
 		for (int a = 0; a < m_pb.numAngles; ++a)
-			for (int i0 = -W; i0 <= W; i0 += 1 << top)
-				for (int j0 = -W; j0 <= W; j0 += 1 << top) consider(a, top, i0, j0, nodes);
+		{
+			const TCellRange r = overlapRange(a);
+			for (int i0 = r.i0; i0 <= r.i1; i0 += 1 << top)
+				for (int j0 = r.j0; j0 <= r.j1; j0 += 1 << top) consider(a, top, i0, j0, nodes);
+		}
 		explore(nodes);
 		TSearchHit hit;
 		hit.found = m_best.index != kNoIndex;
@@ -117,6 +122,25 @@ public:
 	}
 
 private:
+	struct TCellRange
+	{
+		int i0, i1, j0, j1;
+	};
+	// Translations at heading a that put at least one patch point in the grid: with the base
+	// cells' box [minX, maxX] x [minY, maxY], i in [-maxX, width - 1 - minX] (j likewise). Any
+	// other pose scores 0, below a positive floor, so leaving it out keeps the search exact;
+	// the cost then follows the old map's extent, not the window's (a window from a large
+	// covariance can be hundreds of metres wide). With floor 0 the whole window is kept.
+	TCellRange overlapRange(int a) const
+	{
+		const int W = m_pb.halfCells;
+		if (m_best.score <= 0) return {-W, W, -W, W};
+		const int32_t* box = m_pb.bbox.data() + 4 * size_t(a);
+		const CCorrelationGrid& g = *m_pb.grid;
+		return {std::max(-W, -box[1]), std::min(W, g.width() - 1 - box[0]),
+				std::max(-W, -box[3]), std::min(W, g.height() - 1 - box[2])};
+	}
+
 	// Bounds the node and appends it to `out` unless it can be pruned already.
 	template <class Nodes>
 	void consider(int a, int h, int i0, int j0, Nodes& out)
