@@ -72,6 +72,37 @@ TEST(SlamBadInput, UnknownIniSectionIsRejected)
 	EXPECT_NE(r.output.find("ScanMatcherr"), std::string::npos) << r.output;
 }
 
+TEST(SlamBadInput, IniValueOfTheWrongTypeNamesKeyValueAndType)
+{
+	LRGC_SKIP_IF_MISSING(senaRawlogPath());
+	struct TCase
+	{
+		const char *section, *key, *value, *expected;
+	};
+	// MRPT's readers took each of these silently: "on"/"maybe" as false, "abc"/"0,5" as 0
+	// (blamed as "must be > 0"), 12.7 as 12, 2.5 as 2 (blamed on max_pairwise_links).
+	for (const TCase& c : {TCase{"MapBuilder", "loop_closing", "on", "a boolean"},
+						   TCase{"MapBuilder", "loop_closing", "maybe", "a boolean"},
+						   TCase{"MapBuilder", "keyframe_distance", "abc", "a number"},
+						   TCase{"MapBuilder", "keyframe_distance", "0,5", "a number"},
+						   TCase{"LocalRegistration", "window_size", "12.7", "a whole number"},
+						   TCase{"LocalRegistration", "window_size", "2.5", "a whole number"}})
+	{
+		const std::string dir = makeTempDir("bad_ini_value");
+		writeTextFile(dir + "/bad.ini",
+					  std::string("[") + c.section + "]\n" + c.key + " = " + c.value + "\n");
+		const auto r = runProcess(
+			binaryPath("lrgc-slam"),
+			{"--input", senaRawlogPath(), "--config", dir + "/bad.ini", "--out", dir + "/out"});
+		EXPECT_EQ(r.exitCode, 2) << r.output;
+		const std::string expected = std::string("[") + c.section + "] " + c.key + ": '" +
+									 c.value + "' is not " + c.expected;
+		EXPECT_NE(r.output.find(expected), std::string::npos) << expected << "\n" << r.output;
+		EXPECT_EQ(r.output.find("max_pairwise_links"), std::string::npos) << r.output;
+		EXPECT_FALSE(fs::exists(dir + "/out"));
+	}
+}
+
 TEST(SlamBadInput, TruncatedRawlogSavesWhatWasMappedAndFails)
 {
 	LRGC_SKIP_IF_MISSING(senaRawlogPath());

@@ -71,6 +71,11 @@ int CSlamApp::run(const std::vector<std::string>& args)
 			if (const int rc = convertOnly(cl); rc != kExitOk || cl.outDir.empty()) return rc;
 		return runOffline(cl);
 	}
+	catch (const CSetupError& e)
+	{
+		report(std::string("lrgc-slam: ") + e.what());
+		return kExitUsage;
+	}
 	catch (const CUsageError& e)
 	{
 		report(std::string("lrgc-slam: ") + e.what());
