@@ -1,12 +1,18 @@
 #include "lrgc_apps/RunOutputs.h"
 
+#include "lrgc_apps/CommandLine.h"
 #include "lrgc_apps/MapExport.h"
 #include "lrgc_apps/RunStats.h"
 #include "lrgc_apps/atomic_file.h"
 
 #include <mrpt/maps/CSimpleMap.h>
 
+#include <unistd.h>
+
+#include <cerrno>
 #include <cmath>
+#include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <sstream>
 
@@ -89,6 +95,31 @@ std::string statsJson(const CMetricMapBuilderLRGC& builder, const TRunSummary& r
 	  << ", \"max\": " << lat.max_ms << ", \"mean\": " << lat.mean_ms << "}\n"
 	  << "}\n";
 	return j.str();
+}
+
+void checkOutputDirectory(const std::string& outDir)
+{
+	namespace fs = std::filesystem;
+	std::error_code ec;
+	const fs::path target = fs::absolute(outDir, ec);
+	// The directory itself, or the nearest existing ancestor it would be created in.
+	fs::path dir = target;
+	while (!fs::exists(dir, ec) && dir.has_relative_path()) dir = dir.parent_path();
+	const std::string option = "--out '" + outDir + "'";
+	if (!fs::is_directory(dir, ec))
+		throw CSetupError((dir == target
+							   ? option + " is not a directory"
+							   : option + ": '" + dir.string() + "' is not a directory") +
+						  "; name a directory for the outputs");
+	// Tried, not asked: access(W_OK) says yes to root in places no one can write (/proc).
+	std::string probe = (dir / ".lrgc-write-probe-XXXXXX").string();
+	const int fd = ::mkstemp(probe.data());
+	if (fd < 0)
+		throw CSetupError(option + ": cannot write into " +
+						  (dir == target ? "it" : "'" + dir.string() + "'") + " (" +
+						  std::strerror(errno) + "); name a directory you may write into");
+	::close(fd);
+	::unlink(probe.c_str());
 }
 
 void writeRunOutputs(

@@ -24,6 +24,12 @@ struct TRunSummary
 	std::vector<double> latencyStamp;  //!< the scan's timestamp [s]
 };
 
+/** Throws CSetupError, before anything is run, unless `outDir` is a directory this process
+ * may write into or can be made one (its nearest existing ancestor is such a directory): an
+ * existing file, /dev/null or a read-only place is found before the first scan, not after the
+ * whole run. Leaves nothing behind (write access is tried with a file made and removed). */
+void checkOutputDirectory(const std::string& outDir);
+
 void writeRunOutputs(
 	const CMetricMapBuilderLRGC& builder, const std::string& outDir, const TRunSummary& run);
 

@@ -4,7 +4,8 @@
  * and writes every output atomically into the output directory. A problem the run can go on
  * from (a malformed line, a skipped scan) is reported and skipped; one it cannot (a
  * truncated or corrupt rawlog) ends the run with the maps built so far saved and a non-zero
- * exit status. SIGINT/SIGTERM stop the run the same way.
+ * exit status. SIGINT/SIGTERM stop the run the same way. A bad --out is refused before the
+ * log is opened.
  *
  * Live (--live SENSORS.ini): runs the live runner given at construction. It lives in the
  * separate library lrgc_live (lrgc_apps/live/LiveSlam.h, runLiveSlam), so that only programs
@@ -26,7 +27,7 @@ enum ExitStatus : int
 {
 	kExitOk = 0,
 	kExitInputError = 1,  //!< the input could not be read to the end: maps so far saved
-	kExitUsage = 2,  //!< bad command line or configuration: nothing was run
+	kExitUsage = 2,  //!< bad command line, configuration or --out: nothing was run
 	kExitInterrupted = 130  //!< SIGINT/SIGTERM: maps so far saved
 };
 
