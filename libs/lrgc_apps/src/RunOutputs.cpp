@@ -37,6 +37,14 @@ std::string jsonString(const std::string& s)
 	return out + "\"";
 }
 
+std::string jsonCounts(const std::map<std::string, size_t>& counts)
+{
+	std::string out = "{";
+	for (const auto& [name, n] : counts)
+		out += (out.size() > 1 ? ", " : "") + jsonString(name) + ": " + std::to_string(n);
+	return out + "}";
+}
+
 std::string timingCsv(const TRunSummary& run)
 {
 	std::string out = "scan_index,timestamp,latency_ms\n";
@@ -66,23 +74,27 @@ std::string statsJson(const CMetricMapBuilderLRGC& builder, const TRunSummary& r
 	  << "  \"format\": " << jsonString(run.format) << ",\n"
 	  << "  \"status\": " << jsonString(run.status) << ",\n"
 	  << "  \"log_entries\": " << run.logEntries << ",\n"
+	  << "  \"malformed_lines\": " << run.malformedLines << ",\n"
+	  << "  \"log_contents\": " << jsonCounts(run.logContents) << ",\n"
 	  << "  \"scans\": " << s.scans << ",\n"
 	  << "  \"keyframes\": " << s.keyframes << ",\n"
 	  << "  \"skipped_scans\": " << s.skippedScans << ",\n"
 	  << "  \"unmatched_scans\": " << s.unmatchedScans << ",\n"
 	  << "  \"odometry_rejected\": " << s.odometryRejected << ",\n"
 	  << "  \"odometry_glitches_recovered\": " << s.glitchesRecovered << ",\n"
-	  << "  \"links\": {\"odometry\": " << s.odometryLinks << ", \"scan_match\": " << s.scanMatchLinks
+	  << "  \"links\": {\"odometry\": " << s.odometryLinks
+	  << ", \"scan_match\": " << s.scanMatchLinks
 	  << ", \"loop_closure\": " << s.loopClosureLinks << "},\n"
 	  << "  \"loop_closures\": " << s.loopClosures << ",\n"
 	  << "  \"revisit_links\": " << s.revisitLinks << ",\n"
-	  << "  \"loop_closing\": {\"attempts\": " << lcs.attempts << ", \"accepted\": " << lcs.accepted
+	  << "  \"loop_closing\": {\"attempts\": " << lcs.attempts
+	  << ", \"accepted\": " << lcs.accepted
 	  << ", \"rejected_by_filters\": " << lcs.rejectedByFilters
 	  << ", \"rejected_by_match\": " << lcs.rejectedByMatch
 	  << ", \"rejected_by_back_end\": " << lcs.rejectedByBackEnd
 	  << ", \"optimizations\": " << lcs.optimizations
-	  << ", \"closure_ms\": {\"count\": " << closureMs.size() << ", \"median\": " << closure.median_ms
-	  << ", \"max\": " << closure.max_ms << "}},\n"
+	  << ", \"closure_ms\": {\"count\": " << closureMs.size()
+	  << ", \"median\": " << closure.median_ms << ", \"max\": " << closure.max_ms << "}},\n"
 	  << "  \"warnings\": " << run.warnings << ",\n"
 	  << "  \"data_duration_s\": " << run.dataDurationSeconds << ",\n"
 	  << "  \"wall_time_s\": " << run.wallSeconds << ",\n"
@@ -128,6 +140,11 @@ void writeRunOutputs(
 	namespace fs = std::filesystem;
 	fs::create_directories(outDir);
 	const auto path = [&](const char* name) { return (fs::path(outDir) / name).string(); };
+	if (builder.stats().scans == 0)
+	{
+		writeTextFileAtomically(path("stats.json"), statsJson(builder, run));
+		return;
+	}
 
 	writeTrajectoryTum(builder.trajectory(), path("trajectory.tum"));
 	writeGraph(builder.graph().toMrpt(), path("graph.graph"));
