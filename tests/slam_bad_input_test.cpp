@@ -2,6 +2,9 @@
  * run cannot go on, and keeps what was mapped so far. */
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 
@@ -70,6 +73,85 @@ TEST(SlamBadInput, UnknownIniSectionIsRejected)
 		{"--input", senaRawlogPath(), "--config", dir + "/bad.ini", "--out", dir + "/out"});
 	EXPECT_EQ(r.exitCode, 2) << r.output;
 	EXPECT_NE(r.output.find("ScanMatcherr"), std::string::npos) << r.output;
+}
+
+TEST(SlamBadInput, IniValueOfTheWrongTypeNamesKeyValueAndType)
+{
+	LRGC_SKIP_IF_MISSING(senaRawlogPath());
+	struct TCase
+	{
+		const char *section, *key, *value, *expected;
+	};
+	// MRPT's readers took each of these silently: "on"/"maybe" as false, "abc"/"0,5" as 0
+	// (blamed as "must be > 0"), 12.7 as 12, 2.5 as 2 (blamed on max_pairwise_links).
+	for (const TCase& c : {TCase{"MapBuilder", "loop_closing", "on", "a boolean"},
+						   TCase{"MapBuilder", "loop_closing", "maybe", "a boolean"},
+						   TCase{"MapBuilder", "keyframe_distance", "abc", "a number"},
+						   TCase{"MapBuilder", "keyframe_distance", "0,5", "a number"},
+						   TCase{"LocalRegistration", "window_size", "12.7", "a whole number"},
+						   TCase{"LocalRegistration", "window_size", "2.5", "a whole number"}})
+	{
+		const std::string dir = makeTempDir("bad_ini_value");
+		writeTextFile(dir + "/bad.ini",
+					  std::string("[") + c.section + "]\n" + c.key + " = " + c.value + "\n");
+		const auto r = runProcess(
+			binaryPath("lrgc-slam"),
+			{"--input", senaRawlogPath(), "--config", dir + "/bad.ini", "--out", dir + "/out"});
+		EXPECT_EQ(r.exitCode, 2) << r.output;
+		const std::string expected = std::string("[") + c.section + "] " + c.key + ": '" +
+									 c.value + "' is not " + c.expected;
+		EXPECT_NE(r.output.find(expected), std::string::npos) << expected << "\n" << r.output;
+		EXPECT_EQ(r.output.find("max_pairwise_links"), std::string::npos) << r.output;
+		EXPECT_FALSE(fs::exists(dir + "/out"));
+	}
+}
+
+TEST(SlamBadInput, BadOutIsRefusedBeforeTheRunInOneLine)
+{
+	LRGC_SKIP_IF_MISSING(senaRawlogPath());
+	const std::string dir = makeTempDir("bad_out");
+	writeTextFile(dir + "/file.txt", "not a directory\n");
+	struct TCase
+	{
+		std::string out, expected;
+	};
+	for (const TCase& c :
+		 {TCase{dir + "/file.txt", "--out '" + dir + "/file.txt' is not a directory"},
+		  TCase{dir + "/file.txt/maps", "'" + dir + "/file.txt' is not a directory"},
+		  TCase{"/dev/null", "--out '/dev/null' is not a directory"},
+		  TCase{"/proc/lrgc-maps", "cannot write into '/proc'"}})
+	{
+		// Found before the input is even opened: a missing input would be exit status 1.
+		for (const std::string& input : {senaRawlogPath(), dir + "/missing.rawlog"})
+		{
+			const auto r =
+				runProcess(binaryPath("lrgc-slam"), {"--input", input, "--out", c.out});
+			EXPECT_EQ(r.exitCode, 2) << c.out << ": " << r.output;
+			EXPECT_NE(r.output.find(c.expected), std::string::npos) << r.output;
+			EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+		}
+	}
+	EXPECT_EQ(readTextFile(dir + "/file.txt"), "not a directory\n");
+	EXPECT_TRUE(fs::is_character_file("/dev/null"));
+}
+
+TEST(SlamBadInput, OutInAFolderWithoutWritePermissionIsRefused)
+{
+	LRGC_SKIP_IF_MISSING(senaRawlogPath());
+	if (::geteuid() == 0)
+		GTEST_SKIP()
+			<< "running as root, who may write into a read-only folder (the /proc case "
+			   "of BadOutIsRefusedBeforeTheRunInOneLine covers root)";
+	const std::string dir = makeTempDir("bad_out_readonly");
+	fs::create_directory(dir + "/ro");
+	fs::permissions(dir + "/ro", fs::perms::owner_read | fs::perms::owner_exec);
+	const auto r = runProcess(binaryPath("lrgc-slam"),
+							  {"--input", senaRawlogPath(), "--out", dir + "/ro/maps"});
+	fs::permissions(dir + "/ro", fs::perms::owner_all);
+	EXPECT_EQ(r.exitCode, 2) << r.output;
+	EXPECT_NE(r.output.find("cannot write into '" + dir + "/ro' (Permission denied)"),
+			  std::string::npos)
+		<< r.output;
 }
 
 TEST(SlamBadInput, TruncatedRawlogSavesWhatWasMappedAndFails)

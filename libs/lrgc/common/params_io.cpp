@@ -5,6 +5,11 @@
 #include <mrpt/system/string_utils.h>
 
 #include <algorithm>
+#include <cctype>
+#include <charconv>
+#include <cmath>
+#include <limits>
+#include <optional>
 #include <set>
 #include <vector>
 
@@ -30,7 +35,86 @@ size_t editDistance(const std::string& a, const std::string& b)
 	}
 	return row[b.size()];
 }
+
+// The value of `key` as written, without surrounding blanks and a trailing "// comment"
+// (the default .ini has one on every line); nullopt if the section has no such key.
+std::optional<std::string> rawValue(const mrpt::config::CConfigFileBase& c,
+									const std::string& section, const std::string& key)
+{
+	static const std::string kAbsent = "\x01(absent)\x01";
+	std::string v = c.read_string(section, key, kAbsent);
+	if (v == kAbsent) return std::nullopt;
+	if (const size_t comment = v.find("//"); comment != std::string::npos) v.erase(comment);
+	return mrpt::system::trim(v);
+}
+
+[[noreturn]] void throwBadValue(const std::string& section, const std::string& key,
+								const std::string& value, const char* expected)
+{
+	THROW_EXCEPTION_FMT("Invalid value for [%s] %s: '%s' is not %s", section.c_str(),
+						key.c_str(), value.c_str(), expected);
+}
+
+// The whole of `v` as one T (an optional leading '+' allowed), or nullopt.
+template <typename T>
+std::optional<T> parseWhole(const std::string& v)
+{
+	const char* first = v.data();
+	const char* const last = v.data() + v.size();
+	if (first != last && *first == '+' && last - first > 1 && first[1] != '-') ++first;
+	T x{};
+	const auto [end, ec] = std::from_chars(first, last, x);
+	if (first == last || ec != std::errc() || end != last) return std::nullopt;
+	return x;
+}
 }  // namespace
+
+double readDouble(const mrpt::config::CConfigFileBase& c, const std::string& section,
+				  const std::string& key, double current)
+{
+	const auto raw = rawValue(c, section, key);
+	if (!raw) return current;
+	const auto x = parseWhole<double>(*raw);
+	if (!x || !std::isfinite(*x))
+		throwBadValue(section, key, *raw,
+					  "a number (expected a decimal number such as 0.5 or 1e-3)");
+	return *x;
+}
+
+int readInt(const mrpt::config::CConfigFileBase& c, const std::string& section,
+			const std::string& key, int current)
+{
+	const auto raw = rawValue(c, section, key);
+	if (!raw) return current;
+	const auto x = parseWhole<int>(*raw);
+	if (!x)
+		throwBadValue(section, key, *raw, "a whole number (expected an integer such as 20)");
+	return *x;
+}
+
+size_t readCount(const mrpt::config::CConfigFileBase& c, const std::string& section,
+				 const std::string& key, size_t current)
+{
+	const auto raw = rawValue(c, section, key);
+	if (!raw) return current;
+	const auto x = parseWhole<unsigned long long>(*raw);
+	if (!x || *x > std::numeric_limits<size_t>::max())
+		throwBadValue(section, key, *raw, "a whole number >= 0 (expected a count such as 7)");
+	return static_cast<size_t>(*x);
+}
+
+bool readBool(const mrpt::config::CConfigFileBase& c, const std::string& section,
+			  const std::string& key, bool current)
+{
+	const auto raw = rawValue(c, section, key);
+	if (!raw) return current;
+	std::string v = *raw;
+	std::transform(v.begin(), v.end(), v.begin(),
+				   [](unsigned char ch) { return std::tolower(ch); });
+	if (v == "true" || v == "yes" || v == "1") return true;
+	if (v == "false" || v == "no" || v == "0") return false;
+	throwBadValue(section, key, *raw, "a boolean (expected true, false, yes, no, 1 or 0)");
+}
 
 void rejectUnknownKeys(
 	const mrpt::config::CLoadableOptions& knownKeysFrom,

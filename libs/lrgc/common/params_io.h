@@ -5,12 +5,18 @@
  * saveToConfigFile() itself: rejectUnknownKeys() saves a default-constructed copy into memory
  * and compares key sets, so load and save can never drift apart and a misspelt key is an error
  * instead of a silently ignored line.
+ *
+ * Values are read strictly by readDouble(), readInt(), readCount() and readBool(), which every
+ * loader uses instead of CConfigFileBase::read_double() and friends: MRPT's readers take
+ * `abc` and `0,5` for 0, `on` and `maybe` for false and `2.5` for 2 without a word, which turns
+ * a typo into a wrong run or into a range error blamed on the value 0.
  */
 #pragma once
 
 #include <mrpt/config/CConfigFileBase.h>
 #include <mrpt/config/CLoadableOptions.h>
 
+#include <cstddef>
 #include <string>
 
 namespace lrgc
@@ -21,6 +27,24 @@ namespace lrgc
 void rejectUnknownKeys(
 	const mrpt::config::CLoadableOptions& knownKeysFrom,
 	const mrpt::config::CConfigFileBase& source, const std::string& section);
+
+/** Strict readers of one key of `section`. A key that is absent keeps `current`. A present
+ * value (blanks and a trailing `// comment` aside) must be one whole value of the type, else
+ * they throw naming the section, the key, the value and the type expected, e.g.
+ * "Invalid value for [MapBuilder] keyframe_distance: 'abc' is not a number (expected a
+ * decimal number such as 0.5 or 1e-3)". */
+/** A finite decimal number ("0.5", "-2", "1e-3"; not "0,5", "inf", "abc"). */
+double readDouble(const mrpt::config::CConfigFileBase& c, const std::string& section,
+				  const std::string& key, double current);
+/** A whole number that fits an int ("7", "-1"; not "2.5", "7.0", "1e3"). */
+int readInt(const mrpt::config::CConfigFileBase& c, const std::string& section,
+			const std::string& key, int current);
+/** A whole number >= 0 (a count or a size). */
+size_t readCount(const mrpt::config::CConfigFileBase& c, const std::string& section,
+				 const std::string& key, size_t current);
+/** true, false, yes, no, 1 or 0, in any letter case ("on" and "maybe" are errors). */
+bool readBool(const mrpt::config::CConfigFileBase& c, const std::string& section,
+			  const std::string& key, bool current);
 
 /** Throws with a message naming section and key if `ok` is false. For validation on load. */
 void requireParam(

@@ -1,6 +1,7 @@
 #include <lrgc/local_registration/LocalRegistrationParams.h>
 #include <lrgc/common/params_io.h>
 #include <mrpt/config/CConfigFileBase.h>
+#include <mrpt/core/format.h>
 
 namespace lrgc
 {
@@ -8,33 +9,34 @@ void TLocalRegistrationParams::loadFromConfigFile(
 	const mrpt::config::CConfigFileBase& c, const std::string& s)
 {
 	rejectUnknownKeys(TLocalRegistrationParams(), c, s);
-	window_size = c.read_uint64_t(s, "window_size", window_size);
-	max_pairwise_links = c.read_uint64_t(s, "max_pairwise_links", max_pairwise_links);
-	min_link_inliers = c.read_double(s, "min_link_inliers", min_link_inliers);
-	glitch_gate_chi2 = c.read_double(s, "glitch_gate_chi2", glitch_gate_chi2);
+	window_size = readCount(c, s, "window_size", window_size);
+	max_pairwise_links = readCount(c, s, "max_pairwise_links", max_pairwise_links);
+	min_link_inliers = readDouble(c, s, "min_link_inliers", min_link_inliers);
+	glitch_gate_chi2 = readDouble(c, s, "glitch_gate_chi2", glitch_gate_chi2);
 	wide_search_angle = mrpt::DEG2RAD(
-		c.read_double(s, "wide_search_angle_deg", mrpt::RAD2DEG(wide_search_angle)));
+		readDouble(c, s, "wide_search_angle_deg", mrpt::RAD2DEG(wide_search_angle)));
 	glitch_min_turn =
-		mrpt::DEG2RAD(c.read_double(s, "glitch_min_turn_deg", mrpt::RAD2DEG(glitch_min_turn)));
-	glitch_min_gap = c.read_double(s, "glitch_min_gap", glitch_min_gap);
+		mrpt::DEG2RAD(readDouble(c, s, "glitch_min_turn_deg", mrpt::RAD2DEG(glitch_min_turn)));
+	glitch_min_gap = readDouble(c, s, "glitch_min_gap", glitch_min_gap);
 	requireParam(glitch_min_gap > 0, s, "glitch_min_gap", "must be > 0");
 	max_free_space_violation =
-		c.read_double(s, "max_free_space_violation", max_free_space_violation);
+		readDouble(c, s, "max_free_space_violation", max_free_space_violation);
 	requireParam(
 		max_free_space_violation >= 0 && max_free_space_violation <= 1, s,
 		"max_free_space_violation", "must be in [0, 1]");
 	requireParam(glitch_min_turn >= 0, s, "glitch_min_turn_deg", "must be >= 0");
 	link_noise.load(c, s, "");
 	requireParam(window_size >= 2 && window_size <= 100, s, "window_size", "must be in [2, 100]");
-	requireParam(
-		max_pairwise_links >= 1 && max_pairwise_links < window_size, s, "max_pairwise_links",
-		"must be in [1, window_size - 1]");
+	requireParam(max_pairwise_links >= 1 && max_pairwise_links < window_size, s,
+				 "max_pairwise_links",
+				 mrpt::format("%zu must be in [1, window_size - 1]; window_size is %zu",
+							  max_pairwise_links, window_size));
 	requireParam(
 		min_link_inliers > 0 && min_link_inliers <= 1, s, "min_link_inliers", "must be in (0, 1]");
 	requireParam(glitch_gate_chi2 > 0, s, "glitch_gate_chi2", "must be > 0");
-	patch_link = c.read_bool(s, "patch_link", patch_link);
+	patch_link = readBool(c, s, "patch_link", patch_link);
 	patch_link_noise.load(c, s, "patch_");
-	pairwise_link_weight = c.read_double(s, "pairwise_link_weight", pairwise_link_weight);
+	pairwise_link_weight = readDouble(c, s, "pairwise_link_weight", pairwise_link_weight);
 	requireParam(
 		pairwise_link_weight > 0 && pairwise_link_weight <= 1, s, "pairwise_link_weight",
 		"must be in (0, 1]");

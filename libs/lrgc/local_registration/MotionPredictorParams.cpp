@@ -9,18 +9,19 @@ void TMotionPredictorParams::loadFromConfigFile(
 	const mrpt::config::CConfigFileBase& c, const std::string& s)
 {
 	rejectUnknownKeys(TMotionPredictorParams(), c, s);
-	use_odometry = c.read_bool(s, "use_odometry", use_odometry);
-	sigma_floor_xy = c.read_double(s, "sigma_floor_xy", sigma_floor_xy);
+	use_odometry = readBool(c, s, "use_odometry", use_odometry);
+	sigma_floor_xy = readDouble(c, s, "sigma_floor_xy", sigma_floor_xy);
 	sigma_floor_phi =
-		mrpt::DEG2RAD(c.read_double(s, "sigma_floor_phi_deg", mrpt::RAD2DEG(sigma_floor_phi)));
-	k_xy_per_m = c.read_double(s, "k_xy_per_m", k_xy_per_m);
-	k_xy_per_rad = c.read_double(s, "k_xy_per_rad", k_xy_per_rad);
-	k_phi_per_m = c.read_double(s, "k_phi_per_m", k_phi_per_m);
-	k_phi_per_rad = c.read_double(s, "k_phi_per_rad", k_phi_per_rad);
+		mrpt::DEG2RAD(readDouble(c, s, "sigma_floor_phi_deg", mrpt::RAD2DEG(sigma_floor_phi)));
+	k_xy_per_m = readDouble(c, s, "k_xy_per_m", k_xy_per_m);
+	k_xy_per_rad = readDouble(c, s, "k_xy_per_rad", k_xy_per_rad);
+	k_phi_per_m = readDouble(c, s, "k_phi_per_m", k_phi_per_m);
+	k_phi_per_rad = readDouble(c, s, "k_phi_per_rad", k_phi_per_rad);
 	noise_correlation_length =
-		c.read_double(s, "noise_correlation_length", noise_correlation_length);
-	cv_sigma_xy = c.read_double(s, "cv_sigma_xy", cv_sigma_xy);
-	cv_sigma_phi = mrpt::DEG2RAD(c.read_double(s, "cv_sigma_phi_deg", mrpt::RAD2DEG(cv_sigma_phi)));
+		readDouble(c, s, "noise_correlation_length", noise_correlation_length);
+	cv_sigma_xy = readDouble(c, s, "cv_sigma_xy", cv_sigma_xy);
+	cv_sigma_phi =
+		mrpt::DEG2RAD(readDouble(c, s, "cv_sigma_phi_deg", mrpt::RAD2DEG(cv_sigma_phi)));
 	for (const auto& [key, v] :
 		 {std::pair{"sigma_floor_xy", sigma_floor_xy}, {"sigma_floor_phi_deg", sigma_floor_phi},
 		  {"cv_sigma_xy", cv_sigma_xy}, {"cv_sigma_phi_deg", cv_sigma_phi},

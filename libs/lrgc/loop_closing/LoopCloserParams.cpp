@@ -1,6 +1,7 @@
 #include <lrgc/loop_closing/LoopCloserParams.h>
 #include <lrgc/common/params_io.h>
 #include <mrpt/config/CConfigFileBase.h>
+#include <mrpt/core/format.h>
 
 namespace lrgc
 {
@@ -8,25 +9,26 @@ void TLoopCloserParams::loadFromConfigFile(
 	const mrpt::config::CConfigFileBase& c, const std::string& s)
 {
 	rejectUnknownKeys(TLoopCloserParams(), c, s);
-	old_map_exclusion = c.read_uint64_t(s, "old_map_exclusion", old_map_exclusion);
-	patch_min_keyframes = c.read_uint64_t(s, "patch_min_keyframes", patch_min_keyframes);
-	patch_keyframes_per_m = c.read_double(s, "patch_keyframes_per_m", patch_keyframes_per_m);
-	gate_sigma = c.read_double(s, "gate_sigma", gate_sigma);
-	overlap_radius = c.read_double(s, "overlap_radius", overlap_radius);
-	window_sigmas = c.read_double(s, "window_sigmas", window_sigmas);
-	max_window_xy = c.read_double(s, "max_window_xy", max_window_xy);
+	old_map_exclusion = readCount(c, s, "old_map_exclusion", old_map_exclusion);
+	patch_min_keyframes = readCount(c, s, "patch_min_keyframes", patch_min_keyframes);
+	patch_keyframes_per_m = readDouble(c, s, "patch_keyframes_per_m", patch_keyframes_per_m);
+	gate_sigma = readDouble(c, s, "gate_sigma", gate_sigma);
+	overlap_radius = readDouble(c, s, "overlap_radius", overlap_radius);
+	window_sigmas = readDouble(c, s, "window_sigmas", window_sigmas);
+	max_window_xy = readDouble(c, s, "max_window_xy", max_window_xy);
 	max_window_theta = mrpt::DEG2RAD(
-		c.read_double(s, "max_window_theta_deg", mrpt::RAD2DEG(max_window_theta)));
-	consistent_chi2 = c.read_double(s, "consistent_chi2", consistent_chi2);
-	check_every = c.read_uint64_t(s, "check_every", check_every);
-	patch_max_range = c.read_double(s, "patch_max_range", patch_max_range);
-	attempt_stride = c.read_double(s, "attempt_stride", attempt_stride);
+		readDouble(c, s, "max_window_theta_deg", mrpt::RAD2DEG(max_window_theta)));
+	consistent_chi2 = readDouble(c, s, "consistent_chi2", consistent_chi2);
+	check_every = readCount(c, s, "check_every", check_every);
+	patch_max_range = readDouble(c, s, "patch_max_range", patch_max_range);
+	attempt_stride = readDouble(c, s, "attempt_stride", attempt_stride);
 	requireParam(attempt_stride >= 0, s, "attempt_stride", "must be >= 0");
 	link_noise.load(c, s, "");
 	requireParam(patch_max_range > 0, s, "patch_max_range", "must be > 0");
-	requireParam(
-		patch_min_keyframes >= 1 && patch_min_keyframes <= old_map_exclusion, s,
-		"patch_min_keyframes", "must be in [1, old_map_exclusion]");
+	requireParam(patch_min_keyframes >= 1 && patch_min_keyframes <= old_map_exclusion, s,
+				 "patch_min_keyframes",
+				 mrpt::format("%zu must be in [1, old_map_exclusion]; old_map_exclusion is %zu",
+							  patch_min_keyframes, old_map_exclusion));
 	requireParam(patch_keyframes_per_m >= 0, s, "patch_keyframes_per_m", "must be >= 0");
 	requireParam(gate_sigma > 0, s, "gate_sigma", "must be > 0");
 	requireParam(overlap_radius >= 0, s, "overlap_radius", "must be >= 0");

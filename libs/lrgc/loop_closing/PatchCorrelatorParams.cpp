@@ -16,17 +16,17 @@ void TPatchCorrelatorParams::loadFromConfigFile(const mrpt::config::CConfigFileB
 												const std::string& s)
 {
 	rejectUnknownKeys(*this, c, s);
-	resolution = c.read_double(s, "resolution", resolution);
-	blurSigma = c.read_double(s, "blur_sigma", blurSigma);
-	angularStep = DEG2RAD(c.read_double(s, "angular_step_deg", RAD2DEG(angularStep)));
-	minScore = c.read_double(s, "min_score", minScore);
-	minAmbiguity = c.read_double(s, "min_ambiguity", minAmbiguity);
-	maxStdXY = c.read_double(s, "max_std_xy", maxStdXY);
-	maxStdTheta = DEG2RAD(c.read_double(s, "max_std_theta_deg", RAD2DEG(maxStdTheta)));
-	clusterRadiusXY = c.read_double(s, "cluster_radius", clusterRadiusXY);
+	resolution = readDouble(c, s, "resolution", resolution);
+	blurSigma = readDouble(c, s, "blur_sigma", blurSigma);
+	angularStep = DEG2RAD(readDouble(c, s, "angular_step_deg", RAD2DEG(angularStep)));
+	minScore = readDouble(c, s, "min_score", minScore);
+	minAmbiguity = readDouble(c, s, "min_ambiguity", minAmbiguity);
+	maxStdXY = readDouble(c, s, "max_std_xy", maxStdXY);
+	maxStdTheta = DEG2RAD(readDouble(c, s, "max_std_theta_deg", RAD2DEG(maxStdTheta)));
+	clusterRadiusXY = readDouble(c, s, "cluster_radius", clusterRadiusXY);
 	clusterRadiusTheta =
-		DEG2RAD(c.read_double(s, "cluster_radius_deg", RAD2DEG(clusterRadiusTheta)));
-	clusterScoreScale = c.read_double(s, "cluster_score_scale", clusterScoreScale);
+		DEG2RAD(readDouble(c, s, "cluster_radius_deg", RAD2DEG(clusterRadiusTheta)));
+	clusterScoreScale = readDouble(c, s, "cluster_score_scale", clusterScoreScale);
 	validate(s);
 }
 

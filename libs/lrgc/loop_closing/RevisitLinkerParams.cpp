@@ -8,17 +8,17 @@ void TRevisitLinkerParams::loadFromConfigFile(
 	const mrpt::config::CConfigFileBase& c, const std::string& s)
 {
 	rejectUnknownKeys(TRevisitLinkerParams(), c, s);
-	enabled = c.read_bool(s, "enabled", enabled);
-	radius = c.read_double(s, "radius", radius);
+	enabled = readBool(c, s, "enabled", enabled);
+	radius = readDouble(c, s, "radius", radius);
 	max_heading =
-		mrpt::DEG2RAD(c.read_double(s, "max_heading_deg", mrpt::RAD2DEG(max_heading)));
-	min_index_gap = c.read_uint64_t(s, "min_index_gap", min_index_gap);
-	stride = c.read_uint64_t(s, "stride", stride);
-	min_inliers = c.read_double(s, "min_inliers", min_inliers);
-	gate_chi2 = c.read_double(s, "gate_chi2", gate_chi2);
-	prior_std_xy = c.read_double(s, "prior_std_xy", prior_std_xy);
+		mrpt::DEG2RAD(readDouble(c, s, "max_heading_deg", mrpt::RAD2DEG(max_heading)));
+	min_index_gap = readCount(c, s, "min_index_gap", min_index_gap);
+	stride = readCount(c, s, "stride", stride);
+	min_inliers = readDouble(c, s, "min_inliers", min_inliers);
+	gate_chi2 = readDouble(c, s, "gate_chi2", gate_chi2);
+	prior_std_xy = readDouble(c, s, "prior_std_xy", prior_std_xy);
 	prior_std_phi =
-		mrpt::DEG2RAD(c.read_double(s, "prior_std_phi_deg", mrpt::RAD2DEG(prior_std_phi)));
+		mrpt::DEG2RAD(readDouble(c, s, "prior_std_phi_deg", mrpt::RAD2DEG(prior_std_phi)));
 	requireParam(radius > 0, s, "radius", "must be > 0");
 	requireParam(
 		max_heading > 0 && max_heading <= M_PI, s, "max_heading_deg", "must be in (0, 180]");

@@ -3,6 +3,7 @@
 #include <lrgc/common/params_io.h>
 
 #include <mrpt/config/CConfigFileBase.h>
+#include <mrpt/core/format.h>
 
 #include <set>
 #include <utility>
@@ -13,14 +14,14 @@ void TMapBuilderParams::loadFromConfigFile(
 	const mrpt::config::CConfigFileBase& c, const std::string& s)
 {
 	rejectUnknownKeys(TMapBuilderParams(), c, s);
-	keyframe_distance = c.read_double(s, "keyframe_distance", keyframe_distance);
+	keyframe_distance = readDouble(c, s, "keyframe_distance", keyframe_distance);
 	keyframe_angle =
-		mrpt::DEG2RAD(c.read_double(s, "keyframe_angle_deg", mrpt::RAD2DEG(keyframe_angle)));
-	min_scan_points = c.read_uint64_t(s, "min_scan_points", min_scan_points);
-	grid_resolution = c.read_double(s, "grid_resolution", grid_resolution);
-	loop_closing = c.read_bool(s, "loop_closing", loop_closing);
-	final_optimization = c.read_bool(s, "final_optimization", final_optimization);
-	scan_sweep_time = c.read_double(s, "scan_sweep_time", scan_sweep_time);
+		mrpt::DEG2RAD(readDouble(c, s, "keyframe_angle_deg", mrpt::RAD2DEG(keyframe_angle)));
+	min_scan_points = readCount(c, s, "min_scan_points", min_scan_points);
+	grid_resolution = readDouble(c, s, "grid_resolution", grid_resolution);
+	loop_closing = readBool(c, s, "loop_closing", loop_closing);
+	final_optimization = readBool(c, s, "final_optimization", final_optimization);
+	scan_sweep_time = readDouble(c, s, "scan_sweep_time", scan_sweep_time);
 	requireParam(
 		scan_sweep_time >= 0 && scan_sweep_time < 1, s, "scan_sweep_time", "must be in [0, 1) s");
 	requireParam(keyframe_distance > 0, s, "keyframe_distance", "must be > 0");
@@ -91,7 +92,9 @@ void TLRGCParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, con
 		stage->loadFromConfigFile(c, name);
 	requireParam(
 		loop.old_map_exclusion > local.window_size, "LoopCloser", "old_map_exclusion",
-		"must exceed [LocalRegistration] window_size (the paper's m > K)");
+		mrpt::format(
+			"%zu must exceed [LocalRegistration] window_size, which is %zu (the paper's m > K)",
+			loop.old_map_exclusion, local.window_size));
 }
 
 void TLRGCParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string&) const

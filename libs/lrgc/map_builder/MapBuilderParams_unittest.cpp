@@ -61,3 +61,46 @@ TEST(LRGCParams, UnknownSectionIsRejected)
 	mrpt::config::CConfigFileMemory ok("[MapBuilder]\nkeyframe_distance = 1\n");
 	EXPECT_NO_THROW(lrgc::rejectUnknownSections(ok, lrgc::TLRGCParams::sectionNames()));
 }
+
+namespace
+{
+// The message of loading `text` into default parameters, or "" if it loads.
+std::string loadError(const std::string& text)
+{
+	mrpt::config::CConfigFileMemory mem(text);
+	lrgc::TLRGCParams p;
+	try
+	{
+		p.loadFromConfigFile(mem, {});
+	}
+	catch (const std::exception& e)
+	{
+		return e.what();
+	}
+	return {};
+}
+}  // namespace
+
+TEST(LRGCParams, ABadValueIsBlamedOnItsOwnKey)
+{
+	// Read leniently, 2.5 became 2 and the error blamed max_pairwise_links (default 5).
+	const std::string fraction = loadError("[LocalRegistration]\nwindow_size = 2.5\n");
+	EXPECT_NE(fraction.find("[LocalRegistration] window_size: '2.5' is not a whole number"),
+			  std::string::npos)
+		<< fraction;
+	EXPECT_EQ(fraction.find("max_pairwise_links"), std::string::npos) << fraction;
+	// A whole but too small window: the key that no longer fits says why, with both values.
+	const std::string small = loadError("[LocalRegistration]\nwindow_size = 2\n");
+	EXPECT_NE(
+		small.find("max_pairwise_links: 5 must be in [1, window_size - 1]; window_size is 2"),
+		std::string::npos)
+		<< small;
+	// Read leniently, "abc" was 0 and blamed as "must be > 0".
+	const std::string text = loadError("[MapBuilder]\nkeyframe_distance = abc\n");
+	EXPECT_NE(text.find("[MapBuilder] keyframe_distance: 'abc' is not a number"),
+			  std::string::npos)
+		<< text;
+	EXPECT_EQ(
+		loadError("[MapBuilder]\nloop_closing = No\n[LocalRegistration]\nwindow_size = 9\n"),
+		"");
+}

@@ -11,8 +11,8 @@ void TLinkNoise::load(
 	const mrpt::config::CConfigFileBase& c, const std::string& s, const std::string& prefix)
 {
 	const std::string xyKey = prefix + "link_floor_xy", phiKey = prefix + "link_floor_phi_deg";
-	floorXY = c.read_double(s, xyKey, floorXY);
-	floorPhi = mrpt::DEG2RAD(c.read_double(s, phiKey, mrpt::RAD2DEG(floorPhi)));
+	floorXY = readDouble(c, s, xyKey, floorXY);
+	floorPhi = mrpt::DEG2RAD(readDouble(c, s, phiKey, mrpt::RAD2DEG(floorPhi)));
 	requireParam(floorXY >= 0, s, xyKey, "must be >= 0");
 	requireParam(floorPhi >= 0, s, phiKey, "must be >= 0");
 }

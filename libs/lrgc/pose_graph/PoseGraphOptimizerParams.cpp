@@ -9,14 +9,14 @@ void TPoseGraphOptimizerParams::loadFromConfigFile(const mrpt::config::CConfigFi
 												   const std::string& s)
 {
 	rejectUnknownKeys(TPoseGraphOptimizerParams(), src, s);
-	maxIterations = src.read_int(s, "max_iterations", maxIterations);
+	maxIterations = readInt(src, s, "max_iterations", maxIterations);
 	relativeCostTolerance =
-		src.read_double(s, "relative_cost_tolerance", relativeCostTolerance);
-	stepTolerance = src.read_double(s, "step_tolerance", stepTolerance);
-	initialLambda = src.read_double(s, "initial_lambda", initialLambda);
-	robustLoopClosures = src.read_bool(s, "robust_loop_closures", robustLoopClosures);
-	dcsPhi = src.read_double(s, "dcs_phi", dcsPhi);
-	rejectScale = src.read_double(s, "reject_scale", rejectScale);
+		readDouble(src, s, "relative_cost_tolerance", relativeCostTolerance);
+	stepTolerance = readDouble(src, s, "step_tolerance", stepTolerance);
+	initialLambda = readDouble(src, s, "initial_lambda", initialLambda);
+	robustLoopClosures = readBool(src, s, "robust_loop_closures", robustLoopClosures);
+	dcsPhi = readDouble(src, s, "dcs_phi", dcsPhi);
+	rejectScale = readDouble(src, s, "reject_scale", rejectScale);
 	requireParam(maxIterations >= 1, s, "max_iterations", "must be >= 1");
 	requireParam(relativeCostTolerance >= 0, s, "relative_cost_tolerance", "must be >= 0");
 	requireParam(stepTolerance >= 0, s, "step_tolerance", "must be >= 0");

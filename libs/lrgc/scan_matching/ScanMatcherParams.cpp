@@ -15,20 +15,23 @@ void TScanMatcherParams::loadFromConfigFile(
 {
 	rejectUnknownKeys(TScanMatcherParams(), c, s);
 	TScanMatcherParams d = *this;  // current values are the defaults of missing keys
-	d.maxIterations = c.read_int(s, "max_iterations", maxIterations);
-	d.maxCorrespondenceDist_m = c.read_double(s, "max_correspondence_dist", maxCorrespondenceDist_m);
-	d.refResolution_m = c.read_double(s, "ref_resolution", refResolution_m);
-	d.normalRadius_m = c.read_double(s, "normal_radius", normalRadius_m);
-	d.minInlierFraction = c.read_double(s, "min_inlier_fraction", minInlierFraction);
-	d.minInliers = c.read_int(s, "min_inliers", minInliers);
-	d.maxRmsResidual_m = c.read_double(s, "max_rms_residual", maxRmsResidual_m);
-	d.minResidualStd_m = c.read_double(s, "min_residual_std", minResidualStd_m);
-	d.unobservableStd_m = c.read_double(s, "unobservable_std", unobservableStd_m);
+	d.maxIterations = readInt(c, s, "max_iterations", maxIterations);
+	d.maxCorrespondenceDist_m =
+		readDouble(c, s, "max_correspondence_dist", maxCorrespondenceDist_m);
+	d.refResolution_m = readDouble(c, s, "ref_resolution", refResolution_m);
+	d.normalRadius_m = readDouble(c, s, "normal_radius", normalRadius_m);
+	d.minInlierFraction = readDouble(c, s, "min_inlier_fraction", minInlierFraction);
+	d.minInliers = readInt(c, s, "min_inliers", minInliers);
+	d.maxRmsResidual_m = readDouble(c, s, "max_rms_residual", maxRmsResidual_m);
+	d.minResidualStd_m = readDouble(c, s, "min_residual_std", minResidualStd_m);
+	d.unobservableStd_m = readDouble(c, s, "unobservable_std", unobservableStd_m);
 	d.wideSearchStep =
-		c.read_double(s, "wide_search_step_deg", wideSearchStep * 180 / M_PI) * M_PI / 180;
-	d.wideAmbiguityMargin = c.read_double(s, "wide_ambiguity_margin", wideAmbiguityMargin);
-	d.wideMinInlierFraction = c.read_double(s, "wide_min_inlier_fraction", wideMinInlierFraction);
-	d.maxFreeSpaceViolation = c.read_double(s, "max_free_space_violation", maxFreeSpaceViolation);
+		readDouble(c, s, "wide_search_step_deg", wideSearchStep * 180 / M_PI) * M_PI / 180;
+	d.wideAmbiguityMargin = readDouble(c, s, "wide_ambiguity_margin", wideAmbiguityMargin);
+	d.wideMinInlierFraction =
+		readDouble(c, s, "wide_min_inlier_fraction", wideMinInlierFraction);
+	d.maxFreeSpaceViolation =
+		readDouble(c, s, "max_free_space_violation", maxFreeSpaceViolation);
 	d.validate(s);
 	*this = d;
 }

@@ -29,7 +29,7 @@ TAppConfig loadAppConfig(const std::string& path)
 	}
 	catch (const std::exception& e)
 	{
-		throw CUsageError(path + ": " + mrpt::exception_to_str(e));
+		throw CSetupError(path + ": " + mrpt::exception_to_str(e));
 	}
 	return cfg;
 }

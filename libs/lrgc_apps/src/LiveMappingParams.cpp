@@ -10,24 +10,23 @@ void TLiveMappingParams::loadFromConfigFile(const mrpt::config::CConfigFileBase&
 {
 	lrgc::rejectUnknownKeys(*this, source, section);
 	TLiveMappingParams p = *this;
-	p.saveIntervalSeconds = source.read_double(section, "save_interval_s", saveIntervalSeconds);
+	p.saveIntervalSeconds =
+		lrgc::readDouble(source, section, "save_interval_s", saveIntervalSeconds);
 	p.statusIntervalSeconds =
-		source.read_double(section, "status_interval_s", statusIntervalSeconds);
-	const int backlog =
-		source.read_int(section, "max_backlog_scans", static_cast<int>(maxBacklogScans));
+		lrgc::readDouble(source, section, "status_interval_s", statusIntervalSeconds);
+	p.maxBacklogScans = lrgc::readCount(source, section, "max_backlog_scans", maxBacklogScans);
 	p.sensorTimeoutSeconds =
-		source.read_double(section, "sensor_timeout_s", sensorTimeoutSeconds);
-	p.retryInitialSeconds = source.read_double(section, "retry_initial_s", retryInitialSeconds);
-	p.retryMaxSeconds = source.read_double(section, "retry_max_s", retryMaxSeconds);
+		lrgc::readDouble(source, section, "sensor_timeout_s", sensorTimeoutSeconds);
+	p.retryInitialSeconds =
+		lrgc::readDouble(source, section, "retry_initial_s", retryInitialSeconds);
+	p.retryMaxSeconds = lrgc::readDouble(source, section, "retry_max_s", retryMaxSeconds);
 	lrgc::requireParam(p.saveIntervalSeconds >= 0, section, "save_interval_s", "must be >= 0");
 	lrgc::requireParam(p.statusIntervalSeconds > 0, section, "status_interval_s",
 					   "must be > 0");
-	lrgc::requireParam(backlog >= 0, section, "max_backlog_scans", "must be >= 0");
 	lrgc::requireParam(p.sensorTimeoutSeconds > 0, section, "sensor_timeout_s", "must be > 0");
 	lrgc::requireParam(p.retryInitialSeconds > 0, section, "retry_initial_s", "must be > 0");
 	lrgc::requireParam(p.retryMaxSeconds >= p.retryInitialSeconds, section, "retry_max_s",
 					   "must be >= retry_initial_s");
-	p.maxBacklogScans = static_cast<size_t>(backlog);
 	*this = p;
 }
 

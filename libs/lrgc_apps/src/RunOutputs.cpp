@@ -1,12 +1,18 @@
 #include "lrgc_apps/RunOutputs.h"
 
+#include "lrgc_apps/CommandLine.h"
 #include "lrgc_apps/MapExport.h"
 #include "lrgc_apps/RunStats.h"
 #include "lrgc_apps/atomic_file.h"
 
 #include <mrpt/maps/CSimpleMap.h>
 
+#include <unistd.h>
+
+#include <cerrno>
 #include <cmath>
+#include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <sstream>
 
@@ -29,6 +35,14 @@ std::string jsonString(const std::string& s)
 		else out += ch;
 	}
 	return out + "\"";
+}
+
+std::string jsonCounts(const std::map<std::string, size_t>& counts)
+{
+	std::string out = "{";
+	for (const auto& [name, n] : counts)
+		out += (out.size() > 1 ? ", " : "") + jsonString(name) + ": " + std::to_string(n);
+	return out + "}";
 }
 
 std::string timingCsv(const TRunSummary& run)
@@ -60,23 +74,27 @@ std::string statsJson(const CMetricMapBuilderLRGC& builder, const TRunSummary& r
 	  << "  \"format\": " << jsonString(run.format) << ",\n"
 	  << "  \"status\": " << jsonString(run.status) << ",\n"
 	  << "  \"log_entries\": " << run.logEntries << ",\n"
+	  << "  \"malformed_lines\": " << run.malformedLines << ",\n"
+	  << "  \"log_contents\": " << jsonCounts(run.logContents) << ",\n"
 	  << "  \"scans\": " << s.scans << ",\n"
 	  << "  \"keyframes\": " << s.keyframes << ",\n"
 	  << "  \"skipped_scans\": " << s.skippedScans << ",\n"
 	  << "  \"unmatched_scans\": " << s.unmatchedScans << ",\n"
 	  << "  \"odometry_rejected\": " << s.odometryRejected << ",\n"
 	  << "  \"odometry_glitches_recovered\": " << s.glitchesRecovered << ",\n"
-	  << "  \"links\": {\"odometry\": " << s.odometryLinks << ", \"scan_match\": " << s.scanMatchLinks
+	  << "  \"links\": {\"odometry\": " << s.odometryLinks
+	  << ", \"scan_match\": " << s.scanMatchLinks
 	  << ", \"loop_closure\": " << s.loopClosureLinks << "},\n"
 	  << "  \"loop_closures\": " << s.loopClosures << ",\n"
 	  << "  \"revisit_links\": " << s.revisitLinks << ",\n"
-	  << "  \"loop_closing\": {\"attempts\": " << lcs.attempts << ", \"accepted\": " << lcs.accepted
+	  << "  \"loop_closing\": {\"attempts\": " << lcs.attempts
+	  << ", \"accepted\": " << lcs.accepted
 	  << ", \"rejected_by_filters\": " << lcs.rejectedByFilters
 	  << ", \"rejected_by_match\": " << lcs.rejectedByMatch
 	  << ", \"rejected_by_back_end\": " << lcs.rejectedByBackEnd
 	  << ", \"optimizations\": " << lcs.optimizations
-	  << ", \"closure_ms\": {\"count\": " << closureMs.size() << ", \"median\": " << closure.median_ms
-	  << ", \"max\": " << closure.max_ms << "}},\n"
+	  << ", \"closure_ms\": {\"count\": " << closureMs.size()
+	  << ", \"median\": " << closure.median_ms << ", \"max\": " << closure.max_ms << "}},\n"
 	  << "  \"warnings\": " << run.warnings << ",\n"
 	  << "  \"data_duration_s\": " << run.dataDurationSeconds << ",\n"
 	  << "  \"wall_time_s\": " << run.wallSeconds << ",\n"
@@ -91,12 +109,42 @@ std::string statsJson(const CMetricMapBuilderLRGC& builder, const TRunSummary& r
 	return j.str();
 }
 
+void checkOutputDirectory(const std::string& outDir)
+{
+	namespace fs = std::filesystem;
+	std::error_code ec;
+	const fs::path target = fs::absolute(outDir, ec);
+	// The directory itself, or the nearest existing ancestor it would be created in.
+	fs::path dir = target;
+	while (!fs::exists(dir, ec) && dir.has_relative_path()) dir = dir.parent_path();
+	const std::string option = "--out '" + outDir + "'";
+	if (!fs::is_directory(dir, ec))
+		throw CSetupError((dir == target
+							   ? option + " is not a directory"
+							   : option + ": '" + dir.string() + "' is not a directory") +
+						  "; name a directory for the outputs");
+	// Tried, not asked: access(W_OK) says yes to root in places no one can write (/proc).
+	std::string probe = (dir / ".lrgc-write-probe-XXXXXX").string();
+	const int fd = ::mkstemp(probe.data());
+	if (fd < 0)
+		throw CSetupError(option + ": cannot write into " +
+						  (dir == target ? "it" : "'" + dir.string() + "'") + " (" +
+						  std::strerror(errno) + "); name a directory you may write into");
+	::close(fd);
+	::unlink(probe.c_str());
+}
+
 void writeRunOutputs(
 	const CMetricMapBuilderLRGC& builder, const std::string& outDir, const TRunSummary& run)
 {
 	namespace fs = std::filesystem;
 	fs::create_directories(outDir);
 	const auto path = [&](const char* name) { return (fs::path(outDir) / name).string(); };
+	if (builder.stats().scans == 0)
+	{
+		writeTextFileAtomically(path("stats.json"), statsJson(builder, run));
+		return;
+	}
 
 	writeTrajectoryTum(builder.trajectory(), path("trajectory.tum"));
 	writeGraph(builder.graph().toMrpt(), path("graph.graph"));

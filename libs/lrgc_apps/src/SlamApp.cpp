@@ -1,6 +1,7 @@
 #include "lrgc_apps/SlamApp.h"
 
 #include "lrgc_apps/AppConfig.h"
+#include "lrgc_apps/RunOutputs.h"
 #include "lrgc_apps/atomic_file.h"
 
 #include <mrpt/core/exceptions.h>
@@ -59,6 +60,7 @@ int CSlamApp::run(const std::vector<std::string>& args)
 			writeTextFileAtomically(cl.writeDefaultConfig, defaultAppConfigText());
 			return kExitOk;
 		}
+		if (!cl.outDir.empty()) checkOutputDirectory(cl.outDir);
 		if (!cl.live.empty())
 		{
 			if (!m_live)
@@ -70,6 +72,11 @@ int CSlamApp::run(const std::vector<std::string>& args)
 		if (!cl.saveRawlog.empty())
 			if (const int rc = convertOnly(cl); rc != kExitOk || cl.outDir.empty()) return rc;
 		return runOffline(cl);
+	}
+	catch (const CSetupError& e)
+	{
+		report(std::string("lrgc-slam: ") + e.what());
+		return kExitUsage;
 	}
 	catch (const CUsageError& e)
 	{

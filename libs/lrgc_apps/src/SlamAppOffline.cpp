@@ -11,6 +11,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <filesystem>
+#include <map>
 
 namespace lrgc::apps
 {
@@ -28,7 +30,54 @@ void feed(CMetricMapBuilderLRGC& builder, TLogEntry& e)
 	else if (e.observation)
 		builder.processObservation(e.observation);
 }
+
+// "1200 CObservationBearingRange, 1199 CActionRobotMovement2D": the largest counts first.
+std::string describeContents(const std::map<std::string, size_t>& contents)
+{
+	std::vector<std::pair<std::string, size_t>> byCount(contents.begin(), contents.end());
+	std::stable_sort(byCount.begin(), byCount.end(),
+					 [](const auto& a, const auto& b) { return a.second > b.second; });
+	std::string out;
+	for (const auto& [name, n] : byCount)
+		out += (out.empty() ? "" : ", ") + std::to_string(n) + " " + name;
+	return out.empty() ? "no observation" : out;
+}
+
+// Why a log read to its end gave no scan to map: the status of stats.json.
+std::string nothingToMap(const CLogReader& reader, const CMetricMapBuilderLRGC& builder)
+{
+	const TLogReadStats& r = reader.stats();
+	const std::string file = "'" + reader.path() + "'";
+	if (r.scans == 0 && r.emptyScans == 0)
+		return "nothing to map: " + file +
+			   " holds no 2D laser scan (CObservation2DRangeScan); it holds " +
+			   describeContents(r.contents);
+	std::vector<std::string> why;
+	if (r.emptyScans > 0)
+		why.push_back(mrpt::format("%zu with under 2 readings", r.emptyScans));
+	if (const size_t n = builder.stats().skippedScans; n > 0)
+		why.push_back(
+			mrpt::format("%zu with fewer valid returns than [MapBuilder] min_scan_points = %zu",
+						 n, builder.params().builder.min_scan_points));
+	std::string reasons;
+	for (const auto& w : why) reasons += (reasons.empty() ? " (" : ", ") + w;
+	return mrpt::format(
+		"nothing to map: none of the %zu 2D laser scans of %s could be mapped%s",
+		r.scans + r.emptyScans, file.c_str(), reasons.empty() ? "" : (reasons + ")").c_str());
+}
 }  // namespace
+
+void CSlamApp::reportWarnings(const std::vector<std::string>& warnings)
+{
+	for (const auto& w : warnings)
+	{
+		++m_warningsTotal;
+		if (m_warningsShown++ < kMaxWarningsShown)
+			report("warning: " + w);
+		else if (m_warningsShown == kMaxWarningsShown + 1)
+			report("warning: further warnings are counted in stats.json, not shown");
+	}
+}
 
 int CSlamApp::runOffline(const TSlamCommandLine& cl)
 {
@@ -51,31 +100,54 @@ int CSlamApp::runOffline(const TSlamCommandLine& cl)
 	CRunClock clock;
 	TRunSummary run;
 	run.input = cl.input;
-	run.format = detectLogFormat(cl.input) == LogFormat::Carmen ? "carmen" : "rawlog";
-	int exitCode = kExitOk;
+	run.format = reader->format() == LogFormat::Carmen ? "carmen" : "rawlog";
+	int exitCode = mapLog(*reader, builder, progress, run);
+	// The reader's last words: lines skipped after the last entry (a file of malformed lines
+	// has nothing else) and the counts of the problems not listed.
+	reportWarnings(reader->takeWarnings());
 
-	auto flushWarnings = [&](std::vector<std::string> ws) {
-		for (auto& w : ws)
-		{
-			++m_warningsTotal;
-			if (m_warningsShown++ < kMaxWarningsShown) report("warning: " + w);
-			else if (m_warningsShown == kMaxWarningsShown + 1)
-				report("warning: further warnings are counted in stats.json, not shown");
-		}
-	};
+	const auto tFinal = std::chrono::steady_clock::now();
+	builder.finish();
+	run.finalOptimizationSeconds =
+		std::chrono::duration<double>(std::chrono::steady_clock::now() - tFinal).count();
+	reportWarnings(builder.takeWarnings());
+	progress.finish(builder.stats().scans);
+	run.malformedLines = reader->stats().skippedLines;
+	run.logContents = reader->stats().contents;
+	if (builder.stats().scans == 0 && exitCode == kExitOk)
+	{
+		run.status = nothingToMap(*reader, builder);
+		exitCode = kExitInputError;
+	}
+	if (!run.latencyStamp.empty())
+	{
+		const auto [lo, hi] =
+			std::minmax_element(run.latencyStamp.begin(), run.latencyStamp.end());
+		run.dataDurationSeconds = *hi - *lo;
+	}
+	run.warnings = m_warningsTotal;
+	run.wallSeconds = clock.wallSeconds();
+	run.cpuSeconds = clock.cpuSeconds();
+	run.peakRssMiB = CRunClock::peakRssMiB();
+	writeRunOutputs(builder, cl.outDir, run);
+	reportEnd(cl, builder, run, exitCode);
+	return exitCode;
+}
 
+int CSlamApp::mapLog(CLogReader& reader, CMetricMapBuilderLRGC& builder, CProgress& progress,
+					 TRunSummary& run)
+{
 	while (!stopRequested())
 	{
 		std::optional<TLogEntry> entry;
 		try
 		{
-			entry = reader->next();
+			entry = reader.next();
 		}
 		catch (const std::exception& e)
 		{
 			run.status = "input error: " + mrpt::exception_to_str(e);
-			exitCode = kExitInputError;
-			break;
+			return kExitInputError;
 		}
 		if (!entry) break;
 		++run.logEntries;
@@ -88,8 +160,7 @@ int CSlamApp::runOffline(const TSlamCommandLine& cl)
 		catch (const std::exception& e)
 		{
 			run.status = "error at " + entry->where + ": " + mrpt::exception_to_str(e);
-			exitCode = kExitInputError;
-			break;
+			return kExitInputError;
 		}
 		if (builder.stats().scans > scansBefore)
 		{
@@ -98,36 +169,27 @@ int CSlamApp::runOffline(const TSlamCommandLine& cl)
 					.count());
 			run.latencyStamp.push_back(mrpt::Clock::toDouble(builder.lastScanTimestamp()));
 		}
-		flushWarnings(reader->takeWarnings());
-		flushWarnings(builder.takeWarnings());
-		progress.update(
-			reader->fractionRead(), builder.stats().scans,
-			mrpt::format("kf %zu  loops %zu", builder.stats().keyframes, builder.stats().loopClosures));
+		reportWarnings(reader.takeWarnings());
+		reportWarnings(builder.takeWarnings());
+		progress.update(reader.fractionRead(), builder.stats().scans,
+						mrpt::format("kf %zu  loops %zu", builder.stats().keyframes,
+									 builder.stats().loopClosures));
 	}
-	if (stopRequested() && exitCode == kExitOk)
-	{
-		run.status = "interrupted";
-		exitCode = kExitInterrupted;
-	}
+	if (!stopRequested()) return kExitOk;
+	run.status = "interrupted";
+	return kExitInterrupted;
+}
 
-	const auto tFinal = std::chrono::steady_clock::now();
-	builder.finish();
-	run.finalOptimizationSeconds =
-		std::chrono::duration<double>(std::chrono::steady_clock::now() - tFinal).count();
-	progress.finish(builder.stats().scans);
-
-	if (!run.latencyStamp.empty())
-	{
-		const auto [lo, hi] = std::minmax_element(run.latencyStamp.begin(), run.latencyStamp.end());
-		run.dataDurationSeconds = *hi - *lo;
-	}
-	run.warnings = m_warningsTotal;
-	run.wallSeconds = clock.wallSeconds();
-	run.cpuSeconds = clock.cpuSeconds();
-	run.peakRssMiB = CRunClock::peakRssMiB();
-	writeRunOutputs(builder, cl.outDir, run);
-
+void CSlamApp::reportEnd(const TSlamCommandLine& cl, const CMetricMapBuilderLRGC& builder,
+						 const TRunSummary& run, int exitCode)
+{
 	const auto& s = builder.stats();
+	if (s.scans == 0)
+	{
+		report("lrgc-slam: " + run.status + "; no map written (counts in " +
+			   (std::filesystem::path(cl.outDir) / "stats.json").string() + ")");
+		return;
+	}
 	if (exitCode != kExitOk) report("lrgc-slam: " + run.status + " (maps of what was read are saved)");
 	if (!cl.quiet || exitCode != kExitOk)
 		report(mrpt::format(
@@ -136,7 +198,6 @@ int CSlamApp::runOffline(const TSlamCommandLine& cl)
 			s.scans, s.keyframes, s.loopClosures, run.dataDurationSeconds, run.wallSeconds,
 			run.wallSeconds > 0 ? run.dataDurationSeconds / run.wallSeconds : 0.0,
 			cl.outDir.c_str()));
-	return exitCode;
 }
 
 }  // namespace lrgc::apps

@@ -1,6 +1,7 @@
 /* The .ini of lrgc-slam: the LRGC stages' sections (TLRGCParams), [LogReader] and, for
- * --live runs, [LiveMapping]. Unknown sections and keys are errors (CUsageError naming the
- * file, section and key). */
+ * --live runs, [LiveMapping]. Unknown sections and keys, values that are not of the key's
+ * type (params_io.h) and values out of range are errors (CSetupError naming the file, section
+ * and key). */
 #pragma once
 
 #include <lrgc/map_builder/MapBuilderParams.h>
@@ -18,7 +19,8 @@ struct TAppConfig
 	TLiveMappingParams live;  //!< only used by --live
 };
 
-/** Defaults when `path` is empty; throws CUsageError on a missing file or a bad key. */
+/** Defaults when `path` is empty; throws CUsageError on a missing file, CSetupError on a bad
+ * section, key or value. */
 TAppConfig loadAppConfig(const std::string& path);
 
 /** The default .ini, generated from the parameter structs' saveToConfigFile(). */

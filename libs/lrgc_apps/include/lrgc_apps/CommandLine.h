@@ -34,6 +34,14 @@ class CUsageError : public std::runtime_error
 	using std::runtime_error::runtime_error;
 };
 
+/** A bad configuration file or output directory: exit 2 like a usage error, but the message
+ * alone says what to do, so the usage text is not printed after it. */
+class CSetupError : public CUsageError
+{
+public:
+	using CUsageError::CUsageError;
+};
+
 /** Parses argv (argv[0] excluded); throws CUsageError naming the offending argument. */
 TSlamCommandLine parseSlamCommandLine(const std::vector<std::string>& args);
 

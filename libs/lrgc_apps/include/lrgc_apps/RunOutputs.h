@@ -1,10 +1,12 @@
 /* Everything lrgc-slam writes into its output directory at the end of a run (or when the
  * run has to stop early): the maps, the trajectory, the graph, per-scan timing and
- * stats.json. Each file is written atomically. */
+ * stats.json. Each file is written atomically. A run that mapped no scan writes stats.json
+ * only: an empty trajectory and a blank grid would pass for a map. */
 #pragma once
 
 #include <lrgc/map_builder/CMetricMapBuilderLRGC.h>
 
+#include <map>
 #include <string>
 #include <vector>
 
@@ -14,8 +16,10 @@ struct TRunSummary
 {
 	std::string input;  //!< input log path
 	std::string format;  //!< "rawlog" or "carmen"
-	std::string status = "complete";  //!< or "input error: ...", "interrupted"
+	std::string status = "complete";  //!< or "input error: ...", "nothing to map: ...", ...
 	size_t logEntries = 0;
+	size_t malformedLines = 0;                  //!< CARMEN lines skipped as malformed
+	std::map<std::string, size_t> logContents;  //!< TLogReadStats::contents
 	size_t warnings = 0;
 	double dataDurationSeconds = 0;  //!< last minus first scan timestamp
 	double wallSeconds = 0, cpuSeconds = 0, peakRssMiB = 0;
@@ -23,6 +27,12 @@ struct TRunSummary
 	std::vector<double> latencyMs;  //!< per scan, in processing order
 	std::vector<double> latencyStamp;  //!< the scan's timestamp [s]
 };
+
+/** Throws CSetupError, before anything is run, unless `outDir` is a directory this process
+ * may write into or can be made one (its nearest existing ancestor is such a directory): an
+ * existing file, /dev/null or a read-only place is found before the first scan, not after the
+ * whole run. Leaves nothing behind (write access is tried with a file made and removed). */
+void checkOutputDirectory(const std::string& outDir);
 
 void writeRunOutputs(
 	const CMetricMapBuilderLRGC& builder, const std::string& outDir, const TRunSummary& run);

@@ -4,7 +4,9 @@
  * and writes every output atomically into the output directory. A problem the run can go on
  * from (a malformed line, a skipped scan) is reported and skipped; one it cannot (a
  * truncated or corrupt rawlog) ends the run with the maps built so far saved and a non-zero
- * exit status. SIGINT/SIGTERM stop the run the same way.
+ * exit status. SIGINT/SIGTERM stop the run the same way. A log with no scan to map (no 2D
+ * laser scan, or none usable) ends with exit status 1, a line saying what the log holds, and
+ * stats.json only: no empty map. A bad --out is refused before the log is opened.
  *
  * Live (--live SENSORS.ini): runs the live runner given at construction. It lives in the
  * separate library lrgc_live (lrgc_apps/live/LiveSlam.h, runLiveSlam), so that only programs
@@ -19,14 +21,25 @@
 #include <string>
 #include <vector>
 
+namespace lrgc
+{
+class CMetricMapBuilderLRGC;
+}
+
 namespace lrgc::apps
 {
+class CLogReader;
+class CProgress;
+struct TRunSummary;
+
 /** Exit statuses of lrgc-slam. */
 enum ExitStatus : int
 {
 	kExitOk = 0,
-	kExitInputError = 1,  //!< the input could not be read to the end: maps so far saved
-	kExitUsage = 2,  //!< bad command line or configuration: nothing was run
+	/** The input could not be read to the end (the maps so far are saved), or it holds
+	 * nothing to map (no map is written; the message says what it holds). */
+	kExitInputError = 1,
+	kExitUsage = 2,         //!< bad command line, configuration or --out: nothing was run
 	kExitInterrupted = 130  //!< SIGINT/SIGTERM: maps so far saved
 };
 
@@ -48,8 +61,16 @@ class CSlamApp
 
    private:
 	int runOffline(const TSlamCommandLine& cl);
+	/** Feeds the log to the builder; returns kExitOk at its end, kExitInputError (run.status
+	 * says why) or kExitInterrupted. */
+	int mapLog(CLogReader& reader, CMetricMapBuilderLRGC& builder, CProgress& progress,
+			   TRunSummary& run);
+	void reportEnd(const TSlamCommandLine& cl, const CMetricMapBuilderLRGC& builder,
+				   const TRunSummary& run, int exitCode);
 	int convertOnly(const TSlamCommandLine& cl);
 	void report(const std::string& line);
+	/** Shows the first warnings, then only counts them (stats.json has the total). */
+	void reportWarnings(const std::vector<std::string>& warnings);
 
 	std::FILE* m_err;
 	TLiveRunner m_live;

@@ -6,6 +6,8 @@
 #include <mrpt/obs/CObservationOdometry.h>
 #include <mrpt/poses/CPose3D.h>
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 
 namespace lrgc::apps
@@ -21,6 +23,18 @@ constexpr size_t kMaxLineBytes = 16 * 1024 * 1024;
 // Half the 1 cm quantisation of CARMEN ranges: a reading within it of the limit is a
 // no-return (see LogReaderOptions.h).
 constexpr double kNoReturnTolerance = 0.005;  // [m]
+
+// The name a line is counted under in TLogReadStats::contents: its message if that looks
+// like one (an upper-case identifier), so that a line of binary junk adds no odd name.
+std::string contentsKey(const std::string& message)
+{
+	const bool identifier =
+		!message.empty() && message.size() <= 32 &&
+		std::all_of(message.begin(), message.end(),
+					[](unsigned char c)
+					{ return std::isupper(c) || std::isdigit(c) || c == '_'; });
+	return (identifier ? message : std::string("other")) + " lines";
+}
 }  // namespace
 
 CCarmenReader::CCarmenReader(const std::string& path, const TLogReaderOptions& options)
@@ -102,9 +116,11 @@ void CCarmenReader::processLine(const std::string& line)
 	{
 		case Kind::Ignored:
 			++m_stats.ignoredLines;
+			if (!m_record.message.empty()) ++m_stats.contents[contentsKey(m_record.message)];
 			return;
 		case Kind::Malformed:
 			++m_stats.skippedLines;
+			++m_stats.contents["malformed " + contentsKey(m_record.message)];
 			warn(Problem::MalformedLine, place,
 				 "malformed " + m_record.problem + "; line skipped" +
 					 (unterminated ? " (the last line, without end of line: the file may be "
@@ -117,12 +133,14 @@ void CCarmenReader::processLine(const std::string& line)
 	if (unterminated && m_record.fieldsAfterTimestamp == 0)
 	{
 		++m_stats.skippedLines;
+		++m_stats.contents["malformed " + contentsKey(m_record.message)];
 		warn(Problem::MalformedLine, place,
 			 m_record.message +
 				 ": the last line ends inside its timestamp, without end of line: the file "
 				 "is truncated; line skipped");
 		return;
 	}
+	++m_stats.contents[contentsKey(m_record.message)];
 	if (m_record.kind == Kind::Odometry)
 		addOdometry(m_record.odometry, place);
 	else

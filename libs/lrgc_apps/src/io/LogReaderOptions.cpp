@@ -10,11 +10,12 @@ void TLogReaderOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& 
 										   const std::string& section)
 {
 	lrgc::rejectUnknownKeys(*this, source, section);
-	const double fovDeg = source.read_double(section, "carmen_180_beams_fov_deg",
-											 mrpt::RAD2DEG(carmen180BeamsFov));
+	const double fovDeg = lrgc::readDouble(source, section, "carmen_180_beams_fov_deg",
+										   mrpt::RAD2DEG(carmen180BeamsFov));
 	lrgc::requireParam(fovDeg > 0 && fovDeg <= 360, section, "carmen_180_beams_fov_deg",
 					   "must be in (0, 360] (180: last beam at +90 deg; 179: at +89 deg)");
-	const double maxRange = source.read_double(section, "carmen_max_range_m", carmenMaxRange);
+	const double maxRange =
+		lrgc::readDouble(source, section, "carmen_max_range_m", carmenMaxRange);
 	lrgc::requireParam(maxRange > 0, section, "carmen_max_range_m", "must be positive");
 	carmen180BeamsFov = mrpt::DEG2RAD(fovDeg);
 	carmenMaxRange = maxRange;

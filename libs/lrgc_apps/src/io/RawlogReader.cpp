@@ -33,6 +33,14 @@ std::unique_ptr<CDeserializationGuard> CRawlogReader::initClassesThenGuard(
 	return std::make_unique<CDeserializationGuard>(path);
 }
 
+void CRawlogReader::countContent(const CSerializable& object)
+{
+	// "mrpt::obs::CObservationBearingRange" -> "CObservationBearingRange", as users name them.
+	const std::string name = object.GetRuntimeClass()->className;
+	const size_t colons = name.rfind("::");
+	++m_stats.contents[colons == std::string::npos ? name : name.substr(colons + 2)];
+}
+
 std::string CRawlogReader::placeOf(uint64_t byte) const
 {
 	return "byte " + std::to_string(byte);
@@ -81,6 +89,8 @@ std::optional<TLogEntry> CRawlogReader::next()
 			}
 			if (auto acts = std::dynamic_pointer_cast<CActionCollection>(obj))
 			{
+				for (const auto& a : *acts)
+					if (a.get_ptr()) countContent(*a.get_ptr());
 				if (actions)
 					warn(Problem::Other, placeOf(actionsAt),
 						 "action collection not followed by a sensory frame: dropped");
@@ -118,6 +128,7 @@ std::optional<TLogEntry> CRawlogReader::next()
 				return entry;
 			}
 			++m_stats.ignoredObjects;
+			countContent(*obj);
 			warn(Problem::Other, placeOf(start),
 				 std::string("object of class ") + obj->GetRuntimeClass()->className +
 					 " ignored (neither an observation nor a sensory frame)");
@@ -133,6 +144,7 @@ std::optional<TLogEntry> CRawlogReader::next()
 
 bool CRawlogReader::checkObservation(CObservation& obs, const std::string& place)
 {
+	countContent(obs);
 	auto* scan = dynamic_cast<CObservation2DRangeScan*>(&obs);
 	if (scan && scan->getScanSize() < 2)
 	{

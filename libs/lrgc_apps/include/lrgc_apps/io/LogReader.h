@@ -77,6 +77,10 @@ struct TLogReadStats
 	size_t otherTimeJumpsBack = 0;   //!< the same for odometry and other observations
 	double largestTimeJumpBack = 0;  //!< [s]
 	size_t warnings = 0;             //!< recoverable problems met, listed or only counted
+	/** What the file holds, to say so when it holds nothing to map. Rawlog: objects per MRPT
+	 * class (observations in and out of sensory frames, actions, other objects). CARMEN:
+	 * lines per message ("FLASER lines", "malformed FLASER lines", "PARAM lines"). */
+	std::map<std::string, size_t> contents;
 };
 
 /** A read error the run cannot go past; what() is "<file>: <place>: <problem>". */

@@ -42,6 +42,8 @@ private:
 	bool checkObservation(mrpt::obs::CObservation& obs, const std::string& place);
 	void checkFrame(mrpt::obs::CSensoryFrame& frame, const std::string& place);
 	std::string placeOf(uint64_t byte) const;
+	/** Counts `object` in TLogReadStats::contents under its class name. */
+	void countContent(const mrpt::serialization::CSerializable& object);
 
 	static std::unique_ptr<CDeserializationGuard> initClassesThenGuard(const std::string& path);
 
