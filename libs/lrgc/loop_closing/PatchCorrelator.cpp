@@ -279,6 +279,7 @@ std::optional<TCorrelationResult> CPatchCorrelator::run(
 		spec.angle0 = static_cast<int>(std::ceil(halfWindowTheta / spec.dtheta - 1e-9));
 		pb.numAngles = 2 * spec.angle0 + 1;
 	}
+	pb.cellsPerAngleStep = maxRadius * spec.dtheta / spec.res;
 	pb.baseCells.reserve(size_t(pb.numAngles) * pts.size() * 2);
 	for (int a = 0; a < pb.numAngles; ++a)
 		appendBaseCells(grid, pts, center, spec.theta(a), pb.baseCells);

@@ -11,6 +11,8 @@
 #include <lrgc/loop_closing/PatchCorrelator.h>
 #include <lrgc/common/se2.h>
 
+#include "correlation_search.h"
+
 #include <cmath>
 #include <limits>
 #include <random>
@@ -167,6 +169,87 @@ TEST(PatchCorrelator, BranchAndBoundEqualsExhaustiveAndRecoversThePose)
 	}
 	// A cluttered room seen by 8 scans is a distinctive match: nearly all pass the filters.
 	EXPECT_GE(accepted, 22);
+}
+
+// The bound of a node spanning several headings (branch and bound over the full circle) is at
+// least every exact score of its headings and translations: random blocks of a real problem
+// (a room seen by 8 scans, 0.05 m cells, the correlator's own heading step).
+TEST(PatchCorrelator, HeadingBlockBoundIsAtLeastEveryScoreOfItsBlock)
+{
+	std::mt19937 rng(99);
+	std::uniform_real_distribution<double> inRoom(2.5, 9.5), ang(-M_PI, M_PI);
+	const CPatchCorrelator corr;
+	const World w = randomWorld(rng, 12, 10);
+	const CCorrelationGrid map = corr.makeGrid(rasterise(w), 0.5);
+	const TPose2D robot(inRoom(rng), inRoom(rng), ang(rng));
+	const Points patch = makePatch(w, robot, 8, rng);
+	double maxR = 0;
+	for (const auto& p : patch) maxR = std::max(maxR, p.norm());
+	const double res = map.resolution(), dtheta = res / maxR;
+	lrgc::detail::TPoseGridProblem pb;
+	pb.grid = &map;
+	pb.numPoints = int(patch.size());
+	pb.halfCells = 40;
+	pb.numAngles = 200;
+	pb.cellsPerAngleStep = maxR * dtheta / res;
+	for (int a = 0; a < pb.numAngles; ++a)
+	{
+		const double th = robot.phi + (a - 100) * dtheta, c = std::cos(th), sn = std::sin(th);
+		for (const auto& p : patch)
+		{
+			const Eigen::Vector2i cell = map.cellOf(
+				{robot.x + c * p.x() - sn * p.y(), robot.y + sn * p.x() + c * p.y()});
+			pb.baseCells.push_back(cell.x());
+			pb.baseCells.push_back(cell.y());
+		}
+	}
+	pb.prepare();
+	std::uniform_int_distribution<int> level(0, 4), angle(0, pb.numAngles - 1), cell(-40, 30);
+	int tightBlocks = 0;
+	for (int trial = 0; trial < 300; ++trial)
+	{
+		const int h = level(rng);
+		const int a0 = angle(rng), a1 = std::min(pb.numAngles - 1, a0 + (1 << level(rng)));
+		const int i0 = cell(rng), j0 = cell(rng);
+		int64_t best = 0;
+		for (int a = a0; a <= a1; ++a)
+			for (int i = i0; i < i0 + (1 << h); ++i)
+				for (int j = j0; j < j0 + (1 << h); ++j)
+					best = std::max(best, lrgc::detail::scoreAt(pb, 0, a, i, j));
+		const int64_t bound = lrgc::detail::blockBound(
+			pb, a0, a1, h, i0, j0, std::numeric_limits<int64_t>::min());
+		ASSERT_GE(bound, best) << "headings " << a0 << ".." << a1 << ", level " << h
+							   << ", cells (" << i0 << ", " << j0 << ")";
+		tightBlocks += bound < int64_t(255) * pb.numPoints;
+	}
+	EXPECT_GT(tightBlocks, 250) << "the bound must prune, not just be 255 N";
+}
+
+// A full-circle window has ~1000 headings here, so branch and bound bounds blocks of headings
+// from their middle heading (correlation_search.cpp, headingBlockBound); the result must
+// still be the exhaustive one, the rival included.
+TEST(PatchCorrelator, BranchAndBoundInHeadingBlocksEqualsExhaustiveOverTheFullCircle)
+{
+	std::mt19937 rng(4242);
+	std::uniform_real_distribution<double> u(-1, 1), inRoom(2.5, 9.5), ang(-M_PI, M_PI);
+	for (int trial = 0; trial < 6; ++trial)
+	{
+		TPatchCorrelatorParams prm;
+		prm.minScore = trial == 0 ? 0.0 : prm.minScore;
+		const CPatchCorrelator corr(prm);
+		const World w = randomWorld(rng, 12, 10);
+		const CCorrelationGrid map = corr.makeGrid(rasterise(w), 0.5);
+		const TPose2D truth(inRoom(rng), inRoom(rng), ang(rng));
+		const Points patch = makePatch(w, truth, 8, rng);
+		const TPose2D center(truth.x + 0.2 * u(rng), truth.y + 0.2 * u(rng), ang(rng));
+		const auto bnb = corr.correlate(map, patch, center, 0.3, M_PI);
+		const auto ex = corr.correlateExhaustive(map, patch, center, 0.3, M_PI);
+		ASSERT_EQ(bnb.has_value(), ex.has_value()) << "trial " << trial;
+		ASSERT_TRUE(ex.has_value()) << "trial " << trial;
+		ASSERT_GT(2 * M_PI / bnb->angularStep, 256) << "heading blocks must be in use";
+		expectSameResult(*bnb, *ex, prm, trial);
+		EXPECT_LT(bnb->posesScored, ex->posesScored / 10) << "trial " << trial;
+	}
 }
 
 TEST(PatchCorrelator, PatchWithoutCounterpartFailsTheFilters)

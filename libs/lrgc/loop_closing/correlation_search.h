@@ -22,6 +22,9 @@ struct TPoseGridProblem
 	int numPoints = 0;  //!< N
 	int halfCells = 0;  //!< W: i, j in [-W, W]
 	int numAngles = 0;
+	/** Largest distance [cells] a patch point moves per heading step (max |p| dtheta / res);
+	 * bounds of heading blocks rely on it; < 0: unknown, heading blocks get no bound. */
+	double cellsPerAngleStep = -1;
 	/** base cells, numAngles x N pairs (cx, cy), angle-major. */
 	std::vector<int32_t> baseCells;
 	/** Filled by prepare(): per angle the bounding box of its base cells (minX, maxX, minY,
@@ -69,6 +72,11 @@ struct TSearchHit
 
 /** S(a, i, j) at pyramid level h (h = 0: the exact score). */
 int64_t scoreAt(const TPoseGridProblem& pb, int level, int a, int i, int j);
+
+/** Upper bound of S over headings [a0, a1] x translations [i0, i0 + 2^h) x [j0, j0 + 2^h),
+ * or -1 once it is known to be below `required`. */
+int64_t blockBound(
+	const TPoseGridProblem& pb, int a0, int a1, int h, int i0, int j0, int64_t required);
 
 TSearchHit searchExhaustive(const TPoseGridProblem& pb, int64_t floorScore,
 							const TExclusionZone& zone);
