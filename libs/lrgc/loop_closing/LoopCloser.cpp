@@ -116,7 +116,7 @@ std::optional<TLoopClosure> CLoopCloser::process(CPoseGraph& graph, const TKeyfr
 	const TPose2D newestInMap = graph.pose(newest);
 
 	// Search window and patch size from the uncertainty (paper 2.4).
-	const double winXY = std::clamp(
+	double winXY = std::clamp(
 		m_params.window_sigmas * candidates->sigmaXY, 2 * m_correlator.params().resolution,
 		m_params.max_window_xy);
 	const double winTheta = std::clamp(
@@ -159,6 +159,13 @@ std::optional<TLoopClosure> CLoopCloser::process(CPoseGraph& graph, const TKeyfr
 				oldMap.push_back(q);
 	}
 	if (oldMap.empty()) return std::nullopt;
+	// A window wider than the old map can be (max_window_xy lifted) gains nothing: beyond the
+	// farthest old point plus the patch radius and the blur's reach (p(m) > 0 up to 3.53
+	// sigma; 4 sigma and two cells of margin), no patch point meets the map.
+	double farthest = 0;
+	for (const auto& q : oldMap) farthest = std::max(farthest, (q - centre).norm());
+	winXY = std::min(winXY, farthest + patchRadius + 4 * m_correlator.params().blurSigma +
+							   2 * m_correlator.params().resolution);
 	++m_stats.attempts;
 	const CCorrelationGrid grid =
 		m_correlator.makeGrid(oldMap, 3 * m_correlator.params().blurSigma);
