@@ -6,6 +6,7 @@
 #include <lrgc/common/se2.h>
 
 #include <mrpt/config/CConfigFileBase.h>
+#include <mrpt/math/wrap2pi.h>
 
 #include <Eigen/Dense>
 #include <algorithm>
@@ -21,6 +22,24 @@ namespace
 /** Re-matching after a closure takes every this many patch keyframes: neighbours 0.3 m apart
  * see the same walls, so every second one adds nearly all the information at half the cost. */
 constexpr size_t kRematchStride = 2;
+
+/** Two held loop matches agree when the pose of the newer new node they imply differs by at
+ * most kAgreeXY [m] plus kAgreePerMetre of the path between the new nodes, and kAgreeTheta
+ * [rad]: scan-matched loop links are good to centimetres, local chains to ~1 %. */
+constexpr double kAgreeXY = 0.3, kAgreePerMetre = 0.02, kAgreeTheta = 2.0 * M_PI / 180;
+
+/* Held link a (oa <- na) and new link b (ob <- nb), na before nb. Via a, nb in oa's frame is
+ * Z_a (+) (na <- nb) (new side, from the graph); via b it is (oa <- ob) (+) Z_b (old side).
+ * Both sides of the graph are locally consistent; only the loop itself is in doubt. */
+bool matchesAgree(const CPoseGraph& g, const TLink& a, const TLink& b)
+{
+	const TPose2D newSide = between(g.pose(a.to), g.pose(b.to));
+	const TPose2D viaA = compose(a.toInFrom, newSide);
+	const TPose2D viaB = compose(between(g.pose(a.from), g.pose(b.from)), b.toInFrom);
+	const TPose2D d = between(viaA, viaB);
+	return translationNorm(d) <= kAgreeXY + kAgreePerMetre * translationNorm(newSide) &&
+		std::abs(mrpt::math::wrapToPi(d.phi)) <= kAgreeTheta;
+}
 
 /** Index in `candidates` of the node nearest to `pose` (map frame) and its distance [m]; the
  * first on ties. */
@@ -211,30 +230,55 @@ std::optional<TLoopClosure> CLoopCloser::process(CPoseGraph& graph, const TKeyfr
 		return std::nullopt;
 	}
 
+	// The gate found the old pose within its covariance; the back-end judges the link with
+	// the same covariance and the same bound (3 Phi) before its own, tighter test.
+	const Eigen::Matrix3d info = linkInformation(match->cov, m_params.link_noise);
+	const TLink link{oldNode, newest, match->scanInRef, info, LinkType::LoopClosure};
+	const bool vetted =
+		gateInnovationChi2(oldFromNewest, match->scanInRef, info) < 3 * m_optimizer.params().dcsPhi;
+	std::vector<size_t> vettedLinks;
+	std::optional<size_t> heldId;  // a held match confirmed: its link goes in first
+	if (m_held && newest > m_held->link.to + 2 * m_params.old_map_exclusion)
+		m_held.reset(), ++m_stats.unconfirmed;  // no agreeing match came in time
+	if (m_params.confirm_above_sigma > 0 && candidates->sigmaXY > m_params.confirm_above_sigma)
+	{
+		if (m_held && m_held->link.to >= patchFirst) return std::nullopt;  // same evidence
+		if (!m_held || !matchesAgree(graph, m_held->link, link))
+		{
+			if (m_held) ++m_stats.unconfirmed;
+			m_held = THeldMatch{link, vetted};
+			++m_stats.heldForConfirmation;
+			m_lastRejection = "match held until a later, independent match agrees";
+			return std::nullopt;
+		}
+		heldId = graph.addLink(m_held->link);
+		if (m_held->vetted) vettedLinks.push_back(*heldId);
+		m_held.reset();
+	}
+
 	// Step 4: add the link; optimise if it moves the map.
 	TLoopClosure lc;
 	lc.oldNode = oldNode;
 	lc.newNode = newest;
 	lc.score = corr->score;
 	lc.ambiguity = corr->ambiguity;
-	const Eigen::Matrix3d info = linkInformation(match->cov, m_params.link_noise);
-	lc.linkId = graph.addLink({oldNode, newest, match->scanInRef, info, LinkType::LoopClosure});
+	lc.linkId = graph.addLink(link);
+	if (vetted) vettedLinks.push_back(lc.linkId);
 	const Eigen::Vector3d e = linkResidual(oldInMap, newestInMap, match->scanInRef);
-	if (e.dot(info * e) > m_params.consistent_chi2)
+	if (heldId || e.dot(info * e) > m_params.consistent_chi2)
 	{
-		// The gate found the old pose within its covariance; the back-end judges the link with
-		// the same covariance and the same bound (3 Phi) before its own, tighter test.
-		const bool vetted = gateInnovationChi2(oldFromNewest, match->scanInRef, info) <
-			3 * m_optimizer.params().dcsPhi;
-		const auto report =
-			m_optimizer.optimize(graph, 0, vetted ? std::vector<size_t>{lc.linkId} : std::vector<size_t>{});
+		const auto report = m_optimizer.optimize(graph, 0, vettedLinks);
 		++m_stats.optimizations;
-		if (std::binary_search(
-				report.downweightedLinks.begin(), report.downweightedLinks.end(), lc.linkId))
+		const auto downweighted = [&](size_t id) {
+			return std::binary_search(
+				report.downweightedLinks.begin(), report.downweightedLinks.end(), id);
+		};
+		if (downweighted(lc.linkId) || (heldId && downweighted(*heldId)))
 		{
 			++m_stats.rejectedByBackEnd;
 			m_lastRejection = "loop link down-weighted by the robust back-end";
 			graph.setLinkEnabled(lc.linkId, false);
+			if (heldId) graph.setLinkEnabled(*heldId, false);
 			m_optimizer.optimize(graph, 0);
 			return std::nullopt;
 		}

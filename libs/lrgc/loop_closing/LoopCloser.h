@@ -17,6 +17,8 @@
  *     closure is counted as rejected. Then the newly linked poses are re-matched (each patch
  *     keyframe against its nearest old keyframe) and the graph optimised again, as the paper
  *     does.
+ * With a very uncertain gate (std > confirm_above_sigma) step 3's link is held until a later
+ * match from a disjoint patch agrees with it; then both links are added and step 4 runs.
  */
 #pragma once
 
@@ -76,6 +78,14 @@ class CLoopCloser
 	CPoseGraphOptimizer m_optimizer;
 	TLoopCloserStats m_stats;
 	std::string m_lastRejection;
+	/** A match held for confirmation (confirm_above_sigma): its link and whether the gate
+	 * vetted it. */
+	struct THeldMatch
+	{
+		TLink link;
+		bool vetted = false;
+	};
+	std::optional<THeldMatch> m_held;
 	size_t m_keyframesSinceCheck = 0;
 	size_t m_checksSinceAttempt = 0;  //!< for attempt_stride
 };

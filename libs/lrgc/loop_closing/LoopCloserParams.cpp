@@ -18,6 +18,8 @@ void TLoopCloserParams::loadFromConfigFile(
 	max_window_xy = readDouble(c, s, "max_window_xy", max_window_xy);
 	max_window_theta = mrpt::DEG2RAD(
 		readDouble(c, s, "max_window_theta_deg", mrpt::RAD2DEG(max_window_theta)));
+	confirm_above_sigma = readDouble(c, s, "confirm_above_sigma", confirm_above_sigma);
+	requireParam(confirm_above_sigma >= 0, s, "confirm_above_sigma", "must be >= 0");
 	consistent_chi2 = readDouble(c, s, "consistent_chi2", consistent_chi2);
 	check_every = readCount(c, s, "check_every", check_every);
 	patch_max_range = readDouble(c, s, "patch_max_range", patch_max_range);
@@ -53,6 +55,7 @@ void TLoopCloserParams::saveToConfigFile(
 	c.write(s, "window_sigmas", window_sigmas, np, vp, "Correlation search half-window, in position/heading std devs");
 	c.write(s, "max_window_xy", max_window_xy, np, vp, "[m] Cap of the translational search half-window");
 	c.write(s, "max_window_theta_deg", mrpt::RAD2DEG(max_window_theta), np, vp, "[deg] Cap of the rotational search half-window");
+	c.write(s, "confirm_above_sigma", confirm_above_sigma, np, vp, "[m] Gate std above which a loop is closed only when a second, independent match agrees (0: never)");
 	c.write(s, "consistent_chi2", consistent_chi2, np, vp, "[chi2, 3 dof] A loop link this consistent is added without a full solve");
 	c.write(s, "check_every", uint64_t(check_every), np, vp, "Look for a loop every this many keyframes");
 	c.write(s, "patch_max_range", patch_max_range, np, vp, "[m] Patch points farther than this from the newest keyframe are left out of the correlation");

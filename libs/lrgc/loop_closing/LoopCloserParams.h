@@ -22,6 +22,12 @@ struct TLoopCloserParams : public mrpt::config::CLoadableOptions
 	double window_sigmas = 3.0;  //!< search half-window in standard deviations [-]
 	double max_window_xy = 15.0;  //!< [m] cap of the translational search half-window
 	double max_window_theta = mrpt::DEG2RAD(30.0);  //!< [rad] (key max_window_theta_deg)
+	/** [m] When the gate's largest position std exceeds this, an accepted match is only held:
+	 * its link is added when a later match, from a patch that shares no keyframe with it,
+	 * agrees with it (both imply the same pose of the newer node). With so large an
+	 * uncertainty the back-end cannot tell a false link from a true one (the graph absorbs
+	 * either), and a large window holds look-alikes. 0: never hold. */
+	double confirm_above_sigma = 0;
 	double consistent_chi2 = 11.34;  //!< [chi2, 3 dof] a link agreeing this well needs no solve
 	size_t check_every = 1;  //!< look for a loop every this many keyframes
 	/** [m] Patch points farther from the newest keyframe are left out of the correlation:

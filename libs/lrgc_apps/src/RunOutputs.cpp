@@ -92,6 +92,8 @@ std::string statsJson(const CMetricMapBuilderLRGC& builder, const TRunSummary& r
 	  << ", \"rejected_by_filters\": " << lcs.rejectedByFilters
 	  << ", \"rejected_by_match\": " << lcs.rejectedByMatch
 	  << ", \"rejected_by_back_end\": " << lcs.rejectedByBackEnd
+	  << ", \"held_for_confirmation\": " << lcs.heldForConfirmation
+	  << ", \"unconfirmed\": " << lcs.unconfirmed
 	  << ", \"optimizations\": " << lcs.optimizations
 	  << ", \"closure_ms\": {\"count\": " << closureMs.size()
 	  << ", \"median\": " << closure.median_ms << ", \"max\": " << closure.max_ms << "}},\n"
