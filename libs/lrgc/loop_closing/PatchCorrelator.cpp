@@ -10,7 +10,9 @@
  *  3. Best pose: searched with floor = minScore (nothing below it could pass filter 1).
  *  4. Rival: the same search with the best cluster excluded, floor = S_best / minAmbiguity
  *     for branch and bound (a weaker rival cannot fail filter 2: ambiguity reported inf),
- *     floor 0 for the exhaustive reference.
+ *     stopping at the first pose that reaches the floor (its existence alone fails filter 2;
+ *     the strongest rival is not needed), floor 0 and the exact rival for the exhaustive
+ *     reference.
  *  5. Covariance: the response is sampled on a lattice around the best pose, weighted
  *         w = exp(-(S_best - S) / (clusterScoreScale S_best)),
  *     and its weighted covariance is taken, plus the lattice's own discretisation (step^2/12).
@@ -286,11 +288,14 @@ std::optional<TCorrelationResult> CPatchCorrelator::run(
 	pb.prepare();
 
 	// Step 3: the best pose.
-	const auto search = exhaustive ? detail::searchExhaustive : detail::searchBranchAndBound;
+	const auto search = [&](int64_t floor, const detail::TExclusionZone& z, bool firstHit) {
+		return exhaustive ? detail::searchExhaustive(pb, floor, z)
+						  : detail::searchBranchAndBound(pb, floor, z, firstHit);
+	};
 	const int64_t full = int64_t(255) * pb.numPoints;
 	const auto floor1 =
 		static_cast<int64_t>(std::ceil(m_params.minScore * double(full) - 1e-9));
-	const detail::TSearchHit best = search(pb, floor1, detail::TExclusionZone{});
+	const detail::TSearchHit best = search(floor1, detail::TExclusionZone{}, false);
 	if (!best.found) return std::nullopt;
 
 	TCorrelationResult res;
@@ -312,7 +317,7 @@ std::optional<TCorrelationResult> CPatchCorrelator::run(
 	const int64_t floor2 = exhaustive ? 0
 									  : static_cast<int64_t>(std::ceil(
 											double(best.score) / m_params.minAmbiguity - 1e-9));
-	const detail::TSearchHit rival = search(pb, floor2, zone);
+	const detail::TSearchHit rival = search(floor2, zone, true);
 	res.ambiguity = std::numeric_limits<double>::infinity();
 	if (rival.found)
 	{

@@ -62,14 +62,16 @@ struct TCorrelationResult
 {
 	mrpt::math::TPose2D patchInMap;  //!< best pose (map <- patch)
 	double score = 0;                //!< s(best) in [0,1]
-	/** s(best) / s(best pose outside the best cluster). +inf when no pose outside the
-	 * cluster reaches s(best) / minAmbiguity: branch and bound does not look below that
-	 * floor, so the value is then only known to be > minAmbiguity. */
+	/** s(best) / s(best pose outside the best cluster), exact from correlateExhaustive().
+	 * From correlate(): +inf when no pose outside the cluster reaches s(best) /
+	 * minAmbiguity (the value is then only known to be > minAmbiguity); otherwise the ratio
+	 * to the first such pose found, in [exact, minAmbiguity]: either way the verdict of
+	 * filter 2 is the exact one. */
 	double ambiguity = 0;
 	/** Covariance of patchInMap [m^2, rad^2] from the normalised response around the peak
 	 * (see TPatchCorrelatorParams::clusterScoreScale), plus the grid's discretisation. */
 	Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
-	/** Best cluster's peak, then the rival when known (the best pose outside the cluster). */
+	/** Best cluster's peak, then the rival when known (outside the cluster; see ambiguity). */
 	std::vector<TCorrelationPeak> clusterPeaks;
 
 	size_t patchCells = 0;   //!< N: distinct patch cells scored

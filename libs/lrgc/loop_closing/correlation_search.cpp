@@ -108,8 +108,9 @@ int ceilLog2(int64_t v)
 class BranchAndBound
 {
 public:
-	BranchAndBound(const TPoseGridProblem& pb, int64_t floorScore, const TExclusionZone& z)
-		: m_pb(pb), m_zone(z)
+	BranchAndBound(const TPoseGridProblem& pb, int64_t floorScore, const TExclusionZone& z,
+				   bool firstHit)
+		: m_pb(pb), m_zone(z), m_firstHit(firstHit)
 	{
 		m_best.score = floorScore;
 	}
@@ -214,6 +215,7 @@ private:
 				  { return x.bound != y.bound ? x.bound > y.bound : x.minIndex < y.minIndex; });
 		for (const Node& n : nodes)
 		{
+			if (m_done) return;
 			if (n.bound < m_best.score) break;  // sorted: no later node can beat it either
 			if (!m_best.beatable(n.bound, n.minIndex)) continue;
 			if (n.h == 0 && n.a0 == n.a1)
@@ -221,6 +223,7 @@ private:
 				if (m_zone.excludes(n.a0, n.i0, n.j0)) continue;
 				m_best.score = n.bound, m_best.index = n.minIndex;
 				m_best.a = n.a0, m_best.i = n.i0, m_best.j = n.j0;
+				m_done = m_firstHit;
 				continue;
 			}
 			// Halve the heading range and the translation block (whichever is not single).
@@ -248,6 +251,8 @@ private:
 
 	const TPoseGridProblem& m_pb;
 	const TExclusionZone& m_zone;
+	bool m_firstHit = false;  // stop at the first pose reaching the floor
+	bool m_done = false;
 	Best m_best{};
 	size_t m_evaluations = 0;
 };
@@ -324,9 +329,9 @@ TSearchHit searchExhaustive(const TPoseGridProblem& pb, int64_t floorScore,
 }
 
 TSearchHit searchBranchAndBound(const TPoseGridProblem& pb, int64_t floorScore,
-								const TExclusionZone& zone)
+								const TExclusionZone& zone, bool firstHit)
 {
-	return BranchAndBound(pb, floorScore, zone).run();
+	return BranchAndBound(pb, floorScore, zone, firstHit).run();
 }
 
 }  // namespace lrgc::detail

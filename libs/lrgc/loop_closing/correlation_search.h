@@ -80,7 +80,9 @@ int64_t blockBound(
 
 TSearchHit searchExhaustive(const TPoseGridProblem& pb, int64_t floorScore,
 							const TExclusionZone& zone);
+/** `firstHit`: return the first pose found with S >= floor (not the best one); for the
+ * ambiguity filter's rival, where only whether one exists decides. */
 TSearchHit searchBranchAndBound(const TPoseGridProblem& pb, int64_t floorScore,
-								const TExclusionZone& zone);
+								const TExclusionZone& zone, bool firstHit = false);
 
 }  // namespace lrgc::detail
