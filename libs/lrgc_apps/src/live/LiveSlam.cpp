@@ -122,7 +122,7 @@ void captureLoop(CLiveQueues& queues, CCaptureWriter& capture, CFatal& fatal)
 			catch (const std::exception& e)
 			{
 				failed = true;
-				fatal.set("capture: " + shortError(e));
+				fatal.set("capture: " + oneLineError(e));
 			}
 		}
 		if (items.empty() && queues.closed()) return;
@@ -220,7 +220,7 @@ public:
 		}
 		catch (const std::exception& e)
 		{
-			m_fatal.set("capture: " + shortError(e));
+			m_fatal.set("capture: " + oneLineError(e));
 		}
 		const std::string status =
 			m_fatal.isSet() ? "error: " + m_fatal.why() : "stopped on request";
@@ -233,7 +233,7 @@ public:
 		}
 		catch (const std::exception& e)
 		{
-			m_console.message("live: saving the final maps failed: " + shortError(e), true);
+			m_console.message("live: saving the final maps failed: " + oneLineError(e), true);
 			exitCode = kExitInputError;
 		}
 		m_console.message(
@@ -281,7 +281,7 @@ private:
 		catch (const std::exception& e)
 		{
 			m_mappingFailed = true;
-			m_fatal.set("mapping: " + shortError(e));
+			m_fatal.set("mapping: " + oneLineError(e));
 		}
 	}
 
@@ -303,7 +303,7 @@ private:
 		}
 		catch (const std::exception& e)
 		{
-			m_console.message("live: periodic save failed: " + shortError(e), true);
+			m_console.message("live: periodic save failed: " + oneLineError(e), true);
 		}
 	}
 
