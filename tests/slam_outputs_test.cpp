@@ -12,6 +12,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <sstream>
 
 #include "app_runner.h"
@@ -31,8 +32,12 @@ class SenaRun : public ::testing::Test
 		if (!fileExists(senaRawlogPath())) return;
 		// CTest runs each test in its own process, two at a time: one directory per process.
 		s_out = makeTempDir("sena_outputs_" + std::to_string(::getpid()));
-		s_result = runProcess(
-			binaryPath("lrgc-slam"), {"--input", senaRawlogPath(), "--out", s_out, "--quiet"});
+		// An existing folder: a user's files, and an output of an earlier run.
+		writeTextFile(out("notes.txt"), kNotes);
+		fs::create_directory(out("earlier"));
+		writeTextFile(out("earlier/map.png"), kNotes);
+		writeTextFile(out("map.png"), "an earlier map");
+		s_result = runProcess(binaryPath("lrgc-slam"), {"--input", senaRawlogPath(), "--out", s_out});
 	}
 	void SetUp() override
 	{
@@ -40,6 +45,7 @@ class SenaRun : public ::testing::Test
 		ASSERT_EQ(s_result.exitCode, 0) << s_result.output;
 	}
 	static std::string out(const std::string& name) { return (fs::path(s_out) / name).string(); }
+	static inline const std::string kNotes = "the user's own notes\n";
 	static inline std::string s_out;
 	static inline TProcessResult s_result;
 };
@@ -144,6 +150,19 @@ TEST_F(SenaRun, RosMapAndPngAreConsistent)
 			}
 	ASSERT_GT(whitePng, 1000u);
 	EXPECT_GT(agree, whitePng * 9 / 10) << agree << " of " << whitePng;
+}
+
+TEST_F(SenaRun, AnExistingFolderKeepsEveryFileButOurOutputs)
+{
+	std::set<std::string> names;
+	for (const auto& e : fs::directory_iterator(s_out)) names.insert(e.path().filename().string());
+	EXPECT_EQ(names, (std::set<std::string>{"notes.txt", "earlier", "map.gridmap.gz", "map.png",
+											"map.pgm", "map.yaml", "map.simplemap.gz",
+											"trajectory.tum", "graph.graph", "timing.csv",
+											"stats.json"}));
+	EXPECT_EQ(readTextFile(out("notes.txt")), kNotes);
+	EXPECT_EQ(readTextFile(out("earlier/map.png")), kNotes);
+	EXPECT_NE(readTextFile(out("map.png")), "an earlier map");  // ours: replaced
 }
 
 TEST_F(SenaRun, StatsAndTimingAreWritten)

@@ -1,5 +1,6 @@
 /* CSlamApp::runOffline: the log-to-maps loop of lrgc-slam. */
 #include "lrgc_apps/AppConfig.h"
+#include "lrgc_apps/ErrorText.h"
 #include "lrgc_apps/Progress.h"
 #include "lrgc_apps/RunOutputs.h"
 #include "lrgc_apps/RunStats.h"
@@ -89,7 +90,7 @@ int CSlamApp::runOffline(const TSlamCommandLine& cl)
 	}
 	catch (const std::exception& e)
 	{
-		report("lrgc-slam: " + mrpt::exception_to_str(e));
+		reportError(e);
 		return kExitInputError;
 	}
 
@@ -146,7 +147,8 @@ int CSlamApp::mapLog(CLogReader& reader, CMetricMapBuilderLRGC& builder, CProgre
 		}
 		catch (const std::exception& e)
 		{
-			run.status = "input error: " + mrpt::exception_to_str(e);
+			run.status = "input error: " + oneLineError(e);
+			if (m_verbose) report("details:\n" + errorDetails(e));
 			return kExitInputError;
 		}
 		if (!entry) break;
@@ -159,7 +161,8 @@ int CSlamApp::mapLog(CLogReader& reader, CMetricMapBuilderLRGC& builder, CProgre
 		}
 		catch (const std::exception& e)
 		{
-			run.status = "error at " + entry->where + ": " + mrpt::exception_to_str(e);
+			run.status = "error at " + entry->where + ": " + oneLineError(e);
+			if (m_verbose) report("details:\n" + errorDetails(e));
 			return kExitInputError;
 		}
 		if (builder.stats().scans > scansBefore)
