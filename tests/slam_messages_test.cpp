@@ -1,17 +1,22 @@
 /* End to end: what lrgc-slam says. Every error is one line (program, file or option, what is
  * wrong, what to do) without MRPT's banner and call stack, which --verbose adds; a config is
  * never written over an existing file without --force, nor onto a folder; --help lists every
- * option. */
+ * option; an interrupted run shows how far it got, not 100 %. (What the loop count counts:
+ * SenaRun.ConsoleSaysWhatTheCountsCount, slam_outputs_test.cpp.) */
 #include <gtest/gtest.h>
 
+#include <signal.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <set>
+#include <thread>
 
 #include "app_runner.h"
+#include "child_process.h"
 #include "test_data.h"
 
 namespace fs = std::filesystem;
@@ -33,6 +38,16 @@ std::set<std::string> namesIn(const std::string& dir)
 	std::set<std::string> names;
 	for (const auto& e : fs::directory_iterator(dir)) names.insert(e.path().filename().string());
 	return names;
+}
+
+// Whether `pid` has a handler installed for `sig` (the SigCgt mask of /proc/PID/status).
+bool catchesSignal(pid_t pid, int sig)
+{
+	std::ifstream status("/proc/" + std::to_string(pid) + "/status");
+	for (std::string line; std::getline(status, line);)
+		if (line.rfind("SigCgt:", 0) == 0)
+			return (std::stoull(line.substr(7), nullptr, 16) >> (sig - 1)) & 1ULL;
+	return false;
 }
 }  // namespace
 
@@ -197,4 +212,25 @@ TEST(SlamMessages, UsageErrorsAreOneLineAndHelpListsEveryOption)
 	EXPECT_EQ(r.exitCode, 0) << r.output;
 	EXPECT_EQ(r.output.rfind("lrgc-slam ", 0), 0u) << r.output;
 	EXPECT_EQ(lineCount(r.output), 1u) << r.output;
+}
+
+TEST(SlamMessages, InterruptedRunShowsHowFarItGot)
+{
+	LRGC_SKIP_IF_MISSING(senaRawlogPath());
+	const std::string dir = makeTempDir("msg_interrupted_" + std::to_string(::getpid()));
+	CChildProcess app(binaryPath("lrgc-slam"),
+					  {"--input", senaRawlogPath(), "--out", dir + "/out"}, dir + "/console.txt");
+	// SIGINT once the run takes it (the handler is installed after the log is opened).
+	const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+	while (!catchesSignal(app.pid(), SIGINT) && std::chrono::steady_clock::now() < deadline)
+		std::this_thread::sleep_for(std::chrono::milliseconds(1));
+	ASSERT_TRUE(catchesSignal(app.pid(), SIGINT)) << app.output();
+	app.signal(SIGINT);
+	const auto status = app.waitExit(120);
+	ASSERT_TRUE(status.has_value());
+	const std::string out = app.output();
+	ASSERT_EQ(*status, 130) << "the run ended before the signal reached it?\n" << out;
+	EXPECT_EQ(out.find("100.0%"), std::string::npos) << out;
+	EXPECT_NE(out.find("% "), std::string::npos) << out;
+	EXPECT_NE(out.find("interrupted"), std::string::npos) << out;
 }

@@ -112,7 +112,10 @@ int CSlamApp::runOffline(const TSlamCommandLine& cl)
 	run.finalOptimizationSeconds =
 		std::chrono::duration<double>(std::chrono::steady_clock::now() - tFinal).count();
 	reportWarnings(builder.takeWarnings());
-	progress.finish(builder.stats().scans);
+	if (exitCode == kExitOk) progress.finish(1.0, builder.stats().scans);
+	else
+		progress.finish(reader->fractionRead(), builder.stats().scans,
+						exitCode == kExitInterrupted ? "interrupted" : "stopped by an input error");
 	run.malformedLines = reader->stats().skippedLines;
 	run.logContents = reader->stats().contents;
 	if (builder.stats().scans == 0 && exitCode == kExitOk)
