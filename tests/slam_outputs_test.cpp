@@ -12,6 +12,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <regex>
 #include <set>
 #include <sstream>
 
@@ -165,12 +166,30 @@ TEST_F(SenaRun, AnExistingFolderKeepsEveryFileButOurOutputs)
 	EXPECT_NE(readTextFile(out("map.png")), "an earlier map");  // ours: replaced
 }
 
+TEST_F(SenaRun, ConsoleSaysWhatTheCountsCount)
+{
+	// One loop in the log, many loop-closure links: the summary says links, not loops.
+	EXPECT_NE(s_result.output.find(" loop-closure links (not a count of loops), "),
+			  std::string::npos)
+		<< s_result.output;
+	EXPECT_EQ(s_result.output.find("loop closures"), std::string::npos) << s_result.output;
+	// A run that read its input to the end says so.
+	EXPECT_NE(s_result.output.find("progress: 100.0%"), std::string::npos) << s_result.output;
+}
+
 TEST_F(SenaRun, StatsAndTimingAreWritten)
 {
 	const std::string stats = readTextFile(out("stats.json"));
 	for (const char* key : {"\"scans\": 225", "\"latency_ms\"", "\"peak_rss_mb\"", "\"wall_time_s\"",
 							"\"loop_closures\"", "\"status\": \"complete\""})
 		EXPECT_NE(stats.find(key), std::string::npos) << key;
+	// The count of accepted loop-closure links under its own name, and its old one.
+	const std::regex accepted(
+		"\"loop_closure_links_accepted\": ([0-9]+),\n  \"loop_closures\": ([0-9]+),");
+	std::smatch m;
+	ASSERT_TRUE(std::regex_search(stats, m, accepted)) << stats;
+	EXPECT_EQ(m[1].str(), m[2].str());
+	EXPECT_GT(std::stoi(m[1].str()), 0);  // SENA has a loop
 	EXPECT_EQ(countLines(out("timing.csv")), 226u);  // header + one per scan
 	for (const auto& e : fs::directory_iterator(s_out))
 		EXPECT_EQ(e.path().filename().string().rfind(".tmp.", 0), std::string::npos)

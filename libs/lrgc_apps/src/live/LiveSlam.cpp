@@ -133,7 +133,8 @@ std::string statusLine(const CLiveQueues& queues, const CLiveMapper& mapper,
 					   const TSensors& sensors)
 {
 	std::string line = mrpt::format(
-		"live: received %llu scans, mapped %zu, queue %zu, loops %zu, skipped %zu |",
+		"live: received %llu scans, mapped %zu, queue %zu, loop-closure links %zu, skipped "
+		"%zu |",
 		static_cast<unsigned long long>(queues.scansPushed()), mapper.counts().scansMapped,
 		queues.mappingDepth(), mapper.builder().stats().loopClosures,
 		mapper.policy().skippedTotal());
@@ -322,8 +323,8 @@ private:
 		m_console.message(
 			mrpt::format(
 				"lrgc-slam: live run %s: %llu scans received (%llu objects captured), %zu "
-				"mapped, %zu skipped to keep up, %zu keyframes, %zu loop closures; outputs in "
-				"%s",
+				"mapped, %zu skipped to keep up, %zu keyframes, %zu loop-closure links (not a "
+				"count of loops); outputs in %s",
 				m_fatal.isSet() ? "failed" : "stopped",
 				static_cast<unsigned long long>(m_queues.scansPushed()),
 				static_cast<unsigned long long>(m_capture.objects()),
