@@ -12,6 +12,8 @@
 
 #include <filesystem>
 #include <fstream>
+#include <regex>
+#include <set>
 #include <sstream>
 
 #include "app_runner.h"
@@ -31,8 +33,12 @@ class SenaRun : public ::testing::Test
 		if (!fileExists(senaRawlogPath())) return;
 		// CTest runs each test in its own process, two at a time: one directory per process.
 		s_out = makeTempDir("sena_outputs_" + std::to_string(::getpid()));
-		s_result = runProcess(
-			binaryPath("lrgc-slam"), {"--input", senaRawlogPath(), "--out", s_out, "--quiet"});
+		// An existing folder: a user's files, and an output of an earlier run.
+		writeTextFile(out("notes.txt"), kNotes);
+		fs::create_directory(out("earlier"));
+		writeTextFile(out("earlier/map.png"), kNotes);
+		writeTextFile(out("map.png"), "an earlier map");
+		s_result = runProcess(binaryPath("lrgc-slam"), {"--input", senaRawlogPath(), "--out", s_out});
 	}
 	void SetUp() override
 	{
@@ -40,6 +46,7 @@ class SenaRun : public ::testing::Test
 		ASSERT_EQ(s_result.exitCode, 0) << s_result.output;
 	}
 	static std::string out(const std::string& name) { return (fs::path(s_out) / name).string(); }
+	static inline const std::string kNotes = "the user's own notes\n";
 	static inline std::string s_out;
 	static inline TProcessResult s_result;
 };
@@ -146,12 +153,43 @@ TEST_F(SenaRun, RosMapAndPngAreConsistent)
 	EXPECT_GT(agree, whitePng * 9 / 10) << agree << " of " << whitePng;
 }
 
+TEST_F(SenaRun, AnExistingFolderKeepsEveryFileButOurOutputs)
+{
+	std::set<std::string> names;
+	for (const auto& e : fs::directory_iterator(s_out)) names.insert(e.path().filename().string());
+	EXPECT_EQ(names, (std::set<std::string>{"notes.txt", "earlier", "map.gridmap.gz", "map.png",
+											"map.pgm", "map.yaml", "map.simplemap.gz",
+											"trajectory.tum", "graph.graph", "timing.csv",
+											"stats.json"}));
+	EXPECT_EQ(readTextFile(out("notes.txt")), kNotes);
+	EXPECT_EQ(readTextFile(out("earlier/map.png")), kNotes);
+	EXPECT_NE(readTextFile(out("map.png")), "an earlier map");  // ours: replaced
+}
+
+TEST_F(SenaRun, ConsoleSaysWhatTheCountsCount)
+{
+	// One loop in the log, many loop-closure links: the summary says links, not loops.
+	EXPECT_NE(s_result.output.find(" loop-closure links (not a count of loops), "),
+			  std::string::npos)
+		<< s_result.output;
+	EXPECT_EQ(s_result.output.find("loop closures"), std::string::npos) << s_result.output;
+	// A run that read its input to the end says so.
+	EXPECT_NE(s_result.output.find("progress: 100.0%"), std::string::npos) << s_result.output;
+}
+
 TEST_F(SenaRun, StatsAndTimingAreWritten)
 {
 	const std::string stats = readTextFile(out("stats.json"));
 	for (const char* key : {"\"scans\": 225", "\"latency_ms\"", "\"peak_rss_mb\"", "\"wall_time_s\"",
 							"\"loop_closures\"", "\"status\": \"complete\""})
 		EXPECT_NE(stats.find(key), std::string::npos) << key;
+	// The count of accepted loop-closure links under its own name, and its old one.
+	const std::regex accepted(
+		"\"loop_closure_links_accepted\": ([0-9]+),\n  \"loop_closures\": ([0-9]+),");
+	std::smatch m;
+	ASSERT_TRUE(std::regex_search(stats, m, accepted)) << stats;
+	EXPECT_EQ(m[1].str(), m[2].str());
+	EXPECT_GT(std::stoi(m[1].str()), 0);  // SENA has a loop
 	EXPECT_EQ(countLines(out("timing.csv")), 226u);  // header + one per scan
 	for (const auto& e : fs::directory_iterator(s_out))
 		EXPECT_EQ(e.path().filename().string().rfind(".tmp.", 0), std::string::npos)

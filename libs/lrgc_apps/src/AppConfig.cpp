@@ -1,10 +1,10 @@
 #include "lrgc_apps/AppConfig.h"
 
 #include "lrgc_apps/CommandLine.h"
+#include "lrgc_apps/ErrorText.h"
 
 #include <mrpt/config/CConfigFile.h>
 #include <mrpt/config/CConfigFileMemory.h>
-#include <mrpt/core/exceptions.h>
 
 #include <filesystem>
 
@@ -15,7 +15,9 @@ TAppConfig loadAppConfig(const std::string& path)
 	TAppConfig cfg;
 	if (path.empty()) return cfg;
 	if (!std::filesystem::is_regular_file(path))
-		throw CUsageError("configuration file '" + path + "' does not exist");
+		throw CSetupError("--config '" + path +
+						  "': no such file; name an existing .ini (lrgc-slam "
+						  "--write-default-config FILE writes one with every key)");
 	const mrpt::config::CConfigFile ini(path);
 	std::vector<std::string> allowed = TLRGCParams::sectionNames();
 	allowed.push_back("LogReader");
@@ -29,7 +31,10 @@ TAppConfig loadAppConfig(const std::string& path)
 	}
 	catch (const std::exception& e)
 	{
-		throw CSetupError(path + ": " + mrpt::exception_to_str(e));
+		throw CSetupError(path + ": " + oneLineError(e) +
+							  "; lrgc-slam --write-default-config FILE writes every section and "
+							  "key with its unit and meaning",
+						  errorDetails(e));
 	}
 	return cfg;
 }

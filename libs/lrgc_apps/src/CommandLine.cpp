@@ -5,6 +5,11 @@
 
 namespace lrgc::apps
 {
+namespace
+{
+constexpr const char* kSeeHelp = "; lrgc-slam --help lists the options";
+}
+
 TSlamCommandLine parseSlamCommandLine(const std::vector<std::string>& args)
 {
 	TSlamCommandLine cl;
@@ -13,7 +18,7 @@ TSlamCommandLine parseSlamCommandLine(const std::vector<std::string>& args)
 		const std::string& a = args[i];
 		auto value = [&](std::string& dst) {
 			if (i + 1 >= args.size() || args[i + 1].rfind("--", 0) == 0)
-				throw CUsageError("option " + a + " needs a value");
+				throw CUsageError("option " + a + " needs a value" + kSeeHelp);
 			dst = args[++i];
 		};
 		if (a == "--input" || a == "-i") value(cl.input);
@@ -22,23 +27,33 @@ TSlamCommandLine parseSlamCommandLine(const std::vector<std::string>& args)
 		else if (a == "--out" || a == "-o") value(cl.outDir);
 		else if (a == "--save-rawlog") value(cl.saveRawlog);
 		else if (a == "--write-default-config") value(cl.writeDefaultConfig);
+		else if (a == "--force") cl.force = true;
 		else if (a == "--quiet" || a == "-q") cl.quiet = true;
+		else if (a == "--verbose" || a == "-v") cl.verbose = true;
 		else if (a == "--help" || a == "-h") cl.help = true;
 		else if (a == "--version") cl.version = true;
-		else throw CUsageError("unknown argument '" + a + "'");
+		else throw CUsageError("unknown argument '" + a + "'" + kSeeHelp);
 	}
-	if (cl.help || cl.version || !cl.writeDefaultConfig.empty()) return cl;
+	if (cl.help || cl.version) return cl;
+	if (cl.force && cl.writeDefaultConfig.empty())
+		throw CUsageError(
+			"--force is for --write-default-config (a run replaces only its own outputs in "
+			"--out, and never the input)");
+	if (!cl.writeDefaultConfig.empty()) return cl;
 	if (!cl.live.empty())
 	{
 		if (!cl.input.empty()) throw CUsageError("--live and --input exclude each other");
 		if (!cl.saveRawlog.empty())
 			throw CUsageError("--save-rawlog is for --input; a live run writes DIR/capture.rawlog");
-		if (cl.outDir.empty()) throw CUsageError("missing --out DIR for --live");
+		if (cl.outDir.empty())
+			throw CUsageError("missing --out DIR for --live" + std::string(kSeeHelp));
 		return cl;
 	}
-	if (cl.input.empty()) throw CUsageError("missing --input FILE (or --live SENSORS.ini)");
+	if (cl.input.empty())
+		throw CUsageError("missing --input FILE (or --live SENSORS.ini)" + std::string(kSeeHelp));
 	if (cl.outDir.empty() && cl.saveRawlog.empty())
-		throw CUsageError("missing --out DIR (or --save-rawlog FILE to convert only)");
+		throw CUsageError("missing --out DIR (or --save-rawlog FILE to convert only)" +
+						  std::string(kSeeHelp));
 	// Never write over the input (a CARMEN log would be gone, a layout-1 rawlog would become
 	// observations-only): the same file under any spelling of its path, links included.
 	std::error_code ec;
@@ -55,11 +70,17 @@ std::string slamUsage()
 		   "  lrgc-slam --input FILE [--config FILE.ini] --out DIR [--quiet] [--save-rawlog R]\n"
 		   "  lrgc-slam --input FILE --save-rawlog OUT.rawlog     convert to an MRPT rawlog\n"
 		   "  lrgc-slam --live SENSORS.ini [--config FILE.ini] --out DIR [--quiet]\n"
-		   "  lrgc-slam --write-default-config FILE.ini\n"
+		   "  lrgc-slam --write-default-config FILE.ini [--force]\n"
+		   "  lrgc-slam --help | --version\n"
+		   "Options: -i --input, -c --config, -o --out, -q --quiet (no progress), -v --verbose\n"
+		   "(on an error, also its details: source location, call stack), --force (replace an\n"
+		   "existing FILE.ini), -h --help, --version (print the version and exit).\n"
 		   "FILE: MRPT rawlog (.rawlog, plain or gzip, both layouts) or CARMEN log\n"
 		   "(.clf/.log, optionally .gz); the format is detected from the content.\n"
 		   "Outputs in DIR: map.gridmap.gz map.png map.pgm map.yaml map.simplemap.gz\n"
-		   "trajectory.tum graph.graph timing.csv stats.json\n"
+		   "trajectory.tum graph.graph timing.csv stats.json. An existing DIR is kept: only\n"
+		   "these files are written (over those of an earlier run); no other file is changed\n"
+		   "or deleted.\n"
 		   "--live: map from the sensors of a rawlog-grabber .ini (mrpt::hwdrivers drivers)\n"
 		   "until Ctrl-C or SIGTERM; everything received goes to DIR/capture.rawlog, maps are\n"
 		   "saved every [LiveMapping] save_interval_s and at the end, live.json has per-sensor\n"

@@ -72,10 +72,10 @@ void CProgress::update(double fraction, size_t scans, const std::string& extra)
 	m_drawn = true;
 }
 
-void CProgress::finish(size_t scans, const std::string& extra)
+void CProgress::finish(double fraction, size_t scans, const std::string& extra)
 {
 	if (m_mode == Mode::Quiet) return;
-	std::fputs(format(1.0, scans, extra).c_str(), m_out);
+	std::fputs(format(fraction, scans, extra).c_str(), m_out);
 	if (m_mode == Mode::Terminal) std::fputs("\033[K\n", m_out);
 	std::fflush(m_out);
 }

@@ -85,6 +85,10 @@ std::string statsJson(const CMetricMapBuilderLRGC& builder, const TRunSummary& r
 	  << "  \"links\": {\"odometry\": " << s.odometryLinks
 	  << ", \"scan_match\": " << s.scanMatchLinks
 	  << ", \"loop_closure\": " << s.loopClosureLinks << "},\n"
+	  // Accepted matches of a new keyframe with the old map, one link each: a robot driving
+	  // along an old path re-closes the loop at every keyframe, so this is not a count of
+	  // loops. "loop_closures" is its old name, kept for the readers of earlier files.
+	  << "  \"loop_closure_links_accepted\": " << s.loopClosures << ",\n"
 	  << "  \"loop_closures\": " << s.loopClosures << ",\n"
 	  << "  \"revisit_links\": " << s.revisitLinks << ",\n"
 	  << "  \"loop_closing\": {\"attempts\": " << lcs.attempts

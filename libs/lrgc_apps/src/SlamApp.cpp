@@ -1,14 +1,16 @@
 #include "lrgc_apps/SlamApp.h"
 
 #include "lrgc_apps/AppConfig.h"
+#include "lrgc_apps/ErrorText.h"
 #include "lrgc_apps/RunOutputs.h"
 #include "lrgc_apps/atomic_file.h"
 
-#include <mrpt/core/exceptions.h>
 #include <mrpt/core/format.h>
 
+#include <algorithm>
 #include <atomic>
 #include <csignal>
+#include <filesystem>
 #include <signal.h>
 #include <unistd.h>
 
@@ -22,6 +24,34 @@ std::atomic<int> g_stopSignals{0};
 extern "C" void onStopSignal(int)
 {
 	if (g_stopSignals.fetch_add(1) >= 1) ::_exit(kExitInterrupted);  // second signal: now
+}
+
+// --write-default-config FILE: a file, never a folder, and an existing one only with --force.
+void writeDefaultConfig(const std::string& path, bool force)
+{
+	namespace fs = std::filesystem;
+	std::error_code ec;
+	const std::string option = "--write-default-config '" + path + "'";
+	if (fs::is_directory(path, ec))
+		throw CSetupError(option + " is a directory; name a file, e.g. '" +
+						  (fs::path(path) / "lrgc.ini").string() + "'");
+	if (fs::exists(path, ec) && !force)
+		throw CSetupError(option + ": the file exists; add --force to replace it, or name "
+								   "another file");
+	const fs::path folder = fs::path(path).parent_path();
+	if (!folder.empty() && !fs::is_directory(folder, ec))
+		throw CSetupError(option + ": '" + folder.string() +
+						  "' is not a directory; create it first, or name another file");
+	try
+	{
+		writeTextFileAtomically(path, defaultAppConfigText());
+	}
+	catch (const std::exception& e)
+	{
+		throw CSetupError(option + ": " + oneLineError(e) +
+							  "; name a file in a folder you may write into",
+						  errorDetails(e));
+	}
 }
 
 }  // namespace
@@ -47,8 +77,22 @@ void CSlamApp::report(const std::string& line)
 	std::fflush(m_err);
 }
 
+void CSlamApp::reportError(const std::string& line, const std::string& details)
+{
+	report("lrgc-slam: " + line);
+	if (m_verbose && !details.empty()) report("details:\n" + details);
+}
+
+void CSlamApp::reportError(const std::exception& e)
+{
+	reportError(oneLineError(e), errorDetails(e));
+}
+
 int CSlamApp::run(const std::vector<std::string>& args)
 {
+	// Known before the command line is parsed, so that its errors can be detailed too.
+	m_verbose = std::any_of(args.begin(), args.end(),
+							[](const std::string& a) { return a == "--verbose" || a == "-v"; });
 	TSlamCommandLine cl;
 	try
 	{
@@ -57,7 +101,7 @@ int CSlamApp::run(const std::vector<std::string>& args)
 		if (cl.version) { std::printf("lrgc-slam %s\n", LRGC_VERSION); return kExitOk; }
 		if (!cl.writeDefaultConfig.empty())
 		{
-			writeTextFileAtomically(cl.writeDefaultConfig, defaultAppConfigText());
+			writeDefaultConfig(cl.writeDefaultConfig, cl.force);
 			return kExitOk;
 		}
 		if (!cl.outDir.empty()) checkOutputDirectory(cl.outDir);
@@ -75,18 +119,17 @@ int CSlamApp::run(const std::vector<std::string>& args)
 	}
 	catch (const CSetupError& e)
 	{
-		report(std::string("lrgc-slam: ") + e.what());
+		reportError(e.what(), e.details());
 		return kExitUsage;
 	}
 	catch (const CUsageError& e)
 	{
-		report(std::string("lrgc-slam: ") + e.what());
-		report(slamUsage());
+		reportError(e.what());
 		return kExitUsage;
 	}
 	catch (const std::exception& e)
 	{
-		report("lrgc-slam: error: " + mrpt::exception_to_str(e));
+		reportError(e);
 		return kExitInputError;
 	}
 }
@@ -105,7 +148,7 @@ int CSlamApp::convertOnly(const TSlamCommandLine& cl)
 	}
 	catch (const std::exception& e)
 	{
-		report("lrgc-slam: cannot convert: " + mrpt::exception_to_str(e));
+		reportError("cannot convert: " + oneLineError(e), errorDetails(e));
 		return kExitInputError;
 	}
 }

@@ -1,5 +1,6 @@
 /* CSlamApp::runOffline: the log-to-maps loop of lrgc-slam. */
 #include "lrgc_apps/AppConfig.h"
+#include "lrgc_apps/ErrorText.h"
 #include "lrgc_apps/Progress.h"
 #include "lrgc_apps/RunOutputs.h"
 #include "lrgc_apps/RunStats.h"
@@ -89,7 +90,7 @@ int CSlamApp::runOffline(const TSlamCommandLine& cl)
 	}
 	catch (const std::exception& e)
 	{
-		report("lrgc-slam: " + mrpt::exception_to_str(e));
+		reportError(e);
 		return kExitInputError;
 	}
 
@@ -111,7 +112,10 @@ int CSlamApp::runOffline(const TSlamCommandLine& cl)
 	run.finalOptimizationSeconds =
 		std::chrono::duration<double>(std::chrono::steady_clock::now() - tFinal).count();
 	reportWarnings(builder.takeWarnings());
-	progress.finish(builder.stats().scans);
+	if (exitCode == kExitOk) progress.finish(1.0, builder.stats().scans);
+	else
+		progress.finish(reader->fractionRead(), builder.stats().scans,
+						exitCode == kExitInterrupted ? "interrupted" : "stopped by an input error");
 	run.malformedLines = reader->stats().skippedLines;
 	run.logContents = reader->stats().contents;
 	if (builder.stats().scans == 0 && exitCode == kExitOk)
@@ -146,7 +150,8 @@ int CSlamApp::mapLog(CLogReader& reader, CMetricMapBuilderLRGC& builder, CProgre
 		}
 		catch (const std::exception& e)
 		{
-			run.status = "input error: " + mrpt::exception_to_str(e);
+			run.status = "input error: " + oneLineError(e);
+			if (m_verbose) report("details:\n" + errorDetails(e));
 			return kExitInputError;
 		}
 		if (!entry) break;
@@ -159,7 +164,8 @@ int CSlamApp::mapLog(CLogReader& reader, CMetricMapBuilderLRGC& builder, CProgre
 		}
 		catch (const std::exception& e)
 		{
-			run.status = "error at " + entry->where + ": " + mrpt::exception_to_str(e);
+			run.status = "error at " + entry->where + ": " + oneLineError(e);
+			if (m_verbose) report("details:\n" + errorDetails(e));
 			return kExitInputError;
 		}
 		if (builder.stats().scans > scansBefore)
@@ -172,7 +178,7 @@ int CSlamApp::mapLog(CLogReader& reader, CMetricMapBuilderLRGC& builder, CProgre
 		reportWarnings(reader.takeWarnings());
 		reportWarnings(builder.takeWarnings());
 		progress.update(reader.fractionRead(), builder.stats().scans,
-						mrpt::format("kf %zu  loops %zu", builder.stats().keyframes,
+						mrpt::format("kf %zu  loop-closure links %zu", builder.stats().keyframes,
 									 builder.stats().loopClosures));
 	}
 	if (!stopRequested()) return kExitOk;
@@ -193,8 +199,8 @@ void CSlamApp::reportEnd(const TSlamCommandLine& cl, const CMetricMapBuilderLRGC
 	if (exitCode != kExitOk) report("lrgc-slam: " + run.status + " (maps of what was read are saved)");
 	if (!cl.quiet || exitCode != kExitOk)
 		report(mrpt::format(
-			"lrgc-slam: %zu scans, %zu keyframes, %zu loop closures, %.1f s of data in %.1f s "
-			"(%.0fx real time); outputs in %s",
+			"lrgc-slam: %zu scans, %zu keyframes, %zu loop-closure links (not a count of "
+			"loops), %.1f s of data in %.1f s (%.0fx real time); outputs in %s",
 			s.scans, s.keyframes, s.loopClosures, run.dataDurationSeconds, run.wallSeconds,
 			run.wallSeconds > 0 ? run.dataDurationSeconds / run.wallSeconds : 0.0,
 			cl.outDir.c_str()));

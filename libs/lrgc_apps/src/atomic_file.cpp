@@ -57,7 +57,8 @@ void writeTextFileAtomically(const std::string& path, const std::string& content
 {
 	writeFileAtomically(path, [&](const std::string& tmp) {
 		std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
-		if (!f) THROW_EXCEPTION_FMT("cannot open '%s' for writing", tmp.c_str());
+		if (!f)
+			THROW_EXCEPTION_FMT("cannot create '%s' (%s)", tmp.c_str(), std::strerror(errno));
 		f << contents;
 		f.close();
 		if (!f) THROW_EXCEPTION_FMT("error writing '%s' (disk full?)", tmp.c_str());

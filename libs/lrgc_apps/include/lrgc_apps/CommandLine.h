@@ -3,13 +3,15 @@
  *   lrgc-slam --input FILE [--config FILE.ini] --out DIR [--quiet] [--save-rawlog OUT.rawlog]
  *   lrgc-slam --input FILE --save-rawlog OUT.rawlog          (convert only)
  *   lrgc-slam --live SENSORS.ini [--config FILE.ini] --out DIR [--quiet]   (live sensors)
- *   lrgc-slam --write-default-config FILE.ini
+ *   lrgc-slam --write-default-config FILE.ini [--force]
+ *   any of them [--verbose]: on an error, MRPT's details (source location, call stack) too
  */
 #pragma once
 
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace lrgc::apps
@@ -22,7 +24,9 @@ struct TSlamCommandLine
 	std::string outDir;
 	std::string saveRawlog;  //!< convert the input into this MRPT rawlog
 	std::string writeDefaultConfig;  //!< write the default .ini and exit
+	bool force = false;  //!< --write-default-config may replace an existing file
 	bool quiet = false;
+	bool verbose = false;  //!< errors with their details (source location, call stack)
 	bool help = false;
 	bool version = false;
 };
@@ -34,12 +38,20 @@ class CUsageError : public std::runtime_error
 	using std::runtime_error::runtime_error;
 };
 
-/** A bad configuration file or output directory: exit 2 like a usage error, but the message
- * alone says what to do, so the usage text is not printed after it. */
+/** A bad configuration file or output file or directory: exit 2 like a usage error, but the
+ * message alone says what to do. `details`: what --verbose adds (the call stack of the
+ * exception behind it), if any. */
 class CSetupError : public CUsageError
 {
 public:
-	using CUsageError::CUsageError;
+	explicit CSetupError(const std::string& what, std::string details = {})
+		: CUsageError(what), m_details(std::move(details))
+	{
+	}
+	const std::string& details() const { return m_details; }
+
+private:
+	std::string m_details;
 };
 
 /** Parses argv (argv[0] excluded); throws CUsageError naming the offending argument. */

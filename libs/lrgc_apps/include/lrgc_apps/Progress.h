@@ -19,8 +19,9 @@ class CProgress
 
 	/** fraction in [0,1] of the input consumed; scans processed so far; extra text. */
 	void update(double fraction, size_t scans, const std::string& extra = {});
-	/** Final line (newline after a bar). */
-	void finish(size_t scans, const std::string& extra = {});
+	/** Final line (newline after a bar): `fraction` of the input consumed, 1 only for a run
+	 * that read its input to the end (an interrupted one shows where it stopped). */
+	void finish(double fraction, size_t scans, const std::string& extra = {});
 	Mode mode() const { return m_mode; }
 
    private:

@@ -17,6 +17,7 @@
 #include <lrgc_apps/CommandLine.h>
 
 #include <cstdio>
+#include <exception>
 #include <functional>
 #include <string>
 #include <vector>
@@ -69,11 +70,15 @@ class CSlamApp
 				   const TRunSummary& run, int exitCode);
 	int convertOnly(const TSlamCommandLine& cl);
 	void report(const std::string& line);
+	/** "lrgc-slam: <line>"; with --verbose, the details after it. */
+	void reportError(const std::string& line, const std::string& details = {});
+	void reportError(const std::exception& e);
 	/** Shows the first warnings, then only counts them (stats.json has the total). */
 	void reportWarnings(const std::vector<std::string>& warnings);
 
 	std::FILE* m_err;
 	TLiveRunner m_live;
+	bool m_verbose = false;
 	size_t m_warningsShown = 0, m_warningsTotal = 0;
 };
 

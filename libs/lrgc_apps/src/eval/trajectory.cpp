@@ -2,6 +2,8 @@
  * (exact match within a tolerance, else linear interpolation on a time-sorted index). */
 #include "lrgc_apps/eval/trajectory.h"
 
+#include "lrgc_apps/ErrorText.h"
+
 #include <mrpt/core/exceptions.h>
 #include <mrpt/math/wrap2pi.h>
 
@@ -25,19 +27,7 @@ std::string readTextFile(const std::string& path)
 	return ss.str();
 }
 
-std::string userMessage(const std::exception& e)
-{
-	const std::string full = mrpt::exception_to_str(e);
-	const auto m = full.find("Message:");
-	if (m == std::string::npos) return e.what();
-	auto begin = full.find_first_not_of(' ', m + 8);
-	auto end = full.find("\nLocation:", begin);
-	if (end == std::string::npos) end = full.find("\nCall stack", begin);
-	std::string msg =
-		full.substr(begin, end == std::string::npos ? std::string::npos : end - begin);
-	while (!msg.empty() && (msg.back() == '\n' || msg.back() == ' ')) msg.pop_back();
-	return msg;
-}
+std::string userMessage(const std::exception& e) { return oneLineError(e); }
 
 bool isBlankOrComment(const std::string& line)
 {

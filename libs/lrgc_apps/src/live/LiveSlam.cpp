@@ -122,7 +122,7 @@ void captureLoop(CLiveQueues& queues, CCaptureWriter& capture, CFatal& fatal)
 			catch (const std::exception& e)
 			{
 				failed = true;
-				fatal.set("capture: " + shortError(e));
+				fatal.set("capture: " + oneLineError(e));
 			}
 		}
 		if (items.empty() && queues.closed()) return;
@@ -133,7 +133,8 @@ std::string statusLine(const CLiveQueues& queues, const CLiveMapper& mapper,
 					   const TSensors& sensors)
 {
 	std::string line = mrpt::format(
-		"live: received %llu scans, mapped %zu, queue %zu, loops %zu, skipped %zu |",
+		"live: received %llu scans, mapped %zu, queue %zu, loop-closure links %zu, skipped "
+		"%zu |",
 		static_cast<unsigned long long>(queues.scansPushed()), mapper.counts().scansMapped,
 		queues.mappingDepth(), mapper.builder().stats().loopClosures,
 		mapper.policy().skippedTotal());
@@ -220,7 +221,7 @@ public:
 		}
 		catch (const std::exception& e)
 		{
-			m_fatal.set("capture: " + shortError(e));
+			m_fatal.set("capture: " + oneLineError(e));
 		}
 		const std::string status =
 			m_fatal.isSet() ? "error: " + m_fatal.why() : "stopped on request";
@@ -233,7 +234,7 @@ public:
 		}
 		catch (const std::exception& e)
 		{
-			m_console.message("live: saving the final maps failed: " + shortError(e), true);
+			m_console.message("live: saving the final maps failed: " + oneLineError(e), true);
 			exitCode = kExitInputError;
 		}
 		m_console.message(
@@ -281,7 +282,7 @@ private:
 		catch (const std::exception& e)
 		{
 			m_mappingFailed = true;
-			m_fatal.set("mapping: " + shortError(e));
+			m_fatal.set("mapping: " + oneLineError(e));
 		}
 	}
 
@@ -303,7 +304,7 @@ private:
 		}
 		catch (const std::exception& e)
 		{
-			m_console.message("live: periodic save failed: " + shortError(e), true);
+			m_console.message("live: periodic save failed: " + oneLineError(e), true);
 		}
 	}
 
@@ -322,8 +323,8 @@ private:
 		m_console.message(
 			mrpt::format(
 				"lrgc-slam: live run %s: %llu scans received (%llu objects captured), %zu "
-				"mapped, %zu skipped to keep up, %zu keyframes, %zu loop closures; outputs in "
-				"%s",
+				"mapped, %zu skipped to keep up, %zu keyframes, %zu loop-closure links (not a "
+				"count of loops); outputs in %s",
 				m_fatal.isSet() ? "failed" : "stopped",
 				static_cast<unsigned long long>(m_queues.scansPushed()),
 				static_cast<unsigned long long>(m_capture.objects()),

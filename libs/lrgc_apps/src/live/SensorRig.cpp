@@ -30,12 +30,12 @@ TSensorSection checkSection(const mrpt::config::CConfigFileBase& ini, const std:
 	s.section = section;
 	s.driver = ini.read_string(section, "driver", "");
 	if (s.driver.empty())
-		throw CUsageError(where +
+		throw CSetupError(where +
 						  ": no `driver` key (every section but [global] is a sensor, as for "
 						  "rawlog-grabber)");
 	const auto sensor = createDriver(s.driver);
 	if (!sensor)
-		throw CUsageError(where + ": driver '" + s.driver +
+		throw CSetupError(where + ": driver '" + s.driver +
 						  "' is not a sensor class of mrpt::hwdrivers (for example CLMS100Eth, "
 						  "CSickLaserSerial, CSickLaserUSB, CHokuyoURG, CRoboPeakLidar)");
 	silenceDriverConsole(*sensor);
@@ -45,12 +45,12 @@ TSensorSection checkSection(const mrpt::config::CConfigFileBase& ini, const std:
 	}
 	catch (const std::exception& e)
 	{
-		throw CUsageError(where + " (" + s.driver + "): " + shortError(e));
+		throw CSetupError(where + " (" + s.driver + "): " + oneLineError(e));
 	}
 	s.label = sensor->getSensorLabel();
 	s.processRate = sensor->getProcessRate();
 	if (!(s.processRate > 0))
-		throw CUsageError(where + ": process_rate must be set to a rate > 0 [Hz]");
+		throw CSetupError(where + ": process_rate must be set to a rate > 0 [Hz]");
 	return s;
 }
 }  // namespace
@@ -80,60 +80,13 @@ void routeDriverLog(mrpt::hwdrivers::CGenericSensor& sensor,
 	log->logRegisterCallback(
 		[sink = std::move(sink)](std::string_view msg, const mrpt::system::VerbosityLevel,
 								 std::string_view, const mrpt::Clock::time_point)
-		{ sink(shortText(std::string(msg))); });
-}
-
-namespace
-{
-/** "[12 ] ..." lines of an MRPT call stack. */
-bool isStackFrame(const std::string& line)
-{
-	if (line.empty() || line[0] != '[') return false;
-	size_t i = 1;
-	while (i < line.size() && std::isdigit(static_cast<unsigned char>(line[i]))) ++i;
-	return i > 1 && i < line.size() && (line[i] == ' ' || line[i] == ']');
-}
-}  // namespace
-
-std::string shortText(const std::string& text)
-{
-	// MRPT exception texts: "==== MRPT exception ====", "Message: ...", "Location: ...",
-	// "Call stack backtrace:", "[0 ] ..." lines; nested ones repeat the block. Keep a leading
-	// line of plain text and every message, on one line.
-	std::vector<std::string> parts;
-	std::istringstream in(text);
-	bool first = true;
-	for (std::string line; std::getline(in, line); first = false)
-	{
-		const auto b = line.find_first_not_of(" \t");
-		if (b == std::string::npos) continue;
-		line = line.substr(b);
-		while (!line.empty() && (line.back() == ' ' || line.back() == '\r')) line.pop_back();
-		if (line.rfind("Message:", 0) == 0)
-		{
-			line = line.substr(8);
-			line = line.substr(std::min(line.size(), line.find_first_not_of(' ')));
-		}
-		else if (!first || line.rfind("====", 0) == 0 || line.rfind("Location:", 0) == 0 ||
-				 line.rfind("Call stack", 0) == 0 || isStackFrame(line))
-			continue;
-		if (!line.empty() && std::find(parts.begin(), parts.end(), line) == parts.end())
-			parts.push_back(line);
-	}
-	std::string out;
-	for (const auto& p : parts) out += (out.empty() ? "" : " ") + p;
-	return out.empty() ? text : out;
-}
-
-std::string shortError(const std::exception& e)
-{
-	return shortText(mrpt::exception_to_str(e));
+		{ sink(oneLineText(std::string(msg))); });
 }
 
 TSensorRig loadSensorRig(const std::string& iniPath)
 {
 	if (!std::filesystem::is_regular_file(iniPath))
-		throw CUsageError("sensors file '" + iniPath + "' does not exist");
+		throw CSetupError("sensors file '" + iniPath + "' does not exist");
 	const mrpt::config::CConfigFile ini(iniPath);
 	TSensorRig rig;
 	rig.iniPath = iniPath;
@@ -163,7 +116,7 @@ TSensorRig loadSensorRig(const std::string& iniPath)
 		rig.sensors.push_back(checkSection(ini, iniPath, section));
 	}
 	if (rig.sensors.empty())
-		throw CUsageError(iniPath + ": no sensor section (a section with a `driver` key)");
+		throw CSetupError(iniPath + ": no sensor section (a section with a `driver` key)");
 	return rig;
 }
 

@@ -91,28 +91,3 @@ TEST(SensorRig, ProblemsAreUsageErrorsNamingFileSectionAndKey)
 			  std::string::npos);
 	EXPECT_THROW(loadSensorRig("/nonexistent/sensors.ini"), CUsageError);
 }
-
-TEST(SensorRig, ShortTextKeepsTheMessagesOfAnMrptException)
-{
-	try
-	{
-		try
-		{
-			THROW_EXCEPTION("inner problem: port busy");
-		}
-		catch (const std::exception& e)
-		{
-			THROW_EXCEPTION_FMT("outer: cannot start (%s)", "LASER");
-		}
-	}
-	catch (const std::exception& e)
-	{
-		const std::string s = shortError(e);
-		EXPECT_NE(s.find("outer: cannot start (LASER)"), std::string::npos) << s;
-		EXPECT_EQ(s.find("Call stack"), std::string::npos) << s;
-		EXPECT_EQ(s.find('\n'), std::string::npos) << s;
-	}
-	EXPECT_EQ(shortText("[CLMS100ETH] ERROR:\n==== MRPT exception ====\nMessage:  refused.\n"
-						"Location: a.cpp:1\nCall stack backtrace:\n[0 ] 0x1\n"),
-			  "[CLMS100ETH] ERROR: refused.");
-}

@@ -134,7 +134,7 @@ void CSensorSupervisor::threadMain()
 		}
 		catch (const std::exception& e)
 		{
-			fail("cannot start: " + shortError(e), true);
+			fail("cannot start: " + oneLineError(e), true);
 			if (!waitFor(m_backoff)) break;
 			m_backoff = std::min(2 * m_backoff, m_params.retryMaxSeconds);
 			continue;
@@ -234,7 +234,7 @@ std::optional<std::string> CSensorSupervisor::runDriver(mrpt::hwdrivers::CGeneri
 		catch (const std::exception& e)
 		{
 			setInCall(false);
-			return "failed: " + shortError(e);
+			return "failed: " + oneLineError(e);
 		}
 		size_t valid = 0;
 		handOver(objects, valid);

@@ -96,8 +96,7 @@ bool isBlankOrComment(const std::string& line);
 void forEachDataLine(const std::string& text,
 					 const std::function<void(const std::string& line, std::size_t lineNo)>& f);
 
-/** The message of an exception for a user: for MRPT exceptions the "Message:" text without
- * the location and call stack, otherwise what(). */
+/** The message of an exception for a user, on one line (oneLineError, ErrorText.h). */
 std::string userMessage(const std::exception& e);
 
 /** Whole file as text; throws naming the file if it cannot be read. */

@@ -11,6 +11,7 @@
  */
 #pragma once
 
+#include <lrgc_apps/ErrorText.h>
 #include <mrpt/hwdrivers/CGenericSensor.h>
 
 #include <functional>
@@ -47,10 +48,5 @@ void routeDriverLog(mrpt::hwdrivers::CGenericSensor& sensor,
 					std::function<void(const std::string&)> sink);
 /** Only the console part of routeDriverLog(): console output off, level warning. */
 void silenceDriverConsole(mrpt::hwdrivers::CGenericSensor& sensor);
-
-/** An MRPT exception or log text on one line: a leading plain line and every "Message:",
- * without locations and call stacks. */
-std::string shortText(const std::string& text);
-std::string shortError(const std::exception& e);
 
 }  // namespace lrgc::apps

@@ -1,0 +1,236 @@
+/* End to end: what lrgc-slam says. Every error is one line (program, file or option, what is
+ * wrong, what to do) without MRPT's banner and call stack, which --verbose adds; a config is
+ * never written over an existing file without --force, nor onto a folder; --help lists every
+ * option; an interrupted run shows how far it got, not 100 %. (What the loop count counts:
+ * SenaRun.ConsoleSaysWhatTheCountsCount, slam_outputs_test.cpp.) */
+#include <gtest/gtest.h>
+
+#include <signal.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <thread>
+
+#include "app_runner.h"
+#include "child_process.h"
+#include "test_data.h"
+
+namespace fs = std::filesystem;
+using namespace lrgc::test;
+
+namespace
+{
+size_t lineCount(const std::string& s) { return std::count(s.begin(), s.end(), '\n'); }
+
+// What MRPT's exception texts look like; none of it may reach a user without --verbose.
+void expectNoBannerNorBacktrace(const std::string& output)
+{
+	for (const char* noise : {"====", "exception", "Call stack", "Location:", "Message:"})
+		EXPECT_EQ(output.find(noise), std::string::npos) << noise << " in:\n" << output;
+}
+
+std::set<std::string> namesIn(const std::string& dir)
+{
+	std::set<std::string> names;
+	for (const auto& e : fs::directory_iterator(dir)) names.insert(e.path().filename().string());
+	return names;
+}
+
+// Whether `pid` has a handler installed for `sig` (the SigCgt mask of /proc/PID/status).
+bool catchesSignal(pid_t pid, int sig)
+{
+	std::ifstream status("/proc/" + std::to_string(pid) + "/status");
+	for (std::string line; std::getline(status, line);)
+		if (line.rfind("SigCgt:", 0) == 0)
+			return (std::stoull(line.substr(7), nullptr, 16) >> (sig - 1)) & 1ULL;
+	return false;
+}
+}  // namespace
+
+TEST(SlamMessages, ConfigErrorsAreOneLineNamingFileKeyAndWhatToDo)
+{
+	const std::string dir = makeTempDir("msg_config");
+	struct TCase
+	{
+		std::string ini;
+		std::vector<std::string> expected;
+	};
+	for (const TCase& c :
+		 {TCase{"[MapBuilder]\nkeyframe_distanse = 0.5\n",
+				{"lrgc-slam: " + dir + "/bad.ini: Unknown key 'keyframe_distanse' in section "
+				 "[MapBuilder] (did you mean 'keyframe_distance'?)",
+				 "--write-default-config"}},
+		  TCase{"[ScanMatcherr]\n", {dir + "/bad.ini: ", "ScanMatcherr", "--write-default-config"}},
+		  TCase{"[MapBuilder]\nkeyframe_distance = abc\n",
+				{dir + "/bad.ini: Invalid value for [MapBuilder] keyframe_distance: 'abc' is not "
+					   "a number"}}})
+	{
+		writeTextFile(dir + "/bad.ini", c.ini);
+		// The configuration is read before the log is opened: the input need not exist.
+		const auto r = runProcess(binaryPath("lrgc-slam"), {"--input", dir + "/none.rawlog",
+															"--config", dir + "/bad.ini",
+															"--out", dir + "/out"});
+		EXPECT_EQ(r.exitCode, 2) << r.output;
+		EXPECT_EQ(lineCount(r.output), 1u) << r.output;
+		for (const auto& text : c.expected)
+			EXPECT_NE(r.output.find(text), std::string::npos) << text << " in:\n" << r.output;
+		expectNoBannerNorBacktrace(r.output);
+	}
+	const auto r = runProcess(binaryPath("lrgc-slam"), {"--input", dir + "/none.rawlog",
+														"--config", dir + "/missing.ini",
+														"--out", dir + "/out"});
+	EXPECT_EQ(r.exitCode, 2) << r.output;
+	EXPECT_EQ(lineCount(r.output), 1u) << r.output;
+	EXPECT_NE(r.output.find("--config '" + dir + "/missing.ini': no such file"),
+			  std::string::npos)
+		<< r.output;
+	EXPECT_FALSE(fs::exists(dir + "/out"));
+}
+
+TEST(SlamMessages, VerboseAddsTheDetails)
+{
+	const std::string dir = makeTempDir("msg_verbose");
+	writeTextFile(dir + "/bad.ini", "[MapBuilder]\nkeyframe_distanse = 0.5\n");
+	const std::vector<std::string> args = {"--input", dir + "/none.rawlog", "--config",
+										   dir + "/bad.ini", "--out", dir + "/out"};
+	const auto plain = runProcess(binaryPath("lrgc-slam"), args);
+	auto verboseArgs = args;
+	verboseArgs.push_back("--verbose");
+	const auto verbose = runProcess(binaryPath("lrgc-slam"), verboseArgs);
+	EXPECT_EQ(verbose.exitCode, 2) << verbose.output;
+	// The same first line, then MRPT's account: message, source location, call stack.
+	EXPECT_EQ(verbose.output.substr(0, plain.output.size()), plain.output) << verbose.output;
+	EXPECT_NE(verbose.output.find("==== MRPT exception ===="), std::string::npos)
+		<< verbose.output;
+	EXPECT_NE(verbose.output.find("Call stack backtrace"), std::string::npos) << verbose.output;
+	EXPECT_NE(verbose.output.find("params_io.cpp"), std::string::npos) << verbose.output;
+}
+
+TEST(SlamMessages, InputErrorsAreOneLineWithoutBanner)
+{
+	const std::string dir = makeTempDir("msg_input");
+	auto r = runProcess(binaryPath("lrgc-slam"),
+						{"--input", dir + "/nope.rawlog", "--out", dir + "/out"});
+	EXPECT_EQ(r.exitCode, 1) << r.output;
+	EXPECT_EQ(r.output, "lrgc-slam: " + dir + "/nope.rawlog: cannot open: no such file\n");
+
+	// A rawlog cut short: the run stops at the damage, saves what it mapped, and says where in
+	// one line, in the console and in stats.json.
+	LRGC_SKIP_IF_MISSING(senaRawlogPath());
+	const std::string plain = dir + "/sena.rawlog";
+	ASSERT_EQ(runProcess("/bin/sh", {"-c", "gzip -dc < \"$0\" > \"$1\"", senaRawlogPath(), plain})
+				  .exitCode,
+			  0);
+	fs::resize_file(plain, fs::file_size(plain) / 2);
+	r = runProcess(binaryPath("lrgc-slam"), {"--input", plain, "--out", dir + "/out", "--quiet"});
+	EXPECT_EQ(r.exitCode, 1) << r.output;
+	EXPECT_NE(r.output.find("lrgc-slam: input error: " + plain + ": byte "), std::string::npos)
+		<< r.output;
+	expectNoBannerNorBacktrace(r.output);
+	const std::string stats = readTextFile(dir + "/out/stats.json");
+	EXPECT_NE(stats.find("\"status\": \"input error: " + plain + ": byte "), std::string::npos)
+		<< stats;
+	expectNoBannerNorBacktrace(stats);
+}
+
+TEST(SlamMessages, WriteDefaultConfigOntoAFolderIsRefusedInOneLine)
+{
+	const std::string dir = makeTempDir("msg_config_folder");
+	fs::create_directory(dir + "/conf");
+	const auto before = namesIn(dir);
+	for (const std::string& target : {dir + "/conf", dir + "/conf/"})
+	{
+		for (const bool force : {false, true})
+		{
+			std::vector<std::string> args = {"--write-default-config", target};
+			if (force) args.push_back("--force");
+			const auto r = runProcess(binaryPath("lrgc-slam"), args);
+			EXPECT_EQ(r.exitCode, 2) << r.output;
+			EXPECT_EQ(lineCount(r.output), 1u) << r.output;
+			EXPECT_NE(r.output.find("is a directory; name a file"), std::string::npos)
+				<< r.output;
+			expectNoBannerNorBacktrace(r.output);
+		}
+	}
+	// Nothing written beside it (the temporary file used to land in the folder's parent).
+	EXPECT_EQ(namesIn(dir), before);
+	EXPECT_TRUE(fs::is_empty(dir + "/conf"));
+
+	const auto r = runProcess(binaryPath("lrgc-slam"),
+							  {"--write-default-config", dir + "/missing/lrgc.ini"});
+	EXPECT_EQ(r.exitCode, 2) << r.output;
+	EXPECT_EQ(lineCount(r.output), 1u) << r.output;
+	EXPECT_NE(r.output.find("'" + dir + "/missing' is not a directory"), std::string::npos)
+		<< r.output;
+}
+
+TEST(SlamMessages, WriteDefaultConfigReplacesAFileOnlyWithForce)
+{
+	const std::string dir = makeTempDir("msg_config_force");
+	const std::string ini = dir + "/my.ini";
+	const std::string tuned = "[MapBuilder]\nkeyframe_distance = 0.4\n";
+	writeTextFile(ini, tuned);
+	auto r = runProcess(binaryPath("lrgc-slam"), {"--write-default-config", ini});
+	EXPECT_EQ(r.exitCode, 2) << r.output;
+	EXPECT_EQ(r.output, "lrgc-slam: --write-default-config '" + ini +
+							"': the file exists; add --force to replace it, or name another "
+							"file\n");
+	EXPECT_EQ(readTextFile(ini), tuned);
+
+	r = runProcess(binaryPath("lrgc-slam"), {"--write-default-config", ini, "--force"});
+	EXPECT_EQ(r.exitCode, 0) << r.output;
+	EXPECT_EQ(readTextFile(ini),
+			  readTextFile(std::string(LRGC_SOURCE_DIR) + "/share/lrgc/lrgc-default.ini"));
+	EXPECT_EQ(namesIn(dir), std::set<std::string>{"my.ini"});
+
+	// --force is for the config alone: it does not license anything in a run.
+	r = runProcess(binaryPath("lrgc-slam"),
+				   {"--input", dir + "/none.rawlog", "--out", dir + "/out", "--force"});
+	EXPECT_EQ(r.exitCode, 2) << r.output;
+	EXPECT_EQ(lineCount(r.output), 1u) << r.output;
+}
+
+TEST(SlamMessages, UsageErrorsAreOneLineAndHelpListsEveryOption)
+{
+	auto r = runProcess(binaryPath("lrgc-slam"), {"--inptu", "x"});
+	EXPECT_EQ(r.exitCode, 2) << r.output;
+	EXPECT_EQ(r.output,
+			  "lrgc-slam: unknown argument '--inptu'; lrgc-slam --help lists the options\n");
+
+	r = runProcess(binaryPath("lrgc-slam"), {"--help"});
+	EXPECT_EQ(r.exitCode, 0) << r.output;
+	for (const char* option : {"--input", "--config", "--out", "--quiet", "--save-rawlog",
+							   "--live", "--write-default-config", "--force", "--verbose",
+							   "--help", "--version"})
+		EXPECT_NE(r.output.find(option), std::string::npos) << option << " not in:\n" << r.output;
+
+	r = runProcess(binaryPath("lrgc-slam"), {"--version"});
+	EXPECT_EQ(r.exitCode, 0) << r.output;
+	EXPECT_EQ(r.output.rfind("lrgc-slam ", 0), 0u) << r.output;
+	EXPECT_EQ(lineCount(r.output), 1u) << r.output;
+}
+
+TEST(SlamMessages, InterruptedRunShowsHowFarItGot)
+{
+	LRGC_SKIP_IF_MISSING(senaRawlogPath());
+	const std::string dir = makeTempDir("msg_interrupted_" + std::to_string(::getpid()));
+	CChildProcess app(binaryPath("lrgc-slam"),
+					  {"--input", senaRawlogPath(), "--out", dir + "/out"}, dir + "/console.txt");
+	// SIGINT once the run takes it (the handler is installed after the log is opened).
+	const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+	while (!catchesSignal(app.pid(), SIGINT) && std::chrono::steady_clock::now() < deadline)
+		std::this_thread::sleep_for(std::chrono::milliseconds(1));
+	ASSERT_TRUE(catchesSignal(app.pid(), SIGINT)) << app.output();
+	app.signal(SIGINT);
+	const auto status = app.waitExit(120);
+	ASSERT_TRUE(status.has_value());
+	const std::string out = app.output();
+	ASSERT_EQ(*status, 130) << "the run ended before the signal reached it?\n" << out;
+	EXPECT_EQ(out.find("100.0%"), std::string::npos) << out;
+	EXPECT_NE(out.find("% "), std::string::npos) << out;
+	EXPECT_NE(out.find("interrupted"), std::string::npos) << out;
+}
