@@ -14,6 +14,10 @@ CLocalRegistration::CLocalRegistration(
 	const TPoseGraphOptimizerParams& optimizer)
 	: m_params(p), m_matcherParams(matcher), m_optimizer(optimizer)
 {
+	// [LocalRegistration] max_free_space_violation (0.3) replaces [ScanMatcher]'s (0.15) for
+	// every match of this stage (scan to window, pairwise): with an odometry prior a wrong
+	// match is unlikely, and people and glass in the window's scans would make the strict
+	// value reject good matches. Loop closing and revisits keep [ScanMatcher]'s.
 	m_matcherParams.maxFreeSpaceViolation = p.max_free_space_violation;
 	m_matcher = CScanMatcher(m_matcherParams);
 }
