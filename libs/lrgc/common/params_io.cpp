@@ -1,5 +1,7 @@
 #include <lrgc/common/params_io.h>
 
+#include <mrpt/core/bits_math.h>
+
 #include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/core/exceptions.h>
 #include <mrpt/system/string_utils.h>
@@ -79,6 +81,12 @@ double readDouble(const mrpt::config::CConfigFileBase& c, const std::string& sec
 		throwBadValue(section, key, *raw,
 					  "a number (expected a decimal number such as 0.5 or 1e-3)");
 	return *x;
+}
+
+double readDegrees(const mrpt::config::CConfigFileBase& c, const std::string& section,
+				   const std::string& key, double currentRad)
+{
+	return mrpt::DEG2RAD(readDouble(c, section, key, mrpt::RAD2DEG(currentRad)));
 }
 
 int readInt(const mrpt::config::CConfigFileBase& c, const std::string& section,

@@ -36,6 +36,10 @@ void rejectUnknownKeys(
 /** A finite decimal number ("0.5", "-2", "1e-3"; not "0,5", "inf", "abc"). */
 double readDouble(const mrpt::config::CConfigFileBase& c, const std::string& section,
 				  const std::string& key, double current);
+/** An angle whose key is in degrees (by convention its name ends in _deg), kept in radians:
+ * `current` and the result are [rad]. */
+double readDegrees(const mrpt::config::CConfigFileBase& c, const std::string& section,
+				   const std::string& key, double currentRad);
 /** A whole number that fits an int ("7", "-1"; not "2.5", "7.0", "1e3"). */
 int readInt(const mrpt::config::CConfigFileBase& c, const std::string& section,
 			const std::string& key, int current);

@@ -13,10 +13,8 @@ void TLocalRegistrationParams::loadFromConfigFile(
 	max_pairwise_links = readCount(c, s, "max_pairwise_links", max_pairwise_links);
 	min_link_inliers = readDouble(c, s, "min_link_inliers", min_link_inliers);
 	glitch_gate_chi2 = readDouble(c, s, "glitch_gate_chi2", glitch_gate_chi2);
-	wide_search_angle = mrpt::DEG2RAD(
-		readDouble(c, s, "wide_search_angle_deg", mrpt::RAD2DEG(wide_search_angle)));
-	glitch_min_turn =
-		mrpt::DEG2RAD(readDouble(c, s, "glitch_min_turn_deg", mrpt::RAD2DEG(glitch_min_turn)));
+	wide_search_angle = readDegrees(c, s, "wide_search_angle_deg", wide_search_angle);
+	glitch_min_turn = readDegrees(c, s, "glitch_min_turn_deg", glitch_min_turn);
 	glitch_min_gap = readDouble(c, s, "glitch_min_gap", glitch_min_gap);
 	requireParam(glitch_min_gap > 0, s, "glitch_min_gap", "must be > 0");
 	max_free_space_violation =

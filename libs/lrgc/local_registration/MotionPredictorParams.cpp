@@ -11,8 +11,7 @@ void TMotionPredictorParams::loadFromConfigFile(
 	rejectUnknownKeys(TMotionPredictorParams(), c, s);
 	use_odometry = readBool(c, s, "use_odometry", use_odometry);
 	sigma_floor_xy = readDouble(c, s, "sigma_floor_xy", sigma_floor_xy);
-	sigma_floor_phi =
-		mrpt::DEG2RAD(readDouble(c, s, "sigma_floor_phi_deg", mrpt::RAD2DEG(sigma_floor_phi)));
+	sigma_floor_phi = readDegrees(c, s, "sigma_floor_phi_deg", sigma_floor_phi);
 	k_xy_per_m = readDouble(c, s, "k_xy_per_m", k_xy_per_m);
 	k_xy_per_rad = readDouble(c, s, "k_xy_per_rad", k_xy_per_rad);
 	k_phi_per_m = readDouble(c, s, "k_phi_per_m", k_phi_per_m);
@@ -20,8 +19,7 @@ void TMotionPredictorParams::loadFromConfigFile(
 	noise_correlation_length =
 		readDouble(c, s, "noise_correlation_length", noise_correlation_length);
 	cv_sigma_xy = readDouble(c, s, "cv_sigma_xy", cv_sigma_xy);
-	cv_sigma_phi =
-		mrpt::DEG2RAD(readDouble(c, s, "cv_sigma_phi_deg", mrpt::RAD2DEG(cv_sigma_phi)));
+	cv_sigma_phi = readDegrees(c, s, "cv_sigma_phi_deg", cv_sigma_phi);
 	for (const auto& [key, v] :
 		 {std::pair{"sigma_floor_xy", sigma_floor_xy}, {"sigma_floor_phi_deg", sigma_floor_phi},
 		  {"cv_sigma_xy", cv_sigma_xy}, {"cv_sigma_phi_deg", cv_sigma_phi},

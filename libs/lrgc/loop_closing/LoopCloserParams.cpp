@@ -16,8 +16,7 @@ void TLoopCloserParams::loadFromConfigFile(
 	overlap_radius = readDouble(c, s, "overlap_radius", overlap_radius);
 	window_sigmas = readDouble(c, s, "window_sigmas", window_sigmas);
 	max_window_xy = readDouble(c, s, "max_window_xy", max_window_xy);
-	max_window_theta = mrpt::DEG2RAD(
-		readDouble(c, s, "max_window_theta_deg", mrpt::RAD2DEG(max_window_theta)));
+	max_window_theta = readDegrees(c, s, "max_window_theta_deg", max_window_theta);
 	confirm_above_sigma = readDouble(c, s, "confirm_above_sigma", confirm_above_sigma);
 	requireParam(confirm_above_sigma >= 0, s, "confirm_above_sigma", "must be >= 0");
 	consistent_chi2 = readDouble(c, s, "consistent_chi2", consistent_chi2);

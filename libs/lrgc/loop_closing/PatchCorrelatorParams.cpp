@@ -18,14 +18,13 @@ void TPatchCorrelatorParams::loadFromConfigFile(const mrpt::config::CConfigFileB
 	rejectUnknownKeys(*this, c, s);
 	resolution = readDouble(c, s, "resolution", resolution);
 	blurSigma = readDouble(c, s, "blur_sigma", blurSigma);
-	angularStep = DEG2RAD(readDouble(c, s, "angular_step_deg", RAD2DEG(angularStep)));
+	angularStep = readDegrees(c, s, "angular_step_deg", angularStep);
 	minScore = readDouble(c, s, "min_score", minScore);
 	minAmbiguity = readDouble(c, s, "min_ambiguity", minAmbiguity);
 	maxStdXY = readDouble(c, s, "max_std_xy", maxStdXY);
-	maxStdTheta = DEG2RAD(readDouble(c, s, "max_std_theta_deg", RAD2DEG(maxStdTheta)));
+	maxStdTheta = readDegrees(c, s, "max_std_theta_deg", maxStdTheta);
 	clusterRadiusXY = readDouble(c, s, "cluster_radius", clusterRadiusXY);
-	clusterRadiusTheta =
-		DEG2RAD(readDouble(c, s, "cluster_radius_deg", RAD2DEG(clusterRadiusTheta)));
+	clusterRadiusTheta = readDegrees(c, s, "cluster_radius_deg", clusterRadiusTheta);
 	clusterScoreScale = readDouble(c, s, "cluster_score_scale", clusterScoreScale);
 	validate(s);
 }

@@ -10,15 +10,13 @@ void TRevisitLinkerParams::loadFromConfigFile(
 	rejectUnknownKeys(TRevisitLinkerParams(), c, s);
 	enabled = readBool(c, s, "enabled", enabled);
 	radius = readDouble(c, s, "radius", radius);
-	max_heading =
-		mrpt::DEG2RAD(readDouble(c, s, "max_heading_deg", mrpt::RAD2DEG(max_heading)));
+	max_heading = readDegrees(c, s, "max_heading_deg", max_heading);
 	min_index_gap = readCount(c, s, "min_index_gap", min_index_gap);
 	stride = readCount(c, s, "stride", stride);
 	min_inliers = readDouble(c, s, "min_inliers", min_inliers);
 	gate_chi2 = readDouble(c, s, "gate_chi2", gate_chi2);
 	prior_std_xy = readDouble(c, s, "prior_std_xy", prior_std_xy);
-	prior_std_phi =
-		mrpt::DEG2RAD(readDouble(c, s, "prior_std_phi_deg", mrpt::RAD2DEG(prior_std_phi)));
+	prior_std_phi = readDegrees(c, s, "prior_std_phi_deg", prior_std_phi);
 	requireParam(radius > 0, s, "radius", "must be > 0");
 	requireParam(
 		max_heading > 0 && max_heading <= M_PI, s, "max_heading_deg", "must be in (0, 180]");

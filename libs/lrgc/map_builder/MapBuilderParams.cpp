@@ -15,8 +15,7 @@ void TMapBuilderParams::loadFromConfigFile(
 {
 	rejectUnknownKeys(TMapBuilderParams(), c, s);
 	keyframe_distance = readDouble(c, s, "keyframe_distance", keyframe_distance);
-	keyframe_angle =
-		mrpt::DEG2RAD(readDouble(c, s, "keyframe_angle_deg", mrpt::RAD2DEG(keyframe_angle)));
+	keyframe_angle = readDegrees(c, s, "keyframe_angle_deg", keyframe_angle);
 	min_scan_points = readCount(c, s, "min_scan_points", min_scan_points);
 	grid_resolution = readDouble(c, s, "grid_resolution", grid_resolution);
 	loop_closing = readBool(c, s, "loop_closing", loop_closing);

@@ -12,7 +12,7 @@ void TLinkNoise::load(
 {
 	const std::string xyKey = prefix + "link_floor_xy", phiKey = prefix + "link_floor_phi_deg";
 	floorXY = readDouble(c, s, xyKey, floorXY);
-	floorPhi = mrpt::DEG2RAD(readDouble(c, s, phiKey, mrpt::RAD2DEG(floorPhi)));
+	floorPhi = readDegrees(c, s, phiKey, floorPhi);
 	requireParam(floorXY >= 0, s, xyKey, "must be >= 0");
 	requireParam(floorPhi >= 0, s, phiKey, "must be >= 0");
 }
