@@ -9,6 +9,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -138,6 +139,20 @@ void checkOutputDirectory(const std::string& outDir)
 						  std::strerror(errno) + "); name a directory you may write into");
 	::close(fd);
 	::unlink(probe.c_str());
+}
+
+void finishRunSummary(TRunSummary& run, const CRunClock& clock, size_t warnings)
+{
+	if (!run.latencyStamp.empty())
+	{
+		const auto [lo, hi] =
+			std::minmax_element(run.latencyStamp.begin(), run.latencyStamp.end());
+		run.dataDurationSeconds = *hi - *lo;
+	}
+	run.warnings = warnings;
+	run.wallSeconds = clock.wallSeconds();
+	run.cpuSeconds = clock.cpuSeconds();
+	run.peakRssMiB = CRunClock::peakRssMiB();
 }
 
 void writeRunOutputs(

@@ -123,16 +123,7 @@ int CSlamApp::runOffline(const TSlamCommandLine& cl)
 		run.status = nothingToMap(*reader, builder);
 		exitCode = kExitInputError;
 	}
-	if (!run.latencyStamp.empty())
-	{
-		const auto [lo, hi] =
-			std::minmax_element(run.latencyStamp.begin(), run.latencyStamp.end());
-		run.dataDurationSeconds = *hi - *lo;
-	}
-	run.warnings = m_warningsTotal;
-	run.wallSeconds = clock.wallSeconds();
-	run.cpuSeconds = clock.cpuSeconds();
-	run.peakRssMiB = CRunClock::peakRssMiB();
+	finishRunSummary(run, clock, m_warningsTotal);
 	writeRunOutputs(builder, cl.outDir, run);
 	reportEnd(cl, builder, run, exitCode);
 	return exitCode;

@@ -28,6 +28,12 @@ struct TRunSummary
 	std::vector<double> latencyStamp;  //!< the scan's timestamp [s]
 };
 
+class CRunClock;
+
+/** The run's closing figures, just before writeRunOutputs(): data duration (last minus first
+ * scan timestamp), warnings, wall and CPU time so far, peak RSS. */
+void finishRunSummary(TRunSummary& run, const CRunClock& clock, size_t warnings);
+
 /** Throws CSetupError, before anything is run, unless `outDir` is a directory this process
  * may write into or can be made one (its nearest existing ancestor is such a directory): an
  * existing file, /dev/null or a read-only place is found before the first scan, not after the

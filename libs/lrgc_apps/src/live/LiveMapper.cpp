@@ -122,16 +122,7 @@ void CLiveMapper::finish()
 void CLiveMapper::save(const std::string& status)
 {
 	m_run.status = status;
-	if (!m_run.latencyStamp.empty())
-	{
-		const auto [lo, hi] =
-			std::minmax_element(m_run.latencyStamp.begin(), m_run.latencyStamp.end());
-		m_run.dataDurationSeconds = *hi - *lo;
-	}
-	m_run.warnings = m_warningsTotal;
-	m_run.wallSeconds = m_clock.wallSeconds();
-	m_run.cpuSeconds = m_clock.cpuSeconds();
-	m_run.peakRssMiB = CRunClock::peakRssMiB();
+	finishRunSummary(m_run, m_clock, m_warningsTotal);
 	writeRunOutputs(m_builder, m_outDir, m_run);
 	++m_counts.saves;
 }
