@@ -26,7 +26,8 @@ struct TLoopCloserParams : public mrpt::config::CLoadableOptions
 	 * its link is added when a later match, from a patch that shares no keyframe with it,
 	 * agrees with it (both imply the same pose of the newer node). With so large an
 	 * uncertainty the back-end cannot tell a false link from a true one (the graph absorbs
-	 * either), and a large window holds look-alikes. 0: never hold. */
+	 * either), and a large window holds look-alikes. A held match that finds no agreeing one
+	 * within 2 old_map_exclusion keyframes is dropped. 0: never hold. */
 	double confirm_above_sigma = 0;
 	double consistent_chi2 = 11.34;  //!< [chi2, 3 dof] a link agreeing this well needs no solve
 	size_t check_every = 1;  //!< look for a loop every this many keyframes
