@@ -123,7 +123,7 @@ auto CLoopCloser::gate(const CPoseGraph& graph, size_t newest) const -> std::opt
 	return c;
 }
 
-std::optional<TLoopClosure> CLoopCloser::process(CPoseGraph& graph, const TKeyframes& keyframes)
+std::optional<TLoopClosure> CLoopCloser::process(CPoseGraph& graph, const TScanRefs& scans)
 {
 	m_lastRejection.clear();
 	if (++m_keyframesSinceCheck < m_params.check_every) return std::nullopt;
@@ -159,7 +159,7 @@ std::optional<TLoopClosure> CLoopCloser::process(CPoseGraph& graph, const TKeyfr
 	for (size_t k = patchFirst; k <= newest; ++k)
 	{
 		const CPointTransform kInNewest(between(newestInMap, graph.pose(k)));
-		for (const auto& p : keyframes[k].scan.points)
+		for (const auto& p : scans[k]->points)
 		{
 			const Eigen::Vector2d q = kInNewest(p);
 			const double range = q.norm();
@@ -173,7 +173,7 @@ std::optional<TLoopClosure> CLoopCloser::process(CPoseGraph& graph, const TKeyfr
 	for (const size_t j : candidates->nodes)
 	{
 		const CPointTransform toMap(graph.pose(j));
-		for (const auto& p : keyframes[j].scan.points)
+		for (const auto& p : scans[j]->points)
 			if (Eigen::Vector2d q = toMap(p); (q - centre).squaredNorm() <= reach * reach)
 				oldMap.push_back(q);
 	}
@@ -209,7 +209,7 @@ std::optional<TLoopClosure> CLoopCloser::process(CPoseGraph& graph, const TKeyfr
 	for (const size_t j : candidates->nodes)
 	{
 		if (translationNorm(between(graph.pose(j), corrected)) > 2 * m_params.overlap_radius) continue;
-		refScans.push_back(keyframes[j].scan);
+		refScans.push_back(*scans[j]);
 		refInOld.push_back(between(oldInMap, graph.pose(j)));
 	}
 	// Only the old points the new scan can reach at the correlated pose (a few cm off):
@@ -217,12 +217,12 @@ std::optional<TLoopClosure> CLoopCloser::process(CPoseGraph& graph, const TKeyfr
 	const TPose2D guessInOld = between(oldInMap, corrected);
 	std::vector<Eigen::Vector2d> scanInOld;
 	const CPointTransform toOld(guessInOld);
-	for (const auto& p : keyframes[newest].scan.points) scanInOld.push_back(toOld(p));
+	for (const auto& p : scans[newest]->points) scanInOld.push_back(toOld(p));
 	const double cropMargin =
 		m_matcherParams.maxCorrespondenceDist_m + 4 * m_matcherParams.normalRadius_m + 0.2;
 	const auto match = m_matcher.match(
 		CReferenceCloud::fromScansNear(refScans, refInOld, m_matcherParams, scanInOld, cropMargin),
-		keyframes[newest].scan, guessInOld);
+		*scans[newest], guessInOld);
 	if (!match)
 	{
 		++m_stats.rejectedByMatch;
@@ -283,7 +283,7 @@ std::optional<TLoopClosure> CLoopCloser::process(CPoseGraph& graph, const TKeyfr
 			return std::nullopt;
 		}
 		lc.optimized = true;
-		lc.rematchLinks = rematch(graph, keyframes, *candidates, patchFirst, newest);
+		lc.rematchLinks = rematch(graph, scans, *candidates, patchFirst, newest);
 		if (lc.rematchLinks > 0) m_optimizer.optimize(graph, 0), ++m_stats.optimizations;
 	}
 	++m_stats.accepted;
@@ -296,7 +296,7 @@ std::optional<TLoopClosure> CLoopCloser::process(CPoseGraph& graph, const TKeyfr
 // poses. Each patch keyframe is matched against its nearest old candidate, now that the
 // poses are topologically correct.
 size_t CLoopCloser::rematch(
-	CPoseGraph& graph, const TKeyframes& keyframes, const TCandidates& c, size_t patchFirst,
+	CPoseGraph& graph, const TScanRefs& scans, const TCandidates& c, size_t patchFirst,
 	size_t newest)
 {
 	size_t added = 0;
@@ -307,7 +307,7 @@ size_t CLoopCloser::rematch(
 		const size_t nearest = c.nodes[index];
 		const TPose2D guess = between(graph.pose(nearest), graph.pose(k));
 		const auto m = m_matcher.match(
-			CReferenceCloud::fromScan(keyframes[nearest].scan, m_matcherParams), keyframes[k].scan, guess);
+			CReferenceCloud::fromScan(*scans[nearest], m_matcherParams), *scans[k], guess);
 		if (!m) continue;
 		graph.addLink(
 			{nearest, k, m->scanInRef, linkInformation(m->cov, m_params.link_noise), LinkType::LoopClosure});

@@ -57,9 +57,10 @@ class CLoopCloser
 		const TLoopCloserParams& p, const TPatchCorrelatorParams& correlator,
 		const TScanMatcherParams& matcher, const TPoseGraphOptimizerParams& optimizer);
 
-	/** Looks for a loop for the newest keyframe and closes it. Returns the closure if a link
-	 * was added (the graph may have been optimised: callers refresh cached poses). */
-	std::optional<TLoopClosure> process(CPoseGraph& graph, const TKeyframes& keyframes);
+	/** Looks for a loop for the newest keyframe and closes it; `scans[i]` is node i's scan.
+	 * Returns the closure if a link was added (the graph may have been optimised: callers
+	 * refresh cached poses). */
+	std::optional<TLoopClosure> process(CPoseGraph& graph, const TScanRefs& scans);
 
 	const TLoopCloserStats& stats() const { return m_stats; }
 	/** Why the last attempt was rejected (empty if accepted or not attempted). */
@@ -68,7 +69,7 @@ class CLoopCloser
    private:
 	struct TCandidates;
 	std::optional<TCandidates> gate(const CPoseGraph& graph, size_t newest) const;
-	size_t rematch(CPoseGraph& graph, const TKeyframes& keyframes, const TCandidates& c,
+	size_t rematch(CPoseGraph& graph, const TScanRefs& scans, const TCandidates& c,
 				   size_t patchFirst, size_t newest);
 
 	TLoopCloserParams m_params;

@@ -24,6 +24,9 @@ void TLoopCloserParams::loadFromConfigFile(
 	patch_max_range = readDouble(c, s, "patch_max_range", patch_max_range);
 	attempt_stride = readDouble(c, s, "attempt_stride", attempt_stride);
 	requireParam(attempt_stride >= 0, s, "attempt_stride", "must be >= 0");
+	background = readBool(c, s, "background", background);
+	result_delay = readCount(c, s, "result_delay", result_delay);
+	apply_when_ready = readBool(c, s, "apply_when_ready", apply_when_ready);
 	link_noise.load(c, s, "");
 	requireParam(patch_max_range > 0, s, "patch_max_range", "must be > 0");
 	requireParam(patch_min_keyframes >= 1 && patch_min_keyframes <= old_map_exclusion, s,
@@ -59,6 +62,9 @@ void TLoopCloserParams::saveToConfigFile(
 	c.write(s, "check_every", uint64_t(check_every), np, vp, "Look for a loop every this many keyframes");
 	c.write(s, "patch_max_range", patch_max_range, np, vp, "[m] Patch points farther than this from the newest keyframe are left out of the correlation");
 	c.write(s, "attempt_stride", attempt_stride, np, vp, "While the patch is grown, correlate once every attempt_stride * (patch - patch_min_keyframes) checks (0: every check)");
+	c.write(s, "background", background, np, vp, "Loop closing on a worker thread while scans are registered (false: on the mapping thread; same map)");
+	c.write(s, "result_delay", uint64_t(result_delay), np, vp, "[keyframes] A loop search started at keyframe k is applied at k + this (deterministic: the mapping thread waits there if needed)");
+	c.write(s, "apply_when_ready", apply_when_ready, np, vp, "Apply a loop search's result as soon as it is ready (live runs; the map then depends on timing)");
 	link_noise.save(c, s, "", "every loop link (scans minutes apart: moved objects)");
 }
 

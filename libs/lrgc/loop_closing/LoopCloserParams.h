@@ -40,6 +40,17 @@ struct TLoopCloserParams : public mrpt::config::CLoadableOptions
 	 * patches are nearly the same evidence, and a large window is the costly case (Killian:
 	 * 1357 -> 146 correlations at the window cap, same error). 0: every check. */
 	double attempt_stride = 0.25;
+	/** Run loop closing on a worker thread (CLoopClosingWorker) while the mapping thread goes
+	 * on registering scans; false: on the mapping thread (same results, slower). */
+	bool background = true;
+	/** A loop search started at keyframe k is applied to the map at keyframe k + result_delay
+	 * (the mapping thread waits there only if the worker is not done): the result never
+	 * depends on the machine's speed. The next search starts when one is applied, so the loop
+	 * is looked for every max(result_delay, check_every) keyframes. 0: applied at once. */
+	size_t result_delay = 1;
+	/** Apply a result as soon as it is ready instead of at k + result_delay (live runs: the
+	 * robot never waits; the map then depends on timing). */
+	bool apply_when_ready = false;
 	/** Noise floor of loop links (and end-of-run revisit links); keys link_floor_xy [m],
 	 * link_floor_phi_deg. Looser than local registration's: a loop link joins scans taken
 	 * minutes apart (people, doors, chairs moved). */

@@ -3,9 +3,10 @@
 #include <lrgc/common/se2.h>
 #include <lrgc/local_registration/LocalRegistration.h>
 #include <lrgc/local_registration/MotionPredictor.h>
-#include <lrgc/loop_closing/LoopCloser.h>
+#include <lrgc/loop_closing/LoopClosingWorker.h>
 
 #include <Eigen/Dense>
+#include <chrono>
 
 #include <mrpt/maps/CSimpleMap.h>
 #include <mrpt/obs/CActionCollection.h>
@@ -52,6 +53,9 @@ void CMetricMapBuilderLRGC::processScan(
 	const mrpt::obs::CObservation2DRangeScan::Ptr& laser,
 	const mrpt::obs::CSensoryFrame::Ptr& observations)
 {
+	// A live run takes a loop search's result as soon as it is ready.
+	if (m_loopWorker && m_params.loop.apply_when_ready) serviceLoopClosing(false);
+
 	// 1. Predict, and de-skew the scan by the predicted motion over its sweep.
 	const TMotionPrediction prediction = m_predictor->predict(laser->timestamp);
 	TScanConversionStats conv;
@@ -102,8 +106,8 @@ void CMetricMapBuilderLRGC::processScan(
 			m_stats.scanMatchLinks +=
 				m_local->linkAndOptimize(m_graph, m_keyframes, odometryLinkToNewest());
 			++m_stats.odometryLinks;
-			// 4. Look for a loop and close it.
-			if (m_loopCloser) lookForLoop();
+			// 4. Look for a loop and close it (in the background).
+			if (m_loopWorker) serviceLoopClosing(true);
 		}
 		m_lastScanInMap = m_graph.pose(node);
 		m_motionSinceKeyframe = TPose2D(0, 0, 0);
@@ -119,26 +123,90 @@ void CMetricMapBuilderLRGC::processScan(
 	m_metricMapDirty = true;
 }
 
-void CMetricMapBuilderLRGC::lookForLoop()
+// Step 4 with a worker (CLoopClosingWorker). At a keyframe, a pending search is applied when
+// it is due (started result_delay keyframes ago: wait for it if needed), or in a live run
+// whenever it is ready; then, if none is pending, a search for the newest keyframe starts,
+// handing the worker what its copy of the graph lacks.
+void CMetricMapBuilderLRGC::serviceLoopClosing(bool atKeyframe)
 {
-	const auto closure = m_loopCloser->process(m_graph, m_keyframes);
-	if (!closure) return;
-	++m_stats.loopClosures;
-	m_stats.loopClosureLinks += 1 + closure->rematchLinks;
-	if (closure->optimized)
+	const size_t newest = m_graph.numNodes() - 1;
+	const auto& p = m_params.loop;
+	if (m_loopWorker->pending())
 	{
+		const bool ready = m_loopWorker->ready();
+		const bool due = p.apply_when_ready
+			? ready
+			: atKeyframe && newest >= m_loopWorker->pendingNode() + p.result_delay;
+		if (due)
+		{
+			const auto t0 = std::chrono::steady_clock::now();
+			TLoopJobResult r = m_loopWorker->take();
+			if (!ready)
+			{
+				++m_stats.loopResultWaits;
+				m_stats.loopResultWaitSeconds +=
+					std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+			}
+			applyLoopResult(std::move(r));
+		}
+	}
+	if (!atKeyframe || m_loopWorker->pending() || newest == 0) return;
+
+	TLoopJob job;
+	job.newest = newest;
+	job.firstPose = std::min(m_graph.takeLowestMovedNode(), m_nodesForWorker);
+	job.poses.assign(m_graph.poses().begin() + job.firstPose, m_graph.poses().end());
+	for (size_t i = m_nodesForWorker; i <= newest; ++i) job.scans.push_back(&m_keyframes[i].scan);
+	m_nodesForWorker = newest + 1;
+	for (size_t id = m_linkWatermark; id < m_graph.numLinks(); ++id)
+		m_linksForWorker.push_back(m_graph.link(id));
+	m_linkWatermark = m_graph.numLinks();
+	job.links = std::exchange(m_linksForWorker, {});
+	m_loopWorker->submit(std::move(job));
+	if (p.result_delay == 0 && !p.apply_when_ready) applyLoopResult(m_loopWorker->take());
+}
+
+// A loop search's result, computed from the graph as it was at keyframe k = r.newest: its
+// links are added; if it moved the map, nodes 0..k take its poses and the nodes added since
+// are carried along by node k's correction (no re-registration):
+//     X_i <- X'_k (+) (X_k^-1 (+) X_i),  i > k.
+void CMetricMapBuilderLRGC::applyLoopResult(TLoopJobResult&& r)
+{
+	const size_t k = r.newest, n = m_graph.numNodes();
+	if (!r.poses.empty())
+	{
+		const TPose2D oldK = m_graph.pose(k), oldNewest = m_graph.pose(n - 1);
+		for (size_t i = 0; i < r.poses.size(); ++i) m_graph.setPose(r.firstMoved + i, r.poses[i]);
+		const TPose2D newK = m_graph.pose(k);
+		for (size_t i = k + 1; i < n; ++i)
+			m_graph.setPose(i, compose(newK, between(oldK, m_graph.pose(i))));
+		m_lastScanInMap = compose(m_graph.pose(n - 1), between(oldNewest, m_lastScanInMap));
 		m_local->invalidate();
+	}
+	// Links added here since the job go to the worker with the next one, before these.
+	for (size_t id = m_linkWatermark; id < m_graph.numLinks(); ++id)
+		m_linksForWorker.push_back(m_graph.link(id));
+	for (size_t i = 0; i < r.links.size(); ++i)
+		if (const size_t id = m_graph.addLink(r.links[i]); !r.linkEnabled[i])
+			m_graph.setLinkEnabled(id, false);
+	m_linkWatermark = m_graph.numLinks();
+	m_metricMapDirty = true;
+
+	if (!r.closure) return;
+	const TLoopClosure& closure = *r.closure;
+	++m_stats.loopClosures;
+	m_stats.loopClosureLinks += 1 + closure.rematchLinks;
+	if (closure.optimized)
 		MRPT_LOG_INFO_FMT(
 			"loop closed: keyframe %zu -> %zu (score %.2f, ambiguity %.2f), %zu re-matched "
 			"links, %.1f ms",
-			closure->newNode, closure->oldNode, closure->score, closure->ambiguity,
-			closure->rematchLinks, 1e3 * closure->seconds);
-	}
+			closure.newNode, closure.oldNode, closure.score, closure.ambiguity,
+			closure.rematchLinks, 1e3 * closure.seconds);
 }
 
 TLoopCloserStats CMetricMapBuilderLRGC::loopCloserStats() const
 {
-	return m_loopCloser ? m_loopCloser->stats() : TLoopCloserStats{};
+	return m_loopWorker ? m_loopWorker->stats() : TLoopCloserStats{};
 }
 
 // The robot's motion over the laser sweep: the predicted step scaled by sweep / step time.

@@ -7,7 +7,9 @@
  *   2. register it locally against the last K keyframes (CLocalRegistration);
  *   3. if it travelled far enough, add it to the graph as a keyframe, linked to the window,
  *      and re-estimate the window's poses (Lu & Milios over the last K only);
- *   4. look for a loop and close it (when the loop-closure stage is enabled).
+ *   4. look for a loop and close it (when the loop-closure stage is enabled): on a worker
+ *      thread, from a keyframe's state; the result (new links, corrected poses) is applied
+ *      some keyframes later, the poses added meanwhile re-anchored by the correction.
  * Every scan, keyframe or not, is kept in the trajectory relative to its keyframe, so
  * optimisations move it along. The map is updated with every scan (anytime).
  */
@@ -22,6 +24,7 @@
 #include <mrpt/maps/COccupancyGridMap2D.h>
 #include <mrpt/slam/CMetricMapBuilder.h>
 
+#include <chrono>
 #include <memory>
 #include <optional>
 
@@ -31,7 +34,8 @@ namespace lrgc
 // trajectory) and its parameters, not the classes that make them.
 class CMotionPredictor;
 class CLocalRegistration;
-class CLoopCloser;
+class CLoopClosingWorker;
+struct TLoopJobResult;
 struct TMotionPrediction;
 
 /** Counters of a run, for stats.json and logs. */
@@ -47,6 +51,10 @@ struct TMapBuilderStats
 	size_t loopClosures = 0;  //!< accepted loop-closure events
 	size_t revisitLinks = 0;  //!< links added by the end-of-run revisit sweep (CRevisitLinker)
 	size_t ignoredObservations = 0;  //!< observations of kinds the builder does not use
+	/** Times the mapping thread had to wait for a loop search's result (it was not done by
+	 * the keyframe it is due), and the time waited [s]. */
+	size_t loopResultWaits = 0;
+	double loopResultWaitSeconds = 0;
 };
 
 class CMetricMapBuilderLRGC : public mrpt::slam::CMetricMapBuilder
@@ -103,6 +111,10 @@ class CMetricMapBuilderLRGC : public mrpt::slam::CMetricMapBuilder
 	/** Warnings since the last call (skipped scans, ...), for the caller to report. */
 	std::vector<std::string> takeWarnings();
 
+	/** Tests only: every loop search first sleeps this long (a slow worker, on purpose);
+	 * kept across initialize(). */
+	void setLoopSearchExtraDelayForTests(std::chrono::milliseconds d);
+
    private:
 	struct TScanRecord
 	{
@@ -114,7 +126,8 @@ class CMetricMapBuilderLRGC : public mrpt::slam::CMetricMapBuilder
 	void processScan(
 		const mrpt::obs::CObservation2DRangeScan::Ptr& laser,
 		const mrpt::obs::CSensoryFrame::Ptr& observations);
-	void lookForLoop();
+	void serviceLoopClosing(bool atKeyframe);
+	void applyLoopResult(TLoopJobResult&& r);
 	bool isNewKeyframe(const mrpt::math::TPose2D& scanInMap) const;
 	mrpt::math::TPose2D sweepMotion(const TMotionPrediction& prediction) const;
 	size_t addKeyframe(
@@ -127,7 +140,14 @@ class CMetricMapBuilderLRGC : public mrpt::slam::CMetricMapBuilder
 	TLRGCParams m_params;
 	std::unique_ptr<CMotionPredictor> m_predictor;
 	std::unique_ptr<CLocalRegistration> m_local;
-	std::unique_ptr<CLoopCloser> m_loopCloser;
+	std::unique_ptr<CLoopClosingWorker> m_loopWorker;
+	/** What the worker's copy of the graph lacks: the links added here before the last
+	 * applied result and not yet sent, the links from id m_linkWatermark on, and the nodes
+	 * from m_nodesForWorker on (besides the poses moved, see CPoseGraph). */
+	std::vector<TLink> m_linksForWorker;
+	size_t m_linkWatermark = 0;
+	size_t m_nodesForWorker = 0;
+	std::chrono::milliseconds m_loopSearchExtraDelay{0};  //!< tests only
 	CPoseGraph m_graph;
 	TKeyframes m_keyframes;
 	std::vector<TScanRecord> m_scans;

@@ -3,7 +3,7 @@
 #include <lrgc/map_builder/CMetricMapBuilderLRGC.h>
 #include <lrgc/local_registration/LocalRegistration.h>
 #include <lrgc/local_registration/MotionPredictor.h>
-#include <lrgc/loop_closing/LoopCloser.h>
+#include <lrgc/loop_closing/LoopClosingWorker.h>
 #include <lrgc/loop_closing/RevisitLinker.h>
 #include <lrgc/pose_graph/PoseGraphOptimizer.h>
 #include <lrgc/common/se2.h>
@@ -46,10 +46,14 @@ void CMetricMapBuilderLRGC::initialize(
 	m_predictor = std::make_unique<CMotionPredictor>(m_params.motion);
 	m_local = std::make_unique<CLocalRegistration>(
 		m_params.local, m_params.matcher, m_params.optimizer);
-	m_loopCloser.reset();
+	m_loopWorker.reset();  // lets a search in hand finish first
 	if (m_params.builder.loop_closing)
-		m_loopCloser = std::make_unique<CLoopCloser>(
+		m_loopWorker = std::make_unique<CLoopClosingWorker>(
 			m_params.loop, m_params.correlator, m_params.matcher, m_params.optimizer);
+	if (m_loopWorker) m_loopWorker->setExtraDelayForTests(m_loopSearchExtraDelay);
+	m_linksForWorker.clear();
+	m_linkWatermark = 0;
+	m_nodesForWorker = 0;
 	m_graph = CPoseGraph();
 	m_keyframes.clear();
 	m_scans.clear();
@@ -97,6 +101,12 @@ void CMetricMapBuilderLRGC::initialize(
 	}
 	else if (m_graph.numNodes() > 0)
 		m_nextScanPrior = m_lastScanInMap;
+}
+
+void CMetricMapBuilderLRGC::setLoopSearchExtraDelayForTests(std::chrono::milliseconds d)
+{
+	m_loopSearchExtraDelay = d;
+	if (m_loopWorker) m_loopWorker->setExtraDelayForTests(d);
 }
 
 mrpt::poses::CPose3DPDF::Ptr CMetricMapBuilderLRGC::getCurrentPoseEstimation() const
@@ -150,8 +160,9 @@ void CMetricMapBuilderLRGC::saveCurrentEstimationToImage(const std::string& file
 
 void CMetricMapBuilderLRGC::finish()
 {
+	if (m_loopWorker && m_loopWorker->pending()) applyLoopResult(m_loopWorker->take());
 	if (!m_params.builder.final_optimization || m_graph.numNodes() < 2) return;
-	if (m_loopCloser && m_params.revisits.enabled)
+	if (m_loopWorker && m_params.revisits.enabled)
 	{
 		const CRevisitLinker linker(m_params.revisits, m_params.matcher, m_params.loop.link_noise);
 		const size_t added = linker.linkRevisits(m_graph, m_keyframes);

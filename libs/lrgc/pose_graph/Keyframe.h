@@ -6,6 +6,7 @@
 #include <mrpt/obs/CObservation2DRangeScan.h>
 #include <mrpt/obs/CSensoryFrame.h>
 
+#include <deque>
 #include <vector>
 
 namespace lrgc
@@ -19,6 +20,10 @@ struct TKeyframe
 	mrpt::obs::CObservation2DRangeScan::Ptr laser;
 	size_t scanIndex = 0;  //!< index of the scan in the run (0-based)
 };
-using TKeyframes = std::vector<TKeyframe>;
+/** A deque: appending keeps every earlier keyframe where it is, so the loop-closing worker
+ * can read old scans (through TScanRefs) while the mapping thread appends new keyframes. */
+using TKeyframes = std::deque<TKeyframe>;
+/** The scans of nodes 0..n-1, by address (stable: see TKeyframes). */
+using TScanRefs = std::vector<const TScan2D*>;
 
 }  // namespace lrgc

@@ -6,7 +6,10 @@
 #include <mrpt/poses/CPosePDFGaussianInf.h>
 
 #include <Eigen/Cholesky>
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <utility>
 
 #include <lrgc/common/se2.h>
 
@@ -103,6 +106,12 @@ void CPoseGraph::setPose(size_t node, const mrpt::math::TPose2D& nodeInMap)
 		!std::isfinite(nodeInMap.phi))
 		THROW_EXCEPTION_FMT("CPoseGraph::setPose: non-finite pose for node %zu", node);
 	m_poses[node] = {nodeInMap.x, nodeInMap.y, mrpt::math::wrapToPi(nodeInMap.phi)};
+	m_lowestMoved = std::min(m_lowestMoved, node);
+}
+
+size_t CPoseGraph::takeLowestMovedNode()
+{
+	return std::min(std::exchange(m_lowestMoved, SIZE_MAX), m_poses.size());
 }
 
 const TLink& CPoseGraph::link(size_t linkId) const

@@ -60,6 +60,10 @@ public:
 	const mrpt::math::TPose2D& pose(size_t node) const;
 	void setPose(size_t node, const mrpt::math::TPose2D& nodeInMap);
 	const std::vector<mrpt::math::TPose2D>& poses() const { return m_poses; }
+	/** Lowest node index moved by setPose() since the last call (numNodes() if none), and
+	 * restarts the count: what a copy of the graph kept elsewhere (the loop-closing worker's)
+	 * must update, without comparing every pose. */
+	size_t takeLowestMovedNode();
 	const TLink& link(size_t linkId) const;
 	/** All links ever added, enabled or not (check isLinkEnabled). */
 	const std::vector<TLink>& links() const { return m_links; }
@@ -82,6 +86,7 @@ private:
 	std::vector<TLink> m_links;
 	std::vector<uint8_t> m_enabled;                // per link
 	std::vector<std::vector<size_t>> m_adjacency;  // per node: incident link ids
+	size_t m_lowestMoved = SIZE_MAX;  // see takeLowestMovedNode()
 };
 
 }  // namespace lrgc

@@ -85,6 +85,23 @@ TEST(PoseGraph, DisabledLinkIsIgnoredButKeepsItsId)
 	EXPECT_NEAR(totalChi2(g), 9.0, 1e-12);
 }
 
+// What a copy of the graph kept elsewhere (the loop-closing worker's) must update: the lowest
+// node moved since the last call; adding nodes is not moving them.
+TEST(PoseGraph, LowestMovedNodeIsTrackedBetweenCalls)
+{
+	CPoseGraph g;
+	for (int i = 0; i < 5; ++i) g.addNode({double(i), 0, 0});
+	EXPECT_EQ(g.takeLowestMovedNode(), 5U);  // none moved
+	g.setPose(3, {3, 1, 0});
+	g.setPose(1, {1, 1, 0});
+	g.setPose(4, {4, 1, 0});
+	EXPECT_EQ(g.takeLowestMovedNode(), 1U);
+	EXPECT_EQ(g.takeLowestMovedNode(), 5U);  // the count restarted
+	g.addNode({5, 0, 0});
+	g.setPose(4, {4, 2, 0});
+	EXPECT_EQ(g.takeLowestMovedNode(), 4U);
+}
+
 TEST(PoseGraph, PoseAnglesAreWrapped)
 {
 	CPoseGraph g;

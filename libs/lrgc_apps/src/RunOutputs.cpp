@@ -101,7 +101,11 @@ std::string statsJson(const CMetricMapBuilderLRGC& builder, const TRunSummary& r
 	  << ", \"unconfirmed\": " << lcs.unconfirmed
 	  << ", \"optimizations\": " << lcs.optimizations
 	  << ", \"closure_ms\": {\"count\": " << closureMs.size()
-	  << ", \"median\": " << closure.median_ms << ", \"max\": " << closure.max_ms << "}},\n"
+	  << ", \"median\": " << closure.median_ms << ", \"max\": " << closure.max_ms << "}"
+	  // Searches run on a worker thread; the mapping thread waits for a result only when it
+	  // is due (result_delay keyframes later) and not done yet.
+	  << ", \"result_waits\": " << s.loopResultWaits
+	  << ", \"result_wait_s\": " << s.loopResultWaitSeconds << "},\n"
 	  << "  \"warnings\": " << run.warnings << ",\n"
 	  << "  \"data_duration_s\": " << run.dataDurationSeconds << ",\n"
 	  << "  \"wall_time_s\": " << run.wallSeconds << ",\n"

@@ -33,11 +33,19 @@ mrpt::obs::CObservation2DRangeScan::Ptr asOfflineReaderWould(
 		if (bad(i)) copy->setScanRangeValidity(i, false);
 	return copy;
 }
+
+/** A live run never waits for a loop search: its result is applied as soon as it is ready
+ * ([LoopCloser] apply_when_ready), whatever the .ini says. */
+lrgc::TLRGCParams liveParams(lrgc::TLRGCParams p)
+{
+	p.loop.apply_when_ready = true;
+	return p;
+}
 }  // namespace
 
 CLiveMapper::CLiveMapper(const TAppConfig& config, std::string outDir, std::string sensorsIni,
 						 CLiveConsole& console)
-	: m_builder(config.lrgc),
+	: m_builder(liveParams(config.lrgc)),
 	  m_outDir(std::move(outDir)),
 	  m_console(console),
 	  m_policy(config.live.maxBacklogScans),

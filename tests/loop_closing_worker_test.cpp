@@ -1,0 +1,94 @@
+/* Loop closing in the background (issue 12): the ring of tests/loop_closing_test.cpp (20 m x
+ * 14 m of corridors, 9 % wheel slip on the north corridor, closed by loop closing), mapped
+ *  - offline with a worker slowed on purpose (every loop search first sleeps), with the
+ *    normal worker, and with no thread at all: the three trajectories must be identical, the
+ *    slowed run must have waited for results (so the slow path was taken), and the loop must
+ *    be closed;
+ *  - live (results applied as soon as ready) with a very slow worker: the mapping thread must
+ *    never wait for it. */
+#include <gtest/gtest.h>
+
+#include "synthetic_run.h"
+
+using namespace lrgc::test;
+using lrgc::CMetricMapBuilderLRGC;
+using lrgc::TLRGCParams;
+
+namespace
+{
+constexpr double W = 20, H = 14;  // [m] ring size
+
+TTrajectory slippingRing()
+{
+	TTrajectory tr = makeTrajectory(
+		{{4, 1}, {W - 1, 1}, {W - 1, H - 1}, {1, H - 1}, {1, 1}, {W - 1, 1}, {W - 1, 6}}, 0.2,
+		TOdometryNoise{}, 11);
+	for (size_t k = 0; k < tr.odometryIncrements.size(); ++k)
+		if (tr.truePoses[k].y > H - 2)
+		{
+			tr.odometryIncrements[k].x *= 1.09;
+			tr.odometryIncrements[k].y *= 1.09;
+		}
+	rebuildOdometryPoses(tr);
+	return tr;
+}
+
+struct TRun
+{
+	lrgc::TTrajectory trajectory;
+	lrgc::TMapBuilderStats stats;
+	TTrajectoryError error;
+};
+
+TRun mapRing(const TLRGCParams& p, std::chrono::milliseconds extraDelay)
+{
+	const auto world = makeRingCorridorWorld(W, H, 2.0, 5, 4);
+	const TTrajectory tr = slippingRing();
+	TSyntheticRunOptions opt;
+	opt.laser.maxRange = 6;
+	CMetricMapBuilderLRGC builder(p);
+	builder.setLoopSearchExtraDelayForTests(extraDelay);
+	feedBuilder(builder, world, tr, opt);
+	return {builder.trajectory(), builder.stats(), trajectoryError(builder.trajectory(), tr.truePoses)};
+}
+
+void expectSameTrajectory(const lrgc::TTrajectory& a, const lrgc::TTrajectory& b, const char* what)
+{
+	ASSERT_EQ(a.size(), b.size()) << what;
+	for (size_t i = 0; i < a.size(); ++i)
+	{
+		ASSERT_EQ(a[i].robotInMap.x, b[i].robotInMap.x) << what << ", scan " << i;
+		ASSERT_EQ(a[i].robotInMap.y, b[i].robotInMap.y) << what << ", scan " << i;
+		ASSERT_EQ(a[i].robotInMap.phi, b[i].robotInMap.phi) << what << ", scan " << i;
+	}
+}
+}  // namespace
+
+TEST(LoopClosingWorker, offlineResultsDoNotDependOnTheWorkersSpeed)
+{
+	TLRGCParams p;
+	p.loop.result_delay = 2;
+	const TRun normal = mapRing(p, std::chrono::milliseconds(0));
+	const TRun slow = mapRing(p, std::chrono::milliseconds(15));
+	p.loop.background = false;
+	const TRun inlineRun = mapRing(p, std::chrono::milliseconds(0));
+
+	EXPECT_GT(normal.stats.loopClosures, 0U);
+	EXPECT_LT(normal.error.finalXY, 0.3);
+	// The slowed worker was not done when its results were due: the mapping thread waited.
+	EXPECT_GT(slow.stats.loopResultWaits, 0U);
+	EXPECT_EQ(inlineRun.stats.loopResultWaits, 0U);
+	expectSameTrajectory(normal.trajectory, slow.trajectory, "slowed worker");
+	expectSameTrajectory(normal.trajectory, inlineRun.trajectory, "no worker thread");
+	EXPECT_EQ(normal.stats.loopClosureLinks, slow.stats.loopClosureLinks);
+	EXPECT_EQ(normal.stats.loopClosureLinks, inlineRun.stats.loopClosureLinks);
+}
+
+TEST(LoopClosingWorker, aSlowWorkerNeverStallsTheMappingThreadInLiveMode)
+{
+	TLRGCParams p;
+	p.loop.apply_when_ready = true;
+	const TRun live = mapRing(p, std::chrono::milliseconds(50));
+	EXPECT_EQ(live.stats.loopResultWaits, 0U);
+	EXPECT_EQ(live.stats.scans, slippingRing().truePoses.size());
+}
