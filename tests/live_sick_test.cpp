@@ -224,13 +224,14 @@ protected:
 };
 }  // namespace
 
-// Every scan the driver delivers is mapped (max_backlog_scans = 0), so the live map must be
-// the offline map of the captured scans, exactly.
+// Every scan the driver delivers is mapped (max_backlog_scans = 0) and loop-closing results
+// are applied at their fixed keyframe as offline (loop_results_when_ready = false), so the
+// live map must be the offline map of the captured scans, exactly.
 TEST_F(LiveSickLms1xx, LiveMapEqualsOfflineMapOfTheCapture)
 {
 	CLms1xxEmulator emu(m_rec.scans);
 	const auto d = prepare("live_every_scan", emu, m_rec.sensorPose,
-						   "max_backlog_scans = 0\nsave_interval_s = 3\n");
+						   "max_backlog_scans = 0\nsave_interval_s = 3\nloop_results_when_ready = false\n");
 	CChildProcess app(binaryPath("lrgc-slam"),
 					  {"--live", d.sensors, "--config", d.config, "--out", d.out},
 					  d.dir + "/live.log");
@@ -286,7 +287,8 @@ TEST_F(LiveSickLms1xx, SurvivesDroppedConnectionAndSigtermMidRun)
 	opt.dropAfterScans = 40;
 	opt.garbageBeforeDrop = 5;
 	CLms1xxEmulator emu(m_rec.scans, opt);
-	const auto d = prepare("live_drop", emu, m_rec.sensorPose, "max_backlog_scans = 0\n");
+	const auto d = prepare("live_drop", emu, m_rec.sensorPose,
+						   "max_backlog_scans = 0\nloop_results_when_ready = false\n");
 	CChildProcess app(binaryPath("lrgc-slam"),
 					  {"--live", d.sensors, "--config", d.config, "--out", d.out},
 					  d.dir + "/live.log");

@@ -49,7 +49,8 @@ struct TLoopCloserParams : public mrpt::config::CLoadableOptions
 	 * is looked for every max(result_delay, check_every) keyframes. 0: applied at once. */
 	size_t result_delay = 1;
 	/** Apply a result as soon as it is ready instead of at k + result_delay (live runs: the
-	 * robot never waits; the map then depends on timing). */
+	 * robot never waits; the map then depends on timing). lrgc-slam --live sets it from
+	 * [LiveMapping] loop_results_when_ready. */
 	bool apply_when_ready = false;
 	/** Noise floor of loop links (and end-of-run revisit links); keys link_floor_xy [m],
 	 * link_floor_phi_deg. Looser than local registration's: a loop link joins scans taken

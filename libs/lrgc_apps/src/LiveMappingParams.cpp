@@ -20,6 +20,8 @@ void TLiveMappingParams::loadFromConfigFile(const mrpt::config::CConfigFileBase&
 	p.retryInitialSeconds =
 		lrgc::readDouble(source, section, "retry_initial_s", retryInitialSeconds);
 	p.retryMaxSeconds = lrgc::readDouble(source, section, "retry_max_s", retryMaxSeconds);
+	p.loopResultsWhenReady =
+		lrgc::readBool(source, section, "loop_results_when_ready", loopResultsWhenReady);
 	lrgc::requireParam(p.saveIntervalSeconds >= 0, section, "save_interval_s", "must be >= 0");
 	lrgc::requireParam(p.statusIntervalSeconds > 0, section, "status_interval_s",
 					   "must be > 0");
@@ -46,6 +48,9 @@ void TLiveMappingParams::saveToConfigFile(mrpt::config::CConfigFileBase& target,
 				 "First wait before restarting a failed sensor; doubles on each failure [s]");
 	target.write(section, "retry_max_s", retryMaxSeconds, -1, -1,
 				 "Longest wait between sensor restarts [s]");
+	target.write(section, "loop_results_when_ready", loopResultsWhenReady, -1, -1,
+				 "Apply loop-closing results as soon as ready: the robot never waits (false: "
+				 "as offline, so mapping the capture offline gives the same map)");
 }
 
 }  // namespace lrgc::apps

@@ -28,6 +28,10 @@ struct TLiveMappingParams : public mrpt::config::CLoadableOptions
 	double sensorTimeoutSeconds = 3;   //!< [s] no valid observation this long: restart driver
 	double retryInitialSeconds = 0.5;  //!< [s] first back-off before restarting a sensor
 	double retryMaxSeconds = 30;       //!< [s] longest back-off
+	/** Apply a loop search's result as soon as the worker has it, so the robot never waits
+	 * ([LoopCloser] apply_when_ready for this run); false: at the fixed keyframe as offline
+	 * runs do, so that mapping the capture offline gives the same map. */
+	bool loopResultsWhenReady = true;
 
 	/** Reads the keys of `section`; unknown keys and invalid values throw. */
 	void loadFromConfigFile(const mrpt::config::CConfigFileBase& source,

@@ -34,18 +34,18 @@ mrpt::obs::CObservation2DRangeScan::Ptr asOfflineReaderWould(
 	return copy;
 }
 
-/** A live run never waits for a loop search: its result is applied as soon as it is ready
- * ([LoopCloser] apply_when_ready), whatever the .ini says. */
-lrgc::TLRGCParams liveParams(lrgc::TLRGCParams p)
+/** A live run takes loop-closing results as [LiveMapping] loop_results_when_ready says. */
+lrgc::TLRGCParams liveParams(const TAppConfig& config)
 {
-	p.loop.apply_when_ready = true;
+	lrgc::TLRGCParams p = config.lrgc;
+	p.loop.apply_when_ready = config.live.loopResultsWhenReady;
 	return p;
 }
 }  // namespace
 
 CLiveMapper::CLiveMapper(const TAppConfig& config, std::string outDir, std::string sensorsIni,
 						 CLiveConsole& console)
-	: m_builder(liveParams(config.lrgc)),
+	: m_builder(liveParams(config)),
 	  m_outDir(std::move(outDir)),
 	  m_console(console),
 	  m_policy(config.live.maxBacklogScans),
