@@ -5,8 +5,18 @@
  *    slowed run must have waited for results (so the slow path was taken), and the loop must
  *    be closed;
  *  - live (results applied as soon as ready) with a very slow worker: the mapping thread must
- *    never wait for it. */
+ *    never wait for it;
+ *  - while another thread keeps reading the map through the getters MRPT users call
+ *    (getCurrentPoseEstimation, getCurrentlyBuiltMap, getCurrentlyBuiltMetricMap, trajectory):
+ *    every copy must be whole, and the map the same as without the reader. */
 #include <gtest/gtest.h>
+#include <mrpt/maps/CSimpleMap.h>
+#include <mrpt/obs/CObservationOdometry.h>
+
+#include <atomic>
+#include <cmath>
+#include <functional>
+#include <thread>
 
 #include "synthetic_run.h"
 
@@ -40,7 +50,8 @@ struct TRun
 	TTrajectoryError error;
 };
 
-TRun mapRing(const TLRGCParams& p, std::chrono::milliseconds extraDelay)
+TRun mapRing(const TLRGCParams& p, std::chrono::milliseconds extraDelay,
+			 const std::function<void(const CMetricMapBuilderLRGC&, std::atomic<bool>&)>& reader = {})
 {
 	const auto world = makeRingCorridorWorld(W, H, 2.0, 5, 4);
 	const TTrajectory tr = slippingRing();
@@ -48,7 +59,12 @@ TRun mapRing(const TLRGCParams& p, std::chrono::milliseconds extraDelay)
 	opt.laser.maxRange = 6;
 	CMetricMapBuilderLRGC builder(p);
 	builder.setLoopSearchExtraDelayForTests(extraDelay);
+	std::atomic<bool> done{false};
+	std::thread readerThread;
+	if (reader) readerThread = std::thread([&] { reader(builder, done); });
 	feedBuilder(builder, world, tr, opt);
+	done = true;
+	if (readerThread.joinable()) readerThread.join();
 	return {builder.trajectory(), builder.stats(), trajectoryError(builder.trajectory(), tr.truePoses)};
 }
 
@@ -91,4 +107,86 @@ TEST(LoopClosingWorker, aSlowWorkerNeverStallsTheMappingThreadInLiveMode)
 	const TRun live = mapRing(p, std::chrono::milliseconds(50));
 	EXPECT_EQ(live.stats.loopResultWaits, 0U);
 	EXPECT_EQ(live.stats.scans, slippingRing().truePoses.size());
+}
+
+TEST(MapBuilderThreads, gettersAreSafeWhileMapping)
+{
+	const TLRGCParams p;
+	size_t reads = 0, inconsistent = 0;
+	auto reader = [&](const CMetricMapBuilderLRGC& b, std::atomic<bool>& done)
+	{
+		auto& builder = const_cast<CMetricMapBuilderLRGC&>(b);
+		size_t lastScans = 0;
+		while (!done)
+		{
+			const auto pose = builder.getCurrentPoseEstimation()->getMeanVal();
+			mrpt::maps::CSimpleMap keyframes;
+			builder.getCurrentlyBuiltMap(keyframes);
+			const auto trajectory = builder.trajectory();
+			const auto* grid = builder.getCurrentlyBuiltMetricMap();
+			const size_t scans = builder.statsCopy().scans;
+			// Copies are whole: finite poses, every keyframe with its observations, and the
+			// trajectory never shrinks.
+			if (!std::isfinite(pose.x()) || !std::isfinite(pose.yaw())) ++inconsistent;
+			for (size_t i = 0; i < keyframes.size(); ++i)
+				if (const auto [pdf, sf] = keyframes.get(i); !pdf || !sf || sf->size() == 0)
+					++inconsistent;
+			if (trajectory.size() < lastScans || grid == nullptr || grid->maps.empty())
+				++inconsistent;
+			lastScans = std::max(lastScans, std::min(scans, trajectory.size()));
+			++reads;
+		}
+	};
+	const TRun alone = mapRing(p, std::chrono::milliseconds(0));
+	const TRun read = mapRing(p, std::chrono::milliseconds(0), reader);
+	EXPECT_GT(reads, 10U);
+	EXPECT_EQ(inconsistent, 0U);
+	expectSameTrajectory(alone.trajectory, read.trajectory, "with a reader thread");
+}
+
+namespace
+{
+/** Exposes MRPT's critical section of the builder, to hold it from the test. */
+struct CLockableBuilder : public CMetricMapBuilderLRGC
+{
+	using CMetricMapBuilderLRGC::enterCriticalSection;
+	using CMetricMapBuilderLRGC::leaveCriticalSection;
+};
+}  // namespace
+
+// Each getter and each map change takes MRPT's critical section: while the test holds it, a
+// call from another thread does not return; once released, it does.
+TEST(MapBuilderThreads, gettersAndChangesTakeTheCriticalSection)
+{
+	CLockableBuilder builder;
+	const std::vector<std::pair<const char*, std::function<void()>>> calls = {
+		{"getCurrentPoseEstimation", [&] { builder.getCurrentPoseEstimation(); }},
+		{"getCurrentlyBuiltMap", [&] { mrpt::maps::CSimpleMap m; builder.getCurrentlyBuiltMap(m); }},
+		{"getCurrentlyBuiltMapSize", [&] { builder.getCurrentlyBuiltMapSize(); }},
+		{"getCurrentlyBuiltMetricMap", [&] { builder.getCurrentlyBuiltMetricMap(); }},
+		{"trajectory", [&] { builder.trajectory(); }},
+		{"buildOccupancyGrid", [&] { builder.buildOccupancyGrid(); }},
+		{"statsCopy", [&] { builder.statsCopy(); }},
+		{"loopCloserStats", [&] { builder.loopCloserStats(); }},
+		{"lastScanTimestamp", [&] { builder.lastScanTimestamp(); }},
+		{"takeWarnings", [&] { builder.takeWarnings(); }},
+		{"finish", [&] { builder.finish(); }},
+		{"processObservation",
+		 [&]
+		 {
+			 auto odo = mrpt::obs::CObservationOdometry::Create();
+			 builder.processObservation(odo);
+		 }},
+	};
+	for (const auto& [name, call] : calls)
+	{
+		builder.enterCriticalSection();
+		std::atomic<bool> returned{false};
+		std::thread t([&] { call(); returned = true; });
+		std::this_thread::sleep_for(std::chrono::milliseconds(50));
+		EXPECT_FALSE(returned) << name << " returned while the critical section was held";
+		builder.leaveCriticalSection();
+		t.join();
+		EXPECT_TRUE(returned) << name;
+	}
 }

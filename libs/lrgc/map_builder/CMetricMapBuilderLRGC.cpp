@@ -43,6 +43,7 @@ void CMetricMapBuilderLRGC::warn(std::string message)
 
 std::vector<std::string> CMetricMapBuilderLRGC::takeWarnings()
 {
+	const auto lock = lockMap();
 	return std::exchange(m_warnings, {});
 }
 
@@ -206,6 +207,7 @@ void CMetricMapBuilderLRGC::applyLoopResult(TLoopJobResult&& r)
 
 TLoopCloserStats CMetricMapBuilderLRGC::loopCloserStats() const
 {
+	const auto lock = lockMap();
 	return m_loopWorker ? m_loopWorker->stats() : TLoopCloserStats{};
 }
 
@@ -273,6 +275,7 @@ TLink CMetricMapBuilderLRGC::odometryLinkToNewest() const
 void CMetricMapBuilderLRGC::processObservation(const mrpt::obs::CObservation::Ptr& obs)
 {
 	ASSERT_(obs);
+	const auto lock = lockMap();
 	if (auto odo = std::dynamic_pointer_cast<mrpt::obs::CObservationOdometry>(obs))
 		m_predictor->addOdometryAbsolute(odo->odometry.asTPose());
 	else if (auto laser = std::dynamic_pointer_cast<mrpt::obs::CObservation2DRangeScan>(obs))
@@ -290,6 +293,7 @@ void CMetricMapBuilderLRGC::processObservation(const mrpt::obs::CObservation::Pt
 void CMetricMapBuilderLRGC::processActionObservation(
 	mrpt::obs::CActionCollection& action, mrpt::obs::CSensoryFrame& observations)
 {
+	const auto lock = lockMap();
 	if (auto odo = action.getBestMovementEstimation(); odo && odo->poseChange)
 		m_predictor->addOdometryIncrement(odo->poseChange->getMeanVal().asTPose());
 	auto sf = mrpt::obs::CSensoryFrame::Create(observations);

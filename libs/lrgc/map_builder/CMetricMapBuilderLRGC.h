@@ -12,6 +12,14 @@
  *      some keyframes later, the poses added meanwhile re-anchored by the correction.
  * Every scan, keyframe or not, is kept in the trajectory relative to its keyframe, so
  * optimisations move it along. The map is updated with every scan (anytime).
+ *
+ * Threads: as MRPT expects of a CMetricMapBuilder, changes to the map happen inside its
+ * critical section (critZoneChangingMap), and the getters that copy something out
+ * (getCurrentPoseEstimation, getCurrentlyBuiltMap(Size), getCurrentlyBuiltMetricMap,
+ * saveCurrentEstimationToImage, trajectory, buildOccupancyGrid, statsCopy, loopCloserStats,
+ * lastScanTimestamp) take it too, so another thread may call them while mapping goes on.
+ * The getters returning references (graph, keyframes, stats, params) are for the mapping
+ * thread, or for any thread once mapping has stopped.
  */
 #pragma once
 
@@ -26,6 +34,7 @@
 
 #include <chrono>
 #include <memory>
+#include <mutex>
 #include <optional>
 
 namespace lrgc
@@ -97,13 +106,11 @@ class CMetricMapBuilderLRGC : public mrpt::slam::CMetricMapBuilder
 	// --- results ---
 	TTrajectory trajectory() const;  //!< one pose per scan, at its timestamp, file order
 	/** Timestamp of the last scan placed (default-constructed before the first). O(1). */
-	mrpt::Clock::time_point lastScanTimestamp() const
-	{
-		return m_scans.empty() ? mrpt::Clock::time_point{} : m_scans.back().timestamp;
-	}
+	mrpt::Clock::time_point lastScanTimestamp() const;
 	const CPoseGraph& graph() const { return m_graph; }
 	const TKeyframes& keyframes() const { return m_keyframes; }
 	const TMapBuilderStats& stats() const { return m_stats; }
+	TMapBuilderStats statsCopy() const;  //!< stats(), safe from another thread
 	/** Loop-closing counters and per-closure times (empty stats if loop closing is off). */
 	TLoopCloserStats loopCloserStats() const;
 	/** Occupancy grid of the current estimate, from the keyframes' scans. */
@@ -136,6 +143,13 @@ class CMetricMapBuilderLRGC : public mrpt::slam::CMetricMapBuilder
 		const mrpt::math::TPose2D& scanInMap, size_t scanIndex);
 	TLink odometryLinkToNewest() const;
 	void warn(std::string message);
+	mrpt::maps::COccupancyGridMap2D::Ptr buildOccupancyGridLocked() const;
+	/** The base's critical section, also from const getters (it guards the state, not the
+	 * object's constness). */
+	std::unique_lock<std::mutex> lockMap() const
+	{
+		return std::unique_lock<std::mutex>(const_cast<std::mutex&>(critZoneChangingMap));
+	}
 
 	TLRGCParams m_params;
 	std::unique_ptr<CMotionPredictor> m_predictor;

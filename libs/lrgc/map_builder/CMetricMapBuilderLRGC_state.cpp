@@ -43,6 +43,7 @@ mrpt::poses::CPose3DPDFGaussian::Ptr gaussian3D(const TPose2D& p, const Eigen::M
 void CMetricMapBuilderLRGC::initialize(
 	const mrpt::maps::CSimpleMap& initialMap, const mrpt::poses::CPosePDF* x0)
 {
+	const auto lock = lockMap();
 	m_predictor = std::make_unique<CMotionPredictor>(m_params.motion);
 	m_local = std::make_unique<CLocalRegistration>(
 		m_params.local, m_params.matcher, m_params.optimizer);
@@ -111,11 +112,13 @@ void CMetricMapBuilderLRGC::setLoopSearchExtraDelayForTests(std::chrono::millise
 
 mrpt::poses::CPose3DPDF::Ptr CMetricMapBuilderLRGC::getCurrentPoseEstimation() const
 {
+	const auto lock = lockMap();
 	return gaussian3D(m_lastScanInMap, m_lastScanCov);
 }
 
 void CMetricMapBuilderLRGC::getCurrentlyBuiltMap(mrpt::maps::CSimpleMap& out_map) const
 {
+	const auto lock = lockMap();
 	out_map.clear();
 	for (size_t i = 0; i < m_keyframes.size(); ++i)
 		out_map.insert(gaussian3D(m_graph.pose(i), Eigen::Matrix3d::Zero()), m_keyframes[i].observations);
@@ -123,10 +126,17 @@ void CMetricMapBuilderLRGC::getCurrentlyBuiltMap(mrpt::maps::CSimpleMap& out_map
 
 unsigned int CMetricMapBuilderLRGC::getCurrentlyBuiltMapSize()
 {
+	const auto lock = lockMap();
 	return static_cast<unsigned int>(m_keyframes.size());
 }
 
 mrpt::maps::COccupancyGridMap2D::Ptr CMetricMapBuilderLRGC::buildOccupancyGrid() const
+{
+	const auto lock = lockMap();
+	return buildOccupancyGridLocked();
+}
+
+mrpt::maps::COccupancyGridMap2D::Ptr CMetricMapBuilderLRGC::buildOccupancyGridLocked() const
 {
 	const double res = m_params.builder.grid_resolution;
 	auto grid = mrpt::maps::COccupancyGridMap2D::Create(-10, 10, -10, 10, res);
@@ -142,11 +152,12 @@ mrpt::maps::COccupancyGridMap2D::Ptr CMetricMapBuilderLRGC::buildOccupancyGrid()
 
 const mrpt::maps::CMultiMetricMap* CMetricMapBuilderLRGC::getCurrentlyBuiltMetricMap() const
 {
+	const auto lock = lockMap();
 	if (!m_metricMap) m_metricMap = std::make_unique<mrpt::maps::CMultiMetricMap>();
 	if (m_metricMapDirty)
 	{
 		m_metricMap->maps.clear();
-		m_metricMap->maps.push_back(buildOccupancyGrid());
+		m_metricMap->maps.push_back(buildOccupancyGridLocked());
 		m_metricMapDirty = false;
 	}
 	return m_metricMap.get();
@@ -154,12 +165,13 @@ const mrpt::maps::CMultiMetricMap* CMetricMapBuilderLRGC::getCurrentlyBuiltMetri
 
 void CMetricMapBuilderLRGC::saveCurrentEstimationToImage(const std::string& file, bool)
 {
-	if (!buildOccupancyGrid()->saveAsBitmapFile(file))
+	if (!buildOccupancyGrid()->saveAsBitmapFile(file))  // the grid is a copy: saved unlocked
 		THROW_EXCEPTION_FMT("cannot write image '%s'", file.c_str());
 }
 
 void CMetricMapBuilderLRGC::finish()
 {
+	const auto lock = lockMap();
 	if (m_loopWorker && m_loopWorker->pending()) applyLoopResult(m_loopWorker->take());
 	if (!m_params.builder.final_optimization || m_graph.numNodes() < 2) return;
 	if (m_loopWorker && m_params.revisits.enabled)
@@ -182,10 +194,23 @@ void CMetricMapBuilderLRGC::finish()
 
 TTrajectory CMetricMapBuilderLRGC::trajectory() const
 {
+	const auto lock = lockMap();
 	TTrajectory t;
 	t.reserve(m_scans.size());
 	for (const auto& s : m_scans) t.push_back({s.timestamp, compose(m_graph.pose(s.node), s.robotInNode)});
 	return t;
+}
+
+TMapBuilderStats CMetricMapBuilderLRGC::statsCopy() const
+{
+	const auto lock = lockMap();
+	return m_stats;
+}
+
+mrpt::Clock::time_point CMetricMapBuilderLRGC::lastScanTimestamp() const
+{
+	const auto lock = lockMap();
+	return m_scans.empty() ? mrpt::Clock::time_point{} : m_scans.back().timestamp;
 }
 
 }  // namespace lrgc
