@@ -78,6 +78,7 @@ int CSlamApp::run(const std::vector<std::string>& args)
 			return kExitOk;
 		}
 		if (!cl.outDir.empty()) checkOutputDirectory(cl.outDir);
+		if (!cl.saveRawlog.empty()) checkOutputFile("--save-rawlog", cl.saveRawlog);
 		if (!cl.live.empty())
 		{
 			if (!m_live)
