@@ -7,7 +7,6 @@
 #include <fcntl.h>
 #include <poll.h>
 #include <signal.h>
-#include <sys/prctl.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -204,17 +203,17 @@ void onChildFree(const volatile void* p)
 // The child is the reader's disposable stand-in: it dies by a fault of MRPT's deserializer
 // itself, whatever handler the host program installed (a crash reporter, a sanitizer), so
 // that the reader can name the signal; it ignores the stop signals a terminal or a service
-// manager sends to the whole process group (Ctrl-C: the reader decides when to stop, and
-// kills it); it dies with the reader; and it speaks only through the pipe (MRPT's messages on
-// the object are the reader's to print when it reads it).
-void becomeQuietDisposableChild(pid_t reader)
+// manager sends to the whole process group (Ctrl-C, `timeout`, systemd: the reader decides
+// when to stop, and kills it; had the child died of it, the reader would have reported the
+// object it was on as corrupt); it dies of SIGPIPE at its next report once the reader is gone
+// (not PR_SET_PDEATHSIG, which fires when the thread that forked ends, not the process); and
+// it speaks only through the pipe (MRPT's messages on an object are the reader's to print).
+void becomeQuietDisposableChild()
 {
 	for (const int sig : {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT, SIGPIPE})
 		::signal(sig, SIG_DFL);
 	::signal(SIGINT, SIG_IGN);
 	::signal(SIGTERM, SIG_IGN);
-	::prctl(PR_SET_PDEATHSIG, SIGKILL);
-	if (::getppid() != reader) ::_exit(0);  // the reader died before prctl
 	const int devNull = ::open("/dev/null", O_WRONLY | O_CLOEXEC);
 	if (devNull >= 0)
 	{
@@ -232,9 +231,9 @@ void becomeQuietDisposableChild(pid_t reader)
 }
 
 // Never returns and never flushes the parent's stdio buffers (_exit).
-[[noreturn]] void runChild(const std::string& path, int fd, pid_t reader)
+[[noreturn]] void runChild(const std::string& path, int fd)
 {
-	becomeQuietDisposableChild(reader);
+	becomeQuietDisposableChild();
 	if (FILE* f = std::fopen("/proc/self/oom_score_adj", "w"))
 	{
 		std::fputs("1000", f);
@@ -269,7 +268,6 @@ CDeserializationGuard::CDeserializationGuard(const std::string& path)
 {
 	int fds[2];
 	if (::pipe2(fds, O_CLOEXEC) != 0) return;
-	const pid_t reader = ::getpid();
 	const pid_t pid = ::fork();
 	if (pid < 0)
 	{
@@ -280,7 +278,7 @@ CDeserializationGuard::CDeserializationGuard(const std::string& path)
 	if (pid == 0)
 	{
 		::close(fds[0]);
-		runChild(path, fds[1], reader);
+		runChild(path, fds[1]);
 	}
 	::close(fds[1]);
 	m_pid = pid;
