@@ -9,6 +9,7 @@ PACKAGES=(
   libgtest-dev libgmock-dev libbenchmark-dev
   socat                                       # pseudo-terminals for the serial-laser tests
   time                                        # /usr/bin/time -v for bench/run
+  clang-14 libclang-rt-14-dev                 # libFuzzer and sanitizers for scripts/fuzz
 )
 missing=()
 for p in "${PACKAGES[@]}"; do

@@ -41,6 +41,41 @@ TEST(SlamBadInput, SaveRawlogOverTheInputIsRefusedAndTheInputKept)
 	}
 }
 
+TEST(SlamBadInput, SaveRawlogIsCheckedBeforeTheRun)
+{
+	const std::string dir = makeTempDir("bad_save_rawlog");
+	const std::string input = dir + "/log.clf";
+	writeTextFile(input, "ODOM 0 0 0 0 0 0 1.0 host 1.0\n");
+	fs::create_directories(dir + "/folder");
+	struct TCase
+	{
+		std::string target, expected;
+	};
+	for (const TCase& c :
+		 {TCase{dir + "/folder", "--save-rawlog '" + dir + "/folder' is a directory"},
+		  TCase{dir + "/missing/log.rawlog",
+				"'" + dir + "/missing' is not a directory; create it first"},
+		  TCase{"/dev/null", "--save-rawlog '/dev/null' exists and is not a regular file"},
+		  // No one may write into /proc, root included.
+		  TCase{"/proc/lrgc.rawlog", "--save-rawlog '/proc/lrgc.rawlog': cannot write into "
+									 "'/proc'"}})
+	{
+		for (const bool alsoMap : {false, true})
+		{
+			std::vector<std::string> args = {"--input", input, "--save-rawlog", c.target};
+			if (alsoMap) args.insert(args.end(), {"--out", dir + "/out"});
+			const auto r = runProcess(binaryPath("lrgc-slam"), args);
+			EXPECT_EQ(r.exitCode, 2) << c.target << ": " << r.output;
+			EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+			EXPECT_NE(r.output.find(c.expected), std::string::npos) << r.output;
+			// Refused before the run: nothing mapped, nothing converted.
+			EXPECT_FALSE(fs::exists(dir + "/out")) << c.target;
+		}
+	}
+	EXPECT_TRUE(fs::is_empty(dir + "/folder"));
+	EXPECT_TRUE(fs::exists("/dev/null") && !fs::is_regular_file("/dev/null"));
+}
+
 TEST(SlamBadInput, UnknownArgumentIsAUsageError)
 {
 	const auto r = runProcess(binaryPath("lrgc-slam"), {"--inptu", "x"});

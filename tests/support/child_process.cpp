@@ -7,6 +7,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
@@ -92,6 +93,34 @@ bool CChildProcess::waitForOutput(const std::string& text, double timeoutSeconds
 		},
 		timeoutSeconds);
 	return found || output().find(text, from) != std::string::npos;
+}
+
+namespace
+{
+// The bit of `sig` in the mask of `field` ("SigCgt", "SigBlk") of a status file.
+bool maskHas(const std::string& statusFile, const std::string& field, int sig)
+{
+	std::ifstream status(statusFile);
+	for (std::string line; std::getline(status, line);)
+		if (line.rfind(field + ":", 0) == 0)
+			return (std::stoull(line.substr(field.size() + 1), nullptr, 16) >> (sig - 1)) & 1ULL;
+	return false;
+}
+}  // namespace
+
+TSignalDisposition signalDisposition(pid_t pid, int sig)
+{
+	const std::string proc = "/proc/" + std::to_string(pid);
+	TSignalDisposition d;
+	d.caught = maskHas(proc + "/status", "SigCgt", sig);
+	d.blockedInMain = maskHas(proc + "/status", "SigBlk", sig);
+	std::error_code ec;
+	for (const auto& task : std::filesystem::directory_iterator(proc + "/task", ec))
+	{
+		++d.threads;
+		if (!maskHas(task.path().string() + "/status", "SigBlk", sig)) ++d.unblockedThreads;
+	}
+	return d;
 }
 
 }  // namespace lrgc::test

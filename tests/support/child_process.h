@@ -38,4 +38,17 @@ private:
 	std::optional<int> m_exit;
 };
 
+/** Signal masks of a process, from /proc/PID/status (main thread) and /proc/PID/task/TID/status
+ * (each thread). */
+struct TSignalDisposition
+{
+	bool caught = false;         //!< a handler is installed (SigCgt)
+	bool blockedInMain = false;  //!< the main thread blocks it (SigBlk)
+	size_t threads = 0;          //!< threads seen
+	/** Threads that do not block it. A thread waiting for it in sigtimedwait() counts here
+	 * (the kernel unblocks the awaited signals while it waits): a signal-watcher thread. */
+	size_t unblockedThreads = 0;
+};
+TSignalDisposition signalDisposition(pid_t pid, int sig);
+
 }  // namespace lrgc::test

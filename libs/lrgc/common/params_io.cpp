@@ -151,6 +151,40 @@ void rejectUnknownKeys(
 	}
 }
 
+std::optional<TParamPlace> paramPlaceOf(const std::string& message)
+{
+	// The formats of throwBadValue()/requireParam(), rejectUnknownKeys() and
+	// rejectUnknownSections() (MapBuilderParams.cpp).
+	const auto between = [&](size_t from, char open, char close) -> std::optional<std::string>
+	{
+		const size_t a = message.find(open, from);
+		const size_t b = a == std::string::npos ? a : message.find(close, a + 1);
+		if (b == std::string::npos) return std::nullopt;
+		return message.substr(a + 1, b - a - 1);
+	};
+	const std::string invalid = "Invalid value for [", unknownKey = "Unknown key '",
+					  unknownSection = "Unknown section [";
+	if (const size_t at = message.find(invalid); at != std::string::npos)
+	{
+		const auto section = between(at, '[', ']');
+		const size_t keyFrom = message.find("] ", at);
+		const size_t keyEnd = keyFrom == std::string::npos ? keyFrom : message.find(':', keyFrom);
+		if (!section || keyEnd == std::string::npos) return std::nullopt;
+		return TParamPlace{*section, message.substr(keyFrom + 2, keyEnd - keyFrom - 2)};
+	}
+	if (const size_t at = message.find(unknownKey); at != std::string::npos)
+	{
+		const auto key = between(at, '\'', '\'');
+		const size_t in = message.find("in section [", at);
+		const auto section = in == std::string::npos ? std::nullopt : between(in, '[', ']');
+		if (!key || !section) return std::nullopt;
+		return TParamPlace{*section, *key};
+	}
+	if (const size_t at = message.find(unknownSection); at != std::string::npos)
+		if (const auto section = between(at, '[', ']')) return TParamPlace{*section, ""};
+	return std::nullopt;
+}
+
 void requireParam(
 	bool ok, const std::string& section, const std::string& key, const std::string& what)
 {

@@ -17,6 +17,7 @@
 #include <mrpt/config/CLoadableOptions.h>
 
 #include <cstddef>
+#include <optional>
 #include <string>
 
 namespace lrgc
@@ -49,6 +50,16 @@ size_t readCount(const mrpt::config::CConfigFileBase& c, const std::string& sect
 /** true, false, yes, no, 1 or 0, in any letter case ("on" and "maybe" are errors). */
 bool readBool(const mrpt::config::CConfigFileBase& c, const std::string& section,
 			  const std::string& key, bool current);
+
+/** The section and key an error message of these functions (or of rejectUnknownSections())
+ * is about, so that a caller holding the .ini text can point at its line: "Invalid value for
+ * [S] K: ...", "Unknown key 'K' in section [S]..." give {S, K}; "Unknown section [S]..."
+ * gives {S, ""}. nullopt for any other message. */
+struct TParamPlace
+{
+	std::string section, key;  //!< key empty: the section itself
+};
+std::optional<TParamPlace> paramPlaceOf(const std::string& message);
 
 /** Throws with a message naming section and key if `ok` is false. For validation on load. */
 void requireParam(

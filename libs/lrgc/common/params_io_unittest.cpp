@@ -84,3 +84,30 @@ TEST(ParamsIo, BooleansAreTrueFalseYesNoOneZeroInAnyCase)
 		expectRejected(errorOf([&] { lrgc::readBool(ini(bad), "Stage", "key", false); }), bad,
 					   "a boolean");
 }
+
+TEST(ParamsIo, ErrorMessagesNameTheirSectionAndKeyForALineNumber)
+{
+	const auto placeOf = [](const std::string& message) {
+		const auto p = lrgc::paramPlaceOf(message);
+		return p ? "[" + p->section + "] " + p->key : std::string("none");
+	};
+	EXPECT_EQ(placeOf(errorOf([] { lrgc::readDouble(ini("abc"), "Stage", "key", 0); })),
+			  "[Stage] key");
+	EXPECT_EQ(placeOf(errorOf([] { lrgc::requireParam(false, "Stage", "key", "must be > 0"); })),
+			  "[Stage] key");
+	struct TOneKey : mrpt::config::CLoadableOptions
+	{
+		void loadFromConfigFile(const mrpt::config::CConfigFileBase&, const std::string&) override
+		{
+		}
+		void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override
+		{
+			c.write(s, "key", 1);
+		}
+	};
+	const CConfigFileMemory misspelt("[Stage]\nkye = 1\n");
+	EXPECT_EQ(placeOf(errorOf([&] { lrgc::rejectUnknownKeys(TOneKey{}, misspelt, "Stage"); })),
+			  "[Stage] kye");
+	EXPECT_EQ(placeOf("Unknown section [Stagee] in the configuration"), "[Stagee] ");
+	EXPECT_EQ(placeOf("something else [Stage] key: went wrong"), "none");
+}

@@ -58,7 +58,12 @@ std::vector<Eigen::Vector2d> distinctCells(const std::vector<Eigen::Vector2d>& p
 		if (!p.allFinite()) THROW_EXCEPTION("CPatchCorrelator: a patch point is not finite");
 		const int64_t cx = static_cast<int64_t>(std::floor(p.x() / resolution));
 		const int64_t cy = static_cast<int64_t>(std::floor(p.y() / resolution));
-		items.push_back({(cx << 32) ^ (cy & 0xffffffff), p});
+		// Key: cx in the high 32 bits, cy's low 32 bits below, built on unsigned values
+		// (a left shift of a negative int64_t is undefined behaviour); the same bits, and
+		// the same order, as the signed expression gave.
+		const uint64_t key =
+			(static_cast<uint64_t>(cx) << 32) ^ (static_cast<uint64_t>(cy) & 0xffffffffu);
+		items.push_back({static_cast<int64_t>(key), p});
 	}
 	std::sort(items.begin(), items.end(),
 			  [](const Item& a, const Item& b)

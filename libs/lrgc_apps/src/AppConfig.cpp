@@ -6,10 +6,75 @@
 #include <mrpt/config/CConfigFile.h>
 #include <mrpt/config/CConfigFileMemory.h>
 
+#include <lrgc/common/params_io.h>
+
+#include <algorithm>
+#include <cctype>
+#include <charconv>
 #include <filesystem>
+#include <fstream>
 
 namespace lrgc::apps
 {
+namespace
+{
+std::string trimmed(const std::string& s)
+{
+	const size_t a = s.find_first_not_of(" \t\r");
+	if (a == std::string::npos) return {};
+	return s.substr(a, s.find_last_not_of(" \t\r") - a + 1);
+}
+
+bool sameName(const std::string& a, const std::string& b)
+{
+	return a.size() == b.size() &&
+		std::equal(a.begin(), a.end(), b.begin(), [](unsigned char x, unsigned char y)
+				   { return std::tolower(x) == std::tolower(y); });
+}
+// MRPT's config_parser() reports "Line N: what" (1-based): {N, what}.
+std::optional<std::pair<size_t, std::string>> parserLineOf(const std::string& message)
+{
+	const std::string prefix = "Line ";
+	if (message.rfind(prefix, 0) != 0) return std::nullopt;
+	size_t end = prefix.size();
+	while (end < message.size() && std::isdigit(static_cast<unsigned char>(message[end]))) ++end;
+	if (end == prefix.size() || end + 1 >= message.size() || message[end] != ':')
+		return std::nullopt;
+	size_t line = 0;
+	const char* digits = message.data() + prefix.size();
+	if (std::from_chars(digits, message.data() + end, line).ec != std::errc()) return std::nullopt;
+	return std::make_pair(line, trimmed(message.substr(end + 1)));
+}
+}  // namespace
+
+std::optional<size_t> iniLineOf(const std::string& path, const std::string& section,
+								const std::string& key)
+{
+	std::ifstream in(path);
+	std::string current;
+	size_t n = 0;
+	std::optional<size_t> last;  // MRPT reads the last of repeated keys
+	for (std::string raw; std::getline(in, raw);)
+	{
+		++n;
+		const std::string line = trimmed(raw);
+		if (line.empty() || line[0] == '#' || line[0] == ';' || line.rfind("//", 0) == 0)
+			continue;
+		if (line[0] == '[')
+		{
+			const size_t close = line.find(']');
+			current = trimmed(line.substr(1, close == std::string::npos ? close : close - 1));
+			if (key.empty() && sameName(current, section)) return n;
+			continue;
+		}
+		const size_t eq = line.find('=');
+		if (!key.empty() && eq != std::string::npos && sameName(current, section) &&
+			sameName(trimmed(line.substr(0, eq)), key))
+			last = n;
+	}
+	return last;
+}
+
 TAppConfig loadAppConfig(const std::string& path)
 {
 	TAppConfig cfg;
@@ -18,12 +83,15 @@ TAppConfig loadAppConfig(const std::string& path)
 		throw CSetupError("--config '" + path +
 						  "': no such file; name an existing .ini (lrgc-slam "
 						  "--write-default-config FILE writes one with every key)");
-	const mrpt::config::CConfigFile ini(path);
 	std::vector<std::string> allowed = TLRGCParams::sectionNames();
 	allowed.push_back("LogReader");
 	allowed.push_back("LiveMapping");
 	try
 	{
+		// Inside the try: MRPT's parser throws on a malformed "${..}" / "$env{..}" / "$eval{..}"
+		// (found by fuzz/fuzz_ini), which is a bad .ini like any other (exit 2), not an error
+		// of the input log.
+		const mrpt::config::CConfigFile ini(path);
 		rejectUnknownSections(ini, allowed);
 		cfg.lrgc.loadFromConfigFile(ini, {});
 		cfg.reader.loadFromConfigFile(ini, "LogReader");
@@ -31,7 +99,19 @@ TAppConfig loadAppConfig(const std::string& path)
 	}
 	catch (const std::exception& e)
 	{
-		throw CSetupError(path + ": " + oneLineError(e) +
+		// "FILE:LINE: " where the offending key (or section) is written in the file; a value
+		// checked against another key's may come from the defaults, and then has no line.
+		std::string message = oneLineError(e);
+		std::string where = path;
+		if (const auto parsed = parserLineOf(message))  // MRPT's parser: "Line N: ..."
+		{
+			where += ":" + std::to_string(parsed->first);
+			message = parsed->second;
+		}
+		else if (const auto place = paramPlaceOf(message))
+			if (const auto line = iniLineOf(path, place->section, place->key))
+				where += ":" + std::to_string(*line);
+		throw CSetupError(where + ": " + message +
 							  "; lrgc-slam --write-default-config FILE writes every section and "
 							  "key with its unit and meaning",
 						  errorDetails(e));

@@ -145,6 +145,30 @@ void checkOutputDirectory(const std::string& outDir)
 	::unlink(probe.c_str());
 }
 
+void checkOutputFile(const std::string& option, const std::string& path)
+{
+	namespace fs = std::filesystem;
+	std::error_code ec;
+	const std::string named = option + " '" + path + "'";
+	if (fs::is_directory(path, ec))
+		throw CSetupError(named + " is a directory; name a file in it, e.g. '" +
+						  (fs::path(path) / "log.rawlog").string() + "'");
+	if (fs::exists(path, ec) && !fs::is_regular_file(path, ec))
+		throw CSetupError(named + " exists and is not a regular file; name a file");
+	const fs::path folder = fs::path(path).parent_path();
+	const fs::path dir = folder.empty() ? fs::path(".") : folder;
+	if (!fs::is_directory(dir, ec))
+		throw CSetupError(named + ": '" + dir.string() +
+						  "' is not a directory; create it first, or name another file");
+	std::string probe = (dir / ".lrgc-write-probe-XXXXXX").string();
+	const int fd = ::mkstemp(probe.data());
+	if (fd < 0)
+		throw CSetupError(named + ": cannot write into '" + dir.string() + "' (" +
+						  std::strerror(errno) + "); name a file in a folder you may write into");
+	::close(fd);
+	::unlink(probe.c_str());
+}
+
 void finishRunSummary(TRunSummary& run, const CRunClock& clock, size_t warnings)
 {
 	if (!run.latencyStamp.empty())

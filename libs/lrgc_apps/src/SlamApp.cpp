@@ -8,24 +8,12 @@
 #include <mrpt/core/format.h>
 
 #include <algorithm>
-#include <atomic>
-#include <csignal>
 #include <filesystem>
-#include <signal.h>
-#include <unistd.h>
 
 namespace lrgc::apps
 {
 namespace
 {
-// The one piece of global state: a signal handler can only reach a global flag.
-std::atomic<int> g_stopSignals{0};
-
-extern "C" void onStopSignal(int)
-{
-	if (g_stopSignals.fetch_add(1) >= 1) ::_exit(kExitInterrupted);  // second signal: now
-}
-
 // --write-default-config FILE: a file, never a folder, and an existing one only with --force.
 void writeDefaultConfig(const std::string& path, bool force)
 {
@@ -55,21 +43,6 @@ void writeDefaultConfig(const std::string& path, bool force)
 }
 
 }  // namespace
-
-void installStopSignalHandlers()
-{
-	// sigaction, not std::signal: with -std=c++17 (strict ANSI) glibc's signal() has System V
-	// semantics and resets the handler after the first signal, so a second SIGTERM would kill
-	// the process with the default action (status 143) instead of reaching _exit(130) here.
-	struct sigaction sa = {};
-	sa.sa_handler = onStopSignal;
-	sigemptyset(&sa.sa_mask);
-	sa.sa_flags = SA_RESTART;
-	::sigaction(SIGINT, &sa, nullptr);
-	::sigaction(SIGTERM, &sa, nullptr);
-}
-bool stopRequested() { return g_stopSignals.load() > 0; }
-void clearStopRequest() { g_stopSignals = 0; }
 
 void CSlamApp::report(const std::string& line)
 {
@@ -105,6 +78,7 @@ int CSlamApp::run(const std::vector<std::string>& args)
 			return kExitOk;
 		}
 		if (!cl.outDir.empty()) checkOutputDirectory(cl.outDir);
+		if (!cl.saveRawlog.empty()) checkOutputFile("--save-rawlog", cl.saveRawlog);
 		if (!cl.live.empty())
 		{
 			if (!m_live)

@@ -5,6 +5,7 @@
 #include "lrgc_apps/RunOutputs.h"
 #include "lrgc_apps/RunStats.h"
 #include "lrgc_apps/SlamApp.h"
+#include "lrgc_apps/StopSignalWatcher.h"
 #include "lrgc_apps/io/LogReader.h"
 
 #include <lrgc/map_builder/CMetricMapBuilderLRGC.h>
@@ -83,6 +84,8 @@ void CSlamApp::reportWarnings(const std::vector<std::string>& warnings)
 int CSlamApp::runOffline(const TSlamCommandLine& cl)
 {
 	const TAppConfig cfg = loadAppConfig(cl.config);
+	// Before the reader's guard process and the optimiser's threads, which inherit its mask.
+	const CStopSignalWatcher signals;
 	std::unique_ptr<CLogReader> reader;
 	try
 	{
@@ -94,7 +97,6 @@ int CSlamApp::runOffline(const TSlamCommandLine& cl)
 		return kExitInputError;
 	}
 
-	installStopSignalHandlers();
 	CMetricMapBuilderLRGC builder(cfg.lrgc);
 	builder.logging_enable_console_output = false;  // warnings are reported below
 	CProgress progress(m_err, cl.quiet);
@@ -102,7 +104,7 @@ int CSlamApp::runOffline(const TSlamCommandLine& cl)
 	TRunSummary run;
 	run.input = cl.input;
 	run.format = reader->format() == LogFormat::Carmen ? "carmen" : "rawlog";
-	int exitCode = mapLog(*reader, builder, progress, run);
+	int exitCode = mapLog(*reader, builder, progress, run, signals);
 	// The reader's last words: lines skipped after the last entry (a file of malformed lines
 	// has nothing else) and the counts of the problems not listed.
 	reportWarnings(reader->takeWarnings());
@@ -130,9 +132,9 @@ int CSlamApp::runOffline(const TSlamCommandLine& cl)
 }
 
 int CSlamApp::mapLog(CLogReader& reader, CMetricMapBuilderLRGC& builder, CProgress& progress,
-					 TRunSummary& run)
+					 TRunSummary& run, const CStopSignalWatcher& signals)
 {
-	while (!stopRequested())
+	while (!signals.stopRequested())
 	{
 		std::optional<TLogEntry> entry;
 		try
@@ -172,7 +174,7 @@ int CSlamApp::mapLog(CLogReader& reader, CMetricMapBuilderLRGC& builder, CProgre
 						mrpt::format("kf %zu  loop-closure links %zu", builder.stats().keyframes,
 									 builder.stats().loopClosures));
 	}
-	if (!stopRequested()) return kExitOk;
+	if (!signals.stopRequested()) return kExitOk;
 	run.status = "interrupted";
 	return kExitInterrupted;
 }

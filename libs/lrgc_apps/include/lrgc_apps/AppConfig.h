@@ -1,13 +1,14 @@
 /* The .ini of lrgc-slam: the LRGC stages' sections (TLRGCParams), [LogReader] and, for
  * --live runs, [LiveMapping]. Unknown sections and keys, values that are not of the key's
- * type (params_io.h) and values out of range are errors (CSetupError naming the file, section
- * and key). */
+ * type (params_io.h) and values out of range are errors (CSetupError naming the file, the line
+ * where the key or section is written, the section and the key). */
 #pragma once
 
 #include <lrgc/map_builder/MapBuilderParams.h>
 #include <lrgc_apps/LiveMappingParams.h>
 #include <lrgc_apps/io/LogReader.h>
 
+#include <optional>
 #include <string>
 
 namespace lrgc::apps
@@ -22,6 +23,13 @@ struct TAppConfig
 /** Defaults when `path` is empty; throws CUsageError on a missing file, CSetupError on a bad
  * section, key or value. */
 TAppConfig loadAppConfig(const std::string& path);
+
+/** The 1-based line of `path` that sets `key` in `section` (the last one: MRPT's CConfigFile
+ * reads the last of repeated keys), or, for an empty `key`, the first that opens `section`;
+ * names compare as CConfigFile's do, without letter case (both checked on MRPT 2.5.8).
+ * MRPT's readers keep no line numbers: this scans the text, for error messages. */
+std::optional<size_t> iniLineOf(const std::string& path, const std::string& section,
+								const std::string& key);
 
 /** The default .ini, generated from the parameter structs' saveToConfigFile(). */
 std::string defaultAppConfigText();

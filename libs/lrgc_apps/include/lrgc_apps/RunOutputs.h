@@ -40,6 +40,13 @@ void finishRunSummary(TRunSummary& run, const CRunClock& clock, size_t warnings)
  * whole run. Leaves nothing behind (write access is tried with a file made and removed). */
 void checkOutputDirectory(const std::string& outDir);
 
+/** Throws CSetupError, before anything is run, unless `path` can be written as a file by
+ * this process: not a directory, not an existing non-regular file (/dev/null, a FIFO: the
+ * atomic write would replace it), in an existing folder this process may write into (tried,
+ * as above). `option` names it in the message ("--save-rawlog"). An existing regular file
+ * passes: it is replaced whole, atomically. */
+void checkOutputFile(const std::string& option, const std::string& path);
+
 void writeRunOutputs(
 	const CMetricMapBuilderLRGC& builder, const std::string& outDir, const TRunSummary& run);
 

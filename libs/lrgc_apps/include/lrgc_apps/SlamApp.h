@@ -4,7 +4,8 @@
  * and writes every output atomically into the output directory. A problem the run can go on
  * from (a malformed line, a skipped scan) is reported and skipped; one it cannot (a
  * truncated or corrupt rawlog) ends the run with the maps built so far saved and a non-zero
- * exit status. SIGINT/SIGTERM stop the run the same way. A log with no scan to map (no 2D
+ * exit status. SIGINT/SIGTERM stop the run the same way, with exit status 130: they are taken
+ * by a CStopSignalWatcher, as in a live run, never by a handler (which METIS would reset). A log with no scan to map (no 2D
  * laser scan, or none usable) ends with exit status 1, a line saying what the log holds, and
  * stats.json only: no empty map. A bad --out is refused before the log is opened.
  *
@@ -31,6 +32,7 @@ namespace lrgc::apps
 {
 class CLogReader;
 class CProgress;
+class CStopSignalWatcher;
 struct TRunSummary;
 
 /** Exit statuses of lrgc-slam. */
@@ -65,7 +67,7 @@ class CSlamApp
 	/** Feeds the log to the builder; returns kExitOk at its end, kExitInputError (run.status
 	 * says why) or kExitInterrupted. */
 	int mapLog(CLogReader& reader, CMetricMapBuilderLRGC& builder, CProgress& progress,
-			   TRunSummary& run);
+			   TRunSummary& run, const CStopSignalWatcher& signals);
 	void reportEnd(const TSlamCommandLine& cl, const CMetricMapBuilderLRGC& builder,
 				   const TRunSummary& run, int exitCode);
 	int convertOnly(const TSlamCommandLine& cl);
@@ -81,11 +83,5 @@ class CSlamApp
 	bool m_verbose = false;
 	size_t m_warningsShown = 0, m_warningsTotal = 0;
 };
-
-/** Installs SIGINT/SIGTERM handlers that ask running CSlamApp loops to stop (a second
- * signal exits at once); returns whether a stop was requested. */
-void installStopSignalHandlers();
-bool stopRequested();
-void clearStopRequest();
 
 }  // namespace lrgc::apps

@@ -335,7 +335,7 @@ int CEvalApp::run(const std::vector<std::string>& args, std::ostream& out, std::
 	}
 	catch (const std::invalid_argument& e)
 	{
-		err << "lrgc-eval: " << e.what() << "\n" << usage();
+		err << "lrgc-eval: " << e.what() << "; lrgc-eval --help lists the options\n";
 		return 2;
 	}
 	try

@@ -269,7 +269,7 @@ int CPlotApp::run(const std::vector<std::string>& args, std::ostream& out, std::
 	}
 	catch (const std::invalid_argument& e)
 	{
-		err << "lrgc-plot: " << e.what() << "\n" << usage();
+		err << "lrgc-plot: " << e.what() << "; lrgc-plot --help lists the options\n";
 		return 2;
 	}
 	try

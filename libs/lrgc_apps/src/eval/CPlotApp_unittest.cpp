@@ -171,6 +171,15 @@ TEST(PlotApp, HelpPrintsTheUsageAndSucceeds)
 	}
 }
 
+TEST(PlotApp, AUsageErrorIsOneLineNotTheWholeUsage)
+{
+	std::ostringstream out, err;
+	EXPECT_EQ(CPlotApp::run({"--map", "m.yaml", "--bogus"}, out, err), 2);
+	EXPECT_EQ(err.str(),
+			  "lrgc-plot: unknown argument '--bogus'; lrgc-plot --help lists the options\n");
+	EXPECT_TRUE(out.str().empty()) << out.str();
+}
+
 TEST(PlotApp, CommandLineErrors)
 {
 	std::ostringstream out, err;

@@ -16,12 +16,33 @@
 #include <cstring>
 #include <new>
 
+#if defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define LRGC_SANITIZED_BUILD 1
+#endif
+#endif
+#if defined(__SANITIZE_ADDRESS__)
+#define LRGC_SANITIZED_BUILD 1
+#endif
+#ifdef LRGC_SANITIZED_BUILD
+#include <sanitizer/allocator_interface.h>
+#include <sanitizer/common_interface_defs.h>
+
+#include <atomic>
+#endif
+
 namespace lrgc::apps
 {
 using Result = TObjectRead::Result;
 
 // How long the reader waits for the child's report on one object [ms].
 constexpr int kReportTimeoutMs = 30000;
+// The child's memory on top of what it had at fork [bytes].
+constexpr size_t kChildMemoryBudget = size_t(2) << 30;
+// Exit status of a child that went over its budget (sanitizer builds, below).
+constexpr int kChildOutOfMemoryExit = 3;
+constexpr const char* kOutOfMemoryProblem =
+	"corrupt object (a size field asks for more memory than exists)";
 
 namespace
 {
@@ -87,8 +108,7 @@ TObjectRead readArchiveObject(CLogInputFile& in, TArchive& archive)
 	if (in.hadDataError())
 		return failed(in.position(), "corrupt gzip data (zlib cannot inflate past this point)");
 	if (in.position() == start && in.reachedEnd()) return TObjectRead{};  // clean end
-	if (outOfMemory)
-		return failed(start, "corrupt object (a size field asks for more memory than exists)");
+	if (outOfMemory) return failed(start, kOutOfMemoryProblem);
 	if (in.reachedEnd())
 		return failed(
 			start,
@@ -155,16 +175,71 @@ rlim_t currentAddressSpace()
 	return static_cast<rlim_t>(pages) * static_cast<rlim_t>(::sysconf(_SC_PAGESIZE));
 }
 
+#ifdef LRGC_SANITIZED_BUILD
+// A sanitizer's allocator reserves its address space up front, so RLIMIT_AS does not bound
+// the heap of a sanitized child (the fuzzers found a corrupt CActionCollection size taking
+// 4 GiB through it): count its bytes instead. Set in the child only, after fork; bytes freed
+// that were allocated before the fork make it negative, which is harmless. The budget is
+// smaller than a normal build's: a sanitized build is the fuzzers', whose inputs are at most
+// 16 KiB, and filling gigabytes under a sanitizer takes seconds per input.
+constexpr long long kSanitizedChildHeapBudget = 64LL << 20;
+std::atomic<long long> g_childHeapBytes{0};
+
+void onChildMalloc(const volatile void*, size_t size)
+{
+	if (g_childHeapBytes.fetch_add(static_cast<long long>(size)) + static_cast<long long>(size) >
+		kSanitizedChildHeapBudget)
+		::_exit(kChildOutOfMemoryExit);
+}
+
+void onChildFree(const volatile void* p)
+{
+	if (p)
+		g_childHeapBytes.fetch_sub(
+			static_cast<long long>(__sanitizer_get_allocated_size(const_cast<void*>(p))));
+}
+#endif
+
+// The child is the reader's disposable stand-in: it dies by a fault of MRPT's deserializer
+// itself, whatever handler the host program installed (a crash reporter, a sanitizer), so
+// that the reader can name the signal; it ignores the stop signals a terminal or a service
+// manager sends to the whole process group (Ctrl-C, `timeout`, systemd: the reader decides
+// when to stop, and kills it; had the child died of it, the reader would have reported the
+// object it was on as corrupt); it dies of SIGPIPE at its next report once the reader is gone
+// (not PR_SET_PDEATHSIG, which fires when the thread that forked ends, not the process); and
+// it speaks only through the pipe (MRPT's messages on an object are the reader's to print).
+void becomeQuietDisposableChild()
+{
+	for (const int sig : {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT, SIGPIPE})
+		::signal(sig, SIG_DFL);
+	::signal(SIGINT, SIG_IGN);
+	::signal(SIGTERM, SIG_IGN);
+	const int devNull = ::open("/dev/null", O_WRONLY | O_CLOEXEC);
+	if (devNull >= 0)
+	{
+		::dup2(devNull, STDOUT_FILENO);
+		::dup2(devNull, STDERR_FILENO);
+		::close(devNull);
+	}
+#ifdef LRGC_SANITIZED_BUILD
+	// A sanitizer's report of an allocation MRPT asks for from a corrupt size field (here a
+	// std::bad_alloc in a normal build) ends the child like a crash does; the death callback
+	// belongs to the parent (libFuzzer records the parent's input as a crash there).
+	__sanitizer_set_death_callback(nullptr);
+	__sanitizer_install_malloc_and_free_hooks(onChildMalloc, onChildFree);
+#endif
+}
+
 // Never returns and never flushes the parent's stdio buffers (_exit).
 [[noreturn]] void runChild(const std::string& path, int fd)
 {
-	::signal(SIGPIPE, SIG_DFL);  // the reader went away: die quietly
+	becomeQuietDisposableChild();
 	if (FILE* f = std::fopen("/proc/self/oom_score_adj", "w"))
 	{
 		std::fputs("1000", f);
 		std::fclose(f);
 	}
-	const rlim_t limit = currentAddressSpace() + (rlim_t(2) << 30);
+	const rlim_t limit = currentAddressSpace() + rlim_t(kChildMemoryBudget);
 	const rlimit rl{limit, limit};
 	::setrlimit(RLIMIT_AS, &rl);
 	try
@@ -262,6 +337,8 @@ TObjectRead CDeserializationGuard::checkNextObject(uint64_t objectStart)
 	do w = ::waitpid(m_pid, &status, 0);
 	while (w < 0 && errno == EINTR);
 	m_pid = -1;
+	if (w > 0 && WIFEXITED(status) && WEXITSTATUS(status) == kChildOutOfMemoryExit)
+		return failed(objectStart, kOutOfMemoryProblem);
 	std::string how = "it vanished";
 	if (w > 0 && WIFSIGNALED(status))
 		how =

@@ -355,3 +355,35 @@ TEST(RawlogReader, ReturnsReorderedObjectsInFileOrder)
 	ASSERT_EQ(r.warnings.size(), 1u);
 	EXPECT_TRUE(contains(r.warnings[0], swapped + ": byte " + std::to_string(at[2])));
 }
+
+TEST(RawlogReader, AnActionCollectionClaimingBillionsOfActionsIsACorruptObject)
+{
+	// Found by fuzz/fuzz_rawlog: a CActionCollection whose action count reads 4098424833
+	// makes MRPT's deserializer grow a deque to many GiB. The guard process meets it first,
+	// under its memory limit, and the reader names the object instead of taking the memory.
+	const std::string dir = lrgc::test::makeTempDir("rawlog_huge_count");
+	mrpt::obs::CActionRobotMovement2D move;
+	move.computeFromOdometry(mrpt::poses::CPose2D(0.1, 0, 0),
+							 mrpt::obs::CActionRobotMovement2D::TMotionModelOptions());
+	mrpt::obs::CActionCollection actions;
+	actions.insert(move);
+	const std::string path = dir + "/huge-count.rawlog";
+	{
+		mrpt::io::CFileOutputStream f(path);
+		auto out = mrpt::serialization::archiveFrom(f);
+		out << actions;
+	}
+	std::string bytes = lrgc::test::readFileBytes(path);
+	// Object header: 1 byte (0x80 | name length), the class name, the version (1 byte), then
+	// the uint32 count of actions.
+	const std::string name = "mrpt::obs::CActionCollection";
+	ASSERT_EQ(bytes.substr(1, name.size()), name);
+	const size_t countAt = 1 + name.size() + 1;
+	ASSERT_EQ(bytes.substr(countAt, 4), std::string("\x01\x00\x00\x00", 4));
+	bytes.replace(countAt, 4, std::string("\x01\x00\x49\xf4", 4));
+	lrgc::test::writeFileBytes(path, bytes);
+	const auto r = lrgc::test::readWholeLog(path);
+	ASSERT_TRUE(r.error);
+	EXPECT_TRUE(contains(*r.error, path + ": byte 0: corrupt object")) << *r.error;
+	EXPECT_TRUE(r.entries.empty());
+}

@@ -8,7 +8,7 @@
 #include "lrgc_apps/live/LiveMapper.h"
 #include "lrgc_apps/live/LiveQueues.h"
 #include "lrgc_apps/live/SensorSupervisor.h"
-#include "lrgc_apps/live/StopSignalWatcher.h"
+#include "lrgc_apps/StopSignalWatcher.h"
 
 #include <mrpt/config/CConfigFile.h>
 #include <mrpt/core/format.h>

@@ -16,7 +16,12 @@
  * the child died on it or failed on it, the reader throws CLogReadError naming the object's
  * byte without touching it. Cost: a second deserialization, on the other core. If fork()
  * fails, or the child sends no report for 30 s (stuck, e.g. on a lock another thread held
- * at fork time), the reader goes on unguarded and warns.
+ * at fork time), the reader goes on unguarded and warns. The child ignores SIGINT and SIGTERM
+ * (a Ctrl-C reaches the whole process group: the reader, not the child, decides to stop, and
+ * kills it), dies of SIGPIPE at its next report once the reader is gone, restores the
+ * default action of the fatal signals (so it dies of MRPT's fault itself, whatever handlers the host installed) and
+ * writes only to the pipe. In a sanitizer build (fuzz/), where RLIMIT_AS cannot bound the
+ * heap, it counts its allocations instead (against 64 MiB: the fuzzers' inputs are small).
  */
 #pragma once
 

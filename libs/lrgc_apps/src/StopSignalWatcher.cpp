@@ -1,4 +1,4 @@
-#include "lrgc_apps/live/StopSignalWatcher.h"
+#include "lrgc_apps/StopSignalWatcher.h"
 
 #include "lrgc_apps/SlamApp.h"  // kExitInterrupted
 
@@ -31,6 +31,8 @@ CStopSignalWatcher::~CStopSignalWatcher()
 {
 	m_quit = true;
 	if (m_thread.joinable()) m_thread.join();
+	const timespec now = {0, 0};
+	while (sigtimedwait(&m_set, nullptr, &now) > 0) ++m_signals;  // taken, not left pending
 	pthread_sigmask(SIG_SETMASK, &m_oldMask, nullptr);
 }
 

@@ -1,0 +1,43 @@
+/* CStopSignalWatcher: Ctrl-C (SIGINT) and SIGTERM for lrgc-slam, offline and live.
+ *
+ * A signal handler is not enough: METIS (CHOLMOD's ordering, used by the pose-graph
+ * optimiser) traps SIGTERM around every ordering with System V signal() and re-installs the
+ * previous handler as a one-shot one (measured with strace -k on MRPT 2.5.8 / Debian 12: after
+ * the first optimisation a second SIGTERM killed the process with the default action, status
+ * 143, and a SIGTERM arriving during an ordering is taken by METIS). So the watcher blocks both
+ * signals in the calling thread, and thereby in every thread created afterwards, and takes
+ * them in its own thread with sigtimedwait(): handlers, whoever installs them, never run. The
+ * first signal asks the run to stop; the second calls _exit(130) at once (everything on disk
+ * is whole by then: see CCaptureWriter and writeFileAtomically; a temporary file being written
+ * may stay behind). Create it before any other thread of the run. A signal that comes after
+ * the watcher's last look, before its destructor unblocks the signals again, is taken (and
+ * counted) by the destructor, not left pending to kill the process once unblocked.
+ */
+#pragma once
+
+#include <signal.h>
+
+#include <atomic>
+#include <thread>
+
+namespace lrgc::apps
+{
+class CStopSignalWatcher
+{
+public:
+	CStopSignalWatcher();
+	/** Ends the watcher and restores the caller's signal mask. */
+	~CStopSignalWatcher();
+	CStopSignalWatcher(const CStopSignalWatcher&) = delete;
+	CStopSignalWatcher& operator=(const CStopSignalWatcher&) = delete;
+
+	bool stopRequested() const { return m_signals.load() > 0; }
+
+private:
+	sigset_t m_set{}, m_oldMask{};
+	std::atomic<int> m_signals{0};
+	std::atomic<bool> m_quit{false};
+	std::thread m_thread;
+};
+
+}  // namespace lrgc::apps

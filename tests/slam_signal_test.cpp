@@ -1,0 +1,160 @@
+/* End to end: SIGTERM and SIGINT stop an offline lrgc-slam run the way they stop a live one
+ * (issue 13, item 10). CHOLMOD's METIS ordering re-installs SIGTERM handlers around every
+ * ordering, so a handler-based run could die with status 143 or lose the signal: the run
+ * instead blocks both signals in every thread and takes them in a watcher thread
+ * (CStopSignalWatcher). The run ends, saves what it mapped (atomically) and exits 130.
+ *
+ * The log: Debian's SENA rawlog driven 40 times (one loop each, timestamps shifted), so that
+ * the run is mid-way, closing loops and optimising with CHOLMOD, when the signal comes. No
+ * timing is asserted: the test waits for the run's first progress line before signalling. */
+#include <gtest/gtest.h>
+#include <lrgc_apps/io/LogReader.h>
+#include <mrpt/io/CFileGZOutputStream.h>
+#include <mrpt/serialization/CArchive.h>
+
+#include <signal.h>
+#include <unistd.h>
+
+#include <filesystem>
+
+#include "app_runner.h"
+#include "child_process.h"
+#include "test_data.h"
+
+namespace fs = std::filesystem;
+using namespace lrgc::test;
+
+namespace
+{
+// 9000 scans: minutes of mapping here (about 70 scans/s on 2 busy cores), so that the run is
+// still going at its first progress line on a machine many times faster.
+constexpr int kLaps = 40;
+
+// SENA `laps` times over, as one layout-1 rawlog (gzip): each lap's timestamps are shifted
+// past the previous lap's, its odometry increments continue from where the last lap ended.
+void writeRepeatedSena(const std::string& path, int laps)
+{
+	std::vector<lrgc::apps::TLogEntry> entries;
+	{
+		const auto reader = lrgc::apps::openLog(senaRawlogPath());
+		while (auto e = reader->next()) entries.push_back(std::move(*e));
+	}
+	ASSERT_GT(entries.size(), 100u);
+	const auto first = entries.front().observations->getObservationByIndex(0)->timestamp;
+	const auto last = entries.back().observations->getObservationByIndex(0)->timestamp;
+	const auto lap = (last - first) + std::chrono::seconds(1);
+	mrpt::io::CFileGZOutputStream file(path);
+	auto out = mrpt::serialization::archiveFrom(file);
+	for (int k = 0; k < laps; ++k)
+		for (const auto& e : entries)
+		{
+			auto actions = mrpt::obs::CActionCollection::Create(*e.actions);
+			for (auto& a : *actions) a->timestamp += lap * k;
+			auto frame = mrpt::obs::CSensoryFrame::Create();
+			for (const auto& obs : *e.observations)
+			{
+				mrpt::obs::CObservation::Ptr copy(dynamic_cast<mrpt::obs::CObservation*>(obs->clone()));
+				copy->timestamp += lap * k;
+				frame->insert(copy);
+			}
+			out << *actions << *frame;
+		}
+}
+
+// Runs lrgc-slam on the long log, waits for its first progress line (mid-run), sends `sig`
+// `count` times, and returns the child once it has exited.
+struct TStoppedRun
+{
+	std::optional<int> status;
+	std::string output, outDir;
+	TSignalDisposition disposition;  //!< of SIGTERM, just before the signal
+};
+
+// toGroup: lrgc-slam runs in a process group of its own (setsid) and the signal goes to the
+// group, as a terminal's Ctrl-C, `timeout` or a service manager send it: to the rawlog
+// reader's guard process too.
+TStoppedRun runAndStop(const std::string& name, int sig, int count, bool toGroup = false)
+{
+	TStoppedRun r;
+	const std::string dir = makeTempDir(name + "_" + std::to_string(::getpid()));
+	const std::string log = dir + "/sena-x40.rawlog";
+	writeRepeatedSena(log, kLaps);
+	r.outDir = dir + "/out";
+	const std::vector<std::string> args = {"--input", log, "--out", r.outDir};
+	std::vector<std::string> grouped = {binaryPath("lrgc-slam")};
+	grouped.insert(grouped.end(), args.begin(), args.end());
+	// setsid(1), not being a group leader here, calls setsid() and execs lrgc-slam: same pid.
+	CChildProcess app(toGroup ? "/usr/bin/setsid" : binaryPath("lrgc-slam"),
+					  toGroup ? grouped : args, dir + "/console.txt");
+	// The first progress line comes after 10 s of mapping: by then the run has closed the
+	// first lap's loop and optimised (CHOLMOD, METIS) several times.
+	if (!app.waitForOutput("progress: ", 600))
+	{
+		r.output = app.output();
+		return r;
+	}
+	r.disposition = signalDisposition(app.pid(), SIGTERM);
+	for (int i = 0; i < count; ++i)
+		if (toGroup)
+			::kill(-app.pid(), sig);
+		else
+			app.signal(sig);
+	r.status = app.waitExit(600);
+	r.output = app.output();
+	fs::remove(log);  // 7 MB
+	return r;
+}
+}  // namespace
+
+TEST(SlamSignals, SigtermMidRunSavesTheMapsAndExits130)
+{
+	LRGC_SKIP_IF_MISSING(senaRawlogPath());
+	const TStoppedRun r = runAndStop("sig_term", SIGTERM, 1);
+	ASSERT_TRUE(r.status.has_value()) << "no progress line, or no exit:\n" << r.output;
+	// Every thread of the run blocks SIGTERM but the watcher, while it waits for it in
+	// sigtimedwait(): no handler, whoever installs it, can take the signal from the watcher.
+	EXPECT_TRUE(r.disposition.blockedInMain);
+	EXPECT_LE(r.disposition.unblockedThreads, 1u) << r.disposition.threads << " threads";
+	EXPECT_GE(r.disposition.threads, 2u) << "the watcher thread is missing";
+	ASSERT_EQ(*r.status, 130) << "the run ended before the signal, or died of it?\n" << r.output;
+	EXPECT_NE(r.output.find("interrupted"), std::string::npos) << r.output;
+	EXPECT_EQ(r.output.find("100.0%"), std::string::npos) << r.output;
+	for (const char* f : {"map.gridmap.gz", "map.png", "map.pgm", "map.yaml", "map.simplemap.gz",
+						  "trajectory.tum", "graph.graph", "timing.csv", "stats.json"})
+		EXPECT_TRUE(fs::is_regular_file(r.outDir + "/" + f)) << f;
+	const std::string stats = readTextFile(r.outDir + "/stats.json");
+	EXPECT_NE(stats.find("\"status\": \"interrupted\""), std::string::npos) << stats;
+	// Written atomically: no temporary file left beside the outputs.
+	for (const auto& e : fs::directory_iterator(r.outDir))
+		EXPECT_EQ(e.path().filename().string().find(".tmp."), std::string::npos) << e.path();
+	// What was mapped is a part of the log, not nothing and not all of it.
+	const std::string tum = readTextFile(r.outDir + "/trajectory.tum");
+	const auto lines = std::count(tum.begin(), tum.end(), '\n');
+	EXPECT_GT(lines, 0);
+	EXPECT_LT(lines, kLaps * 225);
+}
+
+TEST(SlamSignals, RepeatedSigtermsStillExit130)
+{
+	LRGC_SKIP_IF_MISSING(senaRawlogPath());
+	// Three at once: the first asks to stop, the second exits at once with 130, not 143 (the
+	// death by SIGTERM that a handler reset by METIS to the default action would give).
+	const TStoppedRun r = runAndStop("sig_term3", SIGTERM, 3);
+	ASSERT_TRUE(r.status.has_value()) << "no progress line, or no exit:\n" << r.output;
+	EXPECT_EQ(*r.status, 130) << r.output;
+}
+
+TEST(SlamSignals, CtrlCToTheProcessGroupIsAStopNotACorruptObject)
+{
+	LRGC_SKIP_IF_MISSING(senaRawlogPath());
+	ASSERT_TRUE(fs::exists("/usr/bin/setsid"));
+	// The guard process that reads each rawlog object first gets the signal too. It used to
+	// die of it, and a reader that was waiting for its report then took the death for a crash
+	// of MRPT's deserializer: "corrupt object", exit 1. (Here the guard is usually far ahead
+	// of the reader, so this checks the outcome more than it reproduces that race.)
+	const TStoppedRun r = runAndStop("sig_group", SIGINT, 1, true);
+	ASSERT_TRUE(r.status.has_value()) << "no progress line, or no exit:\n" << r.output;
+	EXPECT_EQ(*r.status, 130) << r.output;
+	EXPECT_EQ(r.output.find("corrupt"), std::string::npos) << r.output;
+	EXPECT_NE(r.output.find("interrupted"), std::string::npos) << r.output;
+}
