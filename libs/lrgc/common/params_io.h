@@ -49,6 +49,9 @@ size_t readCount(const mrpt::config::CConfigFileBase& c, const std::string& sect
 /** true, false, yes, no, 1 or 0, in any letter case ("on" and "maybe" are errors). */
 bool readBool(const mrpt::config::CConfigFileBase& c, const std::string& section,
 			  const std::string& key, bool current);
+/** A string: the value as written, blanks and a trailing `// comment` aside (may be empty). */
+std::string readString(const mrpt::config::CConfigFileBase& c, const std::string& section,
+					   const std::string& key, const std::string& current);
 
 /** Throws with a message naming section and key if `ok` is false. For validation on load. */
 void requireParam(

@@ -14,6 +14,7 @@
 #pragma once
 
 #include <lrgc/loop_closing/LoopCloserStats.h>
+#include <lrgc/map_builder/LaserSelector.h>
 #include <lrgc/map_builder/MapBuilderParams.h>
 #include <lrgc/map_builder/Trajectory.h>
 #include <lrgc/pose_graph/Keyframe.h>
@@ -96,6 +97,8 @@ class CMetricMapBuilderLRGC : public mrpt::slam::CMetricMapBuilder
 	const CPoseGraph& graph() const { return m_graph; }
 	const TKeyframes& keyframes() const { return m_keyframes; }
 	const TMapBuilderStats& stats() const { return m_stats; }
+	/** The mapped laser, the scans of other lasers ignored, the readings range-limited. */
+	const CLaserSelector& lasers() const { return m_lasers; }
 	/** Loop-closing counters and per-closure times (empty stats if loop closing is off). */
 	TLoopCloserStats loopCloserStats() const;
 	/** Occupancy grid of the current estimate, from the keyframes' scans. */
@@ -122,6 +125,8 @@ class CMetricMapBuilderLRGC : public mrpt::slam::CMetricMapBuilder
 		const mrpt::obs::CSensoryFrame::Ptr& observations, TScan2D&& scan,
 		const mrpt::math::TPose2D& scanInMap, size_t scanIndex);
 	TLink odometryLinkToNewest() const;
+	mrpt::obs::CObservation2DRangeScan::Ptr acceptLaser(
+		const mrpt::obs::CObservation2DRangeScan::Ptr& laser);
 	void warn(std::string message);
 
 	TLRGCParams m_params;
@@ -132,7 +137,7 @@ class CMetricMapBuilderLRGC : public mrpt::slam::CMetricMapBuilder
 	TKeyframes m_keyframes;
 	std::vector<TScanRecord> m_scans;
 	TMapBuilderStats m_stats;
-	std::string m_laserLabel;  //!< the laser the map is built from (first seen)
+	CLaserSelector m_lasers;  //!< the laser the map is built from, its range limits
 
 	mrpt::math::TPose2D m_lastScanInMap{0, 0, 0};
 	Eigen::Matrix3d m_lastScanCov = Eigen::Matrix3d::Zero();

@@ -92,6 +92,12 @@ std::string statsJson(const CMetricMapBuilderLRGC& builder, const TRunSummary& r
 	  << "  \"loop_closure_links_accepted\": " << s.loopClosures << ",\n"
 	  << "  \"loop_closures\": " << s.loopClosures << ",\n"
 	  << "  \"revisit_links\": " << s.revisitLinks << ",\n"
+	  // The mapped laser ([MapBuilder] laser_label / --laser, else the first seen) and the
+	  // scans of the other lasers, ignored, per sensor label.
+	  << "  \"laser\": {\"label\": " << jsonString(builder.lasers().label())
+	  << ", \"chosen\": " << (builder.lasers().chosen() ? "true" : "false")
+	  << ", \"ignored_scans\": " << jsonCounts(builder.lasers().ignoredScans())
+	  << ", \"range_limited_readings\": " << builder.lasers().rangeLimitedReadings() << "},\n"
 	  << "  \"loop_closing\": {\"attempts\": " << lcs.attempts
 	  << ", \"accepted\": " << lcs.accepted
 	  << ", \"rejected_by_filters\": " << lcs.rejectedByFilters
