@@ -5,6 +5,7 @@
 #include "lrgc_apps/RunStats.h"
 #include "lrgc_apps/atomic_file.h"
 
+#include <lrgc/pose_graph/GraphExport.h>
 #include <mrpt/maps/CSimpleMap.h>
 
 #include <unistd.h>
@@ -174,7 +175,9 @@ void writeRunOutputs(
 	}
 
 	writeTrajectoryTum(builder.trajectory(), path("trajectory.tum"));
-	writeGraph(builder.graph().toMrpt(), path("graph.graph"));
+	// One edge per node pair with the weights of our final optimisation, so that MRPT's
+	// graph-slam (which keeps one edge per pair) finds our poses (GraphExport.h).
+	writeGraph(toMrptLeastSquares(builder.graph(), builder.params().optimizer), path("graph.graph"));
 	mrpt::maps::CSimpleMap keyframes;
 	builder.getCurrentlyBuiltMap(keyframes);
 	writeSimplemap(keyframes, path("map.simplemap.gz"));
