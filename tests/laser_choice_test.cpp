@@ -136,6 +136,19 @@ TEST(LaserChoice, SyntheticTwoLaserLog)
 	writeTextFile(dir + "/two-lasers.clf", twoLaserLog(&frontScans));
 	ASSERT_GT(frontScans, 50u);
 	checkLaserChoice(dir + "/two-lasers.clf", frontScans, dir);
+
+	// --laser is for mapping: without a value, or with a conversion only, a usage error.
+	const auto noValue = runProcess(binaryPath("lrgc-slam"),
+									{"--input", dir + "/two-lasers.clf", "--out", dir, "--laser"});
+	EXPECT_EQ(noValue.exitCode, 2) << noValue.output;
+	EXPECT_NE(noValue.output.find("option --laser needs a value"), std::string::npos)
+		<< noValue.output;
+	const auto convert = runProcess(binaryPath("lrgc-slam"),
+									{"--input", dir + "/two-lasers.clf", "--save-rawlog",
+									 dir + "/two.rawlog", "--laser", "LASER"});
+	EXPECT_EQ(convert.exitCode, 2) << convert.output;
+	EXPECT_NE(convert.output.find("--laser picks the laser to map"), std::string::npos)
+		<< convert.output;
 }
 
 TEST(LaserChoice, IntelWithOneRearLaserLineInFront)

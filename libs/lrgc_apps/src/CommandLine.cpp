@@ -60,6 +60,9 @@ TSlamCommandLine parseSlamCommandLine(const std::vector<std::string>& args)
 	if (cl.outDir.empty() && cl.saveRawlog.empty())
 		throw CUsageError("missing --out DIR (or --save-rawlog FILE to convert only)" +
 						  std::string(kSeeHelp));
+	if (!cl.laser.empty() && cl.outDir.empty())
+		throw CUsageError("--laser picks the laser to map (with --out DIR); --save-rawlog "
+						  "alone converts every laser");
 	// Never write over the input (a CARMEN log would be gone, a layout-1 rawlog would become
 	// observations-only): the same file under any spelling of its path, links included.
 	std::error_code ec;
