@@ -124,6 +124,13 @@ bool readBool(const mrpt::config::CConfigFileBase& c, const std::string& section
 	throwBadValue(section, key, *raw, "a boolean (expected true, false, yes, no, 1 or 0)");
 }
 
+std::string readString(const mrpt::config::CConfigFileBase& c, const std::string& section,
+					   const std::string& key, const std::string& current)
+{
+	const auto raw = rawValue(c, section, key);
+	return raw ? *raw : current;
+}
+
 void rejectUnknownKeys(
 	const mrpt::config::CLoadableOptions& knownKeysFrom,
 	const mrpt::config::CConfigFileBase& source, const std::string& section)

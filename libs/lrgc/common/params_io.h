@@ -50,6 +50,9 @@ size_t readCount(const mrpt::config::CConfigFileBase& c, const std::string& sect
 /** true, false, yes, no, 1 or 0, in any letter case ("on" and "maybe" are errors). */
 bool readBool(const mrpt::config::CConfigFileBase& c, const std::string& section,
 			  const std::string& key, bool current);
+/** A string: the value as written, blanks and a trailing `// comment` aside (may be empty). */
+std::string readString(const mrpt::config::CConfigFileBase& c, const std::string& section,
+					   const std::string& key, const std::string& current);
 
 /** The section and key an error message of these functions (or of rejectUnknownSections())
  * is about, so that a caller holding the .ini text can point at its line: "Invalid value for

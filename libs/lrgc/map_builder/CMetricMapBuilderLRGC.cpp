@@ -272,6 +272,16 @@ TLink CMetricMapBuilderLRGC::odometryLinkToNewest() const
 // ---------------------------------------------------------------------------------------
 // Observation intake.
 // ---------------------------------------------------------------------------------------
+// The mapped laser's scan with its range limits applied, or null for another laser's
+// (CLaserSelector counts it, and warns once when a second laser shows up unasked).
+mrpt::obs::CObservation2DRangeScan::Ptr CMetricMapBuilderLRGC::acceptLaser(
+	const mrpt::obs::CObservation2DRangeScan::Ptr& laser)
+{
+	auto mapped = m_lasers.select(laser);
+	if (auto w = m_lasers.takeWarning()) warn(std::move(*w));
+	return mapped;
+}
+
 void CMetricMapBuilderLRGC::processObservation(const mrpt::obs::CObservation::Ptr& obs)
 {
 	ASSERT_(obs);
@@ -280,8 +290,7 @@ void CMetricMapBuilderLRGC::processObservation(const mrpt::obs::CObservation::Pt
 		m_predictor->addOdometryAbsolute(odo->odometry.asTPose());
 	else if (auto laser = std::dynamic_pointer_cast<mrpt::obs::CObservation2DRangeScan>(obs))
 	{
-		if (m_laserLabel.empty()) m_laserLabel = laser->sensorLabel;
-		if (laser->sensorLabel != m_laserLabel) { ++m_stats.ignoredObservations; return; }
+		if (!(laser = acceptLaser(laser))) return;
 		auto sf = mrpt::obs::CSensoryFrame::Create();
 		sf->insert(laser);
 		processScan(laser, sf);
@@ -298,11 +307,11 @@ void CMetricMapBuilderLRGC::processActionObservation(
 		m_predictor->addOdometryIncrement(odo->poseChange->getMeanVal().asTPose());
 	auto sf = mrpt::obs::CSensoryFrame::Create(observations);
 	mrpt::obs::CObservation2DRangeScan::Ptr laser;
-	for (const auto& o : observations)
+	for (auto& o : *sf)
 		if (auto l = std::dynamic_pointer_cast<mrpt::obs::CObservation2DRangeScan>(o))
 		{
-			if (m_laserLabel.empty()) m_laserLabel = l->sensorLabel;
-			if (l->sensorLabel == m_laserLabel && !laser) laser = l;
+			auto mapped = acceptLaser(l);
+			if (mapped && !laser) o = laser = mapped;  // the frame keeps the range-limited scan
 		}
 		else if (auto od = std::dynamic_pointer_cast<mrpt::obs::CObservationOdometry>(o))
 			m_predictor->addOdometryAbsolute(od->odometry.asTPose());

@@ -18,12 +18,13 @@
  * (getCurrentPoseEstimation, getCurrentlyBuiltMap(Size), getCurrentlyBuiltMetricMap,
  * saveCurrentEstimationToImage, trajectory, buildOccupancyGrid, statsCopy, loopCloserStats,
  * lastScanTimestamp) take it too, so another thread may call them while mapping goes on.
- * The getters returning references (graph, keyframes, stats, params) are for the mapping
+ * The getters returning references (graph, keyframes, stats, lasers, params) are for the mapping
  * thread, or for any thread once mapping has stopped.
  */
 #pragma once
 
 #include <lrgc/loop_closing/LoopCloserStats.h>
+#include <lrgc/map_builder/LaserSelector.h>
 #include <lrgc/map_builder/MapBuilderParams.h>
 #include <lrgc/map_builder/Trajectory.h>
 #include <lrgc/pose_graph/Keyframe.h>
@@ -111,6 +112,8 @@ class CMetricMapBuilderLRGC : public mrpt::slam::CMetricMapBuilder
 	const TKeyframes& keyframes() const { return m_keyframes; }
 	const TMapBuilderStats& stats() const { return m_stats; }
 	TMapBuilderStats statsCopy() const;  //!< stats(), safe from another thread
+	/** The mapped laser, the scans of other lasers ignored, the readings range-limited. */
+	const CLaserSelector& lasers() const { return m_lasers; }
 	/** Loop-closing counters and per-closure times (empty stats if loop closing is off). */
 	TLoopCloserStats loopCloserStats() const;
 	/** Occupancy grid of the current estimate, from the keyframes' scans. */
@@ -142,6 +145,8 @@ class CMetricMapBuilderLRGC : public mrpt::slam::CMetricMapBuilder
 		const mrpt::obs::CSensoryFrame::Ptr& observations, TScan2D&& scan,
 		const mrpt::math::TPose2D& scanInMap, size_t scanIndex);
 	TLink odometryLinkToNewest() const;
+	mrpt::obs::CObservation2DRangeScan::Ptr acceptLaser(
+		const mrpt::obs::CObservation2DRangeScan::Ptr& laser);
 	void warn(std::string message);
 	mrpt::maps::COccupancyGridMap2D::Ptr buildOccupancyGridLocked() const;
 	/** The base's critical section, also from const getters (it guards the state, not the
@@ -166,7 +171,7 @@ class CMetricMapBuilderLRGC : public mrpt::slam::CMetricMapBuilder
 	TKeyframes m_keyframes;
 	std::vector<TScanRecord> m_scans;
 	TMapBuilderStats m_stats;
-	std::string m_laserLabel;  //!< the laser the map is built from (first seen)
+	CLaserSelector m_lasers;  //!< the laser the map is built from, its range limits
 
 	mrpt::math::TPose2D m_lastScanInMap{0, 0, 0};
 	Eigen::Matrix3d m_lastScanCov = Eigen::Matrix3d::Zero();

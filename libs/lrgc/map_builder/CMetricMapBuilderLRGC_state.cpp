@@ -59,7 +59,7 @@ void CMetricMapBuilderLRGC::initialize(
 	m_keyframes.clear();
 	m_scans.clear();
 	m_stats = {};
-	m_laserLabel.clear();
+	m_lasers = CLaserSelector(m_params.builder);
 	m_lastScanInMap = TPose2D(0, 0, 0);
 	m_lastScanCov.setZero();
 	m_nextScanPrior.reset();
@@ -82,7 +82,7 @@ void CMetricMapBuilderLRGC::initialize(
 		TScan2D scan = scanFromObservation(*laser);
 		if (scan.points.size() < m_params.builder.min_scan_points) continue;
 		auto sfCopy = std::const_pointer_cast<mrpt::obs::CSensoryFrame>(sf);
-		if (m_laserLabel.empty()) m_laserLabel = laser->sensorLabel;
+		m_lasers.adopt(laser->sensorLabel);
 		const size_t node = addKeyframe(laser, sfCopy, std::move(scan), pose, m_stats.scans++);
 		m_scans.push_back({laser->timestamp, node, TPose2D(0, 0, 0)});
 		if (node > 0)

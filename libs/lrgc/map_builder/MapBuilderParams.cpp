@@ -21,8 +21,15 @@ void TMapBuilderParams::loadFromConfigFile(
 	loop_closing = readBool(c, s, "loop_closing", loop_closing);
 	final_optimization = readBool(c, s, "final_optimization", final_optimization);
 	scan_sweep_time = readDouble(c, s, "scan_sweep_time", scan_sweep_time);
+	laser_label = readString(c, s, "laser_label", laser_label);
+	min_range = readDouble(c, s, "min_range", min_range);
+	max_range = readDouble(c, s, "max_range", max_range);
 	requireParam(
 		scan_sweep_time >= 0 && scan_sweep_time < 1, s, "scan_sweep_time", "must be in [0, 1) s");
+	requireParam(min_range >= 0, s, "min_range", "must be >= 0 m (0: no lower limit)");
+	requireParam(
+		max_range == 0 || max_range > min_range, s, "max_range",
+		mrpt::format("must be 0 (no upper limit) or above min_range = %g m", min_range));
 	requireParam(keyframe_distance > 0, s, "keyframe_distance", "must be > 0");
 	requireParam(keyframe_angle > 0, s, "keyframe_angle_deg", "must be > 0");
 	requireParam(min_scan_points >= 3, s, "min_scan_points", "must be >= 3");
@@ -42,6 +49,9 @@ void TMapBuilderParams::saveToConfigFile(
 	c.write(s, "loop_closing", loop_closing, np, vp, "Global correlation and loop closing (false: local registration only)");
 	c.write(s, "final_optimization", final_optimization, np, vp, "Optimise the whole graph once more at the end of the run");
 	c.write(s, "scan_sweep_time", scan_sweep_time, np, vp, "[s] Laser's first beam to last (SICK LMS 2xx: 0.0067): scans are de-skewed by the motion over it; 0: off");
+	c.write(s, "laser_label", laser_label, np, vp, "sensorLabel of the laser to map (CARMEN: LASER = FLASER, REAR_LASER = RLASER); empty: the first seen (lrgc-slam --laser)");
+	c.write(s, "min_range", min_range, np, vp, "[m] Readings of that laser below this are dropped (the robot's own posts); 0: none");
+	c.write(s, "max_range", max_range, np, vp, "[m] Readings above this are dropped; 0: only the sensor's own maximum range");
 }
 
 namespace

@@ -28,6 +28,12 @@ struct TMapBuilderParams : public mrpt::config::CLoadableOptions
 	/** [s] time from the laser's first beam to its last (SICK LMS 2xx, 180 deg: 6.7 ms);
 	 * scans are de-skewed by the predicted motion over it (Scan.h); 0: off */
 	double scan_sweep_time = 0.0;
+	/** The laser (CObservation2DRangeScan::sensorLabel) the map is built from, e.g. "LASER"
+	 * (a CARMEN log's FLASER) or "REAR_LASER" (RLASER); empty: the first one seen. Scans of
+	 * other lasers are counted and ignored (CLaserSelector). */
+	std::string laser_label;
+	double min_range = 0.0;  //!< [m] the mapped laser's readings below are dropped (own posts); 0: none
+	double max_range = 0.0;  //!< [m] ... and above; 0: only the sensor's own maximum range
 
 	void loadFromConfigFile(
 		const mrpt::config::CConfigFileBase& c, const std::string& s) override;

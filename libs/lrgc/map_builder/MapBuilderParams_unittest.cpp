@@ -104,3 +104,38 @@ TEST(LRGCParams, ABadValueIsBlamedOnItsOwnKey)
 		loadError("[MapBuilder]\nloop_closing = No\n[LocalRegistration]\nwindow_size = 9\n"),
 		"");
 }
+
+TEST(LRGCParams, LaserLabelAndRangeLimitsRoundTrip)
+{
+	lrgc::TLRGCParams p;
+	EXPECT_EQ(p.builder.laser_label, "");
+	EXPECT_EQ(p.builder.min_range, 0.0);
+	EXPECT_EQ(p.builder.max_range, 0.0);
+	p.builder.laser_label = "REAR_LASER";
+	p.builder.min_range = 0.25;
+	p.builder.max_range = 20;
+	const std::string text = saved(p);
+	mrpt::config::CConfigFileMemory mem(text);
+	lrgc::TLRGCParams q;
+	q.loadFromConfigFile(mem, {});
+	EXPECT_EQ(q.builder.laser_label, "REAR_LASER");
+	EXPECT_EQ(q.builder.min_range, 0.25);
+	EXPECT_EQ(q.builder.max_range, 20.0);
+	EXPECT_EQ(saved(q), text);
+	// The default (empty label) survives the round trip too.
+	mrpt::config::CConfigFileMemory defaults(saved(lrgc::TLRGCParams()));
+	lrgc::TLRGCParams d;
+	d.builder.laser_label = "X";
+	d.loadFromConfigFile(defaults, {});
+	EXPECT_EQ(d.builder.laser_label, "");
+}
+
+TEST(LRGCParams, RangeLimitsOutOfOrderAreErrors)
+{
+	for (const char* bad : {"min_range = -0.1", "max_range = -1", "min_range = 2\nmax_range = 1"})
+	{
+		mrpt::config::CConfigFileMemory mem(std::string("[MapBuilder]\n") + bad + "\n");
+		lrgc::TLRGCParams p;
+		EXPECT_THROW(p.loadFromConfigFile(mem, {}), std::exception) << bad;
+	}
+}

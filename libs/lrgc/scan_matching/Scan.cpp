@@ -4,6 +4,27 @@
 
 namespace lrgc
 {
+mrpt::obs::CObservation2DRangeScan::Ptr applyRangeLimits(
+	const mrpt::obs::CObservation2DRangeScan::Ptr& obs, const TRangeLimits& limits,
+	size_t* marked)
+{
+	ASSERT_(obs);
+	const auto outside = [&](size_t i) {
+		const double r = obs->getScanRange(i);
+		return obs->getScanRangeValidity(i) &&
+			(r < limits.min || (limits.max > 0 && r > limits.max));
+	};
+	const size_t n = obs->getScanSize();
+	size_t count = 0;
+	for (size_t i = 0; i < n; ++i) count += outside(i) ? 1 : 0;
+	if (marked) *marked = count;
+	if (count == 0) return obs;
+	auto out = std::make_shared<mrpt::obs::CObservation2DRangeScan>(*obs);
+	for (size_t i = 0; i < n; ++i)
+		if (outside(i)) out->setScanRangeValidity(i, false);
+	return out;
+}
+
 TScan2D scanFromObservation(
 	const mrpt::obs::CObservation2DRangeScan& obs, TScanConversionStats* stats,
 	const mrpt::math::TPose2D& sweepMotion)

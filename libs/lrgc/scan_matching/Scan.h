@@ -18,6 +18,9 @@
  * (Intel and MIT-CSAIL: 4.5 ms, ACES: 26.7 ms).
  * No-return readings (invalid flag, NaN, r <= 0, r >= maxRange) are not obstacles and are
  * dropped here; the count of each kind is reported so callers can say what they skipped.
+ * Range limits ([MapBuilder] min_range, max_range: a robot's own posts, a 360-degree lidar's
+ * view of the robot) are applied before, to the observation itself (applyRangeLimits), so
+ * that the occupancy grid and the saved keyframes drop those readings too.
  */
 #pragma once
 
@@ -50,6 +53,23 @@ struct TScanConversionStats
 	size_t noReturn = 0;  //!< r >= maxRange
 	size_t kept() const { return total - invalidFlag - notFinite - nonPositive - noReturn; }
 };
+
+/** Range limits of a laser [m]; 0 = no limit. */
+struct TRangeLimits
+{
+	double min = 0;  //!< [m] readings below are dropped (the robot's own posts, ...); 0: none
+	double max = 0;  //!< [m] readings above are dropped; 0: only the sensor's own maxRange
+	bool active() const { return min > 0 || max > 0; }
+};
+
+/** `obs` with its valid readings r < limits.min or r > limits.max marked invalid, the way
+ * MRPT's own filters mark excluded readings (CObservation2DRangeScan::filterByExclusionAreas):
+ * the scan conversion then drops them, and MRPT's grid insertion treats them as no-returns.
+ * A modified copy if a reading is marked, `obs` itself otherwise (never changed). `*marked`,
+ * if given, receives the number of readings marked. */
+mrpt::obs::CObservation2DRangeScan::Ptr applyRangeLimits(
+	const mrpt::obs::CObservation2DRangeScan::Ptr& obs, const TRangeLimits& limits,
+	size_t* marked = nullptr);
 
 /** Converts an MRPT laser observation; never throws on bad ranges (they are counted).
  * `sweepMotion`: the robot's motion over the sweep, first beam -> last beam, in the robot

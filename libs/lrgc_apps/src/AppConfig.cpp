@@ -119,6 +119,13 @@ TAppConfig loadAppConfig(const std::string& path)
 	return cfg;
 }
 
+TAppConfig loadAppConfig(const TSlamCommandLine& cl)
+{
+	TAppConfig cfg = loadAppConfig(cl.config);
+	if (!cl.laser.empty()) cfg.lrgc.builder.laser_label = cl.laser;
+	return cfg;
+}
+
 std::string defaultAppConfigText()
 {
 	mrpt::config::CConfigFileMemory mem;

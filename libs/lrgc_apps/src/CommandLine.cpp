@@ -21,6 +21,12 @@ TSlamCommandLine parseSlamCommandLine(const std::vector<std::string>& args)
 				throw CUsageError("option " + a + " needs a value" + kSeeHelp);
 			dst = args[++i];
 		};
+		// --- which laser to map (issue 14): its own block ---
+		if (a == "--laser")
+		{
+			value(cl.laser);
+			continue;
+		}
 		if (a == "--input" || a == "-i") value(cl.input);
 		else if (a == "--live") value(cl.live);
 		else if (a == "--config" || a == "-c") value(cl.config);
@@ -54,6 +60,9 @@ TSlamCommandLine parseSlamCommandLine(const std::vector<std::string>& args)
 	if (cl.outDir.empty() && cl.saveRawlog.empty())
 		throw CUsageError("missing --out DIR (or --save-rawlog FILE to convert only)" +
 						  std::string(kSeeHelp));
+	if (!cl.laser.empty() && cl.outDir.empty())
+		throw CUsageError("--laser picks the laser to map (with --out DIR); --save-rawlog "
+						  "alone converts every laser");
 	// Never write over the input (a CARMEN log would be gone, a layout-1 rawlog would become
 	// observations-only): the same file under any spelling of its path, links included.
 	std::error_code ec;
@@ -84,7 +93,10 @@ std::string slamUsage()
 		   "--live: map from the sensors of a rawlog-grabber .ini (mrpt::hwdrivers drivers)\n"
 		   "until Ctrl-C or SIGTERM; everything received goes to DIR/capture.rawlog, maps are\n"
 		   "saved every [LiveMapping] save_interval_s and at the end, live.json has per-sensor\n"
-		   "counts. A second Ctrl-C exits at once (the capture and last saved maps stay valid).\n";
+		   "counts. A second Ctrl-C exits at once (the capture and last saved maps stay valid).\n"
+		   "--laser LABEL: map the 2D laser of this sensorLabel (a CARMEN log's FLASER is\n"
+		   "LASER, RLASER is REAR_LASER) and ignore the others; default [MapBuilder]\n"
+		   "laser_label, empty: the first laser seen (a second one is warned about).\n";
 }
 
 }  // namespace lrgc::apps

@@ -5,6 +5,7 @@
 #include "lrgc_apps/RunStats.h"
 #include "lrgc_apps/atomic_file.h"
 
+#include <lrgc/pose_graph/GraphExport.h>
 #include <mrpt/maps/CSimpleMap.h>
 
 #include <unistd.h>
@@ -92,6 +93,12 @@ std::string statsJson(const CMetricMapBuilderLRGC& builder, const TRunSummary& r
 	  << "  \"loop_closure_links_accepted\": " << s.loopClosures << ",\n"
 	  << "  \"loop_closures\": " << s.loopClosures << ",\n"
 	  << "  \"revisit_links\": " << s.revisitLinks << ",\n"
+	  // The mapped laser ([MapBuilder] laser_label / --laser, else the first seen) and the
+	  // scans of the other lasers, ignored, per sensor label.
+	  << "  \"laser\": {\"label\": " << jsonString(builder.lasers().label())
+	  << ", \"chosen\": " << (builder.lasers().chosen() ? "true" : "false")
+	  << ", \"ignored_scans\": " << jsonCounts(builder.lasers().ignoredScans())
+	  << ", \"range_limited_readings\": " << builder.lasers().rangeLimitedReadings() << "},\n"
 	  << "  \"loop_closing\": {\"attempts\": " << lcs.attempts
 	  << ", \"accepted\": " << lcs.accepted
 	  << ", \"rejected_by_filters\": " << lcs.rejectedByFilters
@@ -196,7 +203,9 @@ void writeRunOutputs(
 	}
 
 	writeTrajectoryTum(builder.trajectory(), path("trajectory.tum"));
-	writeGraph(builder.graph().toMrpt(), path("graph.graph"));
+	// One edge per node pair with the weights of our final optimisation, so that MRPT's
+	// graph-slam (which keeps one edge per pair) finds our poses (GraphExport.h).
+	writeGraph(toMrptLeastSquares(builder.graph(), builder.params().optimizer), path("graph.graph"));
 	mrpt::maps::CSimpleMap keyframes;
 	builder.getCurrentlyBuiltMap(keyframes);
 	writeSimplemap(keyframes, path("map.simplemap.gz"));

@@ -54,6 +54,14 @@ std::string nothingToMap(const CLogReader& reader, const CMetricMapBuilderLRGC& 
 		return "nothing to map: " + file +
 			   " holds no 2D laser scan (CObservation2DRangeScan); it holds " +
 			   describeContents(r.contents);
+	if (const auto& lasers = builder.lasers(); lasers.chosen() && !lasers.ignoredScans().empty())
+	{
+		std::string others;
+		for (const auto& [label, n] : lasers.ignoredScans())
+			others += (others.empty() ? "" : ", ") + label + mrpt::format(" (%zu scan%s)", n, n == 1 ? "" : "s");
+		return "nothing to map: " + file + " has no scan of laser '" + lasers.label() +
+			   "' (--laser, [MapBuilder] laser_label); its lasers: " + others;
+	}
 	std::vector<std::string> why;
 	if (r.emptyScans > 0)
 		why.push_back(mrpt::format("%zu with under 2 readings", r.emptyScans));
@@ -83,7 +91,7 @@ void CSlamApp::reportWarnings(const std::vector<std::string>& warnings)
 
 int CSlamApp::runOffline(const TSlamCommandLine& cl)
 {
-	const TAppConfig cfg = loadAppConfig(cl.config);
+	const TAppConfig cfg = loadAppConfig(cl);
 	// Before the reader's guard process and the optimiser's threads, which inherit its mask.
 	const CStopSignalWatcher signals;
 	std::unique_ptr<CLogReader> reader;

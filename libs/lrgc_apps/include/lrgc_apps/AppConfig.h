@@ -20,6 +20,12 @@ struct TAppConfig
 	TLiveMappingParams live;  //!< only used by --live
 };
 
+struct TSlamCommandLine;
+
+/** --config's .ini (as below), then the command line's overrides of it: --laser LABEL sets
+ * [MapBuilder] laser_label. */
+TAppConfig loadAppConfig(const TSlamCommandLine& cl);
+
 /** Defaults when `path` is empty; throws CUsageError on a missing file, CSetupError on a bad
  * section, key or value. */
 TAppConfig loadAppConfig(const std::string& path);

@@ -4,6 +4,7 @@
  *   lrgc-slam --input FILE --save-rawlog OUT.rawlog          (convert only)
  *   lrgc-slam --live SENSORS.ini [--config FILE.ini] --out DIR [--quiet]   (live sensors)
  *   lrgc-slam --write-default-config FILE.ini [--force]
+ *   --input and --live runs [--laser LABEL]: the laser to map (others are counted, ignored)
  *   any of them [--verbose]: on an error, MRPT's details (source location, call stack) too
  */
 #pragma once
@@ -29,6 +30,9 @@ struct TSlamCommandLine
 	bool verbose = false;  //!< errors with their details (source location, call stack)
 	bool help = false;
 	bool version = false;
+
+	// --- which laser to map (issue 14) ---
+	std::string laser;  //!< --laser LABEL: overrides [MapBuilder] laser_label
 };
 
 /** A usage error: the message says what is wrong; the caller prints usage and exits 2. */

@@ -373,7 +373,7 @@ int runLiveSlam(const TSlamCommandLine& cl, std::FILE* err)
 {
 	TLiveSlamSetup setup;
 	setup.sensorsIni = cl.live;
-	setup.config = loadAppConfig(cl.config);
+	setup.config = loadAppConfig(cl);
 	setup.outDir = cl.outDir;
 	setup.quiet = cl.quiet;
 	const CStopSignalWatcher signals;  // before the run's threads, which inherit its mask
