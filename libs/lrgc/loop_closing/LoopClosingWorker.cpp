@@ -1,10 +1,15 @@
 /* CLoopClosingWorker: the replica's bookkeeping and the thread (see LoopClosingWorker.h). */
 #include <lrgc/loop_closing/LoopClosingWorker.h>
 
+#include <lrgc/common/se2.h>
 #include <mrpt/core/exceptions.h>
+
+#include <algorithm>
 
 namespace lrgc
 {
+using mrpt::math::TPose2D;
+
 CLoopClosingWorker::CLoopClosingWorker(
 	const TLoopCloserParams& p, const TPatchCorrelatorParams& correlator,
 	const TScanMatcherParams& matcher, const TPoseGraphOptimizerParams& optimizer)
@@ -19,6 +24,7 @@ CLoopClosingWorker::~CLoopClosingWorker()
 	{
 		std::lock_guard<std::mutex> lock(m_mutex);
 		m_stop = true;
+		m_jobs.clear();  // results nobody will take
 	}
 	m_cv.notify_all();
 	m_thread.join();
@@ -26,14 +32,13 @@ CLoopClosingWorker::~CLoopClosingWorker()
 
 void CLoopClosingWorker::submit(TLoopJob job)
 {
-	ASSERTMSG_(!m_pending, "CLoopClosingWorker::submit: the previous result was not taken");
-	m_pending = true;
-	m_pendingNode = job.newest;
+	m_pendingNodes.push_back(job.newest);
 	if (!m_thread.joinable())
 	{
+		if (m_error) return;  // a job failed: take() reports it
 		try
 		{
-			m_result = execute(job);
+			m_results.push_back(execute(job));
 		}
 		catch (...)
 		{
@@ -43,7 +48,7 @@ void CLoopClosingWorker::submit(TLoopJob job)
 	}
 	{
 		std::lock_guard<std::mutex> lock(m_mutex);
-		m_job = std::move(job);
+		m_jobs.push_back(std::move(job));
 	}
 	m_cv.notify_all();
 }
@@ -51,18 +56,18 @@ void CLoopClosingWorker::submit(TLoopJob job)
 bool CLoopClosingWorker::ready() const
 {
 	std::lock_guard<std::mutex> lock(m_mutex);
-	return m_pending && (m_result || m_error);
+	return !m_pendingNodes.empty() && (!m_results.empty() || m_error);
 }
 
 TLoopJobResult CLoopClosingWorker::take()
 {
-	ASSERTMSG_(m_pending, "CLoopClosingWorker::take: no job was submitted");
+	ASSERTMSG_(!m_pendingNodes.empty(), "CLoopClosingWorker::take: no job was submitted");
 	std::unique_lock<std::mutex> lock(m_mutex);
-	m_cv.wait(lock, [this] { return m_result || m_error; });
-	m_pending = false;
-	if (m_error) std::rethrow_exception(std::exchange(m_error, nullptr));
-	TLoopJobResult r = std::move(*m_result);
-	m_result.reset();
+	m_cv.wait(lock, [this] { return !m_results.empty() || m_error; });
+	m_pendingNodes.pop_front();
+	if (m_error) std::rethrow_exception(m_error);
+	TLoopJobResult r = std::move(m_results.front());
+	m_results.pop_front();
 	return r;
 }
 
@@ -77,10 +82,10 @@ void CLoopClosingWorker::threadMain()
 	std::unique_lock<std::mutex> lock(m_mutex);
 	for (;;)
 	{
-		m_cv.wait(lock, [this] { return m_stop || m_job; });
-		if (!m_job) return;  // stop requested, nothing in hand
-		TLoopJob job = std::move(*m_job);
-		m_job.reset();
+		m_cv.wait(lock, [this] { return m_stop || !m_jobs.empty(); });
+		if (m_jobs.empty() || m_error) return;  // stop requested (or a job failed)
+		TLoopJob job = std::move(m_jobs.front());
+		m_jobs.pop_front();
 		lock.unlock();
 		std::optional<TLoopJobResult> result;
 		std::exception_ptr error;
@@ -93,9 +98,44 @@ void CLoopClosingWorker::threadMain()
 			error = std::current_exception();
 		}
 		lock.lock();
-		m_result = std::move(result);
-		m_error = error;
+		if (result) m_results.push_back(std::move(*result));
+		if (error) m_error = error;
 		m_cv.notify_all();
+	}
+}
+
+// The job's poses M_i are in the mapping thread's frame, which lacks the corrections it had
+// not applied when it sent them. For each node, the latest such correction that concerns it
+// decides, as the mapping thread will when it applies them in order:
+//  - firstMoved <= i <= k: the result placed node i; the replica keeps it;
+//  - i > k: X_i = X'_k (+) (M_k^-1 (+) M_i); the earlier corrections, rigid motions of both
+//    M_k and M_i, cancel out in this product;
+//  - i < firstMoved: that correction did not touch i; look at the one before.
+void CLoopClosingWorker::updateReplica(const TLoopJob& job)
+{
+	while (!m_unapplied.empty() && m_unapplied.front().sequence < job.resultsApplied)
+		m_unapplied.erase(m_unapplied.begin());
+	ASSERT_(job.firstPose <= m_sentPoses.size());
+	m_sentPoses.resize(job.newest + 1);
+	std::copy(job.poses.begin(), job.poses.end(), m_sentPoses.begin() + job.firstPose);
+	for (size_t node = job.firstPose; node <= job.newest; ++node)
+	{
+		std::optional<TPose2D> pose = m_sentPoses[node];
+		for (auto c = m_unapplied.rbegin(); c != m_unapplied.rend(); ++c)
+		{
+			if (node > c->newest)
+			{
+				pose = compose(c->newestPose, between(m_sentPoses[c->newest], m_sentPoses[node]));
+				break;
+			}
+			if (node >= c->firstMoved)
+			{
+				pose.reset();  // the result's own pose stays
+				break;
+			}
+		}
+		if (node >= m_replica.numNodes()) m_replica.addNode(pose ? *pose : m_sentPoses[node]);
+		else if (pose) m_replica.setPose(node, *pose);
 	}
 }
 
@@ -107,14 +147,8 @@ TLoopJobResult CLoopClosingWorker::execute(TLoopJob& job)
 	if (const int64_t ms = m_extraDelayMs.load(); ms > 0)
 		std::this_thread::sleep_for(std::chrono::milliseconds(ms));
 	ASSERT_EQUAL_(job.firstPose + job.poses.size(), job.newest + 1);
-	ASSERT_(job.firstPose <= m_replica.numNodes());
 	ASSERT_EQUAL_(m_scans.size() + job.scans.size(), job.newest + 1);
-	for (size_t i = 0; i < job.poses.size(); ++i)
-	{
-		const size_t node = job.firstPose + i;
-		if (node < m_replica.numNodes()) m_replica.setPose(node, job.poses[i]);
-		else m_replica.addNode(job.poses[i]);
-	}
+	updateReplica(job);
 	m_scans.insert(m_scans.end(), job.scans.begin(), job.scans.end());
 	for (const TLink& l : job.links) m_replica.addLink(l);
 	m_replica.takeLowestMovedNode();  // from here on, only the loop closer's moves count
@@ -133,6 +167,9 @@ TLoopJobResult CLoopClosingWorker::execute(TLoopJob& job)
 	// all the same, so they are reported whenever any moved.
 	r.firstMoved = m_replica.takeLowestMovedNode();
 	r.poses.assign(m_replica.poses().begin() + r.firstMoved, m_replica.poses().end());
+	if (!r.poses.empty())
+		m_unapplied.push_back({m_jobsDone, r.newest, r.firstMoved, m_replica.pose(r.newest)});
+	++m_jobsDone;
 	{
 		std::lock_guard<std::mutex> lock(m_mutex);
 		m_stats = m_closer.stats();

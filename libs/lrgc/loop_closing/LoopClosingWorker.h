@@ -13,10 +13,17 @@
  * Keeping the replica in step costs only what changed (the local window's poses, the new
  * nodes and links), not a copy of the whole graph per job.
  *
- * Determinism: a job's result depends only on the job and the replica, never on when the
- * worker runs; the map builder applies it at a fixed keyframe (see TLoopCloserParams::
- * result_delay), so offline runs give the same map on any machine. With `background` off the
- * job runs inside submit() on the caller's thread: the same result, for debugging and tests.
+ * Jobs queue up: a search starts at every keyframe, and its result is applied by the mapping
+ * thread some keyframes later, in order. A job handed over before an earlier job's result was
+ * applied carries poses in the frame the mapping thread had then, without that correction:
+ * the worker corrects them itself as the mapping thread will (a node the result placed keeps
+ * the result's pose; a node added after it is carried along by the correction of the result's
+ * newest node, X_i <- X'_k (+) (M_k^-1 (+) M_i), M being the mapping thread's poses).
+ *
+ * Determinism: a job's result depends only on the jobs so far, never on when the worker runs;
+ * the map builder applies it at a fixed keyframe (see TLoopCloserParams::result_delay), so
+ * offline runs give the same map on any machine. With `background` off a job runs inside
+ * submit() on the caller's thread: the same results, for debugging and tests.
  */
 #pragma once
 
@@ -26,6 +33,7 @@
 #include <chrono>
 #include <cstdint>
 #include <condition_variable>
+#include <deque>
 #include <exception>
 #include <mutex>
 #include <optional>
@@ -44,6 +52,7 @@ struct TLoopJob
 	std::vector<mrpt::math::TPose2D> poses;
 	std::vector<TLink> links;  //!< links added by the mapping thread since the previous job
 	TScanRefs scans;  //!< scans of the nodes added since the previous job, in node order
+	size_t resultsApplied = 0;  //!< results the mapping thread had applied when handing it over
 };
 
 /** What a job did to the replica, for the mapping thread to apply to its graph. */
@@ -66,20 +75,21 @@ class CLoopClosingWorker
 	CLoopClosingWorker(
 		const TLoopCloserParams& p, const TPatchCorrelatorParams& correlator,
 		const TScanMatcherParams& matcher, const TPoseGraphOptimizerParams& optimizer);
-	/** Lets the job in hand finish, then stops the thread. */
+	/** Lets the job in hand finish, drops the queued ones, and stops the thread. */
 	~CLoopClosingWorker();
 	CLoopClosingWorker(const CLoopClosingWorker&) = delete;
 	CLoopClosingWorker& operator=(const CLoopClosingWorker&) = delete;
 
-	/** Hands over a job; only when !pending(). Without a thread, runs it now. */
+	/** Queues a job. Without a thread, runs it now. */
 	void submit(TLoopJob job);
-	/** A job was submitted and its result not yet taken. */
-	bool pending() const { return m_pending; }
-	/** Node of the pending job (its `newest`). */
-	size_t pendingNode() const { return m_pendingNode; }
-	/** The pending job is done (take() will not wait). */
+	/** Jobs submitted whose results were not yet taken. */
+	size_t pending() const { return m_pendingNodes.size(); }
+	/** Node (`newest`) of the oldest job whose result was not taken; only when pending(). */
+	size_t oldestPendingNode() const { return m_pendingNodes.front(); }
+	/** The oldest pending job is done (take() will not wait). */
 	bool ready() const;
-	/** The pending job's result, waiting for it if needed; rethrows what the job threw. */
+	/** The oldest pending job's result, waiting for it if needed; rethrows what the job
+	 * threw. */
 	TLoopJobResult take();
 
 	/** Counters of every job done so far. */
@@ -89,21 +99,33 @@ class CLoopClosingWorker
 	void setExtraDelayForTests(std::chrono::milliseconds d) { m_extraDelayMs = d.count(); }
 
    private:
+	/** A result that moved poses, until the mapping thread has applied it. */
+	struct TCorrection
+	{
+		size_t sequence = 0;  //!< of its job (0, 1, 2, ...)
+		size_t newest = 0, firstMoved = 0;
+		mrpt::math::TPose2D newestPose;  //!< X'_k, the result's pose of its newest node
+	};
+
 	TLoopJobResult execute(TLoopJob& job);
+	void updateReplica(const TLoopJob& job);
 	void threadMain();
 
 	CLoopCloser m_closer;
-	CPoseGraph m_replica;  //!< the mapping thread's graph as of the last job
+	CPoseGraph m_replica;  //!< the mapping thread's graph as of the last job, corrected
 	TScanRefs m_scans;  //!< per replica node
+	/** The poses as the mapping thread sent them (M), for the corrections it has not applied. */
+	std::vector<mrpt::math::TPose2D> m_sentPoses;
+	std::vector<TCorrection> m_unapplied;
+	size_t m_jobsDone = 0;
 	std::atomic<int64_t> m_extraDelayMs{0};
 
-	bool m_pending = false;  // touched by the mapping thread only
-	size_t m_pendingNode = 0;
+	std::deque<size_t> m_pendingNodes;  // touched by the mapping thread only
 
 	mutable std::mutex m_mutex;  // guards what follows
 	std::condition_variable m_cv;
-	std::optional<TLoopJob> m_job;
-	std::optional<TLoopJobResult> m_result;
+	std::deque<TLoopJob> m_jobs;
+	std::deque<TLoopJobResult> m_results;
 	std::exception_ptr m_error;
 	TLoopCloserStats m_stats;
 	bool m_stop = false;

@@ -124,34 +124,32 @@ void CMetricMapBuilderLRGC::processScan(
 	m_metricMapDirty = true;
 }
 
-// Step 4 with a worker (CLoopClosingWorker). At a keyframe, a pending search is applied when
-// it is due (started result_delay keyframes ago: wait for it if needed), or in a live run
-// whenever it is ready; then, if none is pending, a search for the newest keyframe starts,
-// handing the worker what its copy of the graph lacks.
+// Step 4 with a worker (CLoopClosingWorker). At a keyframe, the results that are due are
+// applied, in order: a search started at keyframe k is due at k + result_delay (waited for if
+// not done), or in a live run whenever it is ready. Then a search for the newest keyframe is
+// queued, with what the worker's copy of the graph lacks.
 void CMetricMapBuilderLRGC::serviceLoopClosing(bool atKeyframe)
 {
 	const size_t newest = m_graph.numNodes() - 1;
 	const auto& p = m_params.loop;
-	if (m_loopWorker->pending())
+	while (m_loopWorker->pending() > 0)
 	{
 		const bool ready = m_loopWorker->ready();
 		const bool due = p.apply_when_ready
 			? ready
-			: atKeyframe && newest >= m_loopWorker->pendingNode() + p.result_delay;
-		if (due)
+			: atKeyframe && newest >= m_loopWorker->oldestPendingNode() + p.result_delay;
+		if (!due) break;
+		const auto t0 = std::chrono::steady_clock::now();
+		TLoopJobResult r = m_loopWorker->take();
+		if (!ready)
 		{
-			const auto t0 = std::chrono::steady_clock::now();
-			TLoopJobResult r = m_loopWorker->take();
-			if (!ready)
-			{
-				++m_stats.loopResultWaits;
-				m_stats.loopResultWaitSeconds +=
-					std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-			}
-			applyLoopResult(std::move(r));
+			++m_stats.loopResultWaits;
+			m_stats.loopResultWaitSeconds +=
+				std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 		}
+		applyLoopResult(std::move(r));
 	}
-	if (!atKeyframe || m_loopWorker->pending() || newest == 0) return;
+	if (!atKeyframe || newest == 0) return;
 
 	TLoopJob job;
 	job.newest = newest;
@@ -163,6 +161,7 @@ void CMetricMapBuilderLRGC::serviceLoopClosing(bool atKeyframe)
 		m_linksForWorker.push_back(m_graph.link(id));
 	m_linkWatermark = m_graph.numLinks();
 	job.links = std::exchange(m_linksForWorker, {});
+	job.resultsApplied = m_loopResultsApplied;
 	m_loopWorker->submit(std::move(job));
 	if (p.result_delay == 0 && !p.apply_when_ready) applyLoopResult(m_loopWorker->take());
 }
@@ -192,6 +191,7 @@ void CMetricMapBuilderLRGC::applyLoopResult(TLoopJobResult&& r)
 			m_graph.setLinkEnabled(id, false);
 	m_linkWatermark = m_graph.numLinks();
 	m_metricMapDirty = true;
+	++m_loopResultsApplied;
 
 	if (!r.closure) return;
 	const TLoopClosure& closure = *r.closure;

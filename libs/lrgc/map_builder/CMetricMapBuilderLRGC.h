@@ -166,6 +166,7 @@ class CMetricMapBuilderLRGC : public mrpt::slam::CMetricMapBuilder
 	std::vector<TLink> m_linksForWorker;
 	size_t m_linkWatermark = 0;
 	size_t m_nodesForWorker = 0;
+	size_t m_loopResultsApplied = 0;  //!< results applied so far (in job order)
 	std::chrono::milliseconds m_loopSearchExtraDelay{0};  //!< tests only
 	CPoseGraph m_graph;
 	TKeyframes m_keyframes;

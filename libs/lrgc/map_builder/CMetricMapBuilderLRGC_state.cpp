@@ -55,6 +55,7 @@ void CMetricMapBuilderLRGC::initialize(
 	m_linksForWorker.clear();
 	m_linkWatermark = 0;
 	m_nodesForWorker = 0;
+	m_loopResultsApplied = 0;
 	m_graph = CPoseGraph();
 	m_keyframes.clear();
 	m_scans.clear();
@@ -172,7 +173,7 @@ void CMetricMapBuilderLRGC::saveCurrentEstimationToImage(const std::string& file
 void CMetricMapBuilderLRGC::finish()
 {
 	const auto lock = lockMap();
-	if (m_loopWorker && m_loopWorker->pending()) applyLoopResult(m_loopWorker->take());
+	while (m_loopWorker && m_loopWorker->pending() > 0) applyLoopResult(m_loopWorker->take());
 	if (!m_params.builder.final_optimization || m_graph.numNodes() < 2) return;
 	if (m_loopWorker && m_params.revisits.enabled)
 	{
