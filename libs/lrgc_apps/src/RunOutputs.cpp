@@ -3,6 +3,7 @@
 #include "lrgc_apps/CommandLine.h"
 #include "lrgc_apps/MapExport.h"
 #include "lrgc_apps/RunStats.h"
+#include "lrgc_apps/SavedMap.h"
 #include "lrgc_apps/atomic_file.h"
 
 #include <mrpt/maps/CSimpleMap.h>
@@ -102,6 +103,14 @@ std::string statsJson(const CMetricMapBuilderLRGC& builder, const TRunSummary& r
 	  << ", \"optimizations\": " << lcs.optimizations
 	  << ", \"closure_ms\": {\"count\": " << closureMs.size()
 	  << ", \"median\": " << closure.median_ms << ", \"max\": " << closure.max_ms << "}},\n"
+	  << (run.initialMap.empty() ? std::string()
+								 : "  \"initial_map\": {\"path\": " + jsonString(run.initialMap) +
+									   ", \"keyframes\": " + std::to_string(run.initialMapKeyframes) +
+									   ", \"start_found_after_scans\": " +
+									   std::to_string(run.startScans) +
+									   ", \"start_attempts\": " + std::to_string(run.startAttempts) +
+									   ", \"start_search_s\": " + std::to_string(run.startSeconds) +
+									   "},\n")
 	  << "  \"warnings\": " << run.warnings << ",\n"
 	  << "  \"data_duration_s\": " << run.dataDurationSeconds << ",\n"
 	  << "  \"wall_time_s\": " << run.wallSeconds << ",\n"
@@ -169,6 +178,9 @@ void writeRunOutputs(
 
 	writeTrajectoryTum(builder.trajectory(), path("trajectory.tum"));
 	writeGraph(builder.graph().toMrpt(), path("graph.graph"));
+	// The whole graph (link types, disabled links), for --initial-map: SavedMap.h.
+	writeTextFileAtomically(
+		path(kPoseGraphFile), poseGraphToText(builder.graph(), builder.laserLabel()));
 	mrpt::maps::CSimpleMap keyframes;
 	builder.getCurrentlyBuiltMap(keyframes);
 	writeSimplemap(keyframes, path("map.simplemap.gz"));

@@ -4,6 +4,7 @@
  * and key). */
 #pragma once
 
+#include <lrgc/localization/LocalizationParams.h>
 #include <lrgc/map_builder/MapBuilderParams.h>
 #include <lrgc_apps/LiveMappingParams.h>
 #include <lrgc_apps/io/LogReader.h>
@@ -17,6 +18,7 @@ struct TAppConfig
 	TLRGCParams lrgc;
 	TLogReaderOptions reader;
 	TLiveMappingParams live;  //!< only used by --live
+	TLocalizationParams localization;  //!< [Localization]: --initial-map, --localize
 };
 
 /** Defaults when `path` is empty; throws CUsageError on a missing file, CSetupError on a bad
