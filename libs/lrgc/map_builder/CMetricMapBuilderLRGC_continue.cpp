@@ -238,8 +238,14 @@ void CMetricMapBuilderLRGC::linkSessionStart(size_t node)
 					m_keyframes[node].scan, guess);
 	TLink link{nearest, node, guess, linkInformation(covInNearest, m_params.loop.link_noise),
 			   LinkType::LoopClosure};
+	// The old scans were taken at another time: their agreement with a new scan is limited by
+	// the loop links' noise floor, as is the correlation's with the match.
+	const TLinkNoise& f = m_params.loop.link_noise;
+	const Eigen::Vector3d floor2(f.floorXY * f.floorXY, f.floorXY * f.floorXY, f.floorPhi * f.floorPhi);
 	if (m && m->inlierFraction >= m_params.local.min_link_inliers &&
-		disagreementChi2(guess, m->scanInRef, covInNearest + m->cov) <= kAgreeChi2)
+		disagreementChi2(
+			guess, m->scanInRef, covInNearest + m->cov + Eigen::Matrix3d(floor2.asDiagonal())) <=
+			kAgreeChi2)
 	{
 		link.toInFrom = m->scanInRef;
 		link.information = linkInformation(m->cov, m_params.loop.link_noise);
@@ -247,9 +253,17 @@ void CMetricMapBuilderLRGC::linkSessionStart(size_t node)
 	}
 	else
 		warn(mrpt::format(
-			"session start at (%.2f, %.2f, %.1f deg): no scan match with the old map around it; "
-			"linked by the global localisation alone",
-			start.x, start.y, mrpt::RAD2DEG(start.phi)));
+			"session start at (%.2f, %.2f, %.1f deg): %s; linked by the global localisation "
+			"alone",
+			start.x, start.y, mrpt::RAD2DEG(start.phi),
+			!m ? "no scan match with the old map around it"
+			   : mrpt::format(
+					 "its scan match with the old map (%.0f %% inliers, %.2f m, %.1f deg off) "
+					 "does not confirm it",
+					 100 * m->inlierFraction,
+					 translationNorm(between(guess, m->scanInRef)),
+					 mrpt::RAD2DEG(between(guess, m->scanInRef).phi))
+					 .c_str()));
 	m_graph.addLink(link);
 	++m_stats.loopClosureLinks;
 	m_local->invalidate();

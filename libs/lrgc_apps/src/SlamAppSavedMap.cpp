@@ -168,6 +168,7 @@ int CSlamApp::runLocalize(const TSlamCommandLine& cl)
 		reader = openLog(cl.input, cfg.reader);
 		const TSavedMap map = loadSavedMap(cl.localize, "--localize");
 		CMetricMapBuilderLRGC restored(cfg.lrgc);  // the map's keyframes, as a builder has them
+		restored.logging_enable_console_output = false;
 		initializeFromSavedMap(restored, map);
 		localizer = std::make_unique<CLocalizer>(
 			restored.graph(), restored.keyframes(), cfg.lrgc, cfg.localization);
