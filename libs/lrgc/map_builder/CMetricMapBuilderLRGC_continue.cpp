@@ -230,12 +230,14 @@ void CMetricMapBuilderLRGC::linkSessionStart(size_t node)
 		}
 	const TPose2D guess = between(nearestInMap, start);
 	const Eigen::Matrix3d covInNearest = rotatedInto(cov, nearestInMap.phi);
+	// People and doors moved since the old scans: the free-space limit of local registration
+	// (as CLocalizer), not the strict one of loop closing.
+	TScanMatcherParams mp = m_params.matcher;
+	mp.maxFreeSpaceViolation = m_params.local.max_free_space_violation;
 	std::optional<TScanMatch> m;
 	if (!scans.empty())
-		m = CScanMatcher(m_params.matcher)
-				.match(
-					CReferenceCloud::fromScans(scans, scansInNearest, m_params.matcher),
-					m_keyframes[node].scan, guess);
+		m = CScanMatcher(mp).match(
+			CReferenceCloud::fromScans(scans, scansInNearest, mp), m_keyframes[node].scan, guess);
 	TLink link{nearest, node, guess, linkInformation(covInNearest, m_params.loop.link_noise),
 			   LinkType::LoopClosure};
 	// The old scans were taken at another time: their agreement with a new scan is limited by
