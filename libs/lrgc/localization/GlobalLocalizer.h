@@ -8,8 +8,8 @@
  *
  * Cost: the pose grid has (2W+1)^2 translations times 2 pi r / resolution headings for a
  * patch of radius r; branch and bound bounds blocks of up to 128 x 128 translations and
- * several headings at once, so a whole building (Intel, 40 x 40 m, r = 10 m) takes about a
- * second per attempt (doc/localization.md).
+ * several headings at once, so a whole building (Intel, 40 x 40 m, r = 10 m) takes one to a
+ * few seconds per attempt (doc/localization.md).
  */
 #pragma once
 
