@@ -159,7 +159,7 @@ TEST_F(SenaRun, AnExistingFolderKeepsEveryFileButOurOutputs)
 	for (const auto& e : fs::directory_iterator(s_out)) names.insert(e.path().filename().string());
 	EXPECT_EQ(names, (std::set<std::string>{"notes.txt", "earlier", "map.gridmap.gz", "map.png",
 											"map.pgm", "map.yaml", "map.simplemap.gz",
-											"trajectory.tum", "graph.graph", "timing.csv",
+											"trajectory.tum", "graph.graph", "graph.lrgc", "timing.csv",
 											"stats.json"}));
 	EXPECT_EQ(readTextFile(out("notes.txt")), kNotes);
 	EXPECT_EQ(readTextFile(out("earlier/map.png")), kNotes);

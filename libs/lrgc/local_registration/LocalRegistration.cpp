@@ -25,7 +25,8 @@ CLocalRegistration::CLocalRegistration(
 std::vector<size_t> CLocalRegistration::windowNodes(const CPoseGraph& graph) const
 {
 	const size_t n = graph.numNodes();
-	const size_t first = n > m_params.window_size ? n - m_params.window_size : 0;
+	const size_t first =
+		std::max(m_windowStart, n > m_params.window_size ? n - m_params.window_size : 0);
 	std::vector<size_t> nodes;
 	for (size_t i = first; i < n; ++i) nodes.push_back(i);
 	return nodes;
@@ -67,7 +68,7 @@ TRegistration CLocalRegistration::registerScan(
 	const Eigen::Matrix3d& priorCov = prediction.cov;
 	TRegistration reg{priorInMap, priorCov, false, false};
 	m_lastPatchMatch.reset();
-	if (graph.numNodes() == 0) return reg;
+	if (graph.numNodes() <= m_windowStart) return reg;  // no keyframe of this session yet
 	const CReferenceCloud& cloud = windowCloud(graph, keyframes);
 	const TPose2D newestInMap = graph.pose(*m_cloudNewest);
 	const TPose2D guess = between(newestInMap, priorInMap);

@@ -76,6 +76,16 @@ class CLocalRegistration
 	/** Poses changed outside the window (loop closure): rebuild the patch on next use. */
 	void invalidate() { m_cloudNewest.reset(); }
 
+	/** A new session (a log continuing a saved map elsewhere in it) starts at node `first`:
+	 * the window holds only nodes >= first, so the session's scans are registered against
+	 * its own keyframes, not against the old map's last ones. */
+	void setWindowStart(size_t first)
+	{
+		m_windowStart = first;
+		m_cloudNewest.reset();
+		m_keyframeClouds.clear();
+	}
+
    private:
 	std::vector<size_t> windowNodes(const CPoseGraph& graph) const;
 	const CReferenceCloud& windowCloud(const CPoseGraph& graph, const TKeyframes& keyframes);
@@ -98,6 +108,7 @@ class CLocalRegistration
 
 	CReferenceCloud m_cloud;  //!< window patch in the frame of node *m_cloudNewest
 	std::optional<size_t> m_cloudNewest;
+	size_t m_windowStart = 0;  //!< first node of the current session (setWindowStart)
 	/** Reference cloud of each window keyframe's own scan, for pairwise links. */
 	std::deque<std::pair<size_t, CReferenceCloud>> m_keyframeClouds;
 };

@@ -98,11 +98,13 @@ void CMetricMapBuilderLRGC::processScan(
 	const size_t scanIndex = m_stats.scans++;
 
 	// 3. Keyframe: add to the graph, link to the window, re-estimate the window.
-	if (m_graph.numNodes() == 0 || isNewKeyframe(reg.scanInMap))
+	const bool sessionStart = m_sessionStartCov.has_value();
+	if (m_graph.numNodes() == 0 || sessionStart || isNewKeyframe(reg.scanInMap))
 	{
 		const size_t node =
 			addKeyframe(laser, observations, std::move(scan), reg.scanInMap, scanIndex);
-		if (node > 0)
+		if (sessionStart) linkSessionStart(node);  // to the old map, by a scan match
+		else if (node > 0)
 		{
 			m_stats.scanMatchLinks +=
 				m_local->linkAndOptimize(m_graph, m_keyframes, odometryLinkToNewest());

@@ -78,12 +78,30 @@ class CMetricMapBuilderLRGC : public mrpt::slam::CMetricMapBuilder
 	const TLRGCParams& params() const { return m_params; }
 
 	// --- mrpt::slam::CMetricMapBuilder ---
-	/** Clears the map; with `initialMap`, its keyframes become graph nodes at their poses
-	 * (linked by scan matching) so that mapping continues that map; `x0` sets the pose of
-	 * the next scan (default: the last keyframe of `initialMap`, or the origin). */
+	/** Clears the map; with `initialMap` (any CSimpleMap, e.g. icp-slam's), mapping continues
+	 * that map: its keyframes (first 2D laser scan of each entry) become graph nodes at their
+	 * stored poses, each linked to the previous one by a scan match (by the stored relative
+	 * pose where the match fails), and the places the map revisits by the revisit linker's
+	 * loop links, so loop closures keep the old map's loops. `x0` sets the pose of the next
+	 * scan (default: the last keyframe of `initialMap`, or the origin); see also
+	 * startSessionAt(). The old keyframes are not scans of this run (trajectory()). */
 	void initialize(
 		const mrpt::maps::CSimpleMap& initialMap = mrpt::maps::CSimpleMap(),
 		const mrpt::poses::CPosePDF* x0 = nullptr) override;
+	/** Continues a map saved by lrgc exactly: the keyframes of `keyframes` (entry i = node i)
+	 * with the graph `graph` (poses, links, link types, disabled links; PoseGraphText.h) as
+	 * they were. `laserLabel`: the scans to take from each entry (empty: the first one).
+	 * Throws if the sizes differ or an entry has no such scan. */
+	void initialize(
+		const mrpt::maps::CSimpleMap& keyframes, const CPoseGraph& graph,
+		const std::string& laserLabel = {});
+	/** The next scan starts a new session at `scanInMap` (from global localisation, with its
+	 * covariance `cov` [m^2, rad^2]): it becomes a keyframe linked to the old map by a scan
+	 * match against the old keyframes around it (by `cov` if that fails), and the local
+	 * registration window restarts there instead of joining the old map's last keyframe. */
+	void startSessionAt(const mrpt::math::TPose2D& scanInMap, const Eigen::Matrix3d& cov);
+	/** The laser the map is built from (first seen, or restored). */
+	const std::string& laserLabel() const { return m_lasers.label(); }
 	mrpt::poses::CPose3DPDF::Ptr getCurrentPoseEstimation() const override;
 	void processActionObservation(
 		mrpt::obs::CActionCollection& action, mrpt::obs::CSensoryFrame& observations) override;
@@ -155,6 +173,11 @@ class CMetricMapBuilderLRGC : public mrpt::slam::CMetricMapBuilder
 	{
 		return std::unique_lock<std::mutex>(const_cast<std::mutex&>(critZoneChangingMap));
 	}
+	// Continuing a map (CMetricMapBuilderLRGC_continue.cpp).
+	void resetState();
+	void adoptKeyframes(const mrpt::maps::CSimpleMap& map, const std::string& laserLabel, bool all);
+	void linkChainAndRevisits();
+	void linkSessionStart(size_t node);
 
 	TLRGCParams m_params;
 	std::unique_ptr<CMotionPredictor> m_predictor;
@@ -177,6 +200,8 @@ class CMetricMapBuilderLRGC : public mrpt::slam::CMetricMapBuilder
 	mrpt::math::TPose2D m_lastScanInMap{0, 0, 0};
 	Eigen::Matrix3d m_lastScanCov = Eigen::Matrix3d::Zero();
 	std::optional<mrpt::math::TPose2D> m_nextScanPrior;  //!< from initialize(x0)
+	/** Set by startSessionAt(): the next scan starts a session; the covariance of its pose. */
+	std::optional<Eigen::Matrix3d> m_sessionStartCov;
 	/** Motion since the newest keyframe (composed per-scan steps) and whether it came from
 	 * trustworthy odometry: this becomes the odometry link of the next keyframe. */
 	mrpt::math::TPose2D m_motionSinceKeyframe{0, 0, 0};

@@ -1,5 +1,6 @@
-/* CMetricMapBuilderLRGC: initialisation, the current estimate, and what the map builder
- * hands out (CSimpleMap of keyframes, occupancy grid, trajectory). */
+/* CMetricMapBuilderLRGC: the current estimate, and what the map builder hands out (CSimpleMap
+ * of keyframes, occupancy grid, trajectory). Initialisation and continuing a saved map:
+ * CMetricMapBuilderLRGC_continue.cpp. */
 #include <lrgc/map_builder/CMetricMapBuilderLRGC.h>
 #include <lrgc/local_registration/LocalRegistration.h>
 #include <lrgc/local_registration/MotionPredictor.h>
@@ -23,10 +24,6 @@ namespace
 /** [m] Laser rays are inserted into the exported grid up to this range: farther ones add
  * little and cost much (MRPT's default is 15 m; ACES has 40 m returns). */
 constexpr double kGridMaxRayLength_m = 30;
-/** Std of the links that chain the keyframes of a map given to initialize() [m, m, rad]:
- * tight, since that map's poses are taken as they are. */
-const Eigen::Vector3d kContinuationLinkStd(0.01, 0.01, mrpt::DEG2RAD(0.5));
-
 mrpt::poses::CPose3DPDFGaussian::Ptr gaussian3D(const TPose2D& p, const Eigen::Matrix3d& cov2D)
 {
 	auto pdf = mrpt::poses::CPose3DPDFGaussian::Create();
@@ -39,71 +36,6 @@ mrpt::poses::CPose3DPDFGaussian::Ptr gaussian3D(const TPose2D& p, const Eigen::M
 	return pdf;
 }
 }  // namespace
-
-void CMetricMapBuilderLRGC::initialize(
-	const mrpt::maps::CSimpleMap& initialMap, const mrpt::poses::CPosePDF* x0)
-{
-	const auto lock = lockMap();
-	m_predictor = std::make_unique<CMotionPredictor>(m_params.motion);
-	m_local = std::make_unique<CLocalRegistration>(
-		m_params.local, m_params.matcher, m_params.optimizer);
-	m_loopWorker.reset();  // lets a search in hand finish first
-	if (m_params.builder.loop_closing)
-		m_loopWorker = std::make_unique<CLoopClosingWorker>(
-			m_params.loop, m_params.correlator, m_params.matcher, m_params.optimizer);
-	if (m_loopWorker) m_loopWorker->setExtraDelayForTests(m_loopSearchExtraDelay);
-	m_linksForWorker.clear();
-	m_linkWatermark = 0;
-	m_nodesForWorker = 0;
-	m_loopResultsApplied = 0;
-	m_graph = CPoseGraph();
-	m_keyframes.clear();
-	m_scans.clear();
-	m_stats = {};
-	m_lasers = CLaserSelector(m_params.builder);
-	m_lastScanInMap = TPose2D(0, 0, 0);
-	m_lastScanCov.setZero();
-	m_nextScanPrior.reset();
-	m_motionSinceKeyframe = TPose2D(0, 0, 0);
-	m_odometryTrustedSinceKeyframe = true;
-	m_metricMapDirty = true;
-
-	// Continue an existing map: its keyframes become nodes at their stored poses, each
-	// linked to the previous one by the stored relative pose (tight: the map is given).
-	for (size_t i = 0; i < initialMap.size(); ++i)
-	{
-		const auto [posePDF, sf] = initialMap.get(i);
-		if (!posePDF || !sf) continue;
-		mrpt::obs::CObservation2DRangeScan::Ptr laser;
-		for (const auto& o : *sf)
-			if ((laser = std::dynamic_pointer_cast<mrpt::obs::CObservation2DRangeScan>(o))) break;
-		if (!laser) continue;
-		const auto mean = posePDF->getMeanVal();
-		const TPose2D pose(mean.x(), mean.y(), mean.yaw());
-		TScan2D scan = scanFromObservation(*laser);
-		if (scan.points.size() < m_params.builder.min_scan_points) continue;
-		auto sfCopy = std::const_pointer_cast<mrpt::obs::CSensoryFrame>(sf);
-		m_lasers.adopt(laser->sensorLabel);
-		const size_t node = addKeyframe(laser, sfCopy, std::move(scan), pose, m_stats.scans++);
-		m_scans.push_back({laser->timestamp, node, TPose2D(0, 0, 0)});
-		if (node > 0)
-		{
-			m_graph.addLink(
-				{node - 1, node, between(m_graph.pose(node - 1), pose),
-				 kContinuationLinkStd.cwiseProduct(kContinuationLinkStd).cwiseInverse().asDiagonal(),
-				 LinkType::Odometry});
-			++m_stats.odometryLinks;
-		}
-		m_lastScanInMap = pose;
-	}
-	if (x0)
-	{
-		const auto mean = x0->getMeanVal();
-		m_nextScanPrior = TPose2D(mean.x(), mean.y(), mean.phi());
-	}
-	else if (m_graph.numNodes() > 0)
-		m_nextScanPrior = m_lastScanInMap;
-}
 
 void CMetricMapBuilderLRGC::setLoopSearchExtraDelayForTests(std::chrono::milliseconds d)
 {

@@ -8,7 +8,36 @@ namespace lrgc::apps
 namespace
 {
 constexpr const char* kSeeHelp = "; lrgc-slam --help lists the options";
+
+// --- continuing and localising on a saved map (issue 14) ---
+bool parseSavedMapOption(
+	const std::vector<std::string>& args, size_t& i, TSlamCommandLine& cl)
+{
+	const std::string& a = args[i];
+	std::string* dst = a == "--initial-map" ? &cl.initialMap
+		: a == "--localize"					? &cl.localize
+											: nullptr;
+	if (!dst) return false;
+	if (i + 1 >= args.size() || args[i + 1].rfind("--", 0) == 0)
+		throw CUsageError("option " + a + " needs a value (an lrgc output folder or a "
+								  ".simplemap file)" + kSeeHelp);
+	*dst = args[++i];
+	return true;
 }
+
+void checkSavedMapOptions(const TSlamCommandLine& cl)
+{
+	if (cl.initialMap.empty() && cl.localize.empty()) return;
+	if (!cl.initialMap.empty() && !cl.localize.empty())
+		throw CUsageError(
+			"--initial-map and --localize exclude each other (continue a map, or localise on "
+			"it without changing it)");
+	const std::string opt = cl.initialMap.empty() ? "--localize" : "--initial-map";
+	if (!cl.live.empty()) throw CUsageError(opt + " is for --input, not --live");
+	if (cl.input.empty()) throw CUsageError(opt + " needs --input FILE" + kSeeHelp);
+	if (cl.outDir.empty()) throw CUsageError(opt + " needs --out DIR" + kSeeHelp);
+}
+}  // namespace
 
 TSlamCommandLine parseSlamCommandLine(const std::vector<std::string>& args)
 {
@@ -33,6 +62,7 @@ TSlamCommandLine parseSlamCommandLine(const std::vector<std::string>& args)
 		else if (a == "--out" || a == "-o") value(cl.outDir);
 		else if (a == "--save-rawlog") value(cl.saveRawlog);
 		else if (a == "--write-default-config") value(cl.writeDefaultConfig);
+		else if (parseSavedMapOption(args, i, cl)) continue;
 		else if (a == "--force") cl.force = true;
 		else if (a == "--quiet" || a == "-q") cl.quiet = true;
 		else if (a == "--verbose" || a == "-v") cl.verbose = true;
@@ -46,6 +76,7 @@ TSlamCommandLine parseSlamCommandLine(const std::vector<std::string>& args)
 			"--force is for --write-default-config (a run replaces only its own outputs in "
 			"--out, and never the input)");
 	if (!cl.writeDefaultConfig.empty()) return cl;
+	checkSavedMapOptions(cl);
 	if (!cl.live.empty())
 	{
 		if (!cl.input.empty()) throw CUsageError("--live and --input exclude each other");
@@ -79,6 +110,8 @@ std::string slamUsage()
 		   "  lrgc-slam --input FILE [--config FILE.ini] --out DIR [--quiet] [--save-rawlog R]\n"
 		   "  lrgc-slam --input FILE --save-rawlog OUT.rawlog     convert to an MRPT rawlog\n"
 		   "  lrgc-slam --live SENSORS.ini [--config FILE.ini] --out DIR [--quiet]\n"
+		   "  lrgc-slam --input FILE --initial-map MAP --out DIR   continue a saved map\n"
+		   "  lrgc-slam --input FILE --localize MAP --out DIR      localise on a saved map\n"
 		   "  lrgc-slam --write-default-config FILE.ini [--force]\n"
 		   "  lrgc-slam --help | --version\n"
 		   "Options: -i --input, -c --config, -o --out, -q --quiet (no progress), -v --verbose\n"
@@ -87,16 +120,21 @@ std::string slamUsage()
 		   "FILE: MRPT rawlog (.rawlog, plain or gzip, both layouts) or CARMEN log\n"
 		   "(.clf/.log, optionally .gz); the format is detected from the content.\n"
 		   "Outputs in DIR: map.gridmap.gz map.png map.pgm map.yaml map.simplemap.gz\n"
-		   "trajectory.tum graph.graph timing.csv stats.json. An existing DIR is kept: only\n"
-		   "these files are written (over those of an earlier run); no other file is changed\n"
-		   "or deleted.\n"
+		   "trajectory.tum graph.graph graph.lrgc timing.csv stats.json. An existing DIR is\n"
+		   "kept: only these files are written (over those of an earlier run); no other file\n"
+		   "is changed or deleted.\n"
 		   "--live: map from the sensors of a rawlog-grabber .ini (mrpt::hwdrivers drivers)\n"
 		   "until Ctrl-C or SIGTERM; everything received goes to DIR/capture.rawlog, maps are\n"
 		   "saved every [LiveMapping] save_interval_s and at the end, live.json has per-sensor\n"
 		   "counts. A second Ctrl-C exits at once (the capture and last saved maps stay valid).\n"
 		   "--laser LABEL: map the 2D laser of this sensorLabel (a CARMEN log's FLASER is\n"
 		   "LASER, RLASER is REAR_LASER) and ignore the others; default [MapBuilder]\n"
-		   "laser_label, empty: the first laser seen (a second one is warned about).\n";
+		   "laser_label, empty: the first laser seen (a second one is warned about).\n"
+		   "MAP: an earlier output DIR (its graph.lrgc and map.simplemap.gz: the whole graph)\n"
+		   "or any MRPT .simplemap(.gz), e.g. icp-slam's. The start of FILE in MAP is found by\n"
+		   "global correlation. --initial-map: DIR gets the whole map (old + new), its\n"
+		   "trajectory.tum FILE's scans. --localize: MAP is not changed; DIR gets\n"
+		   "trajectory.tum, timing.csv and stats.json (relocalisations, latency).\n";
 }
 
 }  // namespace lrgc::apps

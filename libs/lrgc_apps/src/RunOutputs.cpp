@@ -3,6 +3,7 @@
 #include "lrgc_apps/CommandLine.h"
 #include "lrgc_apps/MapExport.h"
 #include "lrgc_apps/RunStats.h"
+#include "lrgc_apps/SavedMap.h"
 #include "lrgc_apps/atomic_file.h"
 
 #include <lrgc/pose_graph/GraphExport.h>
@@ -113,6 +114,14 @@ std::string statsJson(const CMetricMapBuilderLRGC& builder, const TRunSummary& r
 	  // is due (result_delay keyframes later) and not done yet.
 	  << ", \"result_waits\": " << s.loopResultWaits
 	  << ", \"result_wait_s\": " << s.loopResultWaitSeconds << "},\n"
+	  << (run.initialMap.empty() ? std::string()
+								 : "  \"initial_map\": {\"path\": " + jsonString(run.initialMap) +
+									   ", \"keyframes\": " + std::to_string(run.initialMapKeyframes) +
+									   ", \"start_found_after_scans\": " +
+									   std::to_string(run.startScans) +
+									   ", \"start_attempts\": " + std::to_string(run.startAttempts) +
+									   ", \"start_search_s\": " + std::to_string(run.startSeconds) +
+									   "},\n")
 	  << "  \"warnings\": " << run.warnings << ",\n"
 	  << "  \"data_duration_s\": " << run.dataDurationSeconds << ",\n"
 	  << "  \"wall_time_s\": " << run.wallSeconds << ",\n"
@@ -206,6 +215,9 @@ void writeRunOutputs(
 	// One edge per node pair with the weights of our final optimisation, so that MRPT's
 	// graph-slam (which keeps one edge per pair) finds our poses (GraphExport.h).
 	writeGraph(toMrptLeastSquares(builder.graph(), builder.params().optimizer), path("graph.graph"));
+	// The whole graph (link types, disabled links), for --initial-map: SavedMap.h.
+	writeTextFileAtomically(
+		path(kPoseGraphFile), poseGraphToText(builder.graph(), builder.laserLabel()));
 	mrpt::maps::CSimpleMap keyframes;
 	builder.getCurrentlyBuiltMap(keyframes);
 	writeSimplemap(keyframes, path("map.simplemap.gz"));

@@ -4,6 +4,7 @@
 #include "lrgc_apps/Progress.h"
 #include "lrgc_apps/RunOutputs.h"
 #include "lrgc_apps/RunStats.h"
+#include "lrgc_apps/SavedMap.h"
 #include "lrgc_apps/SlamApp.h"
 #include "lrgc_apps/StopSignalWatcher.h"
 #include "lrgc_apps/io/LogReader.h"
@@ -107,12 +108,27 @@ int CSlamApp::runOffline(const TSlamCommandLine& cl)
 
 	CMetricMapBuilderLRGC builder(cfg.lrgc);
 	builder.logging_enable_console_output = false;  // warnings are reported below
+	std::optional<TSavedMap> initialMap;
+	if (!cl.initialMap.empty())
+		try
+		{
+			initialMap = loadSavedMap(cl.initialMap, "--initial-map");
+			initializeFromSavedMap(builder, *initialMap);
+		}
+		catch (const std::exception& e)
+		{
+			reportError(e);
+			return kExitInputError;
+		}
 	CProgress progress(m_err, cl.quiet);
 	CRunClock clock;
 	TRunSummary run;
 	run.input = cl.input;
 	run.format = reader->format() == LogFormat::Carmen ? "carmen" : "rawlog";
-	int exitCode = mapLog(*reader, builder, progress, run, signals);
+	int exitCode = initialMap
+		? startInInitialMap(*initialMap, cfg, *reader, builder, progress, run, signals)
+		: kExitOk;
+	if (exitCode == kExitOk) exitCode = mapLog(*reader, builder, progress, run, signals);
 	// The reader's last words: lines skipped after the last entry (a file of malformed lines
 	// has nothing else) and the counts of the problems not listed.
 	reportWarnings(reader->takeWarnings());
@@ -157,25 +173,7 @@ int CSlamApp::mapLog(CLogReader& reader, CMetricMapBuilderLRGC& builder, CProgre
 		}
 		if (!entry) break;
 		++run.logEntries;
-		const size_t scansBefore = builder.stats().scans;
-		const auto t0 = std::chrono::steady_clock::now();
-		try
-		{
-			feed(builder, *entry);
-		}
-		catch (const std::exception& e)
-		{
-			run.status = "error at " + entry->where + ": " + oneLineError(e);
-			if (m_verbose) report("details:\n" + errorDetails(e));
-			return kExitInputError;
-		}
-		if (builder.stats().scans > scansBefore)
-		{
-			run.latencyMs.push_back(
-				std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
-					.count());
-			run.latencyStamp.push_back(mrpt::Clock::toDouble(builder.lastScanTimestamp()));
-		}
+		if (mapEntry(builder, *entry, run) != kExitOk) return kExitInputError;
 		reportWarnings(reader.takeWarnings());
 		reportWarnings(builder.takeWarnings());
 		progress.update(reader.fractionRead(), builder.stats().scans,
@@ -185,6 +183,30 @@ int CSlamApp::mapLog(CLogReader& reader, CMetricMapBuilderLRGC& builder, CProgre
 	if (!signals.stopRequested()) return kExitOk;
 	run.status = "interrupted";
 	return kExitInterrupted;
+}
+
+int CSlamApp::mapEntry(CMetricMapBuilderLRGC& builder, TLogEntry& entry, TRunSummary& run)
+{
+	const size_t scansBefore = builder.stats().scans;
+	const auto t0 = std::chrono::steady_clock::now();
+	try
+	{
+		feed(builder, entry);
+	}
+	catch (const std::exception& e)
+	{
+		run.status = "error at " + entry.where + ": " + oneLineError(e);
+		if (m_verbose) report("details:\n" + errorDetails(e));
+		return kExitInputError;
+	}
+	if (builder.stats().scans > scansBefore)
+	{
+		run.latencyMs.push_back(
+			std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
+				.count());
+		run.latencyStamp.push_back(mrpt::Clock::toDouble(builder.lastScanTimestamp()));
+	}
+	return kExitOk;
 }
 
 void CSlamApp::reportEnd(const TSlamCommandLine& cl, const CMetricMapBuilderLRGC& builder,

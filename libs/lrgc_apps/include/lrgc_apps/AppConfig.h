@@ -4,6 +4,7 @@
  * where the key or section is written, the section and the key). */
 #pragma once
 
+#include <lrgc/localization/LocalizationParams.h>
 #include <lrgc/map_builder/MapBuilderParams.h>
 #include <lrgc_apps/LiveMappingParams.h>
 #include <lrgc_apps/io/LogReader.h>
@@ -18,6 +19,7 @@ struct TAppConfig
 	TLRGCParams lrgc;
 	TLogReaderOptions reader;
 	TLiveMappingParams live;  //!< only used by --live
+	TLocalizationParams localization;  //!< [Localization]: --initial-map, --localize
 };
 
 struct TSlamCommandLine;

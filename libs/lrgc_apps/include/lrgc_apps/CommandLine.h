@@ -3,6 +3,8 @@
  *   lrgc-slam --input FILE [--config FILE.ini] --out DIR [--quiet] [--save-rawlog OUT.rawlog]
  *   lrgc-slam --input FILE --save-rawlog OUT.rawlog          (convert only)
  *   lrgc-slam --live SENSORS.ini [--config FILE.ini] --out DIR [--quiet]   (live sensors)
+ *   lrgc-slam --input FILE --initial-map MAP --out DIR     (continue MAP: DIR or .simplemap)
+ *   lrgc-slam --input FILE --localize MAP --out DIR        (localise on MAP, no mapping)
  *   lrgc-slam --write-default-config FILE.ini [--force]
  *   --input and --live runs [--laser LABEL]: the laser to map (others are counted, ignored)
  *   any of them [--verbose]: on an error, MRPT's details (source location, call stack) too
@@ -25,6 +27,11 @@ struct TSlamCommandLine
 	std::string outDir;
 	std::string saveRawlog;  //!< convert the input into this MRPT rawlog
 	std::string writeDefaultConfig;  //!< write the default .ini and exit
+	// --- continuing and localising on a saved map (issue 14) ---
+	/** An earlier output folder or a .simplemap(.gz): the run continues that map. */
+	std::string initialMap;
+	/** An earlier output folder or a .simplemap(.gz): localise on it, never change it. */
+	std::string localize;
 	bool force = false;  //!< --write-default-config may replace an existing file
 	bool quiet = false;
 	bool verbose = false;  //!< errors with their details (source location, call stack)

@@ -26,6 +26,12 @@ struct TRunSummary
 	double finalOptimizationSeconds = 0;
 	std::vector<double> latencyMs;  //!< per scan, in processing order
 	std::vector<double> latencyStamp;  //!< the scan's timestamp [s]
+	// --initial-map: the map continued and how the log's start was found in it.
+	std::string initialMap;  //!< empty: a new map
+	size_t initialMapKeyframes = 0;
+	size_t startScans = 0;  //!< scans read before the start was found
+	size_t startAttempts = 0;  //!< global correlations tried
+	double startSeconds = 0;  //!< their time [s]
 };
 
 class CRunClock;

@@ -34,6 +34,9 @@ class CLogReader;
 class CProgress;
 class CStopSignalWatcher;
 struct TRunSummary;
+struct TAppConfig;
+struct TLogEntry;
+struct TSavedMap;
 
 /** Exit statuses of lrgc-slam. */
 enum ExitStatus : int
@@ -71,6 +74,17 @@ class CSlamApp
 	void reportEnd(const TSlamCommandLine& cl, const CMetricMapBuilderLRGC& builder,
 				   const TRunSummary& run, int exitCode);
 	int convertOnly(const TSlamCommandLine& cl);
+	/** One log entry into the builder, its latency recorded; kExitOk or kExitInputError. */
+	int mapEntry(CMetricMapBuilderLRGC& builder, TLogEntry& entry, TRunSummary& run);
+	// --- continuing and localising on a saved map (SlamAppSavedMap.cpp) ---
+	/** --initial-map: finds where the log starts in the map (global correlation of its
+	 * first scans, CStartFinder), starts the builder's session there and maps the scans read
+	 * meanwhile. kExitOk, or kExitInputError (run.status says why: no start found, ...). */
+	int startInInitialMap(const TSavedMap& map, const TAppConfig& cfg, CLogReader& reader,
+						  CMetricMapBuilderLRGC& builder, CProgress& progress, TRunSummary& run, const CStopSignalWatcher& signals);
+	/** --localize: tracks the log on the map (CLocalizer); writes trajectory.tum, timing.csv
+	 * and stats.json. */
+	int runLocalize(const TSlamCommandLine& cl);
 	void report(const std::string& line);
 	/** "lrgc-slam: <line>"; with --verbose, the details after it. */
 	void reportError(const std::string& line, const std::string& details = {});

@@ -1,0 +1,50 @@
+#include <lrgc/localization/GlobalLocalizer.h>
+
+#include <lrgc/common/se2.h>
+
+#include <mrpt/core/exceptions.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+namespace lrgc
+{
+CGlobalLocalizer::CGlobalLocalizer(
+	const CPoseGraph& map, const TKeyframes& keyframes, const TPatchCorrelatorParams& p)
+	: m_correlator(p)
+{
+	ASSERTMSG_(map.numNodes() > 0, "CGlobalLocalizer: the map has no keyframe");
+	ASSERT_EQUAL_(map.numNodes(), keyframes.size());
+	std::vector<Eigen::Vector2d> points;
+	Eigen::Vector2d lo = Eigen::Vector2d::Constant(1e18), hi = -lo;
+	for (size_t i = 0; i < map.numNodes(); ++i)
+	{
+		const mrpt::math::TPose2D& robotInMap = map.pose(i);
+		lo = lo.cwiseMin(Eigen::Vector2d(robotInMap.x, robotInMap.y));
+		hi = hi.cwiseMax(Eigen::Vector2d(robotInMap.x, robotInMap.y));
+		const CPointTransform toMap(robotInMap);
+		for (const auto& q : keyframes[i].scan.points) points.push_back(toMap(q));
+	}
+	ASSERTMSG_(!points.empty(), "CGlobalLocalizer: the map's scans hold no point");
+	m_grid = m_correlator.makeGrid(points, 3 * p.blurSigma);
+	const Eigen::Vector2d c = 0.5 * (lo + hi);
+	m_centre = mrpt::math::TPose2D(c.x(), c.y(), 0);
+	m_halfWindowXY = 0.5 * (hi - lo).maxCoeff() + kWindowMargin;
+}
+
+TGlobalLocation CGlobalLocalizer::locate(const std::vector<Eigen::Vector2d>& patchPoints) const
+{
+	const auto t0 = std::chrono::steady_clock::now();
+	TGlobalLocation out;
+	out.correlation = m_correlator.correlate(m_grid, patchPoints, m_centre, m_halfWindowXY, M_PI);
+	out.verdict = out.correlation
+		? out.correlation->checkFilters(m_correlator.params())
+		: TCorrelationVerdict{
+			  TCorrelationVerdict::Reason::LowScore, 0, m_correlator.params().minScore};
+	out.seconds =
+		std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+	return out;
+}
+
+}  // namespace lrgc

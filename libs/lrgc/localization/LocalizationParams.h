@@ -1,0 +1,39 @@
+/* Section [Localization]: global localisation on a saved map (the start of a log continuing
+ * it, and the start and relocalisations of a localisation-only run) and scan-to-map tracking
+ * (CLocalizer). Memory holds metres; units in the key comments. */
+#pragma once
+
+#include <mrpt/config/CLoadableOptions.h>
+
+#include <cstddef>
+#include <string>
+
+namespace lrgc
+{
+struct TLocalizationParams : public mrpt::config::CLoadableOptions
+{
+	/** Largest patch for global localisation [keyframes of the new log]: attempts are made
+	 * when the patch holds 1, 2, 4, ... keyframes up to this, then every quarter of it with
+	 * the newest this many. */
+	size_t patch_keyframes = 32;
+	/** [m] Patch points farther than this from the patch's newest keyframe are left out
+	 * (the heading step is resolution / patch radius: farther points cost headings). */
+	double patch_max_range = 10.0;
+	/** [m] Map keyframes within this distance of the predicted pose form the tracking
+	 * reference (at most track_max_keyframes, the nearest). */
+	double track_radius = 5.0;
+	size_t track_max_keyframes = 20;
+	/** A tracking match is good if this fraction of the scan's points matched the map. */
+	double min_inliers = 0.3;
+	/** ... and it agrees with the odometry prior within this chi2 (3 dof) [-]. */
+	double gate_chi2 = 16.27;
+	/** After this many consecutive poor or failed matches the robot is lost: global
+	 * localisation runs again (relocalisation) while odometry carries the pose. */
+	size_t lost_after = 25;
+
+	void loadFromConfigFile(
+		const mrpt::config::CConfigFileBase& c, const std::string& s) override;
+	void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
+};
+
+}  // namespace lrgc

@@ -1,0 +1,63 @@
+/* CStartFinder: finds where a new log starts in a saved map, with no prior.
+ *
+ * The new log's first scans are mapped on their own by a probe map builder (local
+ * registration only, in the frame of its first scan). Global localisation (CGlobalLocalizer)
+ * is tried with a patch of the probe's keyframes (in its newest keyframe's frame, points
+ * within patch_max_range) when the probe holds 1, 2, 4, ... keyframes, up to
+ * patch_keyframes, then every quarter of patch_keyframes with the newest patch_keyframes:
+ * one scan is enough in a distinctive place, a corridor needs the robot to drive on until its
+ * patch is unambiguous. The first patch passing the filters gives (map <- probe frame), and so
+ * the map pose of every scan the probe saw. */
+#pragma once
+
+#include <lrgc/localization/GlobalLocalizer.h>
+#include <lrgc/localization/LocalizationParams.h>
+#include <lrgc/map_builder/CMetricMapBuilderLRGC.h>
+
+#include <memory>
+#include <optional>
+#include <string>
+
+namespace lrgc
+{
+struct TStartFound
+{
+	mrpt::math::TPose2D probeInMap;  //!< (map <- probe frame)
+	/** Covariance of the located patch pose [m^2, rad^2], map axes. */
+	Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+	double score = 0, ambiguity = 0;  //!< of the accepted correlation
+	size_t patchKeyframes = 0;  //!< keyframes in the accepted patch
+};
+
+class CStartFinder
+{
+   public:
+	/** `params`: the pipeline's parameters (the probe uses them with loop closing off). */
+	CStartFinder(
+		const CGlobalLocalizer& localizer, const TLRGCParams& params,
+		const TLocalizationParams& localization);
+
+	/** The probe: feed it the new log's entries (processObservation or
+	 * processActionObservation), then call tryLocate(). */
+	CMetricMapBuilderLRGC& probe() { return *m_probe; }
+	const CMetricMapBuilderLRGC& probe() const { return *m_probe; }
+
+	/** Tries global localisation if an attempt is due (see the file comment). */
+	std::optional<TStartFound> tryLocate();
+
+	size_t attempts() const { return m_attempts; }
+	double secondsSpent() const { return m_seconds; }  //!< in correlation [s]
+	/** Why the last attempt failed ("score 0.41 < min_score 0.60"), empty before one. */
+	const std::string& lastRejection() const { return m_lastRejection; }
+
+   private:
+	const CGlobalLocalizer& m_localizer;
+	TLocalizationParams m_params;
+	std::unique_ptr<CMetricMapBuilderLRGC> m_probe;
+	size_t m_nextAttemptAt = 1;  //!< probe keyframes at the next attempt
+	size_t m_attempts = 0;
+	double m_seconds = 0;
+	std::string m_lastRejection;
+};
+
+}  // namespace lrgc

@@ -1,0 +1,285 @@
+/* CMetricMapBuilderLRGC: initialisation, and continuing a saved map.
+ *
+ * A map given to initialize() is continued, not just drawn: its keyframes become graph nodes.
+ *  - A map saved by lrgc (map.simplemap.gz + graph.lrgc) comes back exactly: the same poses
+ *    and the same links (odometry, scan match, loop closure, the disabled ones too), so the
+ *    old loops stay closed and the robust back-end judges new loop links against them.
+ *  - Any other CSimpleMap (icp-slam's) has poses but no links: consecutive keyframes are
+ *    linked by scan matching from their stored relative pose (by that pose, tightly, where
+ *    the match fails or contradicts it), and the places the map revisits by CRevisitLinker's
+ *    loop links, so its loops are loops of the graph too.
+ * A log that starts elsewhere in the old map starts a session (startSessionAt): its first scan
+ * becomes a keyframe at the pose global localisation found, linked to the old map by a scan
+ * match against the old keyframes around it, and the local registration window restarts
+ * there. From then on the normal loop closer finds the loops between the session and the old
+ * map.
+ */
+#include <lrgc/map_builder/CMetricMapBuilderLRGC.h>
+
+#include <lrgc/common/se2.h>
+#include <lrgc/local_registration/LocalRegistration.h>
+#include <lrgc/local_registration/MotionPredictor.h>
+#include <lrgc/loop_closing/LoopClosingWorker.h>
+#include <lrgc/loop_closing/RevisitLinker.h>
+#include <lrgc/scan_matching/ReferenceCloud.h>
+#include <lrgc/scan_matching/ScanMatcher.h>
+
+#include <mrpt/maps/CSimpleMap.h>
+#include <mrpt/poses/CPosePDF.h>
+
+#include <Eigen/Dense>
+#include <limits>
+
+namespace lrgc
+{
+using mrpt::math::TPose2D;
+
+namespace
+{
+/** Std of a link between consecutive keyframes of a simplemap where their scan match fails
+ * [m, m, rad]: tight, since that map's poses are taken as they are. */
+const Eigen::Vector3d kContinuationLinkStd(0.01, 0.01, mrpt::DEG2RAD(0.5));
+/** A scan match of a consecutive pair or of a session's first scan is kept if it agrees with
+ * its guess within chi2 <= 16.27 (3 dof, p = 0.001) under the guess's and the match's
+ * covariance; otherwise the guess is the better evidence. */
+constexpr double kAgreeChi2 = 16.27;
+
+Eigen::Matrix3d informationOf(const Eigen::Vector3d& std)
+{
+	return std.cwiseProduct(std).cwiseInverse().asDiagonal();
+}
+
+/** A covariance of (x, y, phi) in map axes, expressed in the axes of a frame at heading phi. */
+Eigen::Matrix3d rotatedInto(const Eigen::Matrix3d& covInMap, double phi)
+{
+	Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
+	const double c = std::cos(phi), s = std::sin(phi);
+	R.topLeftCorner<2, 2>() << c, s, -s, c;  // map axes -> frame axes
+	return R * covInMap * R.transpose();
+}
+}  // namespace
+
+void CMetricMapBuilderLRGC::resetState()
+{
+	m_predictor = std::make_unique<CMotionPredictor>(m_params.motion);
+	m_local = std::make_unique<CLocalRegistration>(
+		m_params.local, m_params.matcher, m_params.optimizer);
+	m_loopWorker.reset();  // lets a search in hand finish first
+	if (m_params.builder.loop_closing)
+		m_loopWorker = std::make_unique<CLoopClosingWorker>(
+			m_params.loop, m_params.correlator, m_params.matcher, m_params.optimizer);
+	if (m_loopWorker) m_loopWorker->setExtraDelayForTests(m_loopSearchExtraDelay);
+	m_linksForWorker.clear();
+	m_linkWatermark = 0;
+	m_nodesForWorker = 0;
+	m_loopResultsApplied = 0;
+	m_graph = CPoseGraph();
+	m_keyframes.clear();
+	m_scans.clear();
+	m_stats = {};
+	m_lasers = CLaserSelector(m_params.builder);
+	m_lastScanInMap = TPose2D(0, 0, 0);
+	m_lastScanCov.setZero();
+	m_nextScanPrior.reset();
+	m_sessionStartCov.reset();
+	m_motionSinceKeyframe = TPose2D(0, 0, 0);
+	m_odometryTrustedSinceKeyframe = true;
+	m_metricMapDirty = true;
+}
+
+// The keyframes of a CSimpleMap with their stored poses (returned in `poses`, not yet graph
+// nodes). `all`: every entry must give a keyframe (an exact restore), else entries without a
+// usable scan are skipped.
+void CMetricMapBuilderLRGC::adoptKeyframes(
+	const mrpt::maps::CSimpleMap& map, const std::string& laserLabel, bool all)
+{
+	std::string label = laserLabel;
+	for (size_t i = 0; i < map.size(); ++i)
+	{
+		const auto [posePDF, sf] = map.get(i);
+		mrpt::obs::CObservation2DRangeScan::Ptr laser;
+		if (posePDF && sf)
+			for (const auto& o : *sf)
+			{
+				auto l = std::dynamic_pointer_cast<mrpt::obs::CObservation2DRangeScan>(o);
+				if (l && (label.empty() || l->sensorLabel == label))
+				{
+					laser = l;
+					break;
+				}
+			}
+		if (!laser)
+		{
+			if (all)
+				THROW_EXCEPTION_FMT(
+					"initial map entry %zu has no pose or no 2D laser scan%s", i,
+					label.empty() ? "" : (" labelled '" + label + "'").c_str());
+			continue;
+		}
+		TScan2D scan = scanFromObservation(*laser);
+		if (!all && scan.points.size() < m_params.builder.min_scan_points) continue;
+		if (label.empty()) label = laser->sensorLabel;
+		const auto mean = posePDF->getMeanVal();
+		m_graph.addNode(TPose2D(mean.x(), mean.y(), mean.yaw()));
+		m_keyframes.push_back(
+			{std::move(scan), std::const_pointer_cast<mrpt::obs::CSensoryFrame>(sf), laser, i});
+		++m_stats.keyframes;
+	}
+	if (!label.empty()) m_lasers.adopt(label);
+}
+
+// A simplemap's keyframes have poses only: chain them by scan matching, then link the places
+// the map revisits (CRevisitLinker), as the end of a run does.
+void CMetricMapBuilderLRGC::linkChainAndRevisits()
+{
+	const CScanMatcher matcher(m_params.matcher);
+	const Eigen::Matrix3d guessCov = informationOf(kContinuationLinkStd).inverse();
+	for (size_t i = 1; i < m_graph.numNodes(); ++i)
+	{
+		const TPose2D guess = between(m_graph.pose(i - 1), m_graph.pose(i));
+		const auto m = matcher.match(
+			CReferenceCloud::fromScan(m_keyframes[i - 1].scan, m_params.matcher),
+			m_keyframes[i].scan, guess);
+		if (m && m->inlierFraction >= m_params.local.min_link_inliers &&
+			disagreementChi2(guess, m->scanInRef, guessCov + m->cov) <= kAgreeChi2)
+		{
+			m_graph.addLink(
+				{i - 1, i, m->scanInRef, linkInformation(m->cov, m_params.local.link_noise),
+				 LinkType::ScanMatch});
+			++m_stats.scanMatchLinks;
+		}
+		else
+		{
+			m_graph.addLink(
+				{i - 1, i, guess, informationOf(kContinuationLinkStd), LinkType::Odometry});
+			++m_stats.odometryLinks;
+		}
+	}
+	if (m_params.revisits.enabled && m_graph.numNodes() > 1)
+	{
+		const CRevisitLinker linker(m_params.revisits, m_params.matcher, m_params.loop.link_noise);
+		const size_t added = linker.linkRevisits(m_graph, m_keyframes);
+		m_stats.loopClosureLinks += added;
+		MRPT_LOG_INFO_FMT("initial map: %zu keyframes, %zu revisit links", m_graph.numNodes(), added);
+	}
+}
+
+void CMetricMapBuilderLRGC::initialize(
+	const mrpt::maps::CSimpleMap& initialMap, const mrpt::poses::CPosePDF* x0)
+{
+	const auto lock = lockMap();
+	resetState();
+	adoptKeyframes(initialMap, {}, false);
+	linkChainAndRevisits();
+	if (m_graph.numNodes() > 0) m_lastScanInMap = m_graph.pose(m_graph.numNodes() - 1);
+	if (x0)
+	{
+		const auto mean = x0->getMeanVal();
+		m_nextScanPrior = TPose2D(mean.x(), mean.y(), mean.phi());
+	}
+	else if (m_graph.numNodes() > 0)
+		m_nextScanPrior = m_lastScanInMap;
+}
+
+void CMetricMapBuilderLRGC::initialize(
+	const mrpt::maps::CSimpleMap& keyframes, const CPoseGraph& graph,
+	const std::string& laserLabel)
+{
+	if (keyframes.size() != graph.numNodes())
+		THROW_EXCEPTION_FMT(
+			"the saved map has %zu keyframes but its graph %zu nodes: they are not of the same "
+			"run",
+			keyframes.size(), graph.numNodes());
+	const auto lock = lockMap();
+	resetState();
+	adoptKeyframes(keyframes, laserLabel, true);
+	m_graph = graph;  // the poses and links exactly as saved
+	if (m_graph.numNodes() > 0)
+	{
+		m_lastScanInMap = m_graph.pose(m_graph.numNodes() - 1);
+		m_nextScanPrior = m_lastScanInMap;
+	}
+}
+
+void CMetricMapBuilderLRGC::startSessionAt(const TPose2D& scanInMap, const Eigen::Matrix3d& cov)
+{
+	const auto lock = lockMap();
+	ASSERTMSG_(m_graph.numNodes() > 0, "startSessionAt() needs a map to start in");
+	ASSERTMSG_(cov.allFinite(), "startSessionAt(): the covariance is not finite");
+	m_predictor = std::make_unique<CMotionPredictor>(m_params.motion);  // a new log
+	m_local->setWindowStart(m_graph.numNodes());
+	m_nextScanPrior = scanInMap;
+	m_lastScanInMap = scanInMap;  // so the first step's motion is not a jump from the old end
+	m_sessionStartCov = cov;
+	m_motionSinceKeyframe = TPose2D(0, 0, 0);
+	m_odometryTrustedSinceKeyframe = true;
+}
+
+// The first keyframe of a session: linked to the nearest old keyframe by a scan match against
+// the old keyframes within overlap_radius (in the nearest one's frame), placed where the match
+// puts it; without an agreeing match, by the start pose with the localisation's covariance.
+void CMetricMapBuilderLRGC::linkSessionStart(size_t node)
+{
+	const Eigen::Matrix3d cov = *m_sessionStartCov;
+	m_sessionStartCov.reset();
+	const TPose2D start = m_graph.pose(node);
+	size_t nearest = 0;
+	double best = std::numeric_limits<double>::infinity();
+	for (size_t j = 0; j < node; ++j)
+		if (const double d = translationNorm(between(m_graph.pose(j), start)); d < best)
+			best = d, nearest = j;
+	const TPose2D nearestInMap = m_graph.pose(nearest);
+	std::vector<TScan2D> scans;
+	std::vector<TPose2D> scansInNearest;
+	for (size_t j = 0; j < node; ++j)
+		if (translationNorm(between(m_graph.pose(j), start)) <= m_params.loop.overlap_radius)
+		{
+			scans.push_back(m_keyframes[j].scan);
+			scansInNearest.push_back(between(nearestInMap, m_graph.pose(j)));
+		}
+	const TPose2D guess = between(nearestInMap, start);
+	const Eigen::Matrix3d covInNearest = rotatedInto(cov, nearestInMap.phi);
+	// People and doors moved since the old scans: the free-space limit of local registration
+	// (as CLocalizer), not the strict one of loop closing.
+	TScanMatcherParams mp = m_params.matcher;
+	mp.maxFreeSpaceViolation = m_params.local.max_free_space_violation;
+	std::optional<TScanMatch> m;
+	if (!scans.empty())
+		m = CScanMatcher(mp).match(
+			CReferenceCloud::fromScans(scans, scansInNearest, mp), m_keyframes[node].scan, guess);
+	TLink link{nearest, node, guess, linkInformation(covInNearest, m_params.loop.link_noise),
+			   LinkType::LoopClosure};
+	// The old scans were taken at another time: their agreement with a new scan is limited by
+	// the loop links' noise floor, as is the correlation's with the match.
+	const TLinkNoise& f = m_params.loop.link_noise;
+	const Eigen::Vector3d floor2(f.floorXY * f.floorXY, f.floorXY * f.floorXY, f.floorPhi * f.floorPhi);
+	if (m && m->inlierFraction >= m_params.local.min_link_inliers &&
+		disagreementChi2(
+			guess, m->scanInRef, covInNearest + m->cov + Eigen::Matrix3d(floor2.asDiagonal())) <=
+			kAgreeChi2)
+	{
+		link.toInFrom = m->scanInRef;
+		link.information = linkInformation(m->cov, m_params.loop.link_noise);
+		m_graph.setPose(node, compose(nearestInMap, m->scanInRef));
+	}
+	else
+		warn(mrpt::format(
+			"session start at (%.2f, %.2f, %.1f deg): %s; linked by the global localisation "
+			"alone",
+			start.x, start.y, mrpt::RAD2DEG(start.phi),
+			!m ? "no scan match with the old map around it"
+			   : mrpt::format(
+					 "its scan match with the old map (%.0f %% inliers, %.2f m, %.1f deg off) "
+					 "does not confirm it",
+					 100 * m->inlierFraction,
+					 translationNorm(between(guess, m->scanInRef)),
+					 mrpt::RAD2DEG(between(guess, m->scanInRef).phi))
+					 .c_str()));
+	m_graph.addLink(link);
+	++m_stats.loopClosureLinks;
+	m_local->invalidate();
+	MRPT_LOG_INFO_FMT(
+		"session starts at keyframe %zu, linked to old keyframe %zu", node, nearest);
+}
+
+}  // namespace lrgc

@@ -1,0 +1,125 @@
+/* Text form of the whole pose graph (see PoseGraphText.h). */
+#include <lrgc/pose_graph/PoseGraphText.h>
+
+#include <mrpt/core/exceptions.h>
+#include <mrpt/core/format.h>
+
+#include <sstream>
+
+namespace lrgc
+{
+namespace
+{
+constexpr const char* kMagic = "LRGC_POSE_GRAPH";
+constexpr int kVersion = 1;
+
+LinkType linkTypeFromName(const std::string& name, const std::string& where)
+{
+	for (const LinkType t : {LinkType::Odometry, LinkType::ScanMatch, LinkType::LoopClosure})
+		if (name == toString(t)) return t;
+	THROW_EXCEPTION_FMT(
+		"%s: unknown link type '%s' (Odometry, ScanMatch or LoopClosure)", where.c_str(),
+		name.c_str());
+}
+}  // namespace
+
+std::string poseGraphToText(const CPoseGraph& graph, const std::string& laserLabel)
+{
+	std::string out = mrpt::format(
+		"# lrgc pose graph: node i is entry i of map.simplemap.gz; m, rad; "
+		"LINK from to x y phi I00 I01 I02 I11 I12 I22 type enabled\n%s %d\n",
+		kMagic, kVersion);
+	if (!laserLabel.empty()) out += "LASER " + laserLabel + "\n";
+	for (size_t i = 0; i < graph.numNodes(); ++i)
+	{
+		const auto& p = graph.pose(i);
+		out += mrpt::format("NODE %zu %.17g %.17g %.17g\n", i, p.x, p.y, p.phi);
+	}
+	for (size_t id = 0; id < graph.numLinks(); ++id)
+	{
+		const TLink& l = graph.link(id);
+		const Eigen::Matrix3d& I = l.information;
+		out += mrpt::format(
+			"LINK %zu %zu %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %s %d\n", l.from,
+			l.to, l.toInFrom.x, l.toInFrom.y, l.toInFrom.phi, I(0, 0), I(0, 1), I(0, 2), I(1, 1),
+			I(1, 2), I(2, 2), toString(l.type), graph.isLinkEnabled(id) ? 1 : 0);
+	}
+	return out;
+}
+
+TSavedPoseGraph poseGraphFromText(std::istream& in, const std::string& where)
+{
+	TSavedPoseGraph saved;
+	std::string line;
+	size_t lineNo = 0;
+	bool header = false;
+	while (std::getline(in, line))
+	{
+		++lineNo;
+		const std::string at = where + ":" + std::to_string(lineNo);
+		if (line.empty() || line[0] == '#') continue;
+		std::istringstream s(line);
+		s.imbue(std::locale::classic());
+		std::string record;
+		s >> record;
+		if (!header)
+		{
+			int version = 0;
+			if (record != kMagic || !(s >> version) || version != kVersion)
+				THROW_EXCEPTION_FMT(
+					"%s: not an lrgc pose graph (expected '%s %d' first)", at.c_str(), kMagic,
+					kVersion);
+			header = true;
+			continue;
+		}
+		if (record == "LASER")
+		{
+			std::getline(s >> std::ws, saved.laserLabel);
+			continue;
+		}
+		if (record == "NODE")
+		{
+			size_t i = 0;
+			mrpt::math::TPose2D p;
+			if (!(s >> i >> p.x >> p.y >> p.phi) || !(s >> std::ws).eof())
+				THROW_EXCEPTION_FMT("%s: bad NODE line (NODE i x y phi)", at.c_str());
+			if (i != saved.graph.numNodes())
+				THROW_EXCEPTION_FMT(
+					"%s: NODE %zu out of order (expected %zu)", at.c_str(), i,
+					saved.graph.numNodes());
+			saved.graph.addNode(p);
+			continue;
+		}
+		if (record == "LINK")
+		{
+			TLink l;
+			double I[6];
+			std::string type;
+			int enabled = -1;
+			if (!(s >> l.from >> l.to >> l.toInFrom.x >> l.toInFrom.y >> l.toInFrom.phi >> I[0] >>
+				  I[1] >> I[2] >> I[3] >> I[4] >> I[5] >> type >> enabled) ||
+				!(enabled == 0 || enabled == 1) || !(s >> std::ws).eof())
+				THROW_EXCEPTION_FMT(
+					"%s: bad LINK line (LINK from to x y phi I00 I01 I02 I11 I12 I22 type "
+					"enabled)",
+					at.c_str());
+			l.information << I[0], I[1], I[2], I[1], I[3], I[4], I[2], I[4], I[5];
+			l.type = linkTypeFromName(type, at);
+			try
+			{
+				const size_t id = saved.graph.addLink(l);
+				if (!enabled) saved.graph.setLinkEnabled(id, false);
+			}
+			catch (const std::exception& e)
+			{
+				THROW_EXCEPTION_FMT("%s: %s", at.c_str(), e.what());
+			}
+			continue;
+		}
+		THROW_EXCEPTION_FMT("%s: unknown record '%s'", at.c_str(), record.c_str());
+	}
+	if (!header) THROW_EXCEPTION_FMT("%s: empty file, not an lrgc pose graph", where.c_str());
+	return saved;
+}
+
+}  // namespace lrgc

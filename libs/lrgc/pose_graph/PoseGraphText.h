@@ -1,0 +1,38 @@
+/* The whole pose graph as text, so that a saved map can be continued exactly (lrgc-slam
+ * --initial-map): every node pose, every link with its measurement, information, type and
+ * whether it is enabled, in full precision (%.17g, so a round trip is bit-exact).
+ *
+ * MRPT's .graph (graph.graph) cannot serve: it keeps neither link types (the optimizer makes
+ * only LoopClosure links robust) nor disabled links, and g2o readers want one edge per pair.
+ *
+ * Format (one record per line, '#' comments):
+ *   LRGC_POSE_GRAPH 1
+ *   LASER <sensor label of the keyframes' scans>          (optional)
+ *   NODE <i> <x> <y> <phi>                                 (i = 0, 1, 2, ... in order)
+ *   LINK <from> <to> <x> <y> <phi> <I00> <I01> <I02> <I11> <I12> <I22> <type> <enabled>
+ * Units m and rad; Z = (from <- to); I the upper triangle of the information matrix over
+ * (x, y, phi) in the frame of `from`; type Odometry | ScanMatch | LoopClosure; enabled 0 | 1.
+ * Node i is entry i of the map's CSimpleMap (map.simplemap.gz).
+ */
+#pragma once
+
+#include <lrgc/pose_graph/PoseGraph.h>
+
+#include <istream>
+#include <string>
+
+namespace lrgc
+{
+struct TSavedPoseGraph
+{
+	CPoseGraph graph;
+	std::string laserLabel;  //!< empty if the file names none
+};
+
+std::string poseGraphToText(const CPoseGraph& graph, const std::string& laserLabel = {});
+
+/** Parses the text written by poseGraphToText(); throws naming `where` and the line number
+ * on anything else (unknown record, bad number, node out of order, invalid link). */
+TSavedPoseGraph poseGraphFromText(std::istream& in, const std::string& where);
+
+}  // namespace lrgc

@@ -1,0 +1,87 @@
+#include <gtest/gtest.h>
+#include <lrgc/pose_graph/PoseGraphText.h>
+
+#include <random>
+#include <sstream>
+
+using lrgc::CPoseGraph;
+using lrgc::LinkType;
+
+namespace
+{
+CPoseGraph randomGraph(uint32_t seed)
+{
+	std::mt19937 rng(seed);
+	std::uniform_real_distribution<double> u(-3, 3);
+	CPoseGraph g;
+	for (int i = 0; i < 20; ++i) g.addNode({u(rng), u(rng), u(rng)});
+	for (size_t i = 1; i < 20; ++i)
+	{
+		Eigen::Matrix3d A = Eigen::Matrix3d::Random();
+		g.addLink({i - 1, i, {u(rng), u(rng), u(rng) / 3}, A * A.transpose() + Eigen::Matrix3d::Identity(),
+				   i % 3 == 0 ? LinkType::ScanMatch : LinkType::Odometry});
+	}
+	g.addLink({2, 17, {0.1, -0.2, 0.3}, 1e4 * Eigen::Matrix3d::Identity(), LinkType::LoopClosure});
+	g.setLinkEnabled(g.addLink({5, 12, {1.0 / 3, 0, 0}, Eigen::Matrix3d::Identity(), LinkType::LoopClosure}), false);
+	return g;
+}
+
+lrgc::TSavedPoseGraph parse(const std::string& text)
+{
+	std::istringstream in(text);
+	return lrgc::poseGraphFromText(in, "g.lrgc");
+}
+}  // namespace
+
+TEST(PoseGraphText, roundTripIsBitExactWithTypesAndDisabledLinks)
+{
+	const CPoseGraph g = randomGraph(3);
+	const auto back = parse(lrgc::poseGraphToText(g, "FRONT LASER"));
+	EXPECT_EQ(back.laserLabel, "FRONT LASER");
+	ASSERT_EQ(back.graph.numNodes(), g.numNodes());
+	ASSERT_EQ(back.graph.numLinks(), g.numLinks());
+	for (size_t i = 0; i < g.numNodes(); ++i)
+	{
+		EXPECT_EQ(back.graph.pose(i).x, g.pose(i).x);
+		EXPECT_EQ(back.graph.pose(i).y, g.pose(i).y);
+		EXPECT_EQ(back.graph.pose(i).phi, g.pose(i).phi);
+	}
+	for (size_t id = 0; id < g.numLinks(); ++id)
+	{
+		const auto &a = g.link(id), &b = back.graph.link(id);
+		EXPECT_EQ(b.from, a.from);
+		EXPECT_EQ(b.to, a.to);
+		EXPECT_EQ(b.type, a.type);
+		EXPECT_EQ(b.toInFrom.x, a.toInFrom.x);
+		EXPECT_EQ(b.toInFrom.y, a.toInFrom.y);
+		EXPECT_EQ(b.toInFrom.phi, a.toInFrom.phi);
+		EXPECT_EQ(b.information, a.information);
+		EXPECT_EQ(back.graph.isLinkEnabled(id), g.isLinkEnabled(id));
+	}
+	EXPECT_FALSE(back.graph.isLinkEnabled(g.numLinks() - 1));
+}
+
+TEST(PoseGraphText, badInputIsAnErrorNamingTheLine)
+{
+	const std::string head = "LRGC_POSE_GRAPH 1\nNODE 0 0 0 0\nNODE 1 1 0 0\n";
+	const auto fails = [&](const std::string& text, const std::string& what) {
+		try
+		{
+			parse(text);
+			ADD_FAILURE() << "accepted: " << text;
+		}
+		catch (const std::exception& e)
+		{
+			EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
+		}
+	};
+	fails("", "empty file");
+	fails("NODE 0 0 0 0\n", "g.lrgc:1: not an lrgc pose graph");
+	fails(head + "NODE 3 0 0 0\n", "g.lrgc:4: NODE 3 out of order");
+	fails(head + "LINK 0 1 1 0 0 1 0 0 1 0 1 Wheel 1\n", "unknown link type 'Wheel'");
+	fails(head + "LINK 0 1 1 0 0 1 0 0 1 0 1 Odometry 2\n", "g.lrgc:4: bad LINK line");
+	fails(head + "LINK 0 5 1 0 0 1 0 0 1 0 1 Odometry 1\n", "out of range");
+	fails(head + "LINK 0 1 1 0 0 -1 0 0 1 0 1 Odometry 1\n", "not positive definite");
+	fails(head + "EDGE_SE2 0 1 1 0 0\n", "unknown record 'EDGE_SE2'");
+	EXPECT_EQ(parse(head + "# comment\n\nLINK 0 1 1 0 0 1 0 0 1 0 1 Odometry 1\n").graph.numLinks(), 1U);
+}

@@ -1,0 +1,252 @@
+/* lrgc-slam on a saved map: --initial-map (continue it) and --localize (track on it).
+ * The map is an earlier output folder or any .simplemap (SavedMap.h); in both cases the log's
+ * start in it is unknown and found by global correlation (lrgc/localization). */
+#include "lrgc_apps/AppConfig.h"
+#include "lrgc_apps/ErrorText.h"
+#include "lrgc_apps/MapExport.h"
+#include "lrgc_apps/Progress.h"
+#include "lrgc_apps/RunOutputs.h"
+#include "lrgc_apps/RunStats.h"
+#include "lrgc_apps/SavedMap.h"
+#include "lrgc_apps/SlamApp.h"
+#include "lrgc_apps/StopSignalWatcher.h"
+#include "lrgc_apps/atomic_file.h"
+#include "lrgc_apps/io/LogReader.h"
+
+#include <lrgc/common/se2.h>
+#include <lrgc/localization/Localizer.h>
+#include <lrgc/localization/StartFinder.h>
+#include <lrgc/map_builder/CMetricMapBuilderLRGC.h>
+#include <mrpt/obs/CActionCollection.h>
+
+#include <chrono>
+#include <filesystem>
+#include <sstream>
+
+namespace lrgc::apps
+{
+namespace
+{
+template <class Consumer>
+void feedTo(Consumer& consumer, TLogEntry& e)
+{
+	if (e.observations)
+	{
+		mrpt::obs::CActionCollection noActions;
+		consumer.processActionObservation(e.actions ? *e.actions : noActions, *e.observations);
+	}
+	else if (e.observation)
+		consumer.processObservation(e.observation);
+}
+
+std::string noStartMessage(const std::string& map, size_t scans, size_t attempts,
+						   const std::string& lastRejection)
+{
+	return mrpt::format(
+		"no start found in the map '%s': %zu scans read, %zu global correlation attempts "
+		"rejected (last: %s); the log may begin outside the mapped area",
+		map.c_str(), scans, attempts, lastRejection.empty() ? "none" : lastRejection.c_str());
+}
+}  // namespace
+
+int CSlamApp::startInInitialMap(const TSavedMap& map, const TAppConfig& cfg, CLogReader& reader,
+								CMetricMapBuilderLRGC& builder, CProgress& progress,
+								TRunSummary& run, const CStopSignalWatcher& signals)
+{
+	run.initialMap = map.path;
+	run.initialMapKeyframes = builder.graph().numNodes();
+	report(mrpt::format(
+		"lrgc-slam: continuing '%s': %zu keyframes, %zu links (%s); finding the start of the "
+		"log in it",
+		map.path.c_str(), builder.graph().numNodes(), builder.graph().numLinks(),
+		map.graph ? "the saved graph" : "linked anew from the keyframes' poses"));
+	const CGlobalLocalizer global(builder.graph(), builder.keyframes(), cfg.lrgc.correlator);
+	CStartFinder finder(global, cfg.lrgc, cfg.localization);
+	std::vector<TLogEntry> read;  // replayed into the builder once the start is known
+	std::optional<TStartFound> found;
+	while (!found && !signals.stopRequested())
+	{
+		std::optional<TLogEntry> entry;
+		try
+		{
+			entry = reader.next();
+		}
+		catch (const std::exception& e)
+		{
+			run.status = "input error: " + oneLineError(e);
+			return kExitInputError;
+		}
+		if (!entry) break;
+		++run.logEntries;
+		feedTo(finder.probe(), *entry);
+		read.push_back(std::move(*entry));
+		found = finder.tryLocate();
+		reportWarnings(reader.takeWarnings());
+		progress.update(reader.fractionRead(), 0, "finding the start in the initial map");
+	}
+	run.startScans = finder.probe().stats().scans;
+	run.startAttempts = finder.attempts();
+	run.startSeconds = finder.secondsSpent();
+	if (signals.stopRequested())
+	{
+		run.status = "interrupted";
+		return kExitInterrupted;
+	}
+	if (!found)
+	{
+		run.status =
+			noStartMessage(map.path, run.startScans, run.startAttempts, finder.lastRejection());
+		return kExitInputError;
+	}
+	const TPose2D start = compose(found->probeInMap, finder.probe().trajectory().front().robotInMap);
+	report(mrpt::format(
+		"lrgc-slam: the log starts at (%.2f m, %.2f m, %.1f deg) in the map: found after %zu "
+		"scans, %zu attempts, %.1f s (score %.2f, ambiguity %.2f, patch of %zu keyframes)",
+		start.x, start.y, mrpt::RAD2DEG(start.phi), run.startScans, run.startAttempts,
+		run.startSeconds, found->score, found->ambiguity, found->patchKeyframes));
+	builder.startSessionAt(start, found->cov);
+	for (auto& entry : read)
+		if (mapEntry(builder, entry, run) != kExitOk) return kExitInputError;
+	reportWarnings(builder.takeWarnings());
+	return kExitOk;
+}
+
+namespace
+{
+std::string jsonQuote(const std::string& s)
+{
+	std::string out = "\"";
+	for (const char ch : s)
+		if (ch == '"' || ch == '\\') out += '\\', out += ch;
+		else if (static_cast<unsigned char>(ch) < 0x20) out += mrpt::format("\\u%04x", ch);
+		else out += ch;
+	return out + "\"";
+}
+
+std::string localizationStatsJson(const CLocalizer& loc, const TRunSummary& run,
+								  const std::string& map)
+{
+	const TLocalizerStats& s = loc.stats();
+	const TLatencySummary lat = summarizeLatencies(run.latencyMs);
+	std::ostringstream j;
+	j.precision(6);
+	j << std::fixed << "{\n"
+	  << "  \"mode\": \"localize\",\n"
+	  << "  \"input\": " << jsonQuote(run.input) << ",\n"
+	  << "  \"map\": " << jsonQuote(map) << ",\n"
+	  << "  \"status\": " << jsonQuote(run.status) << ",\n"
+	  << "  \"log_entries\": " << run.logEntries << ",\n"
+	  << "  \"scans\": " << s.scans << ",\n"
+	  << "  \"localized_scans\": " << s.localizedScans << ",\n"
+	  << "  \"scans_before_start\": " << s.scansBeforeStart << ",\n"
+	  << "  \"good_matches\": " << s.goodMatches << ",\n"
+	  << "  \"poor_matches\": " << s.poorMatches << ",\n"
+	  << "  \"placed_by_recent_scans\": " << s.recentMatches << ",\n"
+	  << "  \"lost\": " << s.lostEvents << ",\n"
+	  << "  \"relocalizations\": " << s.relocalizations << ",\n"
+	  << "  \"recovered_by_tracking\": " << s.recoveredByTracking << ",\n"
+	  << "  \"global_localization\": {\"attempts\": " << s.globalAttempts
+	  << ", \"total_s\": " << s.globalSeconds << "},\n"
+	  << "  \"warnings\": " << run.warnings << ",\n"
+	  << "  \"data_duration_s\": " << run.dataDurationSeconds << ",\n"
+	  << "  \"wall_time_s\": " << run.wallSeconds << ",\n"
+	  << "  \"cpu_time_s\": " << run.cpuSeconds << ",\n"
+	  << "  \"peak_rss_mb\": " << run.peakRssMiB << ",\n"
+	  << "  \"latency_ms\": {\"median\": " << lat.median_ms << ", \"p99\": " << lat.p99_ms
+	  << ", \"max\": " << lat.max_ms << ", \"mean\": " << lat.mean_ms << "}\n"
+	  << "}\n";
+	return j.str();
+}
+}  // namespace
+
+int CSlamApp::runLocalize(const TSlamCommandLine& cl)
+{
+	const TAppConfig cfg = loadAppConfig(cl);
+	// Before the reader's guard process, which inherits its mask.
+	const CStopSignalWatcher signals;
+	std::unique_ptr<CLogReader> reader;
+	std::unique_ptr<CLocalizer> localizer;
+	try
+	{
+		reader = openLog(cl.input, cfg.reader);
+		const TSavedMap map = loadSavedMap(cl.localize, "--localize");
+		CMetricMapBuilderLRGC restored(cfg.lrgc);  // the map's keyframes, as a builder has them
+		restored.logging_enable_console_output = false;
+		initializeFromSavedMap(restored, map);
+		localizer = std::make_unique<CLocalizer>(
+			restored.graph(), restored.keyframes(), cfg.lrgc, cfg.localization);
+		localizer->logging_enable_console_output = false;
+	}
+	catch (const std::exception& e)
+	{
+		reportError(e);
+		return kExitInputError;
+	}
+	CProgress progress(m_err, cl.quiet);
+	CRunClock clock;
+	TRunSummary run;
+	run.input = cl.input;
+	int exitCode = kExitOk;
+	while (!signals.stopRequested())
+	{
+		std::optional<TLogEntry> entry;
+		try
+		{
+			entry = reader->next();
+		}
+		catch (const std::exception& e)
+		{
+			run.status = "input error: " + oneLineError(e);
+			exitCode = kExitInputError;
+			break;
+		}
+		if (!entry) break;
+		++run.logEntries;
+		const size_t scansBefore = localizer->stats().scans;
+		const auto t0 = std::chrono::steady_clock::now();
+		feedTo(*localizer, *entry);
+		if (localizer->stats().scans > scansBefore && entry)
+		{
+			run.latencyMs.push_back(
+				std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
+					.count());
+			run.latencyStamp.push_back(mrpt::Clock::toDouble(localizer->lastScanTimestamp()));
+		}
+		reportWarnings(reader->takeWarnings());
+		const auto& s = localizer->stats();
+		progress.update(reader->fractionRead(), s.scans,
+						mrpt::format("localised %zu  lost %zu  relocalised %zu",
+									 s.localizedScans, s.lostEvents, s.relocalizations));
+	}
+	if (signals.stopRequested()) run.status = "interrupted", exitCode = kExitInterrupted;
+	const TLocalizerStats& s = localizer->stats();
+	if (exitCode == kExitOk && !s.started)
+	{
+		run.status = noStartMessage(cl.localize, s.scans, s.globalAttempts, s.lastRejection);
+		exitCode = kExitInputError;
+	}
+	progress.finish(exitCode == kExitOk ? 1.0 : reader->fractionRead(), s.scans);
+	finishRunSummary(run, clock, m_warningsTotal);
+	namespace fs = std::filesystem;
+	fs::create_directories(cl.outDir);
+	const auto path = [&](const char* name) { return (fs::path(cl.outDir) / name).string(); };
+	if (!localizer->trajectory().empty())
+	{
+		writeTrajectoryTum(localizer->trajectory(), path("trajectory.tum"));
+		std::string csv = "scan_index,timestamp,latency_ms\n";
+		for (size_t i = 0; i < run.latencyMs.size(); ++i)
+			csv += mrpt::format("%zu,%.6f,%.4f\n", i, run.latencyStamp[i], run.latencyMs[i]);
+		writeTextFileAtomically(path("timing.csv"), csv);
+	}
+	writeTextFileAtomically(path("stats.json"), localizationStatsJson(*localizer, run, cl.localize));
+	if (exitCode != kExitOk) report("lrgc-slam: " + run.status);
+	if (!cl.quiet || exitCode != kExitOk)
+		report(mrpt::format(
+			"lrgc-slam: localised %zu of %zu scans on '%s' (start after %zu scans, lost %zu "
+			"times, %zu relocalisations); outputs in %s",
+			s.localizedScans, s.scans, cl.localize.c_str(), s.scansBeforeStart, s.lostEvents,
+			s.relocalizations, cl.outDir.c_str()));
+	return exitCode;
+}
+
+}  // namespace lrgc::apps
