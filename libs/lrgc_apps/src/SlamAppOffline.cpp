@@ -23,17 +23,6 @@ namespace
 {
 constexpr size_t kMaxWarningsShown = 30;
 
-void feed(CMetricMapBuilderLRGC& builder, TLogEntry& e)
-{
-	if (e.observations)
-	{
-		mrpt::obs::CActionCollection noActions;
-		builder.processActionObservation(e.actions ? *e.actions : noActions, *e.observations);
-	}
-	else if (e.observation)
-		builder.processObservation(e.observation);
-}
-
 // "1200 CObservationBearingRange, 1199 CActionRobotMovement2D": the largest counts first.
 std::string describeContents(const std::map<std::string, size_t>& contents)
 {
@@ -191,7 +180,7 @@ int CSlamApp::mapEntry(CMetricMapBuilderLRGC& builder, TLogEntry& entry, TRunSum
 	const auto t0 = std::chrono::steady_clock::now();
 	try
 	{
-		feed(builder, entry);
+		feedEntry(builder, entry);
 	}
 	catch (const std::exception& e)
 	{

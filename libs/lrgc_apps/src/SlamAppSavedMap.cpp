@@ -27,18 +27,6 @@ namespace lrgc::apps
 {
 namespace
 {
-template <class Consumer>
-void feedTo(Consumer& consumer, TLogEntry& e)
-{
-	if (e.observations)
-	{
-		mrpt::obs::CActionCollection noActions;
-		consumer.processActionObservation(e.actions ? *e.actions : noActions, *e.observations);
-	}
-	else if (e.observation)
-		consumer.processObservation(e.observation);
-}
-
 std::string noStartMessage(const std::string& map, size_t scans, size_t attempts,
 						   const std::string& lastRejection)
 {
@@ -78,7 +66,7 @@ int CSlamApp::startInInitialMap(const TSavedMap& map, const TAppConfig& cfg, CLo
 		}
 		if (!entry) break;
 		++run.logEntries;
-		feedTo(finder.probe(), *entry);
+		feedEntry(finder.probe(), *entry);
 		read.push_back(std::move(*entry));
 		found = finder.tryLocate();
 		reportWarnings(reader.takeWarnings());
@@ -204,7 +192,7 @@ int CSlamApp::runLocalize(const TSlamCommandLine& cl)
 		++run.logEntries;
 		const size_t scansBefore = localizer->stats().scans;
 		const auto t0 = std::chrono::steady_clock::now();
-		feedTo(*localizer, *entry);
+		feedEntry(*localizer, *entry);
 		if (localizer->stats().scans > scansBefore && entry)
 		{
 			run.latencyMs.push_back(

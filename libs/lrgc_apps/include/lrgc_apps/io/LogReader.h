@@ -55,6 +55,21 @@ struct TLogEntry
 	std::string where;
 };
 
+/** Hands an entry to anything with MRPT's map-builder intake (CMetricMapBuilderLRGC,
+ * CLocalizer, ...): a sensory frame with its actions (an empty collection when none came
+ * before it) or a lone observation. */
+template <class Consumer>
+void feedEntry(Consumer& consumer, TLogEntry& e)
+{
+	if (e.observations)
+	{
+		mrpt::obs::CActionCollection noActions;
+		consumer.processActionObservation(e.actions ? *e.actions : noActions, *e.observations);
+	}
+	else if (e.observation)
+		consumer.processObservation(e.observation);
+}
+
 enum class LogFormat
 {
 	MrptRawlog,
