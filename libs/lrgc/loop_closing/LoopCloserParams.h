@@ -41,12 +41,12 @@ struct TLoopCloserParams : public mrpt::config::CLoadableOptions
 	 * 1357 -> 146 correlations at the window cap, same error). 0: every check. */
 	double attempt_stride = 0.25;
 	/** Run loop closing on a worker thread (CLoopClosingWorker) while the mapping thread goes
-	 * on registering scans; false: on the mapping thread (same results, slower). */
+	 * on registering scans; false: on the mapping thread (the same map, without the overlap). */
 	bool background = true;
 	/** A loop search started at keyframe k is applied to the map at keyframe k + result_delay
 	 * (the mapping thread waits there only if the worker is not done): the result never
-	 * depends on the machine's speed. The next search starts when one is applied, so the loop
-	 * is looked for every max(result_delay, check_every) keyframes. 0: applied at once. */
+	 * depends on the machine's speed. Searches start at every keyframe (check_every) and queue
+	 * up on the worker; results are applied in order. 0: applied at once. */
 	size_t result_delay = 1;
 	/** Apply a result as soon as it is ready instead of at k + result_delay (live runs: the
 	 * robot never waits; the map then depends on timing). lrgc-slam --live sets it from

@@ -157,7 +157,6 @@ TLoopJobResult CLoopClosingWorker::execute(TLoopJob& job)
 	TLoopJobResult r;
 	r.newest = job.newest;
 	r.closure = m_closer.process(m_replica, m_scans);
-	r.rejection = m_closer.lastRejection();
 	for (size_t id = firstLink; id < m_replica.numLinks(); ++id)
 	{
 		r.links.push_back(m_replica.link(id));

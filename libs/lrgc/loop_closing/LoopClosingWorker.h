@@ -60,7 +60,6 @@ struct TLoopJobResult
 {
 	size_t newest = 0;
 	std::optional<TLoopClosure> closure;  //!< accepted loop closure, if any
-	std::string rejection;  //!< why the attempt was rejected (empty if none)
 	std::vector<TLink> links;  //!< links the loop closer added, in order
 	std::vector<char> linkEnabled;  //!< per link: still enabled (the back-end may refuse it)
 	/** New poses of nodes firstMoved..newest if the job optimised the graph, else empty. */
