@@ -182,8 +182,9 @@ def markdown_table(header, rows):
     return "\n".join(lines)
 
 
-def document(real, synthetic, plots, machine, commit, total_s, data_dir, notes):
-    """The whole doc/benchmarks.md."""
+def document(real, synthetic, plots, machine, commit, total_s, data_dir, notes, repeat=None):
+    """The whole doc/benchmarks.md. `repeat`: (header, rows, summary line) of Intel driven
+    several times over (bench_repeat.py), or None."""
     out = ["# Benchmarks", "",
            "Written by `bench/run` (do not edit by hand): every system on every log, in one run, "
            "one process after the other.", "",
@@ -213,6 +214,14 @@ def document(real, synthetic, plots, machine, commit, total_s, data_dir, notes):
                 "ATE: absolute trajectory error after the best-fit SE(2) alignment (rmse, and "
                 "mean ± std); RPE: relative pose error between consecutive ground-truth poses.",
                 "", markdown_table(SYN_HEADER, synthetic), ""]
+    if repeat:
+        header, rows, summary = repeat
+        out += ["## Intel driven four times over", "",
+                "`bench/repeat_log.py` makes Intel four times over (timestamps shifted, odometry "
+                "continued: a robot that keeps driving the same building); lrgc-slam maps it in "
+                "one run with the defaults. Per pass: mapping time = sum of the per-scan "
+                "latencies of timing.csv (loop-closing waits included), and the keyframes the "
+                "pass added (graph.lrgc). " + summary, "", markdown_table(header, rows), ""]
     if notes:
         out += ["## Notes", ""] + ["- " + n for n in notes] + [""]
     if plots:

@@ -1,0 +1,76 @@
+"""Intel driven four times over, for bench/run (issue 12): does each pass cost as much as the
+first, and does memory grow with the area mapped or with the time driven?
+
+The log is made by bench/repeat_log.py (timestamps shifted, odometry continued). lrgc-slam maps
+it once, with the defaults; per pass, from timing.csv: the mapping time (sum of the per-scan
+latencies, loop-closing waits included, [s]), the p99 and max latency [ms]; and from
+graph.graph the keyframes (VERTEX_SE2) each pass added. Peak RSS is of the whole run.
+
+Python standard library only.
+"""
+
+import os
+import subprocess
+import sys
+
+import bench_runs
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+HEADER = ["pass", "scans", "mapping time [s]", "× pass 1", "p99 / max latency [ms]",
+          "keyframes added"]
+
+
+def make_log(log_path, passes, out_path):
+    subprocess.run([sys.executable, os.path.join(HERE, "repeat_log.py"), log_path, str(passes),
+                    out_path], check=True)
+
+
+def keyframe_rows(graph_lrgc, trajectory_tum):
+    """Row index in trajectory.tum (one row per scan) of every keyframe, or None.
+
+    graph.lrgc lists the keyframes (NODE i x y phi) in the order they were made, and a
+    keyframe's row in trajectory.tum holds its pose (6 decimals), so one forward pass over the
+    rows finds them all."""
+    try:
+        with open(graph_lrgc) as f:
+            nodes = [l.split()[2:4] for l in f if l.startswith("NODE ")]
+        with open(trajectory_tum) as f:
+            rows = [l.split()[1:3] for l in f if l.strip() and not l.startswith("#")]
+    except OSError:
+        return None
+    out, k = [], 0
+    for x, y in nodes:
+        key = ["%.6f" % float(x), "%.6f" % float(y)]
+        while k < len(rows) and rows[k] != key:
+            k += 1
+        if k == len(rows):
+            return None
+        out.append(k)
+        k += 1
+    return out
+
+
+def run(tools, log_path, workdir, timeout_s, passes=4, config=None):
+    """Returns (rows, run result, notes)."""
+    os.makedirs(workdir, exist_ok=True)
+    repeated = os.path.join(workdir, "intel-x%d.clf.gz" % passes)
+    make_log(log_path, passes, repeated)
+    r = bench_runs.run_lrgc_slam(tools, repeated, os.path.join(workdir, "lrgc-slam"), timeout_s,
+                                 config)
+    if not r.ok:
+        return [], r, ["intel x%d: %s" % (passes, r.error)]
+    n = len(r.latencies_ms) // passes
+    out = os.path.join(workdir, "lrgc-slam", "out")
+    keyframes = keyframe_rows(os.path.join(out, "graph.lrgc"), r.trajectory)
+    notes = [] if keyframes else ["intel x%d: keyframes per pass not found in graph.lrgc" % passes]
+    rows, first = [], None
+    for p in range(passes):
+        end = (p + 1) * n if p + 1 < passes else len(r.latencies_ms)
+        lat = r.latencies_ms[p * n:end]
+        total_s = sum(lat) / 1000.0
+        first = first or total_s
+        _, p99, mx = bench_runs.latency_summary(lat)
+        added = sum(1 for k in keyframes if p * n <= k < end) if keyframes else None
+        rows.append([str(p + 1), str(len(lat)), "%.1f" % total_s, "%.2f" % (total_s / first),
+                     "%.1f / %.0f" % (p99, mx), "?" if added is None else str(added)])
+    return rows, r, notes
