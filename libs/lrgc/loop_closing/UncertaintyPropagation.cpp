@@ -29,18 +29,28 @@ double positionVariance(const Eigen::Matrix3d& c)
 	return c(0, 0) + c(1, 1);
 }
 
-/** Covariance of (source <- v) = (source <- u) (+) (u <- v), first order. */
-Eigen::Matrix3d compound(const TPose2D& uInSource, const Eigen::Matrix3d& covU,
-						 const TPose2D& vInU, const Eigen::Matrix3d& covUV)
+/** Covariance of (source <- v) = (source <- u) (+) (u <- v), first order; c, s are
+ * cos, sin of (source <- u).phi (the same for every link of u), (x, y) the position of v in
+ * u's frame [m]. */
+Eigen::Matrix3d compound(double c, double s, const Eigen::Matrix3d& covU, double x, double y,
+						 const Eigen::Matrix3d& covUV)
 {
-	const double c = std::cos(uInSource.phi), s = std::sin(uInSource.phi);
 	Eigen::Matrix3d J1 = Eigen::Matrix3d::Identity(), J2 = Eigen::Matrix3d::Identity();
-	J1(0, 2) = -(s * vInU.x + c * vInU.y);
-	J1(1, 2) = c * vInU.x - s * vInU.y;
+	J1(0, 2) = -(s * x + c * y);
+	J1(1, 2) = c * x - s * y;
 	J2(0, 0) = c, J2(0, 1) = -s, J2(1, 0) = s, J2(1, 1) = c;
 	return J1 * covU * J1.transpose() + J2 * covUV * J2.transpose();
 }
 }  // namespace
+
+TRelativeUncertainty chainUncertainty(
+	const TRelativeUncertainty& aInSource, const TRelativeUncertainty& vInA)
+{
+	const TPose2D& a = aInSource.nodeInSource;
+	const TPose2D& v = vInA.nodeInSource;
+	return {vInA.node, compose(a, v),
+			compound(std::cos(a.phi), std::sin(a.phi), aInSource.cov, v.x, v.y, vInA.cov)};
+}
 
 Eigen::Matrix3d inverseCovariance(const TPose2D& z, const Eigen::Matrix3d& covZ)
 {
@@ -81,8 +91,13 @@ std::vector<TRelativeUncertainty> propagateUncertainty(const CPoseGraph& g, size
 		lu.settled = true;
 		const TPose2D uInSource = between(sourceInMap, g.pose(u));
 		out.push_back({u, uInSource, lu.cov});
-		if (limits.maxNodes && out.size() >= limits.maxNodes) break;
+		if ((limits.maxNodes && out.size() >= limits.maxNodes) || u == limits.stopAtNode) break;
 		if (lu.key > maxVar) continue;  // returned, not expanded
+		// The trigonometry of u's frame and of (source <- u), shared by all of u's links.
+		const TPose2D& uInMap = g.pose(u);
+		const double cu = std::cos(uInMap.phi), su = std::sin(uInMap.phi);
+		const double cs = std::cos(uInSource.phi), ss = std::sin(uInSource.phi);
+		const Eigen::Matrix3d& covU = lu.cov;
 		for (size_t id : g.linksOf(u))
 		{
 			if (!g.isLinkEnabled(id)) continue;
@@ -90,12 +105,15 @@ std::vector<TRelativeUncertainty> propagateUncertainty(const CPoseGraph& g, size
 			const size_t v = l.from == u ? l.to : l.from;
 			if (labels[v].settled) continue;
 			const Eigen::Matrix3d covLink = l.information.inverse();
-			// Linearise at the current estimate of the link's relative pose.
-			const TPose2D vInU = between(g.pose(u), g.pose(v));
+			// Linearise at the current estimate of the link's relative pose: v's position in
+			// u's frame, between(pose(u), pose(v)), with u's cos/sin computed once.
+			const TPose2D& vInMap = g.pose(v);
+			const double dx = vInMap.x - uInMap.x, dy = vInMap.y - uInMap.y;
 			const Eigen::Matrix3d covUV =
 				l.from == u ? covLink
-							: inverseCovariance(between(g.pose(v), g.pose(u)), covLink);
-			const Eigen::Matrix3d covV = compound(uInSource, lu.cov, vInU, covUV);
+							: inverseCovariance(between(vInMap, uInMap), covLink);
+			const Eigen::Matrix3d covV =
+				compound(cs, ss, covU, cu * dx + su * dy, -su * dx + cu * dy, covUV);
 			const double keyV = positionVariance(covV);
 			TLabel& lv = labels[v];
 			if (keyV >= lv.key) continue;  // unreached nodes have key +inf

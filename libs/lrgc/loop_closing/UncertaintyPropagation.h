@@ -45,12 +45,19 @@ struct TUncertaintyLimits
 	/** Do not expand beyond a node whose position std sqrt(trace C_xy) exceeds this [m]
 	 * (the node itself is returned). Bounds the search to where a loop could still be. */
 	double maxPositionStd = std::numeric_limits<double>::infinity();
+	/** Stop once this node is reached (it is then the last one returned). */
+	size_t stopAtNode = std::numeric_limits<size_t>::max();
 };
 
 /** Returns the source (zero covariance) and every reached node, in order of increasing
  * position variance. Throws if `source` is out of range. */
 std::vector<TRelativeUncertainty> propagateUncertainty(const CPoseGraph& g, size_t source,
 													   const TUncertaintyLimits& limits = {});
+
+/** (source <- v) from (source <- a) and (a <- v) (`.node` is v): the pose composed and the
+ * covariance compounded to first order, as one step of a path in propagateUncertainty. */
+TRelativeUncertainty chainUncertainty(
+	const TRelativeUncertainty& aInSource, const TRelativeUncertainty& vInA);
 
 /** Covariance of Z^-1 given that of Z = (x, y, phi), first order at Z:
  *     J = d(Z^-1)/dZ = [-c -s  s x - c y;  s -c  c x + s y;  0 0 -1],  C' = J C J^T. */
