@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <ctime>
 
 namespace lrgc
 {
@@ -27,6 +28,31 @@ constexpr size_t kRematchStride = 2;
  * most kAgreeXY [m] plus kAgreePerMetre of the path between the new nodes, and kAgreeTheta
  * [rad]: scan-matched loop links are good to centimetres, local chains to ~1 %. */
 constexpr double kAgreeXY = 0.3, kAgreePerMetre = 0.02, kAgreeTheta = 2.0 * M_PI / 180;
+
+/** CPU time of the calling thread [s] (POSIX CLOCK_THREAD_CPUTIME_ID): the worker's cost
+ * whatever else the machine runs. */
+double threadCpuSeconds()
+{
+	timespec t{};
+	clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+	return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
+}
+
+/** Adds the thread CPU time from construction to destruction (or to stop()) to `sum` [s]. */
+class CCpuTimer
+{
+   public:
+	explicit CCpuTimer(double& sum) : m_sum(&sum), m_t0(threadCpuSeconds()) {}
+	~CCpuTimer() { stop(); }
+	void stop()
+	{
+		if (m_sum) *m_sum += threadCpuSeconds() - m_t0, m_sum = nullptr;
+	}
+
+   private:
+	double* m_sum;
+	double m_t0;
+};
 
 /* Held link a (oa <- na) and new link b (ob <- nb), na before nb. Via a, nb in oa's frame is
  * Z_a (+) (na <- nb) (new side, from the graph); via b it is (oa <- ob) (+) Z_b (old side).
@@ -96,7 +122,7 @@ CLoopCloser::CLoopCloser(
 // Step 1: old poses that could overlap the newest one, by Mahalanobis distance of their
 // position relative to it, the offset first shortened by the overlap radius:
 //   t' = t (1 - r / |t|)_+ ,  d^2 = t'^T C_xy^-1 t'  <=  gate_sigma^2.
-auto CLoopCloser::gate(const CPoseGraph& graph, size_t newest) const -> std::optional<TCandidates>
+auto CLoopCloser::gate(const CPoseGraph& graph, size_t newest) -> std::optional<TCandidates>
 {
 	if (newest < m_params.old_map_exclusion) return std::nullopt;
 	const size_t lastOld = newest - m_params.old_map_exclusion;
@@ -104,7 +130,7 @@ auto CLoopCloser::gate(const CPoseGraph& graph, size_t newest) const -> std::opt
 	// reached the start of Killian's big loop (1.1 m away in truth, 10+ m std by the
 	// single-path propagation), so the gate had no candidates and no correlation was tried.
 	TCandidates c;
-	for (const auto& r : propagateUncertainty(graph, newest))
+	for (const auto& r : relativeUncertainty(graph, newest))
 	{
 		if (r.node > lastOld) continue;
 		const Eigen::Vector2d t(r.nodeInSource.x, r.nodeInSource.y);
@@ -123,13 +149,73 @@ auto CLoopCloser::gate(const CPoseGraph& graph, size_t newest) const -> std::opt
 	return c;
 }
 
+std::vector<TRelativeUncertainty> CLoopCloser::relativeUncertainty(
+	const CPoseGraph& graph, size_t newest)
+{
+	if (auto reused = reuseGate(graph, newest))
+	{
+		++m_stats.gateReuses;
+		return std::move(*reused);
+	}
+	++m_stats.gatePropagations;
+	const auto& poses = graph.poses();
+	m_gateCache = TGateCache{
+		newest, graph.numLinks(), {poses.begin(), poses.begin() + newest + 1},
+		propagateUncertainty(graph, newest)};
+	return m_gateCache->labels;
+}
+
+// Reuse of the anchor a's propagation for keyframe n > a: every path from n into the graph
+// behind a enters it through the newest keyframes around a, so
+//     (n <- v) = (n <- a) (+) (a <- v),   C_nv = J1 C_na J1^T + J2 C_av J2^T
+// with (n <- a) from a Dijkstra from n stopped at a (the nodes it settles first keep their
+// own labels). Valid while the graph behind a is as it was: no pose of the old map
+// (0..a - old_map_exclusion) moved (the Jacobians), no loop link (a shorter path that
+// bypasses a) and no link reaching further back than a - old_map_exclusion. Otherwise, or
+// after gate_reuse_keyframes keyframes: nullopt.
+std::optional<std::vector<TRelativeUncertainty>> CLoopCloser::reuseGate(
+	const CPoseGraph& graph, size_t newest) const
+{
+	if (!m_gateCache || m_params.gate_reuse_keyframes == 0) return std::nullopt;
+	const TGateCache& c = *m_gateCache;
+	if (newest <= c.anchor || newest - c.anchor > m_params.gate_reuse_keyframes)
+		return std::nullopt;
+	const auto samePose = [](const TPose2D& p, const TPose2D& q) {
+		return p.x == q.x && p.y == q.y && p.phi == q.phi;
+	};
+	// Local registration keeps adjusting the newest keyframes around a (its window); their
+	// moves are millimetres and change the Jacobians along the paths only that much.
+	const size_t settled = c.anchor + 1 - std::min(c.anchor + 1, m_params.old_map_exclusion);
+	if (!std::equal(c.poses.begin(), c.poses.begin() + settled, graph.poses().begin(), samePose))
+		return std::nullopt;
+	for (size_t id = c.links; id < graph.numLinks(); ++id)
+	{
+		const TLink& l = graph.link(id);
+		if (l.type == LinkType::LoopClosure ||
+			std::min(l.from, l.to) + m_params.old_map_exclusion <= c.anchor)
+			return std::nullopt;
+	}
+	TUncertaintyLimits toAnchor;
+	toAnchor.stopAtNode = c.anchor;
+	std::vector<TRelativeUncertainty> out = propagateUncertainty(graph, newest, toAnchor);
+	if (out.back().node != c.anchor) return std::nullopt;  // not connected to the anchor
+	const TRelativeUncertainty anchorInNewest = out.back();
+	std::vector<char> reached(graph.numNodes(), 0);
+	for (const auto& r : out) reached[r.node] = 1;
+	for (const auto& r : c.labels)
+		if (!reached[r.node]) out.push_back(chainUncertainty(anchorInNewest, r));
+	return out;
+}
+
 std::optional<TLoopClosure> CLoopCloser::process(CPoseGraph& graph, const TScanRefs& scans)
 {
 	m_lastRejection.clear();
 	if (++m_keyframesSinceCheck < m_params.check_every) return std::nullopt;
 	m_keyframesSinceCheck = 0;
 	const size_t newest = graph.numNodes() - 1;
+	CCpuTimer gateTimer(m_stats.gateCpuSeconds);
 	const auto candidates = gate(graph, newest);
+	gateTimer.stop();
 	if (!candidates) return std::nullopt;
 	const auto t0 = std::chrono::steady_clock::now();
 	const TPose2D newestInMap = graph.pose(newest);
@@ -154,6 +240,7 @@ std::optional<TLoopClosure> CLoopCloser::process(CPoseGraph& graph, const TScanR
 	m_checksSinceAttempt = 0;
 
 	// Step 2: the patch (in the newest keyframe's frame) against the old map (map frame).
+	CCpuTimer correlateTimer(m_stats.correlateCpuSeconds);
 	std::vector<Eigen::Vector2d> patch, oldMap;
 	double patchRadius = 0;
 	for (size_t k = patchFirst; k <= newest; ++k)
@@ -191,6 +278,7 @@ std::optional<TLoopClosure> CLoopCloser::process(CPoseGraph& graph, const TScanR
 	const auto corr = m_correlator.correlate(grid, patch, newestInMap, winXY, winTheta);
 	const TCorrelationVerdict verdict = corr ? corr->checkFilters(m_correlator.params())
 											 : TCorrelationVerdict{TCorrelationVerdict::Reason::LowScore, 0, m_correlator.params().minScore};
+	correlateTimer.stop();
 	if (!verdict.accepted())
 	{
 		++m_stats.rejectedByFilters;
@@ -199,6 +287,7 @@ std::optional<TLoopClosure> CLoopCloser::process(CPoseGraph& graph, const TScanR
 	}
 
 	// Step 3: refine with the scan matcher against the old scans near the nearest candidate.
+	CCpuTimer matchTimer(m_stats.matchCpuSeconds);
 	const TPose2D corrected = corr->patchInMap;
 	const size_t oldIndex = nearestCandidate(graph, candidates->nodes, corrected).first;
 	const size_t oldNode = candidates->nodes[oldIndex];
@@ -220,8 +309,10 @@ std::optional<TLoopClosure> CLoopCloser::process(CPoseGraph& graph, const TScanR
 	for (const auto& p : scans[newest]->points) scanInOld.push_back(toOld(p));
 	const double cropMargin =
 		m_matcherParams.maxCorrespondenceDist_m + 4 * m_matcherParams.normalRadius_m + 0.2;
+	TScanMatcherParams refParams = m_matcherParams;
+	if (m_params.match_ref_resolution > 0) refParams.refResolution_m = m_params.match_ref_resolution;
 	const auto match = m_matcher.match(
-		CReferenceCloud::fromScansNear(refScans, refInOld, m_matcherParams, scanInOld, cropMargin),
+		CReferenceCloud::fromScansNear(refScans, refInOld, refParams, scanInOld, cropMargin),
 		*scans[newest], guessInOld);
 	if (!match)
 	{
@@ -229,6 +320,8 @@ std::optional<TLoopClosure> CLoopCloser::process(CPoseGraph& graph, const TScanR
 		m_lastRejection = "correlation accepted but the scan match failed";
 		return std::nullopt;
 	}
+
+	matchTimer.stop();
 
 	// The gate found the old pose within its covariance; the back-end judges the link with
 	// the same covariance and the same bound (3 Phi) before its own, tighter test.
@@ -267,6 +360,7 @@ std::optional<TLoopClosure> CLoopCloser::process(CPoseGraph& graph, const TScanR
 	const Eigen::Vector3d e = linkResidual(oldInMap, newestInMap, match->scanInRef);
 	if (heldId || e.dot(info * e) > m_params.consistent_chi2)
 	{
+		CCpuTimer closeTimer(m_stats.closeCpuSeconds);
 		const auto report = m_optimizer.optimize(graph, 0, vettedLinks);
 		++m_stats.optimizations;
 		const auto downweighted = [&](size_t id) {
@@ -279,6 +373,7 @@ std::optional<TLoopClosure> CLoopCloser::process(CPoseGraph& graph, const TScanR
 			m_lastRejection = "loop link down-weighted by the robust back-end";
 			graph.setLinkEnabled(lc.linkId, false);
 			if (heldId) graph.setLinkEnabled(*heldId, false);
+			m_gateCache.reset();  // a path it used may be gone
 			m_optimizer.optimize(graph, 0);
 			return std::nullopt;
 		}

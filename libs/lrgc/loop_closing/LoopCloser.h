@@ -27,6 +27,7 @@
 #include <lrgc/pose_graph/Keyframe.h>
 #include <lrgc/pose_graph/LinkNoise.h>
 #include <lrgc/loop_closing/PatchCorrelator.h>
+#include <lrgc/loop_closing/UncertaintyPropagation.h>
 #include <lrgc/pose_graph/PoseGraph.h>
 #include <lrgc/pose_graph/PoseGraphOptimizer.h>
 #include <lrgc/scan_matching/ScanMatcher.h>
@@ -68,7 +69,11 @@ class CLoopCloser
 
    private:
 	struct TCandidates;
-	std::optional<TCandidates> gate(const CPoseGraph& graph, size_t newest) const;
+	std::optional<TCandidates> gate(const CPoseGraph& graph, size_t newest);
+	/** (newest <- node) with covariance for every node (gate_reuse_keyframes). */
+	std::vector<TRelativeUncertainty> relativeUncertainty(const CPoseGraph& graph, size_t newest);
+	std::optional<std::vector<TRelativeUncertainty>> reuseGate(
+		const CPoseGraph& graph, size_t newest) const;
 	size_t rematch(CPoseGraph& graph, const TScanRefs& scans, const TCandidates& c,
 				   size_t patchFirst, size_t newest);
 
@@ -87,6 +92,15 @@ class CLoopCloser
 		bool vetted = false;
 	};
 	std::optional<THeldMatch> m_held;
+	/** The last whole-graph propagation: from `anchor`, with the graph's links and the poses
+	 * of nodes 0..anchor it saw (to tell whether it still holds). */
+	struct TGateCache
+	{
+		size_t anchor = 0, links = 0;
+		std::vector<mrpt::math::TPose2D> poses;
+		std::vector<TRelativeUncertainty> labels;  //!< (anchor <- node)
+	};
+	std::optional<TGateCache> m_gateCache;
 	size_t m_keyframesSinceCheck = 0;
 	size_t m_checksSinceAttempt = 0;  //!< for attempt_stride
 };

@@ -18,7 +18,14 @@ struct TLoopCloserStats
 	 * none came. */
 	size_t heldForConfirmation = 0, unconfirmed = 0;
 	size_t optimizations = 0;
+	/** Gates by a propagation over the whole graph, and by reuse of the last one
+	 * ([LoopCloser] gate_reuse_keyframes). */
+	size_t gatePropagations = 0, gateReuses = 0;
 	std::vector<double> closureSeconds;  //!< per optimised closure
+	/** CPU time of the thread that ran loop closing, per step of CLoopCloser [s]: the gate
+	 * (uncertainty propagation), the correlation (old-map grid and search), the link's scan
+	 * match (reference cloud and match) and the closure (solves and re-matching). */
+	double gateCpuSeconds = 0, correlateCpuSeconds = 0, matchCpuSeconds = 0, closeCpuSeconds = 0;
 };
 
 }  // namespace lrgc

@@ -143,3 +143,39 @@ TEST(UncertaintyPropagation, MahalanobisGateUsesThePositionCovariance)
 	r.cov.setZero();
 	EXPECT_THROW(positionMahalanobis2(r), std::exception);
 }
+
+// The loop closer's gate reuse (gate_reuse_keyframes): on a chain every path from the source
+// to node v runs through node a, so propagating from the source and stopping at a, then
+// chaining a's own labels, gives the whole propagation (first order, exactly).
+TEST(UncertaintyPropagation, ChainingThroughANodeOnEveryPathEqualsTheWholePropagation)
+{
+	for (const bool reversed : {false, true})
+	{
+		CPoseGraph g = chain(30, reversed);
+		// A bend, so the Jacobians' heading terms matter.
+		for (size_t i = 10; i < 30; ++i) g.setPose(i, compose({5, 0, 0.4}, {kStep * double(i - 10), 0, 0}));
+		const size_t source = 29, anchor = 22;
+		TUncertaintyLimits stop;
+		stop.stopAtNode = anchor;
+		const auto near = propagateUncertainty(g, source, stop);
+		ASSERT_FALSE(near.empty());
+		EXPECT_EQ(near.back().node, anchor) << "stops once the anchor is reached";
+		EXPECT_LT(near.size(), size_t(30));
+		const auto whole = propagateUncertainty(g, source);
+		const auto fromAnchor = propagateUncertainty(g, anchor);
+		for (const auto& r : fromAnchor)
+		{
+			if (r.node > anchor) continue;  // behind the anchor only
+			const TRelativeUncertainty chained = chainUncertainty(near.back(), r);
+			const auto it = std::find_if(
+				whole.begin(), whole.end(), [&](const auto& w) { return w.node == r.node; });
+			ASSERT_NE(it, whole.end());
+			EXPECT_EQ(chained.node, r.node);
+			EXPECT_NEAR(chained.nodeInSource.x, it->nodeInSource.x, 1e-9);
+			EXPECT_NEAR(chained.nodeInSource.y, it->nodeInSource.y, 1e-9);
+			EXPECT_NEAR(chained.nodeInSource.phi, it->nodeInSource.phi, 1e-9);
+			EXPECT_LT((chained.cov - it->cov).cwiseAbs().maxCoeff(), 1e-9 * (1 + it->cov.norm()))
+				<< "node " << r.node << (reversed ? " (links reversed)" : "");
+		}
+	}
+}

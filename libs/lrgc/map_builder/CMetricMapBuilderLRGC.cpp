@@ -145,9 +145,11 @@ void CMetricMapBuilderLRGC::serviceLoopClosing(bool atKeyframe)
 		TLoopJobResult r = m_loopWorker->take();
 		if (!ready)
 		{
-			++m_stats.loopResultWaits;
-			m_stats.loopResultWaitSeconds +=
+			const double waited =
 				std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+			++m_stats.loopResultWaits;
+			m_stats.loopResultWaitSeconds += waited;
+			m_stats.loopResultWaitMaxSeconds = std::max(m_stats.loopResultWaitMaxSeconds, waited);
 		}
 		applyLoopResult(std::move(r));
 	}

@@ -65,6 +65,7 @@ struct TMapBuilderStats
 	 * the keyframe it is due), and the time waited [s]. */
 	size_t loopResultWaits = 0;
 	double loopResultWaitSeconds = 0;
+	double loopResultWaitMaxSeconds = 0;  //!< the longest single wait [s]
 };
 
 class CMetricMapBuilderLRGC : public mrpt::slam::CMetricMapBuilder

@@ -108,12 +108,19 @@ std::string statsJson(const CMetricMapBuilderLRGC& builder, const TRunSummary& r
 	  << ", \"held_for_confirmation\": " << lcs.heldForConfirmation
 	  << ", \"unconfirmed\": " << lcs.unconfirmed
 	  << ", \"optimizations\": " << lcs.optimizations
+	  << ", \"gate_propagations\": " << lcs.gatePropagations
+	  << ", \"gate_reuses\": " << lcs.gateReuses
 	  << ", \"closure_ms\": {\"count\": " << closureMs.size()
 	  << ", \"median\": " << closure.median_ms << ", \"max\": " << closure.max_ms << "}"
 	  // Searches run on a worker thread; the mapping thread waits for a result only when it
 	  // is due (result_delay keyframes later) and not done yet.
 	  << ", \"result_waits\": " << s.loopResultWaits
-	  << ", \"result_wait_s\": " << s.loopResultWaitSeconds << "},\n"
+	  << ", \"result_wait_s\": " << s.loopResultWaitSeconds
+	  << ", \"result_wait_max_ms\": " << 1e3 * s.loopResultWaitMaxSeconds
+	  // CPU time of loop closing per step (the worker thread's, whatever else runs).
+	  << ", \"cpu_s\": {\"gate\": " << lcs.gateCpuSeconds << ", \"correlate\": "
+	  << lcs.correlateCpuSeconds << ", \"match\": " << lcs.matchCpuSeconds
+	  << ", \"close\": " << lcs.closeCpuSeconds << "}},\n"
 	  << (run.initialMap.empty() ? std::string()
 								 : "  \"initial_map\": {\"path\": " + jsonString(run.initialMap) +
 									   ", \"keyframes\": " + std::to_string(run.initialMapKeyframes) +
