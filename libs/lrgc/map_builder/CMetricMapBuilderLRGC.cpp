@@ -3,6 +3,7 @@
 #include <lrgc/common/se2.h>
 #include <lrgc/local_registration/LocalRegistration.h>
 #include <lrgc/local_registration/MotionPredictor.h>
+#include <lrgc/local_registration/SweepEstimator.h>
 #include <lrgc/loop_closing/LoopClosingWorker.h>
 
 #include <Eigen/Dense>
@@ -60,7 +61,8 @@ void CMetricMapBuilderLRGC::processScan(
 	// 1. Predict, and de-skew the scan by the predicted motion over its sweep.
 	const TMotionPrediction prediction = m_predictor->predict(laser->timestamp);
 	TScanConversionStats conv;
-	TScan2D scan = scanFromObservation(*laser, &conv, sweepMotion(prediction));
+	const TPose2D sweep = sweepMotion(prediction);
+	TScan2D scan = scanFromObservation(*laser, &conv, sweep);
 	if (scan.points.size() < m_params.builder.min_scan_points)
 	{
 		++m_stats.skippedScans;
@@ -93,6 +95,13 @@ void CMetricMapBuilderLRGC::processScan(
 	if (!prediction.fromOdometry || reg.odometryRejected) m_odometryTrustedSinceKeyframe = false;
 	m_motionSinceKeyframe = compose(m_motionSinceKeyframe, prediction.motion);
 	m_predictor->commitScan(laser->timestamp, between(m_lastScanInMap, reg.scanInMap));
+	const double step = stepSeconds(prediction);
+	m_sweep->observe(
+		*laser, scan, step > 0 ? prediction.motion.phi / step : 0.0, sweep.phi,
+		between(m_lastScanInMap, reg.scanInMap), reg.matched);
+	m_stats.sweepTime = m_sweep->sweepTime();
+	m_stats.sweepTimeEstimated = m_sweep->summary().estimated;
+	m_stats.sweepSamples = m_sweep->summary().samples;
 	m_lastScanInMap = reg.scanInMap;
 	m_lastScanCov = reg.cov;
 	const size_t scanIndex = m_stats.scans++;
@@ -215,16 +224,22 @@ TLoopCloserStats CMetricMapBuilderLRGC::loopCloserStats() const
 	return m_loopWorker ? m_loopWorker->stats() : TLoopCloserStats{};
 }
 
-// The robot's motion over the laser sweep: the predicted step scaled by sweep / step time.
-// Where the logged intervals are not the true ones (a jittered clock, or a step shorter than
-// half the scan period: the first of a jitter burst) the step time is the mean scan period.
-TPose2D CMetricMapBuilderLRGC::sweepMotion(const TMotionPrediction& prediction) const
+// The time of the predicted step [s]. Where the logged intervals are not the true ones (a
+// jittered clock, or a step shorter than half the scan period: the first of a jitter burst)
+// it is the mean scan period.
+double CMetricMapBuilderLRGC::stepSeconds(const TMotionPrediction& prediction) const
 {
-	const double sweep = m_params.builder.scan_sweep_time;
-	const double step =
-		m_predictor->clockJittered() || prediction.stepSeconds < 0.5 * m_predictor->scanPeriod()
+	return m_predictor->clockJittered() ||
+			prediction.stepSeconds < 0.5 * m_predictor->scanPeriod()
 		? m_predictor->meanScanPeriod()
 		: prediction.stepSeconds;
+}
+
+// The robot's motion over the laser sweep: the predicted step scaled by sweep / step time,
+// the sweep time fixed or estimated (CSweepEstimator).
+TPose2D CMetricMapBuilderLRGC::sweepMotion(const TMotionPrediction& prediction) const
+{
+	const double sweep = m_sweep->sweepTime(), step = stepSeconds(prediction);
 	if (sweep <= 0 || step <= 0) return TPose2D(0, 0, 0);
 	const double k = std::min(1.0, sweep / step);
 	return TPose2D(k * prediction.motion.x, k * prediction.motion.y, k * prediction.motion.phi);

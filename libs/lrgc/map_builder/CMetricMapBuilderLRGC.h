@@ -44,6 +44,7 @@ namespace lrgc
 // trajectory) and its parameters, not the classes that make them.
 class CMotionPredictor;
 class CLocalRegistration;
+class CSweepEstimator;
 class CLoopClosingWorker;
 struct TLoopJobResult;
 struct TMotionPrediction;
@@ -66,6 +67,11 @@ struct TMapBuilderStats
 	size_t loopResultWaits = 0;
 	double loopResultWaitSeconds = 0;
 	double loopResultWaitMaxSeconds = 0;  //!< the longest single wait [s]
+	/** [s] the de-skewing's sweep time at the end ([MapBuilder] scan_sweep_time, or
+	 * estimated online: CSweepEstimator), whether it was estimated, and the scan pairs. */
+	double sweepTime = 0;
+	bool sweepTimeEstimated = false;
+	size_t sweepSamples = 0;
 };
 
 class CMetricMapBuilderLRGC : public mrpt::slam::CMetricMapBuilder
@@ -158,6 +164,7 @@ class CMetricMapBuilderLRGC : public mrpt::slam::CMetricMapBuilder
 	void serviceLoopClosing(bool atKeyframe);
 	void applyLoopResult(TLoopJobResult&& r);
 	bool isNewKeyframe(const mrpt::math::TPose2D& scanInMap) const;
+	double stepSeconds(const TMotionPrediction& prediction) const;
 	mrpt::math::TPose2D sweepMotion(const TMotionPrediction& prediction) const;
 	size_t addKeyframe(
 		const mrpt::obs::CObservation2DRangeScan::Ptr& laser,
@@ -182,6 +189,7 @@ class CMetricMapBuilderLRGC : public mrpt::slam::CMetricMapBuilder
 
 	TLRGCParams m_params;
 	std::unique_ptr<CMotionPredictor> m_predictor;
+	std::unique_ptr<CSweepEstimator> m_sweep;
 	std::unique_ptr<CLocalRegistration> m_local;
 	std::unique_ptr<CLoopClosingWorker> m_loopWorker;
 	/** What the worker's copy of the graph lacks: the links added here before the last

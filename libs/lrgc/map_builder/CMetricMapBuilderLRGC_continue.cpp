@@ -19,6 +19,7 @@
 #include <lrgc/common/se2.h>
 #include <lrgc/local_registration/LocalRegistration.h>
 #include <lrgc/local_registration/MotionPredictor.h>
+#include <lrgc/local_registration/SweepEstimator.h>
 #include <lrgc/loop_closing/LoopClosingWorker.h>
 #include <lrgc/loop_closing/RevisitLinker.h>
 #include <lrgc/scan_matching/ReferenceCloud.h>
@@ -62,6 +63,8 @@ Eigen::Matrix3d rotatedInto(const Eigen::Matrix3d& covInMap, double phi)
 void CMetricMapBuilderLRGC::resetState()
 {
 	m_predictor = std::make_unique<CMotionPredictor>(m_params.motion);
+	m_sweep = std::make_unique<CSweepEstimator>(
+		m_params.sweep, m_params.matcher, m_params.builder.scan_sweep_time);
 	m_local = std::make_unique<CLocalRegistration>(
 		m_params.local, m_params.matcher, m_params.optimizer);
 	m_loopWorker.reset();  // lets a search in hand finish first
@@ -207,6 +210,7 @@ void CMetricMapBuilderLRGC::startSessionAt(const TPose2D& scanInMap, const Eigen
 	ASSERTMSG_(m_graph.numNodes() > 0, "startSessionAt() needs a map to start in");
 	ASSERTMSG_(cov.allFinite(), "startSessionAt(): the covariance is not finite");
 	m_predictor = std::make_unique<CMotionPredictor>(m_params.motion);  // a new log
+	m_sweep->startNewLog();  // same laser: the estimate stays, the recent scans go
 	m_local->setWindowStart(m_graph.numNodes());
 	m_nextScanPrior = scanInMap;
 	m_lastScanInMap = scanInMap;  // so the first step's motion is not a jump from the old end

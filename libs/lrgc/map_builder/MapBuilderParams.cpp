@@ -48,7 +48,7 @@ void TMapBuilderParams::saveToConfigFile(
 	c.write(s, "grid_resolution", grid_resolution, np, vp, "[m] Cell size of the exported occupancy grid map");
 	c.write(s, "loop_closing", loop_closing, np, vp, "Global correlation and loop closing (false: local registration only)");
 	c.write(s, "final_optimization", final_optimization, np, vp, "Optimise the whole graph once more at the end of the run");
-	c.write(s, "scan_sweep_time", scan_sweep_time, np, vp, "[s] Laser's first beam to last (SICK LMS 2xx: 0.0067): scans are de-skewed by the motion over it; 0: off");
+	c.write(s, "scan_sweep_time", scan_sweep_time, np, vp, "[s] Laser's first beam to last (SICK LMS 2xx: 0.0067): scans are de-skewed by the motion over it; 0: off, or estimated online if [SweepEstimator] enabled");
 	c.write(s, "laser_label", laser_label, np, vp, "sensorLabel of the laser to map (CARMEN: LASER = FLASER, REAR_LASER = RLASER); empty: the first seen (lrgc-slam --laser)");
 	c.write(s, "min_range", min_range, np, vp, "[m] Readings of that laser below this are dropped (the robot's own posts); 0: none");
 	c.write(s, "max_range", max_range, np, vp, "[m] Readings above this are dropped; 0: only the sensor's own maximum range");
@@ -63,6 +63,7 @@ std::vector<std::pair<const char*, Stage*>> stages(Params& p)
 {
 	return {{"MapBuilder", &p.builder},
 			{"MotionPredictor", &p.motion},
+			{"SweepEstimator", &p.sweep},
 			{"ScanMatcher", &p.matcher},
 			{"LocalRegistration", &p.local},
 			{"PoseGraphOptimizer", &p.optimizer},

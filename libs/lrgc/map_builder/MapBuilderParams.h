@@ -5,6 +5,7 @@
 
 #include <lrgc/local_registration/LocalRegistrationParams.h>
 #include <lrgc/local_registration/MotionPredictorParams.h>
+#include <lrgc/local_registration/SweepEstimatorParams.h>
 #include <lrgc/loop_closing/LoopCloserParams.h>
 #include <lrgc/loop_closing/PatchCorrelatorParams.h>
 #include <lrgc/loop_closing/RevisitLinkerParams.h>
@@ -26,7 +27,8 @@ struct TMapBuilderParams : public mrpt::config::CLoadableOptions
 	bool loop_closing = true;  //!< global correlation and loop closing (false: local only)
 	bool final_optimization = true;  //!< optimise the whole graph at the end of the run
 	/** [s] time from the laser's first beam to its last (SICK LMS 2xx, 180 deg: 6.7 ms);
-	 * scans are de-skewed by the predicted motion over it (Scan.h); 0: off */
+	 * scans are de-skewed by the predicted motion over it (Scan.h); 0: no de-skewing, or
+	 * estimated online if [SweepEstimator] enabled (off by default: doc/scan-matching.md) */
 	double scan_sweep_time = 0.0;
 	/** The laser (CObservation2DRangeScan::sensorLabel) the map is built from, e.g. "LASER"
 	 * (a CARMEN log's FLASER) or "REAR_LASER" (RLASER); empty: the first one seen. Scans of
@@ -45,6 +47,7 @@ struct TLRGCParams : public mrpt::config::CLoadableOptions
 {
 	TMapBuilderParams builder;  //!< [MapBuilder]
 	TMotionPredictorParams motion;  //!< [MotionPredictor]
+	TSweepEstimatorParams sweep;  //!< [SweepEstimator]
 	TScanMatcherParams matcher;  //!< [ScanMatcher]
 	TLocalRegistrationParams local;  //!< [LocalRegistration]
 	TPoseGraphOptimizerParams optimizer;  //!< [PoseGraphOptimizer]

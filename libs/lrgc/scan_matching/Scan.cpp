@@ -25,6 +25,33 @@ mrpt::obs::CObservation2DRangeScan::Ptr applyRangeLimits(
 	return out;
 }
 
+namespace
+{
+/** Counts reading i in `st` if it is not a return; true if it is one (kept as a point). */
+bool isReturn(const mrpt::obs::CObservation2DRangeScan& obs, size_t i, TScanConversionStats& st)
+{
+	const double r = obs.getScanRange(i);
+	if (!obs.getScanRangeValidity(i)) { ++st.invalidFlag; return false; }
+	if (!std::isfinite(r)) { ++st.notFinite; return false; }
+	if (r <= 0) { ++st.nonPositive; return false; }
+	if (r >= obs.maxRange) { ++st.noReturn; return false; }
+	return true;
+}
+
+/** Fraction of the sweep at beam i of n, from the middle beam: -1/2 (first) .. +1/2 (last). */
+double sweepFraction(size_t i, size_t n) { return n > 1 ? double(i) / double(n - 1) - 0.5 : 0.0; }
+}  // namespace
+
+std::vector<float> sweepFractions(const mrpt::obs::CObservation2DRangeScan& obs)
+{
+	std::vector<float> out;
+	TScanConversionStats st;
+	const size_t n = obs.getScanSize();
+	for (size_t i = 0; i < n; ++i)
+		if (isReturn(obs, i, st)) out.push_back(float(sweepFraction(i, n)));
+	return out;
+}
+
 TScan2D scanFromObservation(
 	const mrpt::obs::CObservation2DRangeScan& obs, TScanConversionStats* stats,
 	const mrpt::math::TPose2D& sweepMotion)
@@ -43,11 +70,8 @@ TScan2D scanFromObservation(
 	const bool deskew = sweepMotion.x != 0 || sweepMotion.y != 0 || sweepMotion.phi != 0;
 	for (size_t i = 0; i < n; ++i)
 	{
+		if (!isReturn(obs, i, st)) continue;
 		const double r = obs.getScanRange(i);
-		if (!obs.getScanRangeValidity(i)) { ++st.invalidFlag; continue; }
-		if (!std::isfinite(r)) { ++st.notFinite; continue; }
-		if (r <= 0) { ++st.nonPositive; continue; }
-		if (r >= obs.maxRange) { ++st.noReturn; continue; }
 		// Beam angle in the sensor frame [rad]: -aperture/2 .. +aperture/2 (rightToLeft).
 		const double a = obs.getScanAngle(i);
 		const double px = r * std::cos(a), py = r * std::sin(a);
@@ -58,7 +82,7 @@ TScan2D scanFromObservation(
 			continue;
 		}
 		// De-skew (file comment of Scan.h): into the robot frame at the middle beam's time.
-		const double f = n > 1 ? double(i) / double(n - 1) - 0.5 : 0.0;
+		const double f = sweepFraction(i, n);
 		const double fc = std::cos(f * sweepMotion.phi), fs = std::sin(f * sweepMotion.phi);
 		scan.points.emplace_back(
 			fc * rx - fs * ry + f * sweepMotion.x, fs * rx + fc * ry + f * sweepMotion.y);

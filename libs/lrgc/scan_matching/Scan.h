@@ -78,4 +78,8 @@ TScan2D scanFromObservation(
 	const mrpt::obs::CObservation2DRangeScan& obs, TScanConversionStats* stats = nullptr,
 	const mrpt::math::TPose2D& sweepMotion = mrpt::math::TPose2D(0, 0, 0));
 
+/** The sweep fraction f = i / (n - 1) - 1/2 of each point scanFromObservation(obs) keeps, in
+ * the same order: where in the sweep (first beam -1/2, last +1/2) the point was measured. */
+std::vector<float> sweepFractions(const mrpt::obs::CObservation2DRangeScan& obs);
+
 }  // namespace lrgc

@@ -94,6 +94,11 @@ std::string statsJson(const CMetricMapBuilderLRGC& builder, const TRunSummary& r
 	  << "  \"loop_closure_links_accepted\": " << s.loopClosures << ",\n"
 	  << "  \"loop_closures\": " << s.loopClosures << ",\n"
 	  << "  \"revisit_links\": " << s.revisitLinks << ",\n"
+	  // The de-skewing's laser sweep time at the end of the run [s]: [MapBuilder]
+	  // scan_sweep_time, or estimated online from this many scan pairs (CSweepEstimator).
+	  << "  \"scan_sweep_time\": {\"seconds\": " << s.sweepTime
+	  << ", \"estimated\": " << (s.sweepTimeEstimated ? "true" : "false")
+	  << ", \"pairs\": " << s.sweepSamples << "},\n"
 	  // The mapped laser ([MapBuilder] laser_label / --laser, else the first seen) and the
 	  // scans of the other lasers, ignored, per sensor label.
 	  << "  \"laser\": {\"label\": " << jsonString(builder.lasers().label())
