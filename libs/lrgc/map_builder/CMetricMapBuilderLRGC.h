@@ -16,8 +16,8 @@
  * Threads: as MRPT expects of a CMetricMapBuilder, changes to the map happen inside its
  * critical section (critZoneChangingMap), and the getters that copy something out
  * (getCurrentPoseEstimation, getCurrentlyBuiltMap(Size), getCurrentlyBuiltMetricMap,
- * saveCurrentEstimationToImage, trajectory, buildOccupancyGrid, statsCopy, loopCloserStats,
- * lastScanTimestamp) take it too, so another thread may call them while mapping goes on.
+ * saveCurrentEstimationToImage, trajectory, buildOccupancyGrid, gridKeyframes, statsCopy,
+ * loopCloserStats, lastScanTimestamp) take it too, so another thread may call them while mapping goes on.
  * The getters returning references (graph, keyframes, stats, lasers, params) are for the mapping
  * thread, or for any thread once mapping has stopped.
  */
