@@ -1,15 +1,18 @@
 /* How long CMetricMapBuilderLRGC::getCurrentlyBuiltMetricMap() takes on a large map: the
  * first call (the grid of every keyframe), a call with nothing changed, and a call after each
- * of the next keyframes (what a viewer polling the map pays after every keyframe).
+ * of the next keyframes (what a viewer polling the map pays after every keyframe); and what
+ * a live save costs the mapping thread (the snapshot, snapshotRunOutputs) on that map.
  *
  * It maps LOG but the last HOLD scans through the public map-builder interface (as the app
  * does, default parameters), then times the calls while feeding the held-back scans. Only the
  * public interface is used, so the same program measures any version of the builder. Prints
  * a table; asserts nothing (bench/, not a test).
  *
- * Run: build/bin/metric_map_timing ../shared/datasets/intel/intel.clf.gz [HOLD=400] [KEYFRAMES=20]
+ * Run: build/bin/metric_map_timing ../shared/datasets/intel/intel.clf.gz [HOLD=400]
+ * [KEYFRAMES=20]
  */
 #include <lrgc/map_builder/CMetricMapBuilderLRGC.h>
+#include <lrgc_apps/RunOutputs.h>
 #include <lrgc_apps/io/LogReader.h>
 
 #include <algorithm>
@@ -43,9 +46,10 @@ bool isScan(const lrgc::apps::TLogEntry& e)
 {
 	if (e.observation)
 		return std::dynamic_pointer_cast<mrpt::obs::CObservation2DRangeScan>(e.observation) !=
-			nullptr;
+			   nullptr;
 	return e.observations &&
-		e.observations->getObservationByClass<mrpt::obs::CObservation2DRangeScan>() != nullptr;
+		   e.observations->getObservationByClass<mrpt::obs::CObservation2DRangeScan>() !=
+			   nullptr;
 }
 }  // namespace
 
@@ -78,16 +82,23 @@ int main(int argc, char** argv)
 		fed += isScan(entries[next]);
 		lrgc::apps::feedEntry(builder, entries[next]);
 	}
-	std::printf("%s: mapped %zu of %zu scans in %.1f s: %zu keyframes, %zu loop-closure links\n",
-				argv[1], fed, scans, msSince(t0) / 1e3, builder.keyframes().size(),
-				builder.stats().loopClosureLinks);
+	std::printf(
+		"%s: mapped %zu of %zu scans in %.1f s: %zu keyframes, %zu loop-closure links\n",
+		argv[1], fed, scans, msSince(t0) / 1e3, builder.keyframes().size(),
+		builder.stats().loopClosureLinks);
 
 	size_t cells = 0;
 	const double first = timeMetricMap(builder, &cells);
 	const double again = timeMetricMap(builder, &cells);
-	std::printf("getCurrentlyBuiltMetricMap: first call %.2f ms (%zu cells), again with nothing "
-				"changed %.3f ms\n",
-				first, cells, again);
+	std::printf(
+		"getCurrentlyBuiltMetricMap: first call %.2f ms (%zu cells), again with nothing "
+		"changed %.3f ms\n",
+		first, cells, again);
+
+	const auto s0 = Clock::now();
+	const auto snapshot = lrgc::apps::snapshotRunOutputs(builder, {});
+	std::printf("snapshot of the outputs for a live save: %.2f ms (%zu scans, %zu keyframes)\n",
+				msSince(s0), snapshot.trajectory.size(), snapshot.gridKeyframes.size());
 
 	std::vector<double> afterKeyframe;
 	size_t afterLoopResult = 0;
@@ -104,9 +115,10 @@ int main(int argc, char** argv)
 	if (afterKeyframe.empty()) return 0;
 	std::vector<double> sorted = afterKeyframe;
 	std::sort(sorted.begin(), sorted.end());
-	std::printf("after one more keyframe (%zu times, %zu of them with new loop-closure links): "
-				"median %.2f ms, max %.2f ms; each:",
-				sorted.size(), afterLoopResult, sorted[sorted.size() / 2], sorted.back());
+	std::printf(
+		"after one more keyframe (%zu times, %zu of them with new loop-closure links): "
+		"median %.2f ms, max %.2f ms; each:",
+		sorted.size(), afterLoopResult, sorted[sorted.size() / 2], sorted.back());
 	for (const double ms : afterKeyframe) std::printf(" %.2f", ms);
 	std::printf("\n");
 	return 0;

@@ -1,7 +1,9 @@
 /* CIncrementalGrid: see IncrementalGrid.h. Costs, per update(): the comparison of every
- * keyframe with what was inserted (O(n), no allocation), then Appended: the new scans;
- * TailReinserted: a copy of the base grid (one memcpy of its cells) and settleKeyframes
- * scans; Rebuilt: every scan, as a fresh build. */
+ * keyframe with what was inserted (O(n) pose comparisons), then Appended: the new scans, into
+ * the result and, once settled, into the base (each scan twice in all); TailReinserted: a copy
+ * of the base grid (one copy of its cells) and settleKeyframes scans; Rebuilt: every scan, as
+ * a fresh build, plus that copy. The first call (every keyframe new) builds the base, copies it
+ * and inserts the tail, not every scan twice. */
 #include <lrgc/map_builder/IncrementalGrid.h>
 
 #include <mrpt/poses/CPose3D.h>
@@ -70,17 +72,22 @@ CIncrementalGrid::Update CIncrementalGrid::update(const TGridKeyframes& keyframe
 	const size_t baseEnd = n > m_settings.settleKeyframes ? n - m_settings.settleKeyframes : 0;
 
 	Update kind;
-	if (same == m_inserted.size() && same == n)
+	const bool nothingMoved = same == m_inserted.size();
+	if (nothingMoved && same == n)
 		kind = Update::Unchanged;
-	else if (same == m_inserted.size())  // n > same: only new keyframes
+	else if (nothingMoved && n - same <= m_settings.settleKeyframes)
 	{
+		// A few new keyframes: into the result, and the base catches up.
 		kind = Update::Appended;
-		for (size_t i = m_inserted.size(); i < n; ++i) insert(*m_result, keyframes[i]);
+		for (size_t i = same; i < n; ++i) insert(*m_result, keyframes[i]);
+		advanceBase(keyframes, baseEnd);
 	}
 	else
 	{
-		kind = Update::TailReinserted;
-		// Keyframe `same` moved, changed, or is gone (fewer keyframes than inserted).
+		// Keyframe `same` moved, changed or is gone (fewer keyframes than inserted); or many
+		// new keyframes (the first call): the base first, then a copy of it, then the tail,
+		// rather than inserting the new keyframes twice.
+		kind = nothingMoved ? Update::Appended : Update::TailReinserted;
 		if (same < m_baseCount)
 		{
 			kind = Update::Rebuilt;
@@ -93,7 +100,6 @@ CIncrementalGrid::Update CIncrementalGrid::update(const TGridKeyframes& keyframe
 		*m_result = *m_base;
 		for (size_t i = m_baseCount; i < n; ++i) insert(*m_result, keyframes[i]);
 	}
-	if (kind == Update::Appended) advanceBase(keyframes, baseEnd);
 	if (kind != Update::Unchanged) m_inserted = keyframes;
 	++m_counts[static_cast<size_t>(kind)];
 	return kind;

@@ -10,7 +10,8 @@
  *  - the *result*: the base plus keyframes b..n-1, what grid() returns.
  * update() compares each keyframe with the pose (exactly, bit for bit) and laser it was
  * inserted with, and takes the cheapest exact way:
- *  - none moved: only the new keyframes are inserted into the result (Appended);
+ *  - none moved: only the new keyframes are inserted into the result (Appended; when more
+ *    than settleKeyframes are new, as on the first call, the base is built first and copied);
  *  - only keyframes of the tail (b..n-1) moved, as the local window does at each keyframe:
  *    the result is the base copied plus the tail inserted (TailReinserted);
  *  - an older keyframe moved (a loop closure): everything is inserted again (Rebuilt).
