@@ -16,14 +16,15 @@
  * Threads: as MRPT expects of a CMetricMapBuilder, changes to the map happen inside its
  * critical section (critZoneChangingMap), and the getters that copy something out
  * (getCurrentPoseEstimation, getCurrentlyBuiltMap(Size), getCurrentlyBuiltMetricMap,
- * saveCurrentEstimationToImage, trajectory, buildOccupancyGrid, statsCopy, loopCloserStats,
- * lastScanTimestamp) take it too, so another thread may call them while mapping goes on.
+ * saveCurrentEstimationToImage, trajectory, buildOccupancyGrid, gridKeyframes, statsCopy,
+ * loopCloserStats, lastScanTimestamp) take it too, so another thread may call them while mapping goes on.
  * The getters returning references (graph, keyframes, stats, lasers, params) are for the mapping
  * thread, or for any thread once mapping has stopped.
  */
 #pragma once
 
 #include <lrgc/loop_closing/LoopCloserStats.h>
+#include <lrgc/map_builder/IncrementalGrid.h>
 #include <lrgc/map_builder/LaserSelector.h>
 #include <lrgc/map_builder/MapBuilderParams.h>
 #include <lrgc/map_builder/Trajectory.h>
@@ -114,8 +115,9 @@ class CMetricMapBuilderLRGC : public mrpt::slam::CMetricMapBuilder
 		mrpt::obs::CActionCollection& action, mrpt::obs::CSensoryFrame& observations) override;
 	void getCurrentlyBuiltMap(mrpt::maps::CSimpleMap& out_map) const override;
 	unsigned int getCurrentlyBuiltMapSize() override;
-	/** A CMultiMetricMap holding the occupancy grid of the current estimate (rebuilt when
-	 * the estimate has changed since the last call). */
+	/** A CMultiMetricMap holding the occupancy grid of the current estimate, brought up to
+	 * date by the call (CIncrementalGrid: the keyframes added or moved since the last call
+	 * are inserted, everything only after a loop closure moved old keyframes). */
 	const mrpt::maps::CMultiMetricMap* getCurrentlyBuiltMetricMap() const override;
 	/** Saves the occupancy grid of the current estimate; the format follows the file's
 	 * extension (.png, .bmp, ...); formatEMF_BMP is ignored. */
@@ -141,8 +143,13 @@ class CMetricMapBuilderLRGC : public mrpt::slam::CMetricMapBuilder
 	const CLaserSelector& lasers() const { return m_lasers; }
 	/** Loop-closing counters and per-closure times (empty stats if loop closing is off). */
 	TLoopCloserStats loopCloserStats() const;
-	/** Occupancy grid of the current estimate, from the keyframes' scans. */
+	/** Occupancy grid of the current estimate, from the keyframes' scans (a copy). */
 	mrpt::maps::COccupancyGridMap2D::Ptr buildOccupancyGrid() const;
+	/** What the grid is built from: each keyframe's laser (shared, never modified) at its
+	 * current pose; a snapshot for building the grid elsewhere (CIncrementalGrid). */
+	TGridKeyframes gridKeyframes() const;
+	/** Resolution and ray length of the grid, and the keyframes the local window moves. */
+	TGridSettings gridSettings() const;
 	/** Warnings since the last call (skipped scans, ...), for the caller to report. */
 	std::vector<std::string> takeWarnings();
 
@@ -174,7 +181,9 @@ class CMetricMapBuilderLRGC : public mrpt::slam::CMetricMapBuilder
 	mrpt::obs::CObservation2DRangeScan::Ptr acceptLaser(
 		const mrpt::obs::CObservation2DRangeScan::Ptr& laser);
 	void warn(std::string message);
-	mrpt::maps::COccupancyGridMap2D::Ptr buildOccupancyGridLocked() const;
+	// The grid (CMetricMapBuilderLRGC_grid.cpp).
+	TGridKeyframes gridKeyframesLocked() const;
+	const mrpt::maps::COccupancyGridMap2D::Ptr& updatedGridLocked() const;
 	/** The base's critical section, also from const getters (it guards the state, not the
 	 * object's constness). */
 	std::unique_lock<std::mutex> lockMap() const
@@ -219,6 +228,7 @@ class CMetricMapBuilderLRGC : public mrpt::slam::CMetricMapBuilder
 	std::vector<std::string> m_warnings;
 	mutable std::unique_ptr<mrpt::maps::CMultiMetricMap> m_metricMap;
 	mutable bool m_metricMapDirty = true;
+	mutable std::unique_ptr<CIncrementalGrid> m_grid;  //!< held by m_metricMap
 };
 
 }  // namespace lrgc

@@ -1,5 +1,5 @@
 /* CMetricMapBuilderLRGC: the current estimate, and what the map builder hands out (CSimpleMap
- * of keyframes, occupancy grid, trajectory). Initialisation and continuing a saved map:
+ * of keyframes, trajectory; the occupancy grid: CMetricMapBuilderLRGC_grid.cpp). Initialisation and continuing a saved map:
  * CMetricMapBuilderLRGC_continue.cpp. */
 #include <lrgc/map_builder/CMetricMapBuilderLRGC.h>
 #include <lrgc/local_registration/LocalRegistration.h>
@@ -21,9 +21,6 @@ using mrpt::math::TPose2D;
 
 namespace
 {
-/** [m] Laser rays are inserted into the exported grid up to this range: farther ones add
- * little and cost much (MRPT's default is 15 m; ACES has 40 m returns). */
-constexpr double kGridMaxRayLength_m = 30;
 mrpt::poses::CPose3DPDFGaussian::Ptr gaussian3D(const TPose2D& p, const Eigen::Matrix3d& cov2D)
 {
 	auto pdf = mrpt::poses::CPose3DPDFGaussian::Create();
@@ -61,45 +58,6 @@ unsigned int CMetricMapBuilderLRGC::getCurrentlyBuiltMapSize()
 {
 	const auto lock = lockMap();
 	return static_cast<unsigned int>(m_keyframes.size());
-}
-
-mrpt::maps::COccupancyGridMap2D::Ptr CMetricMapBuilderLRGC::buildOccupancyGrid() const
-{
-	const auto lock = lockMap();
-	return buildOccupancyGridLocked();
-}
-
-mrpt::maps::COccupancyGridMap2D::Ptr CMetricMapBuilderLRGC::buildOccupancyGridLocked() const
-{
-	const double res = m_params.builder.grid_resolution;
-	auto grid = mrpt::maps::COccupancyGridMap2D::Create(-10, 10, -10, 10, res);
-	grid->insertionOptions.maxDistanceInsertion = kGridMaxRayLength_m;
-	for (size_t i = 0; i < m_keyframes.size(); ++i)
-	{
-		const TPose2D p = m_graph.pose(i);
-		const mrpt::poses::CPose3D robotInMap(p.x, p.y, 0, p.phi, 0, 0);
-		grid->insertObservation(*m_keyframes[i].laser, robotInMap);
-	}
-	return grid;
-}
-
-const mrpt::maps::CMultiMetricMap* CMetricMapBuilderLRGC::getCurrentlyBuiltMetricMap() const
-{
-	const auto lock = lockMap();
-	if (!m_metricMap) m_metricMap = std::make_unique<mrpt::maps::CMultiMetricMap>();
-	if (m_metricMapDirty)
-	{
-		m_metricMap->maps.clear();
-		m_metricMap->maps.push_back(buildOccupancyGridLocked());
-		m_metricMapDirty = false;
-	}
-	return m_metricMap.get();
-}
-
-void CMetricMapBuilderLRGC::saveCurrentEstimationToImage(const std::string& file, bool)
-{
-	if (!buildOccupancyGrid()->saveAsBitmapFile(file))  // the grid is a copy: saved unlocked
-		THROW_EXCEPTION_FMT("cannot write image '%s'", file.c_str());
 }
 
 void CMetricMapBuilderLRGC::finish()

@@ -61,11 +61,35 @@ std::string timingCsv(const TRunSummary& run)
 }
 }  // namespace
 
+TRunOutputsSnapshot snapshotRunOutputs(const CMetricMapBuilderLRGC& builder, TRunSummary run)
+{
+	TRunOutputsSnapshot s;
+	s.run = std::move(run);
+	s.stats = builder.statsCopy();
+	s.loopStats = builder.loopCloserStats();
+	s.lasers = builder.lasers();
+	s.optimizer = builder.params().optimizer;
+	if (s.stats.scans == 0) return s;  // stats.json alone
+	s.trajectory = builder.trajectory();
+	s.graph = builder.graph();
+	builder.getCurrentlyBuiltMap(s.keyframes);
+	s.gridKeyframes = builder.gridKeyframes();
+	s.gridSettings = builder.gridSettings();
+	return s;
+}
+
 std::string statsJson(const CMetricMapBuilderLRGC& builder, const TRunSummary& run)
 {
-	const TMapBuilderStats& s = builder.stats();
+	return statsJson(snapshotRunOutputs(builder, run));
+}
+
+std::string statsJson(const TRunOutputsSnapshot& snapshot)
+{
+	const TMapBuilderStats& s = snapshot.stats;
+	const TRunSummary& run = snapshot.run;
+	const CLaserSelector& lasers = snapshot.lasers;
 	const TLatencySummary lat = summarizeLatencies(run.latencyMs);
-	const TLoopCloserStats lcs = builder.loopCloserStats();
+	const TLoopCloserStats& lcs = snapshot.loopStats;
 	std::vector<double> closureMs;
 	for (const double sec : lcs.closureSeconds) closureMs.push_back(1e3 * sec);
 	const TLatencySummary closure = summarizeLatencies(closureMs);
@@ -101,10 +125,10 @@ std::string statsJson(const CMetricMapBuilderLRGC& builder, const TRunSummary& r
 	  << ", \"pairs\": " << s.sweepSamples << "},\n"
 	  // The mapped laser ([MapBuilder] laser_label / --laser, else the first seen) and the
 	  // scans of the other lasers, ignored, per sensor label.
-	  << "  \"laser\": {\"label\": " << jsonString(builder.lasers().label())
-	  << ", \"chosen\": " << (builder.lasers().chosen() ? "true" : "false")
-	  << ", \"ignored_scans\": " << jsonCounts(builder.lasers().ignoredScans())
-	  << ", \"range_limited_readings\": " << builder.lasers().rangeLimitedReadings() << "},\n"
+	  << "  \"laser\": {\"label\": " << jsonString(lasers.label())
+	  << ", \"chosen\": " << (lasers.chosen() ? "true" : "false")
+	  << ", \"ignored_scans\": " << jsonCounts(lasers.ignoredScans())
+	  << ", \"range_limited_readings\": " << lasers.rangeLimitedReadings() << "},\n"
 	  << "  \"loop_closing\": {\"attempts\": " << lcs.attempts
 	  << ", \"accepted\": " << lcs.accepted
 	  << ", \"rejected_by_filters\": " << lcs.rejectedByFilters
@@ -212,33 +236,39 @@ void finishRunSummary(TRunSummary& run, const CRunClock& clock, size_t warnings)
 }
 
 void writeRunOutputs(
-	const CMetricMapBuilderLRGC& builder, const std::string& outDir, const TRunSummary& run)
+	const TRunOutputsSnapshot& s, const mrpt::maps::COccupancyGridMap2D& grid,
+	const std::string& outDir)
 {
 	namespace fs = std::filesystem;
 	fs::create_directories(outDir);
 	const auto path = [&](const char* name) { return (fs::path(outDir) / name).string(); };
-	if (builder.stats().scans == 0)
+	if (s.stats.scans == 0)
 	{
-		writeTextFileAtomically(path("stats.json"), statsJson(builder, run));
+		writeTextFileAtomically(path("stats.json"), statsJson(s));
 		return;
 	}
 
-	writeTrajectoryTum(builder.trajectory(), path("trajectory.tum"));
+	writeTrajectoryTum(s.trajectory, path("trajectory.tum"));
 	// One edge per node pair with the weights of our final optimisation, so that MRPT's
 	// graph-slam (which keeps one edge per pair) finds our poses (GraphExport.h).
-	writeGraph(toMrptLeastSquares(builder.graph(), builder.params().optimizer), path("graph.graph"));
+	writeGraph(toMrptLeastSquares(s.graph, s.optimizer), path("graph.graph"));
 	// The whole graph (link types, disabled links), for --initial-map: SavedMap.h.
-	writeTextFileAtomically(
-		path(kPoseGraphFile), poseGraphToText(builder.graph(), builder.laserLabel()));
-	mrpt::maps::CSimpleMap keyframes;
-	builder.getCurrentlyBuiltMap(keyframes);
-	writeSimplemap(keyframes, path("map.simplemap.gz"));
-	const auto grid = builder.buildOccupancyGrid();
-	writeGridmap(*grid, path("map.gridmap.gz"));
-	writeGridPng(*grid, path("map.png"));
-	writeRosMap(*grid, path("map"));
-	writeTextFileAtomically(path("timing.csv"), timingCsv(run));
-	writeTextFileAtomically(path("stats.json"), statsJson(builder, run));
+	writeTextFileAtomically(path(kPoseGraphFile), poseGraphToText(s.graph, s.lasers.label()));
+	writeSimplemap(s.keyframes, path("map.simplemap.gz"));
+	writeGridmap(grid, path("map.gridmap.gz"));
+	writeGridPng(grid, path("map.png"));
+	writeRosMap(grid, path("map"));
+	writeTextFileAtomically(path("timing.csv"), timingCsv(s.run));
+	writeTextFileAtomically(path("stats.json"), statsJson(s));
+}
+
+void writeRunOutputs(
+	const CMetricMapBuilderLRGC& builder, const std::string& outDir, const TRunSummary& run)
+{
+	const TRunOutputsSnapshot s = snapshotRunOutputs(builder, run);
+	const auto grid = s.stats.scans == 0 ? mrpt::maps::COccupancyGridMap2D::Create()
+										 : builder.buildOccupancyGrid();
+	writeRunOutputs(s, *grid, outDir);
 }
 
 }  // namespace lrgc::apps

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <lrgc/map_builder/CMetricMapBuilderLRGC.h>
+#include <mrpt/maps/CSimpleMap.h>
 
 #include <map>
 #include <string>
@@ -53,10 +54,39 @@ void checkOutputDirectory(const std::string& outDir);
  * passes: it is replaced whole, atomically. */
 void checkOutputFile(const std::string& option, const std::string& path);
 
+/** Everything writeRunOutputs() writes, copied out of the builder at one instant, so that the
+ * files can be written on another thread while mapping goes on (the live saver). Cheap to
+ * take: the keyframes' observations are shared, not copied (they never change); the rest is
+ * poses, links and counters. */
+struct TRunOutputsSnapshot
+{
+	TRunSummary run;
+	TMapBuilderStats stats;
+	TLoopCloserStats loopStats;
+	CLaserSelector lasers;  //!< the mapped laser's label and counts
+	TPoseGraphOptimizerParams optimizer;  //!< the weights graph.graph is exported with
+	TTrajectory trajectory;
+	CPoseGraph graph;
+	mrpt::maps::CSimpleMap keyframes;
+	TGridKeyframes gridKeyframes;  //!< for the grid: see CIncrementalGrid
+	TGridSettings gridSettings;
+};
+
+/** Takes the snapshot; on the mapping thread, or on any thread once mapping has stopped. */
+TRunOutputsSnapshot snapshotRunOutputs(const CMetricMapBuilderLRGC& builder, TRunSummary run);
+
+/** Writes every output of `s` into `outDir`, the maps from `grid` (the grid of
+ * s.gridKeyframes; unused when no scan was mapped: then stats.json alone). */
+void writeRunOutputs(
+	const TRunOutputsSnapshot& s, const mrpt::maps::COccupancyGridMap2D& grid,
+	const std::string& outDir);
+
+/** The same, from the builder itself (its grid: CMetricMapBuilderLRGC::buildOccupancyGrid). */
 void writeRunOutputs(
 	const CMetricMapBuilderLRGC& builder, const std::string& outDir, const TRunSummary& run);
 
 /** stats.json text (exposed for tests). */
+std::string statsJson(const TRunOutputsSnapshot& s);
 std::string statsJson(const CMetricMapBuilderLRGC& builder, const TRunSummary& run);
 
 }  // namespace lrgc::apps

@@ -127,12 +127,12 @@ void CLiveMapper::finish()
 		std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-void CLiveMapper::save(const std::string& status)
+TRunOutputsSnapshot CLiveMapper::snapshot(const std::string& status) const
 {
-	m_run.status = status;
-	finishRunSummary(m_run, m_clock, m_warningsTotal);
-	writeRunOutputs(m_builder, m_outDir, m_run);
-	++m_counts.saves;
+	TRunSummary run = m_run;
+	run.status = status;
+	finishRunSummary(run, m_clock, m_warningsTotal);
+	return snapshotRunOutputs(m_builder, std::move(run));
 }
 
 }  // namespace lrgc::apps

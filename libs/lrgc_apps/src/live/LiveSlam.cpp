@@ -1,4 +1,4 @@
-/* CLiveSlam::run: the live run's threads, stop sequence and live.json. */
+/* CLiveSlam::run: the live run's threads, stop sequence, saves and live.json. */
 #include "lrgc_apps/live/LiveSlam.h"
 
 #include "lrgc_apps/SlamApp.h"
@@ -7,6 +7,7 @@
 #include "lrgc_apps/live/LiveConsole.h"
 #include "lrgc_apps/live/LiveMapper.h"
 #include "lrgc_apps/live/LiveQueues.h"
+#include "lrgc_apps/live/LiveSaver.h"
 #include "lrgc_apps/live/SensorSupervisor.h"
 #include "lrgc_apps/StopSignalWatcher.h"
 
@@ -43,33 +44,60 @@ std::string jsonString(const std::string& s)
 	return out + "\"";
 }
 
-std::string liveJson(const std::string& status, const std::string& sensorsIni,
-					 const CCaptureWriter& capture, const CLiveQueues& queues,
-					 const CLiveMapper& mapper, const TSensors& sensors)
+/** What live.json says, copied on the mapping thread so that the saver thread can write it. */
+struct TLiveJsonState
 {
-	const TLiveMapperCounts& m = mapper.counts();
-	const TLatencySummary lat = summarizeLatencies(mapper.queueLatencyMs());
+	std::string status, sensorsIni;
+	uint64_t captureObjects = 0, captureBytes = 0, pushed = 0, scansPushed = 0;
+	TLiveMapperCounts counts;
+	size_t skipped = 0;
+	size_t saves = 0;  //!< saves written, this one included
+	std::vector<double> queueLatencyMs;
+	std::vector<std::pair<TSensorSection, TSensorCounters>> sensors;
+};
+
+TLiveJsonState liveState(const std::string& status, const std::string& sensorsIni,
+						 const CCaptureWriter& capture, const CLiveQueues& queues,
+						 const CLiveMapper& mapper, const TSensors& sensors)
+{
+	TLiveJsonState st;
+	st.status = status;
+	st.sensorsIni = sensorsIni;
+	st.captureObjects = capture.objects();
+	st.captureBytes = capture.bytes();
+	st.pushed = queues.pushed();
+	st.scansPushed = queues.scansPushed();
+	st.counts = mapper.counts();
+	st.skipped = mapper.policy().skippedTotal();
+	st.queueLatencyMs = mapper.queueLatencyMs();
+	for (const auto& s : sensors) st.sensors.emplace_back(s->sensor(), s->counters());
+	return st;
+}
+
+std::string liveJson(const TLiveJsonState& st)
+{
+	const TLiveMapperCounts& m = st.counts;
+	const TLatencySummary lat = summarizeLatencies(st.queueLatencyMs);
 	std::ostringstream j;
 	j << "{\n"
-	  << "  \"status\": " << jsonString(status) << ",\n"
-	  << "  \"sensors_ini\": " << jsonString(sensorsIni) << ",\n"
-	  << "  \"capture\": {\"file\": \"capture.rawlog\", \"objects\": " << capture.objects()
-	  << ", \"bytes\": " << capture.bytes() << "},\n"
-	  << "  \"received\": {\"objects\": " << queues.pushed()
-	  << ", \"scans\": " << queues.scansPushed() << "},\n"
+	  << "  \"status\": " << jsonString(st.status) << ",\n"
+	  << "  \"sensors_ini\": " << jsonString(st.sensorsIni) << ",\n"
+	  << "  \"capture\": {\"file\": \"capture.rawlog\", \"objects\": " << st.captureObjects
+	  << ", \"bytes\": " << st.captureBytes << "},\n"
+	  << "  \"received\": {\"objects\": " << st.pushed
+	  << ", \"scans\": " << st.scansPushed << "},\n"
 	  << "  \"mapping\": {\"objects_taken\": " << m.items << ", \"scans_taken\": " << m.scans
 	  << ", \"scans_mapped\": " << m.scansMapped
-	  << ", \"skipped_to_keep_up\": " << mapper.policy().skippedTotal()
+	  << ", \"skipped_to_keep_up\": " << st.skipped
 	  << ", \"odometry\": " << m.odometry << ", \"other_observations\": " << m.otherObservations
-	  << ", \"not_observations\": " << m.notObservations << ", \"saves\": " << m.saves
+	  << ", \"not_observations\": " << m.notObservations << ", \"saves\": " << st.saves
 	  << mrpt::format(
 			 ", \"queue_latency_ms\": {\"median\": %.3f, \"p99\": %.3f, \"max\": %.3f}},\n",
 			 lat.median_ms, lat.p99_ms, lat.max_ms)
 	  << "  \"sensors\": [";
-	for (size_t i = 0; i < sensors.size(); ++i)
+	for (size_t i = 0; i < st.sensors.size(); ++i)
 	{
-		const TSensorSection& s = sensors[i]->sensor();
-		const TSensorCounters c = sensors[i]->counters();
+		const auto& [s, c] = st.sensors[i];
 		j << (i ? ",\n" : "\n") << "    {\"section\": " << jsonString(s.section)
 		  << ", \"driver\": " << jsonString(s.driver) << ", \"label\": " << jsonString(s.label)
 		  << ", \"state\": " << jsonString(c.state) << ", \"starts\": " << c.starts
@@ -196,16 +224,14 @@ public:
 			const std::optional<TLiveItem> item = m_queues.takeForMapping(100ms, &behind);
 			if (!item && closing) break;
 			if (item) mapItem(*item, behind);
+			m_scansMapped = m_mapper.counts().scansMapped;
 			m_console.status(statusLine(m_queues, m_mapper, m_sensors));
 			const auto now = std::chrono::steady_clock::now();
 			if (!closing && m_params.saveIntervalSeconds > 0 &&
 				std::chrono::duration<double>(now - lastSave).count() >=
 					m_params.saveIntervalSeconds &&
-				m_mapper.builder().stats().scans > 0)
-			{
+				m_mapper.builder().stats().scans > 0 && periodicSave())
 				lastSave = now;
-				periodicSave();
-			}
 		}
 		m_console.status(statusLine(m_queues, m_mapper, m_sensors), true);
 		m_console.endStatus();
@@ -214,6 +240,7 @@ public:
 	/** Closes the capture, final optimisation and save, waits for the drivers; exit status. */
 	int finish()
 	{
+		m_saver.waitIdle();  // a periodic save still running ends first (same files)
 		m_writer.join();
 		try
 		{
@@ -229,8 +256,7 @@ public:
 		try
 		{
 			if (!m_mappingFailed) m_mapper.finish();
-			m_mapper.save(status);
-			writeLiveJson(status);
+			writeSave(m_mapper.snapshot(status), liveState(status));
 		}
 		catch (const std::exception& e)
 		{
@@ -286,33 +312,71 @@ private:
 		}
 	}
 
-	void periodicSave()
+	/** Hands a save to the saver thread: the mapping thread only takes the snapshots (poses,
+	 * counters, shared scans) and goes on mapping; false if the last save still runs (the
+	 * caller tries again after the next item). */
+	bool periodicSave()
 	{
-		const auto t0 = std::chrono::steady_clock::now();
-		try
-		{
-			m_capture.sync();
-			m_mapper.save("running (periodic save)");
-			writeLiveJson("running");
-			m_console.message(
-				mrpt::format(
-					"live: maps saved (%zu scans, %zu keyframes) in %.2f s",
-					m_mapper.builder().stats().scans, m_mapper.builder().stats().keyframes,
-					std::chrono::duration<double>(std::chrono::steady_clock::now() - t0)
-						.count()),
-				false);
-		}
-		catch (const std::exception& e)
-		{
-			m_console.message("live: periodic save failed: " + oneLineError(e), true);
-		}
+		if (!m_saver.idle()) return false;
+		auto outputs =
+			std::make_shared<const TRunOutputsSnapshot>(m_mapper.snapshot("running (periodic save)"));
+		auto live = std::make_shared<const TLiveJsonState>(liveState("running"));
+		return m_saver.trySubmit(
+			[this, outputs, live]
+			{
+				const auto t0 = std::chrono::steady_clock::now();
+				try
+				{
+					if (m_setup.periodicSaveHookForTests)
+						m_setup.periodicSaveHookForTests([this] { return m_scansMapped.load(); });
+					m_capture.sync();
+					writeSave(*outputs, *live);
+					m_console.message(
+						mrpt::format(
+							"live: maps saved (%zu scans, %zu keyframes) in %.2f s",
+							outputs->stats.scans, outputs->stats.keyframes,
+							std::chrono::duration<double>(std::chrono::steady_clock::now() - t0)
+								.count()),
+						false);
+				}
+				catch (const std::exception& e)
+				{
+					m_console.message("live: periodic save failed: " + oneLineError(e), true);
+				}
+			});
+	}
+
+	/** Writes a save: every output (the grid brought up to date incrementally: the saver's
+	 * CIncrementalGrid), then live.json. On the saver thread, or on this one once it is idle. */
+	void writeSave(const TRunOutputsSnapshot& outputs, TLiveJsonState live)
+	{
+		const TGridSettings& gs = outputs.gridSettings;
+		if (!m_grid || m_grid->settings().resolution != gs.resolution ||
+			m_grid->settings().settleKeyframes != gs.settleKeyframes)
+			m_grid = std::make_unique<CIncrementalGrid>(gs);
+		if (outputs.stats.scans > 0) m_grid->update(outputs.gridKeyframes);
+		writeRunOutputs(outputs, *m_grid->grid(), m_setup.outDir);
+		live.saves = ++m_saves;
+		writeLiveJson(live);
+	}
+
+	TLiveJsonState liveState(const std::string& status) const
+	{
+		return lrgc::apps::liveState(
+			status, m_setup.sensorsIni, m_capture, m_queues, m_mapper, m_sensors);
+	}
+
+	void writeLiveJson(const TLiveJsonState& st)
+	{
+		writeTextFileAtomically(
+			(std::filesystem::path(m_setup.outDir) / "live.json").string(), liveJson(st));
 	}
 
 	void writeLiveJson(const std::string& status)
 	{
-		writeTextFileAtomically(
-			(std::filesystem::path(m_setup.outDir) / "live.json").string(),
-			liveJson(status, m_setup.sensorsIni, m_capture, m_queues, m_mapper, m_sensors));
+		TLiveJsonState st = liveState(status);
+		st.saves = m_saves;
+		writeLiveJson(st);
 	}
 
 	void summary(const std::string& status)
@@ -343,6 +407,10 @@ private:
 	CFatal m_fatal;
 	bool m_mappingFailed = false;
 	std::thread m_writer;
+	std::atomic<size_t> m_scansMapped{0};  //!< for the tests' save hook
+	size_t m_saves = 0;  //!< saves written (by the saver thread, then by finish())
+	std::unique_ptr<CIncrementalGrid> m_grid;  //!< the saves' grid (saver thread)
+	CLiveSaver m_saver;  //!< after what its jobs use: stopped (and its job done) before them
 	TSensors m_sensors;  //!< last: destroyed (stopped and joined) first
 };
 }  // namespace

@@ -4,6 +4,7 @@
 #include <lrgc_apps/SlamApp.h>
 #include <lrgc_apps/live/LiveSlam.h>
 
+#include <atomic>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -12,6 +13,7 @@
 
 #include "FakeSensors.h"
 #include "app_runner.h"
+#include "lms1xx_emulator.h"  // waitUntil
 #include "test_data.h"
 
 using namespace lrgc::apps;
@@ -100,6 +102,35 @@ TEST_F(LiveSlamTest, MapsEveryScanAndTheCaptureReplaysToTheSameTrajectory)
 	EXPECT_EQ(a, b) << "live and replayed trajectories differ";
 	EXPECT_EQ(lrgc::test::readTextFile(out("graph.graph")),
 			  lrgc::test::readTextFile(replay + "/graph.graph"));
+}
+
+// Saves run on the saver thread, never on the mapping thread: a save made slow on purpose
+// waits, inside the save, until 20 more scans are mapped. Were the save on the mapping thread,
+// no scan could be mapped until it returned, and the wait would time out (no timing is
+// asserted: the bound only ends a failing test).
+TEST_F(LiveSlamTest, ASlowSaveNeverHoldsUpMapping)
+{
+	lrgc_test_fakes::makeRoomRun(200, laserScript());
+	const size_t n = laserScript().scans.size();
+	std::atomic<int> saves{0};
+	std::atomic<size_t> mappedAtSaveStart{0};
+	std::atomic<bool> mappedDuringSave{false};
+	m_setup.periodicSaveHookForTests = [&](const std::function<size_t()>& scansMapped)
+	{
+		if (saves++ > 0) return;
+		mappedAtSaveStart = scansMapped();
+		const size_t target = std::min(mappedAtSaveStart + 20, n);
+		mappedDuringSave = lrgc::test::waitUntil([&] { return scansMapped() >= target; }, 60);
+	};
+	ASSERT_EQ(run(), kExitOk) << m_console;
+	ASSERT_GE(saves.load(), 1);
+	EXPECT_LT(mappedAtSaveStart.load(), n - 20) << "the first save came too late to tell";
+	EXPECT_TRUE(mappedDuringSave) << "mapping stopped while a save ran";
+	const std::string live = lrgc::test::readTextFile(out("live.json"));
+	EXPECT_EQ(jsonInt(live, "scans_mapped"), static_cast<long>(n));
+	EXPECT_GE(jsonInt(live, "saves"), 2) << "the slow periodic save and the final one";
+	EXPECT_NE(m_console.find("live: maps saved ("), std::string::npos) << m_console;
+	EXPECT_EQ(lines(out("trajectory.tum")).size(), n);
 }
 
 TEST_F(LiveSlamTest, FallingBehindSkipsScansButNeverOdometryOrTheCapture)

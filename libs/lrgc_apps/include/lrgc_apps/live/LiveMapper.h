@@ -1,7 +1,7 @@
 /* CLiveMapper: the mapping side of a live run. It owns the same map builder as an offline run
  * (CMetricMapBuilderLRGC, fed with processObservation() exactly as an observations-only rawlog
- * is fed offline), applies the keep-up policy to laser scans, and saves every output
- * atomically, periodically and at the end.
+ * is fed offline), applies the keep-up policy to laser scans, and takes the snapshots of
+ * every output that the live saver writes (CLiveSaver), periodically and at the end.
  *
  * Same map as a replay. A scan is prepared for the builder as the offline rawlog reader
  * prepares it (NaN, infinite or negative ranges marked invalid; scans with fewer than 2 rays
@@ -32,7 +32,6 @@ struct TLiveMapperCounts
 	size_t odometry = 0;           //!< odometry observations given to the builder
 	size_t otherObservations = 0;  //!< other observations given to it (it ignores them)
 	size_t notObservations = 0;    //!< captured objects that are not observations (not mapped)
-	size_t saves = 0;              //!< periodic saves done
 };
 
 class CLiveMapper
@@ -44,12 +43,14 @@ public:
 	/** Maps (or, by the keep-up policy, skips) one item; `scansBehind` laser scans wait after
 	 * it. Throws if the builder fails. */
 	void process(const TLiveItem& item, size_t scansBehind);
-	/** Saves every output with `status` in stats.json; after finish() for the final save. */
-	void save(const std::string& status);
+	/** Every output as of now, with `status` in stats.json (writeRunOutputs); after finish()
+	 * for the final save. On the mapping thread: it copies poses and counters, shares scans. */
+	TRunOutputsSnapshot snapshot(const std::string& status) const;
 	/** Final optimisation of the whole graph (as at the end of an offline run). */
 	void finish();
 
 	const CMetricMapBuilderLRGC& builder() const { return m_builder; }
+	const std::string& outDir() const { return m_outDir; }
 	const TLiveMapperCounts& counts() const { return m_counts; }
 	const CKeepUpPolicy& policy() const { return m_policy; }
 	/** Queue latency (arrival to mapped) of mapped scans [ms]. */

@@ -3,20 +3,24 @@
  *
  * Threads. One per sensor (CSensorSupervisor: the driver loop of rawlog-grabber, plus
  * restarts with back-off), one capture writer (CCaptureWriter: DIR/capture.rawlog, each object
- * on disk as it arrives), and the calling thread, which maps (CLiveMapper: the offline map
- * builder), prints the status line and saves. The sensors hand every observation to
- * CLiveQueues, which gives the writer and the mapper the same objects in the same order; the
- * queues are unbounded, so acquisition never waits for disk or mapping.
+ * on disk as it arrives), the calling thread, which maps (CLiveMapper: the offline map
+ * builder) and prints the status line, and a saver (CLiveSaver) that writes the saves. The
+ * sensors hand every observation to CLiveQueues, which gives the writer and the mapper the
+ * same objects in the same order; the queues are unbounded, so acquisition never waits for
+ * disk or mapping.
  *
  * Falling behind. The mapper skips laser scans by CKeepUpPolicy ([LiveMapping]
  * max_backlog_scans) and says so; the capture is never thinned.
  *
  * Saving. Every output of an offline run (maps, trajectory, graph, stats.json, timing.csv) is
  * written atomically every [LiveMapping] save_interval_s and at the end, with live.json
- * (per-sensor counts, restarts, capture size, queue latency). A stop (the first Ctrl-C or
- * SIGTERM, or `stop()` returning true) closes the intake, maps what is queued, runs the final
- * optimisation and saves; a second signal exits at once (_exit in the handler): the capture is
- * whole objects and the last saved maps are whole files, so both stay valid.
+ * (per-sensor counts, restarts, capture size, queue latency). For a periodic save the mapping
+ * thread only takes a snapshot between two scans; the saver thread builds the grid
+ * (incrementally) and writes, so mapping never waits for the disk. A stop (the first Ctrl-C
+ * or SIGTERM, or `stop()` returning true) closes the intake, maps what is queued, waits for a
+ * periodic save still running, runs the final optimisation and saves; a second signal exits
+ * at once (_exit in the handler): the capture is whole objects and the last saved maps are
+ * whole files, so both stay valid.
  */
 #pragma once
 
@@ -35,6 +39,9 @@ struct TLiveSlamSetup
 	TAppConfig config;       //!< lrgc parameters, [LiveMapping] included
 	std::string outDir;
 	bool quiet = false;
+	/** Tests only: called on the saver thread at the start of every periodic save, with the
+	 * count of scans mapped so far (read when called), to make a save slow on purpose. */
+	std::function<void(const std::function<size_t()>& scansMapped)> periodicSaveHookForTests;
 };
 
 class CLiveSlam
