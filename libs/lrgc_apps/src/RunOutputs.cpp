@@ -21,8 +21,6 @@
 
 namespace lrgc::apps
 {
-namespace
-{
 std::string jsonString(const std::string& s)
 {
 	std::string out = "\"";
@@ -40,6 +38,8 @@ std::string jsonString(const std::string& s)
 	return out + "\"";
 }
 
+namespace
+{
 std::string jsonCounts(const std::map<std::string, size_t>& counts)
 {
 	std::string out = "{";

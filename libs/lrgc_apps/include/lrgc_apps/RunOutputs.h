@@ -13,6 +13,9 @@
 
 namespace lrgc::apps
 {
+/** `s` as a JSON string literal, quoted, with " \\ and control characters escaped. */
+std::string jsonString(const std::string& s);
+
 struct TRunSummary
 {
 	std::string input;  //!< input log path

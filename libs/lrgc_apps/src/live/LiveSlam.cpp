@@ -5,6 +5,7 @@
 #include "lrgc_apps/atomic_file.h"
 #include "lrgc_apps/live/CaptureWriter.h"
 #include "lrgc_apps/live/LiveConsole.h"
+#include "lrgc_apps/live/LiveJson.h"
 #include "lrgc_apps/live/LiveMapper.h"
 #include "lrgc_apps/live/LiveQueues.h"
 #include "lrgc_apps/live/LiveSaver.h"
@@ -19,7 +20,6 @@
 #include <filesystem>
 #include <memory>
 #include <mutex>
-#include <sstream>
 #include <thread>
 
 namespace lrgc::apps
@@ -28,86 +28,6 @@ namespace
 {
 using namespace std::chrono_literals;
 using TSensors = std::vector<std::unique_ptr<CSensorSupervisor>>;
-
-std::string jsonString(const std::string& s)
-{
-	std::string out = "\"";
-	for (const char ch : s)
-	{
-		if (ch == '"' || ch == '\\')
-			out += '\\', out += ch;
-		else if (static_cast<unsigned char>(ch) < 0x20)
-			out += mrpt::format("\\u%04x", static_cast<unsigned>(ch));
-		else
-			out += ch;
-	}
-	return out + "\"";
-}
-
-/** What live.json says, copied on the mapping thread so that the saver thread can write it. */
-struct TLiveJsonState
-{
-	std::string status, sensorsIni;
-	uint64_t captureObjects = 0, captureBytes = 0, pushed = 0, scansPushed = 0;
-	TLiveMapperCounts counts;
-	size_t skipped = 0;
-	size_t saves = 0;  //!< saves written, this one included
-	std::vector<double> queueLatencyMs;
-	std::vector<std::pair<TSensorSection, TSensorCounters>> sensors;
-};
-
-TLiveJsonState liveState(const std::string& status, const std::string& sensorsIni,
-						 const CCaptureWriter& capture, const CLiveQueues& queues,
-						 const CLiveMapper& mapper, const TSensors& sensors)
-{
-	TLiveJsonState st;
-	st.status = status;
-	st.sensorsIni = sensorsIni;
-	st.captureObjects = capture.objects();
-	st.captureBytes = capture.bytes();
-	st.pushed = queues.pushed();
-	st.scansPushed = queues.scansPushed();
-	st.counts = mapper.counts();
-	st.skipped = mapper.policy().skippedTotal();
-	st.queueLatencyMs = mapper.queueLatencyMs();
-	for (const auto& s : sensors) st.sensors.emplace_back(s->sensor(), s->counters());
-	return st;
-}
-
-std::string liveJson(const TLiveJsonState& st)
-{
-	const TLiveMapperCounts& m = st.counts;
-	const TLatencySummary lat = summarizeLatencies(st.queueLatencyMs);
-	std::ostringstream j;
-	j << "{\n"
-	  << "  \"status\": " << jsonString(st.status) << ",\n"
-	  << "  \"sensors_ini\": " << jsonString(st.sensorsIni) << ",\n"
-	  << "  \"capture\": {\"file\": \"capture.rawlog\", \"objects\": " << st.captureObjects
-	  << ", \"bytes\": " << st.captureBytes << "},\n"
-	  << "  \"received\": {\"objects\": " << st.pushed
-	  << ", \"scans\": " << st.scansPushed << "},\n"
-	  << "  \"mapping\": {\"objects_taken\": " << m.items << ", \"scans_taken\": " << m.scans
-	  << ", \"scans_mapped\": " << m.scansMapped
-	  << ", \"skipped_to_keep_up\": " << st.skipped
-	  << ", \"odometry\": " << m.odometry << ", \"other_observations\": " << m.otherObservations
-	  << ", \"not_observations\": " << m.notObservations << ", \"saves\": " << st.saves
-	  << mrpt::format(
-			 ", \"queue_latency_ms\": {\"median\": %.3f, \"p99\": %.3f, \"max\": %.3f}},\n",
-			 lat.median_ms, lat.p99_ms, lat.max_ms)
-	  << "  \"sensors\": [";
-	for (size_t i = 0; i < st.sensors.size(); ++i)
-	{
-		const auto& [s, c] = st.sensors[i];
-		j << (i ? ",\n" : "\n") << "    {\"section\": " << jsonString(s.section)
-		  << ", \"driver\": " << jsonString(s.driver) << ", \"label\": " << jsonString(s.label)
-		  << ", \"state\": " << jsonString(c.state) << ", \"starts\": " << c.starts
-		  << ", \"failures\": " << c.failures << ", \"observations\": " << c.observations
-		  << ", \"scans\": " << c.scans << ", \"rejected_without_data\": " << c.rejected
-		  << ", \"last_problem\": " << jsonString(c.lastProblem) << "}";
-	}
-	j << "\n  ]\n}\n";
-	return j.str();
-}
 
 /** The first fatal error of the run (capture or mapping), set from any thread. */
 class CFatal
