@@ -3,8 +3,9 @@ first, and does memory grow with the area mapped or with the time driven?
 
 The log is made by bench/repeat_log.py (timestamps shifted, odometry continued). lrgc-slam maps
 it once, with the defaults; per pass, from timing.csv: the mapping time (sum of the per-scan
-latencies, loop-closing waits included, [s]), the p99 and max latency [ms]; and from
-graph.graph the keyframes (VERTEX_SE2) each pass added. Peak RSS is of the whole run.
+latencies, loop-closing waits included, [s]), the p99 and max latency [ms]; and the
+keyframes each pass added (graph.lrgc's NODE lines, found in trajectory.tum by their poses).
+Peak RSS is of the whole run.
 
 Python standard library only.
 """

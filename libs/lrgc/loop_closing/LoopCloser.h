@@ -2,7 +2,8 @@
  *
  * After each new keyframe n:
  *  1. Gate. The uncertainty of every old pose relative to n comes from the graph
- *     (propagateUncertainty). Old poses (all but the newest m keyframes, m > K) whose position
+ *     (propagateUncertainty; reused, chained through its source, for the next
+ *     gate_reuse_keyframes keyframes while the old map is unchanged). Old poses (all but the newest m keyframes, m > K) whose position
  *     could lie within `overlap_radius` of n's, at Mahalanobis distance <= gate_sigma, are
  *     candidates. Their largest position std sigma sets the search window
  *     (+- window_sigmas * sigma) and the patch size (grows linearly with sigma), so a large
