@@ -28,6 +28,8 @@ CAnchorGrid::CAnchorGrid(
 	const size_t nUsable = m_index.size();
 	m_pos.resize(nUsable);
 	for (size_t k = 0; k < nUsable; ++k) m_pos[k] = points[m_index[k]];
+	if (nUsable == 0) return;
+	if (buildDense(points)) return;
 	size_t cells = 0;
 	for (size_t k = 0; k < nUsable; ++k) cells += (k == 0 || keys[m_index[k]] != keys[m_index[k - 1]]);
 	size_t size = 16;
@@ -46,6 +48,39 @@ CAnchorGrid::CAnchorGrid(
 	}
 }
 
+bool CAnchorGrid::buildDense(const std::vector<Eigen::Vector2d>& points)
+{
+	const size_t n = m_index.size();
+	std::vector<int64_t> ixs(n), iys(n);
+	for (size_t k = 0; k < n; ++k)
+		ixs[k] = cellIndex(points[m_index[k]].x(), m_cell),
+		iys[k] = cellIndex(points[m_index[k]].y(), m_cell);
+	const auto [xMin, xMax] = std::minmax_element(ixs.begin(), ixs.end());
+	const auto [yMin, yMax] = std::minmax_element(iys.begin(), iys.end());
+	const double cells = (double(*xMax - *xMin) + 1) * (double(*yMax - *yMin) + 1);
+	if (cells > double(std::max(kDenseMinCells, kDenseCellsPerPoint * n))) return false;
+	m_x0 = *xMin, m_y0 = *yMin, m_nx = *xMax - *xMin + 1, m_ny = *yMax - *yMin + 1;
+	const size_t nCells = static_cast<size_t>(m_nx * m_ny);
+	// Counting sort by dense cell, stable: each cell keeps the order of the key sort.
+	std::vector<uint32_t> cellOf(n);
+	m_start.assign(nCells + 1, 0);
+	for (size_t k = 0; k < n; ++k)
+	{
+		cellOf[k] = static_cast<uint32_t>((ixs[k] - m_x0) * m_ny + (iys[k] - m_y0));
+		++m_start[cellOf[k] + 1];
+	}
+	for (size_t c = 0; c < nCells; ++c) m_start[c + 1] += m_start[c];
+	std::vector<uint32_t> next(m_start.begin(), m_start.end() - 1), index(n);
+	for (size_t k = 0; k < n; ++k)
+	{
+		const uint32_t to = next[cellOf[k]]++;
+		index[to] = m_index[k];
+		m_pos[to] = points[m_index[k]];
+	}
+	m_index = std::move(index);
+	return true;
+}
+
 const CAnchorGrid::TCell* CAnchorGrid::findCell(int64_t ix, int64_t iy) const
 {
 	const uint64_t key = cellKey(ix, iy);
@@ -59,7 +94,7 @@ const CAnchorGrid::TCell* CAnchorGrid::findCell(int64_t ix, int64_t iy) const
 
 int CAnchorGrid::nearest(const Eigen::Vector2d& q, double maxDist, double* d2Out) const
 {
-	if (m_table.empty() || !(maxDist > 0)) return -1;
+	if (m_pos.empty() || !(maxDist > 0)) return -1;
 	// Ring search: ring k holds the cells at Chebyshev distance k from q's cell. After ring k,
 	// every unvisited point is at least `lb` away (distance from q to the border of the
 	// visited block), so the search stops once the best distance is <= lb or lb >= maxDist.
@@ -68,9 +103,8 @@ int CAnchorGrid::nearest(const Eigen::Vector2d& q, double maxDist, double* d2Out
 	int bestIdx = -1;
 	auto visit = [&](int64_t ix, int64_t iy)
 	{
-		const TCell* c = findCell(ix, iy);
-		if (!c) return;
-		for (uint32_t k = c->start; k < c->start + c->count; ++k)
+		const auto [b, e] = cellRun(ix, iy);
+		for (uint32_t k = b; k < e; ++k)
 		{
 			const double d2 = (m_pos[k] - q).squaredNorm();
 			if (d2 < best) best = d2, bestIdx = static_cast<int>(m_index[k]);

@@ -1,9 +1,11 @@
 /* CAnchorGrid: exact nearest-neighbour and radius queries over a fixed set of 2D points (the
  * anchors of a CReferenceCloud), for the correspondence search of scan matching.
  *
- * Method: points are bucketed in square cells of side `cell` [m], the occupied cells kept in an
- * open-addressing hash table (Fibonacci hashing, linear probing) pointing at runs of a
- * cell-sorted copy of the points. nearest() searches ring by ring around the query's cell with
+ * Method: points are bucketed in square cells of side `cell` [m], kept in a cell-sorted copy of
+ * the points. A cell's run is found through a dense table over the points' bounding box
+ * (prefix offsets, one array read) unless that box holds more than kDenseCellsPerPoint cells
+ * per point (far stray returns): then through an open-addressing hash table of the occupied
+ * cells (Fibonacci hashing, linear probing). Both give the same runs in the same order. nearest() searches ring by ring around the query's cell with
  * an exact stopping rule (about 50 ns per query indoors); forEachWithin() visits the cells that
  * overlap the query disc. Frames: whatever frame the points are in. Units: metres.
  */
@@ -12,6 +14,7 @@
 #include <Eigen/Core>
 #include <cmath>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 namespace lrgc
@@ -24,7 +27,7 @@ public:
 	CAnchorGrid(
 		const std::vector<Eigen::Vector2d>& points, const std::vector<bool>& usable, double cell);
 
-	bool empty() const { return m_table.empty(); }
+	bool empty() const { return m_pos.empty(); }
 
 	/** Index of the point nearest to q within maxDist [m] (exact; of equally near points, the
 	 * first in cell order), or -1. If found and d2 is given, *d2 is the squared distance. */
@@ -39,7 +42,27 @@ public:
 		return static_cast<int64_t>(std::floor(v / cell));
 	}
 
+	/** Dense table used for these points (else the hash table); for tests. */
+	bool isDense() const { return !m_start.empty(); }
+	/** The dense table may hold up to this many cells per indexed point (and at least
+	 * kDenseMinCells): 4 bytes each. */
+	static constexpr size_t kDenseCellsPerPoint = 64, kDenseMinCells = 1 << 14;
+
 private:
+	/** The run [first, second) of m_pos / m_index in cell (ix, iy); empty if none. */
+	std::pair<uint32_t, uint32_t> cellRun(int64_t ix, int64_t iy) const
+	{
+		if (!m_start.empty())
+		{
+			const int64_t dx = ix - m_x0, dy = iy - m_y0;
+			if (dx < 0 || dy < 0 || dx >= m_nx || dy >= m_ny) return {0, 0};
+			const size_t i = static_cast<size_t>(dx * m_ny + dy);
+			return {m_start[i], m_start[i + 1]};
+		}
+		if (const TCell* c = findCell(ix, iy)) return {c->start, c->start + c->count};
+		return {0, 0};
+	}
+
 	// A hash slot: an occupied cell -> the run [start, start + count) of m_pos / m_index.
 	struct TCell
 	{
@@ -52,26 +75,33 @@ private:
 			static_cast<uint32_t>(iy);
 	}
 	const TCell* findCell(int64_t ix, int64_t iy) const;
+	/** Fills the dense table from the key-sorted m_index; false if the box is too large. */
+	bool buildDense(const std::vector<Eigen::Vector2d>& points);
 
 	std::vector<Eigen::Vector2d> m_pos;  // indexed points, sorted by cell
 	std::vector<uint32_t> m_index;  // their indices in the input
 	std::vector<TCell> m_table;  // size: power of two
 	uint64_t m_mask = 0;
+	// Dense table: cell (m_x0 + i, m_y0 + j) holds the run [m_start[i m_ny + j], m_start[.. + 1])
+	std::vector<uint32_t> m_start;
+	int64_t m_x0 = 0, m_y0 = 0, m_nx = 0, m_ny = 0;
 	double m_cell = 0.1;  // [m]
 };
 
 template <class F>
 void CAnchorGrid::forEachWithin(const Eigen::Vector2d& q, double radius, F&& fn) const
 {
-	if (m_table.empty()) return;
+	if (m_pos.empty()) return;
 	const double r2 = radius * radius;
 	const int64_t x0 = cellIndex(q.x() - radius, m_cell), x1 = cellIndex(q.x() + radius, m_cell);
 	const int64_t y0 = cellIndex(q.y() - radius, m_cell), y1 = cellIndex(q.y() + radius, m_cell);
 	for (int64_t ix = x0; ix <= x1; ++ix)
 		for (int64_t iy = y0; iy <= y1; ++iy)
-			if (const TCell* c = findCell(ix, iy))
-				for (uint32_t k = c->start; k < c->start + c->count; ++k)
-					if ((m_pos[k] - q).squaredNorm() <= r2) fn(m_index[k]);
+		{
+			const auto [b, e] = cellRun(ix, iy);
+			for (uint32_t k = b; k < e; ++k)
+				if ((m_pos[k] - q).squaredNorm() <= r2) fn(m_index[k]);
+		}
 }
 
 }  // namespace lrgc

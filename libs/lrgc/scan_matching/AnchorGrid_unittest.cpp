@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <lrgc/scan_matching/AnchorGrid.h>
 
+#include <algorithm>
 #include <random>
 #include <set>
 
@@ -74,4 +75,38 @@ TEST(AnchorGrid, emptyAndUnusableCloudsFindNothing)
 	const CAnchorGrid one({{0, 0}}, {true}, 0.1);
 	EXPECT_EQ(one.nearest({0.05, 0}, 0.0), -1) << "a zero gate finds nothing";
 	EXPECT_EQ(one.nearest({0.05, 0}, 0.1), 0);
+}
+
+TEST(AnchorGrid, denseAndHashedCellsGiveTheSameAnswers)
+{
+	// The same cloud indexed through the dense table, and through the hash table once two
+	// far stray returns make its bounding box too large for a dense one.
+	const TCloud c = randomCloud(1500, 11);
+	TCloud stray = c;
+	stray.pts.emplace_back(4000, -3000), stray.usable.push_back(true);
+	stray.pts.emplace_back(-4000, 3000), stray.usable.push_back(true);
+	const CAnchorGrid dense(c.pts, c.usable, 0.1), hashed(stray.pts, stray.usable, 0.1);
+	ASSERT_TRUE(dense.isDense());
+	ASSERT_FALSE(hashed.isDense());
+	std::mt19937 rng(12);
+	std::uniform_real_distribution<double> u(-6, 6);
+	for (int t = 0; t < 2000; ++t)
+	{
+		const Eigen::Vector2d q(u(rng), u(rng));
+		for (const double gate : {0.02, 0.3, 1.5})
+		{
+			double d2a = -1, d2b = -1;
+			const int a = dense.nearest(q, gate, &d2a), b = hashed.nearest(q, gate, &d2b);
+			ASSERT_EQ(a, b) << "query " << q.transpose() << " gate " << gate;
+			if (a >= 0) EXPECT_EQ(d2a, d2b);
+		}
+		std::vector<uint32_t> inDense, inHashed;
+		dense.forEachWithin(q, 0.3, [&](uint32_t i) { inDense.push_back(i); });
+		hashed.forEachWithin(q, 0.3, [&](uint32_t i) { inHashed.push_back(i); });
+		std::sort(inDense.begin(), inDense.end());
+		std::sort(inHashed.begin(), inHashed.end());
+		ASSERT_EQ(inDense, inHashed);
+	}
+	EXPECT_EQ(hashed.nearest({4000.01, -3000}, 0.1), static_cast<int>(c.pts.size()));
+	EXPECT_EQ(dense.nearest({4000.01, -3000}, 0.1), -1);
 }
