@@ -169,11 +169,21 @@ void CReferenceCloud::fitLines(const TScanMatcherParams& p, const std::vector<do
 	//   beta_jk = w_k / W + u_j w_k u_k / sum_l w_l u_l^2,   u = (x - m) . t.
 	// sigma^2 per raw point is estimated from each fit, l2 W / (n - 2), and its median kept.
 	std::vector<Eigen::Vector2d> newPos(m_anchors.size());
-	std::vector<uint32_t> nb;
+	// The neighbourhood in visiting order, with each neighbour's position and weight (read
+	// once from m_anchors / w: the fit runs over it three times).
+	struct TNeighbour
+	{
+		Eigen::Vector2d pos;
+		double w;
+		uint32_t k;
+	};
+	std::vector<TNeighbour> nb;
 	std::vector<double> sigma2;
 	m_count = w;
 	m_fitStart.assign(1, 0);
+	m_fitStart.reserve(m_anchors.size() + 1);
 	m_fit.clear();
+	m_fit.reserve(16 * m_anchors.size());
 	for (size_t i = 0; i < m_anchors.size(); ++i)
 	{
 		const Eigen::Vector2d x = m_anchors[i].pos;
@@ -188,10 +198,12 @@ void CReferenceCloud::fitLines(const TScanMatcherParams& p, const std::vector<do
 			nb.clear();
 			double W = 0, sx = 0, sy = 0, sxx = 0, sxy = 0, syy = 0;
 			forEachWithin(x, r, [&](uint32_t k) {
-				nb.push_back(k);
-				const double dx = m_anchors[k].pos.x() - x.x(), dy = m_anchors[k].pos.y() - x.y();
-				W += w[k], sx += w[k] * dx, sy += w[k] * dy;
-				sxx += w[k] * dx * dx, sxy += w[k] * dx * dy, syy += w[k] * dy * dy;
+				const Eigen::Vector2d& pk = m_anchors[k].pos;
+				const double wk = w[k];
+				nb.push_back({pk, wk, k});
+				const double dx = pk.x() - x.x(), dy = pk.y() - x.y();
+				W += wk, sx += wk * dx, sy += wk * dy;
+				sxx += wk * dx * dx, sxy += wk * dx * dy, syy += wk * dy * dy;
 			});
 			if (nb.size() < 4) continue;
 			const double mx = sx / W, my = sy / W;
@@ -212,13 +224,13 @@ void CReferenceCloud::fitLines(const TScanMatcherParams& p, const std::vector<do
 			m_anchors[i].fitRadius = r;
 			newPos[i] = m + (x - m).dot(t) * t;
 			double suu = 0;
-			for (uint32_t k : nb) suu += w[k] * std::pow((m_anchors[k].pos - m).dot(t), 2);
+			for (const auto& q : nb) suu += q.w * std::pow((q.pos - m).dot(t), 2);
 			const double uj = (x - m).dot(t);
-			for (uint32_t k : nb)
+			for (const auto& q : nb)
 			{
-				const double uk = (m_anchors[k].pos - m).dot(t);
-				m_fit.push_back({k, static_cast<float>(w[k] / W),
-								 static_cast<float>(suu > 0 ? w[k] * uk / suu : 0)});
+				const double uk = (q.pos - m).dot(t);
+				m_fit.push_back({q.k, static_cast<float>(q.w / W),
+								 static_cast<float>(suu > 0 ? q.w * uk / suu : 0)});
 			}
 			m_anchors[i].u = static_cast<float>(uj);
 			// slope variance sigma^2 / sum w u^2, sigma^2 filled in below
@@ -231,8 +243,8 @@ void CReferenceCloud::fitLines(const TScanMatcherParams& p, const std::vector<do
 			// nb holds the widest neighbourhood here (the loop ran to its end).
 			m_anchors[i].usable = nb.size() >= 3;
 			double d2 = r * r;
-			for (uint32_t k : nb)
-				if (k != i) d2 = std::min(d2, (m_anchors[k].pos - x).squaredNorm());
+			for (const auto& q : nb)
+				if (q.k != i) d2 = std::min(d2, (q.pos - x).squaredNorm());
 			m_anchors[i].samplingVar = static_cast<float>(d2 / 12);
 		}
 		m_fitStart.push_back(static_cast<uint32_t>(m_fit.size()));
