@@ -5,13 +5,16 @@
  * the points. A cell's run is found through a dense table over the points' bounding box
  * (prefix offsets, one array read) unless that box holds more than kDenseCellsPerPoint cells
  * per point (far stray returns): then through an open-addressing hash table of the occupied
- * cells (Fibonacci hashing, linear probing). Both give the same runs in the same order. nearest() searches ring by ring around the query's cell with
- * an exact stopping rule (about 50 ns per query indoors); forEachWithin() visits the cells that
- * overlap the query disc. Frames: whatever frame the points are in. Units: metres.
+ * cells (Fibonacci hashing, linear probing). Both give the same runs in the same order.
+ * nearest() searches ring by ring around the query's cell with an exact stopping rule;
+ * forEachWithin() visits the cells that overlap the query disc column by column (ix, then iy),
+ * a column being one run of the dense table. Frames: whatever frame the points are in.
+ * Units: metres.
  */
 #pragma once
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <utility>
@@ -37,9 +40,12 @@ public:
 	template <class F>
 	void forEachWithin(const Eigen::Vector2d& q, double radius, F&& fn) const;
 
+	/** floor(v / cell), inline (std::floor is a library call on baseline x86-64). */
 	static int64_t cellIndex(double v, double cell)
 	{
-		return static_cast<int64_t>(std::floor(v / cell));
+		const double q = v / cell;
+		const auto t = static_cast<int64_t>(q);  // truncation towards zero
+		return t - (static_cast<double>(t) > q);
 	}
 
 	/** Dense table used for these points (else the hash table); for tests. */
@@ -95,13 +101,22 @@ void CAnchorGrid::forEachWithin(const Eigen::Vector2d& q, double radius, F&& fn)
 	const double r2 = radius * radius;
 	const int64_t x0 = cellIndex(q.x() - radius, m_cell), x1 = cellIndex(q.x() + radius, m_cell);
 	const int64_t y0 = cellIndex(q.y() - radius, m_cell), y1 = cellIndex(q.y() + radius, m_cell);
+	auto visitRun = [&](uint32_t b, uint32_t e) {
+		for (uint32_t k = b; k < e; ++k)
+			if ((m_pos[k] - q).squaredNorm() <= r2) fn(m_index[k]);
+	};
+	if (!m_start.empty())
+	{
+		// Dense table: the cells y0..y1 of a column are one run of m_pos, in (iy, run) order.
+		const int64_t dy0 = std::max<int64_t>(y0 - m_y0, 0), dy1 = std::min(y1 - m_y0, m_ny - 1);
+		if (dy0 > dy1) return;
+		for (int64_t dx = std::max<int64_t>(x0 - m_x0, 0); dx <= std::min(x1 - m_x0, m_nx - 1); ++dx)
+			visitRun(m_start[dx * m_ny + dy0], m_start[dx * m_ny + dy1 + 1]);
+		return;
+	}
 	for (int64_t ix = x0; ix <= x1; ++ix)
 		for (int64_t iy = y0; iy <= y1; ++iy)
-		{
-			const auto [b, e] = cellRun(ix, iy);
-			for (uint32_t k = b; k < e; ++k)
-				if ((m_pos[k] - q).squaredNorm() <= r2) fn(m_index[k]);
-		}
+			if (const TCell* c = findCell(ix, iy)) visitRun(c->start, c->start + c->count);
 }
 
 }  // namespace lrgc

@@ -110,3 +110,38 @@ TEST(AnchorGrid, denseAndHashedCellsGiveTheSameAnswers)
 	EXPECT_EQ(hashed.nearest({4000.01, -3000}, 0.1), static_cast<int>(c.pts.size()));
 	EXPECT_EQ(dense.nearest({4000.01, -3000}, 0.1), -1);
 }
+
+TEST(AnchorGrid, forEachWithinVisitsCellsInColumnMajorOrderDenseOrHashed)
+{
+	// The line fits sum their neighbourhoods in visiting order: cells by (ix, then iy), on
+	// the dense table's column runs as on the hash table's cells.
+	const TCloud c = randomCloud(1500, 13);
+	TCloud stray = c;
+	stray.pts.emplace_back(5000, 5000), stray.usable.push_back(true);
+	const double cell = 0.1;
+	for (const TCloud* cloud : std::vector<const TCloud*>{&c, &stray})
+	{
+		const CAnchorGrid grid(cloud->pts, cloud->usable, cell);
+		EXPECT_EQ(grid.isDense(), cloud == &c);
+		for (const Eigen::Vector2d q : {Eigen::Vector2d(0.03, -1.2), Eigen::Vector2d(-4.5, 4.6)})
+		{
+			std::vector<std::pair<int64_t, int64_t>> cells;
+			grid.forEachWithin(q, 1.5, [&](uint32_t i) {
+				cells.emplace_back(
+					CAnchorGrid::cellIndex(cloud->pts[i].x(), cell),
+					CAnchorGrid::cellIndex(cloud->pts[i].y(), cell));
+			});
+			EXPECT_GT(cells.size(), 20u);
+			EXPECT_TRUE(std::is_sorted(cells.begin(), cells.end()));
+		}
+	}
+}
+
+TEST(AnchorGrid, cellIndexIsFloorOfTheRatio)
+{
+	for (const double v : {0.0, -0.0, 0.1, -0.1, 0.3, -0.3, 0.29999999999999999, 1e-300, -1e-300, 123.456,
+						   -123.456, 1e6, -1e6, 0.7, -0.7})
+		for (const double cell : {0.1, 0.02, 0.3, 1.0})
+			EXPECT_EQ(CAnchorGrid::cellIndex(v, cell), static_cast<int64_t>(std::floor(v / cell)))
+				<< v << " / " << cell;
+}

@@ -193,18 +193,17 @@ void CReferenceCloud::fitLines(const TScanMatcherParams& p, const std::vector<do
 		double r = p.normalRadius_m;
 		for (int widen = 0; widen < 3; ++widen, r *= 2)
 		{
+			nb.clear();
+			forEachWithin(x, r, [&](uint32_t k) { nb.push_back({m_anchors[k].pos, w[k], k}); });
 			// One pass of weighted moments: W, sum w x, sum w x x^T (relative to x, for
 			// numerical range), then the 2x2 eigen-decomposition in closed form.
-			nb.clear();
 			double W = 0, sx = 0, sy = 0, sxx = 0, sxy = 0, syy = 0;
-			forEachWithin(x, r, [&](uint32_t k) {
-				const Eigen::Vector2d& pk = m_anchors[k].pos;
-				const double wk = w[k];
-				nb.push_back({pk, wk, k});
-				const double dx = pk.x() - x.x(), dy = pk.y() - x.y();
+			for (const auto& q : nb)
+			{
+				const double wk = q.w, dx = q.pos.x() - x.x(), dy = q.pos.y() - x.y();
 				W += wk, sx += wk * dx, sy += wk * dy;
 				sxx += wk * dx * dx, sxy += wk * dx * dy, syy += wk * dy * dy;
-			});
+			}
 			if (nb.size() < 4) continue;
 			const double mx = sx / W, my = sy / W;
 			const double cxx = sxx / W - mx * mx, cxy = sxy / W - mx * my, cyy = syy / W - my * my;
