@@ -77,6 +77,23 @@ bool CAnchorGrid::buildDense(const std::vector<Eigen::Vector2d>& points)
 		index[to] = m_index[k];
 		m_pos[to] = points[m_index[k]];
 	}
+	// The same, row by row (cells by iy, then ix), for nearest()'s ring rows.
+	m_rowStart.assign(nCells + 1, 0);
+	for (size_t k = 0; k < n; ++k)
+	{
+		cellOf[k] = static_cast<uint32_t>((iys[k] - m_y0) * m_nx + (ixs[k] - m_x0));
+		++m_rowStart[cellOf[k] + 1];
+	}
+	for (size_t c = 0; c < nCells; ++c) m_rowStart[c + 1] += m_rowStart[c];
+	next.assign(m_rowStart.begin(), m_rowStart.end() - 1);
+	m_rowIndex.resize(n);
+	m_rowPos.resize(n);
+	for (size_t k = 0; k < n; ++k)
+	{
+		const uint32_t to = next[cellOf[k]]++;
+		m_rowIndex[to] = m_index[k];
+		m_rowPos[to] = points[m_index[k]];
+	}
 	m_index = std::move(index);
 	return true;
 }
@@ -92,9 +109,78 @@ const CAnchorGrid::TCell* CAnchorGrid::findCell(int64_t ix, int64_t iy) const
 	}
 }
 
+namespace
+{
+/** Position of cell (dx, dy) (relative to the query's cell) in the ring walk of
+ * CAnchorGrid::nearest: ring k = max(|dx|, |dy|), then (cx + i, cy - k), (cx + i, cy + k) for
+ * i = -k..k, then (cx - k, cy + j), (cx + k, cy + j) for j = -k+1..k-1. */
+std::pair<int64_t, int64_t> ringRank(int64_t dx, int64_t dy)
+{
+	const int64_t k = std::max(std::abs(dx), std::abs(dy));
+	if (k == 0) return {0, 0};
+	if (std::abs(dy) == k) return {k, 2 * (dx + k) + (dy > 0)};
+	return {k, 2 * (2 * k + 1) + 2 * (dy + k - 1) + (dx > 0)};
+}
+}  // namespace
+
+int CAnchorGrid::nearestDense(const Eigen::Vector2d& q, double maxDist, double* d2Out) const
+{
+	// The ring walk of nearest() with each ring read as four runs: its bottom and top rows
+	// from the row-major table, its left and right columns (corners excluded) from the
+	// column-major one. A ring holds the same points whatever the order, so the best
+	// distance after each ring, hence the stopping ring, are the ring walk's; of equally near
+	// points in different cells the one the ring walk visits first is kept (ringRank), in one
+	// cell the first of its run as there.
+	const int64_t cx = cellIndex(q.x(), m_cell), cy = cellIndex(q.y(), m_cell);
+	double best = maxDist * maxDist;
+	int bestIdx = -1;
+	Eigen::Vector2d bestPos(0, 0);
+	auto scan = [&](const std::vector<Eigen::Vector2d>& pos, const std::vector<uint32_t>& index,
+					uint32_t b, uint32_t e) {
+		for (uint32_t k = b; k < e; ++k)
+		{
+			const double d2 = (pos[k] - q).squaredNorm();
+			if (d2 < best) best = d2, bestIdx = static_cast<int>(index[k]), bestPos = pos[k];
+			else if (d2 == best && bestIdx >= 0 &&
+					 ringRank(cellIndex(pos[k].x(), m_cell) - cx, cellIndex(pos[k].y(), m_cell) - cy) <
+						 ringRank(cellIndex(bestPos.x(), m_cell) - cx, cellIndex(bestPos.y(), m_cell) - cy))
+				bestIdx = static_cast<int>(index[k]), bestPos = pos[k];
+		}
+	};
+	// Cells (ix, y0..y1) of the column table, (x0..x1, iy) of the row table, clipped to the box.
+	auto column = [&](int64_t ix, int64_t y0, int64_t y1) {
+		const int64_t dx = ix - m_x0, dy0 = std::max<int64_t>(y0 - m_y0, 0), dy1 = std::min(y1 - m_y0, m_ny - 1);
+		if (dx < 0 || dx >= m_nx || dy0 > dy1) return;
+		scan(m_pos, m_index, m_start[dx * m_ny + dy0], m_start[dx * m_ny + dy1 + 1]);
+	};
+	auto row = [&](int64_t iy, int64_t x0, int64_t x1) {
+		const int64_t dy = iy - m_y0, dx0 = std::max<int64_t>(x0 - m_x0, 0), dx1 = std::min(x1 - m_x0, m_nx - 1);
+		if (dy < 0 || dy >= m_ny || dx0 > dx1) return;
+		scan(m_rowPos, m_rowIndex, m_rowStart[dy * m_nx + dx0], m_rowStart[dy * m_nx + dx1 + 1]);
+	};
+	for (int64_t k = 0;; ++k)
+	{
+		if (k == 0) column(cx, cy, cy);
+		else
+		{
+			row(cy - k, cx - k, cx + k);
+			row(cy + k, cx - k, cx + k);
+			column(cx - k, cy - k + 1, cy + k - 1);
+			column(cx + k, cy - k + 1, cy + k - 1);
+		}
+		const double lb = std::min(
+			std::min(q.x() - (cx - k) * m_cell, (cx + k + 1) * m_cell - q.x()),
+			std::min(q.y() - (cy - k) * m_cell, (cy + k + 1) * m_cell - q.y()));
+		if (lb * lb >= best) break;
+	}
+	if (bestIdx >= 0 && d2Out) *d2Out = best;
+	return bestIdx;
+}
+
 int CAnchorGrid::nearest(const Eigen::Vector2d& q, double maxDist, double* d2Out) const
 {
 	if (m_pos.empty() || !(maxDist > 0)) return -1;
+	if (isDense()) return nearestDense(q, maxDist, d2Out);
 	// Ring search: ring k holds the cells at Chebyshev distance k from q's cell. After ring k,
 	// every unvisited point is at least `lb` away (distance from q to the border of the
 	// visited block), so the search stops once the best distance is <= lb or lb >= maxDist.

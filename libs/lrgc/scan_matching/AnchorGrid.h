@@ -81,6 +81,7 @@ private:
 			static_cast<uint32_t>(iy);
 	}
 	const TCell* findCell(int64_t ix, int64_t iy) const;
+	int nearestDense(const Eigen::Vector2d& q, double maxDist, double* d2Out) const;
 	/** Fills the dense table from the key-sorted m_index; false if the box is too large. */
 	bool buildDense(const std::vector<Eigen::Vector2d>& points);
 
@@ -91,6 +92,10 @@ private:
 	// Dense table: cell (m_x0 + i, m_y0 + j) holds the run [m_start[i m_ny + j], m_start[.. + 1])
 	std::vector<uint32_t> m_start;
 	int64_t m_x0 = 0, m_y0 = 0, m_nx = 0, m_ny = 0;
+	// The points again in row-major cell order: cell (m_x0 + i, m_y0 + j) holds
+	// [m_rowStart[j m_nx + i], m_rowStart[.. + 1]) of m_rowPos / m_rowIndex.
+	std::vector<uint32_t> m_rowStart, m_rowIndex;
+	std::vector<Eigen::Vector2d> m_rowPos;
 	double m_cell = 0.1;  // [m]
 };
 

@@ -145,3 +145,38 @@ TEST(AnchorGrid, cellIndexIsFloorOfTheRatio)
 			EXPECT_EQ(CAnchorGrid::cellIndex(v, cell), static_cast<int64_t>(std::floor(v / cell)))
 				<< v << " / " << cell;
 }
+
+TEST(AnchorGrid, equallyNearPointsResolvedAsTheRingWalkDoes)
+{
+	// Pairs of exactly representable points equally near a query, on its upper left and
+	// lower right (the ring walk meets the upper left one first, a row-by-row reading the
+	// lower right one), around many queries: the dense table (rings read as row and column
+	// runs) keeps the point the hash table's cell-by-cell ring walk finds first.
+	TCloud c;
+	std::vector<Eigen::Vector2d> queries;
+	for (int i = -30; i <= 30; i += 3)
+		for (int j = -30; j <= 30; j += 3)
+		{
+			const Eigen::Vector2d q(0.25 * i + 0.0625 * (j & 3), 0.25 * j + 0.0625 * (i & 3));
+			queries.push_back(q);
+			for (const double a : {0.125, 0.1875})
+			{
+				c.pts.push_back(q + Eigen::Vector2d(-a, a)), c.usable.push_back(true);
+				c.pts.push_back(q + Eigen::Vector2d(a, -a)), c.usable.push_back(true);
+			}
+		}
+	TCloud stray = c;
+	stray.pts.emplace_back(5000, 5000), stray.usable.push_back(true);
+	const CAnchorGrid dense(c.pts, c.usable, 0.1), hashed(stray.pts, stray.usable, 0.1);
+	ASSERT_TRUE(dense.isDense());
+	ASSERT_FALSE(hashed.isDense());
+	int upperLeft = 0;
+	for (size_t t = 0; t < queries.size(); ++t)
+	{
+		const int got = dense.nearest(queries[t], 0.5);
+		ASSERT_EQ(got, hashed.nearest(queries[t], 0.5)) << queries[t].transpose();
+		EXPECT_TRUE(got == static_cast<int>(4 * t) || got == static_cast<int>(4 * t + 1));
+		upperLeft += got == static_cast<int>(4 * t);
+	}
+	EXPECT_GT(upperLeft, 0);
+}
