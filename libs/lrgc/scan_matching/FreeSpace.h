@@ -17,6 +17,11 @@ namespace lrgc
 {
 struct TScan2D;
 
+/** Bearing bin of the direction (x, y) [m], (atan2(y, x) + pi) / (1 deg) truncated (0..360),
+ * computed without atan2 unless (x, y) lies within 1e-9 rad of a bin border: always the same
+ * bin as that formula. */
+long bearingBin(double x, double y);
+
 class CRangeImage
 {
 public:

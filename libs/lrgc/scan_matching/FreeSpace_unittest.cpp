@@ -5,6 +5,9 @@
 #include <lrgc/scan_matching/Scan.h>
 
 #include <cmath>
+#include <random>
+#include <utility>
+#include <vector>
 
 using namespace lrgc;
 
@@ -48,4 +51,31 @@ TEST(FreeSpace, aScanPushedIntoSeenFreeSpaceViolatesItAndTheTrueOneDoesNot)
 	EXPECT_LT(v, 0.75);
 	// Placed farther away: behind the seen wall, unknown space, no violation.
 	EXPECT_DOUBLE_EQ(views.scanViolation(wallScan(), {1.5, 0, 0}, 0.1), 0.0);
+}
+
+TEST(FreeSpace, bearingBinIsTheAtan2FormulaEverywhere)
+{
+	const double bin = M_PI / 180;
+	auto exact = [&](double x, double y) { return static_cast<long>((std::atan2(y, x) + M_PI) / bin); };
+	std::vector<std::pair<double, double>> dirs = {
+		{1, 0}, {-1, 0}, {-1, -0.0}, {0, 1}, {0, -1}, {0, 0}, {-0.0, 0}, {1, 1}, {-1, 1}, {-1, -1},
+		{1, -1}, {-5, 1e-300}, {-5, -1e-300}, {3, 1e-17}};
+	// Every bin border, on it and just either side of it (down to 1e-15 rad), at 3 ranges.
+	for (int b = 0; b <= 360; ++b)
+		for (const double off : {0.0, 1e-15, -1e-15, 1e-10, -1e-10, 1e-8, -1e-8, 1e-4, -1e-4, 0.5 * bin})
+			for (const double r : {0.05, 3.7, 81.0})
+			{
+				const double t = b * bin - M_PI + off;
+				dirs.emplace_back(r * std::cos(t), r * std::sin(t));
+			}
+	std::mt19937 rng(3);
+	std::uniform_real_distribution<double> u(-30, 30);
+	for (int i = 0; i < 200000; ++i) dirs.emplace_back(u(rng), u(rng));
+	size_t checked = 0;
+	for (const auto& [x, y] : dirs)
+	{
+		ASSERT_EQ(bearingBin(x, y), exact(x, y)) << "direction (" << x << ", " << y << ")";
+		++checked;
+	}
+	EXPECT_GT(checked, 200000u);
 }
