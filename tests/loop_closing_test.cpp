@@ -43,7 +43,7 @@ struct TRun
 	TLoopLinkAudit links;
 };
 
-TRun runRing(uint32_t worldSeed, double slip, bool loopClosing)
+TRun runRing(uint32_t worldSeed, double slip, bool loopClosing, size_t knownGroundCheckEvery = 1)
 {
 	const auto world = makeRingCorridorWorld(W, H, 2.0, worldSeed, 4);
 	const TTrajectory tr = slippingRing(slip);
@@ -52,6 +52,7 @@ TRun runRing(uint32_t worldSeed, double slip, bool loopClosing)
 	opt.laser.maxRange = 6;
 	TLRGCParams p;
 	p.builder.loop_closing = loopClosing;
+	p.loop.known_ground_check_every = knownGroundCheckEvery;
 	CMetricMapBuilderLRGC builder(p);
 	feedBuilder(builder, world, tr, opt);
 	EXPECT_EQ(builder.stats().scans, tr.truePoses.size());
@@ -110,4 +111,24 @@ TEST(LoopClosing, aTrueLoopWithLargeDriftIsClosed)
 	EXPECT_GT(on.stats.loopClosures, 0U);
 	EXPECT_EQ(on.links.enabledFalse, 0U) << on.links.firstEnabledFalse;
 	EXPECT_LT(on.error.finalXY, 0.25 * off.error.finalXY);
+}
+
+// [LoopCloser] known_ground_check_every = 2: once a check has added a link that agrees with
+// the map (the robot is back on ground it mapped, the loop already closed), the next keyframe
+// is not checked. After the ring's loop closes the robot drives a quarter turn more on known
+// ground: fewer checks (gate runs) there, the loop still closed by true links, the end as near
+// the truth as the every-keyframe run's bound.
+TEST(LoopClosing, onKnownGroundEverySecondKeyframeIsChecked)
+{
+	const TRun off = runRing(5, 1.09, false);
+	const TRun every = runRing(5, 1.09, true, 1);
+	const TRun second = runRing(5, 1.09, true, 2);
+	const auto checks = [](const TRun& r) { return r.loop.gatePropagations + r.loop.gateReuses; };
+	RecordProperty("checks_every", std::to_string(checks(every)));
+	RecordProperty("checks_second", std::to_string(checks(second)));
+	EXPECT_GT(every.loop.accepted, 2U);  // links on known ground, not only the closing one
+	EXPECT_LT(checks(second), checks(every));
+	EXPECT_GT(second.stats.loopClosures, 0U);
+	EXPECT_EQ(second.links.enabledFalse, 0U) << second.links.firstEnabledFalse;
+	EXPECT_LT(second.error.finalXY, 0.25 * off.error.finalXY);
 }

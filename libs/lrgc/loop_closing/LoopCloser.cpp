@@ -210,8 +210,10 @@ std::optional<std::vector<TRelativeUncertainty>> CLoopCloser::reuseGate(
 std::optional<TLoopClosure> CLoopCloser::process(CPoseGraph& graph, const TScanRefs& scans)
 {
 	m_lastRejection.clear();
-	if (++m_keyframesSinceCheck < m_params.check_every) return std::nullopt;
+	const size_t every = m_onKnownGround ? m_params.known_ground_check_every : m_params.check_every;
+	if (++m_keyframesSinceCheck < every) return std::nullopt;
 	m_keyframesSinceCheck = 0;
+	m_onKnownGround = false;
 	const size_t newest = graph.numNodes() - 1;
 	CCpuTimer gateTimer(m_stats.gateCpuSeconds);
 	const auto candidates = gate(graph, newest);
@@ -382,6 +384,7 @@ std::optional<TLoopClosure> CLoopCloser::process(CPoseGraph& graph, const TScanR
 		if (lc.rematchLinks > 0) m_optimizer.optimize(graph, 0), ++m_stats.optimizations;
 	}
 	++m_stats.accepted;
+	m_onKnownGround = !lc.optimized;
 	lc.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 	if (lc.optimized) m_stats.closureSeconds.push_back(lc.seconds);
 	return lc;

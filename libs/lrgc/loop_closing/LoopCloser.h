@@ -103,6 +103,7 @@ class CLoopCloser
 	};
 	std::optional<TGateCache> m_gateCache;
 	size_t m_keyframesSinceCheck = 0;
+	bool m_onKnownGround = false;  //!< the last check added a link that agreed with the map
 	size_t m_checksSinceAttempt = 0;  //!< for attempt_stride
 };
 

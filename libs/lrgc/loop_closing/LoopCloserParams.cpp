@@ -21,6 +21,8 @@ void TLoopCloserParams::loadFromConfigFile(
 	requireParam(confirm_above_sigma >= 0, s, "confirm_above_sigma", "must be >= 0");
 	consistent_chi2 = readDouble(c, s, "consistent_chi2", consistent_chi2);
 	check_every = readCount(c, s, "check_every", check_every);
+	known_ground_check_every =
+		readCount(c, s, "known_ground_check_every", known_ground_check_every);
 	gate_reuse_keyframes = readCount(c, s, "gate_reuse_keyframes", gate_reuse_keyframes);
 	match_ref_resolution = readDouble(c, s, "match_ref_resolution", match_ref_resolution);
 	requireParam(match_ref_resolution >= 0, s, "match_ref_resolution", "must be >= 0");
@@ -47,6 +49,8 @@ void TLoopCloserParams::loadFromConfigFile(
 	requireParam(consistent_chi2 > 0, s, "consistent_chi2", "must be > 0");
 	requireParam(check_every >= 1, s, "check_every", "must be >= 1");
 	requireParam(
+		known_ground_check_every >= 1, s, "known_ground_check_every", "must be >= 1");
+	requireParam(
 		gate_reuse_keyframes <= old_map_exclusion, s, "gate_reuse_keyframes",
 		mrpt::format("%zu must be <= old_map_exclusion (%zu)", gate_reuse_keyframes, old_map_exclusion));
 }
@@ -66,6 +70,7 @@ void TLoopCloserParams::saveToConfigFile(
 	c.write(s, "confirm_above_sigma", confirm_above_sigma, np, vp, "[m] Gate std above which a loop is closed only when a second, independent match agrees (0: never)");
 	c.write(s, "consistent_chi2", consistent_chi2, np, vp, "[chi2, 3 dof] A loop link this consistent is added without a full solve");
 	c.write(s, "check_every", uint64_t(check_every), np, vp, "Look for a loop every this many keyframes");
+	c.write(s, "known_ground_check_every", uint64_t(known_ground_check_every), np, vp, "After a check that added a loop link agreeing with the map (no solve), look again only every this many keyframes");
 	c.write(s, "gate_reuse_keyframes", uint64_t(gate_reuse_keyframes), np, vp, "[keyframes] The gate's whole-graph propagation serves this many later keyframes while the graph behind it is unchanged (0: every keyframe)");
 	c.write(s, "match_ref_resolution", match_ref_resolution, np, vp, "[m] Voxel side of the loop link's reference cloud, built from every old scan around (0: [ScanMatcher] ref_resolution)");
 	c.write(s, "patch_max_range", patch_max_range, np, vp, "[m] Patch points farther than this from the newest keyframe are left out of the correlation");
