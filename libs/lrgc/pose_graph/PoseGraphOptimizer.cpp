@@ -21,6 +21,8 @@
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
 
+#include <dlfcn.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -86,6 +88,20 @@ double totalChi2(const CPoseGraph& g)
 // --------------------------------------------------------------- sparse Cholesky (CHOLMOD)
 namespace
 {
+/** Debian's CHOLMOD is built with OpenMP, and a run's poses then depended on the threads
+ * OpenMP chose for it: two runs of Intel at once differed in the last digits of
+ * trajectory.tum (1 pair in 3), never with OMP_NUM_THREADS=1 (3 of 3 the same). One thread
+ * for this calling thread's parallel regions (an ICV per thread: the mapping thread and the
+ * loop-closing worker each call this), looked up at run time because lrgc itself is not
+ * built with OpenMP; a CHOLMOD without OpenMP has no such symbol and needs nothing. */
+void useOneOpenMpThread()
+{
+	using TSetNumThreads = void (*)(int);
+	static const auto set =
+		reinterpret_cast<TSetNumThreads>(dlsym(RTLD_DEFAULT, "omp_set_num_threads"));
+	if (set) set(1);
+}
+
 /** (H + lambda diag(H)) dx = -g by CHOLMOD's simplicial LL^T (the supernodal variant is
  * slower with the reference BLAS of Debian). The fill-reducing ordering is computed on the
  * 3x3-block pattern (one vertex per pose: METIS nested dissection, AMD if METIS fails),
@@ -112,6 +128,7 @@ public:
 	/** Factorises H + lambda diag(H); false if not positive definite. */
 	bool factorize(const detail::TNormalEquations& ne, double lambda)
 	{
+		useOneOpenMpThread();
 		if (!m_L || ne.colPtr != m_colPtr || ne.rowIdx != m_rowIdx) analyze(ne);
 		double* Ax = static_cast<double*>(m_A->x);
 		std::copy(ne.values.begin(), ne.values.end(), Ax);
