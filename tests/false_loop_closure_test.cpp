@@ -38,7 +38,11 @@ const TBuiltMap& builtMap()
 									   0.2, TOdometryNoise{}, 13);
 		TSyntheticRunOptions opt;
 		opt.laser.maxRange = 10;
-		lrgc::CMetricMapBuilderLRGC builder;
+		// Keyframes on the revisited leg too (without keyframe reuse): the injected links
+		// pair keyframes of the two passes.
+		lrgc::TLRGCParams p;
+		p.reuse.enabled = false;
+		lrgc::CMetricMapBuilderLRGC builder(p);
 		feedBuilder(builder, world, tr, opt);
 		TBuiltMap b{builder.graph(), trueKeyframePoses(builder, tr.truePoses), 0};
 		for (size_t id = 0; id < b.graph.numLinks(); ++id)

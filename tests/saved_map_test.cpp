@@ -74,8 +74,12 @@ struct TMapA
 		{{1.5, 1.2}, {8.5, 1.2}, {8.5, 5.8}, {1.5, 5.8}, {1.5, 1.2}, {8.5, 1.2}, {8.5, 5.8}},
 		0.1, TOdometryNoise{}, 5);
 	CMetricMapBuilderLRGC builder;
-	TMapA()
+	/** reuse = false: the second round adds its keyframes too (as icp-slam's maps do). */
+	explicit TMapA(bool reuse = true)
 	{
+		lrgc::TLRGCParams p;
+		p.reuse.enabled = reuse;
+		builder.setParams(p);
 		TSyntheticRunOptions opt;
 		feedBuilder(builder, world, tr, opt);
 	}
@@ -126,7 +130,7 @@ TEST(SavedMap, theWholeGraphComesBackExactly)
 
 TEST(SavedMap, aPlainSimplemapKeepsItsPosesAndItsLoops)
 {
-	const TMapA a;
+	const TMapA a(false);  // a map whose keyframes revisit its places
 	mrpt::maps::CSimpleMap keyframes;
 	a.builder.getCurrentlyBuiltMap(keyframes);
 	CMetricMapBuilderLRGC b;

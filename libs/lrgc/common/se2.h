@@ -71,6 +71,17 @@ inline TPose2D fromVector(const Eigen::Vector3d& v)
 	return {v.x(), v.y(), mrpt::math::wrapToPi(v.z())};
 }
 
+/** A covariance over (x [m], y [m], phi [rad]) given in the axes of a frame at heading phi,
+ * in the axes of its parent frame (the map's): R(phi) C R(phi)^T. With -phi, from the
+ * parent's axes into the frame's. */
+inline Eigen::Matrix3d rotateCovariance(const Eigen::Matrix3d& C, double phi)
+{
+	Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
+	const double c = std::cos(phi), s = std::sin(phi);
+	R.topLeftCorner<2, 2>() << c, -s, s, c;
+	return R * C * R.transpose();
+}
+
 /** Translation norm [m]. */
 inline double translationNorm(const TPose2D& p) { return std::hypot(p.x, p.y); }
 

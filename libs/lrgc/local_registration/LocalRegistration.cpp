@@ -6,6 +6,7 @@
 #include <mrpt/config/CConfigFileBase.h>
 
 #include <Eigen/Dense>
+#include <algorithm>
 
 namespace lrgc
 {
@@ -22,27 +23,27 @@ CLocalRegistration::CLocalRegistration(
 	m_matcher = CScanMatcher(m_matcherParams);
 }
 
-std::vector<size_t> CLocalRegistration::windowNodes(const CPoseGraph& graph) const
+void CLocalRegistration::enterKeyframe(size_t node, bool reused, const CPoseGraph& graph)
 {
-	const size_t n = graph.numNodes();
-	const size_t first =
-		std::max(m_windowStart, n > m_params.window_size ? n - m_params.window_size : 0);
-	std::vector<size_t> nodes;
-	for (size_t i = first; i < n; ++i) nodes.push_back(i);
-	return nodes;
+	if (const auto it = std::find(m_window.begin(), m_window.end(), node); it != m_window.end())
+		m_window.erase(it);
+	m_window.push_back(node);
+	while (m_window.size() > m_params.window_size) m_window.pop_front();
+	if (reused) m_firstFree = graph.numNodes();
+	m_cloudNewest.reset();
 }
 
 const CReferenceCloud& CLocalRegistration::windowCloud(
 	const CPoseGraph& graph, const TKeyframes& keyframes)
 {
-	const size_t newest = graph.numNodes() - 1;
+	const size_t newest = m_window.back();
 	if (m_cloudNewest == newest) return m_cloud;
 	// The patch: every window scan with its pose in the newest keyframe's frame,
 	// (newest <- node); the cloud keeps their range images for the free-space check.
 	const TPose2D newestInMap = graph.pose(newest);
 	std::vector<TScan2D> scans;
 	std::vector<TPose2D> scansInNewest;
-	for (const size_t node : windowNodes(graph))
+	for (const size_t node : m_window)
 	{
 		scans.push_back(keyframes[node].scan);
 		scansInNewest.push_back(between(newestInMap, graph.pose(node)));
@@ -68,7 +69,7 @@ TRegistration CLocalRegistration::registerScan(
 	const Eigen::Matrix3d& priorCov = prediction.cov;
 	TRegistration reg{priorInMap, priorCov, false, false};
 	m_lastPatchMatch.reset();
-	if (graph.numNodes() <= m_windowStart) return reg;  // no keyframe of this session yet
+	if (m_window.empty()) return reg;  // no keyframe of this session yet
 	const CReferenceCloud& cloud = windowCloud(graph, keyframes);
 	const TPose2D newestInMap = graph.pose(*m_cloudNewest);
 	const TPose2D guess = between(newestInMap, priorInMap);
@@ -106,30 +107,27 @@ TRegistration CLocalRegistration::registerScan(
 		m_lastPatchMatch = TPatchMatch{*m_cloudNewest, match->scanInRef, match->cov};
 	reg.odometryRejected = disagreement(*match) > m_params.glitch_gate_chi2;
 	reg.scanInMap = compose(newestInMap, match->scanInRef);
-	// Rotate the covariance from the newest keyframe's axes to the map axes.
-	const double c = std::cos(newestInMap.phi), s = std::sin(newestInMap.phi);
-	Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
-	R.topLeftCorner<2, 2>() << c, -s, s, c;
-	reg.cov = R * match->cov * R.transpose();
+	reg.cov = rotateCovariance(match->cov, newestInMap.phi);  // newest keyframe's axes -> map's
 	return reg;
 }
 
 size_t CLocalRegistration::linkAndOptimize(
 	CPoseGraph& graph, const TKeyframes& keyframes, const TLink& odometryLink)
 {
-	const size_t newNode = graph.numNodes() - 1;
+	const size_t newNode = odometryLink.to;
+	ASSERT_(!m_window.empty() && m_window.back() == newNode);
 	graph.addLink(odometryLink);
-	const std::vector<size_t> window = windowNodes(graph);
+	const std::vector<size_t> window(m_window.begin(), m_window.end());
 	// Pairwise matches of the new scan against up to max_pairwise_links window scans, the
-	// previous keyframe first, then spread evenly back over the window (Lu & Milios' links).
+	// previous anchor first, then spread evenly back over the window (Lu & Milios' links).
 	const size_t older = window.size() - 1;  // window nodes other than the new one
 	const size_t links = std::min(m_params.max_pairwise_links, older);
 	size_t added = 0;
 	// Scan to map: the keyframe's registration against the window patch, in the frame of
-	// the patch's reference node (the previous keyframe). Without it (the patch match failed)
+	// the patch's reference node (the previous anchor). Without it (the patch match failed)
 	// the pairwise links keep their full weight: they are all the scans say then.
 	double pairwiseWeight = 1.0;
-	if (m_params.patch_link && m_lastPatchMatch && m_lastPatchMatch->node == newNode - 1)
+	if (m_params.patch_link && m_lastPatchMatch && m_lastPatchMatch->node == odometryLink.from)
 	{
 		pairwiseWeight = m_params.pairwise_link_weight;
 		graph.addLink(
@@ -141,7 +139,7 @@ size_t CLocalRegistration::linkAndOptimize(
 	m_lastPatchMatch.reset();
 	for (size_t l = 0; l < links; ++l)
 	{
-		const size_t node = newNode - 1 - (l * older) / links;
+		const size_t node = window[older - 1 - (l * older) / links];
 		const TPose2D guess = between(graph.pose(node), graph.pose(newNode));
 		const auto m = m_matcher.match(keyframeCloud(node, keyframes), keyframes[newNode].scan, guess);
 		if (!m || m->inlierFraction < m_params.min_link_inliers) continue;
@@ -151,11 +149,12 @@ size_t CLocalRegistration::linkAndOptimize(
 			 LinkType::ScanMatch});
 		++added;
 	}
-	// Node 0 anchors the map frame (gauge): it never moves.
+	// Node 0 anchors the map frame (gauge): it never moves; nor do keyframes the robot came
+	// back to (the map's), nor any node older than the last of those.
 	std::vector<size_t> freeNodes;
 	for (const size_t node : window)
-		if (node != 0) freeNodes.push_back(node);
-	m_optimizer.optimizeSubset(graph, freeNodes);
+		if (node != 0 && node >= m_firstFree) freeNodes.push_back(node);
+	if (!freeNodes.empty()) m_optimizer.optimizeSubset(graph, freeNodes);
 	m_cloudNewest.reset();  // window poses moved
 	return added;
 }

@@ -1,7 +1,9 @@
 /* CLocalRegistration: LRGC's local registration (Gutmann & Konolige, section 2.2, use 1).
  *
  * Each new scan is matched against a local patch made of the last K keyframes' scans (in the
- * frame of the newest keyframe), which gives its pose. When the scan becomes a keyframe it is
+ * frame of the newest keyframe), which gives its pose. The window is the last K distinct
+ * keyframes the robot was at (enterKeyframe): the newest ones, or on ground the map already
+ * has, existing keyframes it came back to (CKeyframeReuse); those are held fixed. When the scan becomes a keyframe it is
  * linked to the previous keyframe by odometry and by that patch match (the "patch link", scan
  * to map; with an odometry prior only), and to window keyframes it overlaps by pairwise scan
  * matches (down-weighted when the patch link is there), and consistent pose estimation (Lu &
@@ -67,9 +69,21 @@ class CLocalRegistration
 		const CPoseGraph& graph, const TKeyframes& keyframes, const TScan2D& scan,
 		const mrpt::math::TPose2D& priorInMap, const TMotionPrediction& prediction);
 
-	/** Links the newest node (just added to `graph` at its registered pose) to the window:
-	 * `odometryLink` (from the previous keyframe) plus pairwise scan matches, then optimises
-	 * the window. Returns the number of scan-match links added. */
+	/** The robot is now at keyframe `node`: the window's newest entry, the frame of its patch.
+	 * A new keyframe (just added to the graph), or with `reused` an existing one it came back
+	 * to: the window solve then holds every node older than the graph's newest fixed (they
+	 * belong to the map, and the grid's settled part stays settled). */
+	void enterKeyframe(size_t node, bool reused, const CPoseGraph& graph);
+
+	/** The keyframe the window is anchored at (its newest entry); none before the first. */
+	std::optional<size_t> anchor() const
+	{
+		return m_window.empty() ? std::nullopt : std::optional<size_t>(m_window.back());
+	}
+
+	/** Links the newest node (just added to `graph` at its registered pose and entered) to
+	 * the window: `odometryLink` (from the previous anchor) plus the patch link and pairwise
+	 * scan matches, then optimises the window. Returns the number of scan-match links added. */
 	size_t linkAndOptimize(
 		CPoseGraph& graph, const TKeyframes& keyframes, const TLink& odometryLink);
 
@@ -81,13 +95,16 @@ class CLocalRegistration
 	 * its own keyframes, not against the old map's last ones. */
 	void setWindowStart(size_t first)
 	{
-		m_windowStart = first;
+		m_window.clear();
+		m_firstFree = first;
 		m_cloudNewest.reset();
 		m_keyframeClouds.clear();
 	}
 
+	/** The window's keyframes, oldest first. */
+	const std::deque<size_t>& window() const { return m_window; }
+
    private:
-	std::vector<size_t> windowNodes(const CPoseGraph& graph) const;
 	const CReferenceCloud& windowCloud(const CPoseGraph& graph, const TKeyframes& keyframes);
 
 	TLocalRegistrationParams m_params;
@@ -107,8 +124,9 @@ class CLocalRegistration
 	std::optional<TPatchMatch> m_lastPatchMatch;
 
 	CReferenceCloud m_cloud;  //!< window patch in the frame of node *m_cloudNewest
-	std::optional<size_t> m_cloudNewest;
-	size_t m_windowStart = 0;  //!< first node of the current session (setWindowStart)
+	std::optional<size_t> m_cloudNewest;  //!< reset whenever the window or its poses change
+	std::deque<size_t> m_window;  //!< the last K distinct keyframes entered, oldest first
+	size_t m_firstFree = 0;  //!< the window solve moves only nodes >= this (and never node 0)
 	/** Reference cloud of each window keyframe's own scan, for pairwise links. */
 	std::deque<std::pair<size_t, CReferenceCloud>> m_keyframeClouds;
 };

@@ -77,6 +77,7 @@ TEST(LocalRegistration, windowConvergesToTruthAndOnlyTheLastKPosesMove)
 	// The graph is in the world frame; node 0 (the gauge) sits at its true pose.
 	CPoseGraph graph;
 	graph.addNode(truth[0]);
+	local.enterKeyframe(0, false, graph);
 	TKeyframes keyframes{run.keyframes[0]};
 	double worstPrior = 0, worstXY = 0, worstPhi = 0;
 	for (size_t n = 1; n < truth.size(); ++n)
@@ -86,6 +87,7 @@ TEST(LocalRegistration, windowConvergesToTruthAndOnlyTheLastKPosesMove)
 		const TPose2D prior = compose(graph.pose(n - 1), run.tr.odometryIncrements[n - 1]);
 		worstPrior = std::max(worstPrior, positionError(truth[n], prior));
 		graph.addNode(prior);
+		local.enterKeyframe(n, false, graph);
 		keyframes.push_back(run.keyframes[n]);
 		const std::vector<TPose2D> before = graph.poses();
 
@@ -131,6 +133,7 @@ TEST(LocalRegistration, windowConvergesToTruthAndOnlyTheLastKPosesMove)
 	keyframes.push_back(extra);
 	const TPose2D step(0.3, 0.02, 0.01);
 	graph.addNode(compose(graph.pose(n0 - 1), step));
+	local.enterKeyframe(n0, false, graph);
 	const std::vector<TPose2D> before = graph.poses();
 	local.linkAndOptimize(
 		graph, keyframes,
@@ -157,6 +160,9 @@ TEST(LocalRegistration, registerScanFromARoughPriorAndAGlitchOnlyByTheWideSearch
 	TKeyframes keyframes;
 	for (size_t i = 0; i < 6; ++i)
 		graph.addNode(truth[i]), keyframes.push_back(run.keyframes[i]);
+	const auto enterWindow = [&graph](CLocalRegistration& local) {
+		for (size_t i = 0; i < 6; ++i) local.enterKeyframe(i, false, graph);
+	};
 	// The scan 15 cm past the newest keyframe.
 	const TPose2D scanTruth = compose(truth[5], TPose2D(0.15, 0, 0));
 	std::mt19937 rng(5);
@@ -175,6 +181,7 @@ TEST(LocalRegistration, registerScanFromARoughPriorAndAGlitchOnlyByTheWideSearch
 
 	{  // A prior 12 cm / 4 deg off, consistent with its covariance.
 		CLocalRegistration local(p.local, p.matcher, p.optimizer);
+		enterWindow(local);
 		const TPose2D prior = compose(scanTruth, TPose2D(0.08, -0.09, 0.07));
 		const TRegistration reg =
 			local.registerScan(graph, keyframes, scan, prior, step(0.0));
@@ -188,6 +195,7 @@ TEST(LocalRegistration, registerScanFromARoughPriorAndAGlitchOnlyByTheWideSearch
 	const TPose2D glitchPrior = compose(scanTruth, TPose2D(0, 0, 70 * M_PI / 180));
 	{  // The prior is suspect (its step turns more than glitch_min_turn): wide search.
 		CLocalRegistration local(p.local, p.matcher, p.optimizer);
+		enterWindow(local);
 		const TRegistration reg =
 			local.registerScan(graph, keyframes, scan, glitchPrior, step(70 * M_PI / 180));
 		ASSERT_TRUE(reg.matched);
@@ -198,6 +206,7 @@ TEST(LocalRegistration, registerScanFromARoughPriorAndAGlitchOnlyByTheWideSearch
 	}
 	{  // The same prior, but its step looks harmless: the first failure keeps the prior.
 		CLocalRegistration local(p.local, p.matcher, p.optimizer);
+		enterWindow(local);
 		const TRegistration reg =
 			local.registerScan(graph, keyframes, scan, glitchPrior, step(0.0));
 		EXPECT_FALSE(reg.matched);
@@ -208,6 +217,7 @@ TEST(LocalRegistration, registerScanFromARoughPriorAndAGlitchOnlyByTheWideSearch
 		TLRGCParams narrow = p;
 		narrow.local.wide_search_angle = 0;
 		CLocalRegistration local(narrow.local, narrow.matcher, narrow.optimizer);
+		enterWindow(local);
 		const TRegistration reg =
 			local.registerScan(graph, keyframes, scan, glitchPrior, step(70 * M_PI / 180));
 		EXPECT_FALSE(reg.matched);
@@ -232,6 +242,7 @@ TEST(LocalRegistration, keyframeRegisteredAgainstThePatchGetsThePatchLink)
 		for (size_t i = 0; i < 6; ++i)
 		{
 			graph.addNode(truth[i]), keyframes.push_back(run.keyframes[i]);
+			local.enterKeyframe(i, false, graph);
 			if (i > 0)
 				graph.addLink(
 					{i - 1, i, between(truth[i - 1], truth[i]), Eigen::Matrix3d::Identity() * 1e4,
@@ -248,6 +259,7 @@ TEST(LocalRegistration, keyframeRegisteredAgainstThePatchGetsThePatchLink)
 		ASSERT_TRUE(reg.matched);
 		EXPECT_LT(positionError(truth[n], reg.scanInMap), kTolXY);
 		graph.addNode(reg.scanInMap);
+		local.enterKeyframe(n, false, graph);
 		keyframes.push_back(run.keyframes[n]);
 		const size_t linksBefore = graph.numLinks();
 		local.linkAndOptimize(
@@ -272,4 +284,58 @@ TEST(LocalRegistration, keyframeRegisteredAgainstThePatchGetsThePatchLink)
 		EXPECT_LT(positionError(truth[n], graph.pose(n)), kTolXY);
 		EXPECT_LT(headingError(truth[n], graph.pose(n)), kTolPhi);
 	}
+}
+
+TEST(LocalRegistration, aReusedKeyframeAnchorsThePatchAndIsHeldFixed)
+{
+	// A window of keyframes 0..5 at their true poses; the robot comes back to keyframe 2
+	// (CKeyframeReuse): it becomes the window's anchor, the scans are registered in its frame,
+	// and the window solve of the next new keyframe moves that one only.
+	const TKnownRun run;
+	const auto& truth = run.tr.truePoses;
+	TLRGCParams p;
+	CLocalRegistration local(p.local, p.matcher, p.optimizer);
+	CPoseGraph graph;
+	TKeyframes keyframes;
+	for (size_t i = 0; i < 6; ++i)
+	{
+		graph.addNode(truth[i]), keyframes.push_back(run.keyframes[i]);
+		local.enterKeyframe(i, false, graph);
+		if (i > 0)
+			graph.addLink({i - 1, i, between(truth[i - 1], truth[i]),
+						   Eigen::Matrix3d::Identity() * 1e4, LinkType::ScanMatch});
+	}
+	local.enterKeyframe(2, true, graph);
+	ASSERT_EQ(local.anchor(), std::optional<size_t>(2));
+	EXPECT_EQ(local.window().size(), 6U);  // 2 moved to the newest end, not doubled
+
+	lrgc::TMotionPrediction pred;
+	pred.motion = TPose2D(0.05, 0, 0);
+	pred.cov = CMotionPredictor().odometryCov(TPose2D(0.3, 0, 0));
+	pred.fromOdometry = true;
+	pred.stepSeconds = 0.2;
+	const TPose2D prior = compose(truth[6], TPose2D(0.04, -0.03, 0.02));
+	const TRegistration reg =
+		local.registerScan(graph, keyframes, run.keyframes[6].scan, prior, pred);
+	ASSERT_TRUE(reg.matched);
+	EXPECT_LT(positionError(truth[6], reg.scanInMap), kTolXY);
+
+	graph.addNode(reg.scanInMap), keyframes.push_back(run.keyframes[6]);
+	local.enterKeyframe(6, false, graph);
+	const std::vector<TPose2D> before = graph.poses();
+	const TPose2D odo = between(truth[2], truth[6]);
+	local.linkAndOptimize(
+		graph, keyframes,
+		{2, 6, odo, CMotionPredictor().odometryCov(odo).inverse(), LinkType::Odometry});
+	for (size_t i = 0; i < 6; ++i)
+		EXPECT_TRUE(graph.pose(i).x == before[i].x && graph.pose(i).y == before[i].y &&
+					graph.pose(i).phi == before[i].phi)
+			<< "keyframe " << i << " belongs to the map but moved";
+	// The patch link comes from the anchor, keyframe 2 (links: 5 chain, odometry, patch).
+	ASSERT_GT(graph.numLinks(), 6U);
+	const TLink& patch = graph.link(6);
+	EXPECT_EQ(patch.from, 2U);
+	EXPECT_EQ(patch.to, 6U);
+	EXPECT_LT(positionError(truth[6], graph.pose(6)), kTolXY);
+	EXPECT_LT(headingError(truth[6], graph.pose(6)), kTolPhi);
 }

@@ -13,18 +13,6 @@ namespace lrgc
 {
 using mrpt::math::TPose2D;
 
-namespace
-{
-/** A covariance of (x, y, phi) in the axes of a frame at heading `phi`, in map axes. */
-Eigen::Matrix3d toMapAxes(const Eigen::Matrix3d& cov, double phi)
-{
-	Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
-	const double c = std::cos(phi), s = std::sin(phi);
-	R.topLeftCorner<2, 2>() << c, -s, s, c;
-	return R * cov * R.transpose();
-}
-}  // namespace
-
 CLocalizer::CLocalizer(
 	const CPoseGraph& map, const TKeyframes& keyframes, const TLRGCParams& params,
 	const TLocalizationParams& localization)
@@ -178,7 +166,7 @@ bool CLocalizer::track(const TScan2D& scan, mrpt::Clock::time_point t)
 {
 	const TMotionPrediction pred = m_predictor->predict(t);
 	const TPose2D prior = compose(m_pose, pred.motion);
-	const Eigen::Matrix3d priorCov = m_driftCov + toMapAxes(pred.cov, m_pose.phi);
+	const Eigen::Matrix3d priorCov = m_driftCov + rotateCovariance(pred.cov, m_pose.phi);
 	TPose2D pose = prior;
 	bool good = false;
 	if (referenceNear(prior))
@@ -192,7 +180,7 @@ bool CLocalizer::track(const TScan2D& scan, mrpt::Clock::time_point t)
 		good = m && m->inlierFraction >= m_lp.min_inliers &&
 			disagreementChi2(
 				guess, m->scanInRef,
-				toMapAxes(priorCov, -m_refInMap.phi) + m->cov + Eigen::Matrix3d(floor2.asDiagonal())) <=
+				rotateCovariance(priorCov, -m_refInMap.phi) + m->cov + Eigen::Matrix3d(floor2.asDiagonal())) <=
 				m_lp.gate_chi2;
 		if (good) pose = compose(m_refInMap, m->scanInRef);
 	}

@@ -5,6 +5,7 @@
 #include <lrgc/local_registration/MotionPredictor.h>
 #include <lrgc/local_registration/SweepEstimator.h>
 #include <lrgc/loop_closing/LoopClosingWorker.h>
+#include <lrgc/map_builder/KeyframeReuse.h>
 
 #include <Eigen/Dense>
 #include <chrono>
@@ -106,31 +107,47 @@ void CMetricMapBuilderLRGC::processScan(
 	m_lastScanCov = reg.cov;
 	const size_t scanIndex = m_stats.scans++;
 
-	// 3. Keyframe: add to the graph, link to the window, re-estimate the window.
+	// 3. Keyframe: add to the graph, link to the window, re-estimate the window; or, on
+	// ground the map already has, anchor at the keyframe there (CKeyframeReuse).
 	const bool sessionStart = m_sessionStartCov.has_value();
-	if (m_graph.numNodes() == 0 || sessionStart || isNewKeyframe(reg.scanInMap))
+	const bool atStart = m_graph.numNodes() == 0 || sessionStart;
+	if (!atStart && !isNewKeyframe(reg.scanInMap))
+		m_scans.push_back(
+			{laser->timestamp, anchor(), between(m_graph.pose(anchor()), reg.scanInMap)});
+	else if (const auto reused = atStart || !reg.matched || reg.odometryRejected || reg.wideSearch
+			 ? std::nullopt
+			 : m_reuse->reusableKeyframe(
+				   m_graph, m_keyframes, scan, reg.scanInMap, reg.cov, anchor(),
+				   m_local->window()))
 	{
+		++m_stats.keyframesReused;
+		linkReused(*reused, reg);
+		m_local->enterKeyframe(reused->node, true, m_graph);
+		const TPose2D inNode = between(m_graph.pose(reused->node), reg.scanInMap);
+		m_motionSinceKeyframe = inNode;  // the odometry link of a later keyframe starts here
+		m_anchorOffset = inNode;
+		m_scans.push_back({laser->timestamp, reused->node, inNode});
+	}
+	else
+	{
+		const std::optional<size_t> previous = m_local->anchor();
 		const size_t node =
 			addKeyframe(laser, observations, std::move(scan), reg.scanInMap, scanIndex);
+		m_local->enterKeyframe(node, false, m_graph);
 		if (sessionStart) linkSessionStart(node);  // to the old map, by a scan match
-		else if (node > 0)
+		else if (previous)
 		{
-			m_stats.scanMatchLinks +=
-				m_local->linkAndOptimize(m_graph, m_keyframes, odometryLinkToNewest());
+			m_stats.scanMatchLinks += m_local->linkAndOptimize(
+				m_graph, m_keyframes, odometryLink(*previous, node));
 			++m_stats.odometryLinks;
 			// 4. Look for a loop and close it (in the background).
 			if (m_loopWorker) serviceLoopClosing(true);
 		}
 		m_lastScanInMap = m_graph.pose(node);
 		m_motionSinceKeyframe = TPose2D(0, 0, 0);
+		m_anchorOffset = TPose2D(0, 0, 0);
 		m_odometryTrustedSinceKeyframe = true;
 		m_scans.push_back({laser->timestamp, node, TPose2D(0, 0, 0)});
-	}
-	else
-	{
-		const size_t newest = m_graph.numNodes() - 1;
-		m_scans.push_back(
-			{laser->timestamp, newest, between(m_graph.pose(newest), reg.scanInMap)});
 	}
 	m_metricMapDirty = true;
 }
@@ -188,12 +205,13 @@ void CMetricMapBuilderLRGC::applyLoopResult(TLoopJobResult&& r)
 	const size_t k = r.newest, n = m_graph.numNodes();
 	if (!r.poses.empty())
 	{
-		const TPose2D oldK = m_graph.pose(k), oldNewest = m_graph.pose(n - 1);
+		const size_t at = anchor();
+		const TPose2D oldK = m_graph.pose(k), oldAnchor = m_graph.pose(at);
 		for (size_t i = 0; i < r.poses.size(); ++i) m_graph.setPose(r.firstMoved + i, r.poses[i]);
 		const TPose2D newK = m_graph.pose(k);
 		for (size_t i = k + 1; i < n; ++i)
 			m_graph.setPose(i, compose(newK, between(oldK, m_graph.pose(i))));
-		m_lastScanInMap = compose(m_graph.pose(n - 1), between(oldNewest, m_lastScanInMap));
+		m_lastScanInMap = compose(m_graph.pose(at), between(oldAnchor, m_lastScanInMap));
 		m_local->invalidate();
 	}
 	// Links added here since the job go to the worker with the next one, before these.
@@ -202,6 +220,8 @@ void CMetricMapBuilderLRGC::applyLoopResult(TLoopJobResult&& r)
 	for (size_t i = 0; i < r.links.size(); ++i)
 		if (const size_t id = m_graph.addLink(r.links[i]); !r.linkEnabled[i])
 			m_graph.setLinkEnabled(id, false);
+		else if (r.links[i].type == LinkType::LoopClosure)
+			m_reuse->noteLoopLink(std::max(r.links[i].from, r.links[i].to));
 	m_linkWatermark = m_graph.numLinks();
 	m_metricMapDirty = true;
 	++m_loopResultsApplied;
@@ -245,9 +265,36 @@ TPose2D CMetricMapBuilderLRGC::sweepMotion(const TMotionPrediction& prediction) 
 	return TPose2D(k * prediction.motion.x, k * prediction.motion.y, k * prediction.motion.phi);
 }
 
+// The scan that moves the robot's anchor from keyframe a to an existing keyframe c measures
+// their relative pose, as the reduced pose graph keeps a revisit's evidence (Johannsson et
+// al. 2013): (a <- scan) from its registration against the window patch (in a's frame), and
+// (c <- scan) from its match against c's scan, so
+//     Z_ac = (a <- scan) (+) (c <- scan)^-1,  C_ac ~ C_a + R(Z_ac.phi) C_c R^T
+// (the lever arm left out: the scan is within the cover radius of both). A loop link (the
+// scans were taken at different times; robust in the whole-graph solves), with the loop
+// links' noise floor.
+void CMetricMapBuilderLRGC::linkReused(const TReusedKeyframe& c, const TRegistration& reg)
+{
+	const size_t a = anchor();
+	const TPose2D aInMap = m_graph.pose(a);
+	const TPose2D scanInA = between(aInMap, reg.scanInMap);
+	const TPose2D z = compose(scanInA, inverse(c.scanInNode));
+	const Eigen::Matrix3d covA = rotateCovariance(reg.cov, -aInMap.phi);  // map axes -> a's
+	const Eigen::Matrix3d covC = rotateCovariance(c.cov, z.phi);  // c's axes -> a's
+	m_graph.addLink(
+		{a, c.node, z, linkInformation(covA + covC, m_params.loop.link_noise),
+		 LinkType::LoopClosure});
+	++m_stats.loopClosureLinks;
+}
+
+size_t CMetricMapBuilderLRGC::anchor() const
+{
+	return m_local->anchor().value_or(m_graph.numNodes() - 1);
+}
+
 bool CMetricMapBuilderLRGC::isNewKeyframe(const TPose2D& scanInMap) const
 {
-	const TPose2D d = between(m_graph.pose(m_graph.numNodes() - 1), scanInMap);
+	const TPose2D d = between(compose(m_graph.pose(anchor()), m_anchorOffset), scanInMap);
 	return translationNorm(d) >= m_params.builder.keyframe_distance ||
 		std::abs(d.phi) >= m_params.builder.keyframe_angle;
 }
@@ -264,13 +311,13 @@ size_t CMetricMapBuilderLRGC::addKeyframe(
 	return node;
 }
 
-// The odometry link (previous keyframe -> newest keyframe): the odometry motion composed
-// over the scans in between with its proportional noise; where odometry was absent or
+// The odometry link (the anchor keyframe `from` -> the new keyframe `to`): the odometry
+// motion composed over the scans in between with its proportional noise (from a reused
+// keyframe: its registered offset, then the odometry); where odometry was absent or
 // rejected as a glitch, the registered motion with the weak constant-velocity noise, so
 // the graph stays connected without the link pulling the map.
-TLink CMetricMapBuilderLRGC::odometryLinkToNewest() const
+TLink CMetricMapBuilderLRGC::odometryLink(size_t from, size_t to) const
 {
-	const size_t to = m_graph.numNodes() - 1, from = to - 1;
 	TLink link;
 	link.from = from;
 	link.to = to;

@@ -47,6 +47,9 @@ class CMotionPredictor;
 class CLocalRegistration;
 class CSweepEstimator;
 class CLoopClosingWorker;
+class CKeyframeReuse;
+struct TReusedKeyframe;
+struct TRegistration;
 struct TLoopJobResult;
 struct TMotionPrediction;
 
@@ -55,6 +58,9 @@ struct TMapBuilderStats
 {
 	size_t scans = 0;  //!< laser scans placed in the trajectory
 	size_t keyframes = 0;
+	/** Times a scan due to become a keyframe was anchored at an existing one instead
+	 * (CKeyframeReuse: ground the map already has). */
+	size_t keyframesReused = 0;
 	size_t skippedScans = 0;  //!< too few valid returns
 	size_t unmatchedScans = 0;  //!< no acceptable local match: the prediction was kept
 	size_t odometryRejected = 0;  //!< scans whose match disagreed with odometry beyond the gate
@@ -171,13 +177,16 @@ class CMetricMapBuilderLRGC : public mrpt::slam::CMetricMapBuilder
 	void serviceLoopClosing(bool atKeyframe);
 	void applyLoopResult(TLoopJobResult&& r);
 	bool isNewKeyframe(const mrpt::math::TPose2D& scanInMap) const;
+	/** The keyframe the robot is at: the scans hang from it, keyframe distances count from it. */
+	size_t anchor() const;
+	void linkReused(const TReusedKeyframe& c, const TRegistration& reg);
 	double stepSeconds(const TMotionPrediction& prediction) const;
 	mrpt::math::TPose2D sweepMotion(const TMotionPrediction& prediction) const;
 	size_t addKeyframe(
 		const mrpt::obs::CObservation2DRangeScan::Ptr& laser,
 		const mrpt::obs::CSensoryFrame::Ptr& observations, TScan2D&& scan,
 		const mrpt::math::TPose2D& scanInMap, size_t scanIndex);
-	TLink odometryLinkToNewest() const;
+	TLink odometryLink(size_t from, size_t to) const;
 	mrpt::obs::CObservation2DRangeScan::Ptr acceptLaser(
 		const mrpt::obs::CObservation2DRangeScan::Ptr& laser);
 	void warn(std::string message);
@@ -195,11 +204,13 @@ class CMetricMapBuilderLRGC : public mrpt::slam::CMetricMapBuilder
 	void adoptKeyframes(const mrpt::maps::CSimpleMap& map, const std::string& laserLabel, bool all);
 	void linkChainAndRevisits();
 	void linkSessionStart(size_t node);
+	void enterNewestKeyframes();
 
 	TLRGCParams m_params;
 	std::unique_ptr<CMotionPredictor> m_predictor;
 	std::unique_ptr<CSweepEstimator> m_sweep;
 	std::unique_ptr<CLocalRegistration> m_local;
+	std::unique_ptr<CKeyframeReuse> m_reuse;
 	std::unique_ptr<CLoopClosingWorker> m_loopWorker;
 	/** What the worker's copy of the graph lacks: the links added here before the last
 	 * applied result and not yet sent, the links from id m_linkWatermark on, and the nodes
@@ -220,9 +231,13 @@ class CMetricMapBuilderLRGC : public mrpt::slam::CMetricMapBuilder
 	std::optional<mrpt::math::TPose2D> m_nextScanPrior;  //!< from initialize(x0)
 	/** Set by startSessionAt(): the next scan starts a session; the covariance of its pose. */
 	std::optional<Eigen::Matrix3d> m_sessionStartCov;
-	/** Motion since the newest keyframe (composed per-scan steps) and whether it came from
-	 * trustworthy odometry: this becomes the odometry link of the next keyframe. */
+	/** Motion since the anchor keyframe (composed per-scan steps; from a reused keyframe, the
+	 * registered offset first) and whether it came from trustworthy odometry: this becomes
+	 * the odometry link of the next keyframe. */
 	mrpt::math::TPose2D m_motionSinceKeyframe{0, 0, 0};
+	/** Where the robot took its anchor keyframe, in the anchor's frame: zero for a new
+	 * keyframe, the registered offset for a reused one. Keyframe distances count from it. */
+	mrpt::math::TPose2D m_anchorOffset{0, 0, 0};
 	bool m_odometryTrustedSinceKeyframe = true;
 
 	std::vector<std::string> m_warnings;

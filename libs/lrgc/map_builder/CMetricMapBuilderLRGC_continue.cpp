@@ -15,6 +15,7 @@
  * map.
  */
 #include <lrgc/map_builder/CMetricMapBuilderLRGC.h>
+#include <lrgc/map_builder/KeyframeReuse.h>
 
 #include <lrgc/common/se2.h>
 #include <lrgc/local_registration/LocalRegistration.h>
@@ -49,15 +50,6 @@ Eigen::Matrix3d informationOf(const Eigen::Vector3d& std)
 {
 	return std.cwiseProduct(std).cwiseInverse().asDiagonal();
 }
-
-/** A covariance of (x, y, phi) in map axes, expressed in the axes of a frame at heading phi. */
-Eigen::Matrix3d rotatedInto(const Eigen::Matrix3d& covInMap, double phi)
-{
-	Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
-	const double c = std::cos(phi), s = std::sin(phi);
-	R.topLeftCorner<2, 2>() << c, s, -s, c;  // map axes -> frame axes
-	return R * covInMap * R.transpose();
-}
 }  // namespace
 
 void CMetricMapBuilderLRGC::resetState()
@@ -67,6 +59,11 @@ void CMetricMapBuilderLRGC::resetState()
 		m_params.sweep, m_params.matcher, m_params.builder.scan_sweep_time);
 	m_local = std::make_unique<CLocalRegistration>(
 		m_params.local, m_params.matcher, m_params.optimizer);
+	TScanMatcherParams localMatcher = m_params.matcher;  // as local registration's matches
+	localMatcher.maxFreeSpaceViolation = m_params.local.max_free_space_violation;
+	m_reuse = std::make_unique<CKeyframeReuse>(
+		m_params.reuse, m_params.builder.keyframe_distance, m_params.builder.keyframe_angle,
+		localMatcher, m_params.loop.link_noise);
 	m_loopWorker.reset();  // lets a search in hand finish first
 	if (m_params.builder.loop_closing)
 		m_loopWorker = std::make_unique<CLoopClosingWorker>(
@@ -86,6 +83,7 @@ void CMetricMapBuilderLRGC::resetState()
 	m_nextScanPrior.reset();
 	m_sessionStartCov.reset();
 	m_motionSinceKeyframe = TPose2D(0, 0, 0);
+	m_anchorOffset = TPose2D(0, 0, 0);
 	m_odometryTrustedSinceKeyframe = true;
 	m_metricMapDirty = true;
 }
@@ -174,6 +172,7 @@ void CMetricMapBuilderLRGC::initialize(
 	resetState();
 	adoptKeyframes(initialMap, {}, false);
 	linkChainAndRevisits();
+	enterNewestKeyframes();
 	if (m_graph.numNodes() > 0) m_lastScanInMap = m_graph.pose(m_graph.numNodes() - 1);
 	if (x0)
 	{
@@ -197,11 +196,20 @@ void CMetricMapBuilderLRGC::initialize(
 	resetState();
 	adoptKeyframes(keyframes, laserLabel, true);
 	m_graph = graph;  // the poses and links exactly as saved
+	enterNewestKeyframes();
 	if (m_graph.numNodes() > 0)
 	{
 		m_lastScanInMap = m_graph.pose(m_graph.numNodes() - 1);
 		m_nextScanPrior = m_lastScanInMap;
 	}
+}
+
+// The map's newest keyframes form the local window, as if just mapped: the next scans
+// continue from the end of the map.
+void CMetricMapBuilderLRGC::enterNewestKeyframes()
+{
+	const size_t n = m_graph.numNodes(), k = m_params.local.window_size;
+	for (size_t i = n > k ? n - k : 0; i < n; ++i) m_local->enterKeyframe(i, false, m_graph);
 }
 
 void CMetricMapBuilderLRGC::startSessionAt(const TPose2D& scanInMap, const Eigen::Matrix3d& cov)
@@ -216,6 +224,7 @@ void CMetricMapBuilderLRGC::startSessionAt(const TPose2D& scanInMap, const Eigen
 	m_lastScanInMap = scanInMap;  // so the first step's motion is not a jump from the old end
 	m_sessionStartCov = cov;
 	m_motionSinceKeyframe = TPose2D(0, 0, 0);
+	m_anchorOffset = TPose2D(0, 0, 0);
 	m_odometryTrustedSinceKeyframe = true;
 }
 
@@ -242,7 +251,7 @@ void CMetricMapBuilderLRGC::linkSessionStart(size_t node)
 			scansInNearest.push_back(between(nearestInMap, m_graph.pose(j)));
 		}
 	const TPose2D guess = between(nearestInMap, start);
-	const Eigen::Matrix3d covInNearest = rotatedInto(cov, nearestInMap.phi);
+	const Eigen::Matrix3d covInNearest = rotateCovariance(cov, -nearestInMap.phi);
 	// People and doors moved since the old scans: the free-space limit of local registration
 	// (as CLocalizer), not the strict one of loop closing.
 	TScanMatcherParams mp = m_params.matcher;
@@ -280,6 +289,7 @@ void CMetricMapBuilderLRGC::linkSessionStart(size_t node)
 					 mrpt::RAD2DEG(between(guess, m->scanInRef).phi))
 					 .c_str()));
 	m_graph.addLink(link);
+	m_reuse->noteLoopLink(node);
 	++m_stats.loopClosureLinks;
 	m_local->invalidate();
 	MRPT_LOG_INFO_FMT(

@@ -62,6 +62,7 @@ template <class Params, class Stage>
 std::vector<std::pair<const char*, Stage*>> stages(Params& p)
 {
 	return {{"MapBuilder", &p.builder},
+			{"KeyframeReuse", &p.reuse},
 			{"MotionPredictor", &p.motion},
 			{"SweepEstimator", &p.sweep},
 			{"ScanMatcher", &p.matcher},

@@ -6,6 +6,7 @@
 #include <lrgc/local_registration/LocalRegistrationParams.h>
 #include <lrgc/local_registration/MotionPredictorParams.h>
 #include <lrgc/local_registration/SweepEstimatorParams.h>
+#include <lrgc/map_builder/KeyframeReuseParams.h>
 #include <lrgc/loop_closing/LoopCloserParams.h>
 #include <lrgc/loop_closing/PatchCorrelatorParams.h>
 #include <lrgc/loop_closing/RevisitLinkerParams.h>
@@ -46,6 +47,7 @@ struct TMapBuilderParams : public mrpt::config::CLoadableOptions
 struct TLRGCParams : public mrpt::config::CLoadableOptions
 {
 	TMapBuilderParams builder;  //!< [MapBuilder]
+	TKeyframeReuseParams reuse;  //!< [KeyframeReuse]
 	TMotionPredictorParams motion;  //!< [MotionPredictor]
 	TSweepEstimatorParams sweep;  //!< [SweepEstimator]
 	TScanMatcherParams matcher;  //!< [ScanMatcher]

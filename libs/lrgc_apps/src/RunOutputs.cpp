@@ -105,6 +105,7 @@ std::string statsJson(const TRunOutputsSnapshot& snapshot)
 	  << "  \"log_contents\": " << jsonCounts(run.logContents) << ",\n"
 	  << "  \"scans\": " << s.scans << ",\n"
 	  << "  \"keyframes\": " << s.keyframes << ",\n"
+	  << "  \"keyframes_reused\": " << s.keyframesReused << ",\n"
 	  << "  \"skipped_scans\": " << s.skippedScans << ",\n"
 	  << "  \"unmatched_scans\": " << s.unmatchedScans << ",\n"
 	  << "  \"odometry_rejected\": " << s.odometryRejected << ",\n"

@@ -1,0 +1,81 @@
+/* CKeyframeReuse: no new keyframes on ground the map already has (issue 12).
+ *
+ * A scan becomes a keyframe after keyframe_distance of travel or keyframe_angle of turn from
+ * where the robot took the keyframe it is at ([MapBuilder]). On a revisit that keyframe would
+ * duplicate one the map already holds, and a robot that keeps driving the same building would
+ * grow its graph, its loop searches and its memory with the time driven. Instead, as in the
+ * reduced pose graph of Johannsson et al. (2013), the scan takes an existing keyframe c as its
+ * anchor when c covers its pose, i.e. the pose would not be a new keyframe relative to c:
+ *     |t(X_c^-1 (+) X_scan)| < keyframe_distance  and  |phi(X_c^-1 (+) X_scan)| < keyframe_angle,
+ * the nearest such c (in units of those two). The scans hang from c, c enters the local
+ * window (CLocalRegistration::enterKeyframe), so the next scans are registered against the
+ * map's own keyframes there, and the builder links the previous anchor to c by the scan's two
+ * matches (the revisit's evidence is kept as a link, not as a node). The graph then grows with
+ * the area covered at the keyframe spacing, not with the time driven.
+ *
+ * Reusing c asserts that the robot's estimate agrees with the map at c, which holds only after
+ * a loop link has tied the robot's recent keyframes to the map (the loop closer's three
+ * filters, section 2.3): keyframes are reused only within trust_keyframes new keyframes of the
+ * last loop link, and only ones outside the local window (a robot backing up over its newest
+ * keyframes makes new ones, as without reuse: the window solve must stay free to move them;
+ * so local registration alone, with no loop links, is unchanged). The scan must also match
+ * c's own scan (min_inliers) where its registration puts it,
+ * within gate_chi2 under the match covariance, the registration's and the loop links' noise
+ * floor (scans taken at other times). Otherwise a new keyframe is made, as without reuse.
+ * A wider cover (1 m, 30 deg) was measured and not adopted: doc/back-end.md.
+ * Cost: one pass over the node positions and one scan match per keyframe decision.
+ * Frames: poses (map <- robot) [m, rad].
+ */
+#pragma once
+
+#include <lrgc/map_builder/KeyframeReuseParams.h>
+#include <lrgc/pose_graph/Keyframe.h>
+#include <lrgc/pose_graph/LinkNoise.h>
+#include <lrgc/pose_graph/PoseGraph.h>
+#include <lrgc/scan_matching/ScanMatcher.h>
+
+#include <Eigen/Core>
+#include <deque>
+#include <optional>
+
+namespace lrgc
+{
+/** A keyframe to reuse, and the scan matched against its scan. */
+struct TReusedKeyframe
+{
+	size_t node = 0;
+	mrpt::math::TPose2D scanInNode;  //!< (node <- robot at the scan), from the match
+	Eigen::Matrix3d cov;  //!< of scanInNode, in the node's axes
+};
+
+class CKeyframeReuse
+{
+   public:
+	/** keyframeDistance [m], keyframeAngle [rad]: [MapBuilder]'s keyframe spacing, the
+	 * cover of a keyframe; matcher: the local registration's; floor: the loop links' noise
+	 * floor. */
+	CKeyframeReuse(
+		const TKeyframeReuseParams& p, double keyframeDistance, double keyframeAngle,
+		const TScanMatcherParams& matcher, const TLinkNoise& floor);
+
+	/** A loop link with newer end `node` entered the graph. */
+	void noteLoopLink(size_t node);
+
+	/** The existing keyframe to anchor `scan` at instead of making it a new keyframe, if one
+	 * covers `scanInMap` and may be trusted. anchor: the keyframe the robot is at (not a
+	 * candidate); window: the local window's keyframes; scanCov: covariance of the scan's
+	 * registered pose [map axes]. Keyframes in the window are not candidates. */
+	std::optional<TReusedKeyframe> reusableKeyframe(
+		const CPoseGraph& graph, const TKeyframes& keyframes, const TScan2D& scan,
+		const mrpt::math::TPose2D& scanInMap, const Eigen::Matrix3d& scanCov, size_t anchor,
+		const std::deque<size_t>& window) const;
+
+   private:
+	TKeyframeReuseParams m_params;
+	double m_distance, m_angle;
+	CScanMatcher m_matcher;
+	TLinkNoise m_floor;
+	std::optional<size_t> m_lastLinked;  //!< newest node with a loop link
+};
+
+}  // namespace lrgc
