@@ -194,8 +194,18 @@ private:
 		std::copy(ne.blockColPtr.begin(), ne.blockColPtr.end(), static_cast<int*>(B->p));
 		std::copy(ne.blockRowIdx.begin(), ne.blockRowIdx.end(), static_cast<int*>(B->i));
 		std::vector<int> blockPerm(m), perm(n);
-		if (!cholmod_metis(B, nullptr, 0, 1, blockPerm.data(), &m_c))
-			cholmod_amd(B, nullptr, 0, blockPerm.data(), &m_c);
+		{
+			// Debian's METIS seeds libc's rand() at each call and draws from it (one state
+			// per process): two threads ordering at once (the mapping thread's window solve,
+			// the loop-closing worker's) interleave their draws, and the ordering, hence the
+			// last digits of the poses, changed from run to run (Intel: 6 different
+			// trajectory.tum in 9 runs; 3 of 3 the same without the worker thread, 4 of 4
+			// with this lock). One ordering at a time.
+			static std::mutex metisMutex;
+			const std::lock_guard<std::mutex> lock(metisMutex);
+			if (!cholmod_metis(B, nullptr, 0, 1, blockPerm.data(), &m_c))
+				cholmod_amd(B, nullptr, 0, blockPerm.data(), &m_c);
+		}
 		cholmod_free_sparse(&B, &m_c);
 		for (size_t k = 0; k < m; ++k)
 			for (int r = 0; r < 3; ++r) perm[3 * k + r] = 3 * blockPerm[k] + r;
