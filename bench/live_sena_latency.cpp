@@ -81,8 +81,9 @@ int runOnce(const TLms1xxRecording& rec, const std::string& slam, double saveInt
 							  std::to_string(saveInterval) + "\n");
 	CChildProcess app(slam, {"--live", sensors, "--config", config, "--out", out},
 					  dir + "/live.log");
-	if (!waitUntil([&] { return emu.finished(); }, 300) ||
-		!app.waitForOutput("sent no valid data", 60))
+	// Served to the end, or lrgc-slam gave up early (a bad --keep folder, a crash).
+	waitUntil([&] { return emu.finished() || app.waitExit(0).has_value(); }, 300);
+	if (!emu.finished() || !app.waitForOutput("sent no valid data", 60))
 	{
 		std::fprintf(stderr, "the live run did not get through SENA; its output:\n%s\n",
 					 app.output().c_str());

@@ -7,13 +7,17 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <atomic>
+#include <condition_variable>
+#include <exception>
+#include <mutex>
 
 namespace lrgc
 {
 CLocalRegistration::CLocalRegistration(
 	const TLocalRegistrationParams& p, const TScanMatcherParams& matcher,
-	const TPoseGraphOptimizerParams& optimizer)
-	: m_params(p), m_matcherParams(matcher), m_optimizer(optimizer)
+	const TPoseGraphOptimizerParams& optimizer, bool helperThread)
+	: m_params(p), m_matcherParams(matcher), m_optimizer(optimizer), m_helper(helperThread)
 {
 	// [LocalRegistration] max_free_space_violation (0.3) replaces [ScanMatcher]'s (0.15) for
 	// every match of this stage (scan to window, pairwise): with an odometry prior a wrong
@@ -22,6 +26,8 @@ CLocalRegistration::CLocalRegistration(
 	m_matcherParams.maxFreeSpaceViolation = p.max_free_space_violation;
 	m_matcher = CScanMatcher(m_matcherParams);
 }
+
+CLocalRegistration::~CLocalRegistration() = default;  // the helper's jobs end first
 
 void CLocalRegistration::enterKeyframe(size_t node, bool reused, const CPoseGraph& graph)
 {
@@ -38,28 +44,156 @@ const CReferenceCloud& CLocalRegistration::windowCloud(
 {
 	const size_t newest = m_window.back();
 	if (m_cloudNewest == newest) return m_cloud;
-	// The patch: every window scan with its pose in the newest keyframe's frame,
-	// (newest <- node); the cloud keeps their range images for the free-space check.
-	const TPose2D newestInMap = graph.pose(newest);
+	if (takePreparedWindow(graph)) return m_cloud;
 	std::vector<TScan2D> scans;
-	std::vector<TPose2D> scansInNewest;
-	for (const size_t node : m_window)
+	std::vector<TPose2D> posesInMap;
+	for (const size_t node : windowNodes())
 	{
 		scans.push_back(keyframes[node].scan);
-		scansInNewest.push_back(between(newestInMap, graph.pose(node)));
+		posesInMap.push_back(graph.pose(node));
 	}
-	m_cloud = CReferenceCloud::fromScans(scans, scansInNewest, m_matcherParams);
+	m_cloud = patchOf(scans, posesInMap, m_matcherParams);
 	m_cloudNewest = newest;
 	return m_cloud;
 }
 
-const CReferenceCloud& CLocalRegistration::keyframeCloud(size_t node, const TKeyframes& keyframes)
+CReferenceCloud CLocalRegistration::patchOf(
+	const std::vector<TScan2D>& scans, const std::vector<TPose2D>& posesInMap,
+	const TScanMatcherParams& p)
+{
+	// The patch: every window scan with its pose in the newest keyframe's frame,
+	// (newest <- node); the cloud keeps their range images for the free-space check.
+	std::vector<TPose2D> scansInNewest;
+	for (const TPose2D& pose : posesInMap) scansInNewest.push_back(between(posesInMap.back(), pose));
+	return CReferenceCloud::fromScans(scans, scansInNewest, p);
+}
+
+// After a keyframe's window solve: the helper builds the patch for the next scans from a copy
+// of the window (scans and poses), and the new keyframe's own cloud for the next pairwise
+// links, while the mapping thread goes on. Whoever comes first builds them: a helper not yet
+// running when the next scan needs them leaves them to the mapping thread.
+void CLocalRegistration::prepareNextWindow(const CPoseGraph& graph, const TKeyframes& keyframes)
+{
+	auto job = std::make_shared<TPreparedWindow>();
+	job->nodes = windowNodes();
+	for (const size_t node : job->nodes)
+	{
+		job->scans.push_back(keyframes[node].scan);
+		job->posesInMap.push_back(graph.pose(node));
+	}
+	m_helper.post([job, p = m_matcherParams] { build(*job, p); });
+	m_prepared = std::move(job);
+}
+
+void CLocalRegistration::build(TPreparedWindow& job, const TScanMatcherParams& p)
+{
+	if (job.claimed.exchange(true)) return;
+	try
+	{
+		job.cloud = patchOf(job.scans, job.posesInMap, p);
+		job.newestCloud =
+			std::make_shared<const CReferenceCloud>(CReferenceCloud::fromScan(job.scans.back(), p));
+	}
+	catch (...)
+	{
+		job.error = std::current_exception();
+	}
+	std::lock_guard<std::mutex> lock(job.mutex);
+	job.built = true;
+	job.cv.notify_all();
+}
+
+bool CLocalRegistration::takePreparedWindow(const CPoseGraph& graph)
+{
+	if (!m_prepared) return false;
+	const std::shared_ptr<TPreparedWindow> job = std::move(m_prepared);
+	m_prepared.reset();
+	build(*job, m_matcherParams);  // unless the helper has it in hand
+	{
+		std::unique_lock<std::mutex> lock(job->mutex);
+		job->cv.wait(lock, [&] { return job->built; });
+	}
+	if (job->error) std::rethrow_exception(job->error);
+	cacheKeyframeCloud(job->nodes.back(), job->newestCloud);  // its scan never changes
+	// Bit for bit the window it was built from, else it is not the patch of this window (a
+	// loop closure or a new session moved or replaced nodes).
+	if (windowNodes() != job->nodes) return false;
+	for (size_t i = 0; i < job->nodes.size(); ++i)
+	{
+		const TPose2D& now = graph.pose(job->nodes[i]);
+		const TPose2D& then = job->posesInMap[i];
+		if (!(now.x == then.x && now.y == then.y && now.phi == then.phi)) return false;
+	}
+	m_cloud = std::move(job->cloud);
+	m_cloudNewest = job->nodes.back();
+	return true;
+}
+
+CLocalRegistration::TCloudPtr CLocalRegistration::keyframeCloud(
+	size_t node, const TKeyframes& keyframes)
 {
 	for (const auto& [n, cloud] : m_keyframeClouds)
 		if (n == node) return cloud;
+	auto cloud = std::make_shared<const CReferenceCloud>(
+		CReferenceCloud::fromScan(keyframes[node].scan, m_matcherParams));
+	cacheKeyframeCloud(node, cloud);
+	return cloud;
+}
+
+void CLocalRegistration::cacheKeyframeCloud(size_t node, TCloudPtr cloud)
+{
+	for (const auto& entry : m_keyframeClouds)
+		if (entry.first == node) return;
 	if (m_keyframeClouds.size() >= m_params.window_size) m_keyframeClouds.pop_front();
-	m_keyframeClouds.emplace_back(node, CReferenceCloud::fromScan(keyframes[node].scan, m_matcherParams));
-	return m_keyframeClouds.back().second;
+	m_keyframeClouds.emplace_back(node, std::move(cloud));
+}
+
+// Each thread takes the next match nobody took yet; this one then waits only for the matches
+// the helper is in the middle of (a helper that starts late finds nothing left to do).
+std::vector<std::optional<TScanMatch>> CLocalRegistration::matchAll(
+	const std::vector<TCloudPtr>& refs, const TScan2D& scan, const std::vector<TPose2D>& guesses)
+{
+	struct TShared
+	{
+		std::vector<std::optional<TScanMatch>> results;
+		std::vector<std::exception_ptr> errors;
+		std::atomic<size_t> next{0};
+		size_t done = 0;  //!< matches finished (guarded by mutex)
+		std::mutex mutex;
+		std::condition_variable cv;
+	};
+	const size_t n = refs.size();
+	auto shared = std::make_shared<TShared>();
+	shared->results.resize(n);
+	shared->errors.resize(n);
+	// `scan` and the matcher are only read while a match is in hand, and this thread waits
+	// for every match taken.
+	auto work = [shared, refs, guesses, scan = &scan, matcher = &m_matcher]
+	{
+		for (size_t l; (l = shared->next.fetch_add(1)) < shared->results.size();)
+		{
+			try
+			{
+				shared->results[l] = matcher->match(*refs[l], *scan, guesses[l]);
+			}
+			catch (...)
+			{
+				shared->errors[l] = std::current_exception();
+			}
+			std::lock_guard<std::mutex> lock(shared->mutex);
+			++shared->done;
+			shared->cv.notify_all();
+		}
+	};
+	if (n > 1 && m_helper.threaded()) m_helper.post(work);
+	work();
+	{
+		std::unique_lock<std::mutex> lock(shared->mutex);
+		shared->cv.wait(lock, [&] { return shared->done == n; });
+	}
+	for (const auto& e : shared->errors)
+		if (e) std::rethrow_exception(e);
+	return std::move(shared->results);
 }
 
 TRegistration CLocalRegistration::registerScan(
@@ -137,14 +271,23 @@ size_t CLocalRegistration::linkAndOptimize(
 		++added;
 	}
 	m_lastPatchMatch.reset();
+	std::vector<size_t> nodes;
+	std::vector<TCloudPtr> refs;
+	std::vector<TPose2D> guesses;
 	for (size_t l = 0; l < links; ++l)
 	{
 		const size_t node = window[older - 1 - (l * older) / links];
-		const TPose2D guess = between(graph.pose(node), graph.pose(newNode));
-		const auto m = m_matcher.match(keyframeCloud(node, keyframes), keyframes[newNode].scan, guess);
+		nodes.push_back(node);
+		refs.push_back(keyframeCloud(node, keyframes));
+		guesses.push_back(between(graph.pose(node), graph.pose(newNode)));
+	}
+	const auto matches = matchAll(refs, keyframes[newNode].scan, guesses);
+	for (size_t l = 0; l < links; ++l)
+	{
+		const auto& m = matches[l];
 		if (!m || m->inlierFraction < m_params.min_link_inliers) continue;
 		graph.addLink(
-			{node, newNode, m->scanInRef,
+			{nodes[l], newNode, m->scanInRef,
 			 linkInformation(m->cov, m_params.link_noise, double(links) / pairwiseWeight),
 			 LinkType::ScanMatch});
 		++added;
@@ -156,6 +299,7 @@ size_t CLocalRegistration::linkAndOptimize(
 		if (node != 0 && node >= m_firstFree) freeNodes.push_back(node);
 	if (!freeNodes.empty()) m_optimizer.optimizeSubset(graph, freeNodes);
 	m_cloudNewest.reset();  // window poses moved
+	prepareNextWindow(graph, keyframes);
 	return added;
 }
 

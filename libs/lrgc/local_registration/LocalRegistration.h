@@ -26,10 +26,17 @@
  *
  * Cost per keyframe: one patch build, at most `max_pairwise_links` pairwise matches against
  * reference clouds cached per window keyframe, and a window solve; none depends on the map
- * size.
+ * size. A helper thread (CHelperThread) keeps two of them off a keyframe's latency: once the
+ * window is solved it builds the patch the next scan will be matched against (and the new
+ * keyframe's own cloud), while the mapping thread returns the scan's pose; and it shares the
+ * pairwise matches with the mapping thread. The next scan takes that patch only if the window
+ * still has the nodes and poses it was built from (else it is built again, as without the
+ * helper), and pairwise links are added in their fixed order: the map does not depend on the
+ * helper's timing.
  */
 #pragma once
 
+#include <lrgc/common/HelperThread.h>
 #include <lrgc/local_registration/LocalRegistrationParams.h>
 #include <lrgc/pose_graph/Keyframe.h>
 #include <lrgc/pose_graph/LinkNoise.h>
@@ -40,9 +47,15 @@
 #include <lrgc/scan_matching/ScanMatcher.h>
 #include <mrpt/config/CLoadableOptions.h>
 
+#include <atomic>
+#include <condition_variable>
 #include <deque>
+#include <exception>
+#include <mutex>
+#include <memory>
 #include <optional>
 #include <utility>
+#include <vector>
 
 namespace lrgc
 {
@@ -59,9 +72,11 @@ struct TRegistration
 class CLocalRegistration
 {
    public:
+	/** `helperThread` false: the helper's work runs on the caller's thread (same results). */
 	CLocalRegistration(
 		const TLocalRegistrationParams& p, const TScanMatcherParams& matcher,
-		const TPoseGraphOptimizerParams& optimizer);
+		const TPoseGraphOptimizerParams& optimizer, bool helperThread = true);
+	~CLocalRegistration();
 
 	/** Matches `scan` against the window of the newest keyframes of `graph`.
 	 * priorInMap: `prediction` composed onto the previous scan's pose. */
@@ -105,13 +120,47 @@ class CLocalRegistration
 	const std::deque<size_t>& window() const { return m_window; }
 
    private:
+	using TCloudPtr = std::shared_ptr<const CReferenceCloud>;
+	/** The patch for the next scans, built from the window as it was after a keyframe's
+	 * solve (nodes, scans and poses copied), with that keyframe's own cloud; by the helper
+	 * thread or, if it has not started on it when needed, by the mapping thread. */
+	struct TPreparedWindow
+	{
+		std::vector<size_t> nodes;
+		std::vector<TScan2D> scans;
+		std::vector<mrpt::math::TPose2D> posesInMap;  //!< of `nodes`, (map <- node)
+		std::atomic<bool> claimed{false};  //!< a thread builds what follows
+		CReferenceCloud cloud;
+		TCloudPtr newestCloud;
+		std::exception_ptr error;
+		std::mutex mutex;  //!< guards `built`
+		std::condition_variable cv;
+		bool built = false;
+	};
+
+	/** The window's keyframes, oldest first (a copy). */
+	std::vector<size_t> windowNodes() const { return {m_window.begin(), m_window.end()}; }
 	const CReferenceCloud& windowCloud(const CPoseGraph& graph, const TKeyframes& keyframes);
+	/** The patch of `scans` placed at `posesInMap`, in the frame of the last one. */
+	static CReferenceCloud patchOf(
+		const std::vector<TScan2D>& scans, const std::vector<mrpt::math::TPose2D>& posesInMap,
+		const TScanMatcherParams& p);
+	void prepareNextWindow(const CPoseGraph& graph, const TKeyframes& keyframes);
+	static void build(TPreparedWindow& job, const TScanMatcherParams& p);
+	/** Waits for the prepared patch; true (and m_cloud set) if the window is unchanged. */
+	bool takePreparedWindow(const CPoseGraph& graph);
+	/** The matches of keyframes[newNode].scan against refs[l] from guesses[l], computed by
+	 * this thread and the helper together; nullopt where a match failed. */
+	std::vector<std::optional<TScanMatch>> matchAll(
+		const std::vector<TCloudPtr>& refs, const TScan2D& scan,
+		const std::vector<mrpt::math::TPose2D>& guesses);
 
 	TLocalRegistrationParams m_params;
 	TScanMatcherParams m_matcherParams;
 	CScanMatcher m_matcher;
 	CPoseGraphOptimizer m_optimizer;
-	const CReferenceCloud& keyframeCloud(size_t node, const TKeyframes& keyframes);
+	TCloudPtr keyframeCloud(size_t node, const TKeyframes& keyframes);
+	void cacheKeyframeCloud(size_t node, TCloudPtr cloud);
 
 	/** The last registration against the patch: (node <- scan) and its covariance in the
 	 * node's frame, for the patch link of the keyframe it may become. */
@@ -128,7 +177,9 @@ class CLocalRegistration
 	std::deque<size_t> m_window;  //!< the last K distinct keyframes entered, oldest first
 	size_t m_firstFree = 0;  //!< the window solve moves only nodes >= this (and never node 0)
 	/** Reference cloud of each window keyframe's own scan, for pairwise links. */
-	std::deque<std::pair<size_t, CReferenceCloud>> m_keyframeClouds;
+	std::deque<std::pair<size_t, TCloudPtr>> m_keyframeClouds;
+	std::shared_ptr<TPreparedWindow> m_prepared;
+	CHelperThread m_helper;  //!< last: destroyed (its jobs run to their end) first
 };
 
 }  // namespace lrgc

@@ -339,3 +339,74 @@ TEST(LocalRegistration, aReusedKeyframeAnchorsThePatchAndIsHeldFixed)
 	EXPECT_LT(positionError(truth[6], graph.pose(6)), kTolXY);
 	EXPECT_LT(headingError(truth[6], graph.pose(6)), kTolPhi);
 }
+
+TEST(LocalRegistration, helperThreadLeavesEveryResultBitForBit)
+{
+	// The builder's sequence for each keyframe (register against the patch, add the node,
+	// link and solve the window), with the helper thread preparing the next patch and sharing
+	// the pairwise matches. Each step is repeated by a fresh CLocalRegistration without a
+	// helper on a copy of the graph (it builds every cloud itself, in order): registrations
+	// and graphs must be equal bit for bit. Midway the window is moved as a loop closure
+	// would (after the helper built the patch from the old poses): that patch must not be
+	// used.
+	const TKnownRun run;
+	TLRGCParams p;
+	CLocalRegistration local(p.local, p.matcher, p.optimizer);
+	CPoseGraph graph;
+	graph.addNode(run.tr.truePoses[0]);
+	local.enterKeyframe(0, false, graph);
+	TKeyframes keyframes{run.keyframes[0]};
+	auto same = [](const TPose2D& a, const TPose2D& b)
+	{ return a.x == b.x && a.y == b.y && a.phi == b.phi; };
+	auto sameLinks = [&](const CPoseGraph& a, const CPoseGraph& b)
+	{
+		if (a.numLinks() != b.numLinks()) return false;
+		for (size_t id = 0; id < a.numLinks(); ++id)
+			if (a.link(id).from != b.link(id).from || a.link(id).to != b.link(id).to ||
+				!same(a.link(id).toInFrom, b.link(id).toInFrom) ||
+				a.link(id).information != b.link(id).information)
+				return false;
+		return true;
+	};
+	size_t moved = 0;
+	for (size_t n = 1; n < run.tr.truePoses.size(); ++n)
+	{
+		if (n == 12)
+		{  // X_i <- C (+) X_i for the newest nodes, as applyLoopResult carries them along
+			const TPose2D C(0.04, -0.03, 0.02);
+			for (size_t i = 5; i < n; ++i) graph.setPose(i, compose(C, graph.pose(i)));
+			local.invalidate();
+			moved = n;
+		}
+		lrgc::TMotionPrediction pred;
+		pred.motion = run.tr.odometryIncrements[n - 1];
+		pred.cov = CMotionPredictor().odometryCov(pred.motion);
+		pred.fromOdometry = true;
+		pred.stepSeconds = 0.2;
+		const TPose2D prior = compose(graph.pose(n - 1), pred.motion);
+		const TScan2D& scan = run.keyframes[n].scan;
+
+		CLocalRegistration ref(p.local, p.matcher, p.optimizer, false);
+		CPoseGraph refGraph = graph;
+		for (const size_t node : local.window()) ref.enterKeyframe(node, false, refGraph);
+		const TRegistration refReg = ref.registerScan(refGraph, keyframes, scan, prior, pred);
+		const TRegistration reg = local.registerScan(graph, keyframes, scan, prior, pred);
+		ASSERT_TRUE(same(reg.scanInMap, refReg.scanInMap) && reg.cov == refReg.cov &&
+					reg.matched == refReg.matched)
+			<< "keyframe " << n << ": registration differs from a fresh one";
+
+		keyframes.push_back(run.keyframes[n]);
+		graph.addNode(reg.scanInMap);
+		refGraph.addNode(refReg.scanInMap);
+		local.enterKeyframe(n, false, graph);
+		ref.enterKeyframe(n, false, refGraph);
+		local.linkAndOptimize(graph, keyframes, odometryLink(run.tr, n));
+		ref.linkAndOptimize(refGraph, keyframes, odometryLink(run.tr, n));
+		ASSERT_TRUE(sameLinks(graph, refGraph)) << "keyframe " << n << ": links differ";
+		for (size_t i = 0; i <= n; ++i)
+			ASSERT_TRUE(same(graph.pose(i), refGraph.pose(i)))
+				<< "keyframe " << n << ": node " << i << " differs";
+	}
+	EXPECT_EQ(moved, 12U);
+	EXPECT_GT(graph.numLinks(), 3 * graph.numNodes());  // pairwise links were made
+}

@@ -1,6 +1,7 @@
 /* CLoopClosingWorker: the replica's bookkeeping and the thread (see LoopClosingWorker.h). */
 #include <lrgc/loop_closing/LoopClosingWorker.h>
 
+#include <lrgc/common/ThreadPriority.h>
 #include <lrgc/common/se2.h>
 #include <mrpt/core/exceptions.h>
 
@@ -15,7 +16,15 @@ CLoopClosingWorker::CLoopClosingWorker(
 	const TScanMatcherParams& matcher, const TPoseGraphOptimizerParams& optimizer)
 	: m_closer(p, correlator, matcher, optimizer)
 {
-	if (p.background) m_thread = std::thread([this] { threadMain(); });
+	// Results taken whenever ready (a live run): the mapping thread never waits for this
+	// thread, so it yields the cores to it.
+	if (p.background)
+		m_thread = std::thread(
+			[this, yield = p.apply_when_ready]
+			{
+				if (yield) lowerCallingThreadPriority();
+				threadMain();
+			});
 }
 
 CLoopClosingWorker::~CLoopClosingWorker()

@@ -3,6 +3,7 @@
 #include <mrpt/core/exceptions.h>
 
 #include <algorithm>
+#include <cstdint>
 
 namespace lrgc
 {
@@ -45,6 +46,27 @@ CAnchorGrid::CAnchorGrid(
 		while (m_table[slot].count != 0) slot = (slot + 1) & m_mask;
 		m_table[slot] = {key, static_cast<uint32_t>(k), static_cast<uint32_t>(m - k)};
 		k = m;
+	}
+	buildBitmap(points);
+}
+
+void CAnchorGrid::buildBitmap(const std::vector<Eigen::Vector2d>& points)
+{
+	int64_t x0 = INT64_MAX, y0 = INT64_MAX, x1 = INT64_MIN, y1 = INT64_MIN;
+	for (const uint32_t i : m_index)
+	{
+		const int64_t ix = cellIndex(points[i].x(), m_cell), iy = cellIndex(points[i].y(), m_cell);
+		x0 = std::min(x0, ix), x1 = std::max(x1, ix), y0 = std::min(y0, iy), y1 = std::max(y1, iy);
+	}
+	const double cells = (double(x1 - x0) + 1) * (double(y1 - y0) + 1);
+	if (cells > double(kBitmapMaxCells)) return;
+	m_x0 = x0, m_y0 = y0, m_nx = x1 - x0 + 1, m_ny = y1 - y0 + 1;
+	m_occupied.assign((static_cast<size_t>(m_nx * m_ny) + 63) / 64, 0);
+	for (const uint32_t i : m_index)
+	{
+		const uint64_t b = static_cast<uint64_t>(
+			(cellIndex(points[i].x(), m_cell) - m_x0) * m_ny + (cellIndex(points[i].y(), m_cell) - m_y0));
+		m_occupied[b >> 6] |= uint64_t(1) << (b & 63);
 	}
 }
 

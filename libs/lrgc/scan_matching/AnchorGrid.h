@@ -5,7 +5,9 @@
  * the points. A cell's run is found through a dense table over the points' bounding box
  * (prefix offsets, one array read) unless that box holds more than kDenseCellsPerPoint cells
  * per point (far stray returns): then through an open-addressing hash table of the occupied
- * cells (Fibonacci hashing, linear probing). Both give the same runs in the same order.
+ * cells (Fibonacci hashing, linear probing), with a bitmap of the occupied cells over the box
+ * (1 bit per cell) so that the many empty cells a search visits cost a bit test, not a hash
+ * probe. Both give the same runs in the same order.
  * nearest() searches ring by ring around the query's cell with an exact stopping rule;
  * forEachWithin() visits the cells that overlap the query disc column by column (ix, then iy),
  * a column being one run of the dense table. Frames: whatever frame the points are in.
@@ -53,6 +55,8 @@ public:
 	/** The dense table may hold up to this many cells per indexed point (and at least
 	 * kDenseMinCells): 4 bytes each. */
 	static constexpr size_t kDenseCellsPerPoint = 64, kDenseMinCells = 1 << 14;
+	/** Hashed mode: no bitmap for a box of more cells than this (2 MB of bits). */
+	static constexpr size_t kBitmapMaxCells = size_t(1) << 24;
 
 private:
 	/** The run [first, second) of m_pos / m_index in cell (ix, iy); empty if none. */
@@ -65,9 +69,21 @@ private:
 			const size_t i = static_cast<size_t>(dx * m_ny + dy);
 			return {m_start[i], m_start[i + 1]};
 		}
+		if (!maybeOccupied(ix, iy)) return {0, 0};
 		if (const TCell* c = findCell(ix, iy)) return {c->start, c->start + c->count};
 		return {0, 0};
 	}
+	/** False only for a cell known to be empty (hashed mode: its bit in m_occupied). */
+	bool maybeOccupied(int64_t ix, int64_t iy) const
+	{
+		if (m_occupied.empty()) return true;
+		const int64_t dx = ix - m_x0, dy = iy - m_y0;
+		if (dx < 0 || dy < 0 || dx >= m_nx || dy >= m_ny) return false;
+		const uint64_t i = static_cast<uint64_t>(dx * m_ny + dy);
+		return (m_occupied[i >> 6] >> (i & 63)) & 1;
+	}
+	/** Hashed mode: the occupied cells' bitmap over the box (none if the box is too large). */
+	void buildBitmap(const std::vector<Eigen::Vector2d>& points);
 
 	// A hash slot: an occupied cell -> the run [start, start + count) of m_pos / m_index.
 	struct TCell
@@ -89,6 +105,9 @@ private:
 	std::vector<uint32_t> m_index;  // their indices in the input
 	std::vector<TCell> m_table;  // size: power of two
 	uint64_t m_mask = 0;
+	// The box of the indexed points' cells: (m_x0, m_y0) + [0, m_nx) x [0, m_ny).
+	// Hashed mode: bit i m_ny + j of m_occupied is set if cell (m_x0 + i, m_y0 + j) holds a point.
+	std::vector<uint64_t> m_occupied;
 	// Dense table: cell (m_x0 + i, m_y0 + j) holds the run [m_start[i m_ny + j], m_start[.. + 1])
 	std::vector<uint32_t> m_start;
 	int64_t m_x0 = 0, m_y0 = 0, m_nx = 0, m_ny = 0;
@@ -121,7 +140,8 @@ void CAnchorGrid::forEachWithin(const Eigen::Vector2d& q, double radius, F&& fn)
 	}
 	for (int64_t ix = x0; ix <= x1; ++ix)
 		for (int64_t iy = y0; iy <= y1; ++iy)
-			if (const TCell* c = findCell(ix, iy)) visitRun(c->start, c->start + c->count);
+			if (maybeOccupied(ix, iy))
+				if (const TCell* c = findCell(ix, iy)) visitRun(c->start, c->start + c->count);
 }
 
 }  // namespace lrgc

@@ -1,5 +1,7 @@
 #include "lrgc_apps/live/LiveSaver.h"
 
+#include <lrgc/common/ThreadPriority.h>
+
 namespace lrgc::apps
 {
 CLiveSaver::CLiveSaver() : m_thread([this] { threadMain(); }) {}
@@ -39,6 +41,7 @@ void CLiveSaver::waitIdle()
 
 void CLiveSaver::threadMain()
 {
+	lowerCallingThreadPriority();  // a save may wait; the next scan's registration may not
 	std::unique_lock<std::mutex> lock(m_mutex);
 	while (true)
 	{

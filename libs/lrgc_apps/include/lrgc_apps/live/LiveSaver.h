@@ -6,7 +6,8 @@
  * hands the save over as a job; this thread runs it: builds the grid (incrementally, with a
  * CIncrementalGrid of its own) and writes the files, each atomically. One save at a time: while
  * one runs, trySubmit() refuses the next and the mapping thread simply tries again later, so
- * saves never queue up behind a slow disk.
+ * saves never queue up behind a slow disk. The thread runs at a lower priority than the
+ * mapping thread (lowerCallingThreadPriority).
  */
 #pragma once
 
