@@ -58,6 +58,22 @@ struct TKnownRun
 	}
 };
 
+/** Keyframes 0..n-1 of `run` at their true poses, chained by tight scan-match links, entered
+ * into `local`'s window in order. */
+void enterTrueWindow(const TKnownRun& run, size_t n, CLocalRegistration& local, CPoseGraph& graph,
+					 TKeyframes& keyframes)
+{
+	const auto& truth = run.tr.truePoses;
+	for (size_t i = 0; i < n; ++i)
+	{
+		graph.addNode(truth[i]), keyframes.push_back(run.keyframes[i]);
+		local.enterKeyframe(i, false, graph);
+		if (i > 0)
+			graph.addLink({i - 1, i, between(truth[i - 1], truth[i]),
+						   Eigen::Matrix3d::Identity() * 1e4, LinkType::ScanMatch});
+	}
+}
+
 /** Odometry link k-1 -> k with the builder's odometry noise model. */
 TLink odometryLink(const lrgc::test::TTrajectory& tr, size_t k)
 {
@@ -239,15 +255,7 @@ TEST(LocalRegistration, keyframeRegisteredAgainstThePatchGetsThePatchLink)
 		CLocalRegistration local(p.local, p.matcher, p.optimizer);
 		CPoseGraph graph;
 		TKeyframes keyframes;
-		for (size_t i = 0; i < 6; ++i)
-		{
-			graph.addNode(truth[i]), keyframes.push_back(run.keyframes[i]);
-			local.enterKeyframe(i, false, graph);
-			if (i > 0)
-				graph.addLink(
-					{i - 1, i, between(truth[i - 1], truth[i]), Eigen::Matrix3d::Identity() * 1e4,
-					 LinkType::ScanMatch});
-		}
+		enterTrueWindow(run, 6, local, graph, keyframes);
 		const size_t n = 6;
 		lrgc::TMotionPrediction pred;
 		pred.motion = compose(run.tr.odometryIncrements[n - 1], TPose2D(0.05, -0.04, 0.03));
@@ -297,14 +305,7 @@ TEST(LocalRegistration, aReusedKeyframeAnchorsThePatchAndIsHeldFixed)
 	CLocalRegistration local(p.local, p.matcher, p.optimizer);
 	CPoseGraph graph;
 	TKeyframes keyframes;
-	for (size_t i = 0; i < 6; ++i)
-	{
-		graph.addNode(truth[i]), keyframes.push_back(run.keyframes[i]);
-		local.enterKeyframe(i, false, graph);
-		if (i > 0)
-			graph.addLink({i - 1, i, between(truth[i - 1], truth[i]),
-						   Eigen::Matrix3d::Identity() * 1e4, LinkType::ScanMatch});
-	}
+	enterTrueWindow(run, 6, local, graph, keyframes);
 	local.enterKeyframe(2, true, graph);
 	ASSERT_EQ(local.anchor(), std::optional<size_t>(2));
 	EXPECT_EQ(local.window().size(), 6U);  // 2 moved to the newest end, not doubled

@@ -175,12 +175,11 @@ bool CLocalizer::track(const TScan2D& scan, mrpt::Clock::time_point t)
 		const auto m = m_matcher.match(m_ref, scan, guess);
 		// The map's scans were taken at other times (people, doors) and its passes agree to
 		// about the loop links' noise floor, not to the match covariance alone.
-		const TLinkNoise& f = m_params.loop.link_noise;
-		const Eigen::Vector3d floor2(f.floorXY * f.floorXY, f.floorXY * f.floorXY, f.floorPhi * f.floorPhi);
 		good = m && m->inlierFraction >= m_lp.min_inliers &&
 			disagreementChi2(
 				guess, m->scanInRef,
-				rotateCovariance(priorCov, -m_refInMap.phi) + m->cov + Eigen::Matrix3d(floor2.asDiagonal())) <=
+				rotateCovariance(priorCov, -m_refInMap.phi) + m->cov +
+					m_params.loop.link_noise.floorCovariance()) <=
 				m_lp.gate_chi2;
 		if (good) pose = compose(m_refInMap, m->scanInRef);
 	}

@@ -264,11 +264,9 @@ void CMetricMapBuilderLRGC::linkSessionStart(size_t node)
 			   LinkType::LoopClosure};
 	// The old scans were taken at another time: their agreement with a new scan is limited by
 	// the loop links' noise floor, as is the correlation's with the match.
-	const TLinkNoise& f = m_params.loop.link_noise;
-	const Eigen::Vector3d floor2(f.floorXY * f.floorXY, f.floorXY * f.floorXY, f.floorPhi * f.floorPhi);
 	if (m && m->inlierFraction >= m_params.local.min_link_inliers &&
 		disagreementChi2(
-			guess, m->scanInRef, covInNearest + m->cov + Eigen::Matrix3d(floor2.asDiagonal())) <=
+			guess, m->scanInRef, covInNearest + m->cov + m_params.loop.link_noise.floorCovariance()) <=
 			kAgreeChi2)
 	{
 		link.toInFrom = m->scanInRef;

@@ -61,11 +61,8 @@ std::optional<TReusedKeyframe> CKeyframeReuse::reusableKeyframe(
 	if (!m || m->unobservableDims > 0 || m->inlierFraction < m_params.min_inliers)
 		return std::nullopt;
 	// scanCov in c's axes, plus the match's, plus the floor of scans taken at other times.
-	const Eigen::Vector3d floor2(
-		m_floor.floorXY * m_floor.floorXY, m_floor.floorXY * m_floor.floorXY,
-		m_floor.floorPhi * m_floor.floorPhi);
 	const Eigen::Matrix3d C =
-		rotateCovariance(scanCov, -cInMap.phi) + m->cov + Eigen::Matrix3d(floor2.asDiagonal());
+		rotateCovariance(scanCov, -cInMap.phi) + m->cov + m_floor.floorCovariance();
 	if (disagreementChi2(guess, m->scanInRef, C) > m_params.gate_chi2) return std::nullopt;
 	return TReusedKeyframe{*best, m->scanInRef, m->cov};
 }

@@ -27,6 +27,13 @@ struct TLinkNoise
 	double floorXY = 0.01;  //!< [m]
 	double floorPhi = 0.25 * M_PI / 180;  //!< [rad] (0.25 deg)
 
+	/** diag(fxy^2, fxy^2, fphi^2): the covariance the floor adds [m^2, m^2, rad^2]. */
+	Eigen::Matrix3d floorCovariance() const
+	{
+		const Eigen::Vector3d floor2(floorXY * floorXY, floorXY * floorXY, floorPhi * floorPhi);
+		return floor2.asDiagonal();
+	}
+
 	/** Keys <prefix>link_floor_xy [m] and <prefix>link_floor_phi_deg of section s (each
 	 * must be >= 0); missing keys keep the current values. */
 	void load(const mrpt::config::CConfigFileBase& c, const std::string& s, const std::string& prefix);
@@ -38,10 +45,7 @@ struct TLinkNoise
 inline Eigen::Matrix3d linkInformation(
 	const Eigen::Matrix3d& matchCov, const TLinkNoise& noise, double share = 1.0)
 {
-	const Eigen::Vector3d floor2(
-		noise.floorXY * noise.floorXY, noise.floorXY * noise.floorXY,
-		noise.floorPhi * noise.floorPhi);
-	const Eigen::Matrix3d C = matchCov + Eigen::Matrix3d(floor2.asDiagonal());
+	const Eigen::Matrix3d C = matchCov + noise.floorCovariance();
 	return C.inverse() / share;
 }
 
