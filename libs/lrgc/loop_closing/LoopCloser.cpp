@@ -13,6 +13,7 @@
 #include <chrono>
 #include <cmath>
 #include <ctime>
+#include <utility>
 
 namespace lrgc
 {
@@ -155,9 +156,12 @@ std::vector<TRelativeUncertainty> CLoopCloser::relativeUncertainty(
 	if (auto reused = reuseGate(graph, newest))
 	{
 		++m_stats.gateReuses;
+		m_stats.work.gateReusedLabels += reused->size();
 		return std::move(*reused);
 	}
 	++m_stats.gatePropagations;
+	m_stats.work.gatePropagatedNodes += graph.numNodes();
+	progress();
 	const auto& poses = graph.poses();
 	m_gateCache = TGateCache{
 		newest, graph.numLinks(), {poses.begin(), poses.begin() + newest + 1},
@@ -218,6 +222,7 @@ std::optional<TLoopClosure> CLoopCloser::process(CPoseGraph& graph, const TScanR
 	CCpuTimer gateTimer(m_stats.gateCpuSeconds);
 	const auto candidates = gate(graph, newest);
 	gateTimer.stop();
+	progress();
 	if (!candidates) return std::nullopt;
 	const auto t0 = std::chrono::steady_clock::now();
 	const TPose2D newestInMap = graph.pose(newest);
@@ -275,12 +280,31 @@ std::optional<TLoopClosure> CLoopCloser::process(CPoseGraph& graph, const TScanR
 	winXY = std::min(winXY, farthest + patchRadius + 4 * m_correlator.params().blurSigma +
 							   2 * m_correlator.params().resolution);
 	++m_stats.attempts;
+	++m_stats.work.correlations;
+	progress();
 	const CCorrelationGrid grid =
 		m_correlator.makeGrid(oldMap, 3 * m_correlator.params().blurSigma);
-	const auto corr = m_correlator.correlate(grid, patch, newestInMap, winXY, winTheta);
+	TCorrelationEffort effort;
+	// Counted as the search goes (see process's progress): headings x cells once known,
+	// then poses scored x cells.
+	double counted = 0;  // poses scored x cells counted so far
+	bool prepared = false;
+	effort.onProgress = [this, &counted, &prepared](const TCorrelationEffort& e) {
+		if (!std::exchange(prepared, true))
+			m_stats.work.correlationAngleCells += double(e.headings) * double(e.patchCells);
+		const double poseCells = double(e.posesScored) * double(e.patchCells);
+		m_stats.work.correlationPoseCells += poseCells - counted;
+		counted = poseCells;
+		progress();
+	};
+	const auto corr =
+		m_correlator.correlate(grid, patch, newestInMap, winXY, winTheta, &effort);
+	m_stats.work.correlationPoseCells +=
+		double(effort.posesScored) * double(effort.patchCells) - counted;
 	const TCorrelationVerdict verdict = corr ? corr->checkFilters(m_correlator.params())
 											 : TCorrelationVerdict{TCorrelationVerdict::Reason::LowScore, 0, m_correlator.params().minScore};
 	correlateTimer.stop();
+	progress();
 	if (!verdict.accepted())
 	{
 		++m_stats.rejectedByFilters;
@@ -301,6 +325,7 @@ std::optional<TLoopClosure> CLoopCloser::process(CPoseGraph& graph, const TScanR
 	{
 		if (translationNorm(between(graph.pose(j), corrected)) > 2 * m_params.overlap_radius) continue;
 		refScans.push_back(*scans[j]);
+		m_stats.work.matchRefPoints += scans[j]->points.size();
 		refInOld.push_back(between(oldInMap, graph.pose(j)));
 	}
 	// Only the old points the new scan can reach at the correlated pose (a few cm off):
@@ -311,6 +336,8 @@ std::optional<TLoopClosure> CLoopCloser::process(CPoseGraph& graph, const TScanR
 	for (const auto& p : scans[newest]->points) scanInOld.push_back(toOld(p));
 	const double cropMargin =
 		m_matcherParams.maxCorrespondenceDist_m + 4 * m_matcherParams.normalRadius_m + 0.2;
+	++m_stats.work.matches;
+	progress();
 	TScanMatcherParams refParams = m_matcherParams;
 	if (m_params.match_ref_resolution > 0) refParams.refResolution_m = m_params.match_ref_resolution;
 	const auto match = m_matcher.match(
@@ -363,7 +390,7 @@ std::optional<TLoopClosure> CLoopCloser::process(CPoseGraph& graph, const TScanR
 	if (heldId || e.dot(info * e) > m_params.consistent_chi2)
 	{
 		CCpuTimer closeTimer(m_stats.closeCpuSeconds);
-		const auto report = m_optimizer.optimize(graph, 0, vettedLinks);
+		const auto report = optimize(graph, vettedLinks);
 		++m_stats.optimizations;
 		const auto downweighted = [&](size_t id) {
 			return std::binary_search(
@@ -376,18 +403,35 @@ std::optional<TLoopClosure> CLoopCloser::process(CPoseGraph& graph, const TScanR
 			graph.setLinkEnabled(lc.linkId, false);
 			if (heldId) graph.setLinkEnabled(*heldId, false);
 			m_gateCache.reset();  // a path it used may be gone
-			m_optimizer.optimize(graph, 0);
+			optimize(graph);
 			return std::nullopt;
 		}
 		lc.optimized = true;
 		lc.rematchLinks = rematch(graph, scans, *candidates, patchFirst, newest);
-		if (lc.rematchLinks > 0) m_optimizer.optimize(graph, 0), ++m_stats.optimizations;
+		if (lc.rematchLinks > 0) optimize(graph), ++m_stats.optimizations;
 	}
 	++m_stats.accepted;
 	m_onKnownGround = !lc.optimized;
 	lc.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 	if (lc.optimized) m_stats.closureSeconds.push_back(lc.seconds);
 	return lc;
+}
+
+TOptimizationReport CLoopCloser::optimize(CPoseGraph& graph, const std::vector<size_t>& vetted)
+{
+	// Counted before the work, so that the worker's published progress stays a lower bound
+	// of the job's modelled work: the problem's size (every node and link), then each
+	// iteration as it starts.
+	const double elements = double(graph.numNodes() + graph.numLinks());
+	m_stats.work.solveElements += elements;
+	progress();
+	m_optimizer.setIterationCallback([this, elements] {
+		m_stats.work.solveIterationElements += elements;
+		progress();
+	});
+	const TOptimizationReport r = m_optimizer.optimize(graph, 0, vetted);
+	m_optimizer.setIterationCallback({});
+	return r;
 }
 
 // Paper 2.2: after the loop is closed, rerun with new scan matches between the newly linked

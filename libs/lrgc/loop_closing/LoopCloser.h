@@ -34,6 +34,7 @@
 #include <lrgc/scan_matching/ScanMatcher.h>
 #include <mrpt/config/CLoadableOptions.h>
 
+#include <functional>
 #include <optional>
 #include <string>
 
@@ -65,6 +66,13 @@ class CLoopCloser
 	std::optional<TLoopClosure> process(CPoseGraph& graph, const TScanRefs& scans);
 
 	const TLoopCloserStats& stats() const { return m_stats; }
+	/** Counts a search skipped by the caller (CLoopClosingWorker's backlog). */
+	void countShed() { ++m_stats.searchesShed; }
+	/** Adds the caller's own work (CLoopClosingWorker's updates of its graph) to stats(). */
+	void countWork(const TLoopWork& w) { m_stats.work += w; }
+	/** Called after each step of process() (gate, correlation, match, each solve), with
+	 * stats().work updated: the worker publishes how far its job has got. */
+	void setProgressCallback(std::function<void()> f) { m_onProgress = std::move(f); }
 	/** Why the last attempt was rejected (empty if accepted or not attempted). */
 	const std::string& lastRejection() const { return m_lastRejection; }
 
@@ -84,7 +92,14 @@ class CLoopCloser
 	CScanMatcher m_matcher;
 	CPoseGraphOptimizer m_optimizer;
 	TLoopCloserStats m_stats;
+	std::function<void()> m_onProgress;
 	std::string m_lastRejection;
+	/** A whole-graph solve, its effort counted in stats().work. */
+	TOptimizationReport optimize(CPoseGraph& graph, const std::vector<size_t>& vetted = {});
+	void progress() const
+	{
+		if (m_onProgress) m_onProgress();
+	}
 	/** A match held for confirmation (confirm_above_sigma): its link and whether the gate
 	 * vetted it. */
 	struct THeldMatch

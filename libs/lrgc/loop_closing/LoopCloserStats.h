@@ -2,6 +2,8 @@
  * apart from CLoopCloser so that the builder's public header needs none of its internals. */
 #pragma once
 
+#include <lrgc/loop_closing/LoopWork.h>
+
 #include <cstddef>
 #include <vector>
 
@@ -26,6 +28,11 @@ struct TLoopCloserStats
 	 * (uncertainty propagation), the correlation (old-map grid and search), the link's scan
 	 * match (reference cloud and match) and the closure (solves and re-matching). */
 	double gateCpuSeconds = 0, correlateCpuSeconds = 0, matchCpuSeconds = 0, closeCpuSeconds = 0;
+	/** The same work in machine-independent counts (the worker's schedule, LoopWork.h). */
+	TLoopWork work;
+	/** Searches the worker skipped because its modelled schedule ran more than
+	 * [LoopCloser] max_backlog keyframes behind (CLoopClosingWorker). */
+	size_t searchesShed = 0;
 };
 
 }  // namespace lrgc

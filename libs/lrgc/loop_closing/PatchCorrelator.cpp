@@ -233,23 +233,27 @@ CCorrelationGrid CPatchCorrelator::makeGrid(const std::vector<Eigen::Vector2d>& 
 
 std::optional<TCorrelationResult> CPatchCorrelator::correlate(
 	const CCorrelationGrid& oldMap, const std::vector<Eigen::Vector2d>& patchPoints,
-	const mrpt::math::TPose2D& center, double halfWindowXY, double halfWindowTheta) const
+	const mrpt::math::TPose2D& center, double halfWindowXY, double halfWindowTheta,
+	TCorrelationEffort* effort) const
 {
-	return run(false, oldMap, patchPoints, center, halfWindowXY, halfWindowTheta);
+	return run(false, oldMap, patchPoints, center, halfWindowXY, halfWindowTheta, effort);
 }
 
 std::optional<TCorrelationResult> CPatchCorrelator::correlateExhaustive(
 	const CCorrelationGrid& oldMap, const std::vector<Eigen::Vector2d>& patchPoints,
 	const mrpt::math::TPose2D& center, double halfWindowXY, double halfWindowTheta) const
 {
-	return run(true, oldMap, patchPoints, center, halfWindowXY, halfWindowTheta);
+	return run(true, oldMap, patchPoints, center, halfWindowXY, halfWindowTheta, nullptr);
 }
 
 std::optional<TCorrelationResult> CPatchCorrelator::run(
 	bool exhaustive, const CCorrelationGrid& grid,
 	const std::vector<Eigen::Vector2d>& patchPoints, const mrpt::math::TPose2D& center,
-	double halfWindowXY, double halfWindowTheta) const
+	double halfWindowXY, double halfWindowTheta, TCorrelationEffort* effort) const
 {
+	TCorrelationEffort spent;
+	if (!effort) effort = &spent;
+	effort->headings = effort->patchCells = effort->posesScored = 0;
 	if (grid.empty()) THROW_EXCEPTION("CPatchCorrelator: the old-map grid is empty");
 	if (!(halfWindowXY >= 0 && halfWindowXY <= 1e3) ||
 		!(halfWindowTheta >= 0 && halfWindowTheta <= 1e3) ||
@@ -291,6 +295,16 @@ std::optional<TCorrelationResult> CPatchCorrelator::run(
 	for (int a = 0; a < pb.numAngles; ++a)
 		appendBaseCells(grid, pts, center, spec.theta(a), pb.baseCells);
 	pb.prepare();
+	effort->headings = size_t(pb.numAngles), effort->patchCells = pts.size();
+	// Progress: posesScored grows by the search's steps, then takes each search's count.
+	if (effort->onProgress)
+	{
+		effort->onProgress(*effort);
+		pb.onEvaluations = [&] {
+			effort->posesScored += TPoseGridProblem::kProgressEvaluations;
+			effort->onProgress(*effort);
+		};
+	}
 
 	// Step 3: the best pose.
 	const auto search = [&](int64_t floor, const detail::TExclusionZone& z, bool firstHit) {
@@ -301,6 +315,7 @@ std::optional<TCorrelationResult> CPatchCorrelator::run(
 	const auto floor1 =
 		static_cast<int64_t>(std::ceil(m_params.minScore * double(full) - 1e-9));
 	const detail::TSearchHit best = search(floor1, detail::TExclusionZone{}, false);
+	effort->posesScored = best.evaluations;
 	if (!best.found) return std::nullopt;
 
 	TCorrelationResult res;
@@ -331,6 +346,7 @@ std::optional<TCorrelationResult> CPatchCorrelator::run(
 			{spec.pose(rival.a, rival.i, rival.j), double(rival.score) / double(full)});
 	}
 	res.posesScored = best.evaluations + rival.evaluations;
+	effort->posesScored = res.posesScored;
 
 	// Step 5: the spread of the best cluster.
 	res.cov = clusterCovariance(m_params, grid, pts, spec, best.a, best.i, best.j, best.score);

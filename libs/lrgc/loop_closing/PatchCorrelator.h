@@ -27,6 +27,7 @@
 
 #include <Eigen/Core>
 #include <cstddef>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -85,6 +86,17 @@ struct TCorrelationResult
 	}
 };
 
+/** What a search cost, known even when it found nothing (TLoopWork counts it). */
+struct TCorrelationEffort
+{
+	size_t headings = 0;     //!< headings of the pose grid
+	size_t patchCells = 0;   //!< N: distinct patch cells
+	size_t posesScored = 0;  //!< exact scores + block bounds evaluated
+	/** If set, called once headings and patchCells are known, before the search, and as
+	 * the search goes on (posesScored so far). */
+	std::function<void(const TCorrelationEffort&)> onProgress;
+};
+
 class CPatchCorrelator
 {
 public:
@@ -102,12 +114,14 @@ public:
 	 * x, y within +-halfWindowXY [m], heading within +-halfWindowTheta [rad]. `patchPoints`
 	 * are in the patch frame. Returns std::nullopt if no pose scores at least minScore (the
 	 * score filter fails), or if the patch is empty. The result is the exhaustive one;
-	 * filters are not applied (see checkFilters). The grid's resolution is used. */
+	 * filters are not applied (see checkFilters). The grid's resolution is used. If
+	 * `effort` is given, the search's effort is written there. */
 	std::optional<TCorrelationResult> correlate(const CCorrelationGrid& oldMap,
 												const std::vector<Eigen::Vector2d>& patchPoints,
 												const mrpt::math::TPose2D& centerPatchInMap,
 												double halfWindowXY,
-												double halfWindowTheta) const;
+												double halfWindowTheta,
+												TCorrelationEffort* effort = nullptr) const;
 
 	/** The paper's exhaustive search over the same pose grid; same contract, except that the
 	 * ambiguity is always the exact ratio (inf only if every pose is inside the cluster). */
@@ -120,7 +134,8 @@ private:
 	std::optional<TCorrelationResult> run(bool exhaustive, const CCorrelationGrid& oldMap,
 										  const std::vector<Eigen::Vector2d>& patchPoints,
 										  const mrpt::math::TPose2D& center,
-										  double halfWindowXY, double halfWindowTheta) const;
+										  double halfWindowXY, double halfWindowTheta,
+										  TCorrelationEffort* effort) const;
 
 	TPatchCorrelatorParams m_params;
 };

@@ -192,7 +192,8 @@ private:
 		if (blockExcluded(a0, a1, i0, i1, j0, j1)) return;
 		const int64_t idx = m_pb.linearIndex(a0, i0, j0);  // the block's smallest index
 		if (m_best.required(idx) > int64_t(255) * m_pb.numPoints) return;
-		++m_evaluations;
+		if (++m_evaluations % TPoseGridProblem::kProgressEvaluations == 0 && m_pb.onEvaluations)
+			m_pb.onEvaluations();
 		const int64_t req = m_best.required(idx);
 		const int64_t b = blockBound(m_pb, a0, a1, h, i0, j0, req);
 		if (b >= 0) out.push_back({a0, a1, h, i0, j0, b, idx});

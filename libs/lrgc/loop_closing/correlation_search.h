@@ -12,6 +12,7 @@
 #include <lrgc/loop_closing/CorrelationGrid.h>
 
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 namespace lrgc::detail
@@ -33,6 +34,10 @@ struct TPoseGridProblem
 	std::vector<int32_t> bbox;
 	std::vector<int64_t> linear;
 	void prepare();
+	/** If set, the branch and bound calls it after every kProgressEvaluations evaluations
+	 * (progress for the loop-closing worker's schedule). */
+	std::function<void()> onEvaluations;
+	static constexpr size_t kProgressEvaluations = 4096;
 
 	int side() const { return 2 * halfCells + 1; }
 	int64_t linearIndex(int a, int i, int j) const

@@ -232,7 +232,8 @@ struct TPass
  * the relative cost decrease < relTol, the step < stepTol, or after maxIterations. */
 TPass levenbergMarquardt(detail::TProblem& prob, const detail::TCostKernel& k,
 						 const TPoseGraphOptimizerParams& p, double relTol, int maxIterations,
-						 CCholmodSolver& solver, detail::TNormalEquations& ne)
+						 CCholmodSolver& solver, detail::TNormalEquations& ne,
+						 const std::function<void()>& onIteration)
 {
 	TPass pass;
 	pass.converged = prob.varNode.empty();
@@ -243,6 +244,7 @@ TPass levenbergMarquardt(detail::TProblem& prob, const detail::TCostKernel& k,
 	while (!pass.converged && pass.iterations < maxIterations)
 	{
 		++pass.iterations;
+		if (onIteration) onIteration();
 		prob.linearize(k, ne);
 		if (ne.rhs.cwiseAbs().maxCoeff() < 1e-12) return pass.converged = true, pass;
 		bool accepted = false;
@@ -383,7 +385,8 @@ TOptimizationReport CPoseGraphOptimizer::solve(
 		const int budget = m_params.maxIterations - rep.iterations;
 		const TPass pass =
 			levenbergMarquardt(prob, k, m_params, last ? m_params.relativeCostTolerance : 1e-3,
-							   last ? budget : std::min(5, budget), m_impl->solver, ne);
+							   last ? budget : std::min(5, budget), m_impl->solver, ne,
+							   m_onIteration);
 		rep.iterations += pass.iterations;
 		rep.converged = last && pass.converged;
 		if (last || rep.iterations >= m_params.maxIterations) break;

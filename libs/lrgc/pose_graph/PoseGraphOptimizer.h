@@ -29,6 +29,7 @@
 #include <mrpt/config/CLoadableOptions.h>
 
 #include <Eigen/Core>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -64,6 +65,9 @@ public:
 	CPoseGraphOptimizer& operator=(CPoseGraphOptimizer&&) noexcept;
 
 	const TPoseGraphOptimizerParams& params() const { return m_params; }
+	/** Called at the start of every LM iteration (linearisation) of every solve: progress
+	 * for a caller on another thread (CLoopClosingWorker's schedule). */
+	void setIterationCallback(std::function<void()> f) { m_onIteration = std::move(f); }
 
 	/** Optimises every node joined to `anchor` through enabled links; `anchor` stays fixed,
 	 * nodes not joined to it are left untouched. Writes the poses back into `g`.
@@ -86,6 +90,7 @@ private:
 
 	struct Impl;  // CHOLMOD workspace and the cached symbolic factorisation
 	TPoseGraphOptimizerParams m_params;
+	std::function<void()> m_onIteration;
 	std::unique_ptr<Impl> m_impl;
 };
 
