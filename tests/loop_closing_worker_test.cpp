@@ -9,6 +9,7 @@
  *  - while another thread keeps reading the map through the getters MRPT users call
  *    (getCurrentPoseEstimation, getCurrentlyBuiltMap, getCurrentlyBuiltMetricMap, trajectory):
  *    every copy must be whole, and the map the same as without the reader. */
+#include <lrgc/loop_closing/LoopWork.h>
 #include <gtest/gtest.h>
 #include <mrpt/maps/CSimpleMap.h>
 #include <mrpt/obs/CObservationOdometry.h>
@@ -48,6 +49,7 @@ struct TRun
 	lrgc::TTrajectory trajectory;
 	lrgc::TMapBuilderStats stats;
 	TTrajectoryError error;
+	lrgc::TLoopCloserStats loop;
 };
 
 TRun mapRing(const TLRGCParams& p, std::chrono::milliseconds extraDelay,
@@ -65,7 +67,8 @@ TRun mapRing(const TLRGCParams& p, std::chrono::milliseconds extraDelay,
 	feedBuilder(builder, world, tr, opt);
 	done = true;
 	if (readerThread.joinable()) readerThread.join();
-	return {builder.trajectory(), builder.stats(), trajectoryError(builder.trajectory(), tr.truePoses)};
+	return {builder.trajectory(), builder.stats(), trajectoryError(builder.trajectory(), tr.truePoses),
+			builder.loopCloserStats()};
 }
 
 void expectSameTrajectory(const lrgc::TTrajectory& a, const lrgc::TTrajectory& b, const char* what)
@@ -189,4 +192,41 @@ TEST(MapBuilderThreads, gettersAndChangesTakeTheCriticalSection)
 		t.join();
 		EXPECT_TRUE(returned) << name;
 	}
+}
+
+// [LoopCloser] worker_budget_ms: results land where a worker doing that much modelled work per
+// keyframe would finish them, and searches are skipped past max_backlog. A budget far below
+// what the searches cost delays results and sheds searches; the schedule still depends on
+// the data alone, so a slowed worker gives the same map.
+TEST(LoopClosingWorker, aModelledWorkerDelaysCostlyResultsAndShedsSearchesWhateverItsSpeed)
+{
+	TLRGCParams p;
+	p.loop.worker_budget_ms = 0.2;
+	p.loop.max_backlog = 6;
+	const TRun normal = mapRing(p, std::chrono::milliseconds(0));
+	const TRun slow = mapRing(p, std::chrono::milliseconds(15));
+	p.loop.background = false;
+	const TRun inlineRun = mapRing(p, std::chrono::milliseconds(0));
+
+	EXPECT_GT(normal.stats.loopResultDelayMax, p.loop.result_delay);
+	EXPECT_GT(normal.loop.searchesShed, 0U);
+	EXPECT_EQ(normal.loop.searchesShed, slow.loop.searchesShed);
+	expectSameTrajectory(normal.trajectory, slow.trajectory, "slowed worker");
+	expectSameTrajectory(normal.trajectory, inlineRun.trajectory, "no worker thread");
+	EXPECT_EQ(normal.stats.loopClosureLinks, slow.stats.loopClosureLinks);
+}
+
+TEST(LoopWork, theModelIsLinearInTheCounts)
+{
+	lrgc::TLoopWork a, b;
+	a.correlations = 2, a.correlationPoseCells = 1e6, a.solveElements = 1e4;
+	b.correlations = 1, b.solveIterationElements = 5e4, b.newScans = 3;
+	lrgc::TLoopWork sum = a;
+	sum += b;
+	EXPECT_NEAR(sum.referenceMs(), a.referenceMs() + b.referenceMs(), 1e-9);
+	EXPECT_NEAR((sum - b).referenceMs(), a.referenceMs(), 1e-9);
+	EXPECT_EQ(lrgc::TLoopWork{}.referenceMs(), 0.0);
+	lrgc::TLoopWork more = a;
+	more.correlationPoseCells *= 2;
+	EXPECT_GT(more.referenceMs(), a.referenceMs());
 }

@@ -31,6 +31,9 @@ void TLoopCloserParams::loadFromConfigFile(
 	requireParam(attempt_stride >= 0, s, "attempt_stride", "must be >= 0");
 	background = readBool(c, s, "background", background);
 	result_delay = readCount(c, s, "result_delay", result_delay);
+	worker_budget_ms = readDouble(c, s, "worker_budget_ms", worker_budget_ms);
+	requireParam(worker_budget_ms >= 0, s, "worker_budget_ms", "must be >= 0");
+	max_backlog = readCount(c, s, "max_backlog", max_backlog);
 	apply_when_ready = readBool(c, s, "apply_when_ready", apply_when_ready);
 	link_noise.load(c, s, "");
 	requireParam(patch_max_range > 0, s, "patch_max_range", "must be > 0");
@@ -77,6 +80,8 @@ void TLoopCloserParams::saveToConfigFile(
 	c.write(s, "attempt_stride", attempt_stride, np, vp, "While the patch is grown, correlate once every attempt_stride * (patch - patch_min_keyframes) checks (0: every check)");
 	c.write(s, "background", background, np, vp, "Loop closing on a worker thread while scans are registered (false: on the mapping thread; same map)");
 	c.write(s, "result_delay", uint64_t(result_delay), np, vp, "[keyframes] A loop search started at keyframe k is applied at k + this (deterministic: the mapping thread waits there if needed)");
+	c.write(s, "worker_budget_ms", worker_budget_ms, np, vp, "[ms per keyframe] A result is applied where a modelled worker doing this much work per keyframe finishes it (deterministic; 0: at k + result_delay)");
+	c.write(s, "max_backlog", uint64_t(max_backlog), np, vp, "[keyframes] Searches are skipped while the modelled worker is more than this behind");
 	c.write(s, "apply_when_ready", apply_when_ready, np, vp, "Apply a loop search's result as soon as it is ready (live runs; the map then depends on timing)");
 	link_noise.save(c, s, "", "every loop link (scans minutes apart: moved objects)");
 }

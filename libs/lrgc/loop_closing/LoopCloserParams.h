@@ -69,6 +69,18 @@ struct TLoopCloserParams : public mrpt::config::CLoadableOptions
 	 * depends on the machine's speed. Searches start at every keyframe (check_every) and queue
 	 * up on the worker; results are applied in order. 0: applied at once. */
 	size_t result_delay = 1;
+	/** [ms of the reference machine per keyframe] With this > 0, a result is applied at the
+	 * keyframe where a modelled worker finishes it (not before k + result_delay): a worker
+	 * that does this much of the work modelled by TLoopWork per keyframe, one job after the
+	 * other. A whole-graph closure of a large map then lands some hundred keyframes later
+	 * instead of stalling the mapping thread at k + result_delay; the schedule is still a
+	 * function of the log alone. 0: every result at k + result_delay. */
+	double worker_budget_ms = 5;
+	/** [keyframes] When the modelled worker is more than this behind the newest keyframe, a
+	 * job only brings the worker's graph up to date and skips its search (the next keyframes
+	 * look again): the worker's work stays bounded by worker_budget_ms per keyframe. Only
+	 * with worker_budget_ms > 0. */
+	size_t max_backlog = 300;
 	/** Apply a result as soon as it is ready instead of at k + result_delay (live runs: the
 	 * robot never waits; the map then depends on timing). lrgc-slam --live sets it from
 	 * [LiveMapping] loop_results_when_ready. */

@@ -6,6 +6,7 @@
 #include <mrpt/core/exceptions.h>
 
 #include <algorithm>
+#include <cmath>
 
 namespace lrgc
 {
@@ -14,7 +15,10 @@ using mrpt::math::TPose2D;
 CLoopClosingWorker::CLoopClosingWorker(
 	const TLoopCloserParams& p, const TPatchCorrelatorParams& correlator,
 	const TScanMatcherParams& matcher, const TPoseGraphOptimizerParams& optimizer)
-	: m_closer(p, correlator, matcher, optimizer)
+	: m_resultDelay(p.result_delay),
+	  m_budgetMs(p.worker_budget_ms),
+	  m_maxBacklog(p.max_backlog),
+	  m_closer(p, correlator, matcher, optimizer)
 {
 	// Results taken whenever ready (a live run): the mapping thread never waits for this
 	// thread, so it yields the cores to it.
@@ -68,12 +72,39 @@ bool CLoopClosingWorker::ready() const
 	return !m_pendingNodes.empty() && (!m_results.empty() || m_error);
 }
 
+bool CLoopClosingWorker::due(size_t newest, double& waitedSeconds)
+{
+	ASSERTMSG_(!m_pendingNodes.empty(), "CLoopClosingWorker::due: no job was submitted");
+	const auto t0 = std::chrono::steady_clock::now();
+	bool waited = false;
+	std::unique_lock<std::mutex> lock(m_mutex);
+	for (;;)
+	{
+		if (m_error) break;
+		if (!m_results.empty())
+		{
+			if (m_results.front().dueAt > newest) return false;
+			break;
+		}
+		const size_t leastDue = m_runningJob == m_taken ? m_runningDue
+														: m_pendingNodes.front() + m_resultDelay;
+		if (leastDue > newest) break;
+		m_cv.wait(lock);
+		waited = true;
+	}
+	if (waited)
+		waitedSeconds +=
+			std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+	return m_error || !m_results.empty();
+}
+
 TLoopJobResult CLoopClosingWorker::take()
 {
 	ASSERTMSG_(!m_pendingNodes.empty(), "CLoopClosingWorker::take: no job was submitted");
 	std::unique_lock<std::mutex> lock(m_mutex);
 	m_cv.wait(lock, [this] { return !m_results.empty() || m_error; });
 	m_pendingNodes.pop_front();
+	++m_taken;
 	if (m_error) std::rethrow_exception(m_error);
 	TLoopJobResult r = std::move(m_results.front());
 	m_results.pop_front();
@@ -148,6 +179,25 @@ void CLoopClosingWorker::updateReplica(const TLoopJob& job)
 	}
 }
 
+size_t CLoopClosingWorker::dueKeyframe(
+	size_t newest, double start, const TLoopWork& work, double* finish) const
+{
+	if (m_budgetMs <= 0) return newest + m_resultDelay;
+	const double f = start + work.referenceMs() / m_budgetMs;
+	if (finish) *finish = f;
+	return std::max(newest + m_resultDelay, static_cast<size_t>(std::ceil(f)));
+}
+
+void CLoopClosingWorker::publishProgress(size_t due)
+{
+	{
+		std::lock_guard<std::mutex> lock(m_mutex);
+		m_runningJob = m_jobsDone;
+		m_runningDue = due;
+	}
+	m_cv.notify_all();
+}
+
 // Brings the replica up to date with the job, runs the loop closer on it, and reports what
 // it changed. Runs on the worker thread (or in submit() without one); touches no state of the
 // mapping thread but what the job holds (scans are read through stable addresses).
@@ -162,10 +212,30 @@ TLoopJobResult CLoopClosingWorker::execute(TLoopJob& job)
 	for (const TLink& l : job.links) m_replica.addLink(l);
 	m_replica.takeLowestMovedNode();  // from here on, only the loop closer's moves count
 
+	// The modelled worker's schedule (see the header); its work: this job's update of the
+	// replica and what the loop closer counts.
+	const double start = std::max(double(job.newest), m_modelledFree);
+	const TLoopWork before = m_closer.stats().work;
+	TLoopWork update;
+	update.jobs = 1, update.newScans = job.scans.size();
+	const auto workSoFar = [&] {
+		TLoopWork w = m_closer.stats().work - before;
+		return w += update;
+	};
+	publishProgress(dueKeyframe(job.newest, start, workSoFar(), nullptr));
+	m_closer.setProgressCallback(
+		[&] { publishProgress(dueKeyframe(job.newest, start, workSoFar(), nullptr)); });
+
 	const size_t firstLink = m_replica.numLinks();
 	TLoopJobResult r;
 	r.newest = job.newest;
-	r.closure = m_closer.process(m_replica, m_scans);
+	if (m_budgetMs > 0 && start - double(job.newest) > double(m_maxBacklog)) m_closer.countShed();
+	else r.closure = m_closer.process(m_replica, m_scans);
+	m_closer.setProgressCallback({});
+	double finish = start;
+	r.dueAt = dueKeyframe(job.newest, start, workSoFar(), &finish);
+	m_modelledFree = finish;
+	m_closer.countWork(update);
 	for (size_t id = firstLink; id < m_replica.numLinks(); ++id)
 	{
 		r.links.push_back(m_replica.link(id));

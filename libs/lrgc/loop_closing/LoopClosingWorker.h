@@ -21,8 +21,16 @@
  * newest node, X_i <- X'_k (+) (M_k^-1 (+) M_i), M being the mapping thread's poses).
  *
  * Determinism: a job's result depends only on the jobs so far, never on when the worker runs;
- * the map builder applies it at a fixed keyframe (see TLoopCloserParams::result_delay), so
- * offline runs give the same map on any machine. With `background` off a job runs inside
+ * the map builder applies it at a keyframe fixed by the log alone, so offline runs give the
+ * same map on any machine: k + result_delay, or, with [LoopCloser] worker_budget_ms, the
+ * keyframe where a modelled worker would finish it. The modelled worker does worker_budget_ms
+ * of the work TLoopWork counts per keyframe, one job after the other:
+ *     start_j = max(k_j, finish_{j-1}),  finish_j = start_j + W_j / worker_budget_ms
+ *     due_j = max(k_j + result_delay, ceil(finish_j))            [keyframes]
+ * with W_j the job's modelled work [ms]. A job that would start more than max_backlog
+ * keyframes behind skips its search. While a job runs, the worker publishes the due keyframe
+ * its work so far implies (a lower bound), so the mapping thread waits only when the real
+ * worker is slower than the modelled one. With `background` off a job runs inside
  * submit() on the caller's thread: the same results, for debugging and tests.
  */
 #pragma once
@@ -65,6 +73,8 @@ struct TLoopJobResult
 	/** New poses of nodes firstMoved..newest if the job optimised the graph, else empty. */
 	size_t firstMoved = 0;
 	std::vector<mrpt::math::TPose2D> poses;
+	/** Keyframe (node index) at which the mapping thread applies it (see the header). */
+	size_t dueAt = 0;
 };
 
 class CLoopClosingWorker
@@ -87,6 +97,10 @@ class CLoopClosingWorker
 	size_t oldestPendingNode() const { return m_pendingNodes.front(); }
 	/** The oldest pending job is done (take() will not wait). */
 	bool ready() const;
+	/** Whether the oldest pending job's result is due at keyframe `newest`. Waits only while
+	 * that cannot be told yet (the job is still running and its work so far does not put it
+	 * past `newest`); the time waited is added to `waitedSeconds`. */
+	bool due(size_t newest, double& waitedSeconds);
 	/** The oldest pending job's result, waiting for it if needed; rethrows what the job
 	 * threw. */
 	TLoopJobResult take();
@@ -107,9 +121,16 @@ class CLoopClosingWorker
 	};
 
 	TLoopJobResult execute(TLoopJob& job);
+	/** Due keyframe of a job from keyframe `newest` whose modelled worker starts at `start`
+	 * [keyframes] and has done `work` so far; `finish` receives its finish [keyframes]. */
+	size_t dueKeyframe(size_t newest, double start, const TLoopWork& work, double* finish) const;
+	void publishProgress(size_t due);
 	void updateReplica(const TLoopJob& job);
 	void threadMain();
 
+	const size_t m_resultDelay;
+	const double m_budgetMs;  //!< worker_budget_ms (0: results at k + result_delay)
+	const size_t m_maxBacklog;
 	CLoopCloser m_closer;
 	CPoseGraph m_replica;  //!< the mapping thread's graph as of the last job, corrected
 	TScanRefs m_scans;  //!< per replica node
@@ -117,14 +138,19 @@ class CLoopClosingWorker
 	std::vector<mrpt::math::TPose2D> m_sentPoses;
 	std::vector<TCorrection> m_unapplied;
 	size_t m_jobsDone = 0;
+	double m_modelledFree = 0;  //!< keyframe at which the modelled worker is free
 	std::atomic<int64_t> m_extraDelayMs{0};
 
 	std::deque<size_t> m_pendingNodes;  // touched by the mapping thread only
+	size_t m_taken = 0;                 // results taken (the mapping thread's)
 
 	mutable std::mutex m_mutex;  // guards what follows
 	std::condition_variable m_cv;
 	std::deque<TLoopJob> m_jobs;
 	std::deque<TLoopJobResult> m_results;
+	/** The job running (its sequence number, SIZE_MAX: none) and the least due keyframe
+	 * its work so far implies. */
+	size_t m_runningJob = SIZE_MAX, m_runningDue = 0;
 	std::exception_ptr m_error;
 	TLoopCloserStats m_stats;
 	bool m_stop = false;

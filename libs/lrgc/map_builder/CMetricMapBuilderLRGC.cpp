@@ -153,8 +153,9 @@ void CMetricMapBuilderLRGC::processScan(
 }
 
 // Step 4 with a worker (CLoopClosingWorker). At a keyframe, the results that are due are
-// applied, in order: a search started at keyframe k is due at k + result_delay (waited for if
-// not done), or in a live run whenever it is ready. Then a search for the newest keyframe is
+// applied, in order: a search started at keyframe k is due at the keyframe the worker's
+// schedule gives it (CLoopClosingWorker::due: k + result_delay, or where the modelled worker
+// finishes it; waited for if not done), or in a live run whenever it is ready. Then a search for the newest keyframe is
 // queued, with what the worker's copy of the graph lacks.
 void CMetricMapBuilderLRGC::serviceLoopClosing(bool atKeyframe)
 {
@@ -162,21 +163,18 @@ void CMetricMapBuilderLRGC::serviceLoopClosing(bool atKeyframe)
 	const auto& p = m_params.loop;
 	while (m_loopWorker->pending() > 0)
 	{
-		const bool ready = m_loopWorker->ready();
-		const bool due = p.apply_when_ready
-			? ready
-			: atKeyframe && newest >= m_loopWorker->oldestPendingNode() + p.result_delay;
-		if (!due) break;
-		const auto t0 = std::chrono::steady_clock::now();
-		TLoopJobResult r = m_loopWorker->take();
-		if (!ready)
+		double waited = 0;
+		const bool due = p.apply_when_ready ? m_loopWorker->ready()
+											: atKeyframe && m_loopWorker->due(newest, waited);
+		if (waited > 0)
 		{
-			const double waited =
-				std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 			++m_stats.loopResultWaits;
 			m_stats.loopResultWaitSeconds += waited;
 			m_stats.loopResultWaitMaxSeconds = std::max(m_stats.loopResultWaitMaxSeconds, waited);
 		}
+		if (!due) break;
+		TLoopJobResult r = m_loopWorker->take();
+		m_stats.loopResultDelayMax = std::max(m_stats.loopResultDelayMax, newest - r.newest);
 		applyLoopResult(std::move(r));
 	}
 	if (!atKeyframe || newest == 0) return;
@@ -221,7 +219,7 @@ void CMetricMapBuilderLRGC::applyLoopResult(TLoopJobResult&& r)
 		if (const size_t id = m_graph.addLink(r.links[i]); !r.linkEnabled[i])
 			m_graph.setLinkEnabled(id, false);
 		else if (r.links[i].type == LinkType::LoopClosure)
-			m_reuse->noteLoopLink(std::max(r.links[i].from, r.links[i].to));
+			m_reuse->noteLoopLink(n - 1);  // the robot is tied to the map from here on
 	m_linkWatermark = m_graph.numLinks();
 	m_metricMapDirty = true;
 	++m_loopResultsApplied;

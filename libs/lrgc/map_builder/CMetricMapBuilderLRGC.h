@@ -74,6 +74,9 @@ struct TMapBuilderStats
 	size_t loopResultWaits = 0;
 	double loopResultWaitSeconds = 0;
 	double loopResultWaitMaxSeconds = 0;  //!< the longest single wait [s]
+	/** [keyframes] The most keyframes between a loop search and the application of its
+	 * result ([LoopCloser] result_delay, worker_budget_ms). */
+	size_t loopResultDelayMax = 0;
 	/** [s] the de-skewing's sweep time at the end ([MapBuilder] scan_sweep_time, or
 	 * estimated online: CSweepEstimator), whether it was estimated, and the scan pairs. */
 	double sweepTime = 0;

@@ -58,7 +58,10 @@ class CKeyframeReuse
 		const TKeyframeReuseParams& p, double keyframeDistance, double keyframeAngle,
 		const TScanMatcherParams& matcher, const TLinkNoise& floor);
 
-	/** A loop link with newer end `node` entered the graph. */
+	/** A loop link entered the graph while `node` was the newest keyframe. The map builder
+	 * passes the newest keyframe when the worker's result arrives, not the link's own end:
+	 * a result lands up to [LoopCloser] max_backlog keyframes after its search, and the
+	 * keyframes since are carried along by its correction. */
 	void noteLoopLink(size_t node);
 
 	/** The existing keyframe to anchor `scan` at instead of making it a new keyframe, if one

@@ -147,6 +147,11 @@ std::string statsJson(const TRunOutputsSnapshot& snapshot)
 	  << ", \"result_waits\": " << s.loopResultWaits
 	  << ", \"result_wait_s\": " << s.loopResultWaitSeconds
 	  << ", \"result_wait_max_ms\": " << 1e3 * s.loopResultWaitMaxSeconds
+	  << ", \"result_delay_max_keyframes\": " << s.loopResultDelayMax
+	  // The worker's modelled work (LoopWork.h) and the searches it skipped to keep to
+	  // [LoopCloser] worker_budget_ms per keyframe.
+	  << ", \"modelled_work_s\": " << 1e-3 * lcs.work.referenceMs()
+	  << ", \"searches_shed\": " << lcs.searchesShed
 	  // CPU time of loop closing per step (the worker thread's, whatever else runs).
 	  << ", \"cpu_s\": {\"gate\": " << lcs.gateCpuSeconds << ", \"correlate\": "
 	  << lcs.correlateCpuSeconds << ", \"match\": " << lcs.matchCpuSeconds
