@@ -79,7 +79,8 @@ struct TLoopCloserParams : public mrpt::config::CLoadableOptions
 	/** [keyframes] When the modelled worker is more than this behind the newest keyframe, a
 	 * job only brings the worker's graph up to date and skips its search (the next keyframes
 	 * look again): the worker's work stays bounded by worker_budget_ms per keyframe. Only
-	 * with worker_budget_ms > 0. */
+	 * with worker_budget_ms > 0. Live runs (apply_when_ready) use neither: results are
+	 * taken when ready and no search is skipped. */
 	size_t max_backlog = 300;
 	/** Apply a result as soon as it is ready instead of at k + result_delay (live runs: the
 	 * robot never waits; the map then depends on timing). lrgc-slam --live sets it from

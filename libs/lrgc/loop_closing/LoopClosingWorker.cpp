@@ -16,7 +16,9 @@ CLoopClosingWorker::CLoopClosingWorker(
 	const TLoopCloserParams& p, const TPatchCorrelatorParams& correlator,
 	const TScanMatcherParams& matcher, const TPoseGraphOptimizerParams& optimizer)
 	: m_resultDelay(p.result_delay),
-	  m_budgetMs(p.worker_budget_ms),
+	  // Live runs take results when ready: the model would only shed searches the real
+	  // worker, given the robot's time, has done long ago.
+	  m_budgetMs(p.apply_when_ready ? 0.0 : p.worker_budget_ms),
 	  m_maxBacklog(p.max_backlog),
 	  m_closer(p, correlator, matcher, optimizer)
 {
@@ -45,7 +47,7 @@ CLoopClosingWorker::~CLoopClosingWorker()
 
 void CLoopClosingWorker::submit(TLoopJob job)
 {
-	m_pendingNodes.push_back(job.newest);
+	m_pendingClocks.push_back(job.clock);
 	if (!m_thread.joinable())
 	{
 		if (m_error) return;  // a job failed: take() reports it
@@ -69,12 +71,12 @@ void CLoopClosingWorker::submit(TLoopJob job)
 bool CLoopClosingWorker::ready() const
 {
 	std::lock_guard<std::mutex> lock(m_mutex);
-	return !m_pendingNodes.empty() && (!m_results.empty() || m_error);
+	return !m_pendingClocks.empty() && (!m_results.empty() || m_error);
 }
 
-bool CLoopClosingWorker::due(size_t newest, double& waitedSeconds)
+bool CLoopClosingWorker::due(size_t clock, double& waitedSeconds)
 {
-	ASSERTMSG_(!m_pendingNodes.empty(), "CLoopClosingWorker::due: no job was submitted");
+	ASSERTMSG_(!m_pendingClocks.empty(), "CLoopClosingWorker::due: no job was submitted");
 	const auto t0 = std::chrono::steady_clock::now();
 	bool waited = false;
 	std::unique_lock<std::mutex> lock(m_mutex);
@@ -83,12 +85,12 @@ bool CLoopClosingWorker::due(size_t newest, double& waitedSeconds)
 		if (m_error) break;
 		if (!m_results.empty())
 		{
-			if (m_results.front().dueAt > newest) return false;
+			if (m_results.front().dueAt > clock) return false;
 			break;
 		}
 		const size_t leastDue = m_runningJob == m_taken ? m_runningDue
-														: m_pendingNodes.front() + m_resultDelay;
-		if (leastDue > newest) break;
+														: m_pendingClocks.front() + m_resultDelay;
+		if (leastDue > clock) break;
 		m_cv.wait(lock);
 		waited = true;
 	}
@@ -100,10 +102,10 @@ bool CLoopClosingWorker::due(size_t newest, double& waitedSeconds)
 
 TLoopJobResult CLoopClosingWorker::take()
 {
-	ASSERTMSG_(!m_pendingNodes.empty(), "CLoopClosingWorker::take: no job was submitted");
+	ASSERTMSG_(!m_pendingClocks.empty(), "CLoopClosingWorker::take: no job was submitted");
 	std::unique_lock<std::mutex> lock(m_mutex);
 	m_cv.wait(lock, [this] { return !m_results.empty() || m_error; });
-	m_pendingNodes.pop_front();
+	m_pendingClocks.pop_front();
 	++m_taken;
 	if (m_error) std::rethrow_exception(m_error);
 	TLoopJobResult r = std::move(m_results.front());
@@ -180,12 +182,12 @@ void CLoopClosingWorker::updateReplica(const TLoopJob& job)
 }
 
 size_t CLoopClosingWorker::dueKeyframe(
-	size_t newest, double start, const TLoopWork& work, double* finish) const
+	size_t clock, double start, const TLoopWork& work, double* finish) const
 {
-	if (m_budgetMs <= 0) return newest + m_resultDelay;
+	if (m_budgetMs <= 0) return clock + m_resultDelay;
 	const double f = start + work.referenceMs() / m_budgetMs;
 	if (finish) *finish = f;
-	return std::max(newest + m_resultDelay, static_cast<size_t>(std::ceil(f)));
+	return std::max(clock + m_resultDelay, static_cast<size_t>(std::ceil(f)));
 }
 
 void CLoopClosingWorker::publishProgress(size_t due)
@@ -214,7 +216,7 @@ TLoopJobResult CLoopClosingWorker::execute(TLoopJob& job)
 
 	// The modelled worker's schedule (see the header); its work: this job's update of the
 	// replica and what the loop closer counts.
-	const double start = std::max(double(job.newest), m_modelledFree);
+	const double start = std::max(double(job.clock), m_modelledFree);
 	const TLoopWork before = m_closer.stats().work;
 	TLoopWork update;
 	update.jobs = 1, update.newScans = job.scans.size();
@@ -222,18 +224,19 @@ TLoopJobResult CLoopClosingWorker::execute(TLoopJob& job)
 		TLoopWork w = m_closer.stats().work - before;
 		return w += update;
 	};
-	publishProgress(dueKeyframe(job.newest, start, workSoFar(), nullptr));
+	publishProgress(dueKeyframe(job.clock, start, workSoFar(), nullptr));
 	m_closer.setProgressCallback(
-		[&] { publishProgress(dueKeyframe(job.newest, start, workSoFar(), nullptr)); });
+		[&] { publishProgress(dueKeyframe(job.clock, start, workSoFar(), nullptr)); });
 
 	const size_t firstLink = m_replica.numLinks();
 	TLoopJobResult r;
 	r.newest = job.newest;
-	if (m_budgetMs > 0 && start - double(job.newest) > double(m_maxBacklog)) m_closer.countShed();
+	r.clock = job.clock;
+	if (m_budgetMs > 0 && start - double(job.clock) > double(m_maxBacklog)) m_closer.countShed();
 	else r.closure = m_closer.process(m_replica, m_scans);
 	m_closer.setProgressCallback({});
 	double finish = start;
-	r.dueAt = dueKeyframe(job.newest, start, workSoFar(), &finish);
+	r.dueAt = dueKeyframe(job.clock, start, workSoFar(), &finish);
 	m_modelledFree = finish;
 	m_closer.countWork(update);
 	for (size_t id = firstLink; id < m_replica.numLinks(); ++id)

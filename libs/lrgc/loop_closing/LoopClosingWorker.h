@@ -27,7 +27,9 @@
  * of the work TLoopWork counts per keyframe, one job after the other:
  *     start_j = max(k_j, finish_{j-1}),  finish_j = start_j + W_j / worker_budget_ms
  *     due_j = max(k_j + result_delay, ceil(finish_j))            [keyframes]
- * with W_j the job's modelled work [ms]. A job that would start more than max_backlog
+ * with k_j the mapping thread's keyframe clock when it handed the job over (keyframes taken,
+ * new or reused: on known ground the robot reuses keyframes and adds no node, and results must
+ * still land) and W_j the job's modelled work [ms]. A job that would start more than max_backlog
  * keyframes behind skips its search. While a job runs, the worker publishes the due keyframe
  * its work so far implies (a lower bound), so the mapping thread waits only when the real
  * worker is slower than the modelled one. With `background` off a job runs inside
@@ -61,6 +63,9 @@ struct TLoopJob
 	std::vector<TLink> links;  //!< links added by the mapping thread since the previous job
 	TScanRefs scans;  //!< scans of the nodes added since the previous job, in node order
 	size_t resultsApplied = 0;  //!< results the mapping thread had applied when handing it over
+	/** The mapping thread's keyframe clock when handing it over: keyframes taken so far, new
+	 * or reused (the schedule's time unit). */
+	size_t clock = 0;
 };
 
 /** What a job did to the replica, for the mapping thread to apply to its graph. */
@@ -73,7 +78,8 @@ struct TLoopJobResult
 	/** New poses of nodes firstMoved..newest if the job optimised the graph, else empty. */
 	size_t firstMoved = 0;
 	std::vector<mrpt::math::TPose2D> poses;
-	/** Keyframe (node index) at which the mapping thread applies it (see the header). */
+	size_t clock = 0;  //!< the job's clock
+	/** Keyframe clock at which the mapping thread applies it (see the header). */
 	size_t dueAt = 0;
 };
 
@@ -92,15 +98,13 @@ class CLoopClosingWorker
 	/** Queues a job. Without a thread, runs it now. */
 	void submit(TLoopJob job);
 	/** Jobs submitted whose results were not yet taken. */
-	size_t pending() const { return m_pendingNodes.size(); }
-	/** Node (`newest`) of the oldest job whose result was not taken; only when pending(). */
-	size_t oldestPendingNode() const { return m_pendingNodes.front(); }
+	size_t pending() const { return m_pendingClocks.size(); }
 	/** The oldest pending job is done (take() will not wait). */
 	bool ready() const;
-	/** Whether the oldest pending job's result is due at keyframe `newest`. Waits only while
-	 * that cannot be told yet (the job is still running and its work so far does not put it
-	 * past `newest`); the time waited is added to `waitedSeconds`. */
-	bool due(size_t newest, double& waitedSeconds);
+	/** Whether the oldest pending job's result is due at keyframe clock `clock`. Waits only
+	 * while that cannot be told yet (the job is still running and its work so far does not
+	 * put it past `clock`); the time waited is added to `waitedSeconds`. */
+	bool due(size_t clock, double& waitedSeconds);
 	/** The oldest pending job's result, waiting for it if needed; rethrows what the job
 	 * threw. */
 	TLoopJobResult take();
@@ -121,9 +125,9 @@ class CLoopClosingWorker
 	};
 
 	TLoopJobResult execute(TLoopJob& job);
-	/** Due keyframe of a job from keyframe `newest` whose modelled worker starts at `start`
+	/** Due clock of a job handed over at `clock` whose modelled worker starts at `start`
 	 * [keyframes] and has done `work` so far; `finish` receives its finish [keyframes]. */
-	size_t dueKeyframe(size_t newest, double start, const TLoopWork& work, double* finish) const;
+	size_t dueKeyframe(size_t clock, double start, const TLoopWork& work, double* finish) const;
 	void publishProgress(size_t due);
 	void updateReplica(const TLoopJob& job);
 	void threadMain();
@@ -141,7 +145,7 @@ class CLoopClosingWorker
 	double m_modelledFree = 0;  //!< keyframe at which the modelled worker is free
 	std::atomic<int64_t> m_extraDelayMs{0};
 
-	std::deque<size_t> m_pendingNodes;  // touched by the mapping thread only
+	std::deque<size_t> m_pendingClocks;  // of the jobs not taken; the mapping thread's
 	size_t m_taken = 0;                 // results taken (the mapping thread's)
 
 	mutable std::mutex m_mutex;  // guards what follows

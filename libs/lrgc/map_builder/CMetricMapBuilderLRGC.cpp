@@ -127,6 +127,8 @@ void CMetricMapBuilderLRGC::processScan(
 		m_motionSinceKeyframe = inNode;  // the odometry link of a later keyframe starts here
 		m_anchorOffset = inNode;
 		m_scans.push_back({laser->timestamp, reused->node, inNode});
+		++m_keyframeClock;
+		if (m_loopWorker) serviceLoopClosing(true, false);
 	}
 	else
 	{
@@ -141,6 +143,7 @@ void CMetricMapBuilderLRGC::processScan(
 				m_graph, m_keyframes, odometryLink(*previous, node));
 			++m_stats.odometryLinks;
 			// 4. Look for a loop and close it (in the background).
+			++m_keyframeClock;
 			if (m_loopWorker) serviceLoopClosing(true);
 		}
 		m_lastScanInMap = m_graph.pose(node);
@@ -157,7 +160,7 @@ void CMetricMapBuilderLRGC::processScan(
 // schedule gives it (CLoopClosingWorker::due: k + result_delay, or where the modelled worker
 // finishes it; waited for if not done), or in a live run whenever it is ready. Then a search for the newest keyframe is
 // queued, with what the worker's copy of the graph lacks.
-void CMetricMapBuilderLRGC::serviceLoopClosing(bool atKeyframe)
+void CMetricMapBuilderLRGC::serviceLoopClosing(bool atKeyframe, bool newKeyframe)
 {
 	const size_t newest = m_graph.numNodes() - 1;
 	const auto& p = m_params.loop;
@@ -165,7 +168,7 @@ void CMetricMapBuilderLRGC::serviceLoopClosing(bool atKeyframe)
 	{
 		double waited = 0;
 		const bool due = p.apply_when_ready ? m_loopWorker->ready()
-											: atKeyframe && m_loopWorker->due(newest, waited);
+											: atKeyframe && m_loopWorker->due(m_keyframeClock, waited);
 		if (waited > 0)
 		{
 			++m_stats.loopResultWaits;
@@ -174,13 +177,14 @@ void CMetricMapBuilderLRGC::serviceLoopClosing(bool atKeyframe)
 		}
 		if (!due) break;
 		TLoopJobResult r = m_loopWorker->take();
-		m_stats.loopResultDelayMax = std::max(m_stats.loopResultDelayMax, newest - r.newest);
+		m_stats.loopResultDelayMax = std::max(m_stats.loopResultDelayMax, m_keyframeClock - r.clock);
 		applyLoopResult(std::move(r));
 	}
-	if (!atKeyframe || newest == 0) return;
+	if (!atKeyframe || !newKeyframe || newest == 0) return;
 
 	TLoopJob job;
 	job.newest = newest;
+	job.clock = m_keyframeClock;
 	job.firstPose = std::min(m_graph.takeLowestMovedNode(), m_nodesForWorker);
 	job.poses.assign(m_graph.poses().begin() + job.firstPose, m_graph.poses().end());
 	for (size_t i = m_nodesForWorker; i <= newest; ++i) job.scans.push_back(&m_keyframes[i].scan);

@@ -177,7 +177,9 @@ class CMetricMapBuilderLRGC : public mrpt::slam::CMetricMapBuilder
 	void processScan(
 		const mrpt::obs::CObservation2DRangeScan::Ptr& laser,
 		const mrpt::obs::CSensoryFrame::Ptr& observations);
-	void serviceLoopClosing(bool atKeyframe);
+	/** Step 4 with a worker: applies the results that are due; with `newKeyframe`, queues a
+	 * search for the newest keyframe (at a reused keyframe only results are applied). */
+	void serviceLoopClosing(bool atKeyframe, bool newKeyframe = true);
 	void applyLoopResult(TLoopJobResult&& r);
 	bool isNewKeyframe(const mrpt::math::TPose2D& scanInMap) const;
 	/** The keyframe the robot is at: the scans hang from it, keyframe distances count from it. */
@@ -222,6 +224,9 @@ class CMetricMapBuilderLRGC : public mrpt::slam::CMetricMapBuilder
 	size_t m_linkWatermark = 0;
 	size_t m_nodesForWorker = 0;
 	size_t m_loopResultsApplied = 0;  //!< results applied so far (in job order)
+	/** Keyframes taken so far, new or reused: the clock of the worker's schedule (a robot
+	 * driving known ground reuses keyframes and adds none, but its results must land). */
+	size_t m_keyframeClock = 0;
 	std::chrono::milliseconds m_loopSearchExtraDelay{0};  //!< tests only
 	CPoseGraph m_graph;
 	TKeyframes m_keyframes;
