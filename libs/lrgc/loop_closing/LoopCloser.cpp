@@ -451,8 +451,17 @@ size_t CLoopCloser::rematch(
 		const auto m = m_matcher.match(
 			CReferenceCloud::fromScan(*scans[nearest], m_matcherParams), *scans[k], guess);
 		if (!m) continue;
-		graph.addLink(
-			{nearest, k, m->scanInRef, linkInformation(m->cov, m_params.link_noise), LinkType::LoopClosure});
+		// The closure's solve has just placed both poses: a re-match that lands far from
+		// them (chi2 of e = v(Z^-1 (+) (X_nearest^-1 (+) X_k)) above 3 Phi, DCS's bound)
+		// converged to another wall, and would add a wrong link of its own.
+		const Eigen::Matrix3d info = linkInformation(m->cov, m_params.link_noise);
+		const Eigen::Vector3d e = linkResidual(graph.pose(nearest), graph.pose(k), m->scanInRef);
+		if (e.dot(info * e) > 3 * m_optimizer.params().dcsPhi)
+		{
+			++m_stats.rematchesRefused;
+			continue;
+		}
+		graph.addLink({nearest, k, m->scanInRef, info, LinkType::LoopClosure});
 		++added;
 	}
 	return added;

@@ -20,6 +20,8 @@ struct TLoopCloserStats
 	 * none came. */
 	size_t heldForConfirmation = 0, unconfirmed = 0;
 	size_t optimizations = 0;
+	/** Re-matches after a closure that disagreed with the solved poses (not linked). */
+	size_t rematchesRefused = 0;
 	/** Gates by a propagation over the whole graph, and by reuse of the last one
 	 * ([LoopCloser] gate_reuse_keyframes). */
 	size_t gatePropagations = 0, gateReuses = 0;

@@ -138,6 +138,7 @@ std::string statsJson(const TRunOutputsSnapshot& snapshot)
 	  << ", \"held_for_confirmation\": " << lcs.heldForConfirmation
 	  << ", \"unconfirmed\": " << lcs.unconfirmed
 	  << ", \"optimizations\": " << lcs.optimizations
+	  << ", \"rematches_refused\": " << lcs.rematchesRefused
 	  << ", \"gate_propagations\": " << lcs.gatePropagations
 	  << ", \"gate_reuses\": " << lcs.gateReuses
 	  << ", \"closure_ms\": {\"count\": " << closureMs.size()
