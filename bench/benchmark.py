@@ -215,6 +215,11 @@ def main():
         if rows:
             repeat = (bench_repeat.HEADER, rows,
                       "Whole run: wall %.1f s, peak RSS %.0f MB." % (r.wall_s, r.peak_rss_mb))
+        # Per-scan latency against scan index over the four passes: flat if the cost grows
+        # with the area mapped, not with the time driven (issue 12).
+        png = plot(tools, "intel-x4", r, os.path.join(doc_dir, "bench_intel-x4.png"), notes)
+        if png:
+            plots.append(("intel-x4", os.path.relpath(png, doc_dir)))
     for name, log, gt in synthetic:
         runs, n = run_log(tools, name, log, os.path.join(args.work_dir, name), args,
                           ground_truth=gt)
