@@ -9,8 +9,6 @@
 
 #include "test_data.h"
 
-#include <memory>
-
 namespace
 {
 using lrgc::CIncrementalGrid;
@@ -42,13 +40,11 @@ void expectGridIsFresh(const lrgc::CMetricMapBuilderLRGC& builder, CIncrementalG
 	mirror.update(keyframes);
 }
 
-/** `mirror` gets the builder's grid settings (its tail covers the builder's window). */
 void mapAndCompare(const std::string& log, size_t maxScans, size_t everyKeyframes,
-				   std::unique_ptr<CIncrementalGrid>& mirror, size_t* loopLinks)
+				   CIncrementalGrid& mirror, size_t* loopLinks)
 {
 	lrgc::CMetricMapBuilderLRGC builder;
 	builder.logging_enable_console_output = false;
-	mirror = std::make_unique<CIncrementalGrid>(builder.gridSettings());
 	const auto reader = lrgc::apps::openLog(log);
 	size_t lastChecked = 0;
 	while (auto e = reader->next())
@@ -58,13 +54,13 @@ void mapAndCompare(const std::string& log, size_t maxScans, size_t everyKeyframe
 		if (n >= lastChecked + everyKeyframes)
 		{
 			lastChecked = n;
-			expectGridIsFresh(builder, *mirror, log + " " + e->where);
+			expectGridIsFresh(builder, mirror, log + " " + e->where);
 			if (::testing::Test::HasFatalFailure()) return;
 		}
 		if (builder.stats().scans >= maxScans) break;
 	}
 	builder.finish();  // the final optimisation moves everything
-	expectGridIsFresh(builder, *mirror, log + ", after finish()");
+	expectGridIsFresh(builder, mirror, log + ", after finish()");
 	*loopLinks = builder.stats().loopClosureLinks;
 }
 }  // namespace
@@ -72,24 +68,24 @@ void mapAndCompare(const std::string& log, size_t maxScans, size_t everyKeyframe
 TEST(IncrementalGridOnRealLogs, SenaEveryKeyframeEqualsAFreshBuild)
 {
 	LRGC_SKIP_IF_MISSING(lrgc::test::senaRawlogPath());
-	std::unique_ptr<CIncrementalGrid> mirror;
+	CIncrementalGrid mirror(lrgc::TGridSettings{});
 	size_t loopLinks = 0;
 	mapAndCompare(lrgc::test::senaRawlogPath(), SIZE_MAX, 1, mirror, &loopLinks);
 	EXPECT_GT(loopLinks, 0u) << "the loop of SENA should close";
 	// The window moves its keyframes at each keyframe; the cheap path is the usual one.
-	EXPECT_GT(mirror->count(Update::TailReinserted), 50u);
-	EXPECT_GT(mirror->count(Update::Rebuilt), 0u);
+	EXPECT_GT(mirror.count(Update::TailReinserted), 50u);
+	EXPECT_GT(mirror.count(Update::Rebuilt), 0u);
 }
 
 TEST(IncrementalGridOnRealLogs, IntelEqualsAFreshBuildThroughLoopClosures)
 {
 	const std::string intel = lrgc::test::sharedDatasetPath("intel/intel.clf.gz");
 	LRGC_SKIP_IF_MISSING(intel);
-	std::unique_ptr<CIncrementalGrid> mirror;
+	CIncrementalGrid mirror(lrgc::TGridSettings{});
 	size_t loopLinks = 0;
 	mapAndCompare(intel, 4000, 10, mirror, &loopLinks);
 	EXPECT_GT(loopLinks, 10u);
-	GTEST_LOG_(INFO) << "updates: appended " << mirror->count(Update::Appended)
-					 << ", tail re-inserted " << mirror->count(Update::TailReinserted)
-					 << ", rebuilt " << mirror->count(Update::Rebuilt);
+	GTEST_LOG_(INFO) << "updates: appended " << mirror.count(Update::Appended)
+					 << ", tail re-inserted " << mirror.count(Update::TailReinserted)
+					 << ", rebuilt " << mirror.count(Update::Rebuilt);
 }
