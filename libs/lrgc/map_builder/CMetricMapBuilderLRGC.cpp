@@ -8,7 +8,6 @@
 #include <lrgc/map_builder/KeyframeReuse.h>
 
 #include <Eigen/Dense>
-#include <chrono>
 
 #include <mrpt/maps/CSimpleMap.h>
 #include <mrpt/obs/CActionCollection.h>
@@ -158,8 +157,8 @@ void CMetricMapBuilderLRGC::processScan(
 // Step 4 with a worker (CLoopClosingWorker). At a keyframe, the results that are due are
 // applied, in order: a search started at keyframe k is due at the keyframe the worker's
 // schedule gives it (CLoopClosingWorker::due: k + result_delay, or where the modelled worker
-// finishes it; waited for if not done), or in a live run whenever it is ready. Then a search for the newest keyframe is
-// queued, with what the worker's copy of the graph lacks.
+// finishes it; waited for if not done), or in a live run whenever it is ready. Then a
+// search for the newest keyframe is queued, with what the worker's copy of the graph lacks.
 void CMetricMapBuilderLRGC::serviceLoopClosing(bool atKeyframe, bool newKeyframe)
 {
 	const size_t newest = m_graph.numNodes() - 1;
