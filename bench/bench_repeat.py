@@ -10,6 +10,7 @@ Peak RSS is of the whole run.
 Python standard library only.
 """
 
+import json
 import os
 import subprocess
 import sys
@@ -18,12 +19,27 @@ import bench_runs
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 HEADER = ["pass", "scans", "mapping time [s]", "× pass 1", "p99 / max latency [ms]",
-          "keyframes added"]
+          "keyframes added", "relation error [m]"]
 
 
-def make_log(log_path, passes, out_path):
-    subprocess.run([sys.executable, os.path.join(HERE, "repeat_log.py"), log_path, str(passes),
-                    out_path], check=True)
+def make_log(log_path, passes, out_path, relations=None):
+    cmd = [sys.executable, os.path.join(HERE, "repeat_log.py"), log_path, str(passes), out_path]
+    if relations:
+        cmd += ["--relations", relations, os.path.splitext(out_path)[0]]
+    subprocess.run(cmd, check=True)
+
+
+def pass_error(tools, trajectory, relations, workdir, p):
+    """lrgc-eval of the whole run's trajectory against pass p's relations: "mean +/- std"."""
+    out = os.path.join(workdir, "eval.pass%d.json" % p)
+    proc = subprocess.run([tools["lrgc-eval"], "--trajectory", trajectory, "--relations",
+                           relations, "--json", out], stdin=subprocess.DEVNULL,
+                          stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    if proc.returncode != 0 or not os.path.exists(out):
+        return "?"
+    with open(out) as f:
+        t = json.load(f)["relations"]["translational_m"]
+    return "%.4f ± %.4f" % (t["mean"], t["std"])
 
 
 def keyframe_rows(graph_lrgc, trajectory_tum):
@@ -51,11 +67,11 @@ def keyframe_rows(graph_lrgc, trajectory_tum):
     return out
 
 
-def run(tools, log_path, workdir, timeout_s, passes=4, config=None):
-    """Returns (rows, run result, notes)."""
+def run(tools, log_path, workdir, timeout_s, passes=4, config=None, relations=None):
+    """Returns (rows, run result, notes). relations: the log's, for each pass's error."""
     os.makedirs(workdir, exist_ok=True)
     repeated = os.path.join(workdir, "intel-x%d.clf.gz" % passes)
-    make_log(log_path, passes, repeated)
+    make_log(log_path, passes, repeated, relations)
     r = bench_runs.run_lrgc_slam(tools, repeated, os.path.join(workdir, "lrgc-slam"), timeout_s,
                                  config)
     if not r.ok:
@@ -72,6 +88,8 @@ def run(tools, log_path, workdir, timeout_s, passes=4, config=None):
         first = first or total_s
         _, p99, mx = bench_runs.latency_summary(lat)
         added = sum(1 for k in keyframes if p * n <= k < end) if keyframes else None
+        err = pass_error(tools, r.trajectory, "%s.pass%d.relations" % (
+            os.path.splitext(repeated)[0], p + 1), workdir, p + 1) if relations else "–"
         rows.append([str(p + 1), str(len(lat)), "%.1f" % total_s, "%.2f" % (total_s / first),
-                     "%.1f / %.0f" % (p99, mx), "?" if added is None else str(added)])
+                     "%.1f / %.0f" % (p99, mx), "?" if added is None else str(added), err])
     return rows, r, notes

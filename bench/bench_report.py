@@ -220,8 +220,10 @@ def document(real, synthetic, plots, machine, commit, total_s, data_dir, notes, 
                 "`bench/repeat_log.py` makes Intel four times over (timestamps shifted, odometry "
                 "continued: a robot that keeps driving the same building); lrgc-slam maps it in "
                 "one run with the defaults. Per pass: mapping time = sum of the per-scan "
-                "latencies of timing.csv (loop-closing waits included), and the keyframes the "
-                "pass added (graph.lrgc). " + summary, "", markdown_table(header, rows), ""]
+                "latencies of timing.csv (loop-closing waits included), the keyframes the "
+                "pass added (graph.lrgc), and the relation error of its scans (the log's "
+                "relations shifted to the pass, scored on the whole run's final trajectory). "
+                + summary, "", markdown_table(header, rows), ""]
     if notes:
         out += ["## Notes", ""] + ["- " + n for n in notes] + [""]
     if plots:

@@ -206,11 +206,11 @@ def main():
         if png:
             plots.append((name, os.path.relpath(png, doc_dir)))
     repeat = None
-    intel = [log for name, log, _ in real if name == "intel"]
+    intel = [(log, rel) for name, log, rel in real if name == "intel"]
     if intel and not args.no_repeat:
         print("== intel x4", flush=True)
-        rows, r, n = bench_repeat.run(tools, intel[0], os.path.join(args.work_dir, "intel-x4"),
-                                      4 * args.timeout, 4, args.config)
+        rows, r, n = bench_repeat.run(tools, intel[0][0], os.path.join(args.work_dir, "intel-x4"),
+                                      4 * args.timeout, 4, args.config, relations=intel[0][1])
         notes += n
         if rows:
             repeat = (bench_repeat.HEADER, rows,

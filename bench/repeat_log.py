@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """A CARMEN log driven N times over: a robot that keeps driving the same building.
 
-    bench/repeat_log.py LOG.clf[.gz] N OUT.clf[.gz]
+    bench/repeat_log.py LOG.clf[.gz] N OUT.clf[.gz] [--relations R.relations OUT_PREFIX]
 
 Pass p (0-based) is the log again with every timestamp shifted by p * (duration + 1 s) and
 its odometry re-based so that it continues from where pass p-1's odometry ended:
@@ -10,6 +10,10 @@ with E_{p-1} the last odometry pose of pass p-1 (pass 0 is the log itself) and O
 first. The robot is taken to start each pass where the log starts; the log's own offset
 between its end and its start (Intel: 0.28 m, 0.3 deg by the loop-closed trajectory) is what
 the odometry gets wrong at each seam, as a real robot's would.
+
+With --relations, the log's relations (`t1 t2 x y z roll pitch yaw`, Kuemmerle et al. 2009)
+are written once per pass, times shifted as the log's: OUT_PREFIX.pass<p+1>.relations, so each
+pass of the repeated run is scored against the same ground truth.
 
 Lines handled: ODOM (x y theta), FLASER/RLASER (laser pose and robot pose), each with
 `timestamp hostname logger_timestamp` at the end. Comment (#) and PARAM lines are written once;
@@ -47,9 +51,32 @@ def pose_fields(fields):
     return None, None
 
 
+def write_relations(relations, n_passes, period, prefix):
+    """One relations file per pass, t1 and t2 shifted by p * period [s]."""
+    try:
+        with open(relations) as f:
+            rows = [l.split() for l in f if l.strip() and not l.startswith("#")]
+    except OSError as e:
+        sys.exit(f"repeat_log: {relations}: cannot read the relations ({e.strerror})")
+    for number, row in enumerate(rows, 1):
+        if len(row) != 8:
+            sys.exit(f"repeat_log: {relations}:{number}: {len(row)} fields, expected 8 "
+                     "(t1 t2 x y z roll pitch yaw)")
+    for p in range(n_passes):
+        with open(f"{prefix}.pass{p + 1}.relations", "w") as f:
+            for row in rows:
+                t1, t2 = float(row[0]) + p * period, float(row[1]) + p * period
+                f.write(" ".join([f"{t1:.6f}", f"{t2:.6f}"] + row[2:]) + "\n")
+
+
 def main(argv):
+    relations = None
+    if len(argv) == 7 and argv[4] == "--relations":
+        relations, prefix = argv[5], argv[6]
+        argv = argv[:4]
     if len(argv) != 4:
-        sys.exit("usage: bench/repeat_log.py LOG.clf[.gz] N OUT.clf[.gz]")
+        sys.exit("usage: bench/repeat_log.py LOG.clf[.gz] N OUT.clf[.gz] "
+                 "[--relations R.relations OUT_PREFIX]")
     src, n_passes, out = argv[1], int(argv[2]), argv[3]
     if n_passes < 1:
         sys.exit(f"repeat_log: N = {n_passes} must be >= 1")
@@ -71,6 +98,8 @@ def main(argv):
     if not times:
         sys.exit(f"repeat_log: {src}: no ODOM, FLASER or RLASER line")
     period = max(times) - min(times) + 1.0
+    if relations:
+        write_relations(relations, n_passes, period, prefix)
     start_inv = inverse(first_odom)
     with open_text(out, "w") as f:
         end = first_odom  # pass 0 starts where the log does
