@@ -10,10 +10,10 @@ Peak RSS is of the whole run.
 Python standard library only.
 """
 
-import json
 import os
 import subprocess
 import sys
+import types
 
 import bench_runs
 
@@ -30,16 +30,14 @@ def make_log(log_path, passes, out_path, relations=None):
 
 
 def pass_error(tools, trajectory, relations, workdir, p):
-    """lrgc-eval of the whole run's trajectory against pass p's relations: "mean +/- std"."""
-    out = os.path.join(workdir, "eval.pass%d.json" % p)
-    proc = subprocess.run([tools["lrgc-eval"], "--trajectory", trajectory, "--relations",
-                           relations, "--json", out], stdin=subprocess.DEVNULL,
-                          stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-    if proc.returncode != 0 or not os.path.exists(out):
-        return "?"
-    with open(out) as f:
-        t = json.load(f)["relations"]["translational_m"]
-    return "%.4f ± %.4f" % (t["mean"], t["std"])
+    """bench_runs.run_eval of the whole run's trajectory against pass p's relations:
+    "mean ± std" [m], or "?"."""
+    run = types.SimpleNamespace(trajectory=trajectory, eval=None, error=None)
+    passdir = os.path.join(workdir, "pass%d" % p)
+    os.makedirs(passdir, exist_ok=True)
+    bench_runs.run_eval(tools, run, passdir, relations=relations)
+    t = ((run.eval or {}).get("relations") or {}).get("translational_m")
+    return "%.4f ± %.4f" % (t["mean"], t["std"]) if t and run.error is None else "?"
 
 
 def keyframe_rows(graph_lrgc, trajectory_tum):
