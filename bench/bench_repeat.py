@@ -22,10 +22,15 @@ HEADER = ["pass", "scans", "mapping time [s]", "× pass 1", "p99 / max latency [
           "keyframes added", "relation error [m]"]
 
 
+def relations_prefix(out_path):
+    """repeat_log.py writes pass p's relations to <prefix>.pass<p>.relations."""
+    return os.path.splitext(out_path)[0]
+
+
 def make_log(log_path, passes, out_path, relations=None):
     cmd = [sys.executable, os.path.join(HERE, "repeat_log.py"), log_path, str(passes), out_path]
     if relations:
-        cmd += ["--relations", relations, os.path.splitext(out_path)[0]]
+        cmd += ["--relations", relations, relations_prefix(out_path)]
     subprocess.run(cmd, check=True)
 
 
@@ -87,7 +92,7 @@ def run(tools, log_path, workdir, timeout_s, passes=4, config=None, relations=No
         _, p99, mx = bench_runs.latency_summary(lat)
         added = sum(1 for k in keyframes if p * n <= k < end) if keyframes else None
         err = pass_error(tools, r.trajectory, "%s.pass%d.relations" % (
-            os.path.splitext(repeated)[0], p + 1), workdir, p + 1) if relations else "–"
+            relations_prefix(repeated), p + 1), workdir, p + 1) if relations else "–"
         rows.append([str(p + 1), str(len(lat)), "%.1f" % total_s, "%.2f" % (total_s / first),
                      "%.1f / %.0f" % (p99, mx), "?" if added is None else str(added), err])
     return rows, r, notes
