@@ -40,7 +40,14 @@ public:
 
 	/** Calls fn(index) for every indexed point within radius [m] of q. */
 	template <class F>
-	void forEachWithin(const Eigen::Vector2d& q, double radius, F&& fn) const;
+	void forEachWithin(const Eigen::Vector2d& q, double radius, F&& fn) const
+	{
+		forEachPointWithin(q, radius, [&](uint32_t i, const Eigen::Vector2d&) { fn(i); });
+	}
+	/** forEachWithin calling fn(index, point) (the point as indexed: read from the grid's
+	 * cell-ordered copy, not from the caller's array). */
+	template <class F>
+	void forEachPointWithin(const Eigen::Vector2d& q, double radius, F&& fn) const;
 
 	/** floor(v / cell), inline (std::floor is a library call on baseline x86-64). */
 	static int64_t cellIndex(double v, double cell)
@@ -119,7 +126,7 @@ private:
 };
 
 template <class F>
-void CAnchorGrid::forEachWithin(const Eigen::Vector2d& q, double radius, F&& fn) const
+void CAnchorGrid::forEachPointWithin(const Eigen::Vector2d& q, double radius, F&& fn) const
 {
 	if (m_pos.empty()) return;
 	const double r2 = radius * radius;
@@ -127,7 +134,7 @@ void CAnchorGrid::forEachWithin(const Eigen::Vector2d& q, double radius, F&& fn)
 	const int64_t y0 = cellIndex(q.y() - radius, m_cell), y1 = cellIndex(q.y() + radius, m_cell);
 	auto visitRun = [&](uint32_t b, uint32_t e) {
 		for (uint32_t k = b; k < e; ++k)
-			if ((m_pos[k] - q).squaredNorm() <= r2) fn(m_index[k]);
+			if ((m_pos[k] - q).squaredNorm() <= r2) fn(m_index[k], m_pos[k]);
 	};
 	if (!m_start.empty())
 	{

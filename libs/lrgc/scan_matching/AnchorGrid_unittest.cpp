@@ -48,7 +48,7 @@ TEST(AnchorGrid, nearestEqualsBruteForceWithinTheGate)
 			double d2 = -1;
 			const int got = grid.nearest(q, gate, &d2);
 			ASSERT_EQ(got, expected) << "cell " << cell << " query " << q.transpose();
-			if (got >= 0) EXPECT_DOUBLE_EQ(d2, best);
+			if (got >= 0) { EXPECT_DOUBLE_EQ(d2, best); }
 		}
 	}
 }
@@ -57,13 +57,21 @@ TEST(AnchorGrid, forEachWithinVisitsExactlyTheUsablePointsInTheDisc)
 {
 	const TCloud c = randomCloud(1000, 9);
 	const CAnchorGrid grid(c.pts, c.usable, 0.25);
-	for (const Eigen::Vector2d q : {Eigen::Vector2d(0, 0), Eigen::Vector2d(4.9, -4.9), Eigen::Vector2d(9, 9)})
+	for (const Eigen::Vector2d& q : {Eigen::Vector2d(0, 0), Eigen::Vector2d(4.9, -4.9), Eigen::Vector2d(9, 9)})
 	{
 		std::set<size_t> got, expected;
 		grid.forEachWithin(q, 0.8, [&](uint32_t i) { got.insert(i); });
 		for (size_t i = 0; i < c.pts.size(); ++i)
 			if (c.usable[i] && (c.pts[i] - q).norm() <= 0.8) expected.insert(i);
 		EXPECT_EQ(got, expected);
+		// forEachPointWithin: the same points, in the same order, each with its position.
+		std::vector<uint32_t> order, orderWithPos;
+		grid.forEachWithin(q, 0.8, [&](uint32_t i) { order.push_back(i); });
+		grid.forEachPointWithin(q, 0.8, [&](uint32_t i, const Eigen::Vector2d& p) {
+			orderWithPos.push_back(i);
+			EXPECT_EQ(p, c.pts[i]);
+		});
+		EXPECT_EQ(orderWithPos, order);
 	}
 }
 
@@ -98,7 +106,7 @@ TEST(AnchorGrid, denseAndHashedCellsGiveTheSameAnswers)
 			double d2a = -1, d2b = -1;
 			const int a = dense.nearest(q, gate, &d2a), b = hashed.nearest(q, gate, &d2b);
 			ASSERT_EQ(a, b) << "query " << q.transpose() << " gate " << gate;
-			if (a >= 0) EXPECT_EQ(d2a, d2b);
+			if (a >= 0) { EXPECT_EQ(d2a, d2b); }
 		}
 		std::vector<uint32_t> inDense, inHashed;
 		dense.forEachWithin(q, 0.3, [&](uint32_t i) { inDense.push_back(i); });
@@ -123,7 +131,7 @@ TEST(AnchorGrid, forEachWithinVisitsCellsInColumnMajorOrderDenseOrHashed)
 	{
 		const CAnchorGrid grid(cloud->pts, cloud->usable, cell);
 		EXPECT_EQ(grid.isDense(), cloud == &c);
-		for (const Eigen::Vector2d q : {Eigen::Vector2d(0.03, -1.2), Eigen::Vector2d(-4.5, 4.6)})
+		for (const Eigen::Vector2d& q : {Eigen::Vector2d(0.03, -1.2), Eigen::Vector2d(-4.5, 4.6)})
 		{
 			std::vector<std::pair<int64_t, int64_t>> cells;
 			grid.forEachWithin(q, 1.5, [&](uint32_t i) {

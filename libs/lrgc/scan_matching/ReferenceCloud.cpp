@@ -56,6 +56,7 @@ CReferenceCloud::CReferenceCloud(std::vector<Eigen::Vector2d> pointsInRef, const
 	m_cell = std::max(0.1, 3 * p.refResolution_m);
 	buildGrid();
 	fitLines(p, weights);
+	m_rawGrid = std::move(m_grid);  // the fits' neighbourhoods, for forEachFitTerm
 	buildGrid();  // line anchors moved (by about the noise) onto their lines
 }
 
@@ -168,9 +169,10 @@ void CReferenceCloud::fitLines(const TScanMatcherParams& p, const std::vector<do
 	// (variance sigma^2 / w_k) and, from the weighted least-squares line,
 	//   beta_jk = w_k / W + u_j w_k u_k / sum_l w_l u_l^2,   u = (x - m) . t.
 	// sigma^2 per raw point is estimated from each fit, l2 W / (n - 2), and its median kept.
+	// The beta_jk are not stored: forEachFitTerm recomputes them from the fit (m, W, sum w u^2).
 	std::vector<Eigen::Vector2d> newPos(m_anchors.size());
 	// The neighbourhood in visiting order, with each neighbour's position and weight (read
-	// once from m_anchors / w: the fit runs over it three times).
+	// once from m_anchors / w: the fit runs over it twice).
 	struct TNeighbour
 	{
 		Eigen::Vector2d pos;
@@ -180,10 +182,7 @@ void CReferenceCloud::fitLines(const TScanMatcherParams& p, const std::vector<do
 	std::vector<TNeighbour> nb;
 	std::vector<double> sigma2;
 	m_count = w;
-	m_fitStart.assign(1, 0);
-	m_fitStart.reserve(m_anchors.size() + 1);
-	m_fit.clear();
-	m_fit.reserve(16 * m_anchors.size());
+	m_lineFits.assign(m_anchors.size(), TLineFit{});
 	for (size_t i = 0; i < m_anchors.size(); ++i)
 	{
 		const Eigen::Vector2d x = m_anchors[i].pos;
@@ -194,7 +193,8 @@ void CReferenceCloud::fitLines(const TScanMatcherParams& p, const std::vector<do
 		for (int widen = 0; widen < 3; ++widen, r *= 2)
 		{
 			nb.clear();
-			forEachWithin(x, r, [&](uint32_t k) { nb.push_back({m_anchors[k].pos, w[k], k}); });
+			m_grid.forEachPointWithin(
+				x, r, [&](uint32_t k, const Eigen::Vector2d& pos) { nb.push_back({pos, w[k], k}); });
 			// One pass of weighted moments: W, sum w x, sum w x x^T (relative to x, for
 			// numerical range), then the 2x2 eigen-decomposition in closed form.
 			double W = 0, sx = 0, sy = 0, sxx = 0, sxy = 0, syy = 0;
@@ -225,12 +225,7 @@ void CReferenceCloud::fitLines(const TScanMatcherParams& p, const std::vector<do
 			double suu = 0;
 			for (const auto& q : nb) suu += q.w * std::pow((q.pos - m).dot(t), 2);
 			const double uj = (x - m).dot(t);
-			for (const auto& q : nb)
-			{
-				const double uk = (q.pos - m).dot(t);
-				m_fit.push_back({q.k, static_cast<float>(q.w / W),
-								 static_cast<float>(suu > 0 ? q.w * uk / suu : 0)});
-			}
+			m_lineFits[i] = TLineFit{x, m, r, W, suu};
 			m_anchors[i].u = static_cast<float>(uj);
 			// slope variance sigma^2 / sum w u^2, sigma^2 filled in below
 			m_anchors[i].normalVar = static_cast<float>(suu > 0 ? 1 / suu : 0);
@@ -246,7 +241,6 @@ void CReferenceCloud::fitLines(const TScanMatcherParams& p, const std::vector<do
 				if (q.k != i) d2 = std::min(d2, (q.pos - x).squaredNorm());
 			m_anchors[i].samplingVar = static_cast<float>(d2 / 12);
 		}
-		m_fitStart.push_back(static_cast<uint32_t>(m_fit.size()));
 	}
 	for (size_t i = 0; i < m_anchors.size(); ++i) m_anchors[i].pos = newPos[i];
 	m_noiseVar = p.minResidualStd_m * p.minResidualStd_m;

@@ -91,16 +91,22 @@ public:
 
 	/** Noise model, for the covariance of a match. The error of LINE anchor j's fitted line
 	 * along its normal, at line coordinate u (anchor.u + tangent offset), is
-	 * delta_j(u) = sum over fitTerms(j) of (b0 + u b1) nu_point; a POINT anchor's error is nu_j
-	 * (2D). nu_k has variance pointVariance(k) [m^2] (per axis), independent over k. */
-	struct TFitTerm
+	 * delta_j(u) = sum over the fit's points k of (b0 + u b1) nu_k; a POINT anchor's error is
+	 * nu_j (2D). nu_k has variance pointVariance(k) [m^2] (per axis), independent over k.
+	 * Calls fn(k, b0, b1) for each point k of LINE anchor j's fit (none for a POINT anchor),
+	 * with b0 [1] and b1 [1/m] as in fitLines. Computed on demand from the fit's neighbourhood
+	 * (a match's covariance needs a few hundred of a patch's thousands of fits). */
+	template <class F>
+	void forEachFitTerm(size_t j, F&& fn) const
 	{
-		uint32_t point;  //!< index of a reduced point (= anchor index)
-		float b0, b1;  //!< offset and slope coefficients [1], [1/m]
-	};
-	std::pair<const TFitTerm*, const TFitTerm*> fitTerms(size_t j) const
-	{
-		return {m_fit.data() + m_fitStart[j], m_fit.data() + m_fitStart[j + 1]};
+		if (!m_anchors[j].isLine) return;
+		const TLineFit& f = m_lineFits[j];
+		const Eigen::Vector2d t(-m_anchors[j].normal.y(), m_anchors[j].normal.x());
+		m_rawGrid.forEachPointWithin(f.centre, f.radius, [&](uint32_t k, const Eigen::Vector2d& pos) {
+			const double uk = (pos - f.mean).dot(t);
+			fn(k, static_cast<float>(m_count[k] / f.W),
+			   static_cast<float>(f.suu > 0 ? m_count[k] * uk / f.suu : 0));
+		});
 	}
 	double pointVariance(size_t k) const { return m_noiseVar / m_count[k]; }
 	/** Estimated range noise variance of one raw input point along the surface normal [m^2]. */
@@ -139,8 +145,17 @@ private:
 		const std::vector<TScan2D>& scans, const std::vector<mrpt::math::TPose2D>& scansInRef,
 		const TScanMatcherParams& p, const std::function<bool(const Eigen::Vector2d&)>& keep);
 	std::vector<double> m_count;  // raw points per reduced point
-	std::vector<uint32_t> m_fitStart;  // CSR over anchors into m_fit
-	std::vector<TFitTerm> m_fit;
+	// What forEachFitTerm needs of each LINE anchor's fit: its neighbourhood (the reduced
+	// points before they were moved onto their lines, indexed by m_rawGrid, within radius [m]
+	// of centre), their weighted mean [m], total weight W and sum w u^2 [m^2] (u along the
+	// tangent). Frame: ref.
+	struct TLineFit
+	{
+		Eigen::Vector2d centre{0, 0}, mean{0, 0};
+		double radius = 0, W = 0, suu = 0;
+	};
+	std::vector<TLineFit> m_lineFits;  // one per anchor (unused for POINT anchors)
+	CAnchorGrid m_rawGrid;
 	double m_noiseVar = 0;  // [m^2]
 };
 

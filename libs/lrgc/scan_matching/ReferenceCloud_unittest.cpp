@@ -66,6 +66,42 @@ TEST(ReferenceCloud, lineAnchorsLieOnTheWallsWithTheirNormals)
 	EXPECT_LT(std::sqrt(sumOffset2 / lines), 0.006);
 }
 
+TEST(ReferenceCloud, fitTermsAreThoseOfAWeightedLeastSquaresLine)
+{
+	// delta_j(u) = sum_k (b0 + u b1) nu_k: moving every point of a LINE anchor's fit by the
+	// same nu along the normal moves the line by nu at every u, so sum b0 = 1 and sum b1 = 0
+	// (u is measured from the fit's weighted mean). POINT anchors have no terms.
+	const auto world = makeRoomWorld(3);
+	std::mt19937 rng(11);
+	TLaserSimParams laser;
+	laser.rangeNoiseStd = 0.01;
+	const auto ref = CReferenceCloud::fromScan(simulateScan(world, TPose2D(5, 3.5, 0.3), laser, rng), TScanMatcherParams());
+	size_t lines = 0;
+	for (size_t j = 0; j < ref.size(); ++j)
+	{
+		double sumB0 = 0, sumB1 = 0;
+		size_t terms = 0;
+		bool selfIncluded = false;
+		ref.forEachFitTerm(j, [&](uint32_t k, float b0, float b1) {
+			ASSERT_LT(k, ref.size());
+			EXPECT_GT(b0, 0.0F);
+			sumB0 += b0, sumB1 += b1, ++terms;
+			selfIncluded |= k == j;
+		});
+		if (!ref.anchors()[j].isLine)
+		{
+			EXPECT_EQ(terms, 0U);
+			continue;
+		}
+		++lines;
+		EXPECT_GE(terms, 4U);
+		EXPECT_TRUE(selfIncluded);  // the anchor's own point is in its neighbourhood
+		EXPECT_NEAR(sumB0, 1.0, 1e-5);
+		EXPECT_NEAR(sumB1, 0.0, 1e-3);  // [1/m]
+	}
+	EXPECT_GT(lines, 100U);
+}
+
 TEST(ReferenceCloud, nearestIsExactWithinTheGate)
 {
 	std::mt19937 rng(5);

@@ -7,7 +7,7 @@
  * reference wall share that stretch's noise. Two meats are formed and the larger kept (the
  * smallest PSD upper bound of the two resulting covariances):
  *  - model: independent scan noise (variance = the weighted residual variance, conservative)
- *    plus the reference's noise propagated through its line fits (CReferenceCloud::fitTerms),
+ *    plus the reference's noise propagated through its line fits (CReferenceCloud::forEachFitTerm),
  *    which correlates exactly the residuals that share fit points;
  *  - data: leave-one-cluster-out jackknife over reference cells of side `cluster`,
  *    (G-1)/G sum_g d_g d_g^T with d_g = (A - A_g)^-1 s_g, s_g = sum_{i in g} psi_i J_i, which
@@ -49,15 +49,27 @@ Eigen::Matrix3d psdMaxOnSubspace(
 }
 /** Covariance of the score sum_i w_i J_i^T e_i under the noise model: independent scan noise
  * (variance s_scan^2 per residual row) and the reference's anchor noise propagated through
- * the line fits (CReferenceCloud::fitTerms), which correlates residuals sharing fit points. */
+ * the line fits (CReferenceCloud::forEachFitTerm), which correlates residuals sharing fit points. */
 Eigen::Matrix3d modelScoreCovariance(
 	const CReferenceCloud& ref, const std::vector<TCorrespondence>& corr)
 {
-	// Per reference point: g_k (LINE fit terms) and G_k (POINT anchors), plus which are used.
-	std::vector<Eigen::Vector3d> g(ref.size(), Eigen::Vector3d::Zero());
-	std::vector<Eigen::Matrix<double, 3, 2>> G(ref.size(), Eigen::Matrix<double, 3, 2>::Zero());
-	std::vector<char> used(ref.size(), 0);
+	// Per reference point used, in order of first use (touched): g_k (LINE fit terms) and G_k
+	// (POINT anchors), at slot[k]. A match uses a few hundred of a patch's thousands of points.
+	constexpr uint32_t kUnused = ~uint32_t(0);
+	std::vector<uint32_t> slot(ref.size(), kUnused);
 	std::vector<uint32_t> touched;
+	std::vector<Eigen::Vector3d> g;
+	std::vector<Eigen::Matrix<double, 3, 2>> G;
+	auto use = [&](uint32_t k) {
+		if (slot[k] == kUnused)
+		{
+			slot[k] = static_cast<uint32_t>(touched.size());
+			touched.push_back(k);
+			g.push_back(Eigen::Vector3d::Zero());
+			G.push_back(Eigen::Matrix<double, 3, 2>::Zero());
+		}
+		return slot[k];
+	};
 	Eigen::Matrix3d Bscan = Eigen::Matrix3d::Zero();
 	double sumW2e2 = 0, sumW2 = 0, rows = 0;
 	for (const auto& k : corr)
@@ -68,21 +80,18 @@ Eigen::Matrix3d modelScoreCovariance(
 		{
 			Bscan += k.w * k.w * k.J0 * k.J0.transpose();
 			rows += 1;
-			const auto [b, e] = ref.fitTerms(k.anchor);
 			const double u = ref.anchors()[k.anchor].u + k.tOff;  // line coordinate of q
-			for (auto t = b; t != e; ++t)
-			{
-				if (!used[t->point]) used[t->point] = 1, touched.push_back(t->point);
-				const double beta = t->b0 + u * t->b1;
-				g[t->point] += k.w * beta * k.J0;
-			}
+			ref.forEachFitTerm(k.anchor, [&](uint32_t point, float b0, float b1) {
+				const double beta = b0 + u * b1;
+				g[use(point)] += k.w * beta * k.J0;
+			});
 			continue;
 		}
 		Bscan += k.w * k.w * (k.J0 * k.J0.transpose() + k.J1 * k.J1.transpose());
 		rows += 2;
-		if (!used[k.anchor]) used[k.anchor] = 1, touched.push_back(k.anchor);
-		G[k.anchor].col(0) += k.w * k.J0;
-		G[k.anchor].col(1) += k.w * k.J1;
+		const uint32_t a = use(k.anchor);
+		G[a].col(0) += k.w * k.J0;
+		G[a].col(1) += k.w * k.J1;
 	}
 	// Scan-side variance per row: the whole (weight^2-averaged, so outliers do not count)
 	// residual variance. Part of it is the anchors' own noise, counted again below; the split
@@ -90,10 +99,11 @@ Eigen::Matrix3d modelScoreCovariance(
 	// choice (measured NEES about 2.5 instead of 3.5-4).
 	const double s2scan = sumW2 > 0 ? sumW2e2 / sumW2 * rows / std::max(1.0, rows - 3) : 0.0;
 	Eigen::Matrix3d B = s2scan * Bscan;
-	for (uint32_t k : touched)
+	for (uint32_t s = 0; s < touched.size(); ++s)
 	{
-		B += ref.pointVariance(k) * (g[k] * g[k].transpose() + G[k] * G[k].transpose()) +
-			ref.anchors()[k].samplingVar * G[k] * G[k].transpose();
+		const uint32_t k = touched[s];
+		B += ref.pointVariance(k) * (g[s] * g[s].transpose() + G[s] * G[s].transpose()) +
+			ref.anchors()[k].samplingVar * G[s] * G[s].transpose();
 	}
 	return B;
 }
