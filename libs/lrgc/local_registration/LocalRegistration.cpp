@@ -148,37 +148,36 @@ void CLocalRegistration::cacheKeyframeCloud(size_t node, TCloudPtr cloud)
 	m_keyframeClouds.emplace_back(node, std::move(cloud));
 }
 
-// Each thread takes the next match nobody took yet; this one then waits only for the matches
-// the helper is in the middle of (a helper that starts late finds nothing left to do).
-std::vector<std::optional<TScanMatch>> CLocalRegistration::matchAll(
-	const std::vector<TCloudPtr>& refs, const TScan2D& scan, const std::vector<TPose2D>& guesses)
+// Each thread takes the next item nobody took yet; this one then waits only for the items
+// the helper is in the middle of. A helper that starts late finds nothing left to do and never
+// calls fn (so fn and what it refers to need only live until this returns).
+void CLocalRegistration::parallelFor(size_t n, const std::function<void(size_t)>& fn)
 {
 	struct TShared
 	{
-		std::vector<std::optional<TScanMatch>> results;
+		const std::function<void(size_t)>* fn = nullptr;
+		size_t n = 0;
 		std::vector<std::exception_ptr> errors;
 		std::atomic<size_t> next{0};
-		size_t done = 0;  //!< matches finished (guarded by mutex)
+		size_t done = 0;  //!< items finished (guarded by mutex)
 		std::mutex mutex;
 		std::condition_variable cv;
 	};
-	const size_t n = refs.size();
 	auto shared = std::make_shared<TShared>();
-	shared->results.resize(n);
+	shared->fn = &fn;
+	shared->n = n;
 	shared->errors.resize(n);
-	// `scan` and the matcher are only read while a match is in hand, and this thread waits
-	// for every match taken.
-	auto work = [shared, refs, guesses, scan = &scan, matcher = &m_matcher]
+	auto work = [shared]
 	{
-		for (size_t l; (l = shared->next.fetch_add(1)) < shared->results.size();)
+		for (size_t i; (i = shared->next.fetch_add(1)) < shared->n;)
 		{
 			try
 			{
-				shared->results[l] = matcher->match(*refs[l], *scan, guesses[l]);
+				(*shared->fn)(i);
 			}
 			catch (...)
 			{
-				shared->errors[l] = std::current_exception();
+				shared->errors[i] = std::current_exception();
 			}
 			std::lock_guard<std::mutex> lock(shared->mutex);
 			++shared->done;
@@ -193,7 +192,14 @@ std::vector<std::optional<TScanMatch>> CLocalRegistration::matchAll(
 	}
 	for (const auto& e : shared->errors)
 		if (e) std::rethrow_exception(e);
-	return std::move(shared->results);
+}
+
+std::vector<std::optional<TScanMatch>> CLocalRegistration::matchAll(
+	const std::vector<TCloudPtr>& refs, const TScan2D& scan, const std::vector<TPose2D>& guesses)
+{
+	std::vector<std::optional<TScanMatch>> results(refs.size());
+	parallelFor(refs.size(), [&](size_t l) { results[l] = m_matcher.match(*refs[l], scan, guesses[l]); });
+	return results;
 }
 
 TRegistration CLocalRegistration::registerScan(
@@ -223,7 +229,9 @@ TRegistration CLocalRegistration::registerScan(
 		prediction.stepSeconds > m_params.glitch_min_gap;
 	if (suspect && (!match || disagrees) && m_params.wide_search_angle > 0)
 	{
-		match = m_matcher.matchWide(cloud, scan, guess, m_params.wide_search_angle);
+		match = m_matcher.matchWide(
+			cloud, scan, guess, m_params.wide_search_angle,
+			[this](size_t n, const std::function<void(size_t)>& fn) { parallelFor(n, fn); });
 		reg.wideSearch = match.has_value();
 	}
 	// Wheels that did not turn at all are the one odometry reading to trust over a match

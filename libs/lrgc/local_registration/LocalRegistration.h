@@ -51,6 +51,7 @@
 #include <condition_variable>
 #include <deque>
 #include <exception>
+#include <functional>
 #include <mutex>
 #include <memory>
 #include <optional>
@@ -154,6 +155,8 @@ class CLocalRegistration
 	std::vector<std::optional<TScanMatch>> matchAll(
 		const std::vector<TCloudPtr>& refs, const TScan2D& scan,
 		const std::vector<mrpt::math::TPose2D>& guesses);
+	/** fn(i) for every i in [0, n), by this thread and the helper together (TParallelFor). */
+	void parallelFor(size_t n, const std::function<void(size_t)>& fn);
 
 	TLocalRegistrationParams m_params;
 	TScanMatcherParams m_matcherParams;

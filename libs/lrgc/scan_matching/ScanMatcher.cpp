@@ -238,7 +238,7 @@ double explainedFraction(
 
 std::optional<TScanMatch> CScanMatcher::matchWide(
 	const CReferenceCloud& ref, const TScan2D& scan, const mrpt::math::TPose2D& guess,
-	double searchAngle) const
+	double searchAngle, const TParallelFor& parallel) const
 {
 	ASSERT_(searchAngle >= 0);
 	const double margin = m_params.wideAmbiguityMargin;
@@ -257,14 +257,20 @@ std::optional<TScanMatch> CScanMatcher::matchWide(
 	std::vector<Eigen::Vector2d> sub;
 	for (size_t i = 0; i < scan.points.size(); i += stride) sub.push_back(scan.points[i]);
 	const int n = static_cast<int>(std::floor(searchAngle / m_params.wideSearchStep + 1e-9));
-	std::vector<std::pair<double, mrpt::math::TPose2D>> found;  // (score, ref <- scan)
-	for (int k = -n; k <= n; ++k)
-	{
+	// Start i explores heading guess.phi + (i - n) wideSearchStep; kept in start order.
+	std::vector<std::optional<std::pair<double, mrpt::math::TPose2D>>> starts(2 * n + 1);
+	const std::function<void(size_t)> explore = [&](size_t i) {
 		mrpt::math::TPose2D g = guess;
-		g.phi = mrpt::math::wrapToPi(guess.phi + k * m_params.wideSearchStep);
+		g.phi = mrpt::math::wrapToPi(guess.phi + (static_cast<int>(i) - n) * m_params.wideSearchStep);
 		if (auto m = matchPoints(ref, sub, g, 2 * m_params.maxCorrespondenceDist_m, false))
-			found.emplace_back(explainedFraction(ref, sub, m->scanInRef, tol), m->scanInRef);
-	}
+			starts[i] = {explainedFraction(ref, sub, m->scanInRef, tol), m->scanInRef};
+	};
+	if (parallel) parallel(starts.size(), explore);
+	else
+		for (size_t i = 0; i < starts.size(); ++i) explore(i);
+	std::vector<std::pair<double, mrpt::math::TPose2D>> found;  // (score, ref <- scan)
+	for (const auto& s : starts)
+		if (s) found.push_back(*s);
 	if (found.empty()) return std::nullopt;
 	std::sort(found.begin(), found.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
 	const auto& [bestScore, bestPose] = found.front();

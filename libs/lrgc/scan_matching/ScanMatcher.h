@@ -29,6 +29,7 @@
 
 #include <Eigen/Core>
 #include <cmath>
+#include <functional>
 #include <optional>
 #include <vector>
 
@@ -51,6 +52,10 @@ struct TScanMatch
 	int unobservableDims = 0;
 };
 
+/** Runs fn(i) for every i in [0, n), in any order and on any threads; returns when all are
+ * done (rethrowing an error of fn). */
+using TParallelFor = std::function<void(size_t n, const std::function<void(size_t)>& fn)>;
+
 class CScanMatcher
 {
 public:
@@ -71,10 +76,14 @@ public:
 	 * distinct alternative start by wideAmbiguityMargin, counting the alternatives match()
 	 * would reject (an aliased twin rejected for its free-space test is still a twin); (3) it
 	 * beats by the same margin the local optimum from the guess itself (the hypothesis "the
-	 * guess was right"), converged on the whole scan. Else nullopt. */
+	 * guess was right"), converged on the whole scan. Else nullopt.
+	 * The starts are independent: `parallel`, if given, runs them (parallel(n, fn) calls
+	 * fn(i) for every i in [0, n), on any threads, and returns when all are done); the result
+	 * is the same as run one after the other. */
 	std::optional<TScanMatch> matchWide(
 		const CReferenceCloud& ref, const TScan2D& scan,
-		const mrpt::math::TPose2D& guessScanInRef, double searchAngle_rad) const;
+		const mrpt::math::TPose2D& guessScanInRef, double searchAngle_rad,
+		const TParallelFor& parallel = {}) const;
 
 private:
 	std::optional<TScanMatch> matchPoints(

@@ -348,6 +348,16 @@ TEST(ScanMatcher, matchWideRecoversLargeHeadingErrors)
 		if (const auto l = matcher.match(ref, scan, guess))
 			localOk += std::abs(poseError(l->scanInRef, truth).z()) < 1 * kDeg;
 		const auto m = matcher.matchWide(ref, scan, guess, 90 * kDeg);
+		// The starts are independent: run in any order (here last to first, as a parallel
+		// run may finish them), the result is the same.
+		size_t startsRun = 0;
+		const auto reversed = matcher.matchWide(
+			ref, scan, guess, 90 * kDeg, [&](size_t n, const std::function<void(size_t)>& fn) {
+				for (size_t i = n; i-- > 0;) fn(i), ++startsRun;
+			});
+		EXPECT_EQ(startsRun, 25U);  // 90 deg / 7.5 deg each side, and the guess
+		ASSERT_EQ(m.has_value(), reversed.has_value());
+		if (m) { EXPECT_EQ(poseError(m->scanInRef, reversed->scanInRef).norm(), 0.0); }
 		if (!m) continue;
 		const Eigen::Vector3d e = poseError(m->scanInRef, truth);
 		if (e.head<2>().norm() < 0.01 && std::abs(e.z()) < 0.3 * kDeg) ++recovered;
