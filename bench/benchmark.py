@@ -176,6 +176,11 @@ def main():
                             (item.split("=") for item in args.sweep_times.split(",") if item)}
     except ValueError:
         sys.exit("bench: --sweep-times wants NAME=SECONDS,... (got %r)" % args.sweep_times)
+    if args.config:
+        # lrgc-slam runs in other folders: a relative path must name the file from here.
+        if not os.path.isfile(args.config):
+            sys.exit("bench: --config %r: no such file" % args.config)
+        args.config = os.path.abspath(args.config)
 
     t0 = time.monotonic()
     tools, missing = tool_paths(args.build_dir)
