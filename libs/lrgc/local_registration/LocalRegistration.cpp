@@ -34,7 +34,7 @@ void CLocalRegistration::enterKeyframe(size_t node, bool reused, const CPoseGrap
 	if (const auto it = std::find(m_window.begin(), m_window.end(), node); it != m_window.end())
 		m_window.erase(it);
 	m_window.push_back(node);
-	while (m_window.size() > m_params.window_size) m_window.pop_front();
+	while (m_window.size() > windowSize()) m_window.pop_front();
 	if (reused) m_firstFree = graph.numNodes();
 	m_cloudNewest.reset();
 }
@@ -144,7 +144,8 @@ void CLocalRegistration::cacheKeyframeCloud(size_t node, TCloudPtr cloud)
 {
 	for (const auto& entry : m_keyframeClouds)
 		if (entry.first == node) return;
-	if (m_keyframeClouds.size() >= m_params.window_size) m_keyframeClouds.pop_front();
+	if (m_keyframeClouds.size() >= std::max(m_params.window_size, m_params.laser_only_window_size))
+		m_keyframeClouds.pop_front();
 	m_keyframeClouds.emplace_back(node, std::move(cloud));
 }
 
@@ -209,6 +210,17 @@ TRegistration CLocalRegistration::registerScan(
 	const Eigen::Matrix3d& priorCov = prediction.cov;
 	TRegistration reg{priorInMap, priorCov, false, false};
 	m_lastPatchMatch.reset();
+	// K depends on the prior (window_size with odometry, laser_only_window_size without): a
+	// change of prior resizes the window, dropping its oldest keyframes if it shrinks.
+	if (m_withOdometry != prediction.fromOdometry)
+	{
+		m_withOdometry = prediction.fromOdometry;
+		if (m_window.size() > windowSize())
+		{
+			while (m_window.size() > windowSize()) m_window.pop_front();
+			m_cloudNewest.reset();
+		}
+	}
 	if (m_window.empty()) return reg;  // no keyframe of this session yet
 	const CReferenceCloud& cloud = windowCloud(graph, keyframes);
 	const TPose2D newestInMap = graph.pose(*m_cloudNewest);

@@ -121,6 +121,13 @@ class CLocalRegistration
 	const std::deque<size_t>& window() const { return m_window; }
 
    private:
+	/** K: window_size after a scan with an odometry prior, laser_only_window_size after one
+	 * with the constant-velocity prior (the last registerScan's). */
+	size_t windowSize() const
+	{
+		return m_withOdometry ? m_params.window_size : m_params.laser_only_window_size;
+	}
+	bool m_withOdometry = true;  //!< the last registered scan's prior came from odometry
 	using TCloudPtr = std::shared_ptr<const CReferenceCloud>;
 	/** The patch for the next scans, built from the window as it was after a keyframe's
 	 * solve (nodes, scans and poses copied), with that keyframe's own cloud; by the helper

@@ -3,6 +3,8 @@
 #include <mrpt/config/CConfigFileBase.h>
 #include <mrpt/core/format.h>
 
+#include <algorithm>
+
 namespace lrgc
 {
 void TLocalRegistrationParams::loadFromConfigFile(
@@ -10,6 +12,7 @@ void TLocalRegistrationParams::loadFromConfigFile(
 {
 	rejectUnknownKeys(TLocalRegistrationParams(), c, s);
 	window_size = readCount(c, s, "window_size", window_size);
+	laser_only_window_size = readCount(c, s, "laser_only_window_size", laser_only_window_size);
 	max_pairwise_links = readCount(c, s, "max_pairwise_links", max_pairwise_links);
 	min_link_inliers = readDouble(c, s, "min_link_inliers", min_link_inliers);
 	glitch_gate_chi2 = readDouble(c, s, "glitch_gate_chi2", glitch_gate_chi2);
@@ -25,10 +28,12 @@ void TLocalRegistrationParams::loadFromConfigFile(
 	requireParam(glitch_min_turn >= 0, s, "glitch_min_turn_deg", "must be >= 0");
 	link_noise.load(c, s, "");
 	requireParam(window_size >= 2 && window_size <= 100, s, "window_size", "must be in [2, 100]");
-	requireParam(max_pairwise_links >= 1 && max_pairwise_links < window_size, s,
+	requireParam(laser_only_window_size >= 2 && laser_only_window_size <= 100, s,
+				 "laser_only_window_size", "must be in [2, 100]");
+	requireParam(max_pairwise_links >= 1 && max_pairwise_links < std::min(window_size, laser_only_window_size), s,
 				 "max_pairwise_links",
-				 mrpt::format("%zu must be in [1, window_size - 1]; window_size is %zu",
-							  max_pairwise_links, window_size));
+				 mrpt::format("%zu must be below window_size (%zu) and laser_only_window_size (%zu)",
+							  max_pairwise_links, window_size, laser_only_window_size));
 	requireParam(
 		min_link_inliers > 0 && min_link_inliers <= 1, s, "min_link_inliers", "must be in (0, 1]");
 	requireParam(glitch_gate_chi2 > 0, s, "glitch_gate_chi2", "must be > 0");
@@ -47,7 +52,8 @@ void TLocalRegistrationParams::saveToConfigFile(
 	mrpt::config::CConfigFileBase& c, const std::string& s) const
 {
 	const int np = mrpt::config::MRPT_SAVE_NAME_PADDING(), vp = mrpt::config::MRPT_SAVE_VALUE_PADDING();
-	c.write(s, "window_size", uint64_t(window_size), np, vp, "K: keyframes registered together (paper: K >= 7)");
+	c.write(s, "window_size", uint64_t(window_size), np, vp, "K: keyframes registered together while the prior comes from odometry (paper: K >= 7)");
+	c.write(s, "laser_only_window_size", uint64_t(laser_only_window_size), np, vp, "K while the prior is the constant-velocity model (no odometry)");
 	c.write(s, "max_pairwise_links", uint64_t(max_pairwise_links), np, vp, "Pairwise scan-match links per new keyframe, spread over the window");
 	c.write(s, "min_link_inliers", min_link_inliers, np, vp, "Min fraction of matched points for a pairwise scan-match link");
 	c.write(s, "glitch_gate_chi2", glitch_gate_chi2, np, vp, "[chi2, 3 dof] Odometry/match disagreement that triggers the wide search");

@@ -3,6 +3,7 @@
  * CIncrementalGrid so that a call after a scan costs the scans added or moved, not a build of
  * the whole map. */
 #include <lrgc/map_builder/CMetricMapBuilderLRGC.h>
+#include <algorithm>
 
 namespace lrgc
 {
@@ -20,7 +21,8 @@ TGridSettings CMetricMapBuilderLRGC::gridSettings() const
 	s.maxRayLength = kGridMaxRayLength_m;
 	// The local window re-estimates its K keyframes at every keyframe; older ones move only
 	// with a loop closure (or the final optimisation).
-	s.settleKeyframes = m_params.local.window_size + 2;
+	s.settleKeyframes =
+		std::max(m_params.local.window_size, m_params.local.laser_only_window_size) + 2;
 	return s;
 }
 

@@ -7,6 +7,7 @@
 
 #include <set>
 #include <utility>
+#include <algorithm>
 
 namespace lrgc
 {
@@ -102,10 +103,12 @@ void TLRGCParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, con
 	for (const auto& [name, stage] : stages<TLRGCParams, mrpt::config::CLoadableOptions>(*this))
 		stage->loadFromConfigFile(c, name);
 	requireParam(
-		loop.old_map_exclusion > local.window_size, "LoopCloser", "old_map_exclusion",
+		loop.old_map_exclusion > std::max(local.window_size, local.laser_only_window_size),
+		"LoopCloser", "old_map_exclusion",
 		mrpt::format(
-			"%zu must exceed [LocalRegistration] window_size, which is %zu (the paper's m > K)",
-			loop.old_map_exclusion, local.window_size));
+			"%zu must exceed [LocalRegistration] window_size and laser_only_window_size, which "
+			"are %zu and %zu (the paper's m > K)",
+			loop.old_map_exclusion, local.window_size, local.laser_only_window_size));
 }
 
 void TLRGCParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string&) const

@@ -92,7 +92,8 @@ TEST(LRGCParams, ABadValueIsBlamedOnItsOwnKey)
 	// A whole but too small window: the key that no longer fits says why, with both values.
 	const std::string small = loadError("[LocalRegistration]\nwindow_size = 2\n");
 	EXPECT_NE(
-		small.find("max_pairwise_links: 5 must be in [1, window_size - 1]; window_size is 2"),
+		small.find("max_pairwise_links: 5 must be below window_size (2) and "
+				   "laser_only_window_size (10)"),
 		std::string::npos)
 		<< small;
 	// Read leniently, "abc" was 0 and blamed as "must be > 0".
