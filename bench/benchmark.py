@@ -198,7 +198,7 @@ def main():
 
     doc_dir = os.path.dirname(os.path.abspath(args.doc))
     os.makedirs(doc_dir, exist_ok=True)
-    real_rows, syn_rows, plots, notes = [], [], [], []
+    real_rows, syn_rows, gen_rows, plots, notes = [], [], [], [], []
     commit = bench_report.commit_description(repo)  # before anything is written
     for name, log, rel in real:
         runs, n = run_log(tools, name, log, os.path.join(args.work_dir, name), args,
@@ -207,6 +207,9 @@ def main():
         if rel is None:
             notes.append("%s: no relations file beside the log: no relation error" % name)
         real_rows += bench_report.real_rows(name, runs, published)
+        gen = bench_report.generalisation_row(name, runs, published)
+        if gen:
+            gen_rows.append(gen)
         png = plot(tools, name, runs[0], os.path.join(doc_dir, "bench_%s.png" % name), notes)
         if png:
             plots.append((name, os.path.relpath(png, doc_dir)))
@@ -252,7 +255,7 @@ def main():
         print("note: " + n)
     with open(args.doc, "w") as f:
         f.write(bench_report.document(real_rows, syn_rows, plots, machine, commit, total,
-                                      args.data_dir, notes, repeat))
+                                      args.data_dir, notes, repeat, gen_rows, args.config))
     print("\nwrote %s and %d plot(s); whole run %.0f s" % (args.doc, len(plots), total))
     return 0
 
