@@ -2,9 +2,8 @@
  * three benchmark logs must beat published scan matching (issue 11): mean relation error
  * below 0.220 m on Intel, 0.173 m on ACES and 0.106 m on MIT-CSAIL (Kuemmerle et al. 2009,
  * table of scan matching). With a 10-keyframe window whatever the prior, MIT-CSAIL gave
- * 0.119 m; with window_size 15 where the log has odometry and 3 cm reference voxels
- * 0.096 m (Intel 0.138, ACES 0.167; doc/generalisation.md). Skips where the shared
- * benchmark logs are absent. */
+ * 0.119 m; with window_size 15 where the log has odometry 0.100 m (Intel 0.133, ACES
+ * 0.159; doc/generalisation.md). Skips where the shared benchmark logs are absent. */
 #include <gtest/gtest.h>
 #include <lrgc_apps/eval/relation_metric.h>
 #include <lrgc_apps/eval/trajectory.h>

@@ -16,10 +16,7 @@ struct TScanMatcherParams : public mrpt::config::CLoadableOptions
 {
 	int maxIterations = 50;  //!< Gauss-Newton iterations before giving up (no convergence)
 	double maxCorrespondenceDist_m = 0.5;  //!< [m] initial gate: farther pairs are not formed
-	/** [m] voxel size for reducing the reference points. 0.03 pays for the 15-keyframe
-	 * window patch (MIT-CSAIL wall time as with 10 keyframes at 0.02) with local
-	 * registration alone still below published scan matching (doc/generalisation.md). */
-	double refResolution_m = 0.03;
+	double refResolution_m = 0.02;  //!< [m] voxel size for reducing the reference points
 	double normalRadius_m = 0.15;  //!< [m] neighbourhood radius of the local line fits
 	double minInlierFraction = 0.25;  //!< of the scan's points, below it: no match
 	int minInliers = 20;  //!< absolute minimum of inlier points
