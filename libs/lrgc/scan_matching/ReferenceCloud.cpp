@@ -9,6 +9,7 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <functional>
+#include <limits>
 #include <numeric>
 
 namespace lrgc
@@ -171,15 +172,6 @@ void CReferenceCloud::fitLines(const TScanMatcherParams& p, const std::vector<do
 	// sigma^2 per raw point is estimated from each fit, l2 W / (n - 2), and its median kept.
 	// The beta_jk are not stored: forEachFitTerm recomputes them from the fit (m, W, sum w u^2).
 	std::vector<Eigen::Vector2d> newPos(m_anchors.size());
-	// The neighbourhood in visiting order, with each neighbour's position and weight (read
-	// once from m_anchors / w: the fit runs over it twice).
-	struct TNeighbour
-	{
-		Eigen::Vector2d pos;
-		double w;
-		uint32_t k;
-	};
-	std::vector<TNeighbour> nb;
 	std::vector<double> sigma2;
 	m_count = w;
 	m_lineFits.assign(m_anchors.size(), TLineFit{});
@@ -190,21 +182,24 @@ void CReferenceCloud::fitLines(const TScanMatcherParams& p, const std::vector<do
 		// Widen the neighbourhood (up to 4x) while it has too few points or is too thick:
 		// range noise thickens a small neighbourhood, a corner stays thick at every size.
 		double r = p.normalRadius_m;
+		size_t count = 0;  // reduced points in the neighbourhood
+		double nearest2 = std::numeric_limits<double>::infinity();  // [m^2] to another one
 		for (int widen = 0; widen < 3; ++widen, r *= 2)
 		{
-			nb.clear();
-			m_grid.forEachPointWithin(
-				x, r, [&](uint32_t k, const Eigen::Vector2d& pos) { nb.push_back({pos, w[k], k}); });
-			// One pass of weighted moments: W, sum w x, sum w x x^T (relative to x, for
-			// numerical range), then the 2x2 eigen-decomposition in closed form.
+			// One pass of weighted moments as the grid visits the neighbourhood: W, sum w x,
+			// sum w x x^T (relative to x, for numerical range), then the 2x2
+			// eigen-decomposition in closed form.
 			double W = 0, sx = 0, sy = 0, sxx = 0, sxy = 0, syy = 0;
-			for (const auto& q : nb)
-			{
-				const double wk = q.w, dx = q.pos.x() - x.x(), dy = q.pos.y() - x.y();
+			count = 0;
+			nearest2 = std::numeric_limits<double>::infinity();
+			m_grid.forEachPointWithin(x, r, [&](uint32_t k, const Eigen::Vector2d& pos) {
+				const double wk = w[k], dx = pos.x() - x.x(), dy = pos.y() - x.y();
 				W += wk, sx += wk * dx, sy += wk * dy;
 				sxx += wk * dx * dx, sxy += wk * dx * dy, syy += wk * dy * dy;
-			}
-			if (nb.size() < 4) continue;
+				++count;
+				if (k != i) nearest2 = std::min(nearest2, dx * dx + dy * dy);
+			});
+			if (count < 4) continue;
 			const double mx = sx / W, my = sy / W;
 			const double cxx = sxx / W - mx * mx, cxy = sxy / W - mx * my, cyy = syy / W - my * my;
 			const Eigen::Vector2d m = x + Eigen::Vector2d(mx, my);
@@ -222,24 +217,22 @@ void CReferenceCloud::fitLines(const TScanMatcherParams& p, const std::vector<do
 			m_anchors[i].isLine = true;
 			m_anchors[i].fitRadius = r;
 			newPos[i] = m + (x - m).dot(t) * t;
-			double suu = 0;
-			for (const auto& q : nb) suu += q.w * std::pow((q.pos - m).dot(t), 2);
+			// sum w u^2 = W t^T C t = W l1 (t is C's eigenvector of l1).
+			const double suu = W * l1;
 			const double uj = (x - m).dot(t);
 			m_lineFits[i] = TLineFit{x, m, r, W, suu};
 			m_anchors[i].u = static_cast<float>(uj);
 			// slope variance sigma^2 / sum w u^2, sigma^2 filled in below
 			m_anchors[i].normalVar = static_cast<float>(suu > 0 ? 1 / suu : 0);
-			sigma2.push_back(l2 * W / static_cast<double>(nb.size() - 2));
+			sigma2.push_back(l2 * W / static_cast<double>(count - 2));
 			break;
 		}
 		if (!m_anchors[i].isLine)
 		{
-			// nb holds the widest neighbourhood here (the loop ran to its end).
-			m_anchors[i].usable = nb.size() >= 3;
-			double d2 = r * r;
-			for (const auto& q : nb)
-				if (q.k != i) d2 = std::min(d2, (q.pos - x).squaredNorm());
-			m_anchors[i].samplingVar = static_cast<float>(d2 / 12);
+			// count and nearest2 are of the widest neighbourhood here (the loop ran to its
+			// end; r is twice its radius now, as the cap of the spacing).
+			m_anchors[i].usable = count >= 3;
+			m_anchors[i].samplingVar = static_cast<float>(std::min(r * r, nearest2) / 12);
 		}
 	}
 	for (size_t i = 0; i < m_anchors.size(); ++i) m_anchors[i].pos = newPos[i];
