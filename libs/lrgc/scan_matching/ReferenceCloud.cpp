@@ -162,7 +162,7 @@ void CReferenceCloud::fitLines(const TScanMatcherParams& p, const std::vector<do
 {
 	// Weighted PCA of the neighbourhood N (weights = raw points per voxel):
 	//   mean m = sum w_k x_k / W,  C = sum w_k (x_k - m)(x_k - m)^T / W,
-	// eigenvalues l1 >= l2 with eigenvectors t (tangent), n (normal). A LINE if at least 3
+	// eigenvalues l1 >= l2 with eigenvectors t (tangent), n (normal). A LINE if at least 4
 	// reduced points and thickness sqrt(l2) < 0.25 * sqrt(l1) (spread along the line); then the
 	// anchor is the point projected onto the line: a = m + ((x - m) . t) t.
 	// Noise model of the anchors (used by the covariance): the line's offset at the anchor,
