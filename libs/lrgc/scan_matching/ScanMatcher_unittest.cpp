@@ -7,7 +7,6 @@
 #include <Eigen/Dense>
 #include <cmath>
 #include <iostream>
-#include <mrpt/config/CConfigFileMemory.h>
 
 #include "synthetic_world.h"
 
@@ -368,36 +367,6 @@ TEST(ScanMatcher, matchWideRecoversLargeHeadingErrors)
 	EXPECT_GE(recovered, 0.85 * trials);
 	EXPECT_EQ(wrong, 0);
 	EXPECT_LT(localOk, recovered);
-}
-
-TEST(ScanMatcherParams, roundTripUnknownKeysAndValidation)
-{
-	TScanMatcherParams p;
-	p.maxIterations = 33;
-	p.normalRadius_m = 0.21;
-	p.wideSearchStep = 5 * kDeg;
-	mrpt::config::CConfigFileMemory saved;
-	p.saveToConfigFile(saved, "ScanMatcher");
-	std::string text;
-	saved.getContent(text);  // as in a file: a text round trip
-	const mrpt::config::CConfigFileMemory mem(text);
-	TScanMatcherParams q;
-	q.loadFromConfigFile(mem, "ScanMatcher");
-	EXPECT_EQ(q.maxIterations, 33);
-	EXPECT_DOUBLE_EQ(q.normalRadius_m, 0.21);
-	EXPECT_NEAR(q.wideSearchStep, 5 * kDeg, 1e-12);
-	EXPECT_NEAR(mem.read_double("ScanMatcher", "wide_search_step_deg", 0), 5.0, 1e-12);
-
-	mrpt::config::CConfigFileMemory bad;
-	bad.write("ScanMatcher", "normalRadius", 0.2);  // misspelt key
-	EXPECT_THROW(q.loadFromConfigFile(bad, "ScanMatcher"), std::exception);
-	mrpt::config::CConfigFileMemory invalid;
-	invalid.write("ScanMatcher", "min_inlier_fraction", 1.5);
-	EXPECT_THROW(q.loadFromConfigFile(invalid, "ScanMatcher"), std::exception);
-	EXPECT_EQ(q.maxIterations, 33);  // a failed load leaves the values untouched
-	TScanMatcherParams neg;
-	neg.maxCorrespondenceDist_m = -1;
-	EXPECT_THROW(CScanMatcher{neg}, std::exception);
 }
 
 // A long gallery lined with identical alcoves (issue 11: a museum hall bent by ~90 deg): a
