@@ -82,7 +82,7 @@ struct TLoopCloserParams : public mrpt::config::CLoadableOptions
 	 * with worker_budget_ms > 0. Live runs (apply_when_ready) use neither: results are
 	 * taken when ready and no search is skipped. 150: with 15-keyframe windows, 300 let
 	 * Intel driven four times over add 2190 keyframes in every pass (no reuse); 150 adds
-	 * 222 / 98 / 62 after the first pass (doc/generalisation.md). */
+	 * 184 / 28 / 28 after the first pass (doc/generalisation.md). */
 	size_t max_backlog = 150;
 	/** Apply a result as soon as it is ready instead of at k + result_delay (live runs: the
 	 * robot never waits; the map then depends on timing). lrgc-slam --live sets it from

@@ -77,9 +77,8 @@ public:
 	 * would reject (an aliased twin rejected for its free-space test is still a twin); (3) it
 	 * beats by the same margin the local optimum from the guess itself (the hypothesis "the
 	 * guess was right"), converged on the whole scan. Else nullopt.
-	 * The starts are independent: `parallel`, if given, runs them (parallel(n, fn) calls
-	 * fn(i) for every i in [0, n), on any threads, and returns when all are done); the result
-	 * is the same as run one after the other. */
+	 * The starts are independent: `parallel`, if given, runs them (TParallelFor), with the
+	 * same result as one after the other. */
 	std::optional<TScanMatch> matchWide(
 		const CReferenceCloud& ref, const TScan2D& scan,
 		const mrpt::math::TPose2D& guessScanInRef, double searchAngle_rad,
