@@ -38,7 +38,7 @@
 
 #include <lrgc/common/HelperThread.h>
 #include <lrgc/local_registration/LocalRegistrationParams.h>
-#include <lrgc/pose_graph/Keyframe.h>
+#include <lrgc/scan_matching/Keyframe.h>
 #include <lrgc/pose_graph/LinkNoise.h>
 #include <lrgc/local_registration/MotionPredictor.h>
 #include <lrgc/pose_graph/PoseGraph.h>

@@ -15,7 +15,7 @@
 
 #include <lrgc/loop_closing/CorrelationGrid.h>
 #include <lrgc/loop_closing/PatchCorrelator.h>
-#include <lrgc/pose_graph/Keyframe.h>
+#include <lrgc/scan_matching/Keyframe.h>
 #include <lrgc/pose_graph/PoseGraph.h>
 
 #include <optional>

@@ -20,7 +20,7 @@
 #pragma once
 
 #include <lrgc/loop_closing/RevisitLinkerParams.h>
-#include <lrgc/pose_graph/Keyframe.h>
+#include <lrgc/scan_matching/Keyframe.h>
 #include <lrgc/pose_graph/LinkNoise.h>
 #include <lrgc/pose_graph/PoseGraph.h>
 #include <lrgc/scan_matching/ScanMatcher.h>

@@ -29,7 +29,7 @@
 #pragma once
 
 #include <lrgc/map_builder/KeyframeReuseParams.h>
-#include <lrgc/pose_graph/Keyframe.h>
+#include <lrgc/scan_matching/Keyframe.h>
 #include <lrgc/pose_graph/LinkNoise.h>
 #include <lrgc/pose_graph/PoseGraph.h>
 #include <lrgc/scan_matching/ScanMatcher.h>
