@@ -10,6 +10,7 @@
  *    (getCurrentPoseEstimation, getCurrentlyBuiltMap, getCurrentlyBuiltMetricMap, trajectory):
  *    every copy must be whole, and the map the same as without the reader. */
 #include <lrgc/loop_closing/LoopWork.h>
+#include <lrgc/map_builder/TestAccess.h>
 #include <gtest/gtest.h>
 #include <mrpt/maps/CSimpleMap.h>
 #include <mrpt/obs/CObservationOdometry.h>
@@ -60,7 +61,7 @@ TRun mapRing(const TLRGCParams& p, std::chrono::milliseconds extraDelay,
 	TSyntheticRunOptions opt;
 	opt.laser.maxRange = 6;
 	CMetricMapBuilderLRGC builder(p);
-	builder.setLoopSearchExtraDelayForTests(extraDelay);
+	lrgc::TLoopClosingTestAccess::setExtraDelay(builder, extraDelay);
 	std::atomic<bool> done{false};
 	std::thread readerThread;
 	if (reader) readerThread = std::thread([&] { reader(builder, done); });

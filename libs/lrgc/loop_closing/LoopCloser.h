@@ -25,7 +25,8 @@
 
 #include <lrgc/loop_closing/LoopCloserParams.h>
 #include <lrgc/loop_closing/LoopCloserStats.h>
-#include <lrgc/pose_graph/Keyframe.h>
+#include <lrgc/loop_closing/LoopClosure.h>
+#include <lrgc/scan_matching/Keyframe.h>
 #include <lrgc/pose_graph/LinkNoise.h>
 #include <lrgc/loop_closing/PatchCorrelator.h>
 #include <lrgc/loop_closing/UncertaintyPropagation.h>
@@ -40,17 +41,6 @@
 
 namespace lrgc
 {
-/** One accepted loop closure. */
-struct TLoopClosure
-{
-	size_t oldNode = 0, newNode = 0;
-	size_t linkId = 0;
-	double score = 0, ambiguity = 0;  //!< of the correlation
-	bool optimized = false;  //!< the link moved the map: whole graph optimised
-	size_t rematchLinks = 0;  //!< links added by re-matching after the closure
-	double seconds = 0;  //!< time of the whole closure step [s]
-};
-
 class CLoopCloser
 {
    public:

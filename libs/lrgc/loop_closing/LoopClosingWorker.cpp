@@ -1,5 +1,6 @@
 /* CLoopClosingWorker: the replica's bookkeeping and the thread (see LoopClosingWorker.h). */
 #include <lrgc/loop_closing/LoopClosingWorker.h>
+#include <lrgc/loop_closing/LoopCorrection.h>
 
 #include <lrgc/common/ThreadPriority.h>
 #include <lrgc/common/se2.h>
@@ -150,8 +151,9 @@ void CLoopClosingWorker::threadMain()
 // not applied when it sent them. For each node, the latest such correction that concerns it
 // decides, as the mapping thread will when it applies them in order:
 //  - firstMoved <= i <= k: the result placed node i; the replica keeps it;
-//  - i > k: X_i = X'_k (+) (M_k^-1 (+) M_i); the earlier corrections, rigid motions of both
-//    M_k and M_i, cancel out in this product;
+//  - i > k: carried along by node k's correction (LoopCorrection.h) from the poses sent,
+//    X_i = X'_k (+) (M_k^-1 (+) M_i); the earlier corrections, rigid motions of both M_k and
+//    M_i, cancel out in this product;
 //  - i < firstMoved: that correction did not touch i; look at the one before.
 void CLoopClosingWorker::updateReplica(const TLoopJob& job)
 {
@@ -167,7 +169,7 @@ void CLoopClosingWorker::updateReplica(const TLoopJob& job)
 		{
 			if (node > c->newest)
 			{
-				pose = compose(c->newestPose, between(m_sentPoses[c->newest], m_sentPoses[node]));
+				pose = carriedAlong(m_sentPoses[c->newest], c->newestPose, m_sentPoses[node]);
 				break;
 			}
 			if (node >= c->firstMoved)

@@ -52,6 +52,8 @@
 
 namespace lrgc
 {
+struct TLoopClosingTestAccess;
+
 /** What the mapping thread's graph gained or changed since the previous job. */
 struct TLoopJob
 {
@@ -112,10 +114,9 @@ class CLoopClosingWorker
 	/** Counters of every job done so far. */
 	TLoopCloserStats stats() const;
 
-	/** Tests only: every job first sleeps this long (a slow machine, on purpose). */
-	void setExtraDelayForTests(std::chrono::milliseconds d) { m_extraDelayMs = d.count(); }
-
    private:
+	friend struct TLoopClosingTestAccess;  // tests: a slow machine (m_extraDelayMs)
+
 	/** A result that moved poses, until the mapping thread has applied it. */
 	struct TCorrection
 	{
@@ -143,7 +144,7 @@ class CLoopClosingWorker
 	std::vector<TCorrection> m_unapplied;
 	size_t m_jobsDone = 0;
 	double m_modelledFree = 0;  //!< keyframe at which the modelled worker is free
-	std::atomic<int64_t> m_extraDelayMs{0};
+	std::atomic<int64_t> m_extraDelayMs{0};  //!< tests: every job first sleeps this long [ms]
 
 	std::deque<size_t> m_pendingClocks;  // of the jobs not taken; the mapping thread's
 	size_t m_taken = 0;                 // results taken (the mapping thread's)

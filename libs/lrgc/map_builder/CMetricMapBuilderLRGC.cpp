@@ -4,7 +4,8 @@
 #include <lrgc/local_registration/LocalRegistration.h>
 #include <lrgc/local_registration/MotionPredictor.h>
 #include <lrgc/local_registration/SweepEstimator.h>
-#include <lrgc/loop_closing/LoopClosingWorker.h>
+#include <lrgc/loop_closing/LoopCloser.h>
+#include <lrgc/loop_closing/LoopClosing.h>
 #include <lrgc/map_builder/KeyframeReuse.h>
 
 #include <Eigen/Dense>
@@ -49,38 +50,76 @@ std::vector<std::string> CMetricMapBuilderLRGC::takeWarnings()
 }
 
 // ---------------------------------------------------------------------------------------
-// The story of one scan (paper fig. 6).
+// The story of one scan (paper fig. 6): predict its pose, register it locally, place it (on
+// its keyframe, on a keyframe the map already has, or as a new keyframe linked to the
+// window), look for loops and close them (at a keyframe, in the background), record.
 // ---------------------------------------------------------------------------------------
 void CMetricMapBuilderLRGC::processScan(
 	const mrpt::obs::CObservation2DRangeScan::Ptr& laser,
 	const mrpt::obs::CSensoryFrame::Ptr& observations)
 {
-	// A live run takes a loop search's result as soon as it is ready.
-	if (m_loopWorker && m_params.loop.apply_when_ready) serviceLoopClosing(false);
-
-	// 1. Predict, and de-skew the scan by the predicted motion over its sweep.
+	if (m_loops && m_params.loop.apply_when_ready) takeReadyLoopResults();  // a live run
 	const TMotionPrediction prediction = m_predictor->predict(laser->timestamp);
-	TScanConversionStats conv;
 	const TPose2D sweep = sweepMotion(prediction);
-	TScan2D scan = scanFromObservation(*laser, &conv, sweep);
-	if (scan.points.size() < m_params.builder.min_scan_points)
-	{
-		++m_stats.skippedScans;
-		warn(mrpt::format(
-			"scan at t=%.6f skipped: %zu valid returns of %zu (min %zu)",
-			mrpt::Clock::toDouble(laser->timestamp), scan.points.size(), conv.total,
-			m_params.builder.min_scan_points));
-		return;
-	}
+	std::optional<TScan2D> scan = convertScan(*laser, sweep);
+	if (!scan) return;  // too few returns: skipped, with a warning
+	const TRegistration reg = registerLocally(*scan, prediction);
+	followRobot(*laser, *scan, prediction, sweep, reg);
+	recordRegistration(*laser, prediction, reg);
+	placeScan(laser, observations, std::move(*scan), reg, m_stats.scans++);
+	m_metricMapDirty = true;
+}
 
+// Step 1b: the scan as points in the robot frame, de-skewed by the predicted motion over its
+// sweep; none (counted, with a warning) if it has too few valid returns to match.
+std::optional<TScan2D> CMetricMapBuilderLRGC::convertScan(
+	const mrpt::obs::CObservation2DRangeScan& laser, const TPose2D& sweep)
+{
+	TScanConversionStats conv;
+	TScan2D scan = scanFromObservation(laser, &conv, sweep);
+	if (scan.points.size() >= m_params.builder.min_scan_points) return scan;
+	++m_stats.skippedScans;
+	warn(mrpt::format(
+		"scan at t=%.6f skipped: %zu valid returns of %zu (min %zu)",
+		mrpt::Clock::toDouble(laser.timestamp), scan.points.size(), conv.total,
+		m_params.builder.min_scan_points));
+	return std::nullopt;
+}
+
+// Step 2: register against the last K keyframes, from the predicted pose (the previous scan's
+// composed with the predicted motion; a given prior for a session's first scan).
+TRegistration CMetricMapBuilderLRGC::registerLocally(
+	const TScan2D& scan, const TMotionPrediction& prediction)
+{
 	const TPose2D priorInMap = m_nextScanPrior ? *m_nextScanPrior
 		: m_scans.empty()						 ? TPose2D(0, 0, 0)
 												 : compose(m_lastScanInMap, prediction.motion);
 	m_nextScanPrior.reset();
+	return m_local->registerScan(m_graph, m_keyframes, scan, priorInMap, prediction);
+}
 
-	// 2. Register locally against the last K keyframes.
-	const TRegistration reg =
-		m_local->registerScan(m_graph, m_keyframes, scan, priorInMap, prediction);
+// The robot moved to the registered pose: the motion model, the sweep estimator and the
+// motion since the anchor keyframe (the next odometry link) follow it.
+void CMetricMapBuilderLRGC::followRobot(
+	const mrpt::obs::CObservation2DRangeScan& laser, const TScan2D& scan,
+	const TMotionPrediction& prediction, const TPose2D& sweep, const TRegistration& reg)
+{
+	if (!prediction.fromOdometry || reg.odometryRejected) m_odometryTrustedSinceKeyframe = false;
+	m_motionSinceKeyframe = compose(m_motionSinceKeyframe, prediction.motion);
+	const TPose2D step = between(m_lastScanInMap, reg.scanInMap);
+	m_predictor->commitScan(laser.timestamp, step);
+	const double dt = stepSeconds(prediction);
+	m_sweep->observe(
+		laser, scan, dt > 0 ? prediction.motion.phi / dt : 0.0, sweep.phi, step, reg.matched);
+	m_lastScanInMap = reg.scanInMap;
+	m_lastScanCov = reg.cov;
+}
+
+// Bookkeeping of step 2: unmatched scans, odometry glitches, the sweep estimate.
+void CMetricMapBuilderLRGC::recordRegistration(
+	const mrpt::obs::CObservation2DRangeScan& laser, const TMotionPrediction& prediction,
+	const TRegistration& reg)
+{
 	if (!reg.matched && m_graph.numNodes() > 0) ++m_stats.unmatchedScans;
 	if (reg.odometryRejected) ++m_stats.odometryRejected;
 	if (reg.wideSearch && reg.odometryRejected && prediction.fromOdometry)
@@ -89,27 +128,22 @@ void CMetricMapBuilderLRGC::processScan(
 		warn(mrpt::format(
 			"odometry glitch at t=%.6f: the odometry step (%.2f m, %.1f deg) does not fit the "
 			"scans; recovered by a wide rotational search, odometry link down-weighted",
-			mrpt::Clock::toDouble(laser->timestamp), translationNorm(prediction.motion),
+			mrpt::Clock::toDouble(laser.timestamp), translationNorm(prediction.motion),
 			mrpt::RAD2DEG(prediction.motion.phi)));
 	}
-	if (!prediction.fromOdometry || reg.odometryRejected) m_odometryTrustedSinceKeyframe = false;
-	m_motionSinceKeyframe = compose(m_motionSinceKeyframe, prediction.motion);
-	m_predictor->commitScan(laser->timestamp, between(m_lastScanInMap, reg.scanInMap));
-	const double step = stepSeconds(prediction);
-	m_sweep->observe(
-		*laser, scan, step > 0 ? prediction.motion.phi / step : 0.0, sweep.phi,
-		between(m_lastScanInMap, reg.scanInMap), reg.matched);
 	m_stats.sweepTime = m_sweep->sweepTime();
 	m_stats.sweepTimeEstimated = m_sweep->summary().estimated;
 	m_stats.sweepSamples = m_sweep->summary().samples;
-	m_lastScanInMap = reg.scanInMap;
-	m_lastScanCov = reg.cov;
-	const size_t scanIndex = m_stats.scans++;
+}
 
-	// 3. Keyframe: add to the graph, link to the window, re-estimate the window; or, on
-	// ground the map already has, anchor at the keyframe there (CKeyframeReuse).
-	const bool sessionStart = m_sessionStartCov.has_value();
-	const bool atStart = m_graph.numNodes() == 0 || sessionStart;
+// Step 3: near its keyframe the scan hangs from it; farther, on ground the map already has, it
+// anchors at the keyframe there (CKeyframeReuse); else it becomes a new keyframe.
+void CMetricMapBuilderLRGC::placeScan(
+	const mrpt::obs::CObservation2DRangeScan::Ptr& laser,
+	const mrpt::obs::CSensoryFrame::Ptr& observations, TScan2D&& scan, const TRegistration& reg,
+	size_t scanIndex)
+{
+	const bool atStart = m_graph.numNodes() == 0 || m_sessionStartCov.has_value();
 	if (!atStart && !isNewKeyframe(reg.scanInMap))
 		m_scans.push_back(
 			{laser->timestamp, anchor(), between(m_graph.pose(anchor()), reg.scanInMap)});
@@ -118,131 +152,92 @@ void CMetricMapBuilderLRGC::processScan(
 			 : m_reuse->reusableKeyframe(
 				   m_graph, m_keyframes, scan, reg.scanInMap, reg.cov, anchor(),
 				   m_local->window()))
-	{
-		++m_stats.keyframesReused;
-		linkReused(*reused, reg);
-		m_local->enterKeyframe(reused->node, true, m_graph);
-		const TPose2D inNode = between(m_graph.pose(reused->node), reg.scanInMap);
-		m_motionSinceKeyframe = inNode;  // the odometry link of a later keyframe starts here
-		m_anchorOffset = inNode;
-		m_scans.push_back({laser->timestamp, reused->node, inNode});
-		++m_keyframeClock;
-		if (m_loopWorker) serviceLoopClosing(true, false);
-	}
+		enterReusedKeyframe(*reused, reg, laser->timestamp);
 	else
-	{
-		const std::optional<size_t> previous = m_local->anchor();
-		const size_t node =
-			addKeyframe(laser, observations, std::move(scan), reg.scanInMap, scanIndex);
-		m_local->enterKeyframe(node, false, m_graph);
-		if (sessionStart) linkSessionStart(node);  // to the old map, by a scan match
-		else if (previous)
-		{
-			m_stats.scanMatchLinks += m_local->linkAndOptimize(
-				m_graph, m_keyframes, odometryLink(*previous, node));
-			++m_stats.odometryLinks;
-			// 4. Look for a loop and close it (in the background).
-			++m_keyframeClock;
-			if (m_loopWorker) serviceLoopClosing(true);
-		}
-		m_lastScanInMap = m_graph.pose(node);
-		m_motionSinceKeyframe = TPose2D(0, 0, 0);
-		m_anchorOffset = TPose2D(0, 0, 0);
-		m_odometryTrustedSinceKeyframe = true;
-		m_scans.push_back({laser->timestamp, node, TPose2D(0, 0, 0)});
-	}
-	m_metricMapDirty = true;
+		enterNewKeyframe(laser, observations, std::move(scan), reg, scanIndex);
 }
 
-// Step 4 with a worker (CLoopClosingWorker). At a keyframe, the results that are due are
-// applied, in order: a search started at keyframe k is due at the keyframe the worker's
-// schedule gives it (CLoopClosingWorker::due: k + result_delay, or where the modelled worker
-// finishes it; waited for if not done), or in a live run whenever it is ready. Then a
-// search for the newest keyframe is queued, with what the worker's copy of the graph lacks.
-void CMetricMapBuilderLRGC::serviceLoopClosing(bool atKeyframe, bool newKeyframe)
+// The robot's anchor moves to an existing keyframe, linked to the previous anchor by this
+// scan (linkReused); the loop results due are applied (no search: the keyframe is not new).
+void CMetricMapBuilderLRGC::enterReusedKeyframe(
+	const TReusedKeyframe& reused, const TRegistration& reg, mrpt::Clock::time_point stamp)
 {
-	const size_t newest = m_graph.numNodes() - 1;
-	const auto& p = m_params.loop;
-	while (m_loopWorker->pending() > 0)
-	{
-		double waited = 0;
-		const bool due = p.apply_when_ready ? m_loopWorker->ready()
-											: atKeyframe && m_loopWorker->due(m_keyframeClock, waited);
-		if (waited > 0)
-		{
-			++m_stats.loopResultWaits;
-			m_stats.loopResultWaitSeconds += waited;
-			m_stats.loopResultWaitMaxSeconds = std::max(m_stats.loopResultWaitMaxSeconds, waited);
-		}
-		if (!due) break;
-		TLoopJobResult r = m_loopWorker->take();
-		m_stats.loopResultDelayMax = std::max(m_stats.loopResultDelayMax, m_keyframeClock - r.clock);
-		applyLoopResult(std::move(r));
-	}
-	if (!atKeyframe || !newKeyframe || newest == 0) return;
-
-	TLoopJob job;
-	job.newest = newest;
-	job.clock = m_keyframeClock;
-	job.firstPose = std::min(m_graph.takeLowestMovedNode(), m_nodesForWorker);
-	job.poses.assign(m_graph.poses().begin() + job.firstPose, m_graph.poses().end());
-	for (size_t i = m_nodesForWorker; i <= newest; ++i) job.scans.push_back(&m_keyframes[i].scan);
-	m_nodesForWorker = newest + 1;
-	for (size_t id = m_linkWatermark; id < m_graph.numLinks(); ++id)
-		m_linksForWorker.push_back(m_graph.link(id));
-	m_linkWatermark = m_graph.numLinks();
-	job.links = std::exchange(m_linksForWorker, {});
-	job.resultsApplied = m_loopResultsApplied;
-	m_loopWorker->submit(std::move(job));
-	if (p.result_delay == 0 && !p.apply_when_ready) applyLoopResult(m_loopWorker->take());
+	++m_stats.keyframesReused;
+	linkReused(reused, reg);
+	m_local->enterKeyframe(reused.node, true, m_graph);
+	const TPose2D inNode = between(m_graph.pose(reused.node), reg.scanInMap);
+	m_motionSinceKeyframe = inNode;  // the odometry link of a later keyframe starts here
+	m_anchorOffset = inNode;
+	m_scans.push_back({stamp, reused.node, inNode});
+	closeLoops(false);
 }
 
-// A loop search's result, computed from the graph as it was at keyframe k = r.newest: its
-// links are added; if it moved the map, nodes 0..k take its poses and the nodes added since
-// are carried along by node k's correction (no re-registration):
-//     X_i <- X'_k (+) (X_k^-1 (+) X_i),  i > k.
-void CMetricMapBuilderLRGC::applyLoopResult(TLoopJobResult&& r)
+// A new keyframe: a node at the registered pose, linked to the window (odometry, patch and
+// pairwise matches) and the window re-estimated (Lu & Milios over the last K); a session's
+// first keyframe is linked to the old map instead. Then steps 4-5, loops.
+void CMetricMapBuilderLRGC::enterNewKeyframe(
+	const mrpt::obs::CObservation2DRangeScan::Ptr& laser,
+	const mrpt::obs::CSensoryFrame::Ptr& observations, TScan2D&& scan, const TRegistration& reg,
+	size_t scanIndex)
 {
-	const size_t k = r.newest, n = m_graph.numNodes();
-	if (!r.poses.empty())
+	const std::optional<size_t> previous = m_local->anchor();
+	const size_t node = addKeyframe(laser, observations, std::move(scan), reg.scanInMap, scanIndex);
+	m_local->enterKeyframe(node, false, m_graph);
+	if (m_sessionStartCov) linkSessionStart(node);  // to the old map, by a scan match
+	else if (previous)
 	{
-		const size_t at = anchor();
-		const TPose2D oldK = m_graph.pose(k), oldAnchor = m_graph.pose(at);
-		for (size_t i = 0; i < r.poses.size(); ++i) m_graph.setPose(r.firstMoved + i, r.poses[i]);
-		const TPose2D newK = m_graph.pose(k);
-		for (size_t i = k + 1; i < n; ++i)
-			m_graph.setPose(i, compose(newK, between(oldK, m_graph.pose(i))));
-		m_lastScanInMap = compose(m_graph.pose(at), between(oldAnchor, m_lastScanInMap));
-		m_local->invalidate();
+		m_stats.scanMatchLinks +=
+			m_local->linkAndOptimize(m_graph, m_keyframes, odometryLink(*previous, node));
+		++m_stats.odometryLinks;
+		closeLoops(true);
 	}
-	// Links added here since the job go to the worker with the next one, before these.
-	for (size_t id = m_linkWatermark; id < m_graph.numLinks(); ++id)
-		m_linksForWorker.push_back(m_graph.link(id));
-	for (size_t i = 0; i < r.links.size(); ++i)
-		if (const size_t id = m_graph.addLink(r.links[i]); !r.linkEnabled[i])
-			m_graph.setLinkEnabled(id, false);
-		else if (r.links[i].type == LinkType::LoopClosure)
-			m_reuse->noteLoopLink(n - 1);  // the robot is tied to the map from here on
-	m_linkWatermark = m_graph.numLinks();
-	m_metricMapDirty = true;
-	++m_loopResultsApplied;
+	m_lastScanInMap = m_graph.pose(node);
+	m_motionSinceKeyframe = TPose2D(0, 0, 0);
+	m_anchorOffset = TPose2D(0, 0, 0);
+	m_odometryTrustedSinceKeyframe = true;
+	m_scans.push_back({laser->timestamp, node, TPose2D(0, 0, 0)});
+}
 
-	if (!r.closure) return;
-	const TLoopClosure& closure = *r.closure;
-	++m_stats.loopClosures;
-	m_stats.loopClosureLinks += 1 + closure.rematchLinks;
-	if (closure.optimized)
-		MRPT_LOG_INFO_FMT(
-			"loop closed: keyframe %zu -> %zu (score %.2f, ambiguity %.2f), %zu re-matched "
-			"links, %.1f ms",
-			closure.newNode, closure.oldNode, closure.score, closure.ambiguity,
-			closure.rematchLinks, 1e3 * closure.seconds);
+// Steps 4-5 at a keyframe taken (CLoopClosing): the loop results due are applied, and a new
+// keyframe is handed over to look for a loop in the background.
+void CMetricMapBuilderLRGC::closeLoops(bool newKeyframe)
+{
+	if (!m_loops) return;
+	recordLoopUpdate(
+		m_loops->afterKeyframe(m_graph, m_keyframes, newKeyframe, anchor(), m_lastScanInMap));
+}
+
+void CMetricMapBuilderLRGC::takeReadyLoopResults()
+{
+	recordLoopUpdate(m_loops->whenReady(m_graph, anchor(), m_lastScanInMap));
+}
+
+// What applied loop results changed: the window's patch is stale if poses moved; a loop link
+// ties the robot to the map (keyframe reuse may trust it); closures are counted and logged.
+void CMetricMapBuilderLRGC::recordLoopUpdate(const TLoopUpdate& u)
+{
+	if (u.posesMoved) m_local->invalidate();
+	if (u.loopLinked) m_reuse->noteLoopLink(m_graph.numNodes() - 1);
+	m_stats.loopClosures += u.closures.size();
+	m_stats.loopClosureLinks += u.loopLinks;
+	for (const TLoopClosure& c : u.closures)
+		if (c.optimized)
+			MRPT_LOG_INFO_FMT(
+				"loop closed: keyframe %zu -> %zu (score %.2f, ambiguity %.2f), %zu re-matched "
+				"links, %.1f ms",
+				c.newNode, c.oldNode, c.score, c.ambiguity, c.rematchLinks, 1e3 * c.seconds);
+	const TLoopScheduleStats& s = m_loops->schedule();
+	m_stats.loopResultWaits = s.waits;
+	m_stats.loopResultWaitSeconds = s.waitSeconds;
+	m_stats.loopResultWaitMaxSeconds = s.waitMaxSeconds;
+	m_stats.loopResultDelayMax = s.delayMax;
+	m_metricMapDirty = true;
 }
 
 TLoopCloserStats CMetricMapBuilderLRGC::loopCloserStats() const
 {
 	const auto lock = lockMap();
-	return m_loopWorker ? m_loopWorker->stats() : TLoopCloserStats{};
+	return m_loops ? m_loops->stats() : TLoopCloserStats{};
 }
 
 // The time of the predicted step [s]. Where the logged intervals are not the true ones (a

@@ -28,7 +28,7 @@
 #include <lrgc/map_builder/LaserSelector.h>
 #include <lrgc/map_builder/MapBuilderParams.h>
 #include <lrgc/map_builder/Trajectory.h>
-#include <lrgc/pose_graph/Keyframe.h>
+#include <lrgc/scan_matching/Keyframe.h>
 #include <lrgc/pose_graph/PoseGraph.h>
 #include <mrpt/maps/CMultiMetricMap.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
@@ -46,12 +46,13 @@ namespace lrgc
 class CMotionPredictor;
 class CLocalRegistration;
 class CSweepEstimator;
-class CLoopClosingWorker;
+class CLoopClosing;
 class CKeyframeReuse;
 struct TReusedKeyframe;
 struct TRegistration;
-struct TLoopJobResult;
+struct TLoopUpdate;
 struct TMotionPrediction;
+struct TLoopClosingTestAccess;
 
 /** Counters of a run, for stats.json and logs. */
 struct TMapBuilderStats
@@ -162,10 +163,6 @@ class CMetricMapBuilderLRGC : public mrpt::slam::CMetricMapBuilder
 	/** Warnings since the last call (skipped scans, ...), for the caller to report. */
 	std::vector<std::string> takeWarnings();
 
-	/** Tests only: every loop search first sleeps this long (a slow worker, on purpose);
-	 * kept across initialize(). */
-	void setLoopSearchExtraDelayForTests(std::chrono::milliseconds d);
-
    private:
 	struct TScanRecord
 	{
@@ -174,13 +171,34 @@ class CMetricMapBuilderLRGC : public mrpt::slam::CMetricMapBuilder
 		mrpt::math::TPose2D robotInNode;  //!< (node <- robot at the scan)
 	};
 
+	// The story of one scan (CMetricMapBuilderLRGC.cpp), its steps in the paper's order.
 	void processScan(
 		const mrpt::obs::CObservation2DRangeScan::Ptr& laser,
 		const mrpt::obs::CSensoryFrame::Ptr& observations);
-	/** Step 4 with a worker: applies the results that are due; with `newKeyframe`, queues a
-	 * search for the newest keyframe (at a reused keyframe only results are applied). */
-	void serviceLoopClosing(bool atKeyframe, bool newKeyframe = true);
-	void applyLoopResult(TLoopJobResult&& r);
+	std::optional<TScan2D> convertScan(
+		const mrpt::obs::CObservation2DRangeScan& laser, const mrpt::math::TPose2D& sweep);
+	TRegistration registerLocally(const TScan2D& scan, const TMotionPrediction& prediction);
+	void followRobot(
+		const mrpt::obs::CObservation2DRangeScan& laser, const TScan2D& scan,
+		const TMotionPrediction& prediction, const mrpt::math::TPose2D& sweep,
+		const TRegistration& reg);
+	void recordRegistration(
+		const mrpt::obs::CObservation2DRangeScan& laser, const TMotionPrediction& prediction,
+		const TRegistration& reg);
+	void placeScan(
+		const mrpt::obs::CObservation2DRangeScan::Ptr& laser,
+		const mrpt::obs::CSensoryFrame::Ptr& observations, TScan2D&& scan,
+		const TRegistration& reg, size_t scanIndex);
+	void enterReusedKeyframe(
+		const TReusedKeyframe& reused, const TRegistration& reg, mrpt::Clock::time_point stamp);
+	void enterNewKeyframe(
+		const mrpt::obs::CObservation2DRangeScan::Ptr& laser,
+		const mrpt::obs::CSensoryFrame::Ptr& observations, TScan2D&& scan,
+		const TRegistration& reg, size_t scanIndex);
+	void closeLoops(bool newKeyframe);
+	void takeReadyLoopResults();
+	/** Takes in what applying loop results did (links, closures, moved poses). */
+	void recordLoopUpdate(const TLoopUpdate& u);
 	bool isNewKeyframe(const mrpt::math::TPose2D& scanInMap) const;
 	/** The keyframe the robot is at: the scans hang from it, keyframe distances count from it. */
 	size_t anchor() const;
@@ -216,18 +234,9 @@ class CMetricMapBuilderLRGC : public mrpt::slam::CMetricMapBuilder
 	std::unique_ptr<CSweepEstimator> m_sweep;
 	std::unique_ptr<CLocalRegistration> m_local;
 	std::unique_ptr<CKeyframeReuse> m_reuse;
-	std::unique_ptr<CLoopClosingWorker> m_loopWorker;
-	/** What the worker's copy of the graph lacks: the links added here before the last
-	 * applied result and not yet sent, the links from id m_linkWatermark on, and the nodes
-	 * from m_nodesForWorker on (besides the poses moved, see CPoseGraph). */
-	std::vector<TLink> m_linksForWorker;
-	size_t m_linkWatermark = 0;
-	size_t m_nodesForWorker = 0;
-	size_t m_loopResultsApplied = 0;  //!< results applied so far (in job order)
-	/** Keyframes taken so far, new or reused: the clock of the worker's schedule (a robot
-	 * driving known ground reuses keyframes and adds none, but its results must land). */
-	size_t m_keyframeClock = 0;
-	std::chrono::milliseconds m_loopSearchExtraDelay{0};  //!< tests only
+	std::unique_ptr<CLoopClosing> m_loops;  //!< null with loop closing off
+	friend struct TLoopClosingTestAccess;  // tests: a slow worker (tests/support)
+	std::chrono::milliseconds m_loopSearchExtraDelay{0};  //!< tests only; kept across initialize()
 	CPoseGraph m_graph;
 	TKeyframes m_keyframes;
 	std::vector<TScanRecord> m_scans;

@@ -21,7 +21,8 @@
 #include <lrgc/local_registration/LocalRegistration.h>
 #include <lrgc/local_registration/MotionPredictor.h>
 #include <lrgc/local_registration/SweepEstimator.h>
-#include <lrgc/loop_closing/LoopClosingWorker.h>
+#include <lrgc/loop_closing/LoopClosing.h>
+#include <lrgc/map_builder/TestAccess.h>
 #include <lrgc/loop_closing/RevisitLinker.h>
 #include <lrgc/scan_matching/ReferenceCloud.h>
 #include <lrgc/scan_matching/ScanMatcher.h>
@@ -64,15 +65,12 @@ void CMetricMapBuilderLRGC::resetState()
 	m_reuse = std::make_unique<CKeyframeReuse>(
 		m_params.reuse, m_params.builder.keyframe_distance, m_params.builder.keyframe_angle,
 		localMatcher, m_params.loop.link_noise);
-	m_loopWorker.reset();  // lets a search in hand finish first
+	m_loops.reset();  // lets a search in hand finish first
 	if (m_params.builder.loop_closing)
-		m_loopWorker = std::make_unique<CLoopClosingWorker>(
+		m_loops = std::make_unique<CLoopClosing>(
 			m_params.loop, m_params.correlator, m_params.matcher, m_params.optimizer);
-	if (m_loopWorker) m_loopWorker->setExtraDelayForTests(m_loopSearchExtraDelay);
-	m_linksForWorker.clear();
-	m_linkWatermark = 0;
-	m_nodesForWorker = 0;
-	m_loopResultsApplied = 0;
+	if (m_loops && m_loopSearchExtraDelay.count() > 0)
+		TLoopClosingTestAccess::setExtraDelay(*m_loops, m_loopSearchExtraDelay);
 	m_graph = CPoseGraph();
 	m_keyframes.clear();
 	m_scans.clear();

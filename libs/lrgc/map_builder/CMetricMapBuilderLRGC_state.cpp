@@ -4,7 +4,7 @@
 #include <lrgc/map_builder/CMetricMapBuilderLRGC.h>
 #include <lrgc/local_registration/LocalRegistration.h>
 #include <lrgc/local_registration/MotionPredictor.h>
-#include <lrgc/loop_closing/LoopClosingWorker.h>
+#include <lrgc/loop_closing/LoopClosing.h>
 #include <lrgc/loop_closing/RevisitLinker.h>
 #include <lrgc/pose_graph/PoseGraphOptimizer.h>
 #include <lrgc/common/se2.h>
@@ -34,12 +34,6 @@ mrpt::poses::CPose3DPDFGaussian::Ptr gaussian3D(const TPose2D& p, const Eigen::M
 }
 }  // namespace
 
-void CMetricMapBuilderLRGC::setLoopSearchExtraDelayForTests(std::chrono::milliseconds d)
-{
-	m_loopSearchExtraDelay = d;
-	if (m_loopWorker) m_loopWorker->setExtraDelayForTests(d);
-}
-
 mrpt::poses::CPose3DPDF::Ptr CMetricMapBuilderLRGC::getCurrentPoseEstimation() const
 {
 	const auto lock = lockMap();
@@ -63,9 +57,9 @@ unsigned int CMetricMapBuilderLRGC::getCurrentlyBuiltMapSize()
 void CMetricMapBuilderLRGC::finish()
 {
 	const auto lock = lockMap();
-	while (m_loopWorker && m_loopWorker->pending() > 0) applyLoopResult(m_loopWorker->take());
+	if (m_loops) recordLoopUpdate(m_loops->drain(m_graph, anchor(), m_lastScanInMap));
 	if (!m_params.builder.final_optimization || m_graph.numNodes() < 2) return;
-	if (m_loopWorker && m_params.revisits.enabled)
+	if (m_loops && m_params.revisits.enabled)
 	{
 		const CRevisitLinker linker(m_params.revisits, m_params.matcher, m_params.loop.link_noise);
 		const size_t added = linker.linkRevisits(m_graph, m_keyframes);
