@@ -373,7 +373,7 @@ TEST(LocalRegistration, helperThreadLeavesEveryResultBitForBit)
 	for (size_t n = 1; n < run.tr.truePoses.size(); ++n)
 	{
 		if (n == 12)
-		{  // X_i <- C (+) X_i for the newest nodes, as applyLoopResult carries them along
+		{  // X_i <- C (+) X_i for the newest nodes, as CLoopClosing carries them along (carriedAlong)
 			const TPose2D C(0.04, -0.03, 0.02);
 			for (size_t i = 5; i < n; ++i) graph.setPose(i, compose(C, graph.pose(i)));
 			local.invalidate();

@@ -6,10 +6,11 @@
  *   1. predict its pose from odometry (or constant velocity without odometry);
  *   2. register it locally against the last K keyframes (CLocalRegistration);
  *   3. if it travelled far enough, add it to the graph as a keyframe, linked to the window,
- *      and re-estimate the window's poses (Lu & Milios over the last K only);
- *   4. look for a loop and close it (when the loop-closure stage is enabled): on a worker
- *      thread, from a keyframe's state; the result (new links, corrected poses) is applied
- *      some keyframes later, the poses added meanwhile re-anchored by the correction.
+ *      and re-estimate the window's poses (Lu & Milios over the last K only); on ground the
+ *      map already has, anchor it at the keyframe there instead (CKeyframeReuse);
+ *   4. look for a loop and close it (when the loop-closure stage is enabled): CLoopClosing
+ *      hands the keyframe to a worker thread and applies its result (new links, corrected
+ *      poses) some keyframes later, the poses added meanwhile carried along by the correction.
  * Every scan, keyframe or not, is kept in the trajectory relative to its keyframe, so
  * optimisations move it along. The map is updated with every scan (anytime).
  *
