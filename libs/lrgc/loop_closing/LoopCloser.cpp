@@ -150,46 +150,118 @@ auto CLoopCloser::gate(const CPoseGraph& graph, size_t newest) -> std::optional<
 	return c;
 }
 
+// The paper's loop closing for the newest keyframe, as a list of steps: gate, size the search,
+// correlate the patch with the old map, match the loop link, close the loop.
 std::optional<TLoopClosure> CLoopCloser::process(CPoseGraph& graph, const TScanRefs& scans)
 {
 	m_lastRejection.clear();
-	const size_t every = m_onKnownGround ? m_params.known_ground_check_every : m_params.check_every;
-	if (++m_keyframesSinceCheck < every) return std::nullopt;
-	m_keyframesSinceCheck = 0;
-	m_onKnownGround = false;
+	if (!checkDue()) return std::nullopt;
 	const size_t newest = graph.numNodes() - 1;
-	CCpuTimer gateTimer(m_stats.gateCpuSeconds);
-	const auto candidates = gate(graph, newest);
-	gateTimer.stop();
-	progress();
+	const auto candidates = timedGate(graph, newest);
 	if (!candidates) return std::nullopt;
 	const auto t0 = std::chrono::steady_clock::now();
-	const TPose2D newestInMap = graph.pose(newest);
+	TSearchWindow window = searchWindow(*candidates, newest);
+	if (!attemptDue(window)) return std::nullopt;
+	const auto corr = correlatePatch(graph, scans, *candidates, window);
+	if (!corr) return std::nullopt;
+	const auto match = matchLoopLink(graph, scans, *candidates, corr->patchInMap);
+	if (!match) return std::nullopt;
+	auto lc = closeLoop(graph, scans, *candidates, window, *match);
+	if (!lc) return std::nullopt;
+	lc->score = corr->score;
+	lc->ambiguity = corr->ambiguity;
+	lc->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+	if (lc->optimized) m_stats.closureSeconds.push_back(lc->seconds);
+	return lc;
+}
 
-	// Search window and patch size from the uncertainty (paper 2.4).
-	double winXY = std::clamp(
-		m_params.window_sigmas * candidates->sigmaXY, 2 * m_correlator.params().resolution,
+// Every check_every keyframes (known_ground_check_every after a check that agreed with the map).
+bool CLoopCloser::checkDue()
+{
+	const size_t every = m_onKnownGround ? m_params.known_ground_check_every : m_params.check_every;
+	if (++m_keyframesSinceCheck < every) return false;
+	m_keyframesSinceCheck = 0;
+	m_onKnownGround = false;
+	return true;
+}
+
+auto CLoopCloser::timedGate(const CPoseGraph& graph, size_t newest) -> std::optional<TCandidates>
+{
+	CCpuTimer gateTimer(m_stats.gateCpuSeconds);
+	auto candidates = gate(graph, newest);
+	gateTimer.stop();
+	progress();
+	return candidates;
+}
+
+// The search window and the patch size from the uncertainty (paper 2.4): +- window_sigmas
+// sigma, capped; the patch grows linearly with sigma, so a large loop is closed only on strong
+// evidence.
+auto CLoopCloser::searchWindow(const TCandidates& c, size_t newest) const -> TSearchWindow
+{
+	TSearchWindow w;
+	w.xy = std::clamp(
+		m_params.window_sigmas * c.sigmaXY, 2 * m_correlator.params().resolution,
 		m_params.max_window_xy);
-	const double winTheta = std::clamp(
-		m_params.window_sigmas * candidates->sigmaTheta, mrpt::DEG2RAD(2.0),
-		m_params.max_window_theta);
-	const size_t patchSize = std::min<size_t>(
+	w.theta = std::clamp(
+		m_params.window_sigmas * c.sigmaTheta, mrpt::DEG2RAD(2.0), m_params.max_window_theta);
+	w.patchSize = std::min<size_t>(
 		m_params.old_map_exclusion,
-		m_params.patch_min_keyframes +
-			static_cast<size_t>(m_params.patch_keyframes_per_m * candidates->sigmaXY));
-	const size_t patchFirst = newest + 1 - std::min(patchSize, newest + 1);
-	// A patch grown with the uncertainty overlaps the last attempt's almost entirely: while it
-	// is large, correlate only every attempt_stride * (patch - patch_min) checks.
-	if (double(++m_checksSinceAttempt) <=
-		m_params.attempt_stride * double(patchSize - m_params.patch_min_keyframes))
-		return std::nullopt;
-	m_checksSinceAttempt = 0;
+		m_params.patch_min_keyframes + static_cast<size_t>(m_params.patch_keyframes_per_m * c.sigmaXY));
+	w.patchFirst = newest + 1 - std::min(w.patchSize, newest + 1);
+	return w;
+}
 
-	// Step 2: the patch (in the newest keyframe's frame) against the old map (map frame).
+// A patch grown with the uncertainty overlaps the last attempt's almost entirely: while it is
+// large, correlate only every attempt_stride * (patch - patch_min) checks.
+bool CLoopCloser::attemptDue(const TSearchWindow& w)
+{
+	if (double(++m_checksSinceAttempt) <=
+		m_params.attempt_stride * double(w.patchSize - m_params.patch_min_keyframes))
+		return false;
+	m_checksSinceAttempt = 0;
+	return true;
+}
+
+// Step 2: the patch (in the newest keyframe's frame) against the old map (map frame), through
+// the paper's three filters (score, ambiguity, variance).
+std::optional<TCorrelationResult> CLoopCloser::correlatePatch(
+	const CPoseGraph& graph, const TScanRefs& scans, const TCandidates& c, TSearchWindow& w)
+{
 	CCpuTimer correlateTimer(m_stats.correlateCpuSeconds);
-	std::vector<Eigen::Vector2d> patch, oldMap;
+	const TPatchAndMap pm = patchAndOldMap(graph, scans, c, w);
+	if (pm.oldMap.empty()) return std::nullopt;
+	++m_stats.attempts;
+	++m_stats.work.correlations;
+	progress();
+	const CCorrelationGrid grid =
+		m_correlator.makeGrid(pm.oldMap, 3 * m_correlator.params().blurSigma);
+	const auto corr = countedCorrelation(grid, pm.patch, graph.pose(graph.numNodes() - 1), w);
+	const TCorrelationVerdict verdict = corr ? corr->checkFilters(m_correlator.params())
+											 : TCorrelationVerdict{TCorrelationVerdict::Reason::LowScore, 0, m_correlator.params().minScore};
+	correlateTimer.stop();
+	progress();
+	if (verdict.accepted()) return corr;
+	++m_stats.rejectedByFilters;
+	m_lastRejection = verdict.message();
+	return std::nullopt;
+}
+
+// The patch: the points of keyframes patchFirst..newest within patch_max_range, in the newest
+// keyframe's frame. The old map: the candidates' points the patch can reach from inside the
+// window [map frame]. A window wider than the old map can be (max_window_xy lifted) gains
+// nothing: beyond the farthest old point plus the patch radius and the blur's reach (p(m) > 0
+// up to 3.53 sigma; 4 sigma and two cells of margin), no patch point meets the map, so
+// w.xy shrinks to that.
+auto CLoopCloser::patchAndOldMap(
+	const CPoseGraph& graph, const TScanRefs& scans, const TCandidates& c,
+	TSearchWindow& w) const -> TPatchAndMap
+{
+	const size_t newest = graph.numNodes() - 1;
+	const TPose2D newestInMap = graph.pose(newest);
+	TPatchAndMap pm;
 	double patchRadius = 0;
-	for (size_t k = patchFirst; k <= newest; ++k)
+	for (size_t k = w.patchFirst; k <= newest; ++k)
 	{
 		const CPointTransform kInNewest(between(newestInMap, graph.pose(k)));
 		for (const auto& p : scans[k]->points)
@@ -197,35 +269,35 @@ std::optional<TLoopClosure> CLoopCloser::process(CPoseGraph& graph, const TScanR
 			const Eigen::Vector2d q = kInNewest(p);
 			const double range = q.norm();
 			if (range > m_params.patch_max_range) continue;
-			patch.push_back(q);
+			pm.patch.push_back(q);
 			patchRadius = std::max(patchRadius, range);
 		}
 	}
 	const Eigen::Vector2d centre(newestInMap.x, newestInMap.y);
-	const double reach = winXY + patchRadius + 3 * m_correlator.params().blurSigma;
-	for (const size_t j : candidates->nodes)
+	const double blur = m_correlator.params().blurSigma;
+	const double reach = w.xy + patchRadius + 3 * blur;
+	for (const size_t j : c.nodes)
 	{
 		const CPointTransform toMap(graph.pose(j));
 		for (const auto& p : scans[j]->points)
 			if (Eigen::Vector2d q = toMap(p); (q - centre).squaredNorm() <= reach * reach)
-				oldMap.push_back(q);
+				pm.oldMap.push_back(q);
 	}
-	if (oldMap.empty()) return std::nullopt;
-	// A window wider than the old map can be (max_window_xy lifted) gains nothing: beyond the
-	// farthest old point plus the patch radius and the blur's reach (p(m) > 0 up to 3.53
-	// sigma; 4 sigma and two cells of margin), no patch point meets the map.
+	if (pm.oldMap.empty()) return pm;
 	double farthest = 0;
-	for (const auto& q : oldMap) farthest = std::max(farthest, (q - centre).norm());
-	winXY = std::min(winXY, farthest + patchRadius + 4 * m_correlator.params().blurSigma +
-							   2 * m_correlator.params().resolution);
-	++m_stats.attempts;
-	++m_stats.work.correlations;
-	progress();
-	const CCorrelationGrid grid =
-		m_correlator.makeGrid(oldMap, 3 * m_correlator.params().blurSigma);
+	for (const auto& q : pm.oldMap) farthest = std::max(farthest, (q - centre).norm());
+	w.xy = std::min(
+		w.xy, farthest + patchRadius + 4 * blur + 2 * m_correlator.params().resolution);
+	return pm;
+}
+
+// The correlation, its work counted as the search goes (the worker's published progress):
+// headings x patch cells once known, then poses scored x patch cells.
+std::optional<TCorrelationResult> CLoopCloser::countedCorrelation(
+	const CCorrelationGrid& grid, const std::vector<Eigen::Vector2d>& patch,
+	const TPose2D& newestInMap, const TSearchWindow& w)
+{
 	TCorrelationEffort effort;
-	// Counted as the search goes (see process's progress): headings x cells once known,
-	// then poses scored x cells.
 	double counted = 0;  // poses scored x cells counted so far
 	bool prepared = false;
 	effort.onProgress = [this, &counted, &prepared](const TCorrelationEffort& e) {
@@ -236,97 +308,115 @@ std::optional<TLoopClosure> CLoopCloser::process(CPoseGraph& graph, const TScanR
 		counted = poseCells;
 		progress();
 	};
-	const auto corr =
-		m_correlator.correlate(grid, patch, newestInMap, winXY, winTheta, &effort);
+	const auto corr = m_correlator.correlate(grid, patch, newestInMap, w.xy, w.theta, &effort);
 	m_stats.work.correlationPoseCells +=
 		double(effort.posesScored) * double(effort.patchCells) - counted;
-	const TCorrelationVerdict verdict = corr ? corr->checkFilters(m_correlator.params())
-											 : TCorrelationVerdict{TCorrelationVerdict::Reason::LowScore, 0, m_correlator.params().minScore};
-	correlateTimer.stop();
-	progress();
-	if (!verdict.accepted())
-	{
-		++m_stats.rejectedByFilters;
-		m_lastRejection = verdict.message();
-		return std::nullopt;
-	}
+	return corr;
+}
 
-	// Step 3: refine with the scan matcher against the old scans near the nearest candidate.
+// Step 3: the correlation's pose seeds a scan match of the newest keyframe against the old
+// scans near the nearest candidate j; the result is the loop link j -> newest, vetted when
+// the gate's covariance agrees with it (the back-end's bound, 3 Phi, before its own test).
+auto CLoopCloser::matchLoopLink(
+	const CPoseGraph& graph, const TScanRefs& scans, const TCandidates& c,
+	const TPose2D& corrected) -> std::optional<TLoopMatch>
+{
 	CCpuTimer matchTimer(m_stats.matchCpuSeconds);
-	const TPose2D corrected = corr->patchInMap;
-	const size_t oldIndex = nearestCandidate(graph, candidates->nodes, corrected).first;
-	const size_t oldNode = candidates->nodes[oldIndex];
-	const TRelativeUncertainty& oldFromNewest = candidates->relative[oldIndex];
-	const TPose2D oldInMap = graph.pose(oldNode);
-	std::vector<TScan2D> refScans;
-	std::vector<TPose2D> refInOld;
-	for (const size_t j : candidates->nodes)
-	{
-		if (translationNorm(between(graph.pose(j), corrected)) > 2 * m_params.overlap_radius) continue;
-		refScans.push_back(*scans[j]);
-		m_stats.work.matchRefPoints += scans[j]->points.size();
-		refInOld.push_back(between(oldInMap, graph.pose(j)));
-	}
-	// Only the old points the new scan can reach at the correlated pose (a few cm off):
-	// correspondence gate plus the widest line fit, with margin to spare.
-	const TPose2D guessInOld = between(oldInMap, corrected);
-	std::vector<Eigen::Vector2d> scanInOld;
-	const CPointTransform toOld(guessInOld);
-	for (const auto& p : scans[newest]->points) scanInOld.push_back(toOld(p));
-	const double cropMargin =
-		m_matcherParams.maxCorrespondenceDist_m + 4 * m_matcherParams.normalRadius_m + 0.2;
+	const size_t newest = graph.numNodes() - 1;
+	const size_t oldIndex = nearestCandidate(graph, c.nodes, corrected).first;
+	const size_t oldNode = c.nodes[oldIndex];
+	const TPose2D guessInOld = between(graph.pose(oldNode), corrected);
+	const CReferenceCloud reference = oldScansNear(graph, scans, c, oldNode, corrected);
 	++m_stats.work.matches;
 	progress();
-	TScanMatcherParams refParams = m_matcherParams;
-	if (m_params.match_ref_resolution > 0) refParams.refResolution_m = m_params.match_ref_resolution;
-	const auto match = m_matcher.match(
-		CReferenceCloud::fromScansNear(refScans, refInOld, refParams, scanInOld, cropMargin),
-		*scans[newest], guessInOld);
+	const auto match = m_matcher.match(reference, *scans[newest], guessInOld);
 	if (!match)
 	{
 		++m_stats.rejectedByMatch;
 		m_lastRejection = "correlation accepted but the scan match failed";
 		return std::nullopt;
 	}
-
 	matchTimer.stop();
+	TLoopMatch m;
+	m.info = linkInformation(match->cov, m_params.link_noise);
+	m.link = {oldNode, newest, match->scanInRef, m.info, LinkType::LoopClosure};
+	m.vetted = gateInnovationChi2(c.relative[oldIndex], match->scanInRef, m.info) <
+		3 * m_optimizer.params().dcsPhi;
+	return m;
+}
 
-	// The gate found the old pose within its covariance; the back-end judges the link with
-	// the same covariance and the same bound (3 Phi) before its own, tighter test.
-	const Eigen::Matrix3d info = linkInformation(match->cov, m_params.link_noise);
-	const TLink link{oldNode, newest, match->scanInRef, info, LinkType::LoopClosure};
-	const bool vetted =
-		gateInnovationChi2(oldFromNewest, match->scanInRef, info) < 3 * m_optimizer.params().dcsPhi;
-	std::vector<size_t> vettedLinks;
-	std::optional<size_t> heldId;  // a held match confirmed: its link goes in first
+// The reference of step 3's match: the candidates within 2 overlap radii of the corrected
+// pose, in old node's frame, cropped to the points the new scan can reach at the correlated
+// pose (a few cm off): correspondence gate plus the widest line fit, with margin to spare.
+CReferenceCloud CLoopCloser::oldScansNear(
+	const CPoseGraph& graph, const TScanRefs& scans, const TCandidates& c, size_t oldNode,
+	const TPose2D& corrected)
+{
+	const TPose2D oldInMap = graph.pose(oldNode);
+	std::vector<TScan2D> refScans;
+	std::vector<TPose2D> refInOld;
+	for (const size_t j : c.nodes)
+	{
+		if (translationNorm(between(graph.pose(j), corrected)) > 2 * m_params.overlap_radius) continue;
+		refScans.push_back(*scans[j]);
+		m_stats.work.matchRefPoints += scans[j]->points.size();
+		refInOld.push_back(between(oldInMap, graph.pose(j)));
+	}
+	std::vector<Eigen::Vector2d> scanInOld;
+	const CPointTransform toOld(between(oldInMap, corrected));
+	for (const auto& p : scans[graph.numNodes() - 1]->points) scanInOld.push_back(toOld(p));
+	const double cropMargin =
+		m_matcherParams.maxCorrespondenceDist_m + 4 * m_matcherParams.normalRadius_m + 0.2;
+	TScanMatcherParams refParams = m_matcherParams;
+	if (m_params.match_ref_resolution > 0) refParams.refResolution_m = m_params.match_ref_resolution;
+	return CReferenceCloud::fromScansNear(refScans, refInOld, refParams, scanInOld, cropMargin);
+}
+
+// With a very uncertain gate (std > confirm_above_sigma) a match is held until a later match
+// from a disjoint patch agrees with it. Returns false while the match is held (or dropped);
+// true to go on, with the confirmed held link added to the graph (`heldId`, vetted or not).
+bool CLoopCloser::confirmed(
+	CPoseGraph& graph, const TCandidates& c, const TSearchWindow& w, const TLoopMatch& m,
+	std::optional<size_t>& heldId, std::vector<size_t>& vettedLinks)
+{
+	const size_t newest = m.link.to;
 	if (m_held && newest > m_held->link.to + 2 * m_params.old_map_exclusion)
 		m_held.reset(), ++m_stats.unconfirmed;  // no agreeing match came in time
-	if (m_params.confirm_above_sigma > 0 && candidates->sigmaXY > m_params.confirm_above_sigma)
+	if (m_params.confirm_above_sigma <= 0 || c.sigmaXY <= m_params.confirm_above_sigma) return true;
+	if (m_held && m_held->link.to >= w.patchFirst) return false;  // same evidence
+	if (!m_held || !matchesAgree(graph, m_held->link, m.link))
 	{
-		if (m_held && m_held->link.to >= patchFirst) return std::nullopt;  // same evidence
-		if (!m_held || !matchesAgree(graph, m_held->link, link))
-		{
-			if (m_held) ++m_stats.unconfirmed;
-			m_held = THeldMatch{link, vetted};
-			++m_stats.heldForConfirmation;
-			m_lastRejection = "match held until a later, independent match agrees";
-			return std::nullopt;
-		}
-		heldId = graph.addLink(m_held->link);
-		if (m_held->vetted) vettedLinks.push_back(*heldId);
-		m_held.reset();
+		if (m_held) ++m_stats.unconfirmed;
+		m_held = THeldMatch{m.link, m.vetted};
+		++m_stats.heldForConfirmation;
+		m_lastRejection = "match held until a later, independent match agrees";
+		return false;
 	}
+	heldId = graph.addLink(m_held->link);
+	if (m_held->vetted) vettedLinks.push_back(*heldId);
+	m_held.reset();
+	return true;
+}
 
-	// Step 4: add the link; optimise if it moves the map.
+// Step 4: add the link; if it disagrees with the current estimate, optimise the whole graph
+// with robust loop links: a link the back-end down-weights is disabled and the closure
+// rejected; else the patch keyframes are re-matched against the old map (paper 2.2) and the
+// graph optimised again.
+std::optional<TLoopClosure> CLoopCloser::closeLoop(
+	CPoseGraph& graph, const TScanRefs& scans, const TCandidates& c, const TSearchWindow& w,
+	const TLoopMatch& m)
+{
+	std::vector<size_t> vettedLinks;
+	std::optional<size_t> heldId;  // a held match confirmed: its link goes in first
+	if (!confirmed(graph, c, w, m, heldId, vettedLinks)) return std::nullopt;
 	TLoopClosure lc;
-	lc.oldNode = oldNode;
-	lc.newNode = newest;
-	lc.score = corr->score;
-	lc.ambiguity = corr->ambiguity;
-	lc.linkId = graph.addLink(link);
-	if (vetted) vettedLinks.push_back(lc.linkId);
-	const Eigen::Vector3d e = linkResidual(oldInMap, newestInMap, match->scanInRef);
-	if (heldId || e.dot(info * e) > m_params.consistent_chi2)
+	lc.oldNode = m.link.from;
+	lc.newNode = m.link.to;
+	lc.linkId = graph.addLink(m.link);
+	if (m.vetted) vettedLinks.push_back(lc.linkId);
+	const Eigen::Vector3d e =
+		linkResidual(graph.pose(lc.oldNode), graph.pose(lc.newNode), m.link.toInFrom);
+	if (heldId || e.dot(m.info * e) > m_params.consistent_chi2)
 	{
 		CCpuTimer closeTimer(m_stats.closeCpuSeconds);
 		const auto report = optimize(graph, vettedLinks);
@@ -346,13 +436,11 @@ std::optional<TLoopClosure> CLoopCloser::process(CPoseGraph& graph, const TScanR
 			return std::nullopt;
 		}
 		lc.optimized = true;
-		lc.rematchLinks = rematch(graph, scans, *candidates, patchFirst, newest);
+		lc.rematchLinks = rematch(graph, scans, c, w.patchFirst, lc.newNode);
 		if (lc.rematchLinks > 0) optimize(graph), ++m_stats.optimizations;
 	}
 	++m_stats.accepted;
 	m_onKnownGround = !lc.optimized;
-	lc.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-	if (lc.optimized) m_stats.closureSeconds.push_back(lc.seconds);
 	return lc;
 }
 

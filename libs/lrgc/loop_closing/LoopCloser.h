@@ -41,6 +41,7 @@
 
 namespace lrgc
 {
+class CReferenceCloud;
 class CLoopCloser
 {
    public:
@@ -68,6 +69,51 @@ class CLoopCloser
 
    private:
 	struct TCandidates;
+	/** Step 2's search: half window [m, rad] and the patch (keyframes patchFirst..newest). */
+	struct TSearchWindow
+	{
+		double xy = 0, theta = 0;
+		size_t patchSize = 0, patchFirst = 0;
+	};
+	struct TPatchAndMap
+	{
+		std::vector<Eigen::Vector2d> patch;  //!< [newest keyframe's frame]
+		std::vector<Eigen::Vector2d> oldMap;  //!< [map frame]
+	};
+	/** Step 3's loop link (old -> newest) with its information, vetted by the gate. */
+	struct TLoopMatch
+	{
+		TLink link;
+		Eigen::Matrix3d info;
+		bool vetted = false;
+	};
+
+	// The steps of process(), in order.
+	bool checkDue();
+	std::optional<TCandidates> timedGate(const CPoseGraph& graph, size_t newest);
+	TSearchWindow searchWindow(const TCandidates& c, size_t newest) const;
+	bool attemptDue(const TSearchWindow& w);
+	std::optional<TCorrelationResult> correlatePatch(
+		const CPoseGraph& graph, const TScanRefs& scans, const TCandidates& c, TSearchWindow& w);
+	TPatchAndMap patchAndOldMap(
+		const CPoseGraph& graph, const TScanRefs& scans, const TCandidates& c,
+		TSearchWindow& w) const;
+	std::optional<TCorrelationResult> countedCorrelation(
+		const CCorrelationGrid& grid, const std::vector<Eigen::Vector2d>& patch,
+		const mrpt::math::TPose2D& newestInMap, const TSearchWindow& w);
+	std::optional<TLoopMatch> matchLoopLink(
+		const CPoseGraph& graph, const TScanRefs& scans, const TCandidates& c,
+		const mrpt::math::TPose2D& corrected);
+	CReferenceCloud oldScansNear(
+		const CPoseGraph& graph, const TScanRefs& scans, const TCandidates& c, size_t oldNode,
+		const mrpt::math::TPose2D& corrected);
+	bool confirmed(
+		CPoseGraph& graph, const TCandidates& c, const TSearchWindow& w, const TLoopMatch& m,
+		std::optional<size_t>& heldId, std::vector<size_t>& vettedLinks);
+	std::optional<TLoopClosure> closeLoop(
+		CPoseGraph& graph, const TScanRefs& scans, const TCandidates& c, const TSearchWindow& w,
+		const TLoopMatch& m);
+
 	std::optional<TCandidates> gate(const CPoseGraph& graph, size_t newest);
 	/** (newest <- node) with covariance for every node (gate_reuse_keyframes). */
 	std::vector<TRelativeUncertainty> relativeUncertainty(const CPoseGraph& graph, size_t newest);
