@@ -185,6 +185,71 @@ Eigen::Matrix3d clusterCovariance(const TPatchCorrelatorParams& prm,
 		}
 	return out;
 }
+
+/** A search window run() can take: a grid, a finite centre, half widths in [0, 1000]. */
+void checkWindow(
+	const CCorrelationGrid& grid, const mrpt::math::TPose2D& center, double halfWindowXY,
+	double halfWindowTheta)
+{
+	if (grid.empty()) THROW_EXCEPTION("CPatchCorrelator: the old-map grid is empty");
+	if (!(halfWindowXY >= 0 && halfWindowXY <= 1e3) ||
+		!(halfWindowTheta >= 0 && halfWindowTheta <= 1e3) ||
+		!std::isfinite(center.x + center.y + center.phi))
+		THROW_EXCEPTION_FMT(
+			"CPatchCorrelator: bad search window: centre (%g, %g, %g), halfWindowXY=%g m, "
+			"halfWindowTheta=%g rad",
+			center.x, center.y, center.phi, halfWindowXY, halfWindowTheta);
+}
+
+/* Step 2: the pose grid over the window. Headings every dtheta = angularStep, or (0) the step
+ * that moves the patch's farthest cell by one cell, res / r_max, at most 0.1 rad; the whole
+ * circle once when the window covers it. Positions every cell within +-halfWindowXY. The
+ * patch's cells under every heading are precomputed (appendBaseCells). */
+void preparePoseGrid(
+	const CCorrelationGrid& grid, const std::vector<Eigen::Vector2d>& pts, double angularStep,
+	double halfWindowXY, double halfWindowTheta, TGridSpec& spec, TPoseGridProblem& pb)
+{
+	double maxRadius = 0;
+	for (const auto& p : pts) maxRadius = std::max(maxRadius, p.norm());
+	spec.dtheta =
+		angularStep > 0 ? angularStep : std::min(0.1, spec.res / std::max(maxRadius, spec.res));
+	pb.grid = &grid;
+	pb.numPoints = static_cast<int>(pts.size());
+	pb.halfCells = static_cast<int>(std::ceil(halfWindowXY / spec.res - 1e-9));
+	if (2 * halfWindowTheta + spec.dtheta >= 2 * M_PI)
+	{  // the whole circle, each heading once
+		pb.numAngles = static_cast<int>(std::ceil(2 * M_PI / spec.dtheta));
+		spec.dtheta = 2 * M_PI / pb.numAngles;
+		spec.angle0 = pb.numAngles / 2;
+	}
+	else
+	{
+		spec.angle0 = static_cast<int>(std::ceil(halfWindowTheta / spec.dtheta - 1e-9));
+		pb.numAngles = 2 * spec.angle0 + 1;
+	}
+	pb.cellsPerAngleStep = maxRadius * spec.dtheta / spec.res;
+	pb.baseCells.reserve(size_t(pb.numAngles) * pts.size() * 2);
+	for (int a = 0; a < pb.numAngles; ++a)
+		appendBaseCells(grid, pts, spec.center, spec.theta(a), pb.baseCells);
+	pb.prepare();
+}
+
+/** Step 4's exclusion zone: the best pose's cluster, the headings within cluster_radius_deg
+ * and the cells within cluster_radius of it [cells^2]. */
+detail::TExclusionZone bestCluster(
+	const TPatchCorrelatorParams& prm, const TGridSpec& spec, int numAngles,
+	const detail::TSearchHit& best)
+{
+	detail::TExclusionZone zone;
+	zone.inAngle.resize(size_t(numAngles));
+	for (int a = 0; a < numAngles; ++a)
+		zone.inAngle[size_t(a)] =
+			std::abs(mrpt::math::wrapToPi(spec.theta(a) - spec.theta(best.a))) <=
+			prm.clusterRadiusTheta + 1e-12;
+	zone.ci = best.i, zone.cj = best.j;
+	zone.r2 = std::pow(prm.clusterRadiusXY / spec.res, 2) + 1e-9;
+	return zone;
+}
 }  // namespace
 
 std::string TCorrelationVerdict::message() const
@@ -254,47 +319,14 @@ std::optional<TCorrelationResult> CPatchCorrelator::run(
 	TCorrelationEffort spent;
 	if (!effort) effort = &spent;
 	effort->headings = effort->patchCells = effort->posesScored = 0;
-	if (grid.empty()) THROW_EXCEPTION("CPatchCorrelator: the old-map grid is empty");
-	if (!(halfWindowXY >= 0 && halfWindowXY <= 1e3) ||
-		!(halfWindowTheta >= 0 && halfWindowTheta <= 1e3) ||
-		!std::isfinite(center.x + center.y + center.phi))
-		THROW_EXCEPTION_FMT(
-			"CPatchCorrelator: bad search window: centre (%g, %g, %g), halfWindowXY=%g m, "
-			"halfWindowTheta=%g rad",
-			center.x, center.y, center.phi, halfWindowXY, halfWindowTheta);
-
+	checkWindow(grid, center, halfWindowXY, halfWindowTheta);
 	TGridSpec spec;
 	spec.center = center;
 	spec.res = grid.resolution();
 	const std::vector<Eigen::Vector2d> pts = distinctCells(patchPoints, spec.res);
 	if (pts.empty()) return std::nullopt;
-	double maxRadius = 0;
-	for (const auto& p : pts) maxRadius = std::max(maxRadius, p.norm());
-
-	// Step 2: the pose grid.
-	spec.dtheta = m_params.angularStep > 0
-					  ? m_params.angularStep
-					  : std::min(0.1, spec.res / std::max(maxRadius, spec.res));
 	TPoseGridProblem pb;
-	pb.grid = &grid;
-	pb.numPoints = static_cast<int>(pts.size());
-	pb.halfCells = static_cast<int>(std::ceil(halfWindowXY / spec.res - 1e-9));
-	if (2 * halfWindowTheta + spec.dtheta >= 2 * M_PI)
-	{  // the whole circle, each heading once
-		pb.numAngles = static_cast<int>(std::ceil(2 * M_PI / spec.dtheta));
-		spec.dtheta = 2 * M_PI / pb.numAngles;
-		spec.angle0 = pb.numAngles / 2;
-	}
-	else
-	{
-		spec.angle0 = static_cast<int>(std::ceil(halfWindowTheta / spec.dtheta - 1e-9));
-		pb.numAngles = 2 * spec.angle0 + 1;
-	}
-	pb.cellsPerAngleStep = maxRadius * spec.dtheta / spec.res;
-	pb.baseCells.reserve(size_t(pb.numAngles) * pts.size() * 2);
-	for (int a = 0; a < pb.numAngles; ++a)
-		appendBaseCells(grid, pts, center, spec.theta(a), pb.baseCells);
-	pb.prepare();
+	preparePoseGrid(grid, pts, m_params.angularStep, halfWindowXY, halfWindowTheta, spec, pb);
 	effort->headings = size_t(pb.numAngles), effort->patchCells = pts.size();
 	// Progress: posesScored grows by the search's steps, then takes each search's count.
 	if (effort->onProgress)
@@ -306,7 +338,7 @@ std::optional<TCorrelationResult> CPatchCorrelator::run(
 		};
 	}
 
-	// Step 3: the best pose.
+	// Step 3: the best pose, scoring at least min_score.
 	const auto search = [&](int64_t floor, const detail::TExclusionZone& z, bool firstHit) {
 		return exhaustive ? detail::searchExhaustive(pb, floor, z)
 						  : detail::searchBranchAndBound(pb, floor, z, firstHit);
@@ -317,7 +349,6 @@ std::optional<TCorrelationResult> CPatchCorrelator::run(
 	const detail::TSearchHit best = search(floor1, detail::TExclusionZone{}, false);
 	effort->posesScored = best.evaluations;
 	if (!best.found) return std::nullopt;
-
 	TCorrelationResult res;
 	res.patchInMap = spec.pose(best.a, best.i, best.j);
 	res.score = double(best.score) / double(full);
@@ -325,19 +356,13 @@ std::optional<TCorrelationResult> CPatchCorrelator::run(
 	res.patchCells = pts.size();
 	res.angularStep = spec.dtheta;
 
-	// Step 4: the rival, outside the best cluster.
-	detail::TExclusionZone zone;
-	zone.inAngle.resize(size_t(pb.numAngles));
-	for (int a = 0; a < pb.numAngles; ++a)
-		zone.inAngle[size_t(a)] =
-			std::abs(mrpt::math::wrapToPi(spec.theta(a) - spec.theta(best.a))) <=
-			m_params.clusterRadiusTheta + 1e-12;
-	zone.ci = best.i, zone.cj = best.j;
-	zone.r2 = std::pow(m_params.clusterRadiusXY / spec.res, 2) + 1e-9;
+	// Step 4: the rival, outside the best cluster; ambiguity = s(best) / s(rival) (branch and
+	// bound needs only to know whether a rival reaches s(best) / min_ambiguity).
 	const int64_t floor2 = exhaustive ? 0
 									  : static_cast<int64_t>(std::ceil(
 											double(best.score) / m_params.minAmbiguity - 1e-9));
-	const detail::TSearchHit rival = search(floor2, zone, true);
+	const detail::TSearchHit rival =
+		search(floor2, bestCluster(m_params, spec, pb.numAngles, best), true);
 	res.ambiguity = std::numeric_limits<double>::infinity();
 	if (rival.found)
 	{
