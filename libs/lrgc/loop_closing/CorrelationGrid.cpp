@@ -84,6 +84,29 @@ void stampLevel0(const std::vector<Eigen::Vector2i>& occupied, const std::vector
 				row[dx] = std::max(row[dx], lut[size_t(dx * dx + dy * dy)]);
 		}
 }
+
+// Level 0 from the occupied cells by an exact Euclidean distance transform (OpenCV): each
+// cell's value is lut[d^2], d the distance to the nearest occupied cell [cells].
+void distanceLevel0(const std::vector<Eigen::Vector2i>& occupied, const std::vector<uint8_t>& lut,
+					int width, int height, int pad, int stride, uint8_t* L0)
+{
+	// Occupied cells are 0 (distanceTransform measures the distance to the nearest zero).
+	cv::Mat free(height, width, CV_8U, cv::Scalar(255));
+	for (const auto& c : occupied) free.at<uint8_t>(c.y(), c.x()) = 0;
+	cv::Mat dist;
+	cv::distanceTransform(free, dist, cv::DIST_L2, cv::DIST_MASK_PRECISE, CV_32F);
+	for (int r = 0; r < height; ++r)
+	{
+		const float* d = dist.ptr<float>(r);
+		uint8_t* out = L0 + static_cast<size_t>(r + pad) * size_t(stride) + size_t(pad);
+		for (int c = 0; c < width; ++c)
+		{
+			// Exact distances are square roots of integers: recover d^2 by rounding.
+			const double d2 = std::round(double(d[c]) * double(d[c]));
+			out[c] = d2 < double(lut.size()) ? lut[static_cast<size_t>(d2)] : 0;
+		}
+	}
+}
 }  // namespace
 
 Eigen::Vector2i CCorrelationGrid::cellOf(const Eigen::Vector2d& pInMap) const
@@ -153,32 +176,9 @@ CCorrelationGrid CCorrelationGrid::fromPoints(const std::vector<Eigen::Vector2d>
 	// over the grid. Both give the same values (see stampLevel0).
 	const double stampCost = double(occupied.size()) * M_PI * double(lut.size());
 	if (stampCost < 4.0 * wd * hd)
-	{
 		stampLevel0(occupied, lut, g.m_width, g.m_height, g.m_pad, g.m_stride, L0.data());
-		g.m_levels.push_back(std::move(L0));
-		for (int h = 1; h < numLevels; ++h)
-			g.m_levels.push_back(nextLevel(g.m_levels.back(), g.m_rows, g.m_stride, 1 << (h - 1)));
-		return g;
-	}
-
-	// Occupied cells are 0 (distanceTransform measures the distance to the nearest zero).
-	cv::Mat free(g.m_height, g.m_width, CV_8U, cv::Scalar(255));
-	for (const auto& c : occupied) free.at<uint8_t>(c.y(), c.x()) = 0;
-	cv::Mat dist;
-	cv::distanceTransform(free, dist, cv::DIST_L2, cv::DIST_MASK_PRECISE, CV_32F);
-
-	for (int r = 0; r < g.m_height; ++r)
-	{
-		const float* d = dist.ptr<float>(r);
-		uint8_t* out =
-			L0.data() + static_cast<size_t>(r + g.m_pad) * size_t(g.m_stride) + size_t(g.m_pad);
-		for (int c = 0; c < g.m_width; ++c)
-		{
-			// Exact distances are square roots of integers: recover d^2 by rounding.
-			const double d2 = std::round(double(d[c]) * double(d[c]));
-			out[c] = d2 < double(lut.size()) ? lut[static_cast<size_t>(d2)] : 0;
-		}
-	}
+	else
+		distanceLevel0(occupied, lut, g.m_width, g.m_height, g.m_pad, g.m_stride, L0.data());
 	g.m_levels.push_back(std::move(L0));
 	for (int h = 1; h < numLevels; ++h)
 		g.m_levels.push_back(nextLevel(g.m_levels.back(), g.m_rows, g.m_stride, 1 << (h - 1)));
