@@ -141,22 +141,29 @@ Eigen::Vector3d solveStep(const TScaledInfo& I, const Eigen::Vector3d& g)
 	return S * ds;
 }
 
-Eigen::Matrix3d poseCovariance(
-	const CReferenceCloud& ref, const std::vector<TCorrespondence>& corr, const TScaledInfo& I,
-	double c, double cluster, double unobservableStd)
+namespace
 {
-	const Eigen::Matrix3d Bmodel = modelScoreCovariance(ref, corr);
-	// Cauchy: psi(e) = w e with w = 1 / (1 + |e|^2 / c^2); its derivative (the "bread") is
-	// d psi / d e = w I - 2 w^2 e e^T / c^2, i.e. w (1 - e^2/c^2) / (1 + e^2/c^2) for one row.
-	const double c2 = c * c;
+/** One spatial cluster of correspondences (anchors in one cluster x cluster cell): its score
+ * sum s_g = sum w J^T e and its share M_g of the bread Hpsi. */
+struct TCluster
+{
+	Eigen::Vector3d s = Eigen::Vector3d::Zero();
+	Eigen::Matrix3d M = Eigen::Matrix3d::Zero();
+};
+struct TBread
+{
 	Eigen::Matrix3d Hpsi = Eigen::Matrix3d::Zero();
-	struct TCluster
-	{
-		Eigen::Vector3d s = Eigen::Vector3d::Zero();  // score sum w J^T e
-		Eigen::Matrix3d M = Eigen::Matrix3d::Zero();  // its share of Hpsi
-	};
 	std::unordered_map<uint64_t, TCluster> clusters;
-	clusters.reserve(corr.size());
+};
+
+/* The bread of the sandwich and its clusters. Cauchy: psi(e) = w e with
+ * w = 1 / (1 + |e|^2 / c^2); its derivative is d psi / d e = w I - 2 w^2 e e^T / c^2, i.e.
+ * w (1 - 2 w e^2 / c^2) for one row, floored at 0 (PSD). */
+TBread breadByCluster(const std::vector<TCorrespondence>& corr, double c, double cluster)
+{
+	const double c2 = c * c;
+	TBread b;
+	b.clusters.reserve(corr.size());
 	for (const auto& k : corr)
 	{
 		Eigen::Vector3d s;
@@ -178,19 +185,63 @@ Eigen::Matrix3d poseCovariance(
 			D = es.eigenvectors() * es.eigenvalues().cwiseMax(0.0).asDiagonal() * es.eigenvectors().transpose();
 			Mk = J * D * J.transpose();
 		}
-		Hpsi += Mk;
+		b.Hpsi += Mk;
 		const auto ix = static_cast<int64_t>(std::floor(k.anchorPos.x() / cluster));
 		const auto iy = static_cast<int64_t>(std::floor(k.anchorPos.y() / cluster));
 		const uint64_t key = (static_cast<uint64_t>(static_cast<uint32_t>(ix)) << 32) |
 			static_cast<uint32_t>(iy);
-		auto& cl = clusters[key];
+		auto& cl = b.clusters[key];
 		cl.s += s;
 		cl.M += Mk;
 	}
-	const double G = static_cast<double>(clusters.size());
+	return b;
+}
+
+/** Inverse of the bread on the observable subspace (basis P, scaled by S); where it is not
+ * positive definite, the weighted information's, diagonal in that basis. */
+Eigen::MatrixXd observableInverse(const Eigen::MatrixXd& Ho, const TScaledInfo& I, int nObs)
+{
+	const Eigen::LLT<Eigen::MatrixXd> llt(Ho);
+	if (llt.info() == Eigen::Success) return llt.solve(Eigen::MatrixXd::Identity(nObs, nObs));
+	Eigen::MatrixXd HoInv = Eigen::MatrixXd::Zero(nObs, nObs);
+	for (int k = 0, j = 0; k < 3; ++k)
+		if (I.observable[k]) HoInv(j, j) = 1 / I.lambda[k], ++j;
+	return HoInv;
+}
+
+/** Leave-one-cluster-out (jackknife) spread: delta_g = (H - M_g)^-1 s_g on the observable
+ * subspace, eigenvalues of H - M_g floored at the unobservability threshold; returns
+ * sum_g P delta_g delta_g^T P^T (the caller scales by (G - 1) / G). */
+Eigen::Matrix3d jackknifeSpread(
+	const TBread& b, const Eigen::MatrixXd& Ho, const Eigen::MatrixXd& P,
+	const Eigen::Matrix3d& S, double minInfo)
+{
+	Eigen::Matrix3d Csand = Eigen::Matrix3d::Zero();
+	for (const auto& [key, cl] : b.clusters)
+	{
+		const Eigen::MatrixXd Hg = Ho - P.transpose() * (S * cl.M * S) * P;
+		const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(Hg);
+		const Eigen::VectorXd inv = es.eigenvalues().cwiseMax(minInfo).cwiseInverse();
+		const Eigen::VectorXd d =
+			es.eigenvectors() * inv.asDiagonal() * es.eigenvectors().transpose() * (P.transpose() * (S * cl.s));
+		Csand += P * d * d.transpose() * P.transpose();
+	}
+	return Csand;
+}
+}  // namespace
+
+// The pose covariance: on the observable subspace the larger (psdMaxOnSubspace) of the model
+// sandwich H^-1 B H^-1 and the cluster jackknife's (with more than 3 clusters); along the
+// unobservable directions unobservableStd^2 [m^2 / rad^2 in scaled units].
+Eigen::Matrix3d poseCovariance(
+	const CReferenceCloud& ref, const std::vector<TCorrespondence>& corr, const TScaledInfo& I,
+	double c, double cluster, double unobservableStd)
+{
+	const Eigen::Matrix3d Bmodel = modelScoreCovariance(ref, corr);
+	const TBread bread = breadByCluster(corr, c, cluster);
+	const double G = static_cast<double>(bread.clusters.size());
 
 	const Eigen::Matrix3d S = scaling(I.L);
-	const double minInfo = I.minInfo;
 	int nObs = 0;
 	for (int k = 0; k < 3; ++k) nObs += I.observable[k];
 	Eigen::MatrixXd P(3, nObs);
@@ -202,31 +253,10 @@ Eigen::Matrix3d poseCovariance(
 	}
 	if (nObs > 0)
 	{
-		// Bread: inverse of the psi-derivative information on the observable subspace.
-		const Eigen::MatrixXd Ho = P.transpose() * (S * Hpsi * S) * P;
-		Eigen::MatrixXd HoInv;
-		const Eigen::LLT<Eigen::MatrixXd> llt(Ho);
-		if (llt.info() == Eigen::Success) HoInv = llt.solve(Eigen::MatrixXd::Identity(nObs, nObs));
-		else  // fall back to the weighted information, diagonal in this basis
-		{
-			HoInv = Eigen::MatrixXd::Zero(nObs, nObs);
-			for (int k = 0, j = 0; k < 3; ++k)
-				if (I.observable[k]) HoInv(j, j) = 1 / I.lambda[k], ++j;
-		}
-		const Eigen::Matrix3d Hinv = P * HoInv * P.transpose();
+		const Eigen::MatrixXd Ho = P.transpose() * (S * bread.Hpsi * S) * P;
+		const Eigen::Matrix3d Hinv = P * observableInverse(Ho, I, nObs) * P.transpose();
 		const Eigen::Matrix3d Cmodel = Hinv * (S * Bmodel * S) * Hinv;
-		// Leave-one-cluster-out: delta_g = (H - M_g)^-1 s_g, eigenvalues of H - M_g floored at
-		// the unobservability threshold.
-		Eigen::Matrix3d Csand = Eigen::Matrix3d::Zero();
-		for (const auto& [key, cl] : clusters)
-		{
-			const Eigen::MatrixXd Hg = Ho - P.transpose() * (S * cl.M * S) * P;
-			const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(Hg);
-			const Eigen::VectorXd inv = es.eigenvalues().cwiseMax(minInfo).cwiseInverse();
-			const Eigen::VectorXd d =
-				es.eigenvectors() * inv.asDiagonal() * es.eigenvectors().transpose() * (P.transpose() * (S * cl.s));
-			Csand += P * d * d.transpose() * P.transpose();
-		}
+		Eigen::Matrix3d Csand = jackknifeSpread(bread, Ho, P, S, I.minInfo);
 		Csand *= (G - 1) / G;
 		Cs += G > 3 ? psdMaxOnSubspace(Csand, Cmodel, P) : Cmodel;
 	}
