@@ -11,6 +11,7 @@
 #include <functional>
 #include <limits>
 #include <numeric>
+#include <optional>
 
 namespace lrgc
 {
@@ -158,6 +159,63 @@ void CReferenceCloud::buildGrid()
 	m_grid = CAnchorGrid(pos, usable, m_cell);
 }
 
+namespace
+{
+/** Weighted moments of the reduced points within r of x, relative to x (for numerical range):
+ * W = sum w, s = sum w dx, S = sum w dx dx^T; count of points; squared distance [m^2] from x
+ * to the nearest other point. */
+struct TMoments
+{
+	double W = 0, sx = 0, sy = 0, sxx = 0, sxy = 0, syy = 0;
+	size_t count = 0;
+	double nearest2 = std::numeric_limits<double>::infinity();
+};
+
+TMoments momentsWithin(
+	const CAnchorGrid& grid, const std::vector<double>& w, size_t self,
+	const Eigen::Vector2d& x, double r)
+{
+	TMoments mo;
+	grid.forEachPointWithin(x, r, [&](uint32_t k, const Eigen::Vector2d& pos) {
+		const double wk = w[k], dx = pos.x() - x.x(), dy = pos.y() - x.y();
+		mo.W += wk, mo.sx += wk * dx, mo.sy += wk * dy;
+		mo.sxx += wk * dx * dx, mo.sxy += wk * dx * dy, mo.syy += wk * dy * dy;
+		++mo.count;
+		if (k != self) mo.nearest2 = std::min(mo.nearest2, dx * dx + dy * dy);
+	});
+	return mo;
+}
+
+/** The weighted PCA of the moments: mean m [map frame], tangent t and normal n, eigenvalues
+ * l1 >= l2 of C in closed form. */
+struct TLineFromMoments
+{
+	Eigen::Vector2d m, t, n;
+	double l1 = 0, l2 = 0;
+};
+
+/** A line if at least 4 points and thickness sqrt(l2) < 0.25 sqrt(l1); else none. */
+std::optional<TLineFromMoments> lineOf(const TMoments& mo, const Eigen::Vector2d& x)
+{
+	if (mo.count < 4) return std::nullopt;
+	const double W = mo.W;
+	const double mx = mo.sx / W, my = mo.sy / W;
+	const double cxx = mo.sxx / W - mx * mx, cxy = mo.sxy / W - mx * my, cyy = mo.syy / W - my * my;
+	TLineFromMoments f;
+	f.m = x + Eigen::Vector2d(mx, my);
+	const double tr = cxx + cyy, disc = std::sqrt(std::max(0.0, 0.25 * (cxx - cyy) * (cxx - cyy) + cxy * cxy));
+	f.l1 = 0.5 * tr + disc, f.l2 = std::max(0.0, 0.5 * tr - disc);
+	if (!(f.l1 > 0) || f.l2 > 0.0625 * f.l1) return std::nullopt;
+	// Tangent: eigenvector of l1, (l1 - cyy, cxy) or (cxy, l1 - cxx), whichever is longer (both
+	// are, unless one vanishes); the normal is its perpendicular.
+	const Eigen::Vector2d v1(f.l1 - cyy, cxy), v2(cxy, f.l1 - cxx);
+	const Eigen::Vector2d tdir = (v1.squaredNorm() >= v2.squaredNorm() ? v1 : v2).normalized();
+	f.n = Eigen::Vector2d(-tdir.y(), tdir.x());
+	f.t = Eigen::Vector2d(-f.n.y(), f.n.x());
+	return f;
+}
+}  // namespace
+
 void CReferenceCloud::fitLines(const TScanMatcherParams& p, const std::vector<double>& w)
 {
 	// Weighted PCA of the neighbourhood N (weights = raw points per voxel):
@@ -175,66 +233,7 @@ void CReferenceCloud::fitLines(const TScanMatcherParams& p, const std::vector<do
 	std::vector<double> sigma2;
 	m_count = w;
 	m_lineFits.assign(m_anchors.size(), TLineFit{});
-	for (size_t i = 0; i < m_anchors.size(); ++i)
-	{
-		const Eigen::Vector2d x = m_anchors[i].pos;
-		newPos[i] = x;
-		// Widen the neighbourhood (up to 4x) while it has too few points or is too thick:
-		// range noise thickens a small neighbourhood, a corner stays thick at every size.
-		double r = p.normalRadius_m;
-		size_t count = 0;  // reduced points in the neighbourhood
-		double nearest2 = std::numeric_limits<double>::infinity();  // [m^2] to another one
-		for (int widen = 0; widen < 3; ++widen, r *= 2)
-		{
-			// One pass of weighted moments as the grid visits the neighbourhood: W, sum w x,
-			// sum w x x^T (relative to x, for numerical range), then the 2x2
-			// eigen-decomposition in closed form.
-			double W = 0, sx = 0, sy = 0, sxx = 0, sxy = 0, syy = 0;
-			count = 0;
-			nearest2 = std::numeric_limits<double>::infinity();
-			m_grid.forEachPointWithin(x, r, [&](uint32_t k, const Eigen::Vector2d& pos) {
-				const double wk = w[k], dx = pos.x() - x.x(), dy = pos.y() - x.y();
-				W += wk, sx += wk * dx, sy += wk * dy;
-				sxx += wk * dx * dx, sxy += wk * dx * dy, syy += wk * dy * dy;
-				++count;
-				if (k != i) nearest2 = std::min(nearest2, dx * dx + dy * dy);
-			});
-			if (count < 4) continue;
-			const double mx = sx / W, my = sy / W;
-			const double cxx = sxx / W - mx * mx, cxy = sxy / W - mx * my, cyy = syy / W - my * my;
-			const Eigen::Vector2d m = x + Eigen::Vector2d(mx, my);
-			const double tr = cxx + cyy, disc = std::sqrt(std::max(0.0, 0.25 * (cxx - cyy) * (cxx - cyy) + cxy * cxy));
-			const double l1 = 0.5 * tr + disc, l2 = std::max(0.0, 0.5 * tr - disc);
-			if (!(l1 > 0) || l2 > 0.0625 * l1) continue;
-			// Tangent: eigenvector of l1, (l1 - cyy, cxy) or (cxy, l1 - cxx), whichever is
-			// longer (both are, unless one vanishes); the normal is its perpendicular.
-			const Eigen::Vector2d v1(l1 - cyy, cxy), v2(cxy, l1 - cxx);
-			const Eigen::Vector2d tdir =
-				(v1.squaredNorm() >= v2.squaredNorm() ? v1 : v2).normalized();
-			const Eigen::Vector2d n(-tdir.y(), tdir.x());
-			const Eigen::Vector2d t(-n.y(), n.x());
-			m_anchors[i].normal = n;
-			m_anchors[i].isLine = true;
-			m_anchors[i].fitRadius = r;
-			newPos[i] = m + (x - m).dot(t) * t;
-			// sum w u^2 = W t^T C t = W l1 (t is C's eigenvector of l1).
-			const double suu = W * l1;
-			const double uj = (x - m).dot(t);
-			m_lineFits[i] = TLineFit{x, m, r, W, suu};
-			m_anchors[i].u = static_cast<float>(uj);
-			// slope variance sigma^2 / sum w u^2, sigma^2 filled in below
-			m_anchors[i].normalVar = static_cast<float>(suu > 0 ? 1 / suu : 0);
-			sigma2.push_back(l2 * W / static_cast<double>(count - 2));
-			break;
-		}
-		if (!m_anchors[i].isLine)
-		{
-			// count and nearest2 are of the widest neighbourhood here (the loop ran to its
-			// end; r is twice its radius now, as the cap of the spacing).
-			m_anchors[i].usable = count >= 3;
-			m_anchors[i].samplingVar = static_cast<float>(std::min(r * r, nearest2) / 12);
-		}
-	}
+	for (size_t i = 0; i < m_anchors.size(); ++i) newPos[i] = fitAnchor(i, p.normalRadius_m, w, sigma2);
 	for (size_t i = 0; i < m_anchors.size(); ++i) m_anchors[i].pos = newPos[i];
 	m_noiseVar = p.minResidualStd_m * p.minResidualStd_m;
 	if (!sigma2.empty())
@@ -243,6 +242,41 @@ void CReferenceCloud::fitLines(const TScanMatcherParams& p, const std::vector<do
 		m_noiseVar = std::max(m_noiseVar, sigma2[sigma2.size() / 2]);
 	}
 	for (auto& a : m_anchors) a.normalVar = static_cast<float>(a.normalVar * m_noiseVar);
+}
+
+// Anchor i's line fit (fitLines): the neighbourhood is widened (radius r0, 2 r0, 4 r0) while it
+// has too few points or is too thick: range noise thickens a small neighbourhood, a corner
+// stays thick at every size. Returns the anchor's position (projected onto its line); appends
+// the fit's noise estimate l2 W / (n - 2) to `sigma2`.
+Eigen::Vector2d CReferenceCloud::fitAnchor(
+	size_t i, double r0, const std::vector<double>& w, std::vector<double>& sigma2)
+{
+	const Eigen::Vector2d x = m_anchors[i].pos;
+	double r = r0;
+	TMoments mo;
+	for (int widen = 0; widen < 3; ++widen, r *= 2)
+	{
+		mo = momentsWithin(m_grid, w, i, x, r);
+		const auto f = lineOf(mo, x);
+		if (!f) continue;
+		TAnchor& a = m_anchors[i];
+		a.normal = f->n;
+		a.isLine = true;
+		a.fitRadius = r;
+		// sum w u^2 = W t^T C t = W l1 (t is C's eigenvector of l1).
+		const double suu = mo.W * f->l1;
+		m_lineFits[i] = TLineFit{x, f->m, r, mo.W, suu};
+		a.u = static_cast<float>((x - f->m).dot(f->t));
+		// slope variance sigma^2 / sum w u^2, sigma^2 filled in by fitLines
+		a.normalVar = static_cast<float>(suu > 0 ? 1 / suu : 0);
+		sigma2.push_back(f->l2 * mo.W / static_cast<double>(mo.count - 2));
+		return f->m + (x - f->m).dot(f->t) * f->t;
+	}
+	// count and nearest2 are of the widest neighbourhood here (r is twice its radius now, as
+	// the cap of the spacing).
+	m_anchors[i].usable = mo.count >= 3;
+	m_anchors[i].samplingVar = static_cast<float>(std::min(r * r, mo.nearest2) / 12);
+	return x;
 }
 
 }  // namespace lrgc

@@ -134,6 +134,8 @@ private:
 	/** Indexes the usable anchors at their current positions. */
 	void buildGrid();
 	void fitLines(const TScanMatcherParams& p, const std::vector<double>& weights);
+	Eigen::Vector2d fitAnchor(
+		size_t i, double r0, const std::vector<double>& w, std::vector<double>& sigma2);
 
 	std::vector<TAnchor> m_anchors;
 	CAnchorGrid m_grid;
