@@ -7,6 +7,7 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <mrpt/math/wrap2pi.h>
 #include <atomic>
 #include <condition_variable>
 #include <exception>
@@ -14,6 +15,17 @@
 
 namespace lrgc
 {
+namespace
+{
+/** [rad] A plain match that contradicts the odometry prior (chi2 above glitch_gate_chi2) by a
+ * turn larger than this, where nothing made the odometry suspect, is checked by the wide
+ * search (registerScan). Odometry that is right turns by at most a few degrees per step
+ * beyond its model; on the benchmark logs 0 to 11 matches per log contradict it by more. */
+const double kSecondOpinionTurn = mrpt::DEG2RAD(10.0);
+/** [m] ... or shifts it by more than this (0.25 m steps: 2 to 4 matches per log beyond it). */
+constexpr double kSecondOpinionShift = 0.3;
+}  // namespace
+
 CLocalRegistration::CLocalRegistration(
 	const TLocalRegistrationParams& p, const TScanMatcherParams& matcher,
 	const TPoseGraphOptimizerParams& optimizer, bool helperThread)
@@ -239,7 +251,15 @@ TRegistration CLocalRegistration::registerScan(
 	// the prior's own optimum). A doubtful case keeps the prior, not a contradicting match.
 	const bool suspect = std::abs(prediction.motion.phi) > m_params.glitch_min_turn ||
 		prediction.stepSeconds > m_params.glitch_min_gap;
-	if (suspect && (!match || disagrees) && m_params.wide_search_angle > 0)
+	// Nothing made the odometry suspect, yet the match turns the robot by more than
+	// kSecondOpinionTurn against it, or shifts it by more than kSecondOpinionShift: people or a repetitive scene (a hall's pillar rows) can
+	// pull a plain match into another basin, and one such scan turns every later scan with it
+	// (a 70 x 45 m hall with 25 people: 23 deg in one step, the map's tail 10 m off). The wide
+	// search gives the second opinion, with the same standard of evidence.
+	const bool implausible = disagrees &&
+		(std::abs(mrpt::math::wrapToPi(match->scanInRef.phi - guess.phi)) > kSecondOpinionTurn ||
+		 translationNorm(between(guess, match->scanInRef)) > kSecondOpinionShift);
+	if ((implausible || (suspect && (!match || disagrees))) && m_params.wide_search_angle > 0)
 	{
 		match = m_matcher.matchWide(
 			cloud, scan, guess, m_params.wide_search_angle,
