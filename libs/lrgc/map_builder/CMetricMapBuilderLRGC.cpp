@@ -106,6 +106,8 @@ void CMetricMapBuilderLRGC::followRobot(
 {
 	if (!prediction.fromOdometry || reg.odometryRejected) m_odometryTrustedSinceKeyframe = false;
 	m_motionSinceKeyframe = compose(m_motionSinceKeyframe, prediction.motion);
+	m_scanStep = prediction.motion;
+	m_scanStepFromOdometry = prediction.fromOdometry;
 	const TPose2D step = between(m_lastScanInMap, reg.scanInMap);
 	m_predictor->commitScan(laser.timestamp, step);
 	const double dt = stepSeconds(prediction);
@@ -145,8 +147,7 @@ void CMetricMapBuilderLRGC::placeScan(
 {
 	const bool atStart = m_graph.numNodes() == 0 || m_sessionStartCov.has_value();
 	if (!atStart && !isNewKeyframe(reg.scanInMap))
-		m_scans.push_back(
-			{laser->timestamp, anchor(), between(m_graph.pose(anchor()), reg.scanInMap)});
+		recordScan(laser->timestamp, anchor(), between(m_graph.pose(anchor()), reg.scanInMap));
 	else if (const auto reused = atStart || !reg.matched || reg.odometryRejected || reg.wideSearch
 			 ? std::nullopt
 			 : m_reuse->reusableKeyframe(
@@ -168,7 +169,7 @@ void CMetricMapBuilderLRGC::enterReusedKeyframe(
 	const TPose2D inNode = between(m_graph.pose(reused.node), reg.scanInMap);
 	m_motionSinceKeyframe = inNode;  // the odometry link of a later keyframe starts here
 	m_anchorOffset = inNode;
-	m_scans.push_back({stamp, reused.node, inNode});
+	recordScan(stamp, reused.node, inNode);
 	closeLoops(false);
 }
 
@@ -195,7 +196,13 @@ void CMetricMapBuilderLRGC::enterNewKeyframe(
 	m_motionSinceKeyframe = TPose2D(0, 0, 0);
 	m_anchorOffset = TPose2D(0, 0, 0);
 	m_odometryTrustedSinceKeyframe = true;
-	m_scans.push_back({laser->timestamp, node, TPose2D(0, 0, 0)});
+	recordScan(laser->timestamp, node, TPose2D(0, 0, 0), true);
+}
+
+void CMetricMapBuilderLRGC::recordScan(
+	mrpt::Clock::time_point stamp, size_t node, const TPose2D& robotInNode, bool keyframe)
+{
+	m_scans.push_back({stamp, node, robotInNode, m_scanStep, m_scanStepFromOdometry, keyframe});
 }
 
 // Steps 4-5 at a keyframe taken (CLoopClosing): the loop results due are applied, and a new

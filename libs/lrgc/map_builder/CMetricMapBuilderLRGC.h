@@ -65,6 +65,9 @@ struct TMapBuilderStats
 	size_t keyframesReused = 0;
 	size_t skippedScans = 0;  //!< too few valid returns
 	size_t unmatchedScans = 0;  //!< no acceptable local match: the prediction was kept
+	/** Scans whose pose was off their neighbours' odometry chain at the end of the run and
+	 * was settled onto it (settleIsolatedScans). */
+	size_t scansSettled = 0;
 	size_t odometryRejected = 0;  //!< scans whose match disagreed with odometry beyond the gate
 	size_t glitchesRecovered = 0;  //!< of those, recovered by the wide rotational search
 	size_t odometryLinks = 0, scanMatchLinks = 0, loopClosureLinks = 0;
@@ -170,6 +173,11 @@ class CMetricMapBuilderLRGC : public mrpt::slam::CMetricMapBuilder
 		mrpt::Clock::time_point timestamp;
 		size_t node;  //!< keyframe the scan hangs from
 		mrpt::math::TPose2D robotInNode;  //!< (node <- robot at the scan)
+		/** The predicted step into this scan, (previous scan <- this scan), and whether it
+		 * came from odometry (settleIsolatedScans). */
+		mrpt::math::TPose2D step{0, 0, 0};
+		bool stepFromOdometry = false;
+		bool keyframe = false;  //!< the scan is its node's own (a new keyframe)
 	};
 
 	// The story of one scan (CMetricMapBuilderLRGC.cpp), its steps in the paper's order.
@@ -198,6 +206,13 @@ class CMetricMapBuilderLRGC : public mrpt::slam::CMetricMapBuilder
 		const TRegistration& reg, size_t scanIndex);
 	void closeLoops(bool newKeyframe);
 	void takeReadyLoopResults();
+	/** Records the scan in the trajectory, hanging from `node`, with the step predicted for it. */
+	void recordScan(
+		mrpt::Clock::time_point stamp, size_t node, const mrpt::math::TPose2D& robotInNode,
+		bool keyframe = false);
+	/** End of the run: scans left off by an isolated registration follow the odometry between
+	 * their neighbours (IsolatedScans.h). */
+	void settleIsolatedScans();
 	/** Takes in what applying loop results did (links, closures, moved poses). */
 	void recordLoopUpdate(const TLoopUpdate& u);
 	bool isNewKeyframe(const mrpt::math::TPose2D& scanInMap) const;
@@ -257,6 +272,9 @@ class CMetricMapBuilderLRGC : public mrpt::slam::CMetricMapBuilder
 	 * keyframe, the registered offset for a reused one. Keyframe distances count from it. */
 	mrpt::math::TPose2D m_anchorOffset{0, 0, 0};
 	bool m_odometryTrustedSinceKeyframe = true;
+	/** The current scan's predicted step and its source, for its TScanRecord. */
+	mrpt::math::TPose2D m_scanStep{0, 0, 0};
+	bool m_scanStepFromOdometry = false;
 
 	std::vector<std::string> m_warnings;
 	mutable std::unique_ptr<mrpt::maps::CMultiMetricMap> m_metricMap;

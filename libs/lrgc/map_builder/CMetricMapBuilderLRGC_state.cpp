@@ -2,6 +2,7 @@
  * of keyframes, trajectory; the occupancy grid: CMetricMapBuilderLRGC_grid.cpp). Initialisation and continuing a saved map:
  * CMetricMapBuilderLRGC_continue.cpp. */
 #include <lrgc/map_builder/CMetricMapBuilderLRGC.h>
+#include <lrgc/map_builder/IsolatedScans.h>
 #include <lrgc/local_registration/LocalRegistration.h>
 #include <lrgc/local_registration/MotionPredictor.h>
 #include <lrgc/loop_closing/LoopClosing.h>
@@ -71,10 +72,24 @@ void CMetricMapBuilderLRGC::finish()
 	MRPT_LOG_INFO_FMT(
 		"final optimisation: %zu nodes, %d iterations, chi2 %.3g -> %.3g", m_graph.numNodes(),
 		report.iterations, report.initialChi2, report.finalChi2);
+	settleIsolatedScans();
 	m_lastScanInMap = m_scans.empty()
 		? m_lastScanInMap
 		: compose(m_graph.pose(m_scans.back().node), m_scans.back().robotInNode);
 	m_metricMapDirty = true;
+}
+
+void CMetricMapBuilderLRGC::settleIsolatedScans()
+{
+	std::vector<TScanStep> steps;
+	steps.reserve(m_scans.size());
+	for (const auto& s : m_scans)
+		steps.push_back(
+			{compose(m_graph.pose(s.node), s.robotInNode), s.step, s.stepFromOdometry, s.keyframe});
+	const auto settled = lrgc::settleIsolatedScans(steps);
+	for (const auto& [i, pose] : settled)
+		m_scans[i].robotInNode = between(m_graph.pose(m_scans[i].node), pose);
+	m_stats.scansSettled = settled.size();
 }
 
 TTrajectory CMetricMapBuilderLRGC::trajectory() const
