@@ -1,6 +1,6 @@
 #include "lrgc_apps/SavedMap.h"
 
-#include "lrgc_apps/ErrorText.h"
+#include "ErrorText.h"
 
 #include <mrpt/io/CFileGZInputStream.h>
 #include <mrpt/maps/registerAllClasses.h>

@@ -1,16 +1,16 @@
 /* CLiveSlam::run: the live run's threads, stop sequence, saves and live.json. */
-#include "lrgc_apps/live/LiveSlam.h"
+#include "live/LiveSlam.h"
 
-#include "lrgc_apps/SlamApp.h"
-#include "lrgc_apps/atomic_file.h"
-#include "lrgc_apps/live/CaptureWriter.h"
-#include "lrgc_apps/live/LiveConsole.h"
-#include "lrgc_apps/live/LiveJson.h"
-#include "lrgc_apps/live/LiveMapper.h"
-#include "lrgc_apps/live/LiveQueues.h"
-#include "lrgc_apps/live/LiveSaver.h"
-#include "lrgc_apps/live/SensorSupervisor.h"
-#include "lrgc_apps/StopSignalWatcher.h"
+#include "SlamApp.h"
+#include "atomic_file.h"
+#include "live/CaptureWriter.h"
+#include "live/LiveConsole.h"
+#include "live/LiveJson.h"
+#include "live/LiveMapper.h"
+#include "live/LiveQueues.h"
+#include "live/LiveSaver.h"
+#include "live/SensorSupervisor.h"
+#include "StopSignalWatcher.h"
 
 #include <mrpt/config/CConfigFile.h>
 #include <mrpt/core/format.h>

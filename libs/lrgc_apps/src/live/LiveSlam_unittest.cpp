@@ -1,8 +1,8 @@
 /* CLiveSlam in-process with scripted fake sensors: the whole live pipeline (sensor thread,
  * queues, capture writer, mapper, saves) in a fraction of a second, no hardware, no network. */
 #include <gtest/gtest.h>
-#include <lrgc_apps/SlamApp.h>
-#include <lrgc_apps/live/LiveSlam.h>
+#include "SlamApp.h"
+#include "live/LiveSlam.h"
 
 #include <atomic>
 #include <cstdio>

@@ -24,8 +24,8 @@
  */
 #pragma once
 
-#include <lrgc_apps/AppConfig.h>
-#include <lrgc_apps/CommandLine.h>
+#include "AppConfig.h"
+#include "CommandLine.h"
 
 #include <cstdio>
 #include <functional>
