@@ -5,7 +5,7 @@
  * of ranges it declares and a finite pose and timestamp; a ROBOTLASER1 line has a positive
  * resolution and maximum range. The reader throws nothing but CLogReadError, and every scan
  * it returns has at least 2 rays. */
-#include <lrgc_apps/io/CarmenLine.h>
+#include "io/CarmenLine.h"
 #include <lrgc_apps/io/LogReader.h>
 
 #include <cmath>

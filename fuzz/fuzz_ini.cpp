@@ -4,8 +4,8 @@
  * Invariants: a bad file is reported as CSetupError (exit 2 in the app), nothing else is
  * thrown; a file that loads saves to a text that loads again and saves to the same text (the
  * parameter structs' load and save agree, and a saved value passes validation on load). */
-#include <lrgc_apps/AppConfig.h>
-#include <lrgc_apps/CommandLine.h>
+#include "AppConfig.h"
+#include "CommandLine.h"
 #include <mrpt/config/CConfigFileMemory.h>
 
 #include "fuzz_common.h"

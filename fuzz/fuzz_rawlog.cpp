@@ -6,7 +6,7 @@
  * the reader turns into CLogReadError. So the invariants are: this process never crashes,
  * the reader throws nothing but CLogReadError, every entry holds exactly one of observation /
  * sensory frame, and the returned scans have at least 2 rays and no NaN/negative valid ray. */
-#include <lrgc_apps/io/RawlogReader.h>
+#include "io/RawlogReader.h"
 
 #include <cmath>
 

@@ -10,6 +10,7 @@ PACKAGES=(
   socat                                       # pseudo-terminals for the serial-laser tests
   time                                        # /usr/bin/time -v for bench/run
   clang-14 libclang-rt-14-dev                 # libFuzzer and sanitizers for scripts/fuzz
+  clang-format-14                             # scripts/check-format (CI)
 )
 missing=()
 for p in "${PACKAGES[@]}"; do

@@ -217,8 +217,9 @@ TEST(LargeLoop, closedWithTheWindowTheCovarianceAsksFor)
 	TLoopSetup s;
 	s.maxWindowXY = 1000, s.maxWindowTheta = M_PI;
 	// Searches over the whole hall cost the worker seconds each: with the default backlog
-	// (300 keyframes) its modelled schedule skips the searches of the return, the ones that
-	// close the loop. A user who uncaps the window lets the worker fall further behind.
+	// ([LoopCloser] max_backlog, 150 keyframes) its modelled schedule skips the searches of the
+	// return, the ones that close the loop. A user who uncaps the window lets the worker fall
+	// further behind.
 	s.maxBacklog = 100000;
 	expectClosedCorrectly(runHallLoop(s));
 }

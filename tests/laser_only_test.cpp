@@ -66,15 +66,15 @@ TEST(LaserOnly, constantVelocityTracksARingCorridorWithSparseFeatures)
 	expectNoOdometryWasUsed(builder);
 }
 
-TEST(LaserOnly, constantVelocityFollowsTurnOnsetsAtOneMetrePerSecond)
+// Disabled: a known, open limitation, kept as its reproducer (run it with
+// lrgc_e2e_tests --gtest_also_run_disabled_tests --gtest_filter='LaserOnly.DISABLED_*').
+// Without odometry a failed match keeps the constant-velocity prior (LocalRegistration.cpp
+// registerScan), which runs away by 20 deg per scan at a turn's onset, and the wide search only
+// runs for a suspect step (turn > glitch_min_turn or a pause in the scans), so the run loses
+// its heading (measured before: 28.5 m, 89.6 deg). A wide search at every failure fixes this
+// run but made ACES laser-only worse (0.46 -> 3.2 m mean relation error).
+TEST(LaserOnly, DISABLED_constantVelocityFollowsTurnOnsetsAtOneMetrePerSecond)
 {
-	GTEST_SKIP()
-		<< "known limitation (open): without odometry a failed match keeps the constant-velocity "
-		   "prior (LocalRegistration.cpp registerScan), which runs away by 20 deg per scan at a "
-		   "turn's onset, and the wide search only runs for a suspect step (turn > "
-		   "glitch_min_turn or a pause in the scans), so the run loses its heading "
-		   "(measured before: 28.5 m, 89.6 deg). A wide search at every failure fixes this run "
-		   "but made ACES laser-only worse (0.46 -> 3.2 m mean relation error)";
 	// The same ring, 60 boxes, 0.2 m per scan (1 m/s at 5 Hz) then turning in place at
 	// 100 deg/s: at each corner the constant-velocity prior is 0.2 m and 20 deg off and the
 	// corridor's right angles offer 90 deg-rotated alignments.

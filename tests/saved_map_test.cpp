@@ -6,7 +6,7 @@
 #include <lrgc/common/se2.h>
 #include <lrgc/localization/Localizer.h>
 #include <lrgc/localization/StartFinder.h>
-#include <lrgc/pose_graph/PoseGraphText.h>
+#include <lrgc_apps/io/PoseGraphText.h>
 #include <mrpt/maps/CSimpleMap.h>
 #include <mrpt/obs/CObservationOdometry.h>
 #include <mrpt/poses/CPose2D.h>

@@ -2,7 +2,7 @@
  * mrpt-common): on an lrgc output folder, on MRPT's own icp-slam simplemap, and with bad
  * arguments (one-line errors, exit statuses of the README). */
 #include <gtest/gtest.h>
-#include <lrgc/pose_graph/PoseGraphText.h>
+#include <lrgc_apps/io/PoseGraphText.h>
 
 #include <fstream>
 #include <unistd.h>

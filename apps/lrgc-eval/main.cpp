@@ -1,6 +1,6 @@
 /* lrgc-eval: relation error (Kuemmerle et al. 2009) and ATE/RPE of a 2D trajectory.
  * All logic lives in lrgc::apps::eval::CEvalApp (libs/lrgc_apps), so tests can call it. */
-#include <lrgc_apps/eval/CEvalApp.h>
+#include "eval/CEvalApp.h"
 
 #include <iostream>
 #include <string>

@@ -1,6 +1,6 @@
 /* lrgc-plot: one PNG per lrgc-slam run (map, trajectory, loop-closure links, per-scan
  * latency), for bench/run. All logic lives in lrgc::apps::eval::CPlotApp (libs/lrgc_apps). */
-#include <lrgc_apps/eval/CPlotApp.h>
+#include "eval/CPlotApp.h"
 
 #include <iostream>
 #include <string>

@@ -1,8 +1,8 @@
 /* lrgc-slam: 2D laser SLAM (Local Registration and Global Correlation) for MRPT logs and live
  * mrpt::hwdrivers sensors. Everything lives in lrgc::apps::CSlamApp (and, for --live, in
  * lrgc::apps::runLiveSlam) so tests can drive the whole application. */
-#include <lrgc_apps/SlamApp.h>
-#include <lrgc_apps/live/LiveSlam.h>
+#include "SlamApp.h"
+#include "live/LiveSlam.h"
 
 #include <string>
 #include <vector>

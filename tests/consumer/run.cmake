@@ -1,5 +1,6 @@
 # The consumer_find_package test: install this build into a temporary prefix, configure and
-# build tests/consumer against it with find_package(lrgc), and map SENA with the result.
+# build tests/consumer against it with find_package(lrgc) (and every installed header alone,
+# LRGC_CHECK_HEADERS), and map SENA with the result.
 #   cmake -DBUILD_DIR=... -DSOURCE_DIR=... -DWORK_DIR=... -DRAWLOG=... [-DLAUNCHER=ccache]
 #         -P run.cmake
 foreach(v BUILD_DIR SOURCE_DIR WORK_DIR RAWLOG)
@@ -33,7 +34,8 @@ foreach(f include/lrgc/map_builder/CMetricMapBuilderLRGC.h include/lrgc_apps/io/
     message(FATAL_ERROR "the install into ${prefix} lacks ${f}")
   endif()
 endforeach()
-foreach(f include/lrgc/pose_graph/PoseGraphProblem.h include/lrgc_apps/live)
+foreach(f include/lrgc/pose_graph/PoseGraphProblem.h include/lrgc/map_builder/TestAccess.h
+          include/lrgc_apps/live include/lrgc_apps/CommandLine.h include/lrgc_apps/SlamApp.h)
   if(EXISTS "${prefix}/${f}")
     message(FATAL_ERROR "the install holds ${f}, which is private")
   endif()
@@ -43,8 +45,9 @@ if(LAUNCHER)
   set(launcher -DCMAKE_CXX_COMPILER_LAUNCHER=${LAUNCHER})
 endif()
 step("configuring the consumer" ${CMAKE_COMMAND} -S "${SOURCE_DIR}/tests/consumer"
-     -B "${WORK_DIR}/build" -DCMAKE_PREFIX_PATH=${prefix} -DCMAKE_BUILD_TYPE=Release ${launcher})
-step("building the consumer" ${CMAKE_COMMAND} --build "${WORK_DIR}/build")
+     -B "${WORK_DIR}/build" -DCMAKE_PREFIX_PATH=${prefix} -DCMAKE_BUILD_TYPE=Release ${launcher}
+     -DLRGC_CHECK_HEADERS=${prefix}/include)
+step("building the consumer" ${CMAKE_COMMAND} --build "${WORK_DIR}/build" --parallel 2)
 step("map_rawlog" "${WORK_DIR}/build/map_rawlog" "${RAWLOG}")
 message("${step_output}")
 string(REGEX MATCH "keyframes ([0-9]+) scans ([0-9]+)" m "${step_output}")

@@ -5,8 +5,9 @@
  * an odometry glitch (a prior turned 70 deg wrongly) only by the wide rotational search. */
 #include <gtest/gtest.h>
 #include <lrgc/local_registration/LocalRegistration.h>
-#include <lrgc/map_builder/MapBuilderParams.h>
 #include <lrgc/local_registration/MotionPredictor.h>
+#include <lrgc/pose_graph/PoseGraphOptimizerParams.h>
+#include <lrgc/scan_matching/ScanMatcherParams.h>
 #include <lrgc/common/se2.h>
 
 #include <cmath>
@@ -20,6 +21,15 @@ using mrpt::math::TPose2D;
 
 namespace
 {
+/** The stage's own parameters at their defaults (those of a default [LocalRegistration],
+ * [ScanMatcher] and [PoseGraphOptimizer] section), without the map builder's TLRGCParams. */
+struct TStageParams
+{
+	TLocalRegistrationParams local;
+	TScanMatcherParams matcher;
+	TPoseGraphOptimizerParams optimizer;
+};
+
 constexpr double kTolXY = 0.03;               // [m]
 constexpr double kTolPhi = 0.5 * M_PI / 180;  // [rad]
 
@@ -86,7 +96,7 @@ TEST(LocalRegistration, windowConvergesToTruthAndOnlyTheLastKPosesMove)
 {
 	const TKnownRun run;
 	const auto& truth = run.tr.truePoses;
-	TLRGCParams defaults;
+	TStageParams defaults;
 	const size_t K = defaults.local.window_size;
 	CLocalRegistration local(defaults.local, defaults.matcher, defaults.optimizer);
 
@@ -170,7 +180,7 @@ TEST(LocalRegistration, registerScanFromARoughPriorAndAGlitchOnlyByTheWideSearch
 {
 	const TKnownRun run;
 	const auto& truth = run.tr.truePoses;
-	TLRGCParams p;
+	TStageParams p;
 	// A window of the first 6 keyframes at their true poses.
 	CPoseGraph graph;
 	TKeyframes keyframes;
@@ -230,7 +240,7 @@ TEST(LocalRegistration, registerScanFromARoughPriorAndAGlitchOnlyByTheWideSearch
 		EXPECT_EQ(reg.scanInMap, glitchPrior);
 	}
 	{  // Without a wide search the glitch cannot be recovered at all.
-		TLRGCParams narrow = p;
+		TStageParams narrow = p;
 		narrow.local.wide_search_angle = 0;
 		CLocalRegistration local(narrow.local, narrow.matcher, narrow.optimizer);
 		enterWindow(local);
@@ -249,7 +259,7 @@ TEST(LocalRegistration, keyframeRegisteredAgainstThePatchGetsThePatchLink)
 	// there is no patch link and the pairwise links keep their full weight.
 	const TKnownRun run;
 	const auto& truth = run.tr.truePoses;
-	TLRGCParams p;
+	TStageParams p;
 	for (const bool fromOdometry : {true, false})
 	{
 		CLocalRegistration local(p.local, p.matcher, p.optimizer);
@@ -301,7 +311,7 @@ TEST(LocalRegistration, aReusedKeyframeAnchorsThePatchAndIsHeldFixed)
 	// and the window solve of the next new keyframe moves that one only.
 	const TKnownRun run;
 	const auto& truth = run.tr.truePoses;
-	TLRGCParams p;
+	TStageParams p;
 	CLocalRegistration local(p.local, p.matcher, p.optimizer);
 	CPoseGraph graph;
 	TKeyframes keyframes;
@@ -351,7 +361,7 @@ TEST(LocalRegistration, helperThreadLeavesEveryResultBitForBit)
 	// would (after the helper built the patch from the old poses): that patch must not be
 	// used.
 	const TKnownRun run;
-	TLRGCParams p;
+	TStageParams p;
 	CLocalRegistration local(p.local, p.matcher, p.optimizer);
 	CPoseGraph graph;
 	graph.addNode(run.tr.truePoses[0]);

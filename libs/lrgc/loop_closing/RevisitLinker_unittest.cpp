@@ -4,8 +4,9 @@
  * the revisits (measured relative poses at the truth), leave recent keyframes and already
  * linked places alone, and refuse a pair whose scans do not show the same place. */
 #include <gtest/gtest.h>
-#include <lrgc/map_builder/MapBuilderParams.h>
 #include <lrgc/loop_closing/RevisitLinker.h>
+#include <lrgc/loop_closing/LoopCloserParams.h>
+#include <lrgc/scan_matching/ScanMatcherParams.h>
 #include <lrgc/common/se2.h>
 #include <mrpt/config/CConfigFileMemory.h>
 
@@ -19,6 +20,14 @@ using mrpt::math::TPose2D;
 
 namespace
 {
+/** The defaults the linker takes from its neighbours ([ScanMatcher], [LoopCloser]'s link
+ * noise), without the map builder's TLRGCParams. */
+struct TStageParams
+{
+	TScanMatcherParams matcher;
+	TLoopCloserParams loop;
+};
+
 struct TRevisitRun
 {
 	test::CSyntheticWorld world = test::makeRoomWorld(5, 4);
@@ -63,7 +72,7 @@ TRevisitLinkerParams testParams()
 TEST(RevisitLinker, linksTheRevisitedLegAtTheTrueRelativePoses)
 {
 	TRevisitRun run;
-	const TLRGCParams defaults;
+	const TStageParams defaults;
 	const CRevisitLinker linker(testParams(), defaults.matcher, defaults.loop.link_noise);
 	const size_t linksBefore = run.graph.numLinks();
 	const size_t added = linker.linkRevisits(run.graph, run.keyframes);
@@ -86,7 +95,7 @@ TEST(RevisitLinker, linksTheRevisitedLegAtTheTrueRelativePoses)
 TEST(RevisitLinker, recentKeyframesAreNotRevisits)
 {
 	TRevisitRun run;
-	const TLRGCParams defaults;
+	const TStageParams defaults;
 	TRevisitLinkerParams p = testParams();
 	p.min_index_gap = run.graph.numNodes();  // everything is "recent"
 	const CRevisitLinker linker(p, defaults.matcher, defaults.loop.link_noise);
@@ -96,7 +105,7 @@ TEST(RevisitLinker, recentKeyframesAreNotRevisits)
 TEST(RevisitLinker, scansOfAnotherPlaceAreNotLinked)
 {
 	TRevisitRun run;
-	const TLRGCParams defaults;
+	const TStageParams defaults;
 	// The scans of the revisited leg replaced by scans taken 2 m away (rotated 90 deg): the
 	// map says "same place", the scans say otherwise.
 	std::mt19937 rng(9);

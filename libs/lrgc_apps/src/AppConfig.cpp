@@ -1,7 +1,7 @@
-#include "lrgc_apps/AppConfig.h"
+#include "AppConfig.h"
 
-#include "lrgc_apps/CommandLine.h"
-#include "lrgc_apps/ErrorText.h"
+#include "CommandLine.h"
+#include "ErrorText.h"
 
 #include <mrpt/config/CConfigFile.h>
 #include <mrpt/config/CConfigFileMemory.h>

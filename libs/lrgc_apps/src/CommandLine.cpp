@@ -1,4 +1,4 @@
-#include "lrgc_apps/CommandLine.h"
+#include "CommandLine.h"
 
 #include <filesystem>
 #include <system_error>

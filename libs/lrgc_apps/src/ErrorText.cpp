@@ -1,4 +1,4 @@
-#include "lrgc_apps/ErrorText.h"
+#include "ErrorText.h"
 
 #include <mrpt/core/exceptions.h>
 

@@ -1,5 +1,5 @@
 /* oneLineError / oneLineText: what lrgc-slam prints of an exception fits on one line. */
-#include "lrgc_apps/ErrorText.h"
+#include "ErrorText.h"
 
 #include <gtest/gtest.h>
 #include <mrpt/core/exceptions.h>

@@ -1,4 +1,4 @@
-#include "lrgc_apps/LiveMappingParams.h"
+#include "LiveMappingParams.h"
 
 #include <lrgc/common/params_io.h>
 #include <mrpt/config/CConfigFileBase.h>

@@ -1,5 +1,5 @@
 #include <gtest/gtest.h>
-#include <lrgc_apps/LiveMappingParams.h>
+#include "LiveMappingParams.h"
 #include <mrpt/config/CConfigFileMemory.h>
 
 using lrgc::apps::TLiveMappingParams;

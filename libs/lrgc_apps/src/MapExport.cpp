@@ -1,6 +1,6 @@
 #include "lrgc_apps/MapExport.h"
 
-#include "lrgc_apps/atomic_file.h"
+#include "atomic_file.h"
 
 #include <mrpt/img/CImage.h>
 #include <mrpt/io/CFileGZOutputStream.h>

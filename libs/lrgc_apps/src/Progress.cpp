@@ -1,4 +1,4 @@
-#include "lrgc_apps/Progress.h"
+#include "Progress.h"
 
 #include <unistd.h>
 

@@ -1,10 +1,10 @@
 #include "lrgc_apps/RunOutputs.h"
 
-#include "lrgc_apps/CommandLine.h"
+#include "CommandLine.h"
 #include "lrgc_apps/MapExport.h"
 #include "lrgc_apps/RunStats.h"
 #include "lrgc_apps/SavedMap.h"
-#include "lrgc_apps/atomic_file.h"
+#include "atomic_file.h"
 
 #include <lrgc/pose_graph/GraphExport.h>
 #include <mrpt/maps/CSimpleMap.h>

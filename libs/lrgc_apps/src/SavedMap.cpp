@@ -1,8 +1,11 @@
 #include "lrgc_apps/SavedMap.h"
 
-#include "lrgc_apps/ErrorText.h"
+#include "ErrorText.h"
 
 #include <mrpt/io/CFileGZInputStream.h>
+#include <mrpt/maps/registerAllClasses.h>
+#include <mrpt/obs/registerAllClasses.h>
+#include <mrpt/poses/registerAllClasses.h>
 #include <mrpt/serialization/CArchive.h>
 
 #include <filesystem>
@@ -15,6 +18,11 @@ namespace
 {
 mrpt::maps::CSimpleMap readSimplemap(const std::string& file, const std::string& option)
 {
+	// The keyframes' classes (sensory frames, scans, pose PDFs), whether or not the linker
+	// kept their modules for other reasons; idempotent.
+	mrpt::obs::registerAllClasses_mrpt_obs();
+	mrpt::maps::registerAllClasses_mrpt_maps();
+	mrpt::poses::registerAllClasses_mrpt_poses();
 	mrpt::io::CFileGZInputStream in;
 	if (!in.open(file))
 		throw std::runtime_error(option + " '" + file + "': cannot open it");

@@ -1,9 +1,9 @@
-#include "lrgc_apps/SlamApp.h"
+#include "SlamApp.h"
 
-#include "lrgc_apps/AppConfig.h"
-#include "lrgc_apps/ErrorText.h"
+#include "AppConfig.h"
+#include "ErrorText.h"
 #include "lrgc_apps/RunOutputs.h"
-#include "lrgc_apps/atomic_file.h"
+#include "atomic_file.h"
 
 #include <mrpt/core/format.h>
 

@@ -1,12 +1,12 @@
 /* CSlamApp::runOffline: the log-to-maps loop of lrgc-slam. */
-#include "lrgc_apps/AppConfig.h"
-#include "lrgc_apps/ErrorText.h"
-#include "lrgc_apps/Progress.h"
+#include "AppConfig.h"
+#include "ErrorText.h"
+#include "Progress.h"
 #include "lrgc_apps/RunOutputs.h"
 #include "lrgc_apps/RunStats.h"
 #include "lrgc_apps/SavedMap.h"
-#include "lrgc_apps/SlamApp.h"
-#include "lrgc_apps/StopSignalWatcher.h"
+#include "SlamApp.h"
+#include "StopSignalWatcher.h"
 #include "lrgc_apps/io/LogReader.h"
 
 #include <lrgc/map_builder/CMetricMapBuilderLRGC.h>

@@ -1,16 +1,16 @@
 /* lrgc-slam on a saved map: --initial-map (continue it) and --localize (track on it).
  * The map is an earlier output folder or any .simplemap (SavedMap.h); in both cases the log's
  * start in it is unknown and found by global correlation (lrgc/localization). */
-#include "lrgc_apps/AppConfig.h"
-#include "lrgc_apps/ErrorText.h"
+#include "AppConfig.h"
+#include "ErrorText.h"
 #include "lrgc_apps/MapExport.h"
-#include "lrgc_apps/Progress.h"
+#include "Progress.h"
 #include "lrgc_apps/RunOutputs.h"
 #include "lrgc_apps/RunStats.h"
 #include "lrgc_apps/SavedMap.h"
-#include "lrgc_apps/SlamApp.h"
-#include "lrgc_apps/StopSignalWatcher.h"
-#include "lrgc_apps/atomic_file.h"
+#include "SlamApp.h"
+#include "StopSignalWatcher.h"
+#include "atomic_file.h"
 #include "lrgc_apps/io/LogReader.h"
 
 #include <lrgc/common/se2.h>

@@ -1,6 +1,6 @@
-#include "lrgc_apps/StopSignalWatcher.h"
+#include "StopSignalWatcher.h"
 
-#include "lrgc_apps/SlamApp.h"  // kExitInterrupted
+#include "SlamApp.h"  // kExitInterrupted
 
 #include <pthread.h>
 #include <unistd.h>

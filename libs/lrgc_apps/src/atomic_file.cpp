@@ -1,4 +1,4 @@
-#include "lrgc_apps/atomic_file.h"
+#include "atomic_file.h"
 
 #include <mrpt/core/exceptions.h>
 

@@ -7,7 +7,7 @@
  *  map.simplemap.gz  CSimpleMap of keyframes (pose + sensory frame)
  *  trajectory.tum    "t x y z qx qy qz qw", one line per scan, t = the scan's own timestamp
  *  graph.graph       MRPT/g2o text (VERTEX_SE2, EDGE_SE2)
- *  graph.lrgc        the whole graph for --initial-map (lrgc/pose_graph/PoseGraphText.h)
+ *  graph.lrgc        the whole graph for --initial-map (lrgc_apps/io/PoseGraphText.h)
  */
 #pragma once
 

@@ -8,7 +8,7 @@
 #pragma once
 
 #include <lrgc/map_builder/CMetricMapBuilderLRGC.h>
-#include <lrgc/pose_graph/PoseGraphText.h>
+#include <lrgc_apps/io/PoseGraphText.h>
 #include <mrpt/maps/CSimpleMap.h>
 
 #include <optional>

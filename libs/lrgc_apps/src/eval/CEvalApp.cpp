@@ -1,8 +1,8 @@
 /* lrgc-eval: command line, evaluation, and the text and JSON reports. */
 #include <algorithm>
-#include "lrgc_apps/eval/CEvalApp.h"
+#include "eval/CEvalApp.h"
 
-#include <lrgc_apps/atomic_file.h>
+#include "atomic_file.h"
 #include <mrpt/core/exceptions.h>
 #include <mrpt/core/format.h>
 

@@ -1,7 +1,7 @@
 /* lrgc-eval's CLI end to end on small files written by the tests: exit codes, the text
  * report, the JSON report, unmatched relations and malformed inputs. */
 #include <gtest/gtest.h>
-#include <lrgc_apps/eval/CEvalApp.h>
+#include "eval/CEvalApp.h"
 #include <mrpt/core/format.h>
 #include <test_data.h>
 

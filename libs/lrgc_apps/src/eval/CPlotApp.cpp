@@ -1,9 +1,9 @@
 /* lrgc-plot: map with trajectory and loop-closure links, and per-scan latency, drawn with
  * OpenCV into one PNG. */
-#include "lrgc_apps/eval/CPlotApp.h"
+#include "eval/CPlotApp.h"
 
-#include <lrgc_apps/atomic_file.h>
-#include <lrgc_apps/eval/plot_inputs.h>
+#include "atomic_file.h"
+#include "eval/plot_inputs.h"
 #include <lrgc_apps/eval/trajectory.h>
 #include <mrpt/core/exceptions.h>
 #include <mrpt/core/format.h>

@@ -2,8 +2,8 @@
  * drawing itself: the trajectory and the loop-closure links land on the pixels the map's
  * resolution and origin say. */
 #include <gtest/gtest.h>
-#include <lrgc_apps/eval/CPlotApp.h>
-#include <lrgc_apps/eval/plot_inputs.h>
+#include "eval/CPlotApp.h"
+#include "eval/plot_inputs.h"
 #include <mrpt/core/exceptions.h>
 #include <mrpt/img/CImage.h>
 #include <test_data.h>

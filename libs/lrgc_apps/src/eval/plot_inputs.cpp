@@ -1,5 +1,5 @@
 /* Readers of map.yaml, graph.graph and timing.csv for lrgc-plot. */
-#include "lrgc_apps/eval/plot_inputs.h"
+#include "eval/plot_inputs.h"
 
 #include <lrgc_apps/eval/trajectory.h>
 #include <mrpt/core/exceptions.h>

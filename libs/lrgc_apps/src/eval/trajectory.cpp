@@ -2,7 +2,7 @@
  * (exact match within a tolerance, else linear interpolation on a time-sorted index). */
 #include "lrgc_apps/eval/trajectory.h"
 
-#include "lrgc_apps/ErrorText.h"
+#include "ErrorText.h"
 
 #include <mrpt/core/exceptions.h>
 #include <mrpt/math/wrap2pi.h>

@@ -1,4 +1,4 @@
-#include "lrgc_apps/io/CarmenLine.h"
+#include "io/CarmenLine.h"
 
 #include <charconv>
 #include <cmath>

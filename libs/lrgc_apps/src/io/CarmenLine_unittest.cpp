@@ -1,5 +1,5 @@
 #include <gtest/gtest.h>
-#include <lrgc_apps/io/CarmenLine.h>
+#include "io/CarmenLine.h"
 
 #include <cmath>
 #include <cstdlib>

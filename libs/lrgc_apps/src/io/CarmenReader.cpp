@@ -1,4 +1,4 @@
-#include "lrgc_apps/io/CarmenReader.h"
+#include "io/CarmenReader.h"
 
 #include <lrgc/common/se2.h>
 #include <mrpt/core/format.h>

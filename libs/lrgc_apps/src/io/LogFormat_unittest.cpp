@@ -2,7 +2,7 @@
 #include <gtest/gtest.h>
 #include <io_read_all.h>
 #include <io_test_files.h>
-#include <lrgc_apps/io/LogInputFile.h>
+#include "io/LogInputFile.h"
 #include <lrgc_apps/io/LogReader.h>
 #include <test_data.h>
 

@@ -1,4 +1,4 @@
-#include "lrgc_apps/io/LogInputFile.h"
+#include "io/LogInputFile.h"
 
 #include "lrgc_apps/io/LogReader.h"
 

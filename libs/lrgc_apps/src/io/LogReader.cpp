@@ -1,8 +1,8 @@
 #include "lrgc_apps/io/LogReader.h"
 
-#include "lrgc_apps/io/CarmenReader.h"
-#include "lrgc_apps/io/LogInputFile.h"
-#include "lrgc_apps/io/RawlogReader.h"
+#include "io/CarmenReader.h"
+#include "io/LogInputFile.h"
+#include "io/RawlogReader.h"
 
 #include <mrpt/core/format.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>

@@ -1,6 +1,6 @@
 #include "lrgc_apps/io/RawlogConversion.h"
 
-#include "lrgc_apps/atomic_file.h"
+#include "atomic_file.h"
 #include "lrgc_apps/io/LogReader.h"
 
 #include <mrpt/io/CFileGZOutputStream.h>

@@ -1,4 +1,4 @@
-#include "lrgc_apps/io/RawlogObjects.h"
+#include "io/RawlogObjects.h"
 
 #include "lrgc_apps/io/LogReader.h"
 

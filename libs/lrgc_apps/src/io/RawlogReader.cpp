@@ -1,4 +1,4 @@
-#include "lrgc_apps/io/RawlogReader.h"
+#include "io/RawlogReader.h"
 
 #include <mrpt/core/format.h>
 #include <mrpt/maps/registerAllClasses.h>

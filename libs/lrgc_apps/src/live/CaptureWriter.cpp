@@ -1,4 +1,4 @@
-#include "lrgc_apps/live/CaptureWriter.h"
+#include "live/CaptureWriter.h"
 
 #include <mrpt/core/exceptions.h>
 #include <mrpt/io/CMemoryStream.h>

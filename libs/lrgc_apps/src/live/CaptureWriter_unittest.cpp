@@ -1,6 +1,6 @@
 #include <gtest/gtest.h>
 #include <lrgc_apps/io/LogReader.h>
-#include <lrgc_apps/live/CaptureWriter.h>
+#include "live/CaptureWriter.h"
 #include <mrpt/obs/CObservation2DRangeScan.h>
 
 #include <filesystem>

@@ -1,4 +1,4 @@
-#include "lrgc_apps/live/KeepUpPolicy.h"
+#include "live/KeepUpPolicy.h"
 
 namespace lrgc::apps
 {

@@ -1,5 +1,5 @@
 #include <gtest/gtest.h>
-#include <lrgc_apps/live/KeepUpPolicy.h>
+#include "live/KeepUpPolicy.h"
 
 #include <algorithm>
 #include <deque>

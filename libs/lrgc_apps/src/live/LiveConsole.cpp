@@ -1,4 +1,4 @@
-#include "lrgc_apps/live/LiveConsole.h"
+#include "live/LiveConsole.h"
 
 #include <unistd.h>
 

@@ -1,10 +1,10 @@
 /* live.json (see LiveJson.h). */
-#include "lrgc_apps/live/LiveJson.h"
+#include "live/LiveJson.h"
 
 #include "lrgc_apps/RunOutputs.h"
 #include "lrgc_apps/RunStats.h"
-#include "lrgc_apps/live/CaptureWriter.h"
-#include "lrgc_apps/live/LiveQueues.h"
+#include "live/CaptureWriter.h"
+#include "live/LiveQueues.h"
 
 #include <mrpt/core/format.h>
 

@@ -1,4 +1,4 @@
-#include "lrgc_apps/live/LiveMapper.h"
+#include "live/LiveMapper.h"
 
 #include <mrpt/core/format.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>

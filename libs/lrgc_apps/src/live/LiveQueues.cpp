@@ -1,4 +1,4 @@
-#include "lrgc_apps/live/LiveQueues.h"
+#include "live/LiveQueues.h"
 
 #include <mrpt/obs/CObservation2DRangeScan.h>
 

@@ -1,4 +1,4 @@
-#include "lrgc_apps/live/LiveSaver.h"
+#include "live/LiveSaver.h"
 
 #include <lrgc/common/ThreadPriority.h>
 

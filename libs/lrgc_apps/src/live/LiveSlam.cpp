@@ -1,16 +1,16 @@
 /* CLiveSlam::run: the live run's threads, stop sequence, saves and live.json. */
-#include "lrgc_apps/live/LiveSlam.h"
+#include "live/LiveSlam.h"
 
-#include "lrgc_apps/SlamApp.h"
-#include "lrgc_apps/atomic_file.h"
-#include "lrgc_apps/live/CaptureWriter.h"
-#include "lrgc_apps/live/LiveConsole.h"
-#include "lrgc_apps/live/LiveJson.h"
-#include "lrgc_apps/live/LiveMapper.h"
-#include "lrgc_apps/live/LiveQueues.h"
-#include "lrgc_apps/live/LiveSaver.h"
-#include "lrgc_apps/live/SensorSupervisor.h"
-#include "lrgc_apps/StopSignalWatcher.h"
+#include "SlamApp.h"
+#include "atomic_file.h"
+#include "live/CaptureWriter.h"
+#include "live/LiveConsole.h"
+#include "live/LiveJson.h"
+#include "live/LiveMapper.h"
+#include "live/LiveQueues.h"
+#include "live/LiveSaver.h"
+#include "live/SensorSupervisor.h"
+#include "StopSignalWatcher.h"
 
 #include <mrpt/config/CConfigFile.h>
 #include <mrpt/core/format.h>
@@ -94,8 +94,11 @@ std::string statusLine(const CLiveQueues& queues, const CLiveMapper& mapper,
 class CLiveSession
 {
 public:
-	CLiveSession(const TLiveSlamSetup& setup, const TSensorRig& rig, std::FILE* err)
+	CLiveSession(
+		const TLiveSlamSetup& setup, const TSensorRig& rig, std::FILE* err,
+		TPeriodicSaveHook saveHook)
 		: m_setup(setup),
+		  m_saveHook(std::move(saveHook)),
 		  m_params(setup.config.live),
 		  m_capture(captureFileOf(setup.outDir)),
 		  m_ini(setup.sensorsIni),
@@ -247,8 +250,7 @@ private:
 				const auto t0 = std::chrono::steady_clock::now();
 				try
 				{
-					if (m_setup.periodicSaveHookForTests)
-						m_setup.periodicSaveHookForTests([this] { return m_scansMapped.load(); });
+					if (m_saveHook) m_saveHook([this] { return m_scansMapped.load(); });
 					m_capture.sync();
 					writeSave(*outputs, *live);
 					m_console.message(
@@ -318,6 +320,7 @@ private:
 	}
 
 	const TLiveSlamSetup& m_setup;
+	const TPeriodicSaveHook m_saveHook;  //!< tests only (LiveSlamTestAccess.h)
 	const TLiveMappingParams& m_params;
 	CCaptureWriter m_capture;
 	const mrpt::config::CConfigFile m_ini;  //!< read by the sensor threads
@@ -349,7 +352,7 @@ int CLiveSlam::run(const std::function<bool()>& stop)
 	const auto oldSigpipe = std::signal(SIGPIPE, SIG_IGN);
 	int exitCode;
 	{
-		CLiveSession session(m_setup, rig, m_err);
+		CLiveSession session(m_setup, rig, m_err, m_periodicSaveHook);
 		session.mapUntilStopped(stop);
 		exitCode = session.finish();
 	}

@@ -1,8 +1,9 @@
 /* CLiveSlam in-process with scripted fake sensors: the whole live pipeline (sensor thread,
  * queues, capture writer, mapper, saves) in a fraction of a second, no hardware, no network. */
 #include <gtest/gtest.h>
-#include <lrgc_apps/SlamApp.h>
-#include <lrgc_apps/live/LiveSlam.h>
+#include "SlamApp.h"
+#include "live/LiveSlam.h"
+#include "live/LiveSlamTestAccess.h"
 
 #include <atomic>
 #include <cstdio>
@@ -64,8 +65,9 @@ protected:
 		char* buf = nullptr;
 		size_t size = 0;
 		std::FILE* err = open_memstream(&buf, &size);
-		const int rc =
-			CLiveSlam(m_setup, err).run([] { return laserScript().allHandedOver.load(); });
+		CLiveSlam app(m_setup, err);
+		TLiveSlamTestAccess::setPeriodicSaveHook(app, m_saveHook);
+		const int rc = app.run([] { return laserScript().allHandedOver.load(); });
 		std::fclose(err);
 		m_console.assign(buf, size);
 		std::free(buf);
@@ -75,6 +77,7 @@ protected:
 
 	std::string m_dir, m_sensors, m_console;
 	TLiveSlamSetup m_setup;
+	TPeriodicSaveHook m_saveHook;
 };
 }  // namespace
 
@@ -115,7 +118,7 @@ TEST_F(LiveSlamTest, ASlowSaveNeverHoldsUpMapping)
 	std::atomic<int> saves{0};
 	std::atomic<size_t> mappedAtSaveStart{0};
 	std::atomic<bool> mappedDuringSave{false};
-	m_setup.periodicSaveHookForTests = [&](const std::function<size_t()>& scansMapped)
+	m_saveHook = [&](const std::function<size_t()>& scansMapped)
 	{
 		if (saves++ > 0) return;
 		mappedAtSaveStart = scansMapped();

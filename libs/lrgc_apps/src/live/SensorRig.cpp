@@ -1,6 +1,6 @@
-#include "lrgc_apps/live/SensorRig.h"
+#include "live/SensorRig.h"
 
-#include "lrgc_apps/CommandLine.h"
+#include "CommandLine.h"
 
 #include <mrpt/config/CConfigFile.h>
 #include <mrpt/core/exceptions.h>

@@ -1,6 +1,6 @@
 #include <gtest/gtest.h>
-#include <lrgc_apps/CommandLine.h>
-#include <lrgc_apps/live/SensorRig.h>
+#include "CommandLine.h"
+#include "live/SensorRig.h"
 #include <mrpt/core/exceptions.h>
 
 #include "FakeSensors.h"

@@ -1,4 +1,4 @@
-#include "lrgc_apps/live/SensorSupervisor.h"
+#include "live/SensorSupervisor.h"
 
 #include <mrpt/core/format.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>

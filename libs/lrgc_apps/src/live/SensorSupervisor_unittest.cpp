@@ -1,5 +1,5 @@
 #include <gtest/gtest.h>
-#include <lrgc_apps/live/SensorSupervisor.h>
+#include "live/SensorSupervisor.h"
 #include <mrpt/config/CConfigFileMemory.h>
 
 #include <mutex>

@@ -10,12 +10,12 @@
  * stats.json only: no empty map. A bad --out is refused before the log is opened.
  *
  * Live (--live SENSORS.ini): runs the live runner given at construction. It lives in the
- * separate library lrgc_live (lrgc_apps/live/LiveSlam.h, runLiveSlam), so that only programs
+ * separate library lrgc_live (live/LiveSlam.h, runLiveSlam), so that only programs
  * that map live link mrpt::hwdrivers and its hundreds of shared libraries.
  */
 #pragma once
 
-#include <lrgc_apps/CommandLine.h>
+#include "CommandLine.h"
 
 #include <cstdio>
 #include <exception>

@@ -2,8 +2,8 @@
  * copied on the mapping thread (liveState) so that the saver thread can write it (liveJson). */
 #pragma once
 
-#include "lrgc_apps/live/LiveMapper.h"
-#include "lrgc_apps/live/SensorSupervisor.h"
+#include "live/LiveMapper.h"
+#include "live/SensorSupervisor.h"
 
 #include <cstdint>
 #include <memory>

@@ -11,7 +11,7 @@
  */
 #pragma once
 
-#include <lrgc_apps/ErrorText.h>
+#include "ErrorText.h"
 #include <mrpt/hwdrivers/CGenericSensor.h>
 
 #include <functional>

@@ -17,8 +17,8 @@
  */
 #pragma once
 
-#include <lrgc_apps/LiveMappingParams.h>
-#include <lrgc_apps/live/SensorRig.h>
+#include "LiveMappingParams.h"
+#include "live/SensorRig.h"
 #include <mrpt/config/CConfigFileBase.h>
 #include <mrpt/serialization/CSerializable.h>
 

@@ -1,5 +1,5 @@
 #include <gtest/gtest.h>
-#include <lrgc/pose_graph/PoseGraphText.h>
+#include <lrgc_apps/io/PoseGraphText.h>
 
 #include <random>
 #include <sstream>

@@ -6,7 +6,7 @@
 
 #include <lrgc/localization/LocalizationParams.h>
 #include <lrgc/map_builder/MapBuilderParams.h>
-#include <lrgc_apps/LiveMappingParams.h>
+#include "LiveMappingParams.h"
 #include <lrgc_apps/io/LogReader.h>
 
 #include <optional>

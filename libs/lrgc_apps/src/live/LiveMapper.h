@@ -12,12 +12,12 @@
 #pragma once
 
 #include <lrgc/map_builder/CMetricMapBuilderLRGC.h>
-#include <lrgc_apps/AppConfig.h>
+#include "AppConfig.h"
 #include <lrgc_apps/RunOutputs.h>
 #include <lrgc_apps/RunStats.h>
-#include <lrgc_apps/live/KeepUpPolicy.h>
-#include <lrgc_apps/live/LiveConsole.h>
-#include <lrgc_apps/live/LiveQueues.h>
+#include "live/KeepUpPolicy.h"
+#include "live/LiveConsole.h"
+#include "live/LiveQueues.h"
 
 #include <string>
 #include <vector>

@@ -24,8 +24,8 @@
  */
 #pragma once
 
-#include <lrgc_apps/AppConfig.h>
-#include <lrgc_apps/CommandLine.h>
+#include "AppConfig.h"
+#include "CommandLine.h"
 
 #include <cstdio>
 #include <functional>
@@ -39,10 +39,11 @@ struct TLiveSlamSetup
 	TAppConfig config;       //!< lrgc parameters, [LiveMapping] included
 	std::string outDir;
 	bool quiet = false;
-	/** Tests only: called on the saver thread at the start of every periodic save, with the
-	 * count of scans mapped so far (read when called), to make a save slow on purpose. */
-	std::function<void(const std::function<size_t()>& scansMapped)> periodicSaveHookForTests;
 };
+
+/** Called at the start of every periodic save (tests only: LiveSlamTestAccess.h). */
+using TPeriodicSaveHook = std::function<void(const std::function<size_t()>& scansMapped)>;
+struct TLiveSlamTestAccess;
 
 class CLiveSlam
 {
@@ -56,8 +57,10 @@ public:
 	int run(const std::function<bool()>& stop);
 
 private:
+	friend struct TLiveSlamTestAccess;  // tests: a slow periodic save
 	TLiveSlamSetup m_setup;
 	std::FILE* m_err;
+	TPeriodicSaveHook m_periodicSaveHook;  //!< empty but in tests
 };
 
 /** CSlamApp's live runner: loads the configuration and runs CLiveSlam until SIGINT or SIGTERM

@@ -17,9 +17,9 @@
  */
 #pragma once
 
-#include <lrgc_apps/io/LogInputFile.h>
+#include "io/LogInputFile.h"
 #include <lrgc_apps/io/LogReader.h>
-#include <lrgc_apps/io/RawlogObjects.h>
+#include "io/RawlogObjects.h"
 
 #include <memory>
 

@@ -1,5 +1,5 @@
-/* Text form of the whole pose graph (see PoseGraphText.h). */
-#include <lrgc/pose_graph/PoseGraphText.h>
+/* Text form of the whole pose graph (see io/PoseGraphText.h). */
+#include <lrgc_apps/io/PoseGraphText.h>
 
 #include <mrpt/core/exceptions.h>
 #include <mrpt/core/format.h>

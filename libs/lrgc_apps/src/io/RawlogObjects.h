@@ -25,7 +25,7 @@
  */
 #pragma once
 
-#include <lrgc_apps/io/LogInputFile.h>
+#include "io/LogInputFile.h"
 #include <mrpt/serialization/CArchive.h>
 
 #include <cstdint>

@@ -16,8 +16,8 @@
  */
 #pragma once
 
-#include <lrgc_apps/io/CarmenLine.h>
-#include <lrgc_apps/io/LogInputFile.h>
+#include "io/CarmenLine.h"
+#include "io/LogInputFile.h"
 #include <lrgc_apps/io/LogReader.h>
 
 #include <deque>

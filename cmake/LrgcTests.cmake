@@ -1,0 +1,62 @@
+# lrgc_discover_tests(TARGET LABEL label [RELABEL label regex]... [PROPERTIES ...])
+#
+# gtest_discover_tests for one test binary, every test labelled `label`, except those whose
+# CTest name matches a RELABEL regex: they get that RELABEL's label instead (the first match
+# wins). The labels (README.md, "Tests and benchmarks"):
+#   unit      fast tests of one class or function: `ctest -L unit` runs in under two minutes
+#   e2e       the whole app or the whole builder on fixtures, Debian's SENA log, synthetic worlds
+#   realdata  reads the shared benchmark logs (../shared/datasets); skips where they are absent
+#   live      live mapping through MRPT's real laser drivers against an emulator (20-45 s each)
+#   install   installs the build and builds a find_package(lrgc) project against it
+# The tests are only known once the binary is built (and listed by ctest), so the labelling
+# runs there: a file this function writes, included by ctest after the discovered tests (a
+# label set there is added to the test's labels, never replaces one).
+function(lrgc_discover_tests target)
+  set(label "")
+  set(relabels "")
+  set(properties "")
+  set(mode "")
+  foreach(arg IN LISTS ARGN)
+    if(arg STREQUAL "LABEL" OR arg STREQUAL "RELABEL" OR arg STREQUAL "PROPERTIES")
+      set(mode ${arg})
+    elseif(mode STREQUAL "LABEL")
+      set(label ${arg})
+    elseif(mode STREQUAL "RELABEL")
+      list(APPEND relabels "${arg}")
+    elseif(mode STREQUAL "PROPERTIES")
+      list(APPEND properties "${arg}")
+    endif()
+  endforeach()
+  list(LENGTH relabels n)
+  math(EXPR odd "${n} % 2")
+  if(NOT label OR odd)
+    message(FATAL_ERROR "lrgc_discover_tests(${target}): needs LABEL and label/regex pairs")
+  endif()
+
+  if(properties)
+    gtest_discover_tests(${target} DISCOVERY_TIMEOUT 60 TEST_LIST ${target}_TESTS
+      PROPERTIES ${properties})
+  else()
+    gtest_discover_tests(${target} DISCOVERY_TIMEOUT 60 TEST_LIST ${target}_TESTS)
+  endif()
+
+  set(script "# Written by lrgc_discover_tests (cmake/LrgcTests.cmake): labels of ${target}.\n")
+  string(APPEND script "foreach(t IN LISTS ${target}_TESTS)\n")
+  set(keyword "if")
+  while(relabels)
+    list(POP_FRONT relabels other regex)
+    string(APPEND script "  ${keyword}(t MATCHES [==[${regex}]==])\n"
+      "    set_tests_properties(\"\${t}\" PROPERTIES LABELS ${other})\n")
+    set(keyword "elseif")
+  endwhile()
+  if(keyword STREQUAL "elseif")
+    string(APPEND script "  else()\n    set_tests_properties(\"\${t}\" PROPERTIES LABELS ${label})\n"
+      "  endif()\n")
+  else()
+    string(APPEND script "  set_tests_properties(\"\${t}\" PROPERTIES LABELS ${label})\n")
+  endif()
+  string(APPEND script "endforeach()\n")
+  set(file "${CMAKE_CURRENT_BINARY_DIR}/${target}_labels.cmake")
+  file(WRITE "${file}" "${script}")
+  set_property(DIRECTORY APPEND PROPERTY TEST_INCLUDE_FILES "${file}")
+endfunction()
