@@ -168,11 +168,27 @@ TEST_F(SenaRun, AnExistingFolderKeepsEveryFileButOurOutputs)
 
 TEST_F(SenaRun, ConsoleSaysWhatTheCountsCount)
 {
-	// One loop in the log, many loop-closure links: the summary says links, not loops.
-	EXPECT_NE(s_result.output.find(" loop-closure links (not a count of loops), "),
-			  std::string::npos)
-		<< s_result.output;
-	EXPECT_EQ(s_result.output.find("loop closures"), std::string::npos) << s_result.output;
+	// One number of loop closures, the same on the console, in stats.json and (as links) in
+	// graph.lrgc: "N loop closures (M loop links)".
+	const std::regex summary(" ([0-9]+) loop closures \\(([0-9]+) loop links\\), ");
+	std::smatch m;
+	ASSERT_TRUE(std::regex_search(s_result.output, m, summary)) << s_result.output;
+	const std::string stats = readTextFile(out("stats.json"));
+	EXPECT_NE(stats.find("\"loop_closures\": " + m[1].str() + ",\n"), std::string::npos)
+		<< stats;
+	EXPECT_NE(stats.find("\"loop\": " + m[2].str() + "}"), std::string::npos) << stats;
+	std::istringstream graph(readTextFile(out("graph.lrgc")));
+	size_t loopLinks = 0;
+	for (std::string line; std::getline(graph, line);)
+		loopLinks += line.rfind("LINK ", 0) == 0 && line.find(" LoopClosure ") != std::string::npos;
+	EXPECT_EQ(std::to_string(loopLinks), m[2].str());
+	// lrgc-plot draws the same loop links.
+	const auto plot = runProcess(binaryPath("lrgc-plot"),
+								 {"--map", out("map.yaml"), "--trajectory", out("trajectory.tum"),
+								  "--graph", out("graph.lrgc"), "--out", s_out + "-plot.png"});
+	EXPECT_EQ(plot.exitCode, 0) << plot.output;
+	EXPECT_NE(plot.output.find(", " + m[2].str() + " loop links, "), std::string::npos)
+		<< plot.output;
 	// A run that read its input to the end says so.
 	EXPECT_NE(s_result.output.find("progress: 100.0%"), std::string::npos) << s_result.output;
 }
@@ -183,11 +199,12 @@ TEST_F(SenaRun, StatsAndTimingAreWritten)
 	for (const char* key : {"\"scans\": 225", "\"latency_ms\"", "\"peak_rss_mb\"", "\"wall_time_s\"",
 							"\"loop_closures\"", "\"status\": \"complete\""})
 		EXPECT_NE(stats.find(key), std::string::npos) << key;
-	// The count of accepted loop-closure links under its own name, and its old one.
-	const std::regex accepted(
-		"\"loop_closure_links_accepted\": ([0-9]+),\n  \"loop_closures\": ([0-9]+),");
+	// Loop closures (accepted matches with the old map), and the loop links by origin.
+	const std::regex counts(
+		"\"loop_links\": \\{\"closure\": ([0-9]+), \"revisit\": [0-9]+, "
+		"\"rematch_or_reuse\": [0-9]+\\},\n  \"loop_closures\": ([0-9]+),");
 	std::smatch m;
-	ASSERT_TRUE(std::regex_search(stats, m, accepted)) << stats;
+	ASSERT_TRUE(std::regex_search(stats, m, counts)) << stats;
 	EXPECT_EQ(m[1].str(), m[2].str());
 	EXPECT_GT(std::stoi(m[1].str()), 0);  // SENA has a loop
 	EXPECT_EQ(countLines(out("timing.csv")), 226u);  // header + one per scan

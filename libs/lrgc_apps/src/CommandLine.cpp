@@ -107,9 +107,10 @@ TSlamCommandLine parseSlamCommandLine(const std::vector<std::string>& args)
 std::string slamUsage()
 {
 	return "Usage:\n"
-		   "  lrgc-slam --input FILE [--config FILE.ini] --out DIR [--quiet] [--save-rawlog R]\n"
+		   "  lrgc-slam --input FILE [--config FILE.ini] --out DIR [--laser LABEL] [--quiet]\n"
+		   "            [--save-rawlog R]\n"
 		   "  lrgc-slam --input FILE --save-rawlog OUT.rawlog     convert to an MRPT rawlog\n"
-		   "  lrgc-slam --live SENSORS.ini [--config FILE.ini] --out DIR [--quiet]\n"
+		   "  lrgc-slam --live SENSORS.ini [--config FILE.ini] --out DIR [--laser LABEL] [--quiet]\n"
 		   "  lrgc-slam --input FILE --initial-map MAP --out DIR   continue a saved map\n"
 		   "  lrgc-slam --input FILE --localize MAP --out DIR      localise on a saved map\n"
 		   "  lrgc-slam --write-default-config FILE.ini [--force]\n"

@@ -110,15 +110,20 @@ std::string statsJson(const TRunOutputsSnapshot& snapshot)
 	  << "  \"unmatched_scans\": " << s.unmatchedScans << ",\n"
 	  << "  \"odometry_rejected\": " << s.odometryRejected << ",\n"
 	  << "  \"odometry_glitches_recovered\": " << s.glitchesRecovered << ",\n"
+	  // Links added to the pose graph, by type. "loop" counts every link of type
+	  // LoopClosure: one per loop closure, the links re-matched after it, the links of
+	  // keyframes reused at a mapped place, and the end-of-run revisit links ("loop_links").
 	  << "  \"links\": {\"odometry\": " << s.odometryLinks
 	  << ", \"scan_match\": " << s.scanMatchLinks
-	  << ", \"loop_closure\": " << s.loopClosureLinks << "},\n"
-	  // Accepted matches of a new keyframe with the old map, one link each: a robot driving
-	  // along an old path re-closes the loop at every keyframe, so this is not a count of
-	  // loops. "loop_closures" is its old name, kept for the readers of earlier files.
-	  << "  \"loop_closure_links_accepted\": " << s.loopClosures << ",\n"
+	  << ", \"loop\": " << s.loopClosureLinks << "},\n"
+	  << "  \"loop_links\": {\"closure\": " << s.loopClosures
+	  << ", \"revisit\": " << s.revisitLinks << ", \"rematch_or_reuse\": "
+	  << s.loopClosureLinks - std::min(s.loopClosureLinks, s.loopClosures + s.revisitLinks)
+	  << "},\n"
+	  // Loop closures: accepted matches of a new keyframe with the old map (the number the
+	  // console prints). A robot driving along an old path closes the loop again at each
+	  // keyframe, so one loop in the log gives several.
 	  << "  \"loop_closures\": " << s.loopClosures << ",\n"
-	  << "  \"revisit_links\": " << s.revisitLinks << ",\n"
 	  // The de-skewing's laser sweep time at the end of the run [s]: [MapBuilder]
 	  // scan_sweep_time, or estimated online from this many scan pairs (CSweepEstimator).
 	  << "  \"scan_sweep_time\": {\"seconds\": " << s.sweepTime

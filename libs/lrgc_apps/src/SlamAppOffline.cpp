@@ -166,7 +166,7 @@ int CSlamApp::mapLog(CLogReader& reader, CMetricMapBuilderLRGC& builder, CProgre
 		reportWarnings(reader.takeWarnings());
 		reportWarnings(builder.takeWarnings());
 		progress.update(reader.fractionRead(), builder.stats().scans,
-						mrpt::format("kf %zu  loop-closure links %zu", builder.stats().keyframes,
+						mrpt::format("kf %zu  loop closures %zu", builder.stats().keyframes,
 									 builder.stats().loopClosures));
 	}
 	if (!signals.stopRequested()) return kExitOk;
@@ -211,9 +211,10 @@ void CSlamApp::reportEnd(const TSlamCommandLine& cl, const CMetricMapBuilderLRGC
 	if (exitCode != kExitOk) report("lrgc-slam: " + run.status + " (maps of what was read are saved)");
 	if (!cl.quiet || exitCode != kExitOk)
 		report(mrpt::format(
-			"lrgc-slam: %zu scans, %zu keyframes, %zu loop-closure links (not a count of "
-			"loops), %.1f s of data in %.1f s (%.0fx real time); outputs in %s",
-			s.scans, s.keyframes, s.loopClosures, run.dataDurationSeconds, run.wallSeconds,
+			"lrgc-slam: %zu scans, %zu keyframes, %zu loop closures (%zu loop links), %.1f s "
+			"of data in %.1f s (%.0fx real time); outputs in %s",
+			s.scans, s.keyframes, s.loopClosures, s.loopClosureLinks, run.dataDurationSeconds,
+			run.wallSeconds,
 			run.wallSeconds > 0 ? run.dataDurationSeconds / run.wallSeconds : 0.0,
 			cl.outDir.c_str()));
 }

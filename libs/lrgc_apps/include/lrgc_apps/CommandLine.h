@@ -1,6 +1,7 @@
 /* Command line of lrgc-slam.
  *
- *   lrgc-slam --input FILE [--config FILE.ini] --out DIR [--quiet] [--save-rawlog OUT.rawlog]
+ *   lrgc-slam --input FILE [--config FILE.ini] --out DIR [--laser LABEL] [--quiet]
+ *             [--save-rawlog OUT.rawlog]
  *   lrgc-slam --input FILE --save-rawlog OUT.rawlog          (convert only)
  *   lrgc-slam --live SENSORS.ini [--config FILE.ini] --out DIR [--quiet]   (live sensors)
  *   lrgc-slam --input FILE --initial-map MAP --out DIR     (continue MAP: DIR or .simplemap)

@@ -81,7 +81,7 @@ std::string statusLine(const CLiveQueues& queues, const CLiveMapper& mapper,
 					   const TSensors& sensors)
 {
 	std::string line = mrpt::format(
-		"live: received %llu scans, mapped %zu, queue %zu, loop-closure links %zu, skipped "
+		"live: received %llu scans, mapped %zu, queue %zu, loop closures %zu, skipped "
 		"%zu |",
 		static_cast<unsigned long long>(queues.scansPushed()), mapper.counts().scansMapped,
 		queues.mappingDepth(), mapper.builder().stats().loopClosures,
@@ -307,13 +307,13 @@ private:
 		m_console.message(
 			mrpt::format(
 				"lrgc-slam: live run %s: %llu scans received (%llu objects captured), %zu "
-				"mapped, %zu skipped to keep up, %zu keyframes, %zu loop-closure links (not a "
-				"count of loops); outputs in %s",
+				"mapped, %zu skipped to keep up, %zu keyframes, %zu loop closures (%zu loop "
+				"links); outputs in %s",
 				m_fatal.isSet() ? "failed" : "stopped",
 				static_cast<unsigned long long>(m_queues.scansPushed()),
 				static_cast<unsigned long long>(m_capture.objects()),
 				m_mapper.counts().scansMapped, m_mapper.policy().skippedTotal(), st.keyframes,
-				st.loopClosures, m_setup.outDir.c_str()),
+				st.loopClosures, st.loopClosureLinks, m_setup.outDir.c_str()),
 			m_fatal.isSet());
 	}
 
