@@ -254,6 +254,7 @@ void writeRunOutputs(
 	namespace fs = std::filesystem;
 	fs::create_directories(outDir);
 	const auto path = [&](const char* name) { return (fs::path(outDir) / name).string(); };
+	if (!s.run.configIni.empty()) writeTextFileAtomically(path("config.ini"), s.run.configIni);
 	if (s.stats.scans == 0)
 	{
 		writeTextFileAtomically(path("stats.json"), statsJson(s));

@@ -2,6 +2,7 @@
 #include "lrgc_apps/AppConfig.h"
 #include "lrgc_apps/ErrorText.h"
 #include "lrgc_apps/Progress.h"
+#include "lrgc_apps/RunConfigFile.h"
 #include "lrgc_apps/RunOutputs.h"
 #include "lrgc_apps/RunStats.h"
 #include "lrgc_apps/SavedMap.h"
@@ -114,6 +115,7 @@ int CSlamApp::runOffline(const TSlamCommandLine& cl)
 	TRunSummary run;
 	run.input = cl.input;
 	run.format = reader->format() == LogFormat::Carmen ? "carmen" : "rawlog";
+	run.configIni = runConfigText(cfg, cl.input);
 	int exitCode = initialMap
 		? startInInitialMap(*initialMap, cfg, *reader, builder, progress, run, signals)
 		: kExitOk;

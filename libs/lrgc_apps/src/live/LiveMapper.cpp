@@ -1,4 +1,5 @@
 #include "lrgc_apps/live/LiveMapper.h"
+#include "lrgc_apps/RunConfigFile.h"
 
 #include <mrpt/core/format.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
@@ -54,6 +55,7 @@ CLiveMapper::CLiveMapper(const TAppConfig& config, std::string outDir, std::stri
 	m_builder.logging_enable_console_output = false;  // warnings are reported below
 	m_run.input = std::move(sensorsIni);
 	m_run.format = "live";
+	m_run.configIni = runConfigText(config, m_run.input);
 }
 
 void CLiveMapper::process(const TLiveItem& item, size_t scansBehind)
