@@ -160,7 +160,8 @@ TEST_F(SenaRun, AnExistingFolderKeepsEveryFileButOurOutputs)
 	EXPECT_EQ(names, (std::set<std::string>{"notes.txt", "earlier", "map.gridmap.gz", "map.png",
 											"map.pgm", "map.yaml", "map.simplemap.gz",
 											"trajectory.tum", "graph.graph", "graph.lrgc", "timing.csv",
-											"stats.json", "config.ini"}));
+											"stats.json", "config.ini", "pf-localization.ini",
+											"observations2map.ini"}));
 	EXPECT_EQ(readTextFile(out("notes.txt")), kNotes);
 	EXPECT_EQ(readTextFile(out("earlier/map.png")), kNotes);
 	EXPECT_NE(readTextFile(out("map.png")), "an earlier map");  // ours: replaced

@@ -2,6 +2,7 @@
 
 #include "lrgc_apps/CommandLine.h"
 #include "lrgc_apps/MapExport.h"
+#include "lrgc_apps/MrptClientFiles.h"
 #include "lrgc_apps/RunStats.h"
 #include "lrgc_apps/SavedMap.h"
 #include "lrgc_apps/atomic_file.h"
@@ -271,6 +272,7 @@ void writeRunOutputs(
 	writeGridmap(grid, path("map.gridmap.gz"));
 	writeGridPng(grid, path("map.png"));
 	writeRosMap(grid, path("map"));
+	writeMrptClientFiles(s, outDir);  // pf-localization.ini, observations2map.ini
 	writeTextFileAtomically(path("timing.csv"), timingCsv(s.run));
 	writeTextFileAtomically(path("stats.json"), statsJson(s));
 }

@@ -116,6 +116,7 @@ int CSlamApp::runOffline(const TSlamCommandLine& cl)
 	run.input = cl.input;
 	run.format = reader->format() == LogFormat::Carmen ? "carmen" : "rawlog";
 	run.configIni = runConfigText(cfg, cl.input);
+	run.mrptRawlog = reader->format() == LogFormat::MrptRawlog ? cl.input : cl.saveRawlog;
 	int exitCode = initialMap
 		? startInInitialMap(*initialMap, cfg, *reader, builder, progress, run, signals)
 		: kExitOk;
