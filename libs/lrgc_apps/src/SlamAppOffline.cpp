@@ -1,6 +1,7 @@
 /* CSlamApp::runOffline: the log-to-maps loop of lrgc-slam. */
 #include "lrgc_apps/AppConfig.h"
 #include "lrgc_apps/ErrorText.h"
+#include "lrgc_apps/IcpSlamIni.h"
 #include "lrgc_apps/Progress.h"
 #include "lrgc_apps/RunConfigFile.h"
 #include "lrgc_apps/RunOutputs.h"
@@ -143,6 +144,8 @@ int CSlamApp::runOffline(const TSlamCommandLine& cl)
 	}
 	finishRunSummary(run, clock, m_warningsTotal);
 	writeRunOutputs(builder, cl.outDir, run);
+	if (m_icpSlam && builder.stats().scans > 0)
+		writeIcpSlamOutputs(cl.outDir, builder.trajectory(), m_scansAfterEntry, m_skipEntries);
 	reportEnd(cl, builder, run, exitCode);
 	return exitCode;
 }
@@ -165,7 +168,9 @@ int CSlamApp::mapLog(CLogReader& reader, CMetricMapBuilderLRGC& builder, CProgre
 		}
 		if (!entry) break;
 		++run.logEntries;
-		if (mapEntry(builder, *entry, run) != kExitOk) return kExitInputError;
+		if (run.logEntries > m_skipEntries && mapEntry(builder, *entry, run) != kExitOk)
+			return kExitInputError;
+		if (m_icpSlam) m_scansAfterEntry.push_back(builder.stats().scans);
 		reportWarnings(reader.takeWarnings());
 		reportWarnings(builder.takeWarnings());
 		progress.update(reader.fractionRead(), builder.stats().scans,
