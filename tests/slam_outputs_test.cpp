@@ -6,6 +6,10 @@
 #include <mrpt/io/CFileGZInputStream.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
 #include <mrpt/maps/CSimpleMap.h>
+#include <mrpt/opengl/COpenGLScene.h>
+#include <mrpt/opengl/CPointCloud.h>
+#include <mrpt/opengl/CSetOfLines.h>
+#include <mrpt/opengl/CSetOfObjects.h>
 #include <mrpt/serialization/CArchive.h>
 
 #include <unistd.h>
@@ -161,7 +165,7 @@ TEST_F(SenaRun, AnExistingFolderKeepsEveryFileButOurOutputs)
 											"map.pgm", "map.yaml", "map.simplemap.gz",
 											"trajectory.tum", "graph.graph", "graph.lrgc", "timing.csv",
 											"stats.json", "config.ini", "pf-localization.ini",
-											"observations2map.ini"}));
+											"observations2map.ini", "map.3Dscene"}));
 	EXPECT_EQ(readTextFile(out("notes.txt")), kNotes);
 	EXPECT_EQ(readTextFile(out("earlier/map.png")), kNotes);
 	EXPECT_NE(readTextFile(out("map.png")), "an earlier map");  // ours: replaced
@@ -212,4 +216,37 @@ TEST_F(SenaRun, StatsAndTimingAreWritten)
 	for (const auto& e : fs::directory_iterator(s_out))
 		EXPECT_EQ(e.path().filename().string().rfind(".tmp.", 0), std::string::npos)
 			<< "temporary file left behind: " << e.path();
+}
+
+// map.3Dscene: MRPT's COpenGLScene (SceneViewer3D's format) loads it back, with the grid,
+// the trajectory (a segment per pair of consecutive scans) and the loop links of graph.lrgc.
+TEST_F(SenaRun, Scene3DLoadsWithGridTrajectoryAndLoopLinks)
+{
+	mrpt::opengl::COpenGLScene scene;
+	mrpt::io::CFileGZInputStream f(out("map.3Dscene"));
+	mrpt::serialization::archiveFrom(f) >> scene;
+	ASSERT_TRUE(scene.getByName("gridmap"));
+	const auto grid = std::dynamic_pointer_cast<mrpt::opengl::CSetOfObjects>(
+		scene.getByName("gridmap"));
+	ASSERT_TRUE(grid);
+	EXPECT_GT(grid->size(), 0u);
+	const auto path = std::dynamic_pointer_cast<mrpt::opengl::CSetOfLines>(
+		scene.getByName("trajectory"));
+	ASSERT_TRUE(path);
+	EXPECT_EQ(path->getLineCount(), 224u);  // 225 scans
+	const auto loops = std::dynamic_pointer_cast<mrpt::opengl::CSetOfLines>(
+		scene.getByName("loop_links"));
+	ASSERT_TRUE(loops);
+	std::istringstream graph(readTextFile(out("graph.lrgc")));
+	size_t loopLinks = 0;
+	for (std::string line; std::getline(graph, line);)
+		loopLinks += line.rfind("LINK ", 0) == 0 && line.find(" LoopClosure 1") != std::string::npos;
+	EXPECT_GT(loopLinks, 0u);
+	EXPECT_EQ(loops->getLineCount(), loopLinks);
+	const auto nodes = std::dynamic_pointer_cast<mrpt::opengl::CPointCloud>(
+		scene.getByName("keyframes"));
+	ASSERT_TRUE(nodes);
+	mrpt::maps::CSimpleMap sm;
+	readArchiveGz(out("map.simplemap.gz"), sm);
+	EXPECT_EQ(nodes->size(), sm.size());
 }

@@ -137,7 +137,7 @@ std::string slamUsage()
 		   "existing FILE.ini), -h --help, --version (print the version and exit).\n"
 		   "FILE: MRPT rawlog (.rawlog, plain or gzip, both layouts) or CARMEN log\n"
 		   "(.clf/.log, optionally .gz); the format is detected from the content.\n"
-		   "Outputs in DIR: map.gridmap.gz map.png map.pgm map.yaml map.simplemap.gz\n"
+		   "Outputs in DIR: map.gridmap.gz map.png map.pgm map.yaml map.simplemap.gz map.3Dscene\n"
 		   "trajectory.tum graph.graph graph.lrgc timing.csv stats.json pf-localization.ini\n"
 		   "observations2map.ini (for MRPT's programs) config.ini (the\n"
 		   "configuration used: --config DIR/config.ini repeats the run). An existing DIR is\n"

@@ -5,6 +5,7 @@
 #include "lrgc_apps/MrptClientFiles.h"
 #include "lrgc_apps/RunStats.h"
 #include "lrgc_apps/SavedMap.h"
+#include "lrgc_apps/Scene3D.h"
 #include "lrgc_apps/atomic_file.h"
 
 #include <lrgc/pose_graph/GraphExport.h>
@@ -273,6 +274,7 @@ void writeRunOutputs(
 	writeGridPng(grid, path("map.png"));
 	writeRosMap(grid, path("map"));
 	writeMrptClientFiles(s, outDir);  // pf-localization.ini, observations2map.ini
+	writeScene3D(grid, s.trajectory, s.graph, path("map.3Dscene"));  // for SceneViewer3D
 	writeTextFileAtomically(path("timing.csv"), timingCsv(s.run));
 	writeTextFileAtomically(path("stats.json"), statsJson(s));
 }
