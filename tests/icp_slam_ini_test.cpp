@@ -25,7 +25,7 @@ namespace
 {
 const char* kDemoIni = "/usr/share/mrpt/config_files/icp-slam/icp-slam_demo_classic.ini";
 
-// The demo .ini with rawlog_file (and rawlog_offset) replaced.
+// The demo .ini with rawlog_file and rawlog_offset replaced.
 std::string demoIni(const std::string& rawlog, size_t offset)
 {
 	std::istringstream in(readTextFile(kDemoIni));
@@ -112,10 +112,13 @@ TEST(IcpSlamIni, RawlogOffsetSkipsEntriesAndTheSecondArgumentIsTheRawlog)
 	const auto r =
 		runProcess(binaryPath("lrgc-slam"), {"icp.ini", senaRawlogPath(), "--quiet"}, dir);
 	ASSERT_EQ(r.exitCode, 0) << r.output;
+	// As icp-slam counts: SENA is a sensory frame, then action/frame pairs, so entry j ends at
+	// object 1 + 2 j, and entries 50 (object 101) to 224 are mapped.
 	const auto path = readPath(dir + "/LOG_ICP-SLAM/log_estimated_path.txt");
-	ASSERT_EQ(path.size(), 125u);
-	EXPECT_EQ(path.front().step, 100u);
-	EXPECT_NE(readTextFile(dir + "/LOG_ICP-SLAM/stats.json").find("\"scans\": 125,"),
+	ASSERT_EQ(path.size(), 175u);
+	EXPECT_EQ(path.front().step, 50u);
+	EXPECT_EQ(path.back().step, 224u);
+	EXPECT_NE(readTextFile(dir + "/LOG_ICP-SLAM/stats.json").find("\"scans\": 175,"),
 			  std::string::npos);
 }
 

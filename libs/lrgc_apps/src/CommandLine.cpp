@@ -156,7 +156,7 @@ std::string slamUsage()
 		   "trajectory.tum FILE's scans. --localize: MAP is not changed; DIR gets\n"
 		   "trajectory.tum, timing.csv and stats.json (relocalisations, latency).\n"
 		   "ICP-SLAM.ini: an icp-slam .ini; its [MappingApplication] rawlog_file (or RAWLOG),\n"
-		   "rawlog_offset (log entries to skip) and logOutput_dir are used, its other settings\n"
+		   "rawlog_offset (rawlog objects to skip) and logOutput_dir are used, its others\n"
 		   "are reported as ignored (lrgc's parameters map). logOutput_dir gets lrgc's outputs\n"
 		   "and icp-slam's _finalmap_.simplemap and log_estimated_path.txt (step x y phi).\n";
 }

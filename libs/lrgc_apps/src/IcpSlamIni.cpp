@@ -86,7 +86,7 @@ TIcpSlamRun readIcpSlamIni(const std::string& path, const std::string& rawlogOve
 	const std::string offset = ini->read_string(kSection, "rawlog_offset", "0");
 	if (offset.empty() || offset.find_first_not_of("0123456789") != std::string::npos)
 		throw CSetupError(where(path, "rawlog_offset") + ": [MappingApplication] rawlog_offset '" +
-						  offset + "' is not a whole number >= 0 (log entries to skip)");
+						  offset + "' is not a whole number >= 0 (rawlog objects to skip)");
 	run.rawlogOffset = std::stoul(offset);
 
 	std::vector<std::string> sections;
@@ -126,10 +126,10 @@ std::string ignoredIcpSlamSettings(const std::string& path, const TIcpSlamRun& r
 }
 
 std::string icpSlamEstimatedPath(const TTrajectory& trajectory,
-								 const std::vector<size_t>& scansAfterEntry, size_t offset)
+								 const std::vector<size_t>& scansAfterEntry)
 {
 	std::string out;
-	for (size_t step = offset; step < scansAfterEntry.size(); ++step)
+	for (size_t step = 0; step < scansAfterEntry.size(); ++step)
 	{
 		const size_t scans = std::min(scansAfterEntry[step], trajectory.size());
 		if (scans == 0) continue;
@@ -140,7 +140,7 @@ std::string icpSlamEstimatedPath(const TTrajectory& trajectory,
 }
 
 void writeIcpSlamOutputs(const std::string& outDir, const TTrajectory& trajectory,
-						 const std::vector<size_t>& scansAfterEntry, size_t offset)
+						 const std::vector<size_t>& scansAfterEntry)
 {
 	namespace fs = std::filesystem;
 	const fs::path dir(outDir);
@@ -148,7 +148,7 @@ void writeIcpSlamOutputs(const std::string& outDir, const TTrajectory& trajector
 		writeTextFileAtomically((dir / "_finalmap_.simplemap").string(),
 								readText((dir / "map.simplemap.gz").string()));
 	writeTextFileAtomically((dir / "log_estimated_path.txt").string(),
-							icpSlamEstimatedPath(trajectory, scansAfterEntry, offset));
+							icpSlamEstimatedPath(trajectory, scansAfterEntry));
 }
 
 }  // namespace lrgc::apps

@@ -71,7 +71,8 @@ std::string pfLocalizationIni(const std::string& outDir, const std::string& rawl
 		"\n[LocalizationExperiment]\n"
 		"use_3D_poses = false\n"
 		"map_file = " + map + "\n" + rawlogLines +
-		"# pf-localization empties this folder at start: a folder of its own.\n"
+		"# A prefix: pf-localization writes PREFIX_000_0002000/ (emptied first) and\n"
+		"# PREFIX_SUMMARY.txt, beside lrgc-slam's files, which it does not touch.\n"
 		"logOutput_dir = " + dir + "/pf-localization-log\n"
 		"3DSceneFrequency = -1\n"
 		"SHOW_PROGRESS_3D_REAL_TIME = false\n"

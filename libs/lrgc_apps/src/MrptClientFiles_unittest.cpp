@@ -24,7 +24,7 @@ TEST(MrptClientFiles, PfLocalizationBoxIsAroundTheStartPose)
 	EXPECT_DOUBLE_EQ(ini.read_double(s, "init_PDF_max_yaw_deg", 0), 100);
 	EXPECT_EQ(ini.read_int(s, "3DSceneFrequency", 0), -1);
 	EXPECT_FALSE(ini.read_bool(s, "SHOW_PROGRESS_3D_REAL_TIME", true));
-	// pf-localization empties logOutput_dir: never the output folder itself.
+	// A prefix of pf-localization's own folder (which it empties): never the output folder.
 	EXPECT_EQ(ini.read_string(s, "logOutput_dir", ""), "/data/out/pf-localization-log");
 	EXPECT_DOUBLE_EQ(ini.read_double("MetricMap_occupancyGrid_00_creationOpts", "resolution", 0),
 					 0.05);

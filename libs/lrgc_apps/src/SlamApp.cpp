@@ -120,7 +120,7 @@ void CSlamApp::takeIcpSlamIni(TSlamCommandLine& cl)
 	const TIcpSlamRun icp = readIcpSlamIni(cl.icpSlamIni, cl.icpSlamRawlog);
 	cl.input = icp.rawlog;
 	cl.outDir = icp.outDir;
-	m_skipEntries = icp.rawlogOffset;
+	m_skipObjects = icp.rawlogOffset;
 	m_icpSlam = true;
 	if (const std::string line = ignoredIcpSlamSettings(cl.icpSlamIni, icp); !line.empty())
 		report("lrgc-slam: " + line);

@@ -145,7 +145,7 @@ int CSlamApp::runOffline(const TSlamCommandLine& cl)
 	finishRunSummary(run, clock, m_warningsTotal);
 	writeRunOutputs(builder, cl.outDir, run);
 	if (m_icpSlam && builder.stats().scans > 0)
-		writeIcpSlamOutputs(cl.outDir, builder.trajectory(), m_scansAfterEntry, m_skipEntries);
+		writeIcpSlamOutputs(cl.outDir, builder.trajectory(), m_scansAfterEntry);
 	reportEnd(cl, builder, run, exitCode);
 	return exitCode;
 }
@@ -168,7 +168,10 @@ int CSlamApp::mapLog(CLogReader& reader, CMetricMapBuilderLRGC& builder, CProgre
 		}
 		if (!entry) break;
 		++run.logEntries;
-		if (run.logEntries > m_skipEntries && mapEntry(builder, *entry, run) != kExitOk)
+		// rawlog_offset as icp-slam counts it: serialised objects read so far (an action
+		// collection and its sensory frame are two); 0 unless ICP-SLAM.ini gives one.
+		m_objectsRead += entry->observation || !entry->actions || entry->actions->size() == 0 ? 1 : 2;
+		if (m_objectsRead >= m_skipObjects && mapEntry(builder, *entry, run) != kExitOk)
 			return kExitInputError;
 		if (m_icpSlam) m_scansAfterEntry.push_back(builder.stats().scans);
 		reportWarnings(reader.takeWarnings());

@@ -4,18 +4,20 @@
  *
  * reads what icp-slam reads from [MappingApplication]: rawlog_file (RAWLOG overrides it, as
  * in icp-slam), rawlog_offset and logOutput_dir (paths as icp-slam takes them: relative to
- * the current folder). The map is made with lrgc's parameters (the defaults, or --config's);
+ * the current folder). rawlog_offset counts as icp-slam does: a log entry is mapped once the
+ * serialised objects read so far, its own included, number rawlog_offset or more (an action
+ * collection and its sensory frame are two objects, a lone observation one). The map is made with lrgc's parameters (the defaults, or --config's);
  * icp-slam's own settings ([ICP], the metric map sections, [MappingApplication]'s other keys)
  * have no meaning for lrgc and are reported once as ignored, not refused. logOutput_dir gets
  * lrgc's outputs and, beside them, icp-slam's names:
  *   _finalmap_.simplemap    the keyframes (the same CSimpleMap as map.simplemap.gz)
- *   log_estimated_path.txt  `step x y phi` [m, m, rad], one line per log entry from
- *                           rawlog_offset on, step = the entry's index (0-based), the pose of
- *                           the last scan mapped at or before it (final, optimised poses;
- *                           entries before the first scan have none and no line).
- * Differences from icp-slam: rawlog_offset counts log entries (action/observation pairs or
- * lone observations, as lrgc reads them; icp-slam compares it with a count of serialised
- * objects), and the existing files of logOutput_dir are kept (icp-slam deletes them). */
+ *   log_estimated_path.txt  `step x y phi` [m, m, rad], one line per log entry, step = the
+ *                           entry's index (0-based, as lrgc reads the log), the pose of the
+ *                           last scan mapped at or before it (final, optimised poses; entries
+ *                           before the first mapped scan have none and no line).
+ * Differences from icp-slam: the poses are the final ones, not the online estimate; a leading
+ * sensory frame without an action is entry 0 (icp-slam skips it, so its steps are one less);
+ * the existing files of logOutput_dir are kept (icp-slam deletes them). */
 #pragma once
 
 #include <lrgc/map_builder/Trajectory.h>
@@ -28,7 +30,7 @@ namespace lrgc::apps
 struct TIcpSlamRun
 {
 	std::string rawlog;  //!< [MappingApplication] rawlog_file, or the RAWLOG argument
-	size_t rawlogOffset = 0;  //!< log entries skipped at the start
+	size_t rawlogOffset = 0;  //!< rawlog objects to read before mapping (as icp-slam)
 	std::string outDir;  //!< [MappingApplication] logOutput_dir
 	/** "[ICP]", "[MappingApplication] LOG_FREQUENCY", ...: what lrgc does not use. */
 	std::vector<std::string> ignored;
@@ -46,13 +48,13 @@ TIcpSlamRun readIcpSlamIni(const std::string& path, const std::string& rawlogOve
 std::string ignoredIcpSlamSettings(const std::string& path, const TIcpSlamRun& run);
 
 /** log_estimated_path.txt's text: `scansAfterEntry[k]` is the number of scans mapped after
- * log entry k; entries before `offset` and before the first scan get no line. */
+ * log entry k; entries before the first mapped scan get no line. */
 std::string icpSlamEstimatedPath(const TTrajectory& trajectory,
-								 const std::vector<size_t>& scansAfterEntry, size_t offset);
+								 const std::vector<size_t>& scansAfterEntry);
 
 /** Writes _finalmap_.simplemap (a copy of outDir/map.simplemap.gz) and
  * log_estimated_path.txt into `outDir`, atomically. */
 void writeIcpSlamOutputs(const std::string& outDir, const TTrajectory& trajectory,
-						 const std::vector<size_t>& scansAfterEntry, size_t offset);
+						 const std::vector<size_t>& scansAfterEntry);
 
 }  // namespace lrgc::apps

@@ -100,7 +100,8 @@ class CSlamApp
 	TLiveRunner m_live;
 	// --- icp-slam's command line (IcpSlamIni.h) ---
 	bool m_icpSlam = false;  //!< also write icp-slam's output files
-	size_t m_skipEntries = 0;  //!< [MappingApplication] rawlog_offset
+	size_t m_skipObjects = 0;  //!< [MappingApplication] rawlog_offset
+	size_t m_objectsRead = 0;  //!< rawlog objects read so far, as icp-slam counts them
 	std::vector<size_t> m_scansAfterEntry;  //!< scans mapped after each log entry
 	bool m_verbose = false;
 	size_t m_warningsShown = 0, m_warningsTotal = 0;
