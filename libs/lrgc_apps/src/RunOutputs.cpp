@@ -50,6 +50,25 @@ std::string jsonCounts(const std::map<std::string, size_t>& counts)
 	return out + "}";
 }
 
+// "links", "loop_links" and "loop_closures" of stats.json. Links added to the pose graph, by
+// type: "loop" counts every link of type LoopClosure (what lrgc-plot draws from graph.lrgc):
+// one per loop closure, the links re-matched after it, the links of keyframes reused at a
+// mapped place, and the end-of-run revisit links ("loop_links"). Loop closures: accepted
+// matches of a new keyframe with the old map, the number the console prints; a robot driving
+// along an old path closes the loop again at each keyframe, so one loop gives several.
+std::string loopCountsJson(const TMapBuilderStats& s)
+{
+	const size_t rematchOrReuse =
+		s.loopClosureLinks - std::min(s.loopClosureLinks, s.loopClosures + s.revisitLinks);
+	return "  \"links\": {\"odometry\": " + std::to_string(s.odometryLinks) +
+		", \"scan_match\": " + std::to_string(s.scanMatchLinks) +
+		", \"loop\": " + std::to_string(s.loopClosureLinks) + "},\n" +
+		"  \"loop_links\": {\"closure\": " + std::to_string(s.loopClosures) +
+		", \"revisit\": " + std::to_string(s.revisitLinks) +
+		", \"rematch_or_reuse\": " + std::to_string(rematchOrReuse) + "},\n" +
+		"  \"loop_closures\": " + std::to_string(s.loopClosures) + ",\n";
+}
+
 std::string timingCsv(const TRunSummary& run)
 {
 	std::string out = "scan_index,timestamp,latency_ms\n";
@@ -112,20 +131,7 @@ std::string statsJson(const TRunOutputsSnapshot& snapshot)
 	  << "  \"unmatched_scans\": " << s.unmatchedScans << ",\n"
 	  << "  \"odometry_rejected\": " << s.odometryRejected << ",\n"
 	  << "  \"odometry_glitches_recovered\": " << s.glitchesRecovered << ",\n"
-	  // Links added to the pose graph, by type. "loop" counts every link of type
-	  // LoopClosure: one per loop closure, the links re-matched after it, the links of
-	  // keyframes reused at a mapped place, and the end-of-run revisit links ("loop_links").
-	  << "  \"links\": {\"odometry\": " << s.odometryLinks
-	  << ", \"scan_match\": " << s.scanMatchLinks
-	  << ", \"loop\": " << s.loopClosureLinks << "},\n"
-	  << "  \"loop_links\": {\"closure\": " << s.loopClosures
-	  << ", \"revisit\": " << s.revisitLinks << ", \"rematch_or_reuse\": "
-	  << s.loopClosureLinks - std::min(s.loopClosureLinks, s.loopClosures + s.revisitLinks)
-	  << "},\n"
-	  // Loop closures: accepted matches of a new keyframe with the old map (the number the
-	  // console prints). A robot driving along an old path closes the loop again at each
-	  // keyframe, so one loop in the log gives several.
-	  << "  \"loop_closures\": " << s.loopClosures << ",\n"
+	  << loopCountsJson(s)
 	  // The de-skewing's laser sweep time at the end of the run [s]: [MapBuilder]
 	  // scan_sweep_time, or estimated online from this many scan pairs (CSweepEstimator).
 	  << "  \"scan_sweep_time\": {\"seconds\": " << s.sweepTime
