@@ -57,8 +57,10 @@ bool isIcpSlamIni(const std::string& path)
 {
 	std::error_code ec;
 	if (!std::filesystem::is_regular_file(path, ec)) return false;
-	std::istringstream text(readText(path));
-	for (std::string line; std::getline(text, line);)
+	// Streamed, and only the start of it: a rawlog given by mistake may be gigabytes.
+	std::ifstream text(path, std::ios::binary);
+	size_t lines = 0;
+	for (std::string line; lines++ < 100000 && std::getline(text, line);)
 	{
 		const size_t a = line.find_first_not_of(" \t");
 		if (a == std::string::npos || line[a] != '[') continue;

@@ -116,7 +116,8 @@ void CSlamApp::takeIcpSlamIni(TSlamCommandLine& cl)
 	if (!isIcpSlamIni(cl.icpSlamIni))
 		throw CUsageError("unknown argument '" + cl.icpSlamIni +
 						  "': not an option, nor an icp-slam .ini (a file with a "
-						  "[MappingApplication] section); lrgc-slam --help lists the options");
+						  "[MappingApplication] section); to map a log: lrgc-slam --input FILE --out "
+						  "DIR (lrgc-slam --help lists the options)");
 	const TIcpSlamRun icp = readIcpSlamIni(cl.icpSlamIni, cl.icpSlamRawlog);
 	cl.input = icp.rawlog;
 	cl.outDir = icp.outDir;
