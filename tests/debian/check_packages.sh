@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # The Debian packages of a built tree (cmake/DebianPackages.cmake), checked as Debian would:
 # cpack -G DEB into a temporary folder, then per package its contents (dpkg-deb -c), its
-# dependencies (no -dev package in lrgc's), lintian (no error; skipped if not installed), and
-# the programs of lrgc run from the unpacked package (--help, --version).
+# dependencies (no -dev package in lrgc's), lintian (no error; skipped if not installed), the
+# programs of lrgc run from the unpacked package (--help, --version), and a find_package(lrgc)
+# project (tests/consumer) built against the unpacked liblrgc-dev.
 # Usage: check_packages.sh BUILD_DIR WORK_DIR. Prints "SKIP: ..." where dpkg-deb is absent.
 set -euo pipefail
 build=$(cd "$1" && pwd)
@@ -62,4 +63,19 @@ for p in lrgc-slam lrgc-eval lrgc-plot; do
 done
 "$work/root/usr/bin/calibrate-sweep-time" --help </dev/null | grep -q "scan_sweep_time" ||
   fail "installed calibrate-sweep-time --help"
+# liblrgc-dev as shipped: tests/consumer finds lrgc in the unpacked packages (both, as apt
+# would install them) and maps SENA through the packaged static libraries.
+dpkg-deb -x "$dev" "$work/root"
+launcher=()
+[ -n "${CMAKE_CXX_COMPILER_LAUNCHER:-}" ] && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER="$CMAKE_CXX_COMPILER_LAUNCHER")
+cmake -S "$(dirname "$0")/../consumer" -B "$work/consumer" -DCMAKE_PREFIX_PATH="$work/root/usr" \
+  -DCMAKE_BUILD_TYPE=Release "${launcher[@]}" >"$work/consumer.log" 2>&1 ||
+  fail "find_package(lrgc) in the unpacked packages: $(tail -5 "$work/consumer.log")"
+cmake --build "$work/consumer" >>"$work/consumer.log" 2>&1 ||
+  fail "building against liblrgc-dev: $(tail -5 "$work/consumer.log")"
+sena="/usr/share/mrpt/datasets/2006-01ENE-21-SENA_Telecom Faculty_one_loop_only.rawlog"
+if [ -f "$sena" ]; then
+  "$work/consumer/map_rawlog" "$sena" </dev/null | grep -qE "keyframes [0-9]+ scans 22[0-9]" ||
+    fail "the consumer built against liblrgc-dev did not map SENA"
+fi
 echo "OK: $(basename "$run") and $(basename "$dev")"
