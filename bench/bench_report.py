@@ -270,10 +270,9 @@ def document(real, synthetic, plots, machine, commit, total_s, data_dir, notes, 
         out += ["## Notes", ""] + ["- " + n for n in notes] + [""]
     if plots:
         out += ["## Plots", "",
-                "Map (lrgc-slam's `map.pgm`) with its trajectory (blue) and the loop-closure "
-                "links of its pose graph (red: edges between keyframes more than 15 ids apart, "
-                "beyond the local registration window), and the per-scan latency against scan "
-                "index.", ""]
+                "Map (lrgc-slam's `map.pgm`) with its trajectory (blue) and the loop links of "
+                "its pose graph (red: graph.lrgc's links of type LoopClosure, stats.json's "
+                "`links.loop`), and the per-scan latency against scan index.", ""]
         for name, png in plots:
             out += ["### " + name, "", "![%s](%s)" % (name, png), ""]
     return "\n".join(out)

@@ -71,7 +71,7 @@ def plot(tools, name, run, png, notes):
         return None
     outdir = os.path.dirname(run.trajectory)
     cmd = [tools["lrgc-plot"], "--map", os.path.join(outdir, "map.yaml"),
-           "--trajectory", run.trajectory, "--graph", os.path.join(outdir, "graph.graph"),
+           "--trajectory", run.trajectory, "--graph", os.path.join(outdir, "graph.lrgc"),
            "--timing", os.path.join(outdir, "timing.csv"), "--title", name + " (lrgc-slam)",
            "--out", png]
     proc = subprocess.run(cmd, stdin=subprocess.DEVNULL, capture_output=True, text=True)

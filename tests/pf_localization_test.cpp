@@ -11,6 +11,7 @@
  * 1 m, the last pose within 0.5 m. */
 #include <gtest/gtest.h>
 #include <mrpt/io/CFileGZInputStream.h>
+#include <mrpt/maps/COccupancyGridMap2D.h>
 #include <mrpt/math/wrap2pi.h>
 #include <mrpt/obs/CActionCollection.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
@@ -177,4 +178,84 @@ TEST(PfLocalization, localisesTheSenaLogOnOurMapAlongOurTrajectory)
 	EXPECT_LT(positionError(estimate.back(), lastOurs), 0.5);
 	// The log's odometry alone ends metres away: the filter followed the map, not odometry.
 	EXPECT_GT(positionError(odometry.back(), lastOurs), 3.0);
+}
+
+// The pf-localization.ini lrgc-slam writes into its output folder runs as it is, from another
+// folder, headless, and converges: median position error <= 0.15 m against trajectory.tum.
+TEST(PfLocalization, theOutputFoldersIniRunsAsItIs)
+{
+	LRGC_SKIP_IF_MISSING(senaRawlogPath());
+	if (!fileExists(kPfLocalization))
+		GTEST_SKIP() << kPfLocalization << " not installed (Debian package mrpt-apps)";
+	const std::string dir = makeTempDir("pf_ini_" + std::to_string(::getpid()));
+	const std::string out = dir + "/out";
+	const auto slam =
+		runProcess(binaryPath("lrgc-slam"), {"--input", senaRawlogPath(), "--out", out, "--quiet"});
+	ASSERT_EQ(slam.exitCode, 0) << slam.output;
+	fs::create_directories(dir + "/elsewhere");
+	const std::string gridBefore = readTextFile(out + "/map.gridmap.gz");
+	const auto pf = runProcess(kPfLocalization, {out + "/pf-localization.ini"}, dir + "/elsewhere");
+	writeTextFile(dir + "/pf-localization.log", pf.output);
+	ASSERT_EQ(pf.exitCode, 0) << "log in " << dir;
+
+	const std::vector<TPose> estimate = loggedPoses(pf.output, "PDF estimation");
+	const std::vector<double> stepTimes = pairScanTimes(senaRawlogPath());
+	ASSERT_EQ(estimate.size(), stepTimes.size()) << "one estimate per step, log in " << dir;
+	const auto ours = readTum(out + "/trajectory.tum");
+	std::vector<double> errXY;
+	for (size_t k = 0; k < stepTimes.size(); ++k)
+	{
+		const auto it = std::find_if(ours.begin(), ours.end(),
+									 [&](const auto& tp)
+									 { return std::abs(tp.first - stepTimes[k]) < 1e-4; });
+		ASSERT_NE(it, ours.end()) << "no trajectory.tum line at t = " << stepTimes[k];
+		errXY.push_back(positionError(estimate[k], it->second));
+	}
+	std::nth_element(errXY.begin(), errXY.begin() + errXY.size() / 2, errXY.end());
+	const double median = errXY[errXY.size() / 2];
+	RecordProperty("median_error_m", std::to_string(median));
+	EXPECT_LE(median, 0.15) << "log in " << dir;
+	EXPECT_LT(*std::max_element(errXY.begin(), errXY.end()), 1.0) << "log in " << dir;
+	// pf-localization writes under its prefix and leaves our outputs as they were.
+	EXPECT_TRUE(fs::is_directory(out + "/pf-localization-log_000_0002000"));
+	EXPECT_EQ(readTextFile(out + "/map.gridmap.gz"), gridBefore);
+}
+
+// observations2map.ini rebuilds our grid from map.simplemap.gz: same resolution, and the
+// cells both grids know (not 0.5) agree on free / occupied almost everywhere.
+TEST(Observations2map, theOutputFoldersIniRebuildsTheGrid)
+{
+	LRGC_SKIP_IF_MISSING(senaRawlogPath());
+	const char* kObservations2map = "/usr/bin/observations2map";
+	if (!fileExists(kObservations2map))
+		GTEST_SKIP() << kObservations2map << " not installed (Debian package mrpt-apps)";
+	const std::string dir = makeTempDir("o2m_ini_" + std::to_string(::getpid()));
+	const std::string out = dir + "/out";
+	const auto slam =
+		runProcess(binaryPath("lrgc-slam"), {"--input", senaRawlogPath(), "--out", out, "--quiet"});
+	ASSERT_EQ(slam.exitCode, 0) << slam.output;
+	const auto o2m = runProcess(kObservations2map, {out + "/observations2map.ini",
+													 out + "/map.simplemap.gz", dir + "/rebuilt"});
+	ASSERT_EQ(o2m.exitCode, 0) << o2m.output;
+	const auto load = [](const std::string& path)
+	{
+		mrpt::maps::COccupancyGridMap2D grid;
+		mrpt::io::CFileGZInputStream f(path);
+		mrpt::serialization::archiveFrom(f) >> grid;
+		return grid;
+	};
+	const auto ours = load(out + "/map.gridmap.gz");
+	const auto rebuilt = load(dir + "/rebuilt_gridmap_no00.gridmap");
+	EXPECT_FLOAT_EQ(rebuilt.getResolution(), ours.getResolution());
+	size_t known = 0, agree = 0;
+	for (double y = ours.getYMin(); y < ours.getYMax(); y += ours.getResolution())
+		for (double x = ours.getXMin(); x < ours.getXMax(); x += ours.getResolution())
+		{
+			const float a = ours.getPos(x, y), b = rebuilt.getPos(x, y);
+			if (std::abs(a - 0.5f) < 0.05f || std::abs(b - 0.5f) < 0.05f) continue;
+			++known;
+			agree += (a < 0.5f) == (b < 0.5f);
+		}
+	ASSERT_GT(known, 10000u);
+	EXPECT_GT(double(agree) / double(known), 0.97) << agree << " of " << known;
 }

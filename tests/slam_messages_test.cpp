@@ -213,11 +213,25 @@ TEST(SlamMessages, UsageErrorsAreOneLineAndHelpListsEveryOption)
 							   "--live", "--write-default-config", "--force", "--verbose",
 							   "--help", "--version"})
 		EXPECT_NE(r.output.find(option), std::string::npos) << option << " not in:\n" << r.output;
+	// The synopsis (the lines before "Options:") shows --laser with the runs that take it.
+	const std::string synopsis = r.output.substr(0, r.output.find("Options:"));
+	EXPECT_NE(synopsis.find("--input FILE [--config FILE.ini] --out DIR [--laser LABEL]"),
+			  std::string::npos) << synopsis;
+	EXPECT_NE(synopsis.find("--live SENSORS.ini [--config FILE.ini] --out DIR [--laser LABEL]"),
+			  std::string::npos) << synopsis;
 
 	r = runProcess(binaryPath("lrgc-slam"), {"--version"});
 	EXPECT_EQ(r.exitCode, 0) << r.output;
 	EXPECT_EQ(r.output.rfind("lrgc-slam ", 0), 0u) << r.output;
 	EXPECT_EQ(lineCount(r.output), 1u) << r.output;
+	// Every program answers --version with the same version.
+	const std::string version = r.output.substr(std::string("lrgc-slam").size());
+	for (const char* program : {"lrgc-eval", "lrgc-plot"})
+	{
+		const auto v = runProcess(binaryPath(program), {"--version"});
+		EXPECT_EQ(v.exitCode, 0) << program << ": " << v.output;
+		EXPECT_EQ(v.output, program + version);
+	}
 }
 
 TEST(SlamMessages, InterruptedRunShowsHowFarItGot)

@@ -6,6 +6,10 @@
 #include <mrpt/io/CFileGZInputStream.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
 #include <mrpt/maps/CSimpleMap.h>
+#include <mrpt/opengl/COpenGLScene.h>
+#include <mrpt/opengl/CPointCloud.h>
+#include <mrpt/opengl/CSetOfLines.h>
+#include <mrpt/opengl/CSetOfObjects.h>
 #include <mrpt/serialization/CArchive.h>
 
 #include <unistd.h>
@@ -160,7 +164,8 @@ TEST_F(SenaRun, AnExistingFolderKeepsEveryFileButOurOutputs)
 	EXPECT_EQ(names, (std::set<std::string>{"notes.txt", "earlier", "map.gridmap.gz", "map.png",
 											"map.pgm", "map.yaml", "map.simplemap.gz",
 											"trajectory.tum", "graph.graph", "graph.lrgc", "timing.csv",
-											"stats.json"}));
+											"stats.json", "config.ini", "pf-localization.ini",
+											"observations2map.ini", "map.3Dscene"}));
 	EXPECT_EQ(readTextFile(out("notes.txt")), kNotes);
 	EXPECT_EQ(readTextFile(out("earlier/map.png")), kNotes);
 	EXPECT_NE(readTextFile(out("map.png")), "an earlier map");  // ours: replaced
@@ -168,11 +173,27 @@ TEST_F(SenaRun, AnExistingFolderKeepsEveryFileButOurOutputs)
 
 TEST_F(SenaRun, ConsoleSaysWhatTheCountsCount)
 {
-	// One loop in the log, many loop-closure links: the summary says links, not loops.
-	EXPECT_NE(s_result.output.find(" loop-closure links (not a count of loops), "),
-			  std::string::npos)
-		<< s_result.output;
-	EXPECT_EQ(s_result.output.find("loop closures"), std::string::npos) << s_result.output;
+	// One number of loop closures, the same on the console, in stats.json and (as links) in
+	// graph.lrgc: "N loop closures (M loop links)".
+	const std::regex summary(" ([0-9]+) loop closures \\(([0-9]+) loop links\\), ");
+	std::smatch m;
+	ASSERT_TRUE(std::regex_search(s_result.output, m, summary)) << s_result.output;
+	const std::string stats = readTextFile(out("stats.json"));
+	EXPECT_NE(stats.find("\"loop_closures\": " + m[1].str() + ",\n"), std::string::npos)
+		<< stats;
+	EXPECT_NE(stats.find("\"loop\": " + m[2].str() + "}"), std::string::npos) << stats;
+	std::istringstream graph(readTextFile(out("graph.lrgc")));
+	size_t loopLinks = 0;
+	for (std::string line; std::getline(graph, line);)
+		loopLinks += line.rfind("LINK ", 0) == 0 && line.find(" LoopClosure ") != std::string::npos;
+	EXPECT_EQ(std::to_string(loopLinks), m[2].str());
+	// lrgc-plot draws the same loop links.
+	const auto plot = runProcess(binaryPath("lrgc-plot"),
+								 {"--map", out("map.yaml"), "--trajectory", out("trajectory.tum"),
+								  "--graph", out("graph.lrgc"), "--out", s_out + "-plot.png"});
+	EXPECT_EQ(plot.exitCode, 0) << plot.output;
+	EXPECT_NE(plot.output.find(", " + m[2].str() + " loop links, "), std::string::npos)
+		<< plot.output;
 	// A run that read its input to the end says so.
 	EXPECT_NE(s_result.output.find("progress: 100.0%"), std::string::npos) << s_result.output;
 }
@@ -183,15 +204,49 @@ TEST_F(SenaRun, StatsAndTimingAreWritten)
 	for (const char* key : {"\"scans\": 225", "\"latency_ms\"", "\"peak_rss_mb\"", "\"wall_time_s\"",
 							"\"loop_closures\"", "\"status\": \"complete\""})
 		EXPECT_NE(stats.find(key), std::string::npos) << key;
-	// The count of accepted loop-closure links under its own name, and its old one.
-	const std::regex accepted(
-		"\"loop_closure_links_accepted\": ([0-9]+),\n  \"loop_closures\": ([0-9]+),");
+	// Loop closures (accepted matches with the old map), and the loop links by origin.
+	const std::regex counts(
+		"\"loop_links\": \\{\"closure\": ([0-9]+), \"revisit\": [0-9]+, "
+		"\"rematch_or_reuse\": [0-9]+\\},\n  \"loop_closures\": ([0-9]+),");
 	std::smatch m;
-	ASSERT_TRUE(std::regex_search(stats, m, accepted)) << stats;
+	ASSERT_TRUE(std::regex_search(stats, m, counts)) << stats;
 	EXPECT_EQ(m[1].str(), m[2].str());
 	EXPECT_GT(std::stoi(m[1].str()), 0);  // SENA has a loop
 	EXPECT_EQ(countLines(out("timing.csv")), 226u);  // header + one per scan
 	for (const auto& e : fs::directory_iterator(s_out))
 		EXPECT_EQ(e.path().filename().string().rfind(".tmp.", 0), std::string::npos)
 			<< "temporary file left behind: " << e.path();
+}
+
+// map.3Dscene: MRPT's COpenGLScene (SceneViewer3D's format) loads it back, with the grid,
+// the trajectory (a segment per pair of consecutive scans) and the loop links of graph.lrgc.
+TEST_F(SenaRun, Scene3DLoadsWithGridTrajectoryAndLoopLinks)
+{
+	mrpt::opengl::COpenGLScene scene;
+	mrpt::io::CFileGZInputStream f(out("map.3Dscene"));
+	mrpt::serialization::archiveFrom(f) >> scene;
+	ASSERT_TRUE(scene.getByName("gridmap"));
+	const auto grid = std::dynamic_pointer_cast<mrpt::opengl::CSetOfObjects>(
+		scene.getByName("gridmap"));
+	ASSERT_TRUE(grid);
+	EXPECT_GT(grid->size(), 0u);
+	const auto path = std::dynamic_pointer_cast<mrpt::opengl::CSetOfLines>(
+		scene.getByName("trajectory"));
+	ASSERT_TRUE(path);
+	EXPECT_EQ(path->getLineCount(), 224u);  // 225 scans
+	const auto loops = std::dynamic_pointer_cast<mrpt::opengl::CSetOfLines>(
+		scene.getByName("loop_links"));
+	ASSERT_TRUE(loops);
+	std::istringstream graph(readTextFile(out("graph.lrgc")));
+	size_t loopLinks = 0;
+	for (std::string line; std::getline(graph, line);)
+		loopLinks += line.rfind("LINK ", 0) == 0 && line.find(" LoopClosure 1") != std::string::npos;
+	EXPECT_GT(loopLinks, 0u);
+	EXPECT_EQ(loops->getLineCount(), loopLinks);
+	const auto nodes = std::dynamic_pointer_cast<mrpt::opengl::CPointCloud>(
+		scene.getByName("keyframes"));
+	ASSERT_TRUE(nodes);
+	mrpt::maps::CSimpleMap sm;
+	readArchiveGz(out("map.simplemap.gz"), sm);
+	EXPECT_EQ(nodes->size(), sm.size());
 }

@@ -111,7 +111,7 @@ class CMetricMapBuilderLRGC : public mrpt::slam::CMetricMapBuilder
 		const mrpt::maps::CSimpleMap& initialMap = mrpt::maps::CSimpleMap(),
 		const mrpt::poses::CPosePDF* x0 = nullptr) override;
 	/** Continues a map saved by lrgc exactly: the keyframes of `keyframes` (entry i = node i)
-	 * with the graph `graph` (poses, links, link types, disabled links; PoseGraphText.h) as
+	 * with the graph `graph` (poses, links, link types, disabled links; lrgc_apps/io/PoseGraphText.h) as
 	 * they were. `laserLabel`: the scans to take from each entry (empty: the first one).
 	 * Throws if the sizes differ or an entry has no such scan. */
 	void initialize(

@@ -42,4 +42,8 @@ std::optional<size_t> iniLineOf(const std::string& path, const std::string& sect
 /** The default .ini, generated from the parameter structs' saveToConfigFile(). */
 std::string defaultAppConfigText();
 
+/** Every section and key of `cfg`, as defaultAppConfigText() writes the defaults: the
+ * config.ini of an output folder (RunConfigFile.h). */
+std::string appConfigSections(const TAppConfig& cfg);
+
 }  // namespace lrgc::apps

@@ -37,6 +37,19 @@ void checkSavedMapOptions(const TSlamCommandLine& cl)
 	if (cl.input.empty()) throw CUsageError(opt + " needs --input FILE" + kSeeHelp);
 	if (cl.outDir.empty()) throw CUsageError(opt + " needs --out DIR" + kSeeHelp);
 }
+// lrgc-slam ICP-SLAM.ini [RAWLOG]: the .ini names the input and the output folder.
+const TSlamCommandLine& checkIcpSlamCommandLine(const TSlamCommandLine& cl)
+{
+	for (const auto& [given, option] :
+		 {std::pair{!cl.input.empty(), "--input"}, {!cl.live.empty(), "--live"},
+		  {!cl.outDir.empty(), "--out"}, {!cl.initialMap.empty(), "--initial-map"},
+		  {!cl.localize.empty(), "--localize"}, {!cl.saveRawlog.empty(), "--save-rawlog"}})
+		if (given)
+			throw CUsageError("'" + cl.icpSlamIni + "' runs as icp-slam's CONFIG.ini [RAWLOG] "
+							  "(its [MappingApplication] names the input and the output "
+							  "folder), which takes no " + std::string(option) + kSeeHelp);
+	return cl;
+}
 }  // namespace
 
 TSlamCommandLine parseSlamCommandLine(const std::vector<std::string>& args)
@@ -68,6 +81,8 @@ TSlamCommandLine parseSlamCommandLine(const std::vector<std::string>& args)
 		else if (a == "--verbose" || a == "-v") cl.verbose = true;
 		else if (a == "--help" || a == "-h") cl.help = true;
 		else if (a == "--version") cl.version = true;
+		else if (!a.empty() && a[0] != '-' && cl.icpSlamRawlog.empty())
+			(cl.icpSlamIni.empty() ? cl.icpSlamIni : cl.icpSlamRawlog) = a;  // icp-slam's
 		else throw CUsageError("unknown argument '" + a + "'" + kSeeHelp);
 	}
 	if (cl.help || cl.version) return cl;
@@ -76,6 +91,7 @@ TSlamCommandLine parseSlamCommandLine(const std::vector<std::string>& args)
 			"--force is for --write-default-config (a run replaces only its own outputs in "
 			"--out, and never the input)");
 	if (!cl.writeDefaultConfig.empty()) return cl;
+	if (!cl.icpSlamIni.empty()) return checkIcpSlamCommandLine(cl);
 	checkSavedMapOptions(cl);
 	if (!cl.live.empty())
 	{
@@ -107,20 +123,24 @@ TSlamCommandLine parseSlamCommandLine(const std::vector<std::string>& args)
 std::string slamUsage()
 {
 	return "Usage:\n"
-		   "  lrgc-slam --input FILE [--config FILE.ini] --out DIR [--quiet] [--save-rawlog R]\n"
+		   "  lrgc-slam --input FILE [--config FILE.ini] --out DIR [--laser LABEL] [--quiet]\n"
+		   "            [--save-rawlog R]\n"
 		   "  lrgc-slam --input FILE --save-rawlog OUT.rawlog     convert to an MRPT rawlog\n"
-		   "  lrgc-slam --live SENSORS.ini [--config FILE.ini] --out DIR [--quiet]\n"
+		   "  lrgc-slam --live SENSORS.ini [--config FILE.ini] --out DIR [--laser LABEL] [--quiet]\n"
 		   "  lrgc-slam --input FILE --initial-map MAP --out DIR   continue a saved map\n"
 		   "  lrgc-slam --input FILE --localize MAP --out DIR      localise on a saved map\n"
 		   "  lrgc-slam --write-default-config FILE.ini [--force]\n"
+		   "  lrgc-slam ICP-SLAM.ini [RAWLOG] [--config FILE.ini]  icp-slam's command line\n"
 		   "  lrgc-slam --help | --version\n"
 		   "Options: -i --input, -c --config, -o --out, -q --quiet (no progress), -v --verbose\n"
 		   "(on an error, also its details: source location, call stack), --force (replace an\n"
 		   "existing FILE.ini), -h --help, --version (print the version and exit).\n"
 		   "FILE: MRPT rawlog (.rawlog, plain or gzip, both layouts) or CARMEN log\n"
 		   "(.clf/.log, optionally .gz); the format is detected from the content.\n"
-		   "Outputs in DIR: map.gridmap.gz map.png map.pgm map.yaml map.simplemap.gz\n"
-		   "trajectory.tum graph.graph graph.lrgc timing.csv stats.json. An existing DIR is\n"
+		   "Outputs in DIR: map.gridmap.gz map.png map.pgm map.yaml map.simplemap.gz map.3Dscene\n"
+		   "trajectory.tum graph.graph graph.lrgc timing.csv stats.json pf-localization.ini\n"
+		   "observations2map.ini (for MRPT's programs) config.ini (the\n"
+		   "configuration used: --config DIR/config.ini repeats the run). An existing DIR is\n"
 		   "kept: only these files are written (over those of an earlier run); no other file\n"
 		   "is changed or deleted.\n"
 		   "--live: map from the sensors of a rawlog-grabber .ini (mrpt::hwdrivers drivers)\n"
@@ -134,7 +154,11 @@ std::string slamUsage()
 		   "or any MRPT .simplemap(.gz), e.g. icp-slam's. The start of FILE in MAP is found by\n"
 		   "global correlation. --initial-map: DIR gets the whole map (old + new), its\n"
 		   "trajectory.tum FILE's scans. --localize: MAP is not changed; DIR gets\n"
-		   "trajectory.tum, timing.csv and stats.json (relocalisations, latency).\n";
+		   "trajectory.tum, timing.csv and stats.json (relocalisations, latency).\n"
+		   "ICP-SLAM.ini: an icp-slam .ini; its [MappingApplication] rawlog_file (or RAWLOG),\n"
+		   "rawlog_offset (rawlog objects to skip) and logOutput_dir are used, its others\n"
+		   "are reported as ignored (lrgc's parameters map). logOutput_dir gets lrgc's outputs\n"
+		   "and icp-slam's _finalmap_.simplemap and log_estimated_path.txt (step x y phi).\n";
 }
 
 }  // namespace lrgc::apps

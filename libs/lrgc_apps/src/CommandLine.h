@@ -1,11 +1,13 @@
 /* Command line of lrgc-slam.
  *
- *   lrgc-slam --input FILE [--config FILE.ini] --out DIR [--quiet] [--save-rawlog OUT.rawlog]
+ *   lrgc-slam --input FILE [--config FILE.ini] --out DIR [--laser LABEL] [--quiet]
+ *             [--save-rawlog OUT.rawlog]
  *   lrgc-slam --input FILE --save-rawlog OUT.rawlog          (convert only)
  *   lrgc-slam --live SENSORS.ini [--config FILE.ini] --out DIR [--quiet]   (live sensors)
  *   lrgc-slam --input FILE --initial-map MAP --out DIR     (continue MAP: DIR or .simplemap)
  *   lrgc-slam --input FILE --localize MAP --out DIR        (localise on MAP, no mapping)
  *   lrgc-slam --write-default-config FILE.ini [--force]
+ *   lrgc-slam ICP-SLAM.ini [RAWLOG] [--config FILE.ini]      (icp-slam's command line: IcpSlamIni.h)
  *   --input and --live runs [--laser LABEL]: the laser to map (others are counted, ignored)
  *   any of them [--verbose]: on an error, MRPT's details (source location, call stack) too
  */
@@ -40,6 +42,10 @@ struct TSlamCommandLine
 
 	// --- which laser to map (issue 14) ---
 	std::string laser;  //!< --laser LABEL: overrides [MapBuilder] laser_label
+
+	// --- icp-slam's command line (IcpSlamIni.h) ---
+	std::string icpSlamIni;  //!< first positional argument: an icp-slam .ini
+	std::string icpSlamRawlog;  //!< second positional argument: overrides its rawlog_file
 };
 
 /** A usage error: the message says what is wrong; the caller prints usage and exits 2. */

@@ -2,8 +2,10 @@
 
 #include "CommandLine.h"
 #include "lrgc_apps/MapExport.h"
+#include "MrptClientFiles.h"
 #include "lrgc_apps/RunStats.h"
 #include "lrgc_apps/SavedMap.h"
+#include "Scene3D.h"
 #include "atomic_file.h"
 
 #include <lrgc/pose_graph/GraphExport.h>
@@ -46,6 +48,25 @@ std::string jsonCounts(const std::map<std::string, size_t>& counts)
 	for (const auto& [name, n] : counts)
 		out += (out.size() > 1 ? ", " : "") + jsonString(name) + ": " + std::to_string(n);
 	return out + "}";
+}
+
+// "links", "loop_links" and "loop_closures" of stats.json. Links added to the pose graph, by
+// type: "loop" counts every link of type LoopClosure (what lrgc-plot draws from graph.lrgc):
+// one per loop closure, the links re-matched after it, the links of keyframes reused at a
+// mapped place, and the end-of-run revisit links ("loop_links"). Loop closures: accepted
+// matches of a new keyframe with the old map, the number the console prints; a robot driving
+// along an old path closes the loop again at each keyframe, so one loop gives several.
+std::string loopCountsJson(const TMapBuilderStats& s)
+{
+	const size_t rematchOrReuse =
+		s.loopClosureLinks - std::min(s.loopClosureLinks, s.loopClosures + s.revisitLinks);
+	return "  \"links\": {\"odometry\": " + std::to_string(s.odometryLinks) +
+		", \"scan_match\": " + std::to_string(s.scanMatchLinks) +
+		", \"loop\": " + std::to_string(s.loopClosureLinks) + "},\n" +
+		"  \"loop_links\": {\"closure\": " + std::to_string(s.loopClosures) +
+		", \"revisit\": " + std::to_string(s.revisitLinks) +
+		", \"rematch_or_reuse\": " + std::to_string(rematchOrReuse) + "},\n" +
+		"  \"loop_closures\": " + std::to_string(s.loopClosures) + ",\n";
 }
 
 std::string timingCsv(const TRunSummary& run)
@@ -110,15 +131,7 @@ std::string statsJson(const TRunOutputsSnapshot& snapshot)
 	  << "  \"unmatched_scans\": " << s.unmatchedScans << ",\n"
 	  << "  \"odometry_rejected\": " << s.odometryRejected << ",\n"
 	  << "  \"odometry_glitches_recovered\": " << s.glitchesRecovered << ",\n"
-	  << "  \"links\": {\"odometry\": " << s.odometryLinks
-	  << ", \"scan_match\": " << s.scanMatchLinks
-	  << ", \"loop_closure\": " << s.loopClosureLinks << "},\n"
-	  // Accepted matches of a new keyframe with the old map, one link each: a robot driving
-	  // along an old path re-closes the loop at every keyframe, so this is not a count of
-	  // loops. "loop_closures" is its old name, kept for the readers of earlier files.
-	  << "  \"loop_closure_links_accepted\": " << s.loopClosures << ",\n"
-	  << "  \"loop_closures\": " << s.loopClosures << ",\n"
-	  << "  \"revisit_links\": " << s.revisitLinks << ",\n"
+	  << loopCountsJson(s)
 	  // The de-skewing's laser sweep time at the end of the run [s]: [MapBuilder]
 	  // scan_sweep_time, or estimated online from this many scan pairs (CSweepEstimator).
 	  << "  \"scan_sweep_time\": {\"seconds\": " << s.sweepTime
@@ -249,6 +262,7 @@ void writeRunOutputs(
 	namespace fs = std::filesystem;
 	fs::create_directories(outDir);
 	const auto path = [&](const char* name) { return (fs::path(outDir) / name).string(); };
+	if (!s.run.configIni.empty()) writeTextFileAtomically(path("config.ini"), s.run.configIni);
 	if (s.stats.scans == 0)
 	{
 		writeTextFileAtomically(path("stats.json"), statsJson(s));
@@ -265,6 +279,8 @@ void writeRunOutputs(
 	writeGridmap(grid, path("map.gridmap.gz"));
 	writeGridPng(grid, path("map.png"));
 	writeRosMap(grid, path("map"));
+	writeMrptClientFiles(s, outDir);  // pf-localization.ini, observations2map.ini
+	writeScene3D(grid, s.trajectory, s.graph, path("map.3Dscene"));  // for SceneViewer3D
 	writeTextFileAtomically(path("timing.csv"), timingCsv(s.run));
 	writeTextFileAtomically(path("stats.json"), statsJson(s));
 }

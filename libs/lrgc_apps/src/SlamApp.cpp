@@ -2,6 +2,7 @@
 
 #include "AppConfig.h"
 #include "ErrorText.h"
+#include "IcpSlamIni.h"
 #include "lrgc_apps/RunOutputs.h"
 #include "atomic_file.h"
 
@@ -77,6 +78,7 @@ int CSlamApp::run(const std::vector<std::string>& args)
 			writeDefaultConfig(cl.writeDefaultConfig, cl.force);
 			return kExitOk;
 		}
+		if (!cl.icpSlamIni.empty()) takeIcpSlamIni(cl);
 		if (!cl.outDir.empty()) checkOutputDirectory(cl.outDir);
 		if (!cl.saveRawlog.empty()) checkOutputFile("--save-rawlog", cl.saveRawlog);
 		if (!cl.live.empty())
@@ -107,6 +109,22 @@ int CSlamApp::run(const std::vector<std::string>& args)
 		reportError(e);
 		return kExitInputError;
 	}
+}
+
+void CSlamApp::takeIcpSlamIni(TSlamCommandLine& cl)
+{
+	if (!isIcpSlamIni(cl.icpSlamIni))
+		throw CUsageError("unknown argument '" + cl.icpSlamIni +
+						  "': not an option, nor an icp-slam .ini (a file with a "
+						  "[MappingApplication] section); to map a log: lrgc-slam --input FILE --out "
+						  "DIR (lrgc-slam --help lists the options)");
+	const TIcpSlamRun icp = readIcpSlamIni(cl.icpSlamIni, cl.icpSlamRawlog);
+	cl.input = icp.rawlog;
+	cl.outDir = icp.outDir;
+	m_skipObjects = icp.rawlogOffset;
+	m_icpSlam = true;
+	if (const std::string line = ignoredIcpSlamSettings(cl.icpSlamIni, icp); !line.empty())
+		report("lrgc-slam: " + line);
 }
 
 int CSlamApp::convertOnly(const TSlamCommandLine& cl)

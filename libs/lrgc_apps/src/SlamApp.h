@@ -92,8 +92,17 @@ class CSlamApp
 	/** Shows the first warnings, then only counts them (stats.json has the total). */
 	void reportWarnings(const std::vector<std::string>& warnings);
 
+	/** ICP-SLAM.ini [RAWLOG] (IcpSlamIni.h): takes the input, the output folder and the
+	 * entries to skip from the .ini into `cl`; reports its ignored settings once. */
+	void takeIcpSlamIni(TSlamCommandLine& cl);
+
 	std::FILE* m_err;
 	TLiveRunner m_live;
+	// --- icp-slam's command line (IcpSlamIni.h) ---
+	bool m_icpSlam = false;  //!< also write icp-slam's output files
+	size_t m_skipObjects = 0;  //!< [MappingApplication] rawlog_offset
+	size_t m_objectsRead = 0;  //!< rawlog objects read so far, as icp-slam counts them
+	std::vector<size_t> m_scansAfterEntry;  //!< scans mapped after each log entry
 	bool m_verbose = false;
 	size_t m_warningsShown = 0, m_warningsTotal = 0;
 };

@@ -1,7 +1,9 @@
 /* CSlamApp::runOffline: the log-to-maps loop of lrgc-slam. */
 #include "AppConfig.h"
 #include "ErrorText.h"
+#include "IcpSlamIni.h"
 #include "Progress.h"
+#include "RunConfigFile.h"
 #include "lrgc_apps/RunOutputs.h"
 #include "lrgc_apps/RunStats.h"
 #include "lrgc_apps/SavedMap.h"
@@ -114,6 +116,8 @@ int CSlamApp::runOffline(const TSlamCommandLine& cl)
 	TRunSummary run;
 	run.input = cl.input;
 	run.format = reader->format() == LogFormat::Carmen ? "carmen" : "rawlog";
+	run.configIni = runConfigText(cfg, cl.input);
+	run.mrptRawlog = reader->format() == LogFormat::MrptRawlog ? cl.input : cl.saveRawlog;
 	int exitCode = initialMap
 		? startInInitialMap(*initialMap, cfg, *reader, builder, progress, run, signals)
 		: kExitOk;
@@ -140,6 +144,8 @@ int CSlamApp::runOffline(const TSlamCommandLine& cl)
 	}
 	finishRunSummary(run, clock, m_warningsTotal);
 	writeRunOutputs(builder, cl.outDir, run);
+	if (m_icpSlam && builder.stats().scans > 0)
+		writeIcpSlamOutputs(cl.outDir, builder.trajectory(), m_scansAfterEntry);
 	reportEnd(cl, builder, run, exitCode);
 	return exitCode;
 }
@@ -162,11 +168,16 @@ int CSlamApp::mapLog(CLogReader& reader, CMetricMapBuilderLRGC& builder, CProgre
 		}
 		if (!entry) break;
 		++run.logEntries;
-		if (mapEntry(builder, *entry, run) != kExitOk) return kExitInputError;
+		// rawlog_offset as icp-slam counts it: serialised objects read so far (an action
+		// collection and its sensory frame are two); 0 unless ICP-SLAM.ini gives one.
+		m_objectsRead += entry->observation || !entry->actions || entry->actions->size() == 0 ? 1 : 2;
+		if (m_objectsRead >= m_skipObjects && mapEntry(builder, *entry, run) != kExitOk)
+			return kExitInputError;
+		if (m_icpSlam) m_scansAfterEntry.push_back(builder.stats().scans);
 		reportWarnings(reader.takeWarnings());
 		reportWarnings(builder.takeWarnings());
 		progress.update(reader.fractionRead(), builder.stats().scans,
-						mrpt::format("kf %zu  loop-closure links %zu", builder.stats().keyframes,
+						mrpt::format("kf %zu  loop closures %zu", builder.stats().keyframes,
 									 builder.stats().loopClosures));
 	}
 	if (!signals.stopRequested()) return kExitOk;
@@ -211,9 +222,10 @@ void CSlamApp::reportEnd(const TSlamCommandLine& cl, const CMetricMapBuilderLRGC
 	if (exitCode != kExitOk) report("lrgc-slam: " + run.status + " (maps of what was read are saved)");
 	if (!cl.quiet || exitCode != kExitOk)
 		report(mrpt::format(
-			"lrgc-slam: %zu scans, %zu keyframes, %zu loop-closure links (not a count of "
-			"loops), %.1f s of data in %.1f s (%.0fx real time); outputs in %s",
-			s.scans, s.keyframes, s.loopClosures, run.dataDurationSeconds, run.wallSeconds,
+			"lrgc-slam: %zu scans, %zu keyframes, %zu loop closures (%zu loop links), %.1f s "
+			"of data in %.1f s (%.0fx real time); outputs in %s",
+			s.scans, s.keyframes, s.loopClosures, s.loopClosureLinks, run.dataDurationSeconds,
+			run.wallSeconds,
 			run.wallSeconds > 0 ? run.dataDurationSeconds / run.wallSeconds : 0.0,
 			cl.outDir.c_str()));
 }

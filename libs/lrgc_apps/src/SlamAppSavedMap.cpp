@@ -5,6 +5,7 @@
 #include "ErrorText.h"
 #include "lrgc_apps/MapExport.h"
 #include "Progress.h"
+#include "RunConfigFile.h"
 #include "lrgc_apps/RunOutputs.h"
 #include "lrgc_apps/RunStats.h"
 #include "lrgc_apps/SavedMap.h"
@@ -226,6 +227,7 @@ int CSlamApp::runLocalize(const TSlamCommandLine& cl)
 			csv += mrpt::format("%zu,%.6f,%.4f\n", i, run.latencyStamp[i], run.latencyMs[i]);
 		writeTextFileAtomically(path("timing.csv"), csv);
 	}
+	writeTextFileAtomically(path(kRunConfigFile), runConfigText(cfg, cl.input));
 	writeTextFileAtomically(path("stats.json"), localizationStatsJson(*localizer, run, cl.localize));
 	if (exitCode != kExitOk) report("lrgc-slam: " + run.status);
 	if (!cl.quiet || exitCode != kExitOk)

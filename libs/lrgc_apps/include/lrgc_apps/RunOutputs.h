@@ -21,6 +21,10 @@ struct TRunSummary
 	std::string input;  //!< input log path
 	std::string format;  //!< "rawlog" or "carmen"
 	std::string status = "complete";  //!< or "input error: ...", "nothing to map: ...", ...
+	std::string configIni;  //!< config.ini's text (RunConfigFile.h); empty: not written
+	/** An MRPT rawlog of the input, for pf-localization.ini (MrptClientFiles.h): the input
+	 * itself, a CARMEN log's --save-rawlog conversion, a live run's capture; empty: none. */
+	std::string mrptRawlog;
 	size_t logEntries = 0;
 	size_t malformedLines = 0;                  //!< CARMEN lines skipped as malformed
 	std::map<std::string, size_t> logContents;  //!< TLogReadStats::contents

@@ -190,7 +190,8 @@ std::string CEvalApp::usage()
 		   "RPE\n"
 		   "  --json           also write the figures as JSON\n"
 		   "  --time-tolerance timestamps this close [s] are equal (default 1e-5)\n"
-		   "  --rpe-distance   path length of the fixed-distance RPE [m] (default 1)\n";
+		   "  --rpe-distance   path length of the fixed-distance RPE [m] (default 1)\n"
+		   "  --help, --version\n";
 }
 
 TEvalOptions CEvalApp::parseArguments(const std::vector<std::string>& args)
@@ -326,6 +327,11 @@ int CEvalApp::run(const std::vector<std::string>& args, std::ostream& out, std::
 		std::find(args.begin(), args.end(), "-h") != args.end())
 	{
 		out << usage();
+		return 0;
+	}
+	if (std::find(args.begin(), args.end(), "--version") != args.end())
+	{
+		out << "lrgc-eval " << LRGC_VERSION << "\n";
 		return 0;
 	}
 	TEvalOptions o;

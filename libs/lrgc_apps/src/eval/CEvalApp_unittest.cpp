@@ -146,6 +146,13 @@ TEST_F(EvalApp, UsageErrors)
 			  2);
 }
 
+TEST_F(EvalApp, VersionIsLrgcSlams)
+{
+	const auto r = runEval({"--version"});
+	EXPECT_EQ(r.code, 0) << r.err;
+	EXPECT_EQ(r.out, std::string("lrgc-eval ") + LRGC_VERSION + "\n");
+}
+
 TEST_F(EvalApp, HelpPrintsTheUsageAndSucceeds)
 {
 	for (const std::string h : {"--help", "-h"})

@@ -172,9 +172,13 @@ cv::Mat drawLatencyPanel(const TPlotOptions& o, const std::vector<TScanTiming>& 
 
 std::string CPlotApp::usage()
 {
-	return "Usage: lrgc-plot --map map.yaml --trajectory trajectory.tum [--graph graph.graph]\n"
+	return "Usage: lrgc-plot --map map.yaml --trajectory trajectory.tum [--graph graph.lrgc]\n"
 		   "                 [--timing timing.csv] [--title TEXT] [--loop-min-gap N] --out "
-		   "plot.png\n";
+		   "plot.png\n"
+		   "       lrgc-plot --help | --version\n"
+		   "--graph graph.lrgc draws its loop links (type LoopClosure: stats.json's links.loop);\n"
+		   "--graph graph.graph has no link types: edges spanning more than --loop-min-gap\n"
+		   "(15) keyframes are drawn as loop links.\n";
 }
 
 TPlotOptions CPlotApp::parseArguments(const std::vector<std::string>& args)
@@ -229,8 +233,8 @@ TPlotSummary CPlotApp::render(const TPlotOptions& o)
 	cv::Mat header(headerH, o.width, CV_8UC3, kWhite);
 	label(header, o.title.empty() ? o.trajectory : o.title, cv::Point(10, 22), 0.7);
 	label(header,
-		  mrpt::format("trajectory (blue, %zu poses; start green, end black), loop-closure "
-					   "links (red, %zu)",
+		  mrpt::format("trajectory (blue, %zu poses; start green, end black), loop links "
+					   "(red, %zu)",
 					   traj.size(), loops.size()),
 		  cv::Point(10, 42), 0.5);
 	std::vector<cv::Mat> parts = {header, map};
@@ -262,6 +266,11 @@ int CPlotApp::run(const std::vector<std::string>& args, std::ostream& out, std::
 		out << usage();
 		return 0;
 	}
+	if (std::find(args.begin(), args.end(), "--version") != args.end())
+	{
+		out << "lrgc-plot " << LRGC_VERSION << "\n";
+		return 0;
+	}
 	TPlotOptions o;
 	try
 	{
@@ -276,7 +285,7 @@ int CPlotApp::run(const std::vector<std::string>& args, std::ostream& out, std::
 	{
 		const TPlotSummary s = render(o);
 		out << mrpt::format(
-			"wrote %s (%dx%d): %zu poses, %zu loop-closure links, %zu timed scans\n",
+			"wrote %s (%dx%d): %zu poses, %zu loop links, %zu timed scans\n",
 			o.out.c_str(), s.width, s.height, s.trajectoryPoses, s.loopLinks, s.timedScans);
 		return 0;
 	}

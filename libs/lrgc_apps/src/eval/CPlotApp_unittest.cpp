@@ -92,6 +92,29 @@ TEST(PlotInputs, GraphFileAndLoopClosureEdges)
 		std::string::npos);
 }
 
+// graph.lrgc has link types: the loop links are its enabled LoopClosure links, whatever
+// their id gap, and a ScanMatch link across many ids is not one (graph.graph cannot tell).
+TEST(PlotInputs, TypedGraphGivesTheLoopLinksByType)
+{
+	const std::string dir = lrgc::test::makeTempDir("plot_lrgc");
+	const std::string info = " 1 0 0 1 0 1 ";
+	writeFile(dir + "/graph.lrgc",
+			  "LRGC_POSE_GRAPH 1\nNODE 0 0 0 0\nNODE 1 1 0 0\nNODE 2 2 0 0\nNODE 3 3 0 0\n"
+			  "LINK 0 1 1 0 0" + info + "Odometry 1\n"
+			  "LINK 0 3 3 0 0" + info + "ScanMatch 1\n"
+			  "LINK 1 2 1 0 0" + info + "LoopClosure 1\n"
+			  "LINK 0 2 2 0 0" + info + "LoopClosure 0\n"
+			  "LINK 3 0 -3 0 0" + info + "LoopClosure 1\n");
+	const auto g = loadGraphFile(dir + "/graph.lrgc");
+	EXPECT_EQ(g.vertices.size(), 4u);
+	EXPECT_DOUBLE_EQ(g.vertices.at(3).x, 3);
+	EXPECT_EQ(g.edges.size(), 4u);  // the disabled link is left out
+	const auto loops = loopClosureEdges(g, 2);
+	ASSERT_EQ(loops.size(), 2u);
+	EXPECT_EQ(loops[0], std::make_pair(std::size_t{1}, std::size_t{2}));
+	EXPECT_EQ(loops[1], std::make_pair(std::size_t{3}, std::size_t{0}));
+}
+
 TEST(PlotInputs, TimingCsv)
 {
 	const std::string dir = lrgc::test::makeTempDir("plot_timing");
@@ -169,6 +192,13 @@ TEST(PlotApp, HelpPrintsTheUsageAndSucceeds)
 		EXPECT_NE(out.str().find("Usage: lrgc-plot"), std::string::npos) << out.str();
 		EXPECT_TRUE(err.str().empty()) << err.str();
 	}
+}
+
+TEST(PlotApp, VersionIsLrgcSlams)
+{
+	std::ostringstream out, err;
+	EXPECT_EQ(CPlotApp::run({"--version"}, out, err), 0) << err.str();
+	EXPECT_EQ(out.str(), std::string("lrgc-plot ") + LRGC_VERSION + "\n");
 }
 
 TEST(PlotApp, AUsageErrorIsOneLineNotTheWholeUsage)

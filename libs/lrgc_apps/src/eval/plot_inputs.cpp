@@ -2,6 +2,7 @@
 #include "eval/plot_inputs.h"
 
 #include <lrgc_apps/eval/trajectory.h>
+#include <lrgc_apps/io/PoseGraphText.h>
 #include <mrpt/core/exceptions.h>
 
 #include <algorithm>
@@ -84,11 +85,34 @@ TRosMapInfo loadRosMapYaml(const std::string& path)
 	return info;
 }
 
+namespace
+{
+// graph.lrgc (PoseGraphText.h): every node, the enabled links, LoopClosure ones apart.
+TGraphFile typedGraph(const std::string& text, const std::string& path)
+{
+	std::istringstream in(text);
+	const CPoseGraph pg = poseGraphFromText(in, path).graph;
+	TGraphFile g;
+	g.loopLinks.emplace();
+	for (std::size_t i = 0; i < pg.numNodes(); ++i) g.vertices[i] = pg.pose(i);
+	for (std::size_t id = 0; id < pg.numLinks(); ++id)
+	{
+		if (!pg.isLinkEnabled(id)) continue;
+		const TLink& l = pg.link(id);
+		g.edges.emplace_back(l.from, l.to);
+		if (l.type == LinkType::LoopClosure) g.loopLinks->emplace_back(l.from, l.to);
+	}
+	return g;
+}
+}  // namespace
+
 TGraphFile loadGraphFile(const std::string& path)
 {
+	const std::string text = readTextFile(path);
+	if (text.find("LRGC_POSE_GRAPH") != std::string::npos) return typedGraph(text, path);
 	TGraphFile g;
 	forEachDataLine(
-		readTextFile(path),
+		text,
 		[&](const std::string& line, std::size_t lineNo)
 		{
 			std::istringstream ss(line);
@@ -128,6 +152,7 @@ TGraphFile loadGraphFile(const std::string& path)
 std::vector<std::pair<std::size_t, std::size_t>> loopClosureEdges(const TGraphFile& graph,
 																  std::size_t minIdGap)
 {
+	if (graph.loopLinks) return *graph.loopLinks;
 	std::vector<std::pair<std::size_t, std::size_t>> out;
 	for (const auto& [a, b] : graph.edges)
 		if ((a > b ? a - b : b - a) > minIdGap) out.emplace_back(a, b);

@@ -9,6 +9,7 @@
 
 #include <cstddef>
 #include <map>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -33,15 +34,21 @@ struct TGraphFile
 {
 	std::map<std::size_t, mrpt::math::TPose2D> vertices;     //!< id -> (map <- keyframe)
 	std::vector<std::pair<std::size_t, std::size_t>> edges;  //!< (from, to) ids
+	/** graph.lrgc only: its enabled links of type LoopClosure, the "loop links" that
+	 * stats.json counts as links.loop. Empty optional for a graph.graph (no link types). */
+	std::optional<std::vector<std::pair<std::size_t, std::size_t>>> loopLinks;
 };
 
-/** Reads VERTEX_SE2 and EDGE_SE2 lines; other keywords (FIX, ...) and '#' comments are
- * skipped. Throws "file:line: ..." on a malformed VERTEX_SE2/EDGE_SE2 line. */
+/** Reads an lrgc graph.lrgc (first record LRGC_POSE_GRAPH: nodes, typed links; disabled
+ * links are left out) or a graph.graph (VERTEX_SE2 and EDGE_SE2 lines; other keywords such as
+ * FIX and '#' comments are skipped). Throws "file:line: ..." on a malformed line. */
 TGraphFile loadGraphFile(const std::string& path);
 
-/** Edges whose vertex ids are more than `minIdGap` apart: the loop-closure links. Local
- * registration links each keyframe only to the last K (10 by default) keyframes, so a larger
- * id gap means the link closed a loop. */
+/** The loop links to draw: a graph.lrgc's LoopClosure links (the same count as stats.json's
+ * links.loop); for a graph.graph, which has no link types, the edges whose vertex ids are
+ * more than `minIdGap` apart (local registration links each keyframe to the last K
+ * keyframes only, but a K-window scan-match link can span more ids than the gap, so this
+ * over-counts: give graph.lrgc). */
 std::vector<std::pair<std::size_t, std::size_t>> loopClosureEdges(const TGraphFile& graph,
 																  std::size_t minIdGap);
 

@@ -1,3 +1,4 @@
+#include "RunConfigFile.h"
 #include "live/LiveMapper.h"
 
 #include <mrpt/core/format.h>
@@ -7,6 +8,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <filesystem>
 
 namespace lrgc::apps
 {
@@ -54,6 +56,8 @@ CLiveMapper::CLiveMapper(const TAppConfig& config, std::string outDir, std::stri
 	m_builder.logging_enable_console_output = false;  // warnings are reported below
 	m_run.input = std::move(sensorsIni);
 	m_run.format = "live";
+	m_run.configIni = runConfigText(config, m_run.input);
+	m_run.mrptRawlog = (std::filesystem::path(m_outDir) / "capture.rawlog").string();
 }
 
 void CLiveMapper::process(const TLiveItem& item, size_t scansBehind)

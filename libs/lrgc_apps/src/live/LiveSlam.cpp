@@ -81,7 +81,7 @@ std::string statusLine(const CLiveQueues& queues, const CLiveMapper& mapper,
 					   const TSensors& sensors)
 {
 	std::string line = mrpt::format(
-		"live: received %llu scans, mapped %zu, queue %zu, loop-closure links %zu, skipped "
+		"live: received %llu scans, mapped %zu, queue %zu, loop closures %zu, skipped "
 		"%zu |",
 		static_cast<unsigned long long>(queues.scansPushed()), mapper.counts().scansMapped,
 		queues.mappingDepth(), mapper.builder().stats().loopClosures,
@@ -173,9 +173,11 @@ public:
 		{
 			m_fatal.set("capture: " + oneLineError(e));
 		}
-		const std::string status =
-			m_fatal.isSet() ? "error: " + m_fatal.why() : "stopped on request";
-		int exitCode = m_fatal.isSet() ? kExitInputError : kExitOk;
+		const std::string silent = noSensorStarted();
+		const std::string status = m_fatal.isSet() ? "error: " + m_fatal.why()
+			: silent.empty()					   ? "stopped on request"
+												   : silent;
+		int exitCode = m_fatal.isSet() || !silent.empty() ? kExitInputError : kExitOk;
 		try
 		{
 			if (!m_mappingFailed) m_mapper.finish();
@@ -204,6 +206,25 @@ public:
 	}
 
 private:
+	/** "no sensor delivered data: <each one's last problem>" if none ever started (delivered
+	 * a valid observation), else empty: the run then ends with exit status 1. */
+	std::string noSensorStarted() const
+	{
+		std::string problems;
+		for (const auto& s : m_sensors)
+		{
+			const TSensorCounters c = s->counters();
+			if (c.starts > 0) return {};
+			// "live: [LASER] CLMS100Eth cannot start: ...; retrying in 8 s" -> "[LASER] ... ..."
+			const std::string& p = c.lastProblem;
+			const size_t from = std::min(p.find('['), p.size());
+			problems += (problems.empty() ? "" : "; ") +
+				(p.empty() ? "[" + s->sensor().section + "] never started"
+						   : p.substr(from, p.rfind("; ") - from));
+		}
+		return "no sensor delivered data (" + problems + ")";
+	}
+
 	static std::string captureFileOf(const std::string& outDir)
 	{
 		return (std::filesystem::path(outDir) / "capture.rawlog").string();
@@ -306,16 +327,18 @@ private:
 		const auto& st = m_mapper.builder().stats();
 		if (m_fatal.isSet())
 			m_console.message("lrgc-slam: " + status + " (what was mapped is saved)", true);
+		else if (status.rfind("no sensor", 0) == 0)
+			m_console.message("lrgc-slam: " + status, true);
 		m_console.message(
 			mrpt::format(
 				"lrgc-slam: live run %s: %llu scans received (%llu objects captured), %zu "
-				"mapped, %zu skipped to keep up, %zu keyframes, %zu loop-closure links (not a "
-				"count of loops); outputs in %s",
+				"mapped, %zu skipped to keep up, %zu keyframes, %zu loop closures (%zu loop "
+				"links); outputs in %s",
 				m_fatal.isSet() ? "failed" : "stopped",
 				static_cast<unsigned long long>(m_queues.scansPushed()),
 				static_cast<unsigned long long>(m_capture.objects()),
 				m_mapper.counts().scansMapped, m_mapper.policy().skippedTotal(), st.keyframes,
-				st.loopClosures, m_setup.outDir.c_str()),
+				st.loopClosures, st.loopClosureLinks, m_setup.outDir.c_str()),
 			m_fatal.isSet());
 	}
 

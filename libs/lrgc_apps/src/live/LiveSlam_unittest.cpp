@@ -7,6 +7,7 @@
 
 #include <atomic>
 #include <cstdio>
+#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <regex>
@@ -156,6 +157,34 @@ TEST_F(LiveSlamTest, FallingBehindSkipsScansButNeverOdometryOrTheCapture)
 	EXPECT_EQ(jsonInt(live, "objects"), 2 * n) << "the capture keeps everything";
 	EXPECT_NE(m_console.find("live: mapping is behind"), std::string::npos) << m_console;
 	EXPECT_EQ(lines(out("trajectory.tum")).size(), static_cast<size_t>(mapped));
+}
+
+// No sensor delivers (doc/live.md): each is reported as not started, and the run, once
+// stopped, ends with exit status 1 saying so.
+TEST_F(LiveSlamTest, NoSensorDeliveringIsReportedAndExitsNonZero)
+{
+	laserScript().silentAfter = 0;  // initialize() succeeds, then only 0-ray scans
+	m_setup.config.live.sensorTimeoutSeconds = 0.2;
+	m_setup.config.live.retryInitialSeconds = 0.01;
+	m_setup.config.live.retryMaxSeconds = 0.02;
+	char* buf = nullptr;
+	size_t size = 0;
+	std::FILE* err = open_memstream(&buf, &size);
+	const auto t0 = std::chrono::steady_clock::now();
+	const int rc = CLiveSlam(m_setup, err).run(
+		[&] { return std::chrono::steady_clock::now() - t0 > std::chrono::seconds(1); });
+	std::fclose(err);
+	m_console.assign(buf, size);
+	std::free(buf);
+	EXPECT_EQ(rc, kExitInputError) << m_console;
+	EXPECT_NE(m_console.find("[LASER] CFakeLiveLaser cannot start: no valid data within 0.2 s"),
+			  std::string::npos)
+		<< m_console;
+	EXPECT_EQ(m_console.find("LASER ok"), std::string::npos) << m_console;
+	EXPECT_NE(m_console.find("lrgc-slam: no sensor delivered data ([LASER] CFakeLiveLaser "
+							 "cannot start: no valid data within 0.2 s"),
+			  std::string::npos)
+		<< m_console;
 }
 
 TEST_F(LiveSlamTest, AnExistingCaptureIsNeverOverwritten)

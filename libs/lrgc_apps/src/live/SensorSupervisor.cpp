@@ -143,7 +143,7 @@ void CSensorSupervisor::threadMain()
 		const std::optional<std::string> failure = runDriver(*driver);
 		driver.reset();  // closes the device before any wait
 		if (!failure) break;
-		fail(*failure, false);
+		fail(*failure, !m_flowing);  // no data since initialize(): it has not started
 		if (!waitFor(m_backoff)) break;
 		m_backoff = std::min(2 * m_backoff, m_params.retryMaxSeconds);
 	}
@@ -182,16 +182,31 @@ mrpt::hwdrivers::CGenericSensor::Ptr CSensorSupervisor::startDriver()
 	driver->loadConfig(m_ini, m_sensor.section);
 	silenceDriverConsole(*driver);  // in case loadConfig changed the logging level
 	if (stopping()) return nullptr;
+	// Started only once it delivers (runDriver): a driver whose initialize() returns without
+	// a device (CLMS100Eth with nothing at its address) would otherwise show as "ok".
 	driver->initialize();
+	return driver;
+}
+
+void CSensorSupervisor::noteDataFlowing(const mrpt::hwdrivers::CGenericSensor& driver,
+									   TClock::time_point now)
+{
+	m_flowing = true;
+	m_backoff = m_params.retryInitialSeconds;
 	{
 		std::lock_guard<std::mutex> lock(m_mutex);
 		++m_counters.starts;
 		m_counters.state = "ok";
 	}
 	m_report(mrpt::format("live: %s started (label '%s', %.0f Hz)", name().c_str(),
-						  driver->getSensorLabel().c_str(), driver->getProcessRate()),
+						  driver.getSensorLabel().c_str(), driver.getProcessRate()),
 			 false);
-	return driver;
+	if (m_outageSince)
+		m_report(mrpt::format("live: %s data again after %.1f s without; mapping resumes",
+							  name().c_str(),
+							  std::chrono::duration<double>(now - *m_outageSince).count()),
+				 true);
+	m_outageSince.reset();
 }
 
 void CSensorSupervisor::handOver(
@@ -244,19 +259,7 @@ std::optional<std::string> CSensorSupervisor::runDriver(mrpt::hwdrivers::CGeneri
 		{
 			lastValid = now;
 			rejectedSinceValid = 0;
-			if (!m_flowing)
-			{
-				m_flowing = true;
-				m_backoff = m_params.retryInitialSeconds;
-				setState("ok");
-				if (m_outageSince)
-					m_report(mrpt::format(
-								 "live: %s data again after %.1f s without; mapping resumes",
-								 name().c_str(),
-								 std::chrono::duration<double>(now - *m_outageSince).count()),
-							 true);
-				m_outageSince.reset();
-			}
+			if (!m_flowing) noteDataFlowing(driver, now);
 		}
 		else if (std::chrono::duration<double>(now - lastValid).count() >
 				 m_params.sensorTimeoutSeconds)
@@ -267,6 +270,9 @@ std::optional<std::string> CSensorSupervisor::runDriver(mrpt::hwdrivers::CGeneri
 			if (rejectedSinceValid > 0)
 				detail += mrpt::format(", %zu observation(s) without data", rejectedSinceValid);
 			if (!m_outageSince) m_outageSince = lastValid;
+			if (!m_flowing)  // the grace period after initialize() is over
+				return mrpt::format("cannot start: no valid data within %.1f s of its start (%s)",
+									m_params.sensorTimeoutSeconds, detail.c_str());
 			return mrpt::format("sent no valid data for %.1f s: %s",
 								m_params.sensorTimeoutSeconds, detail.c_str());
 		}

@@ -6,6 +6,11 @@
  * that carry no data (a range scan with fewer than 2 rays: what CLMS100Eth returns once its
  * connection is gone) are counted as rejected, not handed over.
  *
+ * Start. A sensor has started when it delivers its first valid observation, not when its
+ * initialize() returns: some drivers return from it without a device (CLMS100Eth with nothing
+ * at its address). One that delivers nothing within sensor_timeout_s of initialize() is
+ * reported as "cannot start: no valid data within ..." and retried like a failed start.
+ *
  * Failures. A driver that cannot start (initialize() throws: no device, connection refused),
  * throws in doProcess(), or delivers no valid observation for [LiveMapping] sensor_timeout_s
  * (disconnected, sending garbage, stuck in an error state) is reported with what it said,
@@ -35,13 +40,14 @@ namespace lrgc::apps
 /** A snapshot of one sensor's counters. */
 struct TSensorCounters
 {
-	size_t starts = 0;        //!< successful initialize() calls
+	size_t starts = 0;        //!< (re)starts that delivered valid data
 	size_t failures = 0;      //!< failed starts, driver errors and data time-outs
 	size_t observations = 0;  //!< objects handed to the sink
 	size_t scans = 0;         //!< of which 2D laser scans
 	size_t rejected = 0;      //!< objects without data (scans with < 2 rays), not handed over
-	/** "starting", "ok", "retrying", "stopped", or "blocked N s" while a doProcess() call has
-	 * lasted longer than sensor_timeout_s (a driver stuck in a call cannot be interrupted). */
+	/** "starting" (until its first valid data), "ok", "retrying", "stopped", or "blocked N s"
+	 * while a doProcess() call has lasted longer than sensor_timeout_s (a driver stuck in a
+	 * call cannot be interrupted). */
 	std::string state = "starting";
 	std::string lastProblem;  //!< the last failure as reported, empty if none
 };
@@ -71,6 +77,8 @@ private:
 	using TClock = std::chrono::steady_clock;
 	void threadMain();
 	mrpt::hwdrivers::CGenericSensor::Ptr startDriver();
+	/** The first valid data since the driver's (re)start: it has started. */
+	void noteDataFlowing(const mrpt::hwdrivers::CGenericSensor& driver, TClock::time_point now);
 	/** Runs the driver until stop (nullopt) or a failure (its description). */
 	std::optional<std::string> runDriver(mrpt::hwdrivers::CGenericSensor& driver);
 	void handOver(const mrpt::hwdrivers::CGenericSensor::TListObservations& objects,

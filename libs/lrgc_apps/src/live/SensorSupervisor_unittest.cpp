@@ -3,6 +3,7 @@
 #include <mrpt/config/CConfigFileMemory.h>
 
 #include <mutex>
+#include <set>
 
 #include "FakeSensors.h"
 #include "lms1xx_emulator.h"  // waitUntil
@@ -102,6 +103,30 @@ TEST_F(SensorSupervisorTest, StartFailuresAreRetriedWithDoublingBackOff)
 	EXPECT_EQ(c.observations, 40u);  // with the odometry
 	EXPECT_EQ(c.state, "stopped");
 	expectAllScansInOrder();
+}
+
+// A driver whose initialize() succeeds but that never delivers valid data (CLMS100Eth with
+// no device at its address) has not started: never "ok", never "started", no start counted.
+TEST_F(SensorSupervisorTest, ASensorThatNeverDeliversIsNotStarted)
+{
+	laserScript().silentAfter = 0;  // 0-ray scans only, from the first call
+	auto sup = make("CFakeLiveLaser");
+	sup->start();
+	std::set<std::string> states;
+	ASSERT_TRUE(lrgc::test::waitUntil(
+		[&]
+		{
+			states.insert(sup->counters().state);
+			return linesWith("cannot start: no valid data within 0.2 s of its start") >= 2;
+		},
+		60));
+	sup->requestStop();
+	sup->join();
+	EXPECT_EQ(states.count("ok"), 0u);
+	EXPECT_EQ(linesWith(" started ("), 0u);
+	EXPECT_GE(linesWith("observation(s) without data); retrying in"), 2u);
+	EXPECT_EQ(sup->counters().starts, 0u);
+	EXPECT_EQ(scansReceived(), 0u);
 }
 
 TEST_F(SensorSupervisorTest, SilentSensorIsRestartedAndRecoveryReported)

@@ -1,0 +1,81 @@
+#!/usr/bin/env bash
+# The Debian packages of a built tree (cmake/DebianPackages.cmake), checked as Debian would:
+# cpack -G DEB into a temporary folder, then per package its contents (dpkg-deb -c), its
+# dependencies (no -dev package in lrgc's), lintian (no error; skipped if not installed), the
+# programs of lrgc run from the unpacked package (--help, --version), and a find_package(lrgc)
+# project (tests/consumer) built against the unpacked liblrgc-dev.
+# Usage: check_packages.sh BUILD_DIR WORK_DIR. Prints "SKIP: ..." where dpkg-deb is absent.
+set -euo pipefail
+build=$(cd "$1" && pwd)
+work=$2
+command -v dpkg-deb >/dev/null || { echo "SKIP: dpkg-deb not installed"; exit 0; }
+fail() { echo "FAIL: $*" >&2; exit 1; }
+
+rm -rf "$work" && mkdir -p "$work"
+(cd "$work" && cpack -G DEB --config "$build/CPackConfig.cmake" -B "$work" >cpack.log 2>&1) ||
+  fail "cpack failed: $(tail -5 "$work/cpack.log")"
+run=$(ls "$work"/lrgc_*_*.deb) || fail "no lrgc_*.deb"
+dev=$(ls "$work"/liblrgc-dev_*_*.deb) || fail "no liblrgc-dev_*.deb"
+arch=$(dpkg-architecture -qDEB_HOST_MULTIARCH 2>/dev/null || gcc -print-multiarch)
+
+contents() { dpkg-deb -c "$1" | awk '{print $6}' | sed 's|^\./|/|'; }
+has() { grep -qx "$2" <(contents "$1") || fail "$(basename "$1") lacks $2"; }
+hasnot() { ! grep -qE "$2" <(contents "$1") || fail "$(basename "$1") holds $2: $(contents "$1" | grep -E "$2" | head -3)"; }
+
+for f in /usr/bin/lrgc-slam /usr/bin/lrgc-eval /usr/bin/lrgc-plot /usr/bin/calibrate-sweep-time \
+         /usr/share/lrgc/lrgc-default.ini /usr/share/lrgc/python/bench_runs.py \
+         /usr/share/doc/lrgc/copyright /usr/share/doc/lrgc/changelog.Debian.gz \
+         /usr/share/man/man1/lrgc-slam.1.gz /usr/share/man/man1/lrgc-eval.1.gz \
+         /usr/share/man/man1/lrgc-plot.1.gz /usr/share/man/man1/calibrate-sweep-time.1.gz; do
+  has "$run" "$f"
+done
+hasnot "$run" '^/usr/include|\.a$|/cmake/'
+for f in /usr/include/lrgc/map_builder/CMetricMapBuilderLRGC.h \
+         "/usr/lib/$arch/liblrgc.a" "/usr/lib/$arch/liblrgc_apps.a" \
+         "/usr/lib/$arch/cmake/lrgc/lrgcConfig.cmake" /usr/share/doc/liblrgc-dev/copyright; do
+  has "$dev" "$f"
+done
+hasnot "$dev" '^/usr/bin/|^/usr/lib/[^/]*\.a$'
+grep -q "License: BSD-3-Clause" <(dpkg-deb --fsys-tarfile "$run" | tar -xO ./usr/share/doc/lrgc/copyright) ||
+  fail "lrgc's copyright names no BSD-3-Clause licence"
+
+depends=$(dpkg-deb -f "$run" Depends)
+! grep -q -- '-dev' <<<"$depends" || fail "lrgc depends on development packages: $depends"
+grep -q 'libmrpt-slam2.5' <<<"$depends" || fail "lrgc's dependencies lack MRPT's runtime: $depends"
+devdeps=$(dpkg-deb -f "$dev" Depends)
+for d in "lrgc (= " libmrpt-dev; do
+  grep -qF "$d" <<<"$devdeps" || fail "liblrgc-dev does not depend on $d: $devdeps"
+done
+
+if command -v lintian >/dev/null; then
+  lintian "$run" "$dev" >"$work/lintian.txt" 2>&1 || true
+  ! grep -q '^E:' "$work/lintian.txt" || fail "lintian errors: $(grep '^E:' "$work/lintian.txt")"
+  echo "lintian: $(grep -c '^W:' "$work/lintian.txt" || true) warnings, no error"
+else
+  echo "lintian not installed: not run"
+fi
+
+mkdir -p "$work/root"
+dpkg-deb -x "$run" "$work/root"
+"$work/root/usr/bin/lrgc-slam" --help </dev/null | grep -q "Usage:" || fail "installed lrgc-slam --help"
+for p in lrgc-slam lrgc-eval lrgc-plot; do
+  "$work/root/usr/bin/$p" --version </dev/null | grep -q "^$p " || fail "installed $p --version"
+done
+"$work/root/usr/bin/calibrate-sweep-time" --help </dev/null | grep -q "scan_sweep_time" ||
+  fail "installed calibrate-sweep-time --help"
+# liblrgc-dev as shipped: tests/consumer finds lrgc in the unpacked packages (both, as apt
+# would install them) and maps SENA through the packaged static libraries.
+dpkg-deb -x "$dev" "$work/root"
+launcher=()
+[ -n "${CMAKE_CXX_COMPILER_LAUNCHER:-}" ] && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER="$CMAKE_CXX_COMPILER_LAUNCHER")
+cmake -S "$(dirname "$0")/../consumer" -B "$work/consumer" -DCMAKE_PREFIX_PATH="$work/root/usr" \
+  -DCMAKE_BUILD_TYPE=Release "${launcher[@]}" >"$work/consumer.log" 2>&1 ||
+  fail "find_package(lrgc) in the unpacked packages: $(tail -5 "$work/consumer.log")"
+cmake --build "$work/consumer" >>"$work/consumer.log" 2>&1 ||
+  fail "building against liblrgc-dev: $(tail -5 "$work/consumer.log")"
+sena="/usr/share/mrpt/datasets/2006-01ENE-21-SENA_Telecom Faculty_one_loop_only.rawlog"
+if [ -f "$sena" ]; then
+  "$work/consumer/map_rawlog" "$sena" </dev/null | grep -qE "keyframes [0-9]+ scans 22[0-9]" ||
+    fail "the consumer built against liblrgc-dev did not map SENA"
+fi
+echo "OK: $(basename "$run") and $(basename "$dev")"
