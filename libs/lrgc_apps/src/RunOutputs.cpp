@@ -129,6 +129,7 @@ std::string statsJson(const TRunOutputsSnapshot& snapshot)
 	  << "  \"keyframes_reused\": " << s.keyframesReused << ",\n"
 	  << "  \"skipped_scans\": " << s.skippedScans << ",\n"
 	  << "  \"unmatched_scans\": " << s.unmatchedScans << ",\n"
+	  << "  \"scans_settled\": " << s.scansSettled << ",\n"
 	  << "  \"odometry_rejected\": " << s.odometryRejected << ",\n"
 	  << "  \"odometry_glitches_recovered\": " << s.glitchesRecovered << ",\n"
 	  << loopCountsJson(s)
