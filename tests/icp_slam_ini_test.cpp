@@ -138,7 +138,7 @@ TEST(IcpSlamIni, MissingKeysAndOtherFilesAreClearErrors)
 	EXPECT_NE(r.output.find("offset.ini:4: [MappingApplication] rawlog_offset '-3'"),
 			  std::string::npos)
 		<< r.output;
-	writeTextFile(dir + "/lrgc.ini", "[MapBuilder]\nkeyframe_distance = 0.3\n");
+	writeTextFile(dir + "/lrgc.ini", "[MapBuilder]\nkeyframe_distance_m = 0.3\n");
 	r = runProcess(binaryPath("lrgc-slam"), {"lrgc.ini"}, dir);
 	EXPECT_EQ(r.exitCode, 2) << r.output;
 	EXPECT_NE(r.output.find("not an option, nor an icp-slam .ini"), std::string::npos)

@@ -18,7 +18,7 @@ TEST(SlamConfigIni, OutputFolderConfigRepeatsTheRun)
 	const std::string dir = makeTempDir("config_ini_" + std::to_string(::getpid()));
 	// Not the defaults: the keys of the --config .ini must reach config.ini.
 	writeTextFile(dir + "/mine.ini",
-				  "[MapBuilder]\nkeyframe_distance = 0.45\nmax_range = 30.5\n");
+				  "[MapBuilder]\nkeyframe_distance_m = 0.45\nmax_range_m = 30.5\n");
 	auto r = runProcess(binaryPath("lrgc-slam"),
 						{"--input", senaRawlogPath(), "--config", dir + "/mine.ini", "--out",
 						 dir + "/first", "--quiet"});
@@ -35,8 +35,8 @@ TEST(SlamConfigIni, OutputFolderConfigRepeatsTheRun)
 		const std::string v = ini.substr(eq + 1, end - eq - 1);
 		return v.substr(v.find_first_not_of(' '), v.find_last_not_of(' ') - v.find_first_not_of(' ') + 1);
 	};
-	EXPECT_EQ(valueOf("keyframe_distance"), "0.450000");
-	EXPECT_EQ(valueOf("max_range"), "30.500000");
+	EXPECT_EQ(valueOf("keyframe_distance_m"), "0.450000");
+	EXPECT_EQ(valueOf("max_range_m"), "30.500000");
 
 	r = runProcess(binaryPath("lrgc-slam"), {"--input", senaRawlogPath(), "--config",
 											 dir + "/first/config.ini", "--out", dir + "/again",

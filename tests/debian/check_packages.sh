@@ -61,7 +61,7 @@ dpkg-deb -x "$run" "$work/root"
 for p in lrgc-slam lrgc-eval lrgc-plot; do
   "$work/root/usr/bin/$p" --version </dev/null | grep -q "^$p " || fail "installed $p --version"
 done
-"$work/root/usr/bin/calibrate-sweep-time" --help </dev/null | grep -q "scan_sweep_time" ||
+"$work/root/usr/bin/calibrate-sweep-time" --help </dev/null | grep -q "scan_sweep_time_s" ||
   fail "installed calibrate-sweep-time --help"
 # liblrgc-dev as shipped: tests/consumer finds lrgc in the unpacked packages (both, as apt
 # would install them) and maps SENA through the packaged static libraries.

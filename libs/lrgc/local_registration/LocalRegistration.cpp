@@ -35,7 +35,7 @@ CLocalRegistration::CLocalRegistration(
 	// every match of this stage (scan to window, pairwise): with an odometry prior a wrong
 	// match is unlikely, and people and glass in the window's scans would make the strict
 	// value reject good matches. Loop closing and revisits keep [ScanMatcher]'s.
-	m_matcherParams.maxFreeSpaceViolation = p.max_free_space_violation;
+	m_matcherParams.max_free_space_violation = p.max_free_space_violation;
 	m_matcher = CScanMatcher(m_matcherParams);
 }
 
@@ -250,7 +250,7 @@ TRegistration CLocalRegistration::registerScan(
 	// a clear majority of the scan matched, a clear lead over every other heading and over
 	// the prior's own optimum). A doubtful case keeps the prior, not a contradicting match.
 	const bool suspect = std::abs(prediction.motion.phi) > m_params.glitch_min_turn ||
-		prediction.stepSeconds > m_params.glitch_min_gap;
+		prediction.stepSeconds > m_params.glitch_min_gap_s;
 	// Nothing made the odometry suspect, yet the match turns the robot by more than
 	// kSecondOpinionTurn against it, or shifts it by more than kSecondOpinionShift: people or a repetitive scene (a hall's pillar rows) can
 	// pull a plain match into another basin, and one such scan turns every later scan with it
@@ -325,7 +325,7 @@ size_t CLocalRegistration::linkAndOptimize(
 	for (size_t l = 0; l < links; ++l)
 	{
 		const auto& m = matches[l];
-		if (!m || m->inlierFraction < m_params.min_link_inliers) continue;
+		if (!m || m->inlierFraction < m_params.min_link_inlier_fraction) continue;
 		graph.addLink(
 			{nodes[l], newNode, m->scanInRef,
 			 linkInformation(m->cov, m_params.link_noise, double(links) / pairwiseWeight),

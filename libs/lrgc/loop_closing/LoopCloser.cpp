@@ -125,8 +125,8 @@ CLoopCloser::CLoopCloser(
 //   t' = t (1 - r / |t|)_+ ,  d^2 = t'^T C_xy^-1 t'  <=  gate_sigma^2.
 auto CLoopCloser::gate(const CPoseGraph& graph, size_t newest) -> std::optional<TCandidates>
 {
-	if (newest < m_params.old_map_exclusion) return std::nullopt;
-	const size_t lastOld = newest - m_params.old_map_exclusion;
+	if (newest < m_params.old_map_exclusion_keyframes) return std::nullopt;
+	const size_t lastOld = newest - m_params.old_map_exclusion_keyframes;
 	// The whole graph: a search cut at the uncertainty the window can cover (10 m std) never
 	// reached the start of Killian's big loop (1.1 m away in truth, 10+ m std by the
 	// single-path propagation), so the gate had no candidates and no correlation was tried.
@@ -137,7 +137,7 @@ auto CLoopCloser::gate(const CPoseGraph& graph, size_t newest) -> std::optional<
 		const Eigen::Vector2d t(r.nodeInSource.x, r.nodeInSource.y);
 		const double norm = t.norm();
 		const Eigen::Vector2d ts =
-			norm > m_params.overlap_radius ? Eigen::Vector2d(t * (1 - m_params.overlap_radius / norm))
+			norm > m_params.overlap_radius_m ? Eigen::Vector2d(t * (1 - m_params.overlap_radius_m / norm))
 										   : Eigen::Vector2d::Zero();
 		const Eigen::Matrix2d Cxy = r.cov.topLeftCorner<2, 2>() + 1e-6 * Eigen::Matrix2d::Identity();
 		if (ts.dot(Cxy.ldlt().solve(ts)) > m_params.gate_sigma * m_params.gate_sigma) continue;
@@ -201,12 +201,12 @@ auto CLoopCloser::searchWindow(const TCandidates& c, size_t newest) const -> TSe
 {
 	TSearchWindow w;
 	w.xy = std::clamp(
-		m_params.window_sigmas * c.sigmaXY, 2 * m_correlator.params().resolution,
-		m_params.max_window_xy);
+		m_params.window_sigmas * c.sigmaXY, 2 * m_correlator.params().resolution_m,
+		m_params.max_window_xy_m);
 	w.theta = std::clamp(
-		m_params.window_sigmas * c.sigmaTheta, mrpt::DEG2RAD(2.0), m_params.max_window_theta);
+		m_params.window_sigmas * c.sigmaTheta, mrpt::DEG2RAD(2.0), m_params.max_window_phi);
 	w.patchSize = std::min<size_t>(
-		m_params.old_map_exclusion,
+		m_params.old_map_exclusion_keyframes,
 		m_params.patch_min_keyframes + static_cast<size_t>(m_params.patch_keyframes_per_m * c.sigmaXY));
 	w.patchFirst = newest + 1 - std::min(w.patchSize, newest + 1);
 	return w;
@@ -235,10 +235,10 @@ std::optional<TCorrelationResult> CLoopCloser::correlatePatch(
 	++m_stats.work.correlations;
 	progress();
 	const CCorrelationGrid grid =
-		m_correlator.makeGrid(pm.oldMap, 3 * m_correlator.params().blurSigma);
+		m_correlator.makeGrid(pm.oldMap, 3 * m_correlator.params().blur_sigma_m);
 	const auto corr = countedCorrelation(grid, pm.patch, graph.pose(graph.numNodes() - 1), w);
 	const TCorrelationVerdict verdict = corr ? corr->checkFilters(m_correlator.params())
-											 : TCorrelationVerdict{TCorrelationVerdict::Reason::LowScore, 0, m_correlator.params().minScore};
+											 : TCorrelationVerdict{TCorrelationVerdict::Reason::LowScore, 0, m_correlator.params().min_score};
 	correlateTimer.stop();
 	progress();
 	if (verdict.accepted()) return corr;
@@ -247,9 +247,9 @@ std::optional<TCorrelationResult> CLoopCloser::correlatePatch(
 	return std::nullopt;
 }
 
-// The patch: the points of keyframes patchFirst..newest within patch_max_range, in the newest
+// The patch: the points of keyframes patchFirst..newest within patch_max_range_m, in the newest
 // keyframe's frame. The old map: the candidates' points the patch can reach from inside the
-// window [map frame]. A window wider than the old map can be (max_window_xy lifted) gains
+// window [map frame]. A window wider than the old map can be (max_window_xy_m lifted) gains
 // nothing: beyond the farthest old point plus the patch radius and the blur's reach (p(m) > 0
 // up to 3.53 sigma; 4 sigma and two cells of margin), no patch point meets the map, so
 // w.xy shrinks to that.
@@ -268,13 +268,13 @@ auto CLoopCloser::patchAndOldMap(
 		{
 			const Eigen::Vector2d q = kInNewest(p);
 			const double range = q.norm();
-			if (range > m_params.patch_max_range) continue;
+			if (range > m_params.patch_max_range_m) continue;
 			pm.patch.push_back(q);
 			patchRadius = std::max(patchRadius, range);
 		}
 	}
 	const Eigen::Vector2d centre(newestInMap.x, newestInMap.y);
-	const double blur = m_correlator.params().blurSigma;
+	const double blur = m_correlator.params().blur_sigma_m;
 	const double reach = w.xy + patchRadius + 3 * blur;
 	for (const size_t j : c.nodes)
 	{
@@ -287,7 +287,7 @@ auto CLoopCloser::patchAndOldMap(
 	double farthest = 0;
 	for (const auto& q : pm.oldMap) farthest = std::max(farthest, (q - centre).norm());
 	w.xy = std::min(
-		w.xy, farthest + patchRadius + 4 * blur + 2 * m_correlator.params().resolution);
+		w.xy, farthest + patchRadius + 4 * blur + 2 * m_correlator.params().resolution_m);
 	return pm;
 }
 
@@ -341,7 +341,7 @@ auto CLoopCloser::matchLoopLink(
 	m.info = linkInformation(match->cov, m_params.link_noise);
 	m.link = {oldNode, newest, match->scanInRef, m.info, LinkType::LoopClosure};
 	m.vetted = gateInnovationChi2(c.relative[oldIndex], match->scanInRef, m.info) <
-		3 * m_optimizer.params().dcsPhi;
+		3 * m_optimizer.params().dcs_phi;
 	return m;
 }
 
@@ -357,7 +357,7 @@ CReferenceCloud CLoopCloser::oldScansNear(
 	std::vector<TPose2D> refInOld;
 	for (const size_t j : c.nodes)
 	{
-		if (translationNorm(between(graph.pose(j), corrected)) > 2 * m_params.overlap_radius) continue;
+		if (translationNorm(between(graph.pose(j), corrected)) > 2 * m_params.overlap_radius_m) continue;
 		refScans.push_back(*scans[j]);
 		m_stats.work.matchRefPoints += scans[j]->points.size();
 		refInOld.push_back(between(oldInMap, graph.pose(j)));
@@ -366,13 +366,13 @@ CReferenceCloud CLoopCloser::oldScansNear(
 	const CPointTransform toOld(between(oldInMap, corrected));
 	for (const auto& p : scans[graph.numNodes() - 1]->points) scanInOld.push_back(toOld(p));
 	const double cropMargin =
-		m_matcherParams.maxCorrespondenceDist_m + 4 * m_matcherParams.normalRadius_m + 0.2;
+		m_matcherParams.max_correspondence_dist_m + 4 * m_matcherParams.normal_radius_m + 0.2;
 	TScanMatcherParams refParams = m_matcherParams;
-	if (m_params.match_ref_resolution > 0) refParams.refResolution_m = m_params.match_ref_resolution;
+	if (m_params.match_ref_resolution_m > 0) refParams.ref_resolution_m = m_params.match_ref_resolution_m;
 	return CReferenceCloud::fromScansNear(refScans, refInOld, refParams, scanInOld, cropMargin);
 }
 
-// With a very uncertain gate (std > confirm_above_sigma) a match is held until a later match
+// With a very uncertain gate (std > confirm_above_sigma_m) a match is held until a later match
 // from a disjoint patch agrees with it. Returns false while the match is held (or dropped);
 // true to go on, with the confirmed held link added to the graph (`heldId`, vetted or not).
 bool CLoopCloser::confirmed(
@@ -380,9 +380,9 @@ bool CLoopCloser::confirmed(
 	std::optional<size_t>& heldId, std::vector<size_t>& vettedLinks)
 {
 	const size_t newest = m.link.to;
-	if (m_held && newest > m_held->link.to + 2 * m_params.old_map_exclusion)
+	if (m_held && newest > m_held->link.to + 2 * m_params.old_map_exclusion_keyframes)
 		m_held.reset(), ++m_stats.unconfirmed;  // no agreeing match came in time
-	if (m_params.confirm_above_sigma <= 0 || c.sigmaXY <= m_params.confirm_above_sigma) return true;
+	if (m_params.confirm_above_sigma_m <= 0 || c.sigmaXY <= m_params.confirm_above_sigma_m) return true;
 	if (m_held && m_held->link.to >= w.patchFirst) return false;  // same evidence
 	if (!m_held || !matchesAgree(graph, m_held->link, m.link))
 	{
@@ -472,7 +472,7 @@ size_t CLoopCloser::rematch(
 	for (size_t k = patchFirst; k < newest; k += kRematchStride)
 	{
 		const auto [index, distance] = nearestCandidate(graph, c.nodes, graph.pose(k));
-		if (distance > m_params.overlap_radius) continue;
+		if (distance > m_params.overlap_radius_m) continue;
 		const size_t nearest = c.nodes[index];
 		const TPose2D guess = between(graph.pose(nearest), graph.pose(k));
 		const auto m = m_matcher.match(
@@ -483,7 +483,7 @@ size_t CLoopCloser::rematch(
 		// converged to another wall, and would add a wrong link of its own.
 		const Eigen::Matrix3d info = linkInformation(m->cov, m_params.link_noise);
 		const Eigen::Vector3d e = linkResidual(graph.pose(nearest), graph.pose(k), m->scanInRef);
-		if (e.dot(info * e) > 3 * m_optimizer.params().dcsPhi)
+		if (e.dot(info * e) > 3 * m_optimizer.params().dcs_phi)
 		{
 			++m_stats.rematchesRefused;
 			continue;

@@ -15,7 +15,7 @@ CLoopClosing::CLoopClosing(
 	const TLoopCloserParams& p, const TPatchCorrelatorParams& correlator,
 	const TScanMatcherParams& matcher, const TPoseGraphOptimizerParams& optimizer)
 	: m_whenReady(p.apply_when_ready),
-	  m_resultDelay(p.result_delay),
+	  m_resultDelay(p.result_delay_keyframes),
 	  m_worker(std::make_unique<CLoopClosingWorker>(p, correlator, matcher, optimizer))
 {
 }
@@ -54,7 +54,7 @@ TLoopUpdate CLoopClosing::drain(CPoseGraph& graph, size_t anchor, TPose2D& robot
 }
 
 // The results that are due, in job order: a search handed over at keyframe clock c is due
-// where the worker's schedule puts it (CLoopClosingWorker::due: c + result_delay, or where
+// where the worker's schedule puts it (CLoopClosingWorker::due: c + result_delay_keyframes, or where
 // the modelled worker finishes it; waited for if not done), or in a live run once ready.
 void CLoopClosing::applyDue(
 	CPoseGraph& graph, bool atKeyframe, size_t anchor, TPose2D& robotInMap, TLoopUpdate& update)

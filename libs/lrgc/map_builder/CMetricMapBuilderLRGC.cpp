@@ -298,7 +298,7 @@ size_t CMetricMapBuilderLRGC::anchor() const
 bool CMetricMapBuilderLRGC::isNewKeyframe(const TPose2D& scanInMap) const
 {
 	const TPose2D d = between(compose(m_graph.pose(anchor()), m_anchorOffset), scanInMap);
-	return translationNorm(d) >= m_params.builder.keyframe_distance ||
+	return translationNorm(d) >= m_params.builder.keyframe_distance_m ||
 		std::abs(d.phi) >= m_params.builder.keyframe_angle;
 }
 

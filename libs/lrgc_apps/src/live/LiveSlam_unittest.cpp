@@ -57,9 +57,9 @@ protected:
 			"process_rate = 200\nsensorLabel = FAKE\n");
 		m_setup.sensorsIni = m_sensors;
 		m_setup.outDir = m_dir + "/out";
-		m_setup.config.live.statusIntervalSeconds = 0.05;
-		m_setup.config.live.saveIntervalSeconds = 0.05;
-		m_setup.config.live.maxBacklogScans = 0;
+		m_setup.config.live.status_interval_s = 0.05;
+		m_setup.config.live.save_interval_s = 0.05;
+		m_setup.config.live.max_backlog_scans = 0;
 	}
 	int run()
 	{
@@ -145,7 +145,7 @@ TEST_F(LiveSlamTest, FallingBehindSkipsScansButNeverOdometryOrTheCapture)
 	// Bursts of 100 scans (+100 odometry: CGenericSensor keeps at most max_queue_len = 200
 	// objects between two getObservations()): the mapper is far behind at once.
 	laserScript().scansPerCall = 100;
-	m_setup.config.live.maxBacklogScans = 5;
+	m_setup.config.live.max_backlog_scans = 5;
 	ASSERT_EQ(run(), kExitOk) << m_console;
 	const std::string live = lrgc::test::readTextFile(out("live.json"));
 	const long mapped = jsonInt(live, "scans_mapped"),
@@ -164,9 +164,9 @@ TEST_F(LiveSlamTest, FallingBehindSkipsScansButNeverOdometryOrTheCapture)
 TEST_F(LiveSlamTest, NoSensorDeliveringIsReportedAndExitsNonZero)
 {
 	laserScript().silentAfter = 0;  // initialize() succeeds, then only 0-ray scans
-	m_setup.config.live.sensorTimeoutSeconds = 0.2;
-	m_setup.config.live.retryInitialSeconds = 0.01;
-	m_setup.config.live.retryMaxSeconds = 0.02;
+	m_setup.config.live.sensor_timeout_s = 0.2;
+	m_setup.config.live.retry_initial_s = 0.01;
+	m_setup.config.live.retry_max_s = 0.02;
 	char* buf = nullptr;
 	size_t size = 0;
 	std::FILE* err = open_memstream(&buf, &size);
