@@ -110,11 +110,11 @@ def run_log(tools, name, log_path, workdir, args, relations=None, ground_truth=N
             # it from the log itself (no ground truth).
             sweep_ini = os.path.join(workdir, "local-only-sweep.ini")
             with open(local_ini) as base, open(sweep_ini, "w") as f:
-                f.write(base.read() + "scan_sweep_time = %g\n" % sweep)
+                f.write(base.read() + "scan_sweep_time_s = %g\n" % sweep)
             cal = bench_runs.run_lrgc_slam(tools, log_path, os.path.join(workdir, "local-sweep"),
                                            args.timeout, sweep_ini)
             cal.system = "lrgc-slam, local registration only, sweep %g s" % sweep
-            notes.append("%s, local registration only, sweep %g s: [MapBuilder] scan_sweep_time = "
+            notes.append("%s, local registration only, sweep %g s: [MapBuilder] scan_sweep_time_s = "
                          "%g, the laser sweep time scripts/calibrate-sweep-time finds from this "
                          "log without ground truth (bench/run --sweep-times)" % (name, sweep, sweep))
             bench_runs.run_eval(tools, cal, os.path.join(workdir, "local-sweep"), relations)
@@ -169,7 +169,7 @@ def main():
                     help="skip Intel driven four times over (bench_repeat.py)")
     ap.add_argument("--sweep-times", default="",
                     help="NAME=SECONDS,...: also run local registration alone on log NAME with "
-                         "[MapBuilder] scan_sweep_time SECONDS (scripts/calibrate-sweep-time)")
+                         "[MapBuilder] scan_sweep_time_s SECONDS (scripts/calibrate-sweep-time)")
     args = ap.parse_args()
     try:
         args.sweep_times = {k: float(v) for k, v in

@@ -192,7 +192,7 @@ void writeFigures(const std::string& dir)
 									  LinkType::LoopClosure}));
 	}
 	TPoseGraphOptimizerParams plain;
-	plain.robustLoopClosures = false;
+	plain.robust_loop_closures = false;
 	CPoseGraph ls = g;
 	CPoseGraphOptimizer(plain).optimize(ls, 0);
 	writeSvg(dir + "/back-end-false-loops-least-squares.svg",

@@ -130,7 +130,7 @@ TEST_P(FalseLoopClosure, isDownweightedAndThePosesBarelyMove)
 
 	// Plain least squares on the same graph: the link bends the map.
 	lrgc::TPoseGraphOptimizerParams plain;
-	plain.robustLoopClosures = false;
+	plain.robust_loop_closures = false;
 	CPoseGraph bent = before;
 	bent.addLink(bad);
 	CPoseGraphOptimizer(plain).optimize(bent, 0);

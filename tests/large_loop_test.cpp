@@ -131,7 +131,7 @@ struct TLoopSetup
 	bool loopClosing = true;
 	double maxWindowXY = -1, maxWindowTheta = -1;  //!< [m], [rad]; < 0: the default caps
 	double confirmAboveSigma = -1;  //!< [m]; < 0: the default
-	double maxBacklog = -1;  //!< [LoopCloser] max_backlog [keyframes]; < 0: the default
+	double maxBacklog = -1;  //!< [LoopCloser] max_backlog_keyframes [keyframes]; < 0: the default
 };
 
 TRun runHallLoop(const TLoopSetup& setup)
@@ -143,10 +143,10 @@ TRun runHallLoop(const TLoopSetup& setup)
 	opt.laser.maxRange = 6;
 	TLRGCParams p;
 	p.builder.loop_closing = setup.loopClosing;
-	if (setup.maxWindowXY >= 0) p.loop.max_window_xy = setup.maxWindowXY;
-	if (setup.maxWindowTheta >= 0) p.loop.max_window_theta = setup.maxWindowTheta;
-	if (setup.confirmAboveSigma >= 0) p.loop.confirm_above_sigma = setup.confirmAboveSigma;
-	if (setup.maxBacklog >= 0) p.loop.max_backlog = static_cast<size_t>(setup.maxBacklog);
+	if (setup.maxWindowXY >= 0) p.loop.max_window_xy_m = setup.maxWindowXY;
+	if (setup.maxWindowTheta >= 0) p.loop.max_window_phi = setup.maxWindowTheta;
+	if (setup.confirmAboveSigma >= 0) p.loop.confirm_above_sigma_m = setup.confirmAboveSigma;
+	if (setup.maxBacklog >= 0) p.loop.max_backlog_keyframes = static_cast<size_t>(setup.maxBacklog);
 	CMetricMapBuilderLRGC builder(p);
 	builder.setMinLoggingLevel(mrpt::system::LVL_ERROR);  // every hall scan is skipped
 	feedBuilder(builder, world, tr, opt);

@@ -86,7 +86,7 @@ void expectSameTrajectory(const lrgc::TTrajectory& a, const lrgc::TTrajectory& b
 TEST(LoopClosingWorker, offlineResultsDoNotDependOnTheWorkersSpeed)
 {
 	TLRGCParams p;
-	p.loop.result_delay = 2;
+	p.loop.result_delay_keyframes = 2;
 	const TRun normal = mapRing(p, std::chrono::milliseconds(0));
 	const TRun slow = mapRing(p, std::chrono::milliseconds(15));
 	p.loop.background = false;
@@ -195,20 +195,20 @@ TEST(MapBuilderThreads, gettersAndChangesTakeTheCriticalSection)
 }
 
 // [LoopCloser] worker_budget_ms: results land where a worker doing that much modelled work per
-// keyframe would finish them, and searches are skipped past max_backlog. A budget far below
+// keyframe would finish them, and searches are skipped past max_backlog_keyframes. A budget far below
 // what the searches cost delays results and sheds searches; the schedule still depends on
 // the data alone, so a slowed worker gives the same map.
 TEST(LoopClosingWorker, aModelledWorkerDelaysCostlyResultsAndShedsSearchesWhateverItsSpeed)
 {
 	TLRGCParams p;
 	p.loop.worker_budget_ms = 0.2;
-	p.loop.max_backlog = 6;
+	p.loop.max_backlog_keyframes = 6;
 	const TRun normal = mapRing(p, std::chrono::milliseconds(0));
 	const TRun slow = mapRing(p, std::chrono::milliseconds(15));
 	p.loop.background = false;
 	const TRun inlineRun = mapRing(p, std::chrono::milliseconds(0));
 
-	EXPECT_GT(normal.stats.loopResultDelayMax, p.loop.result_delay);
+	EXPECT_GT(normal.stats.loopResultDelayMax, p.loop.result_delay_keyframes);
 	EXPECT_GT(normal.loop.searchesShed, 0U);
 	EXPECT_EQ(normal.loop.searchesShed, slow.loop.searchesShed);
 	expectSameTrajectory(normal.trajectory, slow.trajectory, "slowed worker");

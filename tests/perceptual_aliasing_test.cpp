@@ -5,7 +5,7 @@
  * agrees with the true relative pose of its two keyframes within 0.3 m / 5 deg (or within its
  * own stated covariance, see auditLoopLinks), and the
  * trajectory stays on the truth. Run twice: with the default loop closer, and with search
- * windows forced to span a whole room period (window_sigmas 20, max_window_xy 7 m) and a
+ * windows forced to span a whole room period (window_sigmas 20, max_window_xy_m 7 m) and a
  * looser local registration, so that every correlation sees an aliased twin inside its window
  * and aliased links reach the robust back-end. */
 #include <gtest/gtest.h>
@@ -80,7 +80,7 @@ TEST(PerceptualAliasing, identicalRoomsSearchWindowsSpanningARoomKeepNoFalseLoop
 {
 	TLRGCParams p;
 	p.loop.window_sigmas = 20;
-	p.loop.max_window_xy = kRoom + 1;
+	p.loop.max_window_xy_m = kRoom + 1;
 	// With the default local registration (tight patch links) the drift stays so small that
 	// the filters alone keep every aliased candidate out and the back-end is not exercised:
 	// the window's links at the looser floor of earlier versions (1 cm / 0.25 deg) leave the

@@ -93,7 +93,7 @@ TEST(SlamBadInput, UnknownIniKeyIsRejectedWithSuggestion)
 		{"--input", senaRawlogPath(), "--config", dir + "/bad.ini", "--out", dir + "/out"});
 	EXPECT_EQ(r.exitCode, 2) << r.output;
 	EXPECT_NE(r.output.find("keyframe_distanse"), std::string::npos) << r.output;
-	EXPECT_NE(r.output.find("keyframe_distance"), std::string::npos) << r.output;
+	EXPECT_NE(r.output.find("keyframe_distance_m"), std::string::npos) << r.output;
 	EXPECT_NE(r.output.find("MapBuilder"), std::string::npos) << r.output;
 	EXPECT_FALSE(fs::exists(dir + "/out/map.gridmap.gz"));
 }
@@ -121,8 +121,8 @@ TEST(SlamBadInput, IniValueOfTheWrongTypeNamesKeyValueAndType)
 	// (blamed as "must be > 0"), 12.7 as 12, 2.5 as 2 (blamed on max_pairwise_links).
 	for (const TCase& c : {TCase{"MapBuilder", "loop_closing", "on", "a boolean"},
 						   TCase{"MapBuilder", "loop_closing", "maybe", "a boolean"},
-						   TCase{"MapBuilder", "keyframe_distance", "abc", "a number"},
-						   TCase{"MapBuilder", "keyframe_distance", "0,5", "a number"},
+						   TCase{"MapBuilder", "keyframe_distance_m", "abc", "a number"},
+						   TCase{"MapBuilder", "keyframe_distance_m", "0,5", "a number"},
 						   TCase{"LocalRegistration", "window_size", "12.7", "a whole number"},
 						   TCase{"LocalRegistration", "window_size", "2.5", "a whole number"}})
 	{

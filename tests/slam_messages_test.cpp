@@ -60,18 +60,18 @@ TEST(SlamMessages, ConfigErrorsAreOneLineNamingFileKeyAndWhatToDo)
 	for (const TCase& c :
 		 {TCase{"[MapBuilder]\nkeyframe_distanse = 0.5\n",
 				{"lrgc-slam: " + dir + "/bad.ini:2: Unknown key 'keyframe_distanse' in section "
-				 "[MapBuilder] (did you mean 'keyframe_distance'?)",
+				 "[MapBuilder] (did you mean 'keyframe_distance_m'?)",
 				 "--write-default-config"}},
 		  TCase{"# tuned\n\n[ScanMatcherr]\n",
 				{dir + "/bad.ini:3: ", "ScanMatcherr", "--write-default-config"}},
 		  // The line of the key in its section, not of the same key in another section.
 		  TCase{"[LoopCloser]\n; note\n[MapBuilder]\nmin_scan_points = 20\n"
-				"keyframe_distance = abc\n",
-				{dir + "/bad.ini:5: Invalid value for [MapBuilder] keyframe_distance: 'abc' is "
+				"keyframe_distance_m = abc\n",
+				{dir + "/bad.ini:5: Invalid value for [MapBuilder] keyframe_distance_m: 'abc' is "
 					   "not a number"}},
 		  // Found by fuzz/fuzz_ini: MRPT's parser throws on an unclosed ${ / $env{ (even in a
 		  // comment); that was an exit status 1 with no file named.
-		  TCase{"[MapBuilder]\nkeyframe_distance = 0.3 // see $env{HOME\n",
+		  TCase{"[MapBuilder]\nkeyframe_distance_m = 0.3 // see $env{HOME\n",
 				{"lrgc-slam: " + dir + "/bad.ini:2: Expected closing `}`",
 				 "--write-default-config"}}})
 	{
@@ -178,7 +178,7 @@ TEST(SlamMessages, WriteDefaultConfigReplacesAFileOnlyWithForce)
 {
 	const std::string dir = makeTempDir("msg_config_force");
 	const std::string ini = dir + "/my.ini";
-	const std::string tuned = "[MapBuilder]\nkeyframe_distance = 0.4\n";
+	const std::string tuned = "[MapBuilder]\nkeyframe_distance_m = 0.4\n";
 	writeTextFile(ini, tuned);
 	auto r = runProcess(binaryPath("lrgc-slam"), {"--write-default-config", ini});
 	EXPECT_EQ(r.exitCode, 2) << r.output;

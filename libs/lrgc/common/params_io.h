@@ -32,7 +32,7 @@ void rejectUnknownKeys(
 /** Strict readers of one key of `section`. A key that is absent keeps `current`. A present
  * value (blanks and a trailing `// comment` aside) must be one whole value of the type, else
  * they throw naming the section, the key, the value and the type expected, e.g.
- * "Invalid value for [MapBuilder] keyframe_distance: 'abc' is not a number (expected a
+ * "Invalid value for [MapBuilder] keyframe_distance_m: 'abc' is not a number (expected a
  * decimal number such as 0.5 or 1e-3)". */
 /** A finite decimal number ("0.5", "-2", "1e-3"; not "0,5", "inf", "abc"). */
 double readDouble(const mrpt::config::CConfigFileBase& c, const std::string& section,

@@ -23,7 +23,7 @@ CLocalRegistration::CLocalRegistration(
 	// every match of this stage (scan to window, pairwise): with an odometry prior a wrong
 	// match is unlikely, and people and glass in the window's scans would make the strict
 	// value reject good matches. Loop closing and revisits keep [ScanMatcher]'s.
-	m_matcherParams.maxFreeSpaceViolation = p.max_free_space_violation;
+	m_matcherParams.max_free_space_violation = p.max_free_space_violation;
 	m_matcher = CScanMatcher(m_matcherParams);
 }
 
@@ -238,7 +238,7 @@ TRegistration CLocalRegistration::registerScan(
 	// a clear majority of the scan matched, a clear lead over every other heading and over
 	// the prior's own optimum). A doubtful case keeps the prior, not a contradicting match.
 	const bool suspect = std::abs(prediction.motion.phi) > m_params.glitch_min_turn ||
-		prediction.stepSeconds > m_params.glitch_min_gap;
+		prediction.stepSeconds > m_params.glitch_min_gap_s;
 	if (suspect && (!match || disagrees) && m_params.wide_search_angle > 0)
 	{
 		match = m_matcher.matchWide(
@@ -305,7 +305,7 @@ size_t CLocalRegistration::linkAndOptimize(
 	for (size_t l = 0; l < links; ++l)
 	{
 		const auto& m = matches[l];
-		if (!m || m->inlierFraction < m_params.min_link_inliers) continue;
+		if (!m || m->inlierFraction < m_params.min_link_inlier_fraction) continue;
 		graph.addLink(
 			{nodes[l], newNode, m->scanInRef,
 			 linkInformation(m->cov, m_params.link_noise, double(links) / pairwiseWeight),

@@ -12,7 +12,7 @@
  *
  * Odometry glitches (the benchmark logs have single steps turning 60-85 deg wrongly, after
  * pauses of seconds in the scans): a step is suspect when its predicted turn exceeds
- * glitch_min_turn or the scans paused for more than glitch_min_gap. If then the plain match
+ * glitch_min_turn or the scans paused for more than glitch_min_gap_s. If then the plain match
  * fails or contradicts the prior beyond the chi-square gate, a wide rotational search around
  * the prior (CScanMatcher::matchWide: tens of ms, so only then) decides and may overrule the
  * odometry, but only with evidence a symmetric or repetitive scene cannot fake (a clear

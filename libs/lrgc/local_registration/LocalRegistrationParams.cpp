@@ -14,12 +14,12 @@ void TLocalRegistrationParams::loadFromConfigFile(
 	window_size = readCount(c, s, "window_size", window_size);
 	laser_only_window_size = readCount(c, s, "laser_only_window_size", laser_only_window_size);
 	max_pairwise_links = readCount(c, s, "max_pairwise_links", max_pairwise_links);
-	min_link_inliers = readDouble(c, s, "min_link_inliers", min_link_inliers);
+	min_link_inlier_fraction = readDouble(c, s, "min_link_inlier_fraction", min_link_inlier_fraction);
 	glitch_gate_chi2 = readDouble(c, s, "glitch_gate_chi2", glitch_gate_chi2);
 	wide_search_angle = readDegrees(c, s, "wide_search_angle_deg", wide_search_angle);
 	glitch_min_turn = readDegrees(c, s, "glitch_min_turn_deg", glitch_min_turn);
-	glitch_min_gap = readDouble(c, s, "glitch_min_gap", glitch_min_gap);
-	requireParam(glitch_min_gap > 0, s, "glitch_min_gap", "must be > 0");
+	glitch_min_gap_s = readDouble(c, s, "glitch_min_gap_s", glitch_min_gap_s);
+	requireParam(glitch_min_gap_s > 0, s, "glitch_min_gap_s", "must be > 0");
 	max_free_space_violation =
 		readDouble(c, s, "max_free_space_violation", max_free_space_violation);
 	requireParam(
@@ -35,7 +35,7 @@ void TLocalRegistrationParams::loadFromConfigFile(
 				 mrpt::format("%zu must be below window_size (%zu) and laser_only_window_size (%zu)",
 							  max_pairwise_links, window_size, laser_only_window_size));
 	requireParam(
-		min_link_inliers > 0 && min_link_inliers <= 1, s, "min_link_inliers", "must be in (0, 1]");
+		min_link_inlier_fraction > 0 && min_link_inlier_fraction <= 1, s, "min_link_inlier_fraction", "must be in (0, 1]");
 	requireParam(glitch_gate_chi2 > 0, s, "glitch_gate_chi2", "must be > 0");
 	patch_link = readBool(c, s, "patch_link", patch_link);
 	patch_link_noise.load(c, s, "patch_");
@@ -55,12 +55,12 @@ void TLocalRegistrationParams::saveToConfigFile(
 	c.write(s, "window_size", uint64_t(window_size), np, vp, "K: keyframes registered together while the prior comes from odometry (paper: K >= 7)");
 	c.write(s, "laser_only_window_size", uint64_t(laser_only_window_size), np, vp, "K while the prior is the constant-velocity model (no odometry)");
 	c.write(s, "max_pairwise_links", uint64_t(max_pairwise_links), np, vp, "Pairwise scan-match links per new keyframe, spread over the window");
-	c.write(s, "min_link_inliers", min_link_inliers, np, vp, "Min fraction of matched points for a pairwise scan-match link");
+	c.write(s, "min_link_inlier_fraction", min_link_inlier_fraction, np, vp, "Min fraction of matched points for a pairwise scan-match link");
 	c.write(s, "glitch_gate_chi2", glitch_gate_chi2, np, vp, "[chi2, 3 dof] Odometry/match disagreement that triggers the wide search");
 	link_noise.save(c, s, "", "every pairwise scan-match link (real-scan errors the matcher cannot see)");
 	c.write(s, "wide_search_angle_deg", mrpt::RAD2DEG(wide_search_angle), np, vp, "[deg] Half-width of the rotational search after an odometry glitch");
 	c.write(s, "glitch_min_turn_deg", mrpt::RAD2DEG(glitch_min_turn), np, vp, "[deg] A predicted step turning more than this is suspect: wide search if the match fails");
-	c.write(s, "glitch_min_gap", glitch_min_gap, np, vp, "[s] A step after a longer pause in the scans is suspect too");
+	c.write(s, "glitch_min_gap_s", glitch_min_gap_s, np, vp, "[s] A step after a longer pause in the scans is suspect too");
 	c.write(s, "max_free_space_violation", max_free_space_violation, np, vp, "Local matches: tolerated fraction of points where the window saw free space (replaces [ScanMatcher] max_free_space_violation here)");
 	c.write(s, "patch_link", patch_link, np, vp, "Link each keyframe to the previous one by its match against the window patch (scan to map)");
 	patch_link_noise.save(c, s, "patch_", "the patch link");

@@ -23,17 +23,17 @@ struct TLocalRegistrationParams : public mrpt::config::CLoadableOptions
 	 * 0.511 m at 10, 1.23 m at 15). */
 	size_t laser_only_window_size = 10;
 	size_t max_pairwise_links = 5;  //!< pairwise scan-match links per new keyframe (spread over the window)
-	double min_link_inliers = 0.5;  //!< pairwise link only if this fraction of points matched
+	double min_link_inlier_fraction = 0.5;  //!< pairwise link only if this fraction of points matched
 	double glitch_gate_chi2 = 16.27;  //!< [chi2, 3 dof] prior/match disagreement (p = 0.001)
 	double wide_search_angle = mrpt::DEG2RAD(90.0);  //!< [rad] (key wide_search_angle_deg)
 	double glitch_min_turn = mrpt::DEG2RAD(30.0);  //!< [rad] a step turning more is suspect (key glitch_min_turn_deg)
-	double glitch_min_gap = 1.0;  //!< [s] a step after a longer pause in the scans is suspect
+	double glitch_min_gap_s = 1.0;  //!< [s] a step after a longer pause in the scans is suspect
 	/** Free-space tolerance of local matches, replacing [ScanMatcher]'s: with an odometry
 	 * prior a wrong match is unlikely, while people walking through the window's scans and
 	 * glass make the strict loop-closing value reject good local matches on real logs. */
 	double max_free_space_violation = 0.3;
-	TLinkNoise link_noise;  //!< pairwise links; keys link_floor_xy [m], link_floor_phi_deg
-	/** Noise floor of the patch link; keys patch_link_floor_xy [m], patch_link_floor_phi_deg.
+	TLinkNoise link_noise;  //!< pairwise links; keys link_floor_xy_m [m], link_floor_phi_deg
+	/** Noise floor of the patch link; keys patch_link_floor_xy_m [m], patch_link_floor_phi_deg.
 	 * Tighter than the pairwise links': the patch of K scans has dense, well-fitted lines.
 	 * Measured, local registration alone: see doc/architecture.md. */
 	TLinkNoise patch_link_noise{0.005, 0.1 * M_PI / 180};

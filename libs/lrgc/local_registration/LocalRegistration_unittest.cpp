@@ -284,7 +284,7 @@ TEST(LocalRegistration, keyframeRegisteredAgainstThePatchGetsThePatchLink)
 		double maxPairwiseInfo = 0;
 		for (size_t id = linksBefore + 1 + (fromOdometry ? 1 : 0); id < graph.numLinks(); ++id)
 			maxPairwiseInfo = std::max(maxPairwiseInfo, graph.link(id).information(2, 2));
-		const double floorPhiInfo = 1 / std::pow(p.local.link_noise.floorPhi, 2);
+		const double floorPhiInfo = 1 / std::pow(p.local.link_noise.floor_phi, 2);
 		if (fromOdometry)
 			EXPECT_LT(maxPairwiseInfo, p.local.pairwise_link_weight * floorPhiInfo * 1.0001);
 		else

@@ -29,10 +29,10 @@ Eigen::Matrix3d CMotionPredictor::odometryCov(const mrpt::math::TPose2D& d) cons
 	// Distance term: proportional up to the correlation length L, then a random walk of
 	// independent L-long pieces (variance linear in distance): t_eff = t or sqrt(L t).
 	const double d_m = translationNorm(d), a = std::abs(d.phi);
-	const double L = p.noise_correlation_length;
+	const double L = p.noise_correlation_length_m;
 	const double t = d_m <= L ? d_m : std::sqrt(L * d_m);
-	const double sxy = p.sigma_floor_xy + p.k_xy_per_m * t + p.k_xy_per_rad * a;
-	const double sphi = p.sigma_floor_phi + p.k_phi_per_m * t + p.k_phi_per_rad * a;
+	const double sxy = p.sigma_floor_xy_m + p.k_xy_m_per_m * t + p.k_xy_m_per_rad * a;
+	const double sphi = p.sigma_floor_phi + p.k_phi_rad_per_m * t + p.k_phi_rad_per_rad * a;
 	return Eigen::Vector3d(sxy * sxy, sxy * sxy, sphi * sphi).asDiagonal();
 }
 
@@ -65,7 +65,7 @@ TMotionPrediction CMotionPredictor::predict(mrpt::Clock::time_point t) const
 
 Eigen::Matrix3d CMotionPredictor::constantVelocityCov() const
 {
-	const double sxy = m_params.cv_sigma_xy, sphi = m_params.cv_sigma_phi;
+	const double sxy = m_params.cv_sigma_xy_m, sphi = m_params.cv_sigma_phi;
 	return Eigen::Vector3d(sxy * sxy, sxy * sxy, sphi * sphi).asDiagonal();
 }
 

@@ -7,9 +7,9 @@
  * CARMEN: CObservationOdometry, (odom <- robot)). Either way the predictor keeps the odometry
  * pose at the last committed scan, and predicts the motion d = (lastScan <- newScan) with the
  * usual proportional noise model (Thrun et al., Probabilistic Robotics, 5.4):
- *   sigma_xy  = floor_xy  + k_xy_per_m * |t| + k_xy_per_rad * |dphi|      [m]
- *   sigma_phi = floor_phi + k_phi_per_m * |t| + k_phi_per_rad * |dphi|    [rad]
- * with |t| replaced by sqrt(L |t|) beyond L = noise_correlation_length: the model holds for
+ *   sigma_xy  = floor_xy  + k_xy_m_per_m * |t| + k_xy_m_per_rad * |dphi|      [m]
+ *   sigma_phi = floor_phi + k_phi_rad_per_m * |t| + k_phi_rad_per_rad * |dphi|    [rad]
+ * with |t| replaced by sqrt(L |t|) beyond L = noise_correlation_length_m: the model holds for
  * a keyframe step, while a long odometry-only stretch (scans skipped where the laser saw
  * nothing) is a chain of independent steps whose variances add. Linear growth there made a
  * 20 m blind hall 67 deg of heading std, for a true drift of 7 deg.

@@ -10,24 +10,24 @@ void TMotionPredictorParams::loadFromConfigFile(
 {
 	rejectUnknownKeys(TMotionPredictorParams(), c, s);
 	use_odometry = readBool(c, s, "use_odometry", use_odometry);
-	sigma_floor_xy = readDouble(c, s, "sigma_floor_xy", sigma_floor_xy);
+	sigma_floor_xy_m = readDouble(c, s, "sigma_floor_xy_m", sigma_floor_xy_m);
 	sigma_floor_phi = readDegrees(c, s, "sigma_floor_phi_deg", sigma_floor_phi);
-	k_xy_per_m = readDouble(c, s, "k_xy_per_m", k_xy_per_m);
-	k_xy_per_rad = readDouble(c, s, "k_xy_per_rad", k_xy_per_rad);
-	k_phi_per_m = readDouble(c, s, "k_phi_per_m", k_phi_per_m);
-	k_phi_per_rad = readDouble(c, s, "k_phi_per_rad", k_phi_per_rad);
-	noise_correlation_length =
-		readDouble(c, s, "noise_correlation_length", noise_correlation_length);
-	cv_sigma_xy = readDouble(c, s, "cv_sigma_xy", cv_sigma_xy);
+	k_xy_m_per_m = readDouble(c, s, "k_xy_m_per_m", k_xy_m_per_m);
+	k_xy_m_per_rad = readDouble(c, s, "k_xy_m_per_rad", k_xy_m_per_rad);
+	k_phi_rad_per_m = readDouble(c, s, "k_phi_rad_per_m", k_phi_rad_per_m);
+	k_phi_rad_per_rad = readDouble(c, s, "k_phi_rad_per_rad", k_phi_rad_per_rad);
+	noise_correlation_length_m =
+		readDouble(c, s, "noise_correlation_length_m", noise_correlation_length_m);
+	cv_sigma_xy_m = readDouble(c, s, "cv_sigma_xy_m", cv_sigma_xy_m);
 	cv_sigma_phi = readDegrees(c, s, "cv_sigma_phi_deg", cv_sigma_phi);
 	for (const auto& [key, v] :
-		 {std::pair{"sigma_floor_xy", sigma_floor_xy}, {"sigma_floor_phi_deg", sigma_floor_phi},
-		  {"cv_sigma_xy", cv_sigma_xy}, {"cv_sigma_phi_deg", cv_sigma_phi},
-		  {"noise_correlation_length", noise_correlation_length}})
+		 {std::pair{"sigma_floor_xy_m", sigma_floor_xy_m}, {"sigma_floor_phi_deg", sigma_floor_phi},
+		  {"cv_sigma_xy_m", cv_sigma_xy_m}, {"cv_sigma_phi_deg", cv_sigma_phi},
+		  {"noise_correlation_length_m", noise_correlation_length_m}})
 		requireParam(v > 0, s, key, "must be > 0");
 	for (const auto& [key, v] :
-		 {std::pair{"k_xy_per_m", k_xy_per_m}, {"k_xy_per_rad", k_xy_per_rad},
-		  {"k_phi_per_m", k_phi_per_m}, {"k_phi_per_rad", k_phi_per_rad}})
+		 {std::pair{"k_xy_m_per_m", k_xy_m_per_m}, {"k_xy_m_per_rad", k_xy_m_per_rad},
+		  {"k_phi_rad_per_m", k_phi_rad_per_m}, {"k_phi_rad_per_rad", k_phi_rad_per_rad}})
 		requireParam(v >= 0, s, key, "must be >= 0");
 }
 
@@ -36,14 +36,14 @@ void TMotionPredictorParams::saveToConfigFile(
 {
 	const int np = mrpt::config::MRPT_SAVE_NAME_PADDING(), vp = mrpt::config::MRPT_SAVE_VALUE_PADDING();
 	c.write(s, "use_odometry", use_odometry, np, vp, "Use wheel odometry if the log has it (else constant velocity)");
-	c.write(s, "sigma_floor_xy", sigma_floor_xy, np, vp, "[m] Odometry noise floor per step");
+	c.write(s, "sigma_floor_xy_m", sigma_floor_xy_m, np, vp, "[m] Odometry noise floor per step");
 	c.write(s, "sigma_floor_phi_deg", mrpt::RAD2DEG(sigma_floor_phi), np, vp, "[deg] Odometry heading noise floor per step");
-	c.write(s, "k_xy_per_m", k_xy_per_m, np, vp, "[m/m] Translational noise per metre travelled");
-	c.write(s, "k_xy_per_rad", k_xy_per_rad, np, vp, "[m/rad] Translational noise per radian turned");
-	c.write(s, "k_phi_per_m", k_phi_per_m, np, vp, "[rad/m] Heading noise per metre travelled");
-	c.write(s, "k_phi_per_rad", k_phi_per_rad, np, vp, "[rad/rad] Heading noise per radian turned");
-	c.write(s, "noise_correlation_length", noise_correlation_length, np, vp, "[m] Per-metre noise is proportional up to this distance, random-walk (std ~ sqrt) beyond");
-	c.write(s, "cv_sigma_xy", cv_sigma_xy, np, vp, "[m] Constant-velocity model (no odometry): std dev per step");
+	c.write(s, "k_xy_m_per_m", k_xy_m_per_m, np, vp, "[m/m] Translational noise per metre travelled");
+	c.write(s, "k_xy_m_per_rad", k_xy_m_per_rad, np, vp, "[m/rad] Translational noise per radian turned");
+	c.write(s, "k_phi_rad_per_m", k_phi_rad_per_m, np, vp, "[rad/m] Heading noise per metre travelled");
+	c.write(s, "k_phi_rad_per_rad", k_phi_rad_per_rad, np, vp, "[rad/rad] Heading noise per radian turned");
+	c.write(s, "noise_correlation_length_m", noise_correlation_length_m, np, vp, "[m] Per-metre noise is proportional up to this distance, random-walk (std ~ sqrt) beyond");
+	c.write(s, "cv_sigma_xy_m", cv_sigma_xy_m, np, vp, "[m] Constant-velocity model (no odometry): std dev per step");
 	c.write(s, "cv_sigma_phi_deg", mrpt::RAD2DEG(cv_sigma_phi), np, vp, "[deg] Constant-velocity model: heading std dev per step");
 }
 

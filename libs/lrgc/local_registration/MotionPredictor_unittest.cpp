@@ -114,7 +114,7 @@ TEST(MotionPredictor, odometryPriorIsTheOdometryMotionWithProportionalNoise)
 	EXPECT_NEAR(std::sqrt(p.cov(0, 0)), 0.045, 1e-9);
 }
 
-// Beyond noise_correlation_length (1 m), a straight odometry-only motion is a random walk:
+// Beyond noise_correlation_length_m (1 m), a straight odometry-only motion is a random walk:
 // the distance terms' variance grows linearly, so 16 m is 4x the std of 1 m, not 16x.
 TEST(MotionPredictor, odometryNoiseOfALongBlindStretchGrowsWithTheSquareRootOfDistance)
 {

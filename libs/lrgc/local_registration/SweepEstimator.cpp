@@ -17,7 +17,7 @@ constexpr double kCauchy = 2.385;  // Cauchy width in residual scales (95 % effi
 constexpr size_t kRecentScans = 10;  // scans a new one may be compared with
 constexpr double kMaxPairDistance = 1.0;  // [m] ... if this close
 constexpr double kMaxPairTurn = M_PI / 4;  // [rad] ... and turned this little
-constexpr size_t kGridSteps = 400;  // sweep times tried: max_sweep_time / kGridSteps apart
+constexpr size_t kGridSteps = 400;  // sweep times tried: max_sweep_time_s / kGridSteps apart
 constexpr size_t kMaxSamples = 5000;  // newest pairs kept for the standard error
 constexpr size_t kMinInliers = 40;
 // A rate change beyond this is a clock glitch, not a robot (Intel's jitter bursts: 6.7 rad/s).
@@ -144,11 +144,11 @@ void CSweepEstimator::observe(
 }
 
 // The recent matched scan whose turn rate differs most from cur's, by at least
-// min_rate_change (and at most kMaxRateChange), taken close enough to overlap.
+// min_rate_change_per_s (and at most kMaxRateChange), taken close enough to overlap.
 CSweepEstimator::TRecent* CSweepEstimator::referenceFor(const TRecent& cur)
 {
 	TRecent* best = nullptr;
-	double bestChange = m_params.min_rate_change;
+	double bestChange = m_params.min_rate_change_per_s;
 	for (TRecent& r : m_recent)
 	{
 		if (!r.matched || r.fractions.empty()) continue;
@@ -163,7 +163,7 @@ CSweepEstimator::TRecent* CSweepEstimator::referenceFor(const TRecent& cur)
 void CSweepEstimator::addSample(double x, double y, double std)
 {
 	if (m_fixed || !(std > 0) || !std::isfinite(x) || !std::isfinite(y)) return;
-	const double h = m_params.max_sweep_time / double(kGridSteps);
+	const double h = m_params.max_sweep_time_s / double(kGridSteps);
 	for (size_t g = 0; g <= kGridSteps; ++g)
 	{
 		const double u = (y - double(g) * h * x) / (kCauchy * std);
@@ -181,7 +181,7 @@ void CSweepEstimator::addSample(double x, double y, double std)
 //     var(tau) = sum psi(r_i)^2 z_i^2 / (sum psi'(r_i) z_i^2)^2.
 void CSweepEstimator::updateEstimate()
 {
-	const double h = m_params.max_sweep_time / double(kGridSteps);
+	const double h = m_params.max_sweep_time_s / double(kGridSteps);
 	const size_t g = size_t(std::min_element(m_loss.begin(), m_loss.end()) - m_loss.begin());
 	double tau = double(g) * h;
 	if (g > 0 && g < kGridSteps)
@@ -203,7 +203,7 @@ void CSweepEstimator::updateEstimate()
 	}
 	if (bread <= 0) return;
 	m_summary.std = std::sqrt(meat) / bread;
-	if (m_summary.std <= m_params.max_std) m_summary.estimated = true;
+	if (m_summary.std <= m_params.max_std_s) m_summary.estimated = true;
 	if (m_summary.estimated) m_summary.sweepTime = tau;
 }
 

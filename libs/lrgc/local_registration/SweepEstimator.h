@@ -11,14 +11,14 @@
  * above) without any misfit; what a match can see is the difference. So each scan i is
  * matched (fitSkew: point-to-line Gauss-Newton over x, y, phi and the skew s, Cauchy
  * weights) against the recent scan r whose turn rate differs most (by at least
- * min_rate_change), which gives the relative skew s_ir = s_i - s_r, and
+ * min_rate_change_per_s), which gives the relative skew s_ir = s_i - s_r, and
  *     y = s_ir + phi_applied_i - phi_applied_r = tau (w_i - w_r) = tau x.
  * Turn rates w are those of the de-skewing (the predicted step over its time). tau is the
  * robust (Cauchy) regression of y on x through the origin over all pairs so far, minimised
- * on a grid of sweep times in [0, max_sweep_time] whose losses are accumulated pair by pair
+ * on a grid of sweep times in [0, max_sweep_time_s] whose losses are accumulated pair by pair
  * (constant cost per scan, no look-ahead, the same result for the same input). Its standard
  * error is the sandwich formula over the (capped) list of pairs. The estimate is used once
- * there are min_samples pairs and the standard error is below max_std; before (no turns
+ * there are min_samples pairs and the standard error is below max_std_s; before (no turns
  * yet), the sweep time is 0: no de-skewing.
  *
  * Cost: at most one reference cloud (one scan, ~0.2 ms) and one fit (~0.1 ms) per scan, and
@@ -69,7 +69,7 @@ struct TSweepEstimate
 class CSweepEstimator
 {
    public:
-	/** fixedSweepTime > 0 ([MapBuilder] scan_sweep_time), or p.enabled false: that value is
+	/** fixedSweepTime > 0 ([MapBuilder] scan_sweep_time_s), or p.enabled false: that value is
 	 * used throughout and nothing is estimated. */
 	CSweepEstimator(
 		const TSweepEstimatorParams& p, const TScanMatcherParams& matcher, double fixedSweepTime);

@@ -13,17 +13,17 @@ namespace lrgc
 {
 struct TSweepEstimatorParams : public mrpt::config::CLoadableOptions
 {
-	/** Estimate the sweep time from the scans when [MapBuilder] scan_sweep_time is 0 (a
-	 * nonzero scan_sweep_time is a fixed, calibrated value and wins). Off by default: it
+	/** Estimate the sweep time from the scans when [MapBuilder] scan_sweep_time_s is 0 (a
+	 * nonzero scan_sweep_time_s is a fixed, calibrated value and wins). Off by default: it
 	 * helps MIT-CSAIL and Killian and hurts Intel and ACES (doc/scan-matching.md). */
 	bool enabled = false;
-	double max_sweep_time = 0.1;  //!< [s] largest sweep time considered (a 10 Hz 360 deg lidar)
+	double max_sweep_time_s = 0.1;  //!< [s] largest sweep time considered (a 10 Hz 360 deg lidar)
 	/** [rad/s] a scan is compared with a recent one whose turn rate differs by at least
-	 * this much (key min_rate_change_deg): equal rates stretch both scans alike. */
-	double min_rate_change = mrpt::DEG2RAD(10.0);
+	 * this much (key min_rate_change_deg_per_s): equal rates stretch both scans alike. */
+	double min_rate_change_per_s = mrpt::DEG2RAD(10.0);
 	size_t min_samples = 30;  //!< compared pairs before an estimate is used
 	/** [s] an estimate is used once its standard error is below this */
-	double max_std = 0.002;
+	double max_std_s = 0.002;
 
 	void loadFromConfigFile(
 		const mrpt::config::CConfigFileBase& c, const std::string& s) override;

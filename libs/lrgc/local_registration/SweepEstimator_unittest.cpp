@@ -1,7 +1,7 @@
 /* CSweepEstimator (online sweep time for de-skewing) on a synthetic room: a robot turning in
  * place back and forth, its laser sweeping its 361 beams over a known time while it turns.
  * The estimator recovers that time; without turns it estimates nothing; a fixed
- * [MapBuilder] scan_sweep_time overrides it. fitSkew recovers a known skew. */
+ * [MapBuilder] scan_sweep_time_s overrides it. fitSkew recovers a known skew. */
 #include <gtest/gtest.h>
 #include <lrgc/local_registration/SweepEstimator.h>
 

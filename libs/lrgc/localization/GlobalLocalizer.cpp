@@ -27,7 +27,7 @@ CGlobalLocalizer::CGlobalLocalizer(
 		for (const auto& q : keyframes[i].scan.points) points.push_back(toMap(q));
 	}
 	ASSERTMSG_(!points.empty(), "CGlobalLocalizer: the map's scans hold no point");
-	m_grid = m_correlator.makeGrid(points, 3 * p.blurSigma);
+	m_grid = m_correlator.makeGrid(points, 3 * p.blur_sigma_m);
 	const Eigen::Vector2d c = 0.5 * (lo + hi);
 	m_centre = mrpt::math::TPose2D(c.x(), c.y(), 0);
 	m_halfWindowXY = 0.5 * (hi - lo).maxCoeff() + kWindowMargin;
@@ -41,7 +41,7 @@ TGlobalLocation CGlobalLocalizer::locate(const std::vector<Eigen::Vector2d>& pat
 	out.verdict = out.correlation
 		? out.correlation->checkFilters(m_correlator.params())
 		: TCorrelationVerdict{
-			  TCorrelationVerdict::Reason::LowScore, 0, m_correlator.params().minScore};
+			  TCorrelationVerdict::Reason::LowScore, 0, m_correlator.params().min_score};
 	out.seconds =
 		std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 	return out;

@@ -11,17 +11,17 @@ void TLocalizationParams::loadFromConfigFile(
 {
 	rejectUnknownKeys(TLocalizationParams(), c, s);
 	patch_keyframes = readCount(c, s, "patch_keyframes", patch_keyframes);
-	patch_max_range = readDouble(c, s, "patch_max_range", patch_max_range);
-	track_radius = readDouble(c, s, "track_radius", track_radius);
+	patch_max_range_m = readDouble(c, s, "patch_max_range_m", patch_max_range_m);
+	track_radius_m = readDouble(c, s, "track_radius_m", track_radius_m);
 	track_max_keyframes = readCount(c, s, "track_max_keyframes", track_max_keyframes);
-	min_inliers = readDouble(c, s, "min_inliers", min_inliers);
+	min_inlier_fraction = readDouble(c, s, "min_inlier_fraction", min_inlier_fraction);
 	gate_chi2 = readDouble(c, s, "gate_chi2", gate_chi2);
 	lost_after = readCount(c, s, "lost_after", lost_after);
 	requireParam(patch_keyframes >= 1, s, "patch_keyframes", "must be >= 1");
-	requireParam(patch_max_range > 0, s, "patch_max_range", "must be > 0 m");
-	requireParam(track_radius > 0, s, "track_radius", "must be > 0 m");
+	requireParam(patch_max_range_m > 0, s, "patch_max_range_m", "must be > 0 m");
+	requireParam(track_radius_m > 0, s, "track_radius_m", "must be > 0 m");
 	requireParam(track_max_keyframes >= 1, s, "track_max_keyframes", "must be >= 1");
-	requireParam(min_inliers >= 0 && min_inliers <= 1, s, "min_inliers", "must be in [0, 1]");
+	requireParam(min_inlier_fraction >= 0 && min_inlier_fraction <= 1, s, "min_inlier_fraction", "must be in [0, 1]");
 	requireParam(gate_chi2 > 0, s, "gate_chi2", "must be > 0");
 	requireParam(lost_after >= 1, s, "lost_after", "must be >= 1");
 }
@@ -31,10 +31,10 @@ void TLocalizationParams::saveToConfigFile(
 {
 	const int np = mrpt::config::MRPT_SAVE_NAME_PADDING(), vp = mrpt::config::MRPT_SAVE_VALUE_PADDING();
 	c.write(s, "patch_keyframes", uint64_t(patch_keyframes), np, vp, "Largest patch of new keyframes correlated against the whole map (tries 1, 2, 4, ... up to it)");
-	c.write(s, "patch_max_range", patch_max_range, np, vp, "[m] Patch points farther from its newest keyframe are left out");
-	c.write(s, "track_radius", track_radius, np, vp, "[m] --localize: map keyframes this close to the predicted pose are the tracking reference");
+	c.write(s, "patch_max_range_m", patch_max_range_m, np, vp, "[m] Patch points farther from its newest keyframe are left out");
+	c.write(s, "track_radius_m", track_radius_m, np, vp, "[m] --localize: map keyframes this close to the predicted pose are the tracking reference");
 	c.write(s, "track_max_keyframes", uint64_t(track_max_keyframes), np, vp, "--localize: at most this many (the nearest)");
-	c.write(s, "min_inliers", min_inliers, np, vp, "--localize: a good match has this fraction of the scan matched [0..1]");
+	c.write(s, "min_inlier_fraction", min_inlier_fraction, np, vp, "--localize: a good match has this fraction of the scan matched [0..1]");
 	c.write(s, "gate_chi2", gate_chi2, np, vp, "--localize: ... and agrees with the odometry prior within this chi2 (3 dof)");
 	c.write(s, "lost_after", uint64_t(lost_after), np, vp, "--localize: this many poor matches in a row: lost, relocalise by global correlation");
 }

@@ -18,13 +18,13 @@ struct TLocalizationParams : public mrpt::config::CLoadableOptions
 	size_t patch_keyframes = 32;
 	/** [m] Patch points farther than this from the patch's newest keyframe are left out
 	 * (the heading step is resolution / patch radius: farther points cost headings). */
-	double patch_max_range = 10.0;
+	double patch_max_range_m = 10.0;
 	/** [m] Map keyframes within this distance of the predicted pose form the tracking
 	 * reference (at most track_max_keyframes, the nearest). */
-	double track_radius = 5.0;
+	double track_radius_m = 5.0;
 	size_t track_max_keyframes = 20;
 	/** A tracking match is good if this fraction of the scan's points matched the map. */
-	double min_inliers = 0.3;
+	double min_inlier_fraction = 0.3;
 	/** ... and it agrees with the odometry prior within this chi2 (3 dof) [-]. */
 	double gate_chi2 = 16.27;
 	/** After this many consecutive poor or failed matches the robot is lost: global

@@ -27,7 +27,7 @@ CLocalizer::CLocalizer(
 	// As local registration: people walk through the new scans, so the map may look emptier
 	// there than the scan says; the relaxed free-space limit keeps good matches.
 	TScanMatcherParams mp = params.matcher;
-	mp.maxFreeSpaceViolation = params.local.max_free_space_violation;
+	mp.max_free_space_violation = params.local.max_free_space_violation;
 	m_matcher = CScanMatcher(mp);
 	m_finder = std::make_unique<CStartFinder>(m_global, m_params, m_lp);
 }
@@ -175,7 +175,7 @@ bool CLocalizer::track(const TScan2D& scan, mrpt::Clock::time_point t)
 		const auto m = m_matcher.match(m_ref, scan, guess);
 		// The map's scans were taken at other times (people, doors) and its passes agree to
 		// about the loop links' noise floor, not to the match covariance alone.
-		good = m && m->inlierFraction >= m_lp.min_inliers &&
+		good = m && m->inlierFraction >= m_lp.min_inlier_fraction &&
 			disagreementChi2(
 				guess, m->scanInRef,
 				rotateCovariance(priorCov, -m_refInMap.phi) + m->cov +
@@ -205,7 +205,7 @@ std::optional<TPose2D> CLocalizer::matchRecent(const TScan2D& scan, const TPose2
 	const auto m = m_matcher.match(
 		CReferenceCloud::fromScans(scans, inRef, m_matcher.params()), scan,
 		between(refInMap, prior));
-	if (!m || m->inlierFraction < m_params.local.min_link_inliers) return std::nullopt;
+	if (!m || m->inlierFraction < m_params.local.min_link_inlier_fraction) return std::nullopt;
 	return compose(refInMap, m->scanInRef);
 }
 
@@ -214,7 +214,7 @@ void CLocalizer::keepRecent(const TScan2D& scan, const TPose2D& pose)
 	if (!m_recent.empty())
 	{
 		const TPose2D d = between(m_recent.back().second, pose);
-		if (translationNorm(d) < m_params.builder.keyframe_distance &&
+		if (translationNorm(d) < m_params.builder.keyframe_distance_m &&
 			std::abs(d.phi) < m_params.builder.keyframe_angle)
 			return;
 	}
@@ -226,7 +226,7 @@ bool CLocalizer::referenceNear(const TPose2D& pose)
 {
 	std::vector<std::pair<double, size_t>> near;
 	for (size_t i = 0; i < m_map.numNodes(); ++i)
-		if (const double d = translationNorm(between(m_map.pose(i), pose)); d <= m_lp.track_radius)
+		if (const double d = translationNorm(between(m_map.pose(i), pose)); d <= m_lp.track_radius_m)
 			near.emplace_back(d, i);
 	if (near.empty()) return false;
 	std::sort(near.begin(), near.end());

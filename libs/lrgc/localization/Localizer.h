@@ -4,13 +4,13 @@
  *     and correlates them against the whole map (global correlation, paper section 2.3)
  *     until a patch passes the filters; those scans then get their map poses.
  *  2. Tracking: each scan's pose is predicted from odometry (CMotionPredictor) and matched
- *     (CScanMatcher) against a reference cloud of the map keyframes within track_radius of
+ *     (CScanMatcher) against a reference cloud of the map keyframes within track_radius_m of
  *     the prediction (the nearest track_max_keyframes, placed at their map poses). A match is
- *     good if min_inliers of the scan matched and it agrees with the prediction within
+ *     good if min_inlier_fraction of the scan matched and it agrees with the prediction within
  *     gate_chi2 under the prediction's covariance (grown while matches are poor) plus the
  *     match's and the map's own noise floor ([LoopCloser] link_floor_*). Otherwise the scan
  *     is matched against the log's own recent scans (the last [LocalRegistration]
- *     window_size scans kept [MapBuilder] keyframe_distance apart), as local registration
+ *     window_size scans kept [MapBuilder] keyframe_distance_m apart), as local registration
  *     does: where the map has no walls the new scans see (a room mapped from its door, a
  *     moved cupboard) the pose stays locally consistent instead of following raw odometry,
  *     and the map takes over again when it matches. Only if both fail the prediction is kept.

@@ -33,7 +33,7 @@ std::optional<TStartFound> CStartFinder::tryLocate()
 	{
 		const CPointTransform kInNewest(between(newestInProbe, g.pose(k)));
 		for (const auto& p : m_probe->keyframes()[k].scan.points)
-			if (const Eigen::Vector2d q = kInNewest(p); q.norm() <= m_params.patch_max_range)
+			if (const Eigen::Vector2d q = kInNewest(p); q.norm() <= m_params.patch_max_range_m)
 				patch.push_back(q);
 	}
 	++m_attempts;

@@ -3,7 +3,7 @@
  * The new log's first scans are mapped on their own by a probe map builder (local
  * registration only, in the frame of its first scan). Global localisation (CGlobalLocalizer)
  * is tried with a patch of the probe's keyframes (in its newest keyframe's frame, points
- * within patch_max_range) when the probe holds 1, 2, 4, ... keyframes, up to
+ * within patch_max_range_m) when the probe holds 1, 2, 4, ... keyframes, up to
  * patch_keyframes, then every quarter of patch_keyframes with the newest patch_keyframes:
  * one scan is enough in a distinctive place, a corridor needs the robot to drive on until its
  * patch is unambiguous. The first patch passing the filters gives (map <- probe frame), and so

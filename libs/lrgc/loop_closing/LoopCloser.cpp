@@ -125,8 +125,8 @@ CLoopCloser::CLoopCloser(
 //   t' = t (1 - r / |t|)_+ ,  d^2 = t'^T C_xy^-1 t'  <=  gate_sigma^2.
 auto CLoopCloser::gate(const CPoseGraph& graph, size_t newest) -> std::optional<TCandidates>
 {
-	if (newest < m_params.old_map_exclusion) return std::nullopt;
-	const size_t lastOld = newest - m_params.old_map_exclusion;
+	if (newest < m_params.old_map_exclusion_keyframes) return std::nullopt;
+	const size_t lastOld = newest - m_params.old_map_exclusion_keyframes;
 	// The whole graph: a search cut at the uncertainty the window can cover (10 m std) never
 	// reached the start of Killian's big loop (1.1 m away in truth, 10+ m std by the
 	// single-path propagation), so the gate had no candidates and no correlation was tried.
@@ -137,7 +137,7 @@ auto CLoopCloser::gate(const CPoseGraph& graph, size_t newest) -> std::optional<
 		const Eigen::Vector2d t(r.nodeInSource.x, r.nodeInSource.y);
 		const double norm = t.norm();
 		const Eigen::Vector2d ts =
-			norm > m_params.overlap_radius ? Eigen::Vector2d(t * (1 - m_params.overlap_radius / norm))
+			norm > m_params.overlap_radius_m ? Eigen::Vector2d(t * (1 - m_params.overlap_radius_m / norm))
 										   : Eigen::Vector2d::Zero();
 		const Eigen::Matrix2d Cxy = r.cov.topLeftCorner<2, 2>() + 1e-6 * Eigen::Matrix2d::Identity();
 		if (ts.dot(Cxy.ldlt().solve(ts)) > m_params.gate_sigma * m_params.gate_sigma) continue;
@@ -168,13 +168,13 @@ std::optional<TLoopClosure> CLoopCloser::process(CPoseGraph& graph, const TScanR
 
 	// Search window and patch size from the uncertainty (paper 2.4).
 	double winXY = std::clamp(
-		m_params.window_sigmas * candidates->sigmaXY, 2 * m_correlator.params().resolution,
-		m_params.max_window_xy);
+		m_params.window_sigmas * candidates->sigmaXY, 2 * m_correlator.params().resolution_m,
+		m_params.max_window_xy_m);
 	const double winTheta = std::clamp(
 		m_params.window_sigmas * candidates->sigmaTheta, mrpt::DEG2RAD(2.0),
-		m_params.max_window_theta);
+		m_params.max_window_phi);
 	const size_t patchSize = std::min<size_t>(
-		m_params.old_map_exclusion,
+		m_params.old_map_exclusion_keyframes,
 		m_params.patch_min_keyframes +
 			static_cast<size_t>(m_params.patch_keyframes_per_m * candidates->sigmaXY));
 	const size_t patchFirst = newest + 1 - std::min(patchSize, newest + 1);
@@ -196,13 +196,13 @@ std::optional<TLoopClosure> CLoopCloser::process(CPoseGraph& graph, const TScanR
 		{
 			const Eigen::Vector2d q = kInNewest(p);
 			const double range = q.norm();
-			if (range > m_params.patch_max_range) continue;
+			if (range > m_params.patch_max_range_m) continue;
 			patch.push_back(q);
 			patchRadius = std::max(patchRadius, range);
 		}
 	}
 	const Eigen::Vector2d centre(newestInMap.x, newestInMap.y);
-	const double reach = winXY + patchRadius + 3 * m_correlator.params().blurSigma;
+	const double reach = winXY + patchRadius + 3 * m_correlator.params().blur_sigma_m;
 	for (const size_t j : candidates->nodes)
 	{
 		const CPointTransform toMap(graph.pose(j));
@@ -211,18 +211,18 @@ std::optional<TLoopClosure> CLoopCloser::process(CPoseGraph& graph, const TScanR
 				oldMap.push_back(q);
 	}
 	if (oldMap.empty()) return std::nullopt;
-	// A window wider than the old map can be (max_window_xy lifted) gains nothing: beyond the
+	// A window wider than the old map can be (max_window_xy_m lifted) gains nothing: beyond the
 	// farthest old point plus the patch radius and the blur's reach (p(m) > 0 up to 3.53
 	// sigma; 4 sigma and two cells of margin), no patch point meets the map.
 	double farthest = 0;
 	for (const auto& q : oldMap) farthest = std::max(farthest, (q - centre).norm());
-	winXY = std::min(winXY, farthest + patchRadius + 4 * m_correlator.params().blurSigma +
-							   2 * m_correlator.params().resolution);
+	winXY = std::min(winXY, farthest + patchRadius + 4 * m_correlator.params().blur_sigma_m +
+							   2 * m_correlator.params().resolution_m);
 	++m_stats.attempts;
 	++m_stats.work.correlations;
 	progress();
 	const CCorrelationGrid grid =
-		m_correlator.makeGrid(oldMap, 3 * m_correlator.params().blurSigma);
+		m_correlator.makeGrid(oldMap, 3 * m_correlator.params().blur_sigma_m);
 	TCorrelationEffort effort;
 	// Counted as the search goes (see process's progress): headings x cells once known,
 	// then poses scored x cells.
@@ -241,7 +241,7 @@ std::optional<TLoopClosure> CLoopCloser::process(CPoseGraph& graph, const TScanR
 	m_stats.work.correlationPoseCells +=
 		double(effort.posesScored) * double(effort.patchCells) - counted;
 	const TCorrelationVerdict verdict = corr ? corr->checkFilters(m_correlator.params())
-											 : TCorrelationVerdict{TCorrelationVerdict::Reason::LowScore, 0, m_correlator.params().minScore};
+											 : TCorrelationVerdict{TCorrelationVerdict::Reason::LowScore, 0, m_correlator.params().min_score};
 	correlateTimer.stop();
 	progress();
 	if (!verdict.accepted())
@@ -262,7 +262,7 @@ std::optional<TLoopClosure> CLoopCloser::process(CPoseGraph& graph, const TScanR
 	std::vector<TPose2D> refInOld;
 	for (const size_t j : candidates->nodes)
 	{
-		if (translationNorm(between(graph.pose(j), corrected)) > 2 * m_params.overlap_radius) continue;
+		if (translationNorm(between(graph.pose(j), corrected)) > 2 * m_params.overlap_radius_m) continue;
 		refScans.push_back(*scans[j]);
 		m_stats.work.matchRefPoints += scans[j]->points.size();
 		refInOld.push_back(between(oldInMap, graph.pose(j)));
@@ -274,11 +274,11 @@ std::optional<TLoopClosure> CLoopCloser::process(CPoseGraph& graph, const TScanR
 	const CPointTransform toOld(guessInOld);
 	for (const auto& p : scans[newest]->points) scanInOld.push_back(toOld(p));
 	const double cropMargin =
-		m_matcherParams.maxCorrespondenceDist_m + 4 * m_matcherParams.normalRadius_m + 0.2;
+		m_matcherParams.max_correspondence_dist_m + 4 * m_matcherParams.normal_radius_m + 0.2;
 	++m_stats.work.matches;
 	progress();
 	TScanMatcherParams refParams = m_matcherParams;
-	if (m_params.match_ref_resolution > 0) refParams.refResolution_m = m_params.match_ref_resolution;
+	if (m_params.match_ref_resolution_m > 0) refParams.ref_resolution_m = m_params.match_ref_resolution_m;
 	const auto match = m_matcher.match(
 		CReferenceCloud::fromScansNear(refScans, refInOld, refParams, scanInOld, cropMargin),
 		*scans[newest], guessInOld);
@@ -296,12 +296,12 @@ std::optional<TLoopClosure> CLoopCloser::process(CPoseGraph& graph, const TScanR
 	const Eigen::Matrix3d info = linkInformation(match->cov, m_params.link_noise);
 	const TLink link{oldNode, newest, match->scanInRef, info, LinkType::LoopClosure};
 	const bool vetted =
-		gateInnovationChi2(oldFromNewest, match->scanInRef, info) < 3 * m_optimizer.params().dcsPhi;
+		gateInnovationChi2(oldFromNewest, match->scanInRef, info) < 3 * m_optimizer.params().dcs_phi;
 	std::vector<size_t> vettedLinks;
 	std::optional<size_t> heldId;  // a held match confirmed: its link goes in first
-	if (m_held && newest > m_held->link.to + 2 * m_params.old_map_exclusion)
+	if (m_held && newest > m_held->link.to + 2 * m_params.old_map_exclusion_keyframes)
 		m_held.reset(), ++m_stats.unconfirmed;  // no agreeing match came in time
-	if (m_params.confirm_above_sigma > 0 && candidates->sigmaXY > m_params.confirm_above_sigma)
+	if (m_params.confirm_above_sigma_m > 0 && candidates->sigmaXY > m_params.confirm_above_sigma_m)
 	{
 		if (m_held && m_held->link.to >= patchFirst) return std::nullopt;  // same evidence
 		if (!m_held || !matchesAgree(graph, m_held->link, link))
@@ -384,7 +384,7 @@ size_t CLoopCloser::rematch(
 	for (size_t k = patchFirst; k < newest; k += kRematchStride)
 	{
 		const auto [index, distance] = nearestCandidate(graph, c.nodes, graph.pose(k));
-		if (distance > m_params.overlap_radius) continue;
+		if (distance > m_params.overlap_radius_m) continue;
 		const size_t nearest = c.nodes[index];
 		const TPose2D guess = between(graph.pose(nearest), graph.pose(k));
 		const auto m = m_matcher.match(
@@ -395,7 +395,7 @@ size_t CLoopCloser::rematch(
 		// converged to another wall, and would add a wrong link of its own.
 		const Eigen::Matrix3d info = linkInformation(m->cov, m_params.link_noise);
 		const Eigen::Vector3d e = linkResidual(graph.pose(nearest), graph.pose(k), m->scanInRef);
-		if (e.dot(info * e) > 3 * m_optimizer.params().dcsPhi)
+		if (e.dot(info * e) > 3 * m_optimizer.params().dcs_phi)
 		{
 			++m_stats.rematchesRefused;
 			continue;

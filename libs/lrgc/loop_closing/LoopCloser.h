@@ -4,7 +4,7 @@
  *  1. Gate. The uncertainty of every old pose relative to n comes from the graph
  *     (propagateUncertainty; reused, chained through its source, for the next
  *     gate_reuse_keyframes keyframes while the old map is unchanged). Old poses (all but the newest m keyframes, m > K) whose position
- *     could lie within `overlap_radius` of n's, at Mahalanobis distance <= gate_sigma, are
+ *     could lie within `overlap_radius_m` of n's, at Mahalanobis distance <= gate_sigma, are
  *     candidates. Their largest position std sigma sets the search window
  *     (+- window_sigmas * sigma) and the patch size (grows linearly with sigma), so a large
  *     loop is closed only on strong evidence; both shrink back once a loop is closed.
@@ -18,7 +18,7 @@
  *     closure is counted as rejected. Then the newly linked poses are re-matched (each patch
  *     keyframe against its nearest old keyframe) and the graph optimised again, as the paper
  *     does.
- * With a very uncertain gate (std > confirm_above_sigma) step 3's link is held until a later
+ * With a very uncertain gate (std > confirm_above_sigma_m) step 3's link is held until a later
  * match from a disjoint patch agrees with it; then both links are added and step 4 runs.
  */
 #pragma once
@@ -100,7 +100,7 @@ class CLoopCloser
 	{
 		if (m_onProgress) m_onProgress();
 	}
-	/** A match held for confirmation (confirm_above_sigma): its link and whether the gate
+	/** A match held for confirmation (confirm_above_sigma_m): its link and whether the gate
 	 * vetted it. */
 	struct THeldMatch
 	{

@@ -9,79 +9,79 @@ void TLoopCloserParams::loadFromConfigFile(
 	const mrpt::config::CConfigFileBase& c, const std::string& s)
 {
 	rejectUnknownKeys(TLoopCloserParams(), c, s);
-	old_map_exclusion = readCount(c, s, "old_map_exclusion", old_map_exclusion);
+	old_map_exclusion_keyframes = readCount(c, s, "old_map_exclusion_keyframes", old_map_exclusion_keyframes);
 	patch_min_keyframes = readCount(c, s, "patch_min_keyframes", patch_min_keyframes);
 	patch_keyframes_per_m = readDouble(c, s, "patch_keyframes_per_m", patch_keyframes_per_m);
 	gate_sigma = readDouble(c, s, "gate_sigma", gate_sigma);
-	overlap_radius = readDouble(c, s, "overlap_radius", overlap_radius);
+	overlap_radius_m = readDouble(c, s, "overlap_radius_m", overlap_radius_m);
 	window_sigmas = readDouble(c, s, "window_sigmas", window_sigmas);
-	max_window_xy = readDouble(c, s, "max_window_xy", max_window_xy);
-	max_window_theta = readDegrees(c, s, "max_window_theta_deg", max_window_theta);
-	confirm_above_sigma = readDouble(c, s, "confirm_above_sigma", confirm_above_sigma);
-	requireParam(confirm_above_sigma >= 0, s, "confirm_above_sigma", "must be >= 0");
+	max_window_xy_m = readDouble(c, s, "max_window_xy_m", max_window_xy_m);
+	max_window_phi = readDegrees(c, s, "max_window_phi_deg", max_window_phi);
+	confirm_above_sigma_m = readDouble(c, s, "confirm_above_sigma_m", confirm_above_sigma_m);
+	requireParam(confirm_above_sigma_m >= 0, s, "confirm_above_sigma_m", "must be >= 0");
 	consistent_chi2 = readDouble(c, s, "consistent_chi2", consistent_chi2);
 	check_every = readCount(c, s, "check_every", check_every);
 	known_ground_check_every =
 		readCount(c, s, "known_ground_check_every", known_ground_check_every);
 	gate_reuse_keyframes = readCount(c, s, "gate_reuse_keyframes", gate_reuse_keyframes);
-	match_ref_resolution = readDouble(c, s, "match_ref_resolution", match_ref_resolution);
-	requireParam(match_ref_resolution >= 0, s, "match_ref_resolution", "must be >= 0");
-	patch_max_range = readDouble(c, s, "patch_max_range", patch_max_range);
+	match_ref_resolution_m = readDouble(c, s, "match_ref_resolution_m", match_ref_resolution_m);
+	requireParam(match_ref_resolution_m >= 0, s, "match_ref_resolution_m", "must be >= 0");
+	patch_max_range_m = readDouble(c, s, "patch_max_range_m", patch_max_range_m);
 	attempt_stride = readDouble(c, s, "attempt_stride", attempt_stride);
 	requireParam(attempt_stride >= 0, s, "attempt_stride", "must be >= 0");
 	background = readBool(c, s, "background", background);
-	result_delay = readCount(c, s, "result_delay", result_delay);
+	result_delay_keyframes = readCount(c, s, "result_delay_keyframes", result_delay_keyframes);
 	worker_budget_ms = readDouble(c, s, "worker_budget_ms", worker_budget_ms);
 	requireParam(worker_budget_ms >= 0, s, "worker_budget_ms", "must be >= 0");
-	max_backlog = readCount(c, s, "max_backlog", max_backlog);
+	max_backlog_keyframes = readCount(c, s, "max_backlog_keyframes", max_backlog_keyframes);
 	apply_when_ready = readBool(c, s, "apply_when_ready", apply_when_ready);
 	link_noise.load(c, s, "");
-	requireParam(patch_max_range > 0, s, "patch_max_range", "must be > 0");
-	requireParam(patch_min_keyframes >= 1 && patch_min_keyframes <= old_map_exclusion, s,
+	requireParam(patch_max_range_m > 0, s, "patch_max_range_m", "must be > 0");
+	requireParam(patch_min_keyframes >= 1 && patch_min_keyframes <= old_map_exclusion_keyframes, s,
 				 "patch_min_keyframes",
-				 mrpt::format("%zu must be in [1, old_map_exclusion]; old_map_exclusion is %zu",
-							  patch_min_keyframes, old_map_exclusion));
+				 mrpt::format("%zu must be in [1, old_map_exclusion_keyframes]; old_map_exclusion_keyframes is %zu",
+							  patch_min_keyframes, old_map_exclusion_keyframes));
 	requireParam(patch_keyframes_per_m >= 0, s, "patch_keyframes_per_m", "must be >= 0");
 	requireParam(gate_sigma > 0, s, "gate_sigma", "must be > 0");
-	requireParam(overlap_radius >= 0, s, "overlap_radius", "must be >= 0");
+	requireParam(overlap_radius_m >= 0, s, "overlap_radius_m", "must be >= 0");
 	requireParam(window_sigmas > 0, s, "window_sigmas", "must be > 0");
-	requireParam(max_window_xy > 0, s, "max_window_xy", "must be > 0");
+	requireParam(max_window_xy_m > 0, s, "max_window_xy_m", "must be > 0");
 	requireParam(
-		max_window_theta > 0 && max_window_theta <= M_PI, s, "max_window_theta_deg",
+		max_window_phi > 0 && max_window_phi <= M_PI, s, "max_window_phi_deg",
 		"must be in (0, 180]");
 	requireParam(consistent_chi2 > 0, s, "consistent_chi2", "must be > 0");
 	requireParam(check_every >= 1, s, "check_every", "must be >= 1");
 	requireParam(
 		known_ground_check_every >= 1, s, "known_ground_check_every", "must be >= 1");
 	requireParam(
-		gate_reuse_keyframes <= old_map_exclusion, s, "gate_reuse_keyframes",
-		mrpt::format("%zu must be <= old_map_exclusion (%zu)", gate_reuse_keyframes, old_map_exclusion));
+		gate_reuse_keyframes <= old_map_exclusion_keyframes, s, "gate_reuse_keyframes",
+		mrpt::format("%zu must be <= old_map_exclusion_keyframes (%zu)", gate_reuse_keyframes, old_map_exclusion_keyframes));
 }
 
 void TLoopCloserParams::saveToConfigFile(
 	mrpt::config::CConfigFileBase& c, const std::string& s) const
 {
 	const int np = mrpt::config::MRPT_SAVE_NAME_PADDING(), vp = mrpt::config::MRPT_SAVE_VALUE_PADDING();
-	c.write(s, "old_map_exclusion", uint64_t(old_map_exclusion), np, vp, "m: newest keyframes left out of the old map (m > K)");
+	c.write(s, "old_map_exclusion_keyframes", uint64_t(old_map_exclusion_keyframes), np, vp, "m: newest keyframes left out of the old map (m > K)");
 	c.write(s, "patch_min_keyframes", uint64_t(patch_min_keyframes), np, vp, "Map patch size (keyframes) at zero uncertainty");
-	c.write(s, "patch_keyframes_per_m", patch_keyframes_per_m, np, vp, "[1/m] Patch growth per metre of position std (capped at old_map_exclusion)");
+	c.write(s, "patch_keyframes_per_m", patch_keyframes_per_m, np, vp, "[1/m] Patch growth per metre of position std (capped at old_map_exclusion_keyframes)");
 	c.write(s, "gate_sigma", gate_sigma, np, vp, "Mahalanobis gate on old poses' position relative to the current one");
-	c.write(s, "overlap_radius", overlap_radius, np, vp, "[m] Poses closer than this can see the same walls");
+	c.write(s, "overlap_radius_m", overlap_radius_m, np, vp, "[m] Poses closer than this can see the same walls");
 	c.write(s, "window_sigmas", window_sigmas, np, vp, "Correlation search half-window, in position/heading std devs");
-	c.write(s, "max_window_xy", max_window_xy, np, vp, "[m] Cap of the translational search half-window");
-	c.write(s, "max_window_theta_deg", mrpt::RAD2DEG(max_window_theta), np, vp, "[deg] Cap of the rotational search half-window");
-	c.write(s, "confirm_above_sigma", confirm_above_sigma, np, vp, "[m] Gate std above which a loop is closed only when a second, independent match agrees (0: never)");
+	c.write(s, "max_window_xy_m", max_window_xy_m, np, vp, "[m] Cap of the translational search half-window");
+	c.write(s, "max_window_phi_deg", mrpt::RAD2DEG(max_window_phi), np, vp, "[deg] Cap of the rotational search half-window");
+	c.write(s, "confirm_above_sigma_m", confirm_above_sigma_m, np, vp, "[m] Gate std above which a loop is closed only when a second, independent match agrees (0: never)");
 	c.write(s, "consistent_chi2", consistent_chi2, np, vp, "[chi2, 3 dof] A loop link this consistent is added without a full solve");
 	c.write(s, "check_every", uint64_t(check_every), np, vp, "Look for a loop every this many keyframes");
 	c.write(s, "known_ground_check_every", uint64_t(known_ground_check_every), np, vp, "After a check that added a loop link agreeing with the map (no solve), look again only every this many keyframes");
 	c.write(s, "gate_reuse_keyframes", uint64_t(gate_reuse_keyframes), np, vp, "[keyframes] The gate's whole-graph propagation serves this many later keyframes while the graph behind it is unchanged (0: every keyframe)");
-	c.write(s, "match_ref_resolution", match_ref_resolution, np, vp, "[m] Voxel side of the loop link's reference cloud, built from every old scan around (0: [ScanMatcher] ref_resolution)");
-	c.write(s, "patch_max_range", patch_max_range, np, vp, "[m] Patch points farther than this from the newest keyframe are left out of the correlation");
+	c.write(s, "match_ref_resolution_m", match_ref_resolution_m, np, vp, "[m] Voxel side of the loop link's reference cloud, built from every old scan around (0: [ScanMatcher] ref_resolution_m)");
+	c.write(s, "patch_max_range_m", patch_max_range_m, np, vp, "[m] Patch points farther than this from the newest keyframe are left out of the correlation");
 	c.write(s, "attempt_stride", attempt_stride, np, vp, "While the patch is grown, correlate once every attempt_stride * (patch - patch_min_keyframes) checks (0: every check)");
 	c.write(s, "background", background, np, vp, "Loop closing on a worker thread while scans are registered (false: on the mapping thread; same map)");
-	c.write(s, "result_delay", uint64_t(result_delay), np, vp, "[keyframes] A loop search started at keyframe k is applied at k + this (deterministic: the mapping thread waits there if needed)");
-	c.write(s, "worker_budget_ms", worker_budget_ms, np, vp, "[ms per keyframe] A result is applied where a modelled worker doing this much work per keyframe finishes it (deterministic; 0: at k + result_delay)");
-	c.write(s, "max_backlog", uint64_t(max_backlog), np, vp, "[keyframes] Searches are skipped while the modelled worker is more than this behind");
+	c.write(s, "result_delay_keyframes", uint64_t(result_delay_keyframes), np, vp, "[keyframes] A loop search started at keyframe k is applied at k + this (deterministic: the mapping thread waits there if needed)");
+	c.write(s, "worker_budget_ms", worker_budget_ms, np, vp, "[ms per keyframe] A result is applied where a modelled worker doing this much work per keyframe finishes it (deterministic; 0: at k + result_delay_keyframes)");
+	c.write(s, "max_backlog_keyframes", uint64_t(max_backlog_keyframes), np, vp, "[keyframes] Searches are skipped while the modelled worker is more than this behind");
 	c.write(s, "apply_when_ready", apply_when_ready, np, vp, "Apply a loop search's result as soon as it is ready (live runs; the map then depends on timing)");
 	link_noise.save(c, s, "", "every loop link (scans minutes apart: moved objects)");
 }

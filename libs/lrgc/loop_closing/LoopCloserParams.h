@@ -14,21 +14,21 @@ namespace lrgc
 {
 struct TLoopCloserParams : public mrpt::config::CLoadableOptions
 {
-	size_t old_map_exclusion = 40;  //!< m: newest keyframes left out of the old map (m > K)
+	size_t old_map_exclusion_keyframes = 40;  //!< m: newest keyframes left out of the old map (m > K)
 	size_t patch_min_keyframes = 10;  //!< patch size at zero uncertainty
 	double patch_keyframes_per_m = 8;  //!< patch growth per metre of position std [1/m]
 	double gate_sigma = 3.0;  //!< Mahalanobis gate on the candidates' position [-]
-	double overlap_radius = 3.0;  //!< [m] poses this close can see the same walls
+	double overlap_radius_m = 3.0;  //!< [m] poses this close can see the same walls
 	double window_sigmas = 3.0;  //!< search half-window in standard deviations [-]
-	double max_window_xy = 15.0;  //!< [m] cap of the translational search half-window
-	double max_window_theta = mrpt::DEG2RAD(30.0);  //!< [rad] (key max_window_theta_deg)
+	double max_window_xy_m = 15.0;  //!< [m] cap of the translational search half-window
+	double max_window_phi = mrpt::DEG2RAD(30.0);  //!< [rad] (key max_window_phi_deg)
 	/** [m] When the gate's largest position std exceeds this, an accepted match is only held:
 	 * its link is added when a later match, from a patch that shares no keyframe with it,
 	 * agrees with it (both imply the same pose of the newer node). With so large an
 	 * uncertainty the back-end cannot tell a false link from a true one (the graph absorbs
 	 * either), and a large window holds look-alikes. A held match that finds no agreeing one
-	 * within 2 old_map_exclusion keyframes is dropped. 0: never hold. */
-	double confirm_above_sigma = 0;
+	 * within 2 old_map_exclusion_keyframes keyframes is dropped. 0: never hold. */
+	double confirm_above_sigma_m = 0;
 	double consistent_chi2 = 11.34;  //!< [chi2, 3 dof] a link agreeing this well needs no solve
 	/** Look for a loop every this many keyframes. 2 halves the loop closer's work, but
 	 * moved Killian's error from 0.029 to 0.030-0.035 m (doc/generalisation.md). */
@@ -41,18 +41,18 @@ struct TLoopCloserParams : public mrpt::config::CLoadableOptions
 	size_t known_ground_check_every = 1;
 	/** The gate's propagation over the whole graph, done at an anchor keyframe a, serves the
 	 * next this many keyframes n while the graph behind a is unchanged (no pose of the old
-	 * map moved, no loop link added, no link reaching further back than a - old_map_exclusion):
+	 * map moved, no loop link added, no link reaching further back than a - old_map_exclusion_keyframes):
 	 * (n <- v) = (n <- a) (+) (a <- v), so a keyframe costs a pass over the labels instead of
-	 * a Dijkstra over every link. At most old_map_exclusion; 0: propagate at every keyframe. */
+	 * a Dijkstra over every link. At most old_map_exclusion_keyframes; 0: propagate at every keyframe. */
 	size_t gate_reuse_keyframes = 39;
 	/** [m] Voxel side of the link's reference cloud (step 3), built from every old scan
 	 * around: many views fill the walls' voxels densely, and the line fits' cost grows with
-	 * the voxels per neighbourhood. 0: [ScanMatcher] ref_resolution. */
-	double match_ref_resolution = 0.03;
+	 * the voxels per neighbourhood. 0: [ScanMatcher] ref_resolution_m. */
+	double match_ref_resolution_m = 0.03;
 	/** [m] Patch points farther from the newest keyframe are left out of the correlation:
 	 * the heading step is resolution / patch radius, so 40 m returns (ACES) would need
 	 * ~900 headings over +-30 deg; far returns are also the noisiest. */
-	double patch_max_range = 12.0;
+	double patch_max_range_m = 12.0;
 	/** While the patch is larger than patch_min_keyframes (large uncertainty), correlate only
 	 * once every attempt_stride * (patch - patch_min_keyframes) checks: consecutive large
 	 * patches are nearly the same evidence, and a large window is the costly case (Killian:
@@ -64,17 +64,17 @@ struct TLoopCloserParams : public mrpt::config::CLoadableOptions
 	/** Run loop closing on a worker thread (CLoopClosingWorker) while the mapping thread goes
 	 * on registering scans; false: on the mapping thread (the same map, without the overlap). */
 	bool background = true;
-	/** A loop search started at keyframe k is applied to the map at keyframe k + result_delay
+	/** A loop search started at keyframe k is applied to the map at keyframe k + result_delay_keyframes
 	 * (the mapping thread waits there only if the worker is not done): the result never
 	 * depends on the machine's speed. Searches start at every keyframe (check_every) and queue
 	 * up on the worker; results are applied in order. 0: applied at once. */
-	size_t result_delay = 1;
+	size_t result_delay_keyframes = 1;
 	/** [ms of the reference machine per keyframe] With this > 0, a result is applied at the
-	 * keyframe where a modelled worker finishes it (not before k + result_delay): a worker
+	 * keyframe where a modelled worker finishes it (not before k + result_delay_keyframes): a worker
 	 * that does this much of the work modelled by TLoopWork per keyframe, one job after the
 	 * other. A whole-graph closure of a large map then lands some hundred keyframes later
-	 * instead of stalling the mapping thread at k + result_delay; the schedule is still a
-	 * function of the log alone. 0: every result at k + result_delay. */
+	 * instead of stalling the mapping thread at k + result_delay_keyframes; the schedule is still a
+	 * function of the log alone. 0: every result at k + result_delay_keyframes. */
 	double worker_budget_ms = 5;
 	/** [keyframes] When the modelled worker is more than this behind the newest keyframe, a
 	 * job only brings the worker's graph up to date and skips its search (the next keyframes
@@ -83,12 +83,12 @@ struct TLoopCloserParams : public mrpt::config::CLoadableOptions
 	 * taken when ready and no search is skipped. 150: with 15-keyframe windows, 300 let
 	 * Intel driven four times over add 2190 keyframes in every pass (no reuse); 150 adds
 	 * 184 / 28 / 28 after the first pass (doc/generalisation.md). */
-	size_t max_backlog = 150;
-	/** Apply a result as soon as it is ready instead of at k + result_delay (live runs: the
+	size_t max_backlog_keyframes = 150;
+	/** Apply a result as soon as it is ready instead of at k + result_delay_keyframes (live runs: the
 	 * robot never waits; the map then depends on timing). lrgc-slam --live sets it from
 	 * [LiveMapping] loop_results_when_ready. */
 	bool apply_when_ready = false;
-	/** Noise floor of loop links (and end-of-run revisit links); keys link_floor_xy [m],
+	/** Noise floor of loop links (and end-of-run revisit links); keys link_floor_xy_m [m],
 	 * link_floor_phi_deg. Looser than local registration's: a loop link joins scans taken
 	 * minutes apart (people, doors, chairs moved). */
 	TLinkNoise link_noise;

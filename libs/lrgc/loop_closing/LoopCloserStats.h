@@ -16,7 +16,7 @@ struct TLoopCloserStats
 	size_t accepted = 0;  //!< links added
 	size_t rejectedByFilters = 0, rejectedByMatch = 0, rejectedByBackEnd = 0;
 	/** Matches held until a later, independent one agrees (the gate's std above
-	 * [LoopCloser] confirm_above_sigma), and those dropped because the next disagreed or
+	 * [LoopCloser] confirm_above_sigma_m), and those dropped because the next disagreed or
 	 * none came. */
 	size_t heldForConfirmation = 0, unconfirmed = 0;
 	size_t optimizations = 0;
@@ -33,7 +33,7 @@ struct TLoopCloserStats
 	/** The same work in machine-independent counts (the worker's schedule, LoopWork.h). */
 	TLoopWork work;
 	/** Searches the worker skipped because its modelled schedule ran more than
-	 * [LoopCloser] max_backlog keyframes behind (CLoopClosingWorker). */
+	 * [LoopCloser] max_backlog_keyframes keyframes behind (CLoopClosingWorker). */
 	size_t searchesShed = 0;
 };
 

@@ -34,8 +34,8 @@ std::vector<TRelativeUncertainty> CLoopCloser::relativeUncertainty(
 //     (n <- v) = (n <- a) (+) (a <- v),   C_nv = J1 C_na J1^T + J2 C_av J2^T
 // with (n <- a) from a Dijkstra from n stopped at a (the nodes it settles first keep their
 // own labels). Valid while the graph behind a is as it was: no pose of the old map
-// (0..a - old_map_exclusion) moved (the Jacobians), no loop link (a shorter path that
-// bypasses a) and no link reaching further back than a - old_map_exclusion. Otherwise, or
+// (0..a - old_map_exclusion_keyframes) moved (the Jacobians), no loop link (a shorter path that
+// bypasses a) and no link reaching further back than a - old_map_exclusion_keyframes. Otherwise, or
 // after gate_reuse_keyframes keyframes: nullopt.
 std::optional<std::vector<TRelativeUncertainty>> CLoopCloser::reuseGate(
 	const CPoseGraph& graph, size_t newest) const
@@ -49,14 +49,14 @@ std::optional<std::vector<TRelativeUncertainty>> CLoopCloser::reuseGate(
 	};
 	// Local registration keeps adjusting the newest keyframes around a (its window); their
 	// moves are millimetres and change the Jacobians along the paths only that much.
-	const size_t settled = c.anchor + 1 - std::min(c.anchor + 1, m_params.old_map_exclusion);
+	const size_t settled = c.anchor + 1 - std::min(c.anchor + 1, m_params.old_map_exclusion_keyframes);
 	if (!std::equal(c.poses.begin(), c.poses.begin() + settled, graph.poses().begin(), samePose))
 		return std::nullopt;
 	for (size_t id = c.links; id < graph.numLinks(); ++id)
 	{
 		const TLink& l = graph.link(id);
 		if (l.type == LinkType::LoopClosure ||
-			std::min(l.from, l.to) + m_params.old_map_exclusion <= c.anchor)
+			std::min(l.from, l.to) + m_params.old_map_exclusion_keyframes <= c.anchor)
 			return std::nullopt;
 	}
 	TUncertaintyLimits toAnchor;

@@ -15,11 +15,11 @@ using mrpt::math::TPose2D;
 CLoopClosingWorker::CLoopClosingWorker(
 	const TLoopCloserParams& p, const TPatchCorrelatorParams& correlator,
 	const TScanMatcherParams& matcher, const TPoseGraphOptimizerParams& optimizer)
-	: m_resultDelay(p.result_delay),
+	: m_resultDelay(p.result_delay_keyframes),
 	  // Live runs take results when ready: the model would only shed searches the real
 	  // worker, given the robot's time, has done long ago.
 	  m_budgetMs(p.apply_when_ready ? 0.0 : p.worker_budget_ms),
-	  m_maxBacklog(p.max_backlog),
+	  m_maxBacklog(p.max_backlog_keyframes),
 	  m_closer(p, correlator, matcher, optimizer)
 {
 	// Results taken whenever ready (a live run): the mapping thread never waits for this

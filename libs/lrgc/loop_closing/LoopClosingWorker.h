@@ -22,14 +22,14 @@
  *
  * Determinism: a job's result depends only on the jobs so far, never on when the worker runs;
  * the map builder applies it at a keyframe fixed by the log alone, so offline runs give the
- * same map on any machine: k + result_delay, or, with [LoopCloser] worker_budget_ms, the
+ * same map on any machine: k + result_delay_keyframes, or, with [LoopCloser] worker_budget_ms, the
  * keyframe where a modelled worker would finish it. The modelled worker does worker_budget_ms
  * of the work TLoopWork counts per keyframe, one job after the other:
  *     start_j = max(k_j, finish_{j-1}),  finish_j = start_j + W_j / worker_budget_ms
- *     due_j = max(k_j + result_delay, ceil(finish_j))            [keyframes]
+ *     due_j = max(k_j + result_delay_keyframes, ceil(finish_j))            [keyframes]
  * with k_j the mapping thread's keyframe clock when it handed the job over (keyframes taken,
  * new or reused: on known ground the robot reuses keyframes and adds no node, and results must
- * still land) and W_j the job's modelled work [ms]. A job that would start more than max_backlog
+ * still land) and W_j the job's modelled work [ms]. A job that would start more than max_backlog_keyframes
  * keyframes behind skips its search. While a job runs, the worker publishes the due keyframe
  * its work so far implies (a lower bound), so the mapping thread waits only when the real
  * worker is slower than the modelled one. With `background` off a job runs inside
@@ -133,7 +133,7 @@ class CLoopClosingWorker
 	void threadMain();
 
 	const size_t m_resultDelay;
-	const double m_budgetMs;  //!< worker_budget_ms (0: results at k + result_delay)
+	const double m_budgetMs;  //!< worker_budget_ms (0: results at k + result_delay_keyframes)
 	const size_t m_maxBacklog;
 	CLoopCloser m_closer;
 	CPoseGraph m_replica;  //!< the mapping thread's graph as of the last job, corrected

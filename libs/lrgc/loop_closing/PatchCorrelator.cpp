@@ -7,14 +7,14 @@
  *     points of each), so the score is the paper's sum over cells, not over raw points
  *     (overlapping scans would otherwise weight walls by how often they were seen).
  *  2. Pose grid: dtheta = resolution / max_k |p_k| unless given; base cells per angle.
- *  3. Best pose: searched with floor = minScore (nothing below it could pass filter 1).
- *  4. Rival: the same search with the best cluster excluded, floor = S_best / minAmbiguity
+ *  3. Best pose: searched with floor = min_score (nothing below it could pass filter 1).
+ *  4. Rival: the same search with the best cluster excluded, floor = S_best / min_ambiguity
  *     for branch and bound (a weaker rival cannot fail filter 2: ambiguity reported inf),
  *     stopping at the first pose that reaches the floor (its existence alone fails filter 2;
  *     the strongest rival is not needed), floor 0 and the exact rival for the exhaustive
  *     reference.
  *  5. Covariance: the response is sampled on a lattice around the best pose, weighted
- *         w = exp(-(S_best - S) / (clusterScoreScale S_best)),
+ *         w = exp(-(S_best - S) / (cluster_score_scale S_best)),
  *     and its weighted covariance is taken, plus the lattice's own discretisation (step^2/12).
  *     First lattice: the pose grid itself, +-4 steps on each axis. If the response is not
  *     contained in it, a coarser one over +-3 maxStd (at most 4 samples per side). A
@@ -129,7 +129,7 @@ Eigen::Matrix3d sampledCovariance(const TPatchCorrelatorParams& prm,
 		appendBaseCells(grid, pts, spec.center, spec.theta(a) + t * strideTh * spec.dtheta,
 						local.baseCells);
 	local.prepare();
-	const double scale = prm.clusterScoreScale * double(std::max<int64_t>(bestScore, 1));
+	const double scale = prm.cluster_score_scale * double(std::max<int64_t>(bestScore, 1));
 	const double qXY = strideXY * spec.res, qTh = strideTh * spec.dtheta;
 	double wsum = 0;
 	Eigen::Vector3d m1 = Eigen::Vector3d::Zero();
@@ -166,7 +166,7 @@ Eigen::Matrix3d clusterCovariance(const TPatchCorrelatorParams& prm,
 	const double lim2XY = std::pow(kFine * spec.res / 3, 2);
 	const double lim2Th = std::pow(kFine * spec.dtheta / 3, 2);
 	if (fine(0, 0) <= lim2XY && fine(1, 1) <= lim2XY && fine(2, 2) <= lim2Th) return fine;
-	const double boxXY = 3 * prm.maxStdXY, boxTh = 3 * prm.maxStdTheta;
+	const double boxXY = 3 * prm.max_std_xy_m, boxTh = 3 * prm.max_std_phi;
 	const int strideXY = std::max(1, int(std::ceil(boxXY / spec.res / kFine)));
 	const int strideTh = std::max(1, int(std::ceil(boxTh / spec.dtheta / kFine)));
 	const int nXY = std::max(1, int(std::floor(boxXY / (strideXY * spec.res))));
@@ -199,9 +199,9 @@ std::string TCorrelationVerdict::message() const
 		case R::Ambiguous:
 			return mrpt::format("ambiguity %.3f < min_ambiguity %.3f", value, limit);
 		case R::SpreadXY:
-			return mrpt::format("std dev xy %.3f m > max_std_xy %.3f m", value, limit);
+			return mrpt::format("std dev xy %.3f m > max_std_xy_m %.3f m", value, limit);
 		case R::SpreadTheta:
-			return mrpt::format("std dev theta %.2f deg > max_std_theta_deg %.2f deg",
+			return mrpt::format("std dev theta %.2f deg > max_std_phi_deg %.2f deg",
 								mrpt::RAD2DEG(value), mrpt::RAD2DEG(limit));
 	}
 	return "unknown";
@@ -212,10 +212,10 @@ TCorrelationVerdict TCorrelationResult::checkFilters(const TPatchCorrelatorParam
 	using R = TCorrelationVerdict::Reason;
 	const double stdXY = std::sqrt(std::max(cov(0, 0), cov(1, 1)));
 	const double stdTh = std::sqrt(cov(2, 2));
-	if (score < p.minScore) return {R::LowScore, score, p.minScore};
-	if (ambiguity < p.minAmbiguity) return {R::Ambiguous, ambiguity, p.minAmbiguity};
-	if (stdXY > p.maxStdXY) return {R::SpreadXY, stdXY, p.maxStdXY};
-	if (stdTh > p.maxStdTheta) return {R::SpreadTheta, stdTh, p.maxStdTheta};
+	if (score < p.min_score) return {R::LowScore, score, p.min_score};
+	if (ambiguity < p.min_ambiguity) return {R::Ambiguous, ambiguity, p.min_ambiguity};
+	if (stdXY > p.max_std_xy_m) return {R::SpreadXY, stdXY, p.max_std_xy_m};
+	if (stdTh > p.max_std_phi) return {R::SpreadTheta, stdTh, p.max_std_phi};
 	return {};
 }
 
@@ -227,7 +227,7 @@ CPatchCorrelator::CPatchCorrelator(const TPatchCorrelatorParams& params) : m_par
 CCorrelationGrid CPatchCorrelator::makeGrid(const std::vector<Eigen::Vector2d>& pointsInMap,
 											double margin) const
 {
-	return CCorrelationGrid::fromPoints(pointsInMap, m_params.resolution, m_params.blurSigma,
+	return CCorrelationGrid::fromPoints(pointsInMap, m_params.resolution_m, m_params.blur_sigma_m,
 										margin);
 }
 
@@ -272,8 +272,8 @@ std::optional<TCorrelationResult> CPatchCorrelator::run(
 	for (const auto& p : pts) maxRadius = std::max(maxRadius, p.norm());
 
 	// Step 2: the pose grid.
-	spec.dtheta = m_params.angularStep > 0
-					  ? m_params.angularStep
+	spec.dtheta = m_params.angular_step > 0
+					  ? m_params.angular_step
 					  : std::min(0.1, spec.res / std::max(maxRadius, spec.res));
 	TPoseGridProblem pb;
 	pb.grid = &grid;
@@ -313,7 +313,7 @@ std::optional<TCorrelationResult> CPatchCorrelator::run(
 	};
 	const int64_t full = int64_t(255) * pb.numPoints;
 	const auto floor1 =
-		static_cast<int64_t>(std::ceil(m_params.minScore * double(full) - 1e-9));
+		static_cast<int64_t>(std::ceil(m_params.min_score * double(full) - 1e-9));
 	const detail::TSearchHit best = search(floor1, detail::TExclusionZone{}, false);
 	effort->posesScored = best.evaluations;
 	if (!best.found) return std::nullopt;
@@ -331,12 +331,12 @@ std::optional<TCorrelationResult> CPatchCorrelator::run(
 	for (int a = 0; a < pb.numAngles; ++a)
 		zone.inAngle[size_t(a)] =
 			std::abs(mrpt::math::wrapToPi(spec.theta(a) - spec.theta(best.a))) <=
-			m_params.clusterRadiusTheta + 1e-12;
+			m_params.cluster_radius_phi + 1e-12;
 	zone.ci = best.i, zone.cj = best.j;
-	zone.r2 = std::pow(m_params.clusterRadiusXY / spec.res, 2) + 1e-9;
+	zone.r2 = std::pow(m_params.cluster_radius_m / spec.res, 2) + 1e-9;
 	const int64_t floor2 = exhaustive ? 0
 									  : static_cast<int64_t>(std::ceil(
-											double(best.score) / m_params.minAmbiguity - 1e-9));
+											double(best.score) / m_params.min_ambiguity - 1e-9));
 	const detail::TSearchHit rival = search(floor2, zone, true);
 	res.ambiguity = std::numeric_limits<double>::infinity();
 	if (rival.found)

@@ -46,10 +46,10 @@ struct TCorrelationVerdict
 	enum class Reason
 	{
 		Accepted,
-		LowScore,    //!< value = score, limit = minScore
-		Ambiguous,   //!< value = ambiguity, limit = minAmbiguity
-		SpreadXY,    //!< value = largest std dev of x, y [m], limit = maxStdXY
-		SpreadTheta  //!< value = std dev of heading [rad], limit = maxStdTheta
+		LowScore,    //!< value = score, limit = min_score
+		Ambiguous,   //!< value = ambiguity, limit = min_ambiguity
+		SpreadXY,    //!< value = largest std dev of x, y [m], limit = max_std_xy_m
+		SpreadTheta  //!< value = std dev of heading [rad], limit = max_std_phi
 	};
 	Reason rejection = Reason::Accepted;
 	double value = 0;
@@ -65,12 +65,12 @@ struct TCorrelationResult
 	double score = 0;                //!< s(best) in [0,1]
 	/** s(best) / s(best pose outside the best cluster), exact from correlateExhaustive().
 	 * From correlate(): +inf when no pose outside the cluster reaches s(best) /
-	 * minAmbiguity (the value is then only known to be > minAmbiguity); otherwise the ratio
-	 * to the first such pose found, in [exact, minAmbiguity]: either way the verdict of
+	 * min_ambiguity (the value is then only known to be > min_ambiguity); otherwise the ratio
+	 * to the first such pose found, in [exact, min_ambiguity]: either way the verdict of
 	 * filter 2 is the exact one. */
 	double ambiguity = 0;
 	/** Covariance of patchInMap [m^2, rad^2] from the normalised response around the peak
-	 * (see TPatchCorrelatorParams::clusterScoreScale), plus the grid's discretisation. */
+	 * (see TPatchCorrelatorParams::cluster_score_scale), plus the grid's discretisation. */
 	Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
 	/** Best cluster's peak, then the rival when known (outside the cluster; see ambiguity). */
 	std::vector<TCorrelationPeak> clusterPeaks;
@@ -112,7 +112,7 @@ public:
 
 	/** Branch and bound over the pose grid centred on `centerPatchInMap` (map <- patch):
 	 * x, y within +-halfWindowXY [m], heading within +-halfWindowTheta [rad]. `patchPoints`
-	 * are in the patch frame. Returns std::nullopt if no pose scores at least minScore (the
+	 * are in the patch frame. Returns std::nullopt if no pose scores at least min_score (the
 	 * score filter fails), or if the patch is empty. The result is the exhaustive one;
 	 * filters are not applied (see checkFilters). The grid's resolution is used. If
 	 * `effort` is given, the search's effort is written there. */

@@ -15,32 +15,32 @@ namespace lrgc
 struct TPatchCorrelatorParams : public mrpt::config::CLoadableOptions
 {
 	/** Cell size of the old-map grid [m]; also the translation step of the pose grid. */
-	double resolution = 0.05;
+	double resolution_m = 0.05;
 	/** Standard deviation of the Gaussian folded into the old map [m] (scan noise of map
 	 * and patch plus the half-cell discretisation). */
-	double blurSigma = 0.10;
+	double blur_sigma_m = 0.10;
 	/** Rotation step of the pose grid [rad]; 0 derives it from the patch so that its
-	 * farthest point moves by one cell per step: resolution / max |p_patch|. */
-	double angularStep = 0;
+	 * farthest point moves by one cell per step: resolution_m / max |p_patch|. */
+	double angular_step = 0;
 
 	/** Filter 1, high score: least mean map probability over patch cells, in [0,1]. The
 	 * search also uses it as its pruning floor: no pose scoring less is ever returned. */
-	double minScore = 0.60;
+	double min_score = 0.60;
 	/** Filter 2, low ambiguity: least ratio of the best cluster's peak score to the best
 	 * score outside that cluster (>= 1). */
-	double minAmbiguity = 1.20;
+	double min_ambiguity = 1.20;
 	/** Filter 3, low variance: largest standard deviation of the best cluster in x and in
 	 * y [m], and in heading [rad] (the paper: "less than 20 cm in any direction"). */
-	double maxStdXY = 0.20;
-	double maxStdTheta = 2.0 * 3.14159265358979323846 / 180;
+	double max_std_xy_m = 0.20;
+	double max_std_phi = 2.0 * 3.14159265358979323846 / 180;
 
-	/** Poses within clusterRadiusXY [m] and clusterRadiusTheta [rad] of the best pose belong
+	/** Poses within cluster_radius_m [m] and cluster_radius_phi [rad] of the best pose belong
 	 * to its cluster; the best pose outside them is the rival of the ambiguity filter. */
-	double clusterRadiusXY = 0.5;
-	double clusterRadiusTheta = 10.0 * 3.14159265358979323846 / 180;
+	double cluster_radius_m = 0.5;
+	double cluster_radius_phi = 10.0 * 3.14159265358979323846 / 180;
 	/** Sharpness of the normalised response used for the cluster's covariance: a pose
-	 * scoring s has weight exp(-(s_best - s) / (clusterScoreScale * s_best)). */
-	double clusterScoreScale = 0.05;
+	 * scoring s has weight exp(-(s_best - s) / (cluster_score_scale * s_best)). */
+	double cluster_score_scale = 0.05;
 
 	void loadFromConfigFile(const mrpt::config::CConfigFileBase& source,
 							const std::string& section) override;

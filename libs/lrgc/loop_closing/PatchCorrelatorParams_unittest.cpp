@@ -10,34 +10,34 @@ using lrgc::TPatchCorrelatorParams;
 TEST(PatchCorrelatorParams, TextRoundTripKeepsEveryValue)
 {
 	TPatchCorrelatorParams p;
-	p.resolution = 0.04;
-	p.blurSigma = 0.07;
-	p.angularStep = 0.006;
-	p.minScore = 0.61;
-	p.minAmbiguity = 1.3;
-	p.maxStdXY = 0.15;
-	p.maxStdTheta = 0.03;
-	p.clusterRadiusXY = 0.7;
-	p.clusterRadiusTheta = 0.2;
-	p.clusterScoreScale = 0.08;
+	p.resolution_m = 0.04;
+	p.blur_sigma_m = 0.07;
+	p.angular_step = 0.006;
+	p.min_score = 0.61;
+	p.min_ambiguity = 1.3;
+	p.max_std_xy_m = 0.15;
+	p.max_std_phi = 0.03;
+	p.cluster_radius_m = 0.7;
+	p.cluster_radius_phi = 0.2;
+	p.cluster_score_scale = 0.08;
 	mrpt::config::CConfigFileMemory mem;
 	p.saveToConfigFile(mem, "PatchCorrelator");
 	// Through text, as a user's .ini would be.
 	mrpt::config::CConfigFileMemory text(mem.getContent());
 	TPatchCorrelatorParams q;
 	q.loadFromConfigFile(text, "PatchCorrelator");
-	EXPECT_NEAR(q.resolution, p.resolution, 1e-12);
-	EXPECT_NEAR(q.blurSigma, p.blurSigma, 1e-12);
-	EXPECT_NEAR(q.angularStep, p.angularStep, 1e-7);  // degrees written with 6 digits
-	EXPECT_NEAR(q.minScore, p.minScore, 1e-12);
-	EXPECT_NEAR(q.minAmbiguity, p.minAmbiguity, 1e-12);
-	EXPECT_NEAR(q.maxStdXY, p.maxStdXY, 1e-12);
-	EXPECT_NEAR(q.maxStdTheta, p.maxStdTheta, 1e-7);
-	EXPECT_NEAR(q.clusterRadiusXY, p.clusterRadiusXY, 1e-12);
-	EXPECT_NEAR(q.clusterRadiusTheta, p.clusterRadiusTheta, 1e-7);
-	EXPECT_NEAR(q.clusterScoreScale, p.clusterScoreScale, 1e-12);
+	EXPECT_NEAR(q.resolution_m, p.resolution_m, 1e-12);
+	EXPECT_NEAR(q.blur_sigma_m, p.blur_sigma_m, 1e-12);
+	EXPECT_NEAR(q.angular_step, p.angular_step, 1e-7);  // degrees written with 6 digits
+	EXPECT_NEAR(q.min_score, p.min_score, 1e-12);
+	EXPECT_NEAR(q.min_ambiguity, p.min_ambiguity, 1e-12);
+	EXPECT_NEAR(q.max_std_xy_m, p.max_std_xy_m, 1e-12);
+	EXPECT_NEAR(q.max_std_phi, p.max_std_phi, 1e-7);
+	EXPECT_NEAR(q.cluster_radius_m, p.cluster_radius_m, 1e-12);
+	EXPECT_NEAR(q.cluster_radius_phi, p.cluster_radius_phi, 1e-7);
+	EXPECT_NEAR(q.cluster_score_scale, p.cluster_score_scale, 1e-12);
 	// Keys in degrees are written in degrees.
-	EXPECT_NEAR(text.read_double("PatchCorrelator", "max_std_theta_deg", 0), 0.03 * 180 / M_PI,
+	EXPECT_NEAR(text.read_double("PatchCorrelator", "max_std_phi_deg", 0), 0.03 * 180 / M_PI,
 				1e-6);
 }
 
@@ -56,15 +56,15 @@ TEST(PatchCorrelatorParams, UnknownKeyAndBadValueAreErrors)
 			EXPECT_NE(std::string(e.what()).find("min_score"), std::string::npos) << e.what();
 		}
 	}
-	for (const char* bad : {"min_ambiguity = 0.9", "min_score = 1.5", "resolution = 0",
-							"max_std_xy = 0", "cluster_score_scale = 0"})
+	for (const char* bad : {"min_ambiguity = 0.9", "min_score = 1.5", "resolution_m = 0",
+							"max_std_xy_m = 0", "cluster_score_scale = 0"})
 	{
 		mrpt::config::CConfigFileMemory mem(std::string("[PatchCorrelator]\n") + bad + "\n");
 		TPatchCorrelatorParams p;
 		EXPECT_THROW(p.loadFromConfigFile(mem, "PatchCorrelator"), std::exception) << bad;
 	}
 	TPatchCorrelatorParams p;
-	p.minAmbiguity = 0.5;
+	p.min_ambiguity = 0.5;
 	EXPECT_THROW(lrgc::CPatchCorrelator{p}, std::exception);
 }
 

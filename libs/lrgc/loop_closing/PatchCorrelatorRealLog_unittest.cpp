@@ -165,7 +165,7 @@ Stats evaluate(const std::string& log, int maxLoops)
 		const auto verdict =
 			pos ? pos->checkFilters(prm)
 				: lrgc::TCorrelationVerdict{lrgc::TCorrelationVerdict::Reason::LowScore, 0,
-											prm.minScore};
+											prm.min_score};
 		if (verdict.accepted())
 		{
 			++st.accepted;

@@ -121,23 +121,23 @@ void expectSameResult(const TCorrelationResult& bnb, const TCorrelationResult& e
 	ASSERT_GE(ex.clusterPeaks.size(), 1u);
 	// The exhaustive rival is exact. Branch and bound, whenever a rival could fail the
 	// ambiguity filter, reports one that does (not necessarily the strongest): a pose outside
-	// the cluster scoring at least S_best / minAmbiguity and at most the exact rival; inf
+	// the cluster scoring at least S_best / min_ambiguity and at most the exact rival; inf
 	// otherwise.
 	const bool rivalMatters =
 		ex.clusterPeaks.size() > 1 &&
-		ex.clusterPeaks[1].score * prm.minAmbiguity >= ex.score * (1 - 1e-12);
+		ex.clusterPeaks[1].score * prm.min_ambiguity >= ex.score * (1 - 1e-12);
 	if (rivalMatters)
 	{
 		ASSERT_EQ(bnb.clusterPeaks.size(), 2u) << "trial " << trial;
 		EXPECT_LE(bnb.clusterPeaks[1].score, ex.clusterPeaks[1].score) << "trial " << trial;
-		EXPECT_GE(bnb.clusterPeaks[1].score * prm.minAmbiguity, ex.score * (1 - 1e-12))
+		EXPECT_GE(bnb.clusterPeaks[1].score * prm.min_ambiguity, ex.score * (1 - 1e-12))
 			<< "trial " << trial;
 		EXPECT_GE(bnb.ambiguity, ex.ambiguity) << "trial " << trial;
-		EXPECT_LE(bnb.ambiguity, prm.minAmbiguity * (1 + 1e-12)) << "trial " << trial;
+		EXPECT_LE(bnb.ambiguity, prm.min_ambiguity * (1 + 1e-12)) << "trial " << trial;
 		const TPose2D r = bnb.clusterPeaks[1].patchInMap;
 		EXPECT_TRUE(
-			std::hypot(r.x - bnb.patchInMap.x, r.y - bnb.patchInMap.y) > prm.clusterRadiusXY ||
-			angleDiff(r.phi, bnb.patchInMap.phi) > prm.clusterRadiusTheta)
+			std::hypot(r.x - bnb.patchInMap.x, r.y - bnb.patchInMap.y) > prm.cluster_radius_m ||
+			angleDiff(r.phi, bnb.patchInMap.phi) > prm.cluster_radius_phi)
 			<< "trial " << trial << ": the rival lies outside the best cluster";
 	}
 	else
@@ -154,7 +154,7 @@ TEST(PatchCorrelator, BranchAndBoundEqualsExhaustiveAndRecoversThePose)
 	for (int trial = 0; trial < 24; ++trial)
 	{
 		TPatchCorrelatorParams prm;
-		prm.minScore = trial % 3 == 0 ? 0.0 : prm.minScore;  // also the unpruned search
+		prm.min_score = trial % 3 == 0 ? 0.0 : prm.min_score;  // also the unpruned search
 		const CPatchCorrelator corr(prm);
 		const World w = randomWorld(rng, 12, 10);
 		const CCorrelationGrid map = corr.makeGrid(rasterise(w), 0.5);
@@ -169,8 +169,8 @@ TEST(PatchCorrelator, BranchAndBoundEqualsExhaustiveAndRecoversThePose)
 		expectSameResult(*bnb, *ex, prm, trial);
 		EXPECT_LT(bnb->posesScored, ex->posesScored) << "trial " << trial;
 		// Within about one cell and one heading step of the truth.
-		EXPECT_LE(std::abs(bnb->patchInMap.x - truth.x), 1.5 * prm.resolution) << trial;
-		EXPECT_LE(std::abs(bnb->patchInMap.y - truth.y), 1.5 * prm.resolution) << trial;
+		EXPECT_LE(std::abs(bnb->patchInMap.x - truth.x), 1.5 * prm.resolution_m) << trial;
+		EXPECT_LE(std::abs(bnb->patchInMap.y - truth.y), 1.5 * prm.resolution_m) << trial;
 		EXPECT_LE(angleDiff(bnb->patchInMap.phi, truth.phi), 1.5 * bnb->angularStep) << trial;
 		accepted += bnb->passesFilters(TPatchCorrelatorParams{});
 	}
@@ -242,7 +242,7 @@ TEST(PatchCorrelator, BranchAndBoundInHeadingBlocksEqualsExhaustiveOverTheFullCi
 	for (int trial = 0; trial < 6; ++trial)
 	{
 		TPatchCorrelatorParams prm;
-		prm.minScore = trial == 0 ? 0.0 : prm.minScore;
+		prm.min_score = trial == 0 ? 0.0 : prm.min_score;
 		const CPatchCorrelator corr(prm);
 		const World w = randomWorld(rng, 12, 10);
 		const CCorrelationGrid map = corr.makeGrid(rasterise(w), 0.5);
@@ -278,7 +278,7 @@ TEST(PatchCorrelator, PatchWithoutCounterpartFailsTheFilters)
 		rejected += !r || !r->passesFilters(prm);
 		// The same search with no floor shows the best score really is low.
 		TPatchCorrelatorParams noFloor = prm;
-		noFloor.minScore = 0;
+		noFloor.min_score = 0;
 		const auto best = CPatchCorrelator(noFloor).correlate(map, patch, robot, 1.0, 0.2);
 		ASSERT_TRUE(best.has_value());
 		EXPECT_LT(best->score, 0.9) << "trial " << trial;
@@ -334,21 +334,21 @@ TEST(PatchCorrelator, RepeatedDoorsAreRejectedAsAmbiguous)
 	const auto r = corr.correlate(map, patch, truth, 3.5, 0.05);
 	ASSERT_TRUE(r.has_value());
 	ASSERT_EQ(r->clusterPeaks.size(), 2u);
-	EXPECT_LT(r->ambiguity, prm.minAmbiguity);
+	EXPECT_LT(r->ambiguity, prm.min_ambiguity);
 	const auto v = r->checkFilters(prm);
 	EXPECT_EQ(v.rejection, Reason::Ambiguous) << v.message();
 	// With a window too small to hold a copy, the same patch is unambiguous and accepted.
 	const auto local = corr.correlate(map, patch, truth, 1.0, 0.05);
 	ASSERT_TRUE(local.has_value());
 	EXPECT_TRUE(local->passesFilters(prm)) << local->checkFilters(prm).message();
-	EXPECT_LE(std::abs(local->patchInMap.x - truth.x), 1.5 * prm.resolution);
+	EXPECT_LE(std::abs(local->patchInMap.x - truth.x), 1.5 * prm.resolution_m);
 }
 
 TEST(PatchCorrelator, FeaturelessCorridorIsRejectedForItsSpreadAlongTheAxis)
 {
 	std::mt19937 rng(6);
 	TPatchCorrelatorParams prm;
-	prm.clusterRadiusXY = 10;  // one cluster over the whole window: the variance decides
+	prm.cluster_radius_m = 10;  // one cluster over the whole window: the variance decides
 	const CPatchCorrelator corr(prm);
 	const World w = corridor(0);
 	const CCorrelationGrid map = corr.makeGrid(rasterise(w), 0.5);
@@ -356,9 +356,9 @@ TEST(PatchCorrelator, FeaturelessCorridorIsRejectedForItsSpreadAlongTheAxis)
 	const Points patch = makePatch(w, truth, 10, rng, 5.0);
 	const auto r = corr.correlate(map, patch, truth, 1.0, 0.05);
 	ASSERT_TRUE(r.has_value());
-	EXPECT_GT(std::sqrt(r->cov(0, 0)), prm.maxStdXY) << "along the corridor";
+	EXPECT_GT(std::sqrt(r->cov(0, 0)), prm.max_std_xy_m) << "along the corridor";
 	EXPECT_LT(std::sqrt(r->cov(1, 1)), 0.05) << "across the corridor";
-	EXPECT_NEAR(r->patchInMap.y, truth.y, 1.5 * prm.resolution);
+	EXPECT_NEAR(r->patchInMap.y, truth.y, 1.5 * prm.resolution_m);
 	EXPECT_EQ(r->checkFilters(prm).rejection, Reason::SpreadXY);
 	// With the default cluster radius, poses further along score as well: ambiguous.
 	const auto d = CPatchCorrelator().correlate(map, patch, truth, 1.0, 0.05);

@@ -35,7 +35,7 @@ size_t CRevisitLinker::linkRevisits(CPoseGraph& graph, const TKeyframes& keyfram
 {
 	const size_t n = graph.numNodes();
 	if (n <= m_params.min_index_gap + 1) return 0;
-	const double r = m_params.radius;
+	const double r = m_params.radius_m;
 	// Existing links, and a hash grid (cells of side r) over the keyframe positions.
 	std::unordered_set<uint64_t> linked;
 	for (size_t id = 0; id < graph.numLinks(); ++id)
@@ -56,7 +56,7 @@ size_t CRevisitLinker::linkRevisits(CPoseGraph& graph, const TKeyframes& keyfram
 		return false;
 	};
 	const Eigen::Matrix3d prior = Eigen::Vector3d(
-		m_params.prior_std_xy * m_params.prior_std_xy, m_params.prior_std_xy * m_params.prior_std_xy,
+		m_params.prior_std_xy_m * m_params.prior_std_xy_m, m_params.prior_std_xy_m * m_params.prior_std_xy_m,
 		m_params.prior_std_phi * m_params.prior_std_phi).asDiagonal();
 
 	size_t added = 0;
@@ -77,7 +77,7 @@ size_t CRevisitLinker::linkRevisits(CPoseGraph& graph, const TKeyframes& keyfram
 					if (j + m_params.min_index_gap >= k) continue;
 					const TPose2D pj = graph.pose(j);
 					const double d = std::hypot(pj.x - pk.x, pj.y - pk.y);
-					if (d < bestD && std::abs(mrpt::math::wrapToPi(pj.phi - pk.phi)) <= m_params.max_heading)
+					if (d < bestD && std::abs(mrpt::math::wrapToPi(pj.phi - pk.phi)) <= m_params.max_phi)
 						best = j, bestD = d;
 				}
 			}
@@ -85,7 +85,7 @@ size_t CRevisitLinker::linkRevisits(CPoseGraph& graph, const TKeyframes& keyfram
 		const TPose2D guess = between(graph.pose(best), pk);
 		const auto m = m_matcher.match(
 			CReferenceCloud::fromScan(keyframes[best].scan, m_matcherParams), keyframes[k].scan, guess);
-		if (!m || m->inlierFraction < m_params.min_inliers) continue;
+		if (!m || m->inlierFraction < m_params.min_inlier_fraction) continue;
 		if (disagreementChi2(guess, m->scanInRef, prior + m->cov) > m_params.gate_chi2) continue;
 		graph.addLink(
 			{best, k, m->scanInRef, linkInformation(m->cov, m_linkNoise), LinkType::LoopClosure});

@@ -9,11 +9,11 @@
  * nearly identical one). After the run the map is loop-closed, so old and new poses that now
  * lie close together are a trustworthy guess:
  *   for every `stride`-th keyframe k, the nearest old keyframe j (index gap > min_index_gap)
- *   within `radius` and `max_heading_deg` of k's pose, not yet linked near (k, j) (no link
+ *   within `radius` and `max_phi_deg` of k's pose, not yet linked near (k, j) (no link
  *   between k +- 2 and j +- 2), is scan matched (guess: the current relative pose). The
- *   match is kept if at least `min_inliers` of k's points matched and it agrees with the guess
+ *   match is kept if at least `min_inlier_fraction` of k's points matched and it agrees with the guess
  *   (squared Mahalanobis distance <= gate_chi2, under the match covariance plus a prior of
- *   `prior_std_xy` / `prior_std_phi_deg`); it becomes a LoopClosure link (robust in the
+ *   `prior_std_xy_m` / `prior_std_phi_deg`); it becomes a LoopClosure link (robust in the
  *   back-end, so a wrong one is down-weighted by the final optimisation).
  * Frames: poses (map <- robot) from the graph; links (from <- to). Units: m, rad.
  */

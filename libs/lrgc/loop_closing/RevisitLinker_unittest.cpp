@@ -77,7 +77,7 @@ TEST(RevisitLinker, linksTheRevisitedLegAtTheTrueRelativePoses)
 		const TPose2D truth = between(run.tr.truePoses[l.from], run.tr.truePoses[l.to]);
 		EXPECT_LT(translationNorm(between(truth, l.toInFrom)), 0.02) << l.from << " -> " << l.to;
 		EXPECT_LT(std::abs(between(truth, l.toInFrom).phi), mrpt::DEG2RAD(0.3));
-		EXPECT_LT(translationNorm(truth), testParams().radius + 0.2);
+		EXPECT_LT(translationNorm(truth), testParams().radius_m + 0.2);
 	}
 	// A second sweep finds every revisit linked already.
 	EXPECT_EQ(linker.linkRevisits(run.graph, run.keyframes), 0U);
@@ -110,18 +110,18 @@ TEST(RevisitLinker, scansOfAnotherPlaceAreNotLinked)
 TEST(RevisitLinker, parametersRoundTripAndUnknownKeysAreRejected)
 {
 	TRevisitLinkerParams p;
-	p.radius = 1.7;
+	p.radius_m = 1.7;
 	p.stride = 3;
-	p.max_heading = mrpt::DEG2RAD(30.0);
+	p.max_phi = mrpt::DEG2RAD(30.0);
 	mrpt::config::CConfigFileMemory saved;
 	p.saveToConfigFile(saved, "RevisitLinker");
 	// Through the text, as a user's .ini (MRPT 2.5.8's in-memory config keeps padded keys).
 	mrpt::config::CConfigFileMemory mem(saved.getContent());
 	TRevisitLinkerParams q;
 	q.loadFromConfigFile(mem, "RevisitLinker");
-	EXPECT_DOUBLE_EQ(q.radius, 1.7);
+	EXPECT_DOUBLE_EQ(q.radius_m, 1.7);
 	EXPECT_EQ(q.stride, 3U);
-	EXPECT_NEAR(q.max_heading, mrpt::DEG2RAD(30.0), 1e-12);
+	EXPECT_NEAR(q.max_phi, mrpt::DEG2RAD(30.0), 1e-12);
 	mrpt::config::CConfigFileMemory bad("[RevisitLinker]\nradious = 2\n");
 	EXPECT_THROW(q.loadFromConfigFile(bad, "RevisitLinker"), std::exception);
 	mrpt::config::CConfigFileMemory zero("[RevisitLinker]\nstride = 0\n");

@@ -156,7 +156,7 @@ void CMetricMapBuilderLRGC::processScan(
 
 // Step 4 with a worker (CLoopClosingWorker). At a keyframe, the results that are due are
 // applied, in order: a search started at keyframe k is due at the keyframe the worker's
-// schedule gives it (CLoopClosingWorker::due: k + result_delay, or where the modelled worker
+// schedule gives it (CLoopClosingWorker::due: k + result_delay_keyframes, or where the modelled worker
 // finishes it; waited for if not done), or in a live run whenever it is ready. Then a
 // search for the newest keyframe is queued, with what the worker's copy of the graph lacks.
 void CMetricMapBuilderLRGC::serviceLoopClosing(bool atKeyframe, bool newKeyframe)
@@ -194,7 +194,7 @@ void CMetricMapBuilderLRGC::serviceLoopClosing(bool atKeyframe, bool newKeyframe
 	job.links = std::exchange(m_linksForWorker, {});
 	job.resultsApplied = m_loopResultsApplied;
 	m_loopWorker->submit(std::move(job));
-	if (p.result_delay == 0 && !p.apply_when_ready) applyLoopResult(m_loopWorker->take());
+	if (p.result_delay_keyframes == 0 && !p.apply_when_ready) applyLoopResult(m_loopWorker->take());
 }
 
 // A loop search's result, computed from the graph as it was at keyframe k = r.newest: its
@@ -296,7 +296,7 @@ size_t CMetricMapBuilderLRGC::anchor() const
 bool CMetricMapBuilderLRGC::isNewKeyframe(const TPose2D& scanInMap) const
 {
 	const TPose2D d = between(compose(m_graph.pose(anchor()), m_anchorOffset), scanInMap);
-	return translationNorm(d) >= m_params.builder.keyframe_distance ||
+	return translationNorm(d) >= m_params.builder.keyframe_distance_m ||
 		std::abs(d.phi) >= m_params.builder.keyframe_angle;
 }
 

@@ -75,9 +75,9 @@ struct TMapBuilderStats
 	double loopResultWaitSeconds = 0;
 	double loopResultWaitMaxSeconds = 0;  //!< the longest single wait [s]
 	/** [keyframes] The most keyframes between a loop search and the application of its
-	 * result ([LoopCloser] result_delay, worker_budget_ms). */
+	 * result ([LoopCloser] result_delay_keyframes, worker_budget_ms). */
 	size_t loopResultDelayMax = 0;
-	/** [s] the de-skewing's sweep time at the end ([MapBuilder] scan_sweep_time, or
+	/** [s] the de-skewing's sweep time at the end ([MapBuilder] scan_sweep_time_s, or
 	 * estimated online: CSweepEstimator), whether it was estimated, and the scan pairs. */
 	double sweepTime = 0;
 	bool sweepTimeEstimated = false;

@@ -56,13 +56,13 @@ void CMetricMapBuilderLRGC::resetState()
 {
 	m_predictor = std::make_unique<CMotionPredictor>(m_params.motion);
 	m_sweep = std::make_unique<CSweepEstimator>(
-		m_params.sweep, m_params.matcher, m_params.builder.scan_sweep_time);
+		m_params.sweep, m_params.matcher, m_params.builder.scan_sweep_time_s);
 	m_local = std::make_unique<CLocalRegistration>(
 		m_params.local, m_params.matcher, m_params.optimizer);
 	TScanMatcherParams localMatcher = m_params.matcher;  // as local registration's matches
-	localMatcher.maxFreeSpaceViolation = m_params.local.max_free_space_violation;
+	localMatcher.max_free_space_violation = m_params.local.max_free_space_violation;
 	m_reuse = std::make_unique<CKeyframeReuse>(
-		m_params.reuse, m_params.builder.keyframe_distance, m_params.builder.keyframe_angle,
+		m_params.reuse, m_params.builder.keyframe_distance_m, m_params.builder.keyframe_angle,
 		localMatcher, m_params.loop.link_noise);
 	m_loopWorker.reset();  // lets a search in hand finish first
 	if (m_params.builder.loop_closing)
@@ -141,7 +141,7 @@ void CMetricMapBuilderLRGC::linkChainAndRevisits()
 		const auto m = matcher.match(
 			CReferenceCloud::fromScan(m_keyframes[i - 1].scan, m_params.matcher),
 			m_keyframes[i].scan, guess);
-		if (m && m->inlierFraction >= m_params.local.min_link_inliers &&
+		if (m && m->inlierFraction >= m_params.local.min_link_inlier_fraction &&
 			disagreementChi2(guess, m->scanInRef, guessCov + m->cov) <= kAgreeChi2)
 		{
 			m_graph.addLink(
@@ -229,7 +229,7 @@ void CMetricMapBuilderLRGC::startSessionAt(const TPose2D& scanInMap, const Eigen
 }
 
 // The first keyframe of a session: linked to the nearest old keyframe by a scan match against
-// the old keyframes within overlap_radius (in the nearest one's frame), placed where the match
+// the old keyframes within overlap_radius_m (in the nearest one's frame), placed where the match
 // puts it; without an agreeing match, by the start pose with the localisation's covariance.
 void CMetricMapBuilderLRGC::linkSessionStart(size_t node)
 {
@@ -245,7 +245,7 @@ void CMetricMapBuilderLRGC::linkSessionStart(size_t node)
 	std::vector<TScan2D> scans;
 	std::vector<TPose2D> scansInNearest;
 	for (size_t j = 0; j < node; ++j)
-		if (translationNorm(between(m_graph.pose(j), start)) <= m_params.loop.overlap_radius)
+		if (translationNorm(between(m_graph.pose(j), start)) <= m_params.loop.overlap_radius_m)
 		{
 			scans.push_back(m_keyframes[j].scan);
 			scansInNearest.push_back(between(nearestInMap, m_graph.pose(j)));
@@ -255,7 +255,7 @@ void CMetricMapBuilderLRGC::linkSessionStart(size_t node)
 	// People and doors moved since the old scans: the free-space limit of local registration
 	// (as CLocalizer), not the strict one of loop closing.
 	TScanMatcherParams mp = m_params.matcher;
-	mp.maxFreeSpaceViolation = m_params.local.max_free_space_violation;
+	mp.max_free_space_violation = m_params.local.max_free_space_violation;
 	std::optional<TScanMatch> m;
 	if (!scans.empty())
 		m = CScanMatcher(mp).match(
@@ -264,7 +264,7 @@ void CMetricMapBuilderLRGC::linkSessionStart(size_t node)
 			   LinkType::LoopClosure};
 	// The old scans were taken at another time: their agreement with a new scan is limited by
 	// the loop links' noise floor, as is the correlation's with the match.
-	if (m && m->inlierFraction >= m_params.local.min_link_inliers &&
+	if (m && m->inlierFraction >= m_params.local.min_link_inlier_fraction &&
 		disagreementChi2(
 			guess, m->scanInRef, covInNearest + m->cov + m_params.loop.link_noise.floorCovariance()) <=
 			kAgreeChi2)

@@ -17,7 +17,7 @@ constexpr double kGridMaxRayLength_m = 30;
 TGridSettings CMetricMapBuilderLRGC::gridSettings() const
 {
 	TGridSettings s;
-	s.resolution = m_params.builder.grid_resolution;
+	s.resolution = m_params.builder.grid_resolution_m;
 	s.maxRayLength = kGridMaxRayLength_m;
 	// The local window re-estimates its K keyframes at every keyframe; older ones move only
 	// with a loop closure (or the final optimisation).

@@ -33,7 +33,7 @@ std::optional<TReusedKeyframe> CKeyframeReuse::reusableKeyframe(
 	if (!m_params.enabled || !m_lastLinked || newest > *m_lastLinked + m_params.trust_keyframes)
 		return std::nullopt;
 	// The nearest covering keyframe, in units of the keyframe spacing:
-	// max(d / keyframe_distance, |dphi| / keyframe_angle) < 1.
+	// max(d / keyframe_distance_m, |dphi| / keyframe_angle) < 1.
 	std::optional<size_t> best;
 	double bestNorm = 1.0;
 	for (size_t c = 0; c <= newest; ++c)
@@ -58,7 +58,7 @@ std::optional<TReusedKeyframe> CKeyframeReuse::reusableKeyframe(
 		CReferenceCloud::fromScan(keyframes[*best].scan, m_matcher.params()), scan, guess);
 	// A match the scans leave free along some direction (a bare corridor) cannot tell the
 	// estimate and the map apart there: no reuse, a new keyframe and a loop search instead.
-	if (!m || m->unobservableDims > 0 || m->inlierFraction < m_params.min_inliers)
+	if (!m || m->unobservableDims > 0 || m->inlierFraction < m_params.min_inlier_fraction)
 		return std::nullopt;
 	// scanCov in c's axes, plus the match's, plus the floor of scans taken at other times.
 	const Eigen::Matrix3d C =

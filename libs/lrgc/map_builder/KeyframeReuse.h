@@ -1,12 +1,12 @@
 /* CKeyframeReuse: no new keyframes on ground the map already has (issue 12).
  *
- * A scan becomes a keyframe after keyframe_distance of travel or keyframe_angle of turn from
+ * A scan becomes a keyframe after keyframe_distance_m of travel or keyframe_angle of turn from
  * where the robot took the keyframe it is at ([MapBuilder]). On a revisit that keyframe would
  * duplicate one the map already holds, and a robot that keeps driving the same building would
  * grow its graph, its loop searches and its memory with the time driven. Instead, as in the
  * reduced pose graph of Johannsson et al. (2013), the scan takes an existing keyframe c as its
  * anchor when c covers its pose, i.e. the pose would not be a new keyframe relative to c:
- *     |t(X_c^-1 (+) X_scan)| < keyframe_distance  and  |phi(X_c^-1 (+) X_scan)| < keyframe_angle,
+ *     |t(X_c^-1 (+) X_scan)| < keyframe_distance_m  and  |phi(X_c^-1 (+) X_scan)| < keyframe_angle,
  * the nearest such c (in units of those two). The scans hang from c, c enters the local
  * window (CLocalRegistration::enterKeyframe), so the next scans are registered against the
  * map's own keyframes there, and the builder links the previous anchor to c by the scan's two
@@ -19,7 +19,7 @@
  * last loop link, and only ones outside the local window (a robot backing up over its newest
  * keyframes makes new ones, as without reuse: the window solve must stay free to move them;
  * so local registration alone, with no loop links, is unchanged). The scan must also match
- * c's own scan (min_inliers) where its registration puts it,
+ * c's own scan (min_inlier_fraction) where its registration puts it,
  * within gate_chi2 under the match covariance, the registration's and the loop links' noise
  * floor (scans taken at other times). Otherwise a new keyframe is made, as without reuse.
  * A wider cover (1 m, 30 deg) was measured and not adopted: doc/back-end.md.
@@ -60,7 +60,7 @@ class CKeyframeReuse
 
 	/** A loop link entered the graph while `node` was the newest keyframe. The map builder
 	 * passes the newest keyframe when the worker's result arrives, not the link's own end:
-	 * a result lands up to [LoopCloser] max_backlog keyframes after its search, and the
+	 * a result lands up to [LoopCloser] max_backlog_keyframes keyframes after its search, and the
 	 * keyframes since are carried along by its correction. */
 	void noteLoopLink(size_t node);
 

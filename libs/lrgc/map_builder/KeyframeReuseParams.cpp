@@ -10,9 +10,9 @@ void TKeyframeReuseParams::loadFromConfigFile(
 	rejectUnknownKeys(TKeyframeReuseParams(), c, s);
 	enabled = readBool(c, s, "enabled", enabled);
 	trust_keyframes = readCount(c, s, "trust_keyframes", trust_keyframes);
-	min_inliers = readDouble(c, s, "min_inliers", min_inliers);
+	min_inlier_fraction = readDouble(c, s, "min_inlier_fraction", min_inlier_fraction);
 	gate_chi2 = readDouble(c, s, "gate_chi2", gate_chi2);
-	requireParam(min_inliers > 0 && min_inliers <= 1, s, "min_inliers", "must be in (0, 1]");
+	requireParam(min_inlier_fraction > 0 && min_inlier_fraction <= 1, s, "min_inlier_fraction", "must be in (0, 1]");
 	requireParam(gate_chi2 > 0, s, "gate_chi2", "must be > 0");
 }
 
@@ -20,9 +20,9 @@ void TKeyframeReuseParams::saveToConfigFile(
 	mrpt::config::CConfigFileBase& c, const std::string& s) const
 {
 	const int np = mrpt::config::MRPT_SAVE_NAME_PADDING(), vp = mrpt::config::MRPT_SAVE_VALUE_PADDING();
-	c.write(s, "enabled", enabled, np, vp, "No new keyframe where an existing one is within [MapBuilder] keyframe_distance and keyframe_angle_deg and its scan agrees: the scans hang from it (memory grows with the area mapped, not the time driven)");
+	c.write(s, "enabled", enabled, np, vp, "No new keyframe where an existing one is within [MapBuilder] keyframe_distance_m and keyframe_angle_deg and its scan agrees: the scans hang from it (memory grows with the area mapped, not the time driven)");
 	c.write(s, "trust_keyframes", uint64_t(trust_keyframes), np, vp, "[keyframes] Keyframes are reused only within this many new keyframes of the last loop link");
-	c.write(s, "min_inliers", min_inliers, np, vp, "Least fraction of the scan matched against the reused keyframe's scan");
+	c.write(s, "min_inlier_fraction", min_inlier_fraction, np, vp, "Least fraction of the scan matched against the reused keyframe's scan");
 	c.write(s, "gate_chi2", gate_chi2, np, vp, "[chi2, 3 dof] Agreement of that match with the scan's registered pose");
 }
 

@@ -48,7 +48,7 @@ TEST(KeyframeReuse, anOldKeyframeIsReusedOnlyAfterALoopLinkAndWhereTheScanAgrees
 	TKnownMap m;
 	const TLRGCParams p;
 	CKeyframeReuse reuse(
-		p.reuse, p.builder.keyframe_distance, p.builder.keyframe_angle, p.matcher,
+		p.reuse, p.builder.keyframe_distance_m, p.builder.keyframe_angle, p.matcher,
 		p.loop.link_noise);
 	// Back near keyframe 3 (x = 2.25), 8 cm on and turned 3 deg: covered by it.
 	const TPose2D truth(2.33, 1.52, 3 * M_PI / 180);
@@ -74,7 +74,7 @@ TEST(KeyframeReuse, anOldKeyframeIsReusedOnlyAfterALoopLinkAndWhereTheScanAgrees
 	EXPECT_FALSE(reuse.reusableKeyframe(
 		m.graph, m.keyframes, m.scanAt(turned), turned, kRegCov, anchor, m.window));
 	// Near keyframe 24, which is in the local window: not a candidate (its neighbours
-	// outside the window are more than keyframe_distance away).
+	// outside the window are more than keyframe_distance_m away).
 	const TPose2D recent(1.5 + 0.25 * 24 + 0.05, 1.5, 0.0);
 	EXPECT_FALSE(reuse.reusableKeyframe(
 		m.graph, m.keyframes, m.scanAt(recent), recent, kRegCov, anchor, m.window));

@@ -7,7 +7,7 @@ namespace lrgc
 CLaserSelector::CLaserSelector(const TMapBuilderParams& params)
 	: m_label(params.laser_label),
 	  m_chosen(!params.laser_label.empty()),
-	  m_limits{params.min_range, params.max_range}
+	  m_limits{params.min_range_m, params.max_range_m}
 {
 }
 

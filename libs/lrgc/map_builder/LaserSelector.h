@@ -1,12 +1,12 @@
 /* CLaserSelector: which of a log's 2D lasers the map is built from, and that laser's range
- * limits ([MapBuilder] laser_label, min_range, max_range; lrgc-slam --laser).
+ * limits ([MapBuilder] laser_label, min_range_m, max_range_m; lrgc-slam --laser).
  *
  * A robot may carry several lasers (a CARMEN log's FLASER and RLASER lines become the labels
  * "LASER" and "REAR_LASER"); the map is built from one. With no label given, the first label
  * seen is mapped and, when a second one appears, a warning names both and the option that
  * picks the other: mapping one rear-laser scan and dropping every front one in silence is the
  * failure this class exists for. Scans of the other lasers are counted per label. The mapped
- * laser's readings outside [min_range, max_range] are marked invalid (applyRangeLimits), so
+ * laser's readings outside [min_range_m, max_range_m] are marked invalid (applyRangeLimits), so
  * that matching, the occupancy grid and the saved keyframes all go without them.
  */
 #pragma once
@@ -41,7 +41,7 @@ class CLaserSelector
 	bool chosen() const { return m_chosen; }
 	/** Scans of the other lasers, ignored, per sensor label. */
 	const std::map<std::string, size_t>& ignoredScans() const { return m_ignored; }
-	/** Readings of the mapped laser dropped by min_range / max_range. */
+	/** Readings of the mapped laser dropped by min_range_m / max_range_m. */
 	size_t rangeLimitedReadings() const { return m_rangeLimited; }
 	/** The warning about a second laser (once per run), then nullopt. */
 	std::optional<std::string> takeWarning() { return std::exchange(m_warning, std::nullopt); }

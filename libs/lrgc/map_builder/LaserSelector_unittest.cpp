@@ -79,7 +79,7 @@ TEST(RangeLimits, PostsAndFarReadingsAreMarkedInvalidOnACopy)
 	for (size_t i : {0, 9, 13, 89, 180}) EXPECT_TRUE(out->getScanRangeValidity(i)) << i;
 	EXPECT_FLOAT_EQ(out->getScanRange(10), 0.12f);  // ranges kept, only flagged
 	EXPECT_TRUE(in->getScanRangeValidity(10));  // the input is never changed
-	// Exactly at a limit is inside; max_range 0 is no upper limit.
+	// Exactly at a limit is inside; max_range_m 0 is no upper limit.
 	EXPECT_EQ(lrgc::applyRangeLimits(scan("LASER", 0.3f), {0.3, 0}, &marked)->getScanRangeValidity(0), true);
 	EXPECT_EQ(marked, 0u);
 	const auto far = lrgc::applyRangeLimits(scan("LASER", 29.0f), {0.0, 0.0}, &marked);

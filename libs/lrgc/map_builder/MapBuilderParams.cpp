@@ -15,27 +15,27 @@ void TMapBuilderParams::loadFromConfigFile(
 	const mrpt::config::CConfigFileBase& c, const std::string& s)
 {
 	rejectUnknownKeys(TMapBuilderParams(), c, s);
-	keyframe_distance = readDouble(c, s, "keyframe_distance", keyframe_distance);
+	keyframe_distance_m = readDouble(c, s, "keyframe_distance_m", keyframe_distance_m);
 	keyframe_angle = readDegrees(c, s, "keyframe_angle_deg", keyframe_angle);
 	min_scan_points = readCount(c, s, "min_scan_points", min_scan_points);
-	grid_resolution = readDouble(c, s, "grid_resolution", grid_resolution);
+	grid_resolution_m = readDouble(c, s, "grid_resolution_m", grid_resolution_m);
 	loop_closing = readBool(c, s, "loop_closing", loop_closing);
 	final_optimization = readBool(c, s, "final_optimization", final_optimization);
-	scan_sweep_time = readDouble(c, s, "scan_sweep_time", scan_sweep_time);
+	scan_sweep_time_s = readDouble(c, s, "scan_sweep_time_s", scan_sweep_time_s);
 	laser_label = readString(c, s, "laser_label", laser_label);
-	min_range = readDouble(c, s, "min_range", min_range);
-	max_range = readDouble(c, s, "max_range", max_range);
+	min_range_m = readDouble(c, s, "min_range_m", min_range_m);
+	max_range_m = readDouble(c, s, "max_range_m", max_range_m);
 	requireParam(
-		scan_sweep_time >= 0 && scan_sweep_time < 1, s, "scan_sweep_time", "must be in [0, 1) s");
-	requireParam(min_range >= 0, s, "min_range", "must be >= 0 m (0: no lower limit)");
+		scan_sweep_time_s >= 0 && scan_sweep_time_s < 1, s, "scan_sweep_time_s", "must be in [0, 1) s");
+	requireParam(min_range_m >= 0, s, "min_range_m", "must be >= 0 m (0: no lower limit)");
 	requireParam(
-		max_range == 0 || max_range > min_range, s, "max_range",
-		mrpt::format("must be 0 (no upper limit) or above min_range = %g m", min_range));
-	requireParam(keyframe_distance > 0, s, "keyframe_distance", "must be > 0");
+		max_range_m == 0 || max_range_m > min_range_m, s, "max_range_m",
+		mrpt::format("must be 0 (no upper limit) or above min_range_m = %g m", min_range_m));
+	requireParam(keyframe_distance_m > 0, s, "keyframe_distance_m", "must be > 0");
 	requireParam(keyframe_angle > 0, s, "keyframe_angle_deg", "must be > 0");
 	requireParam(min_scan_points >= 3, s, "min_scan_points", "must be >= 3");
 	requireParam(
-		grid_resolution >= 0.005 && grid_resolution <= 1, s, "grid_resolution",
+		grid_resolution_m >= 0.005 && grid_resolution_m <= 1, s, "grid_resolution_m",
 		"must be in [0.005, 1] m");
 }
 
@@ -43,16 +43,16 @@ void TMapBuilderParams::saveToConfigFile(
 	mrpt::config::CConfigFileBase& c, const std::string& s) const
 {
 	const int np = mrpt::config::MRPT_SAVE_NAME_PADDING(), vp = mrpt::config::MRPT_SAVE_VALUE_PADDING();
-	c.write(s, "keyframe_distance", keyframe_distance, np, vp, "[m] A scan becomes a keyframe (graph node) after this much travel");
+	c.write(s, "keyframe_distance_m", keyframe_distance_m, np, vp, "[m] A scan becomes a keyframe (graph node) after this much travel");
 	c.write(s, "keyframe_angle_deg", mrpt::RAD2DEG(keyframe_angle), np, vp, "[deg] ... or after this much turn");
 	c.write(s, "min_scan_points", uint64_t(min_scan_points), np, vp, "Scans with fewer valid returns are skipped (with a warning)");
-	c.write(s, "grid_resolution", grid_resolution, np, vp, "[m] Cell size of the exported occupancy grid map");
+	c.write(s, "grid_resolution_m", grid_resolution_m, np, vp, "[m] Cell size of the exported occupancy grid map");
 	c.write(s, "loop_closing", loop_closing, np, vp, "Global correlation and loop closing (false: local registration only)");
 	c.write(s, "final_optimization", final_optimization, np, vp, "Optimise the whole graph once more at the end of the run");
-	c.write(s, "scan_sweep_time", scan_sweep_time, np, vp, "[s] Laser's first beam to last (SICK LMS 2xx: 0.0067): scans are de-skewed by the motion over it; 0: off, or estimated online if [SweepEstimator] enabled");
+	c.write(s, "scan_sweep_time_s", scan_sweep_time_s, np, vp, "[s] Laser's first beam to last (SICK LMS 2xx: 0.0067): scans are de-skewed by the motion over it; 0: off, or estimated online if [SweepEstimator] enabled");
 	c.write(s, "laser_label", laser_label, np, vp, "sensorLabel of the laser to map (CARMEN: LASER = FLASER, REAR_LASER = RLASER); empty: the first seen (lrgc-slam --laser)");
-	c.write(s, "min_range", min_range, np, vp, "[m] Readings of that laser below this are dropped (the robot's own posts); 0: none");
-	c.write(s, "max_range", max_range, np, vp, "[m] Readings above this are dropped; 0: only the sensor's own maximum range");
+	c.write(s, "min_range_m", min_range_m, np, vp, "[m] Readings of that laser below this are dropped (the robot's own posts); 0: none");
+	c.write(s, "max_range_m", max_range_m, np, vp, "[m] Readings above this are dropped; 0: only the sensor's own maximum range");
 }
 
 namespace
@@ -103,12 +103,12 @@ void TLRGCParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, con
 	for (const auto& [name, stage] : stages<TLRGCParams, mrpt::config::CLoadableOptions>(*this))
 		stage->loadFromConfigFile(c, name);
 	requireParam(
-		loop.old_map_exclusion > std::max(local.window_size, local.laser_only_window_size),
-		"LoopCloser", "old_map_exclusion",
+		loop.old_map_exclusion_keyframes > std::max(local.window_size, local.laser_only_window_size),
+		"LoopCloser", "old_map_exclusion_keyframes",
 		mrpt::format(
 			"%zu must exceed [LocalRegistration] window_size and laser_only_window_size, which "
 			"are %zu and %zu (the paper's m > K)",
-			loop.old_map_exclusion, local.window_size, local.laser_only_window_size));
+			loop.old_map_exclusion_keyframes, local.window_size, local.laser_only_window_size));
 }
 
 void TLRGCParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string&) const

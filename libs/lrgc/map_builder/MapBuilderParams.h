@@ -21,22 +21,22 @@ namespace lrgc
 {
 struct TMapBuilderParams : public mrpt::config::CLoadableOptions
 {
-	double keyframe_distance = 0.3;  //!< [m] new keyframe after this much travel (paper: 0.3 m)
+	double keyframe_distance_m = 0.3;  //!< [m] new keyframe after this much travel (paper: 0.3 m)
 	double keyframe_angle = mrpt::DEG2RAD(15.0);  //!< [rad] or this much turn (key keyframe_angle_deg)
 	size_t min_scan_points = 20;  //!< scans with fewer valid returns are skipped, with a warning
-	double grid_resolution = 0.05;  //!< [m] cell size of the exported occupancy grid
+	double grid_resolution_m = 0.05;  //!< [m] cell size of the exported occupancy grid
 	bool loop_closing = true;  //!< global correlation and loop closing (false: local only)
 	bool final_optimization = true;  //!< optimise the whole graph at the end of the run
 	/** [s] time from the laser's first beam to its last (SICK LMS 2xx, 180 deg: 6.7 ms);
 	 * scans are de-skewed by the predicted motion over it (Scan.h); 0: no de-skewing, or
 	 * estimated online if [SweepEstimator] enabled (off by default: doc/scan-matching.md) */
-	double scan_sweep_time = 0.0;
+	double scan_sweep_time_s = 0.0;
 	/** The laser (CObservation2DRangeScan::sensorLabel) the map is built from, e.g. "LASER"
 	 * (a CARMEN log's FLASER) or "REAR_LASER" (RLASER); empty: the first one seen. Scans of
 	 * other lasers are counted and ignored (CLaserSelector). */
 	std::string laser_label;
-	double min_range = 0.0;  //!< [m] the mapped laser's readings below are dropped (own posts); 0: none
-	double max_range = 0.0;  //!< [m] ... and above; 0: only the sensor's own maximum range
+	double min_range_m = 0.0;  //!< [m] the mapped laser's readings below are dropped (own posts); 0: none
+	double max_range_m = 0.0;  //!< [m] ... and above; 0: only the sensor's own maximum range
 
 	void loadFromConfigFile(
 		const mrpt::config::CConfigFileBase& c, const std::string& s) override;

@@ -16,7 +16,7 @@ std::string saved(const lrgc::TLRGCParams& p)
 TEST(LRGCParams, TextRoundTripIsExact)
 {
 	lrgc::TLRGCParams p;
-	p.builder.keyframe_distance = 0.42;
+	p.builder.keyframe_distance_m = 0.42;
 	p.builder.keyframe_angle = mrpt::DEG2RAD(7.5);
 	p.local.window_size = 13;
 	p.motion.cv_sigma_phi = mrpt::DEG2RAD(12.0);
@@ -41,24 +41,24 @@ TEST(LRGCParams, EverySectionRejectsAnUnknownKey)
 
 TEST(LRGCParams, InvalidValuesAreRejectedNamingTheKey)
 {
-	mrpt::config::CConfigFileMemory mem("[MapBuilder]\nkeyframe_distance = -1\n");
+	mrpt::config::CConfigFileMemory mem("[MapBuilder]\nkeyframe_distance_m = -1\n");
 	lrgc::TLRGCParams p;
 	try
 	{
 		p.loadFromConfigFile(mem, {});
-		FAIL() << "negative keyframe_distance accepted";
+		FAIL() << "negative keyframe_distance_m accepted";
 	}
 	catch (const std::exception& e)
 	{
-		EXPECT_NE(std::string(e.what()).find("keyframe_distance"), std::string::npos) << e.what();
+		EXPECT_NE(std::string(e.what()).find("keyframe_distance_m"), std::string::npos) << e.what();
 	}
 }
 
 TEST(LRGCParams, UnknownSectionIsRejected)
 {
-	mrpt::config::CConfigFileMemory mem("[MapBuilderr]\nkeyframe_distance = 1\n");
+	mrpt::config::CConfigFileMemory mem("[MapBuilderr]\nkeyframe_distance_m = 1\n");
 	EXPECT_THROW(lrgc::rejectUnknownSections(mem, lrgc::TLRGCParams::sectionNames()), std::exception);
-	mrpt::config::CConfigFileMemory ok("[MapBuilder]\nkeyframe_distance = 1\n");
+	mrpt::config::CConfigFileMemory ok("[MapBuilder]\nkeyframe_distance_m = 1\n");
 	EXPECT_NO_THROW(lrgc::rejectUnknownSections(ok, lrgc::TLRGCParams::sectionNames()));
 }
 
@@ -97,8 +97,8 @@ TEST(LRGCParams, ABadValueIsBlamedOnItsOwnKey)
 		std::string::npos)
 		<< small;
 	// Read leniently, "abc" was 0 and blamed as "must be > 0".
-	const std::string text = loadError("[MapBuilder]\nkeyframe_distance = abc\n");
-	EXPECT_NE(text.find("[MapBuilder] keyframe_distance: 'abc' is not a number"),
+	const std::string text = loadError("[MapBuilder]\nkeyframe_distance_m = abc\n");
+	EXPECT_NE(text.find("[MapBuilder] keyframe_distance_m: 'abc' is not a number"),
 			  std::string::npos)
 		<< text;
 	EXPECT_EQ(
@@ -110,18 +110,18 @@ TEST(LRGCParams, LaserLabelAndRangeLimitsRoundTrip)
 {
 	lrgc::TLRGCParams p;
 	EXPECT_EQ(p.builder.laser_label, "");
-	EXPECT_EQ(p.builder.min_range, 0.0);
-	EXPECT_EQ(p.builder.max_range, 0.0);
+	EXPECT_EQ(p.builder.min_range_m, 0.0);
+	EXPECT_EQ(p.builder.max_range_m, 0.0);
 	p.builder.laser_label = "REAR_LASER";
-	p.builder.min_range = 0.25;
-	p.builder.max_range = 20;
+	p.builder.min_range_m = 0.25;
+	p.builder.max_range_m = 20;
 	const std::string text = saved(p);
 	mrpt::config::CConfigFileMemory mem(text);
 	lrgc::TLRGCParams q;
 	q.loadFromConfigFile(mem, {});
 	EXPECT_EQ(q.builder.laser_label, "REAR_LASER");
-	EXPECT_EQ(q.builder.min_range, 0.25);
-	EXPECT_EQ(q.builder.max_range, 20.0);
+	EXPECT_EQ(q.builder.min_range_m, 0.25);
+	EXPECT_EQ(q.builder.max_range_m, 20.0);
 	EXPECT_EQ(saved(q), text);
 	// The default (empty label) survives the round trip too.
 	mrpt::config::CConfigFileMemory defaults(saved(lrgc::TLRGCParams()));
@@ -133,7 +133,7 @@ TEST(LRGCParams, LaserLabelAndRangeLimitsRoundTrip)
 
 TEST(LRGCParams, RangeLimitsOutOfOrderAreErrors)
 {
-	for (const char* bad : {"min_range = -0.1", "max_range = -1", "min_range = 2\nmax_range = 1"})
+	for (const char* bad : {"min_range_m = -0.1", "max_range_m = -1", "min_range_m = 2\nmax_range_m = 1"})
 	{
 		mrpt::config::CConfigFileMemory mem(std::string("[MapBuilder]\n") + bad + "\n");
 		lrgc::TLRGCParams p;

@@ -1,7 +1,7 @@
-/* [MapBuilder] min_range cleans a robot's own posts out of the map: the laser of a synthetic
+/* [MapBuilder] min_range_m cleans a robot's own posts out of the map: the laser of a synthetic
  * run sees, besides the room, two posts of the robot 0.15 m away at +-60 degrees (21 beams
  * each), in every scan. Without the limit they are matched and drawn into the grid at every
- * keyframe (later rays clear some); with min_range = 0.3 m no keyframe point, no grid cell and no saved keyframe
+ * keyframe (later rays clear some); with min_range_m = 0.3 m no keyframe point, no grid cell and no saved keyframe
  * observation holds them, and the readings dropped are counted. */
 #include <gtest/gtest.h>
 
@@ -97,7 +97,7 @@ TEST(RobotPosts, MinRangeCleansTheRobotsOwnPostsFromTheMap)
 	EXPECT_EQ(dirty.lasers().rangeLimitedReadings(), 0u);
 
 	lrgc::TLRGCParams params;
-	params.builder.min_range = 0.3;
+	params.builder.min_range_m = 0.3;
 	lrgc::CMetricMapBuilderLRGC clean(params);
 	run.postReadings = 0;
 	run.feed(clean);

@@ -27,9 +27,9 @@ struct TOrientedLink
 Eigen::Matrix3d effectiveInformation(
 	const CPoseGraph& g, const TLink& l, const TPoseGraphOptimizerParams& p)
 {
-	if (!p.robustLoopClosures || l.type != LinkType::LoopClosure) return l.information;
+	if (!p.robust_loop_closures || l.type != LinkType::LoopClosure) return l.information;
 	const Eigen::Vector3d e = linkResidual(g.pose(l.from), g.pose(l.to), l.toInFrom);
-	const double s = detail::TCostKernel::scale(e.dot(l.information * e), p.dcsPhi);
+	const double s = detail::TCostKernel::scale(e.dot(l.information * e), p.dcs_phi);
 	return s * s * l.information;
 }
 

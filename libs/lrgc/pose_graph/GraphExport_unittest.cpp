@@ -48,10 +48,10 @@ void addReversedTwins(TSimulatedPoseGraph& sim, uint32_t seed)
 TPoseGraphOptimizerParams tight(bool robust)
 {
 	TPoseGraphOptimizerParams p;
-	p.robustLoopClosures = robust;
-	p.relativeCostTolerance = 1e-12;
-	p.stepTolerance = 1e-12;
-	p.maxIterations = 200;
+	p.robust_loop_closures = robust;
+	p.relative_cost_tolerance = 1e-12;
+	p.step_tolerance = 1e-12;
+	p.max_iterations = 200;
 	return p;
 }
 

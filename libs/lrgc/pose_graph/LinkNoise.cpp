@@ -10,11 +10,11 @@ namespace lrgc
 void TLinkNoise::load(
 	const mrpt::config::CConfigFileBase& c, const std::string& s, const std::string& prefix)
 {
-	const std::string xyKey = prefix + "link_floor_xy", phiKey = prefix + "link_floor_phi_deg";
-	floorXY = readDouble(c, s, xyKey, floorXY);
-	floorPhi = readDegrees(c, s, phiKey, floorPhi);
-	requireParam(floorXY >= 0, s, xyKey, "must be >= 0");
-	requireParam(floorPhi >= 0, s, phiKey, "must be >= 0");
+	const std::string xyKey = prefix + "link_floor_xy_m", phiKey = prefix + "link_floor_phi_deg";
+	floor_xy_m = readDouble(c, s, xyKey, floor_xy_m);
+	floor_phi = readDegrees(c, s, phiKey, floor_phi);
+	requireParam(floor_xy_m >= 0, s, xyKey, "must be >= 0");
+	requireParam(floor_phi >= 0, s, phiKey, "must be >= 0");
 }
 
 void TLinkNoise::save(
@@ -22,8 +22,8 @@ void TLinkNoise::save(
 	const std::string& what) const
 {
 	const int np = mrpt::config::MRPT_SAVE_NAME_PADDING(), vp = mrpt::config::MRPT_SAVE_VALUE_PADDING();
-	c.write(s, prefix + "link_floor_xy", floorXY, np, vp, "[m] Std added to " + what);
-	c.write(s, prefix + "link_floor_phi_deg", mrpt::RAD2DEG(floorPhi), np, vp,
+	c.write(s, prefix + "link_floor_xy_m", floor_xy_m, np, vp, "[m] Std added to " + what);
+	c.write(s, prefix + "link_floor_phi_deg", mrpt::RAD2DEG(floor_phi), np, vp,
 			"[deg] Heading std added to " + what);
 }
 

@@ -229,19 +229,19 @@ struct TPass
 };
 
 /** LM on the problem's robust cost with kernel `k`, from prob.x, updating it. Stops when
- * the relative cost decrease < relTol, the step < stepTol, or after maxIterations. */
+ * the relative cost decrease < relTol, the step < stepTol, or after max_iterations. */
 TPass levenbergMarquardt(detail::TProblem& prob, const detail::TCostKernel& k,
-						 const TPoseGraphOptimizerParams& p, double relTol, int maxIterations,
+						 const TPoseGraphOptimizerParams& p, double relTol, int max_iterations,
 						 CCholmodSolver& solver, detail::TNormalEquations& ne,
 						 const std::function<void()>& onIteration)
 {
 	TPass pass;
 	pass.converged = prob.varNode.empty();
-	double cost = 0, lambda = p.initialLambda, nu = 2;
+	double cost = 0, lambda = p.initial_lambda, nu = 2;
 	prob.evaluate(prob.x, k, &cost);
 	Eigen::VectorXd dx;
 	std::vector<TPose2D> trial;
-	while (!pass.converged && pass.iterations < maxIterations)
+	while (!pass.converged && pass.iterations < max_iterations)
 	{
 		++pass.iterations;
 		if (onIteration) onIteration();
@@ -266,7 +266,7 @@ TPass levenbergMarquardt(detail::TProblem& prob, const detail::TCostKernel& k,
 			for (int i = 0; i < dx.size(); ++i) dDx += dx[i] * dx[i] * ne.values[ne.diagPos[i]];
 			const double predicted = -ne.rhs.dot(dx) + lambda * dDx;
 			const double rho = (cost - newCost) / std::max(predicted, 1e-300);
-			const bool tinyStep = dx.cwiseAbs().maxCoeff() < p.stepTolerance;
+			const bool tinyStep = dx.cwiseAbs().maxCoeff() < p.step_tolerance;
 			if (newCost < cost && rho > 0)
 			{
 				accepted = true;
@@ -291,7 +291,7 @@ TPass levenbergMarquardt(detail::TProblem& prob, const detail::TCostKernel& k,
  * far outside its quadratic zone (a true loop arriving with the drift of a long cycle) gets
  * a tiny weight and pulls the map to itself only over very many iterations, so it would end
  * rejected although the graph can absorb it. Each loop link that would be reported rejected
- * at the start (DCS scale s < rejectScale) is therefore tested against the graph's own
+ * at the start (DCS scale s < reject_scale) is therefore tested against the graph's own
  * uncertainty: with H the DCS-weighted normal matrix and J = [J_from J_to] (free endpoints),
  *     innovation chi2 = e^T (J H^-1 J^T + Omega^-1)^-1 e  [-],
  * the chi2 the rest of the graph would take on if it closed the link (linearised). If it is
@@ -310,7 +310,7 @@ bool scheduleLoopLinks(detail::TProblem& prob, const TPoseGraphOptimizerParams& 
 					   CCholmodSolver& solver, detail::TNormalEquations& ne,
 					   const std::vector<size_t>& vetted)
 {
-	const detail::TCostKernel k{true, p.dcsPhi};
+	const detail::TCostKernel k{true, p.dcs_phi};
 	std::vector<size_t> outside;
 	std::vector<double> chi2(prob.links.size(), 0.0);
 	for (size_t i = 0; i < prob.links.size(); ++i)
@@ -318,7 +318,7 @@ bool scheduleLoopLinks(detail::TProblem& prob, const TPoseGraphOptimizerParams& 
 		if (!prob.links[i].loopClosure) continue;
 		const Eigen::Vector3d e = prob.residual(prob.links[i]);
 		chi2[i] = e.dot(prob.links[i].info * e);
-		if (k.scale(chi2[i], p.dcsPhi) < p.rejectScale) outside.push_back(i);
+		if (k.scale(chi2[i], p.dcs_phi) < p.reject_scale) outside.push_back(i);
 	}
 	if (outside.empty()) return false;
 	prob.linearize(k, ne);
@@ -341,7 +341,7 @@ bool scheduleLoopLinks(detail::TProblem& prob, const TPoseGraphOptimizerParams& 
 			else
 				J = l.vi >= 0 ? Ji : Jj;
 			const Eigen::Matrix3d S = solver.projectedInverse(idx, J) + l.info.inverse();
-			if (e.dot(S.ldlt().solve(e)) >= 3 * p.dcsPhi) continue;  // inconsistent
+			if (e.dot(S.ldlt().solve(e)) >= 3 * p.dcs_phi) continue;  // inconsistent
 		}
 		l.phiStart = chi2[i];
 		any = true;
@@ -370,7 +370,7 @@ TOptimizationReport CPoseGraphOptimizer::solve(
 	TOptimizationReport rep;
 	rep.numFreeNodes = prob.varNode.size();
 	rep.numLinks = prob.links.size();
-	detail::TCostKernel k{m_params.robustLoopClosures, m_params.dcsPhi};
+	detail::TCostKernel k{m_params.robust_loop_closures, m_params.dcs_phi};
 	rep.initialChi2 = prob.evaluate(prob.x, k, &rep.initialCost);
 	std::lock_guard<std::mutex> lock(m_impl->mutex);
 	detail::TNormalEquations ne;
@@ -382,19 +382,19 @@ TOptimizationReport CPoseGraphOptimizer::solve(
 	for (;;)
 	{
 		const bool last = !graduated || maxPhiStart / k.divisor <= k.phi;
-		const int budget = m_params.maxIterations - rep.iterations;
+		const int budget = m_params.max_iterations - rep.iterations;
 		const TPass pass =
-			levenbergMarquardt(prob, k, m_params, last ? m_params.relativeCostTolerance : 1e-3,
+			levenbergMarquardt(prob, k, m_params, last ? m_params.relative_cost_tolerance : 1e-3,
 							   last ? budget : std::min(5, budget), m_impl->solver, ne,
 							   m_onIteration);
 		rep.iterations += pass.iterations;
 		rep.converged = last && pass.converged;
-		if (last || rep.iterations >= m_params.maxIterations) break;
+		if (last || rep.iterations >= m_params.max_iterations) break;
 		k.divisor *= 4;
 	}
 	k.divisor = 1e300;  // report against the target Phi
 	rep.finalChi2 = prob.evaluate(prob.x, k, &rep.finalCost);
-	rep.downweightedLinks = prob.rejectedLoopLinks(k, m_params.rejectScale);
+	rep.downweightedLinks = prob.rejectedLoopLinks(k, m_params.reject_scale);
 	return rep;
 }
 

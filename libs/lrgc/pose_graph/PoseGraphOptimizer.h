@@ -48,11 +48,11 @@ struct TOptimizationReport
 	int iterations = 0;                     //!< linearisations performed
 	double initialChi2 = 0, finalChi2 = 0;  //!< sum of unweighted chi2 over the solved links
 	double initialCost = 0, finalCost = 0;  //!< the robust objective actually minimised
-	bool converged = false;  //!< a tolerance was met (false: stopped by maxIterations)
+	bool converged = false;  //!< a tolerance was met (false: stopped by max_iterations)
 	double seconds = 0;      //!< wall time of the call [s]
 	size_t numFreeNodes = 0, numLinks = 0;  //!< size of the solved problem
-	/** LoopClosure link ids whose final DCS scale s < rejectScale (information scaled by
-	 * s^2 < rejectScale^2): the links the back-end treats as false. Ascending. */
+	/** LoopClosure link ids whose final DCS scale s < reject_scale (information scaled by
+	 * s^2 < reject_scale^2): the links the back-end treats as false. Ascending. */
 	std::vector<size_t> downweightedLinks;
 };
 

@@ -14,14 +14,14 @@ namespace lrgc
 /** Section [PoseGraphOptimizer]. */
 struct TPoseGraphOptimizerParams : public mrpt::config::CLoadableOptions
 {
-	int maxIterations = 50;  //!< LM linearisations per solve, all stages together [-]
-	double relativeCostTolerance = 1e-4;  //!< stop when the cost falls by less than this [-] (1e-6: +10% Intel time, same error)
-	double stepTolerance = 1e-7;     //!< stop when the largest step component is below [m|rad]
-	double initialLambda = 1e-6;     //!< LM damping relative to diag(H) at the first step [-]
-	bool robustLoopClosures = true;  //!< DCS on LoopClosure links (false: plain least squares)
-	double dcsPhi =
+	int max_iterations = 50;  //!< LM linearisations per solve, all stages together [-]
+	double relative_cost_tolerance = 1e-4;  //!< stop when the cost falls by less than this [-] (1e-6: +10% Intel time, same error)
+	double step_tolerance = 1e-7;     //!< stop when the largest step component is below [m|rad]
+	double initial_lambda = 1e-6;     //!< LM damping relative to diag(H) at the first step [-]
+	bool robust_loop_closures = true;  //!< DCS on LoopClosure links (false: plain least squares)
+	double dcs_phi =
 		5.0;  //!< DCS Phi [chi2 units]: loop links with chi2 <= Phi keep full weight
-	double rejectScale = 0.1;  //!< a loop link with final DCS s below this counts as rejected
+	double reject_scale = 0.1;  //!< a loop link with final DCS s below this counts as rejected
 
 	void loadFromConfigFile(const mrpt::config::CConfigFileBase& source,
 							const std::string& section) override;

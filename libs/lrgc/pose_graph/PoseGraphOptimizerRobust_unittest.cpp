@@ -74,7 +74,7 @@ TEST(PoseGraphOptimizer, WithoutTheRobustKernelFalseLoopClosuresBendTheMap)
 {
 	TFalseLoopCase c = makeFalseLoopCase(10, 31);
 	TPoseGraphOptimizerParams p;
-	p.robustLoopClosures = false;
+	p.robust_loop_closures = false;
 	const TOptimizationReport rep = CPoseGraphOptimizer(p).optimize(c.withFalse, 0);
 	EXPECT_TRUE(rep.downweightedLinks.empty());
 	EXPECT_GT(maxPoseDifference(c.withFalse, c.correct), 1.0);
@@ -124,7 +124,7 @@ TEST(PoseGraphOptimizer, TrueLoopsAddedIncrementallyAreAcceptedFalseOnesRejected
 	// Compare with the least-squares solution of the true links only.
 	CPoseGraph trueOnly = sim.graph;
 	TPoseGraphOptimizerParams plain;
-	plain.robustLoopClosures = false;
+	plain.robust_loop_closures = false;
 	CPoseGraphOptimizer(plain).optimize(trueOnly, 0);
 	EXPECT_LT(rmsPositionError(g, trueOnly.poses()), 0.1);
 }
@@ -172,7 +172,7 @@ TEST(PoseGraphOptimizer, ABigLoopWithLargeDriftIsClosedAndAFalseOneIsNot)
 	CPoseGraph ideal = g;
 	ideal.setLinkEnabled(falseLoop, false);
 	TPoseGraphOptimizerParams plain;
-	plain.robustLoopClosures = false;
+	plain.robust_loop_closures = false;
 	CPoseGraphOptimizer(plain).optimize(ideal, 0);
 	const double before = rmsPositionError(g, truth);
 	const TOptimizationReport rep = CPoseGraphOptimizer().optimize(g, 0);

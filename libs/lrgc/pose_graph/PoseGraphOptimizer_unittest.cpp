@@ -69,18 +69,18 @@ TEST(PoseGraphOptimizer, ResidualIsZeroForAConsistentMeasurementAcrossTheWrap)
 TEST(PoseGraphOptimizer, ParamsRoundTripAndRejectUnknownKeys)
 {
 	TPoseGraphOptimizerParams p;
-	p.maxIterations = 17;
-	p.dcsPhi = 2.5;
-	p.robustLoopClosures = false;
+	p.max_iterations = 17;
+	p.dcs_phi = 2.5;
+	p.robust_loop_closures = false;
 	mrpt::config::CConfigFileMemory saved;
 	p.saveToConfigFile(saved, "PoseGraphOptimizer");
 	const mrpt::config::CConfigFileMemory mem(saved.getContent());  // as text, like an .ini
 	TPoseGraphOptimizerParams q;
 	q.loadFromConfigFile(mem, "PoseGraphOptimizer");
-	EXPECT_EQ(q.maxIterations, 17);
-	EXPECT_EQ(q.dcsPhi, 2.5);
-	EXPECT_FALSE(q.robustLoopClosures);
-	EXPECT_EQ(q.rejectScale, p.rejectScale);
+	EXPECT_EQ(q.max_iterations, 17);
+	EXPECT_EQ(q.dcs_phi, 2.5);
+	EXPECT_FALSE(q.robust_loop_closures);
+	EXPECT_EQ(q.reject_scale, p.reject_scale);
 
 	mrpt::config::CConfigFileMemory typo;
 	typo.write("PoseGraphOptimizer", "dcs_phy", 3.0);
@@ -142,7 +142,7 @@ TEST(PoseGraphOptimizer, ManhattanGraphOf3000PosesRecoversGroundTruth)
 	// The least-squares optimum is statistically consistent (chi2 ~ dof above) but not the
 	// truth: compare with it instead.
 	TPoseGraphOptimizerParams plain;
-	plain.robustLoopClosures = false;
+	plain.robust_loop_closures = false;
 	CPoseGraph ls = sim.graph;
 	CPoseGraphOptimizer(plain).optimize(ls, 0);
 	EXPECT_LT(rmsPositionError(g, ls.poses()), 0.05);
@@ -168,7 +168,7 @@ TEST(PoseGraphOptimizer, WindowMovesOnlyFreeNodesAndFindsTheirOptimum)
 	// Converged tightly (the default stops at a 1e-4 relative cost decrease, about 2e-6 m
 	// from the optimum here), so that both solves land on the same optimum to 1e-6.
 	TPoseGraphOptimizerParams tight;
-	tight.relativeCostTolerance = 1e-9;
+	tight.relative_cost_tolerance = 1e-9;
 	const CPoseGraphOptimizer opt(tight);
 	opt.optimize(g, 0);
 	const CPoseGraph optimum = g;
@@ -294,7 +294,7 @@ TEST(PoseGraphOptimizer, ReachesMrptLevMarqChi2OnCircle50)
 	// Ours on the same graph, all links unrobustified (a least-squares comparison), fixed
 	// at node 0 as MRPT's root.
 	TPoseGraphOptimizerParams params;
-	params.robustLoopClosures = false;
+	params.robust_loop_closures = false;
 	CPoseGraph ours = start;
 	const TOptimizationReport rep = CPoseGraphOptimizer(params).optimize(ours, 0);
 	const double chi2Ours = totalChi2(ours), chi2Theirs = totalChi2(theirs);

@@ -242,7 +242,7 @@ void TProblem::linearize(const TCostKernel& k, TNormalEquations& ne)
 	}
 }
 
-std::vector<size_t> TProblem::rejectedLoopLinks(const TCostKernel& k, double rejectScale) const
+std::vector<size_t> TProblem::rejectedLoopLinks(const TCostKernel& k, double reject_scale) const
 {
 	std::vector<size_t> out;
 	if (!k.robust) return out;
@@ -252,7 +252,7 @@ std::vector<size_t> TProblem::rejectedLoopLinks(const TCostKernel& k, double rej
 		const TPose2D& a = l.vi >= 0 ? x[l.vi] : l.fixedFrom;
 		const TPose2D& b = l.vj >= 0 ? x[l.vj] : l.fixedTo;
 		const Eigen::Vector3d e = linkResidual(a, b, l.z);
-		if (k.scale(e.dot(l.info * e), k.phi) < rejectScale) out.push_back(l.id);
+		if (k.scale(e.dot(l.info * e), k.phi) < reject_scale) out.push_back(l.id);
 	}
 	std::sort(out.begin(), out.end());
 	return out;

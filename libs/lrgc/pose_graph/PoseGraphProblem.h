@@ -70,8 +70,8 @@ public:
 	/** Residual and unweighted chi2 of link l at the current x. */
 	Eigen::Vector3d residual(const TProblemLink& l, Eigen::Matrix3d* Ji = nullptr,
 							 Eigen::Matrix3d* Jj = nullptr) const;
-	/** Ids of LoopClosure links with DCS scale (target Phi) < rejectScale at the current x. */
-	std::vector<size_t> rejectedLoopLinks(const TCostKernel& k, double rejectScale) const;
+	/** Ids of LoopClosure links with DCS scale (target Phi) < reject_scale at the current x. */
+	std::vector<size_t> rejectedLoopLinks(const TCostKernel& k, double reject_scale) const;
 	void writeBack(CPoseGraph& g) const;
 
 	std::vector<size_t> varNode;         // variable k -> node index

@@ -50,11 +50,11 @@ CReferenceCloud::CReferenceCloud(std::vector<Eigen::Vector2d> pointsInRef, const
 	m_inputCount = pointsInRef.size();
 	std::vector<Eigen::Vector2d> reduced;
 	std::vector<double> weights;
-	voxelReduce(pointsInRef, p.refResolution_m, reduced, weights);
+	voxelReduce(pointsInRef, p.ref_resolution_m, reduced, weights);
 	m_anchors.resize(reduced.size());
 	for (size_t i = 0; i < reduced.size(); ++i) m_anchors[i].pos = reduced[i];
 	// Cell side of the search grid: a few reduced points per cell along a wall.
-	m_cell = std::max(0.1, 3 * p.refResolution_m);
+	m_cell = std::max(0.1, 3 * p.ref_resolution_m);
 	buildGrid();
 	fitLines(p, weights);
 	m_rawGrid = std::move(m_grid);  // the fits' neighbourhoods, for forEachFitTerm
@@ -181,7 +181,7 @@ void CReferenceCloud::fitLines(const TScanMatcherParams& p, const std::vector<do
 		newPos[i] = x;
 		// Widen the neighbourhood (up to 4x) while it has too few points or is too thick:
 		// range noise thickens a small neighbourhood, a corner stays thick at every size.
-		double r = p.normalRadius_m;
+		double r = p.normal_radius_m;
 		size_t count = 0;  // reduced points in the neighbourhood
 		double nearest2 = std::numeric_limits<double>::infinity();  // [m^2] to another one
 		for (int widen = 0; widen < 3; ++widen, r *= 2)
@@ -236,7 +236,7 @@ void CReferenceCloud::fitLines(const TScanMatcherParams& p, const std::vector<do
 		}
 	}
 	for (size_t i = 0; i < m_anchors.size(); ++i) m_anchors[i].pos = newPos[i];
-	m_noiseVar = p.minResidualStd_m * p.minResidualStd_m;
+	m_noiseVar = p.min_residual_std_m * p.min_residual_std_m;
 	if (!sigma2.empty())
 	{
 		std::nth_element(sigma2.begin(), sigma2.begin() + sigma2.size() / 2, sigma2.end());

@@ -3,10 +3,10 @@
  * matched against many times.
  *
  * Preparation (O(n log n) for n input points):
- *  1. Voxel reduction: points are averaged per square cell of side refResolution_m, so a patch
+ *  1. Voxel reduction: points are averaged per square cell of side ref_resolution_m, so a patch
  *     of overlapping scans does not hold ten copies of each wall (and is denoised).
  *  2. Local line fit (Cox's "line segments" without segmentation): for every reduced point a
- *     weighted PCA of its neighbours within normalRadius_m (widened up to 4x where the data
+ *     weighted PCA of its neighbours within normal_radius_m (widened up to 4x where the data
  *     are sparse). A thin neighbourhood (thickness < 1/4 of its length along the line) makes a
  *     LINE anchor: the point projected onto the fitted line, plus the unit normal. Otherwise
  *     (corners, clutter, isolated returns) it is a POINT anchor as in Lu & Milios' point-to-point
@@ -50,7 +50,7 @@ public:
 		/** POINT anchors: extra variance per axis [m^2] for sampling, (spacing to the nearest
 		 * neighbour)^2 / 12: a point-to-point pair need not be the same surface point. */
 		float samplingVar = 0;
-		/** False for isolated returns (fewer than 3 neighbours within 4 normalRadius_m): no
+		/** False for isolated returns (fewer than 3 neighbours within 4 normal_radius_m): no
 		 * line and no trustworthy point (a wall sampled at grazing incidence); never matched. */
 		bool usable = true;
 	};

@@ -109,7 +109,7 @@ TEST(ReferenceCloud, nearestIsExactWithinTheGate)
 	std::vector<Eigen::Vector2d> pts;
 	for (int i = 0; i < 2000; ++i) pts.emplace_back(u(rng), u(rng));
 	TScanMatcherParams p;
-	p.refResolution_m = 0.001;  // no two random points share a voxel: anchors = input points
+	p.ref_resolution_m = 0.001;  // no two random points share a voxel: anchors = input points
 	const CReferenceCloud ref(pts, p);
 	ASSERT_EQ(ref.size(), pts.size());
 	for (int t = 0; t < 2000; ++t)
@@ -186,15 +186,15 @@ TEST(ReferenceCloud, cropAroundAScanKeepsEveryAnchorTheScanCanReach)
 	const TScan2D query = simulateScan(world, *queryPose, shortLaser, rng);
 	std::vector<Eigen::Vector2d> queryInRef;
 	for (const auto& q : query.points) queryInRef.push_back(transformPoint(*queryPose, q));
-	const double margin = p.maxCorrespondenceDist_m + 4 * p.normalRadius_m + 0.2;
+	const double margin = p.max_correspondence_dist_m + 4 * p.normal_radius_m + 0.2;
 	const CReferenceCloud full = CReferenceCloud::fromScans(scans, poses, p);
 	const CReferenceCloud cropped = CReferenceCloud::fromScansNear(scans, poses, p, queryInRef, margin);
 	EXPECT_LT(cropped.size(), full.size());
 	size_t compared = 0;
 	for (const auto& q : queryInRef)
 	{
-		const int a = full.nearest(q, p.maxCorrespondenceDist_m);
-		const int b = cropped.nearest(q, p.maxCorrespondenceDist_m);
+		const int a = full.nearest(q, p.max_correspondence_dist_m);
+		const int b = cropped.nearest(q, p.max_correspondence_dist_m);
 		ASSERT_EQ(a < 0, b < 0);
 		if (a < 0) continue;
 		const auto& fa = full.anchors()[size_t(a)];

@@ -13,12 +13,12 @@
  * trajectory). Given the robot's motion over the sweep (first beam -> last beam, robot frame),
  * each point is moved into the robot frame at the middle beam's time, with the fraction
  * f = i / (n - 1) - 1/2 of that motion at its beam i:  p = R(f dphi) p_i + f (dx, dy).
- * The sweep time is a property of the laser set-up ([MapBuilder] scan_sweep_time, 0 = off by
+ * The sweep time is a property of the laser set-up ([MapBuilder] scan_sweep_time_s, 0 = off by
  * default); scripts/calibrate-sweep-time finds it from a log with loops, without ground truth
  * (Intel and MIT-CSAIL: 4.5 ms, ACES: 26.7 ms).
  * No-return readings (invalid flag, NaN, r <= 0, r >= maxRange) are not obstacles and are
  * dropped here; the count of each kind is reported so callers can say what they skipped.
- * Range limits ([MapBuilder] min_range, max_range: a robot's own posts, a 360-degree lidar's
+ * Range limits ([MapBuilder] min_range_m, max_range_m: a robot's own posts, a 360-degree lidar's
  * view of the robot) are applied before, to the observation itself (applyRangeLimits), so
  * that the occupancy grid and the saved keyframes drop those readings too.
  */

@@ -140,7 +140,7 @@ CScanMatcher::CScanMatcher(const TScanMatcherParams& p) : m_params(p) { m_params
 std::optional<TScanMatch> CScanMatcher::match(
 	const CReferenceCloud& ref, const TScan2D& scan, const mrpt::math::TPose2D& guess) const
 {
-	return matchPoints(ref, scan.points, guess, m_params.maxCorrespondenceDist_m);
+	return matchPoints(ref, scan.points, guess, m_params.max_correspondence_dist_m);
 }
 
 std::optional<TScanMatch> CScanMatcher::matchPoints(
@@ -148,10 +148,10 @@ std::optional<TScanMatch> CScanMatcher::matchPoints(
 	const mrpt::math::TPose2D& guess, double gate0, bool check) const
 {
 	const auto& P = m_params;
-	if (ref.empty() || pts.size() < static_cast<size_t>(P.minInliers)) return std::nullopt;
+	if (ref.empty() || pts.size() < static_cast<size_t>(P.min_inliers)) return std::nullopt;
 	Eigen::Vector3d x(guess.x, guess.y, guess.phi);
 	double gate = gate0;
-	const double gateFloor = std::max(5 * P.minResidualStd_m, 2 * P.refResolution_m);
+	const double gateFloor = std::max(5 * P.min_residual_std_m, 2 * P.ref_resolution_m);
 	std::vector<TCorrespondence> corr;
 	corr.reserve(pts.size());
 	std::vector<double> tmp;
@@ -159,13 +159,13 @@ std::optional<TScanMatch> CScanMatcher::matchPoints(
 	Eigen::Vector3d g;
 	bool converged = false, frozen = false;
 	int it = 0;
-	while (!converged && ++it <= P.maxIterations)
+	while (!converged && ++it <= P.max_iterations)
 	{
 		associate(ref, pts, x, gate, frozen, corr);
 		if (corr.size() < 3) return std::nullopt;
-		const double scale = robustScale(corr, P.minResidualStd_m, tmp);
+		const double scale = robustScale(corr, P.min_residual_std_m, tmp);
 		const double L = weighAndAccumulate(corr, scale, H, g, Hspur);
-		const auto info = detail::analyseInformation(H, Hspur, L, scale, P.unobservableStd_m);
+		const auto info = detail::analyseInformation(H, Hspur, L, scale, P.unobservable_std_m);
 		if (info.unobservable == 3) return std::nullopt;
 		const Eigen::Vector3d dx = detail::solveStep(info, g);
 		x += dx;
@@ -184,9 +184,9 @@ std::optional<TScanMatch> CScanMatcher::matchPoints(
 	// residuals, covariance.
 	associate(ref, pts, x, gate, frozen, corr);
 	if (corr.size() < 3) return std::nullopt;
-	const double scale = robustScale(corr, P.minResidualStd_m, tmp);
+	const double scale = robustScale(corr, P.min_residual_std_m, tmp);
 	const double L = weighAndAccumulate(corr, scale, H, g, Hspur);
-	const auto info = detail::analyseInformation(H, Hspur, L, scale, P.unobservableStd_m);
+	const auto info = detail::analyseInformation(H, Hspur, L, scale, P.unobservable_std_m);
 	size_t inliers = 0, rows = 0;
 	double se2 = 0;
 	for (const auto& k : corr)
@@ -200,18 +200,18 @@ std::optional<TScanMatch> CScanMatcher::matchPoints(
 	m.unobservableDims = info.unobservable;
 	// Unchecked (matchWide's alternatives): the converged pose and its inliers, no verdict.
 	if (!check) return m;
-	if (inliers < static_cast<size_t>(P.minInliers) || m.inlierFraction < P.minInlierFraction ||
-		m.rmsResidual > P.maxRmsResidual_m || info.unobservable > 1)
+	if (inliers < static_cast<size_t>(P.min_inliers) || m.inlierFraction < P.min_inlier_fraction ||
+		m.rmsResidual > P.max_rms_residual_m || info.unobservable > 1)
 		return std::nullopt;
 	// Free-space consistency: aligned scan points must not sit where the reference saw through.
 	TScan2D asScan;
 	asScan.points = pts;
 	m.freeSpaceViolation = ref.freeSpaceViolation(asScan, m.scanInRef, std::max(0.1, 4 * scale));
-	if (m.freeSpaceViolation > P.maxFreeSpaceViolation) return std::nullopt;
+	if (m.freeSpaceViolation > P.max_free_space_violation) return std::nullopt;
 	// Residuals of anchors closer than this share reference noise (the line fit neighbourhood
 	// is up to 4 normalRadius wide where sparse).
-	const double cluster = std::max(0.5, 2 * P.normalRadius_m);
-	m.cov = detail::poseCovariance(ref, corr, info, kCauchy * scale, cluster, P.unobservableStd_m);
+	const double cluster = std::max(0.5, 2 * P.normal_radius_m);
+	m.cov = detail::poseCovariance(ref, corr, info, kCauchy * scale, cluster, P.unobservable_std_m);
 	return m;
 }
 
@@ -241,10 +241,10 @@ std::optional<TScanMatch> CScanMatcher::matchWide(
 	double searchAngle, const TParallelFor& parallel) const
 {
 	ASSERT_(searchAngle >= 0);
-	const double margin = m_params.wideAmbiguityMargin;
+	const double margin = m_params.wide_ambiguity_margin;
 	// Every hypothesis is scored alike: the share of points within the largest inlier RMS a
-	// match may have (max_rms_residual [m]) of the reference.
-	const double tol = m_params.maxRmsResidual_m;
+	// match may have (max_rms_residual_m [m]) of the reference.
+	const double tol = m_params.max_rms_residual_m;
 	// Distinct hypotheses: farther apart than 0.2 m or 3 deg.
 	auto distinct = [](const mrpt::math::TPose2D& a, const mrpt::math::TPose2D& b) {
 		const auto d = between(a, b);
@@ -256,13 +256,13 @@ std::optional<TScanMatch> CScanMatcher::matchWide(
 	const size_t stride = std::max<size_t>(1, scan.points.size() / kWideSearchSample);
 	std::vector<Eigen::Vector2d> sub;
 	for (size_t i = 0; i < scan.points.size(); i += stride) sub.push_back(scan.points[i]);
-	const int n = static_cast<int>(std::floor(searchAngle / m_params.wideSearchStep + 1e-9));
-	// Start i explores heading guess.phi + (i - n) wideSearchStep; kept in start order.
+	const int n = static_cast<int>(std::floor(searchAngle / m_params.wide_search_step + 1e-9));
+	// Start i explores heading guess.phi + (i - n) wide_search_step; kept in start order.
 	std::vector<std::optional<std::pair<double, mrpt::math::TPose2D>>> starts(2 * n + 1);
 	const std::function<void(size_t)> explore = [&](size_t i) {
 		mrpt::math::TPose2D g = guess;
-		g.phi = mrpt::math::wrapToPi(guess.phi + (static_cast<int>(i) - n) * m_params.wideSearchStep);
-		if (auto m = matchPoints(ref, sub, g, 2 * m_params.maxCorrespondenceDist_m, false))
+		g.phi = mrpt::math::wrapToPi(guess.phi + (static_cast<int>(i) - n) * m_params.wide_search_step);
+		if (auto m = matchPoints(ref, sub, g, 2 * m_params.max_correspondence_dist_m, false))
 			starts[i] = {explainedFraction(ref, sub, m->scanInRef, tol), m->scanInRef};
 	};
 	if (parallel) parallel(starts.size(), explore);
@@ -279,12 +279,12 @@ std::optional<TScanMatch> CScanMatcher::matchWide(
 			return std::nullopt;
 	// Refine the winner with the whole scan, match()'s checks applying, and ask for a clear
 	// majority of the scan matched.
-	auto won = matchPoints(ref, scan.points, bestPose, m_params.maxCorrespondenceDist_m);
-	if (!won || won->inlierFraction < m_params.wideMinInlierFraction) return std::nullopt;
+	auto won = matchPoints(ref, scan.points, bestPose, m_params.max_correspondence_dist_m);
+	if (!won || won->inlierFraction < m_params.wide_min_inlier_fraction) return std::nullopt;
 	// The guess's own hypothesis on the same footing (whole scan, plain gate, unchecked): the
 	// winner must explain clearly more of the scan than the guess's local optimum does.
 	if (const auto atGuess =
-			matchPoints(ref, scan.points, guess, m_params.maxCorrespondenceDist_m, false);
+			matchPoints(ref, scan.points, guess, m_params.max_correspondence_dist_m, false);
 		atGuess && distinct(won->scanInRef, atGuess->scanInRef) &&
 		explainedFraction(ref, scan.points, won->scanInRef, tol) -
 				explainedFraction(ref, scan.points, atGuess->scanInRef, tol) <

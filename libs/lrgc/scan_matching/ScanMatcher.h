@@ -15,8 +15,8 @@
  * through its line fits, so residuals sharing a stretch of reference wall count as correlated,
  * and (b) a leave-one-cluster-out jackknife over reference cells, which measures correlation
  * from the data. Directions the data do not fix (a featureless corridor's axis: information
- * below s^2 / unobservableStd_m^2, or not clearly above what the normals' noise fakes) keep the
- * guess and get variance unobservableStd_m^2. Alignments that put either side's points in
+ * below s^2 / unobservable_std_m^2, or not clearly above what the normals' noise fakes) keep the
+ * guess and get variance unobservable_std_m^2. Alignments that put either side's points in
  * space the other side saw empty are rejected. Measured NEES: doc/scan-matching.md.
  */
 #pragma once
@@ -47,7 +47,7 @@ struct TScanMatch
 	double rmsResidual = 0;  //!< [m] RMS of inlier residuals
 	double residualStd = 0;  //!< [m] robust residual scale s at convergence
 	int iterations = 0;
-	/** Directions (0..1) the data leave free (corridor axis); cov is unobservableStd_m^2 there
+	/** Directions (0..1) the data leave free (corridor axis); cov is unobservable_std_m^2 there
 	 * and scanInRef keeps the guess along them. */
 	int unobservableDims = 0;
 };
@@ -69,11 +69,11 @@ public:
 		const CReferenceCloud& ref, const TScan2D& scan,
 		const mrpt::math::TPose2D& guessScanInRef) const;
 
-	/** For odometry glitches: starts match() from headings guess.phi + k * wideSearchStep
+	/** For odometry glitches: starts match() from headings guess.phi + k * wide_search_step
 	 * over [-searchAngle_rad, +searchAngle_rad] and returns the best converged match, refined
 	 * with the whole scan, only with evidence that a symmetric or repetitive scene cannot
-	 * fake: (1) its inlier fraction is at least wideMinInlierFraction; (2) it beats every
-	 * distinct alternative start by wideAmbiguityMargin, counting the alternatives match()
+	 * fake: (1) its inlier fraction is at least wide_min_inlier_fraction; (2) it beats every
+	 * distinct alternative start by wide_ambiguity_margin, counting the alternatives match()
 	 * would reject (an aliased twin rejected for its free-space test is still a twin); (3) it
 	 * beats by the same margin the local optimum from the guess itself (the hypothesis "the
 	 * guess was right"), converged on the whole scan. Else nullopt.

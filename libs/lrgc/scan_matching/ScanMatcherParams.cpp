@@ -15,23 +15,23 @@ void TScanMatcherParams::loadFromConfigFile(
 {
 	rejectUnknownKeys(TScanMatcherParams(), c, s);
 	TScanMatcherParams d = *this;  // current values are the defaults of missing keys
-	d.maxIterations = readInt(c, s, "max_iterations", maxIterations);
-	d.maxCorrespondenceDist_m =
-		readDouble(c, s, "max_correspondence_dist", maxCorrespondenceDist_m);
-	d.refResolution_m = readDouble(c, s, "ref_resolution", refResolution_m);
-	d.normalRadius_m = readDouble(c, s, "normal_radius", normalRadius_m);
-	d.minInlierFraction = readDouble(c, s, "min_inlier_fraction", minInlierFraction);
-	d.minInliers = readInt(c, s, "min_inliers", minInliers);
-	d.maxRmsResidual_m = readDouble(c, s, "max_rms_residual", maxRmsResidual_m);
-	d.minResidualStd_m = readDouble(c, s, "min_residual_std", minResidualStd_m);
-	d.unobservableStd_m = readDouble(c, s, "unobservable_std", unobservableStd_m);
-	d.wideSearchStep =
-		readDouble(c, s, "wide_search_step_deg", wideSearchStep * 180 / M_PI) * M_PI / 180;
-	d.wideAmbiguityMargin = readDouble(c, s, "wide_ambiguity_margin", wideAmbiguityMargin);
-	d.wideMinInlierFraction =
-		readDouble(c, s, "wide_min_inlier_fraction", wideMinInlierFraction);
-	d.maxFreeSpaceViolation =
-		readDouble(c, s, "max_free_space_violation", maxFreeSpaceViolation);
+	d.max_iterations = readInt(c, s, "max_iterations", max_iterations);
+	d.max_correspondence_dist_m =
+		readDouble(c, s, "max_correspondence_dist_m", max_correspondence_dist_m);
+	d.ref_resolution_m = readDouble(c, s, "ref_resolution_m", ref_resolution_m);
+	d.normal_radius_m = readDouble(c, s, "normal_radius_m", normal_radius_m);
+	d.min_inlier_fraction = readDouble(c, s, "min_inlier_fraction", min_inlier_fraction);
+	d.min_inliers = readInt(c, s, "min_inliers", min_inliers);
+	d.max_rms_residual_m = readDouble(c, s, "max_rms_residual_m", max_rms_residual_m);
+	d.min_residual_std_m = readDouble(c, s, "min_residual_std_m", min_residual_std_m);
+	d.unobservable_std_m = readDouble(c, s, "unobservable_std_m", unobservable_std_m);
+	d.wide_search_step =
+		readDouble(c, s, "wide_search_step_deg", wide_search_step * 180 / M_PI) * M_PI / 180;
+	d.wide_ambiguity_margin = readDouble(c, s, "wide_ambiguity_margin", wide_ambiguity_margin);
+	d.wide_min_inlier_fraction =
+		readDouble(c, s, "wide_min_inlier_fraction", wide_min_inlier_fraction);
+	d.max_free_space_violation =
+		readDouble(c, s, "max_free_space_violation", max_free_space_violation);
 	d.validate(s);
 	*this = d;
 }
@@ -43,36 +43,36 @@ void TScanMatcherParams::saveToConfigFile(
 	auto wd = [&](const char* key, double v, const char* comment)
 	{ c.write(s, key, mrpt::format("%.10g", v), -1, -1, comment); };
 	auto wi = [&](const char* key, int v, const char* comment) { c.write(s, key, v, -1, -1, comment); };
-	wi("max_iterations", maxIterations, "Gauss-Newton iterations before 'no convergence'");
-	wd("max_correspondence_dist", maxCorrespondenceDist_m, "[m] initial correspondence gate (shrinks to a few residual sigmas)");
-	wd("ref_resolution", refResolution_m, "[m] voxel size reducing the reference points");
-	wd("normal_radius", normalRadius_m, "[m] neighbourhood radius of the reference line fits (widened x4 where sparse)");
-	wd("min_inlier_fraction", minInlierFraction, "[0..1] of the scan points; fewer inliers: no match");
-	wi("min_inliers", minInliers, "absolute minimum of inlier points; fewer: no match");
-	wd("max_rms_residual", maxRmsResidual_m, "[m] inlier RMS residual above it: no match");
-	wd("min_residual_std", minResidualStd_m, "[m] floor of the residual scale estimated from the data");
-	wd("unobservable_std", unobservableStd_m, "[m] std reported along directions the scans leave free (corridor axis)");
-	wd("wide_search_step_deg", wideSearchStep * 180 / M_PI, "[deg] heading step between matchWide's starting guesses");
-	wd("max_free_space_violation", maxFreeSpaceViolation, "[0..1] of the scan points; more points inside space the reference saw as free: no match. Loop-closing and revisit matches; local registration uses [LocalRegistration] max_free_space_violation");
-	wd("wide_ambiguity_margin", wideAmbiguityMargin, "[0..1] matchWide: lead in share of points within max_rms_residual needed over a distinct alternative and over the guess's own optimum");
-	wd("wide_min_inlier_fraction", wideMinInlierFraction, "[0..1] matchWide: least fraction of the scan's points the winner must match");
+	wi("max_iterations", max_iterations, "Gauss-Newton iterations before 'no convergence'");
+	wd("max_correspondence_dist_m", max_correspondence_dist_m, "[m] initial correspondence gate (shrinks to a few residual sigmas)");
+	wd("ref_resolution_m", ref_resolution_m, "[m] voxel size reducing the reference points");
+	wd("normal_radius_m", normal_radius_m, "[m] neighbourhood radius of the reference line fits (widened x4 where sparse)");
+	wd("min_inlier_fraction", min_inlier_fraction, "[0..1] of the scan points; fewer inliers: no match");
+	wi("min_inliers", min_inliers, "absolute minimum of inlier points; fewer: no match");
+	wd("max_rms_residual_m", max_rms_residual_m, "[m] inlier RMS residual above it: no match");
+	wd("min_residual_std_m", min_residual_std_m, "[m] floor of the residual scale estimated from the data");
+	wd("unobservable_std_m", unobservable_std_m, "[m] std reported along directions the scans leave free (corridor axis)");
+	wd("wide_search_step_deg", wide_search_step * 180 / M_PI, "[deg] heading step between matchWide's starting guesses");
+	wd("max_free_space_violation", max_free_space_violation, "[0..1] of the scan points; more points inside space the reference saw as free: no match. Loop-closing and revisit matches; local registration uses [LocalRegistration] max_free_space_violation");
+	wd("wide_ambiguity_margin", wide_ambiguity_margin, "[0..1] matchWide: lead in share of points within max_rms_residual_m needed over a distinct alternative and over the guess's own optimum");
+	wd("wide_min_inlier_fraction", wide_min_inlier_fraction, "[0..1] matchWide: least fraction of the scan's points the winner must match");
 }
 
 void TScanMatcherParams::validate(const std::string& s) const
 {
-	requireParam(maxIterations >= 1, s, "max_iterations", "must be >= 1");
-	requireParam(maxCorrespondenceDist_m > 0, s, "max_correspondence_dist", "must be > 0");
-	requireParam(refResolution_m > 0 && refResolution_m < 1, s, "ref_resolution", "must be in (0, 1) m");
-	requireParam(normalRadius_m > refResolution_m, s, "normal_radius", "must be > refResolution_m");
-	requireParam(minInlierFraction >= 0 && minInlierFraction <= 1, s, "min_inlier_fraction", "must be in [0, 1]");
-	requireParam(minInliers >= 3, s, "min_inliers", "must be >= 3 (3 DOF)");
-	requireParam(maxRmsResidual_m > 0, s, "max_rms_residual", "must be > 0");
-	requireParam(minResidualStd_m > 0, s, "min_residual_std", "must be > 0");
-	requireParam(unobservableStd_m > 0, s, "unobservable_std", "must be > 0");
-	requireParam(wideSearchStep > 0 && wideSearchStep < M_PI, s, "wide_search_step_deg", "must be in (0, 180) deg");
-	requireParam(maxFreeSpaceViolation >= 0 && maxFreeSpaceViolation <= 1, s, "max_free_space_violation", "must be in [0, 1]");
-	requireParam(wideAmbiguityMargin >= 0 && wideAmbiguityMargin <= 1, s, "wide_ambiguity_margin", "must be in [0, 1]");
-	requireParam(wideMinInlierFraction >= 0 && wideMinInlierFraction <= 1, s, "wide_min_inlier_fraction", "must be in [0, 1]");
+	requireParam(max_iterations >= 1, s, "max_iterations", "must be >= 1");
+	requireParam(max_correspondence_dist_m > 0, s, "max_correspondence_dist_m", "must be > 0");
+	requireParam(ref_resolution_m > 0 && ref_resolution_m < 1, s, "ref_resolution_m", "must be in (0, 1) m");
+	requireParam(normal_radius_m > ref_resolution_m, s, "normal_radius_m", "must be > ref_resolution_m");
+	requireParam(min_inlier_fraction >= 0 && min_inlier_fraction <= 1, s, "min_inlier_fraction", "must be in [0, 1]");
+	requireParam(min_inliers >= 3, s, "min_inliers", "must be >= 3 (3 DOF)");
+	requireParam(max_rms_residual_m > 0, s, "max_rms_residual_m", "must be > 0");
+	requireParam(min_residual_std_m > 0, s, "min_residual_std_m", "must be > 0");
+	requireParam(unobservable_std_m > 0, s, "unobservable_std_m", "must be > 0");
+	requireParam(wide_search_step > 0 && wide_search_step < M_PI, s, "wide_search_step_deg", "must be in (0, 180) deg");
+	requireParam(max_free_space_violation >= 0 && max_free_space_violation <= 1, s, "max_free_space_violation", "must be in [0, 1]");
+	requireParam(wide_ambiguity_margin >= 0 && wide_ambiguity_margin <= 1, s, "wide_ambiguity_margin", "must be in [0, 1]");
+	requireParam(wide_min_inlier_fraction >= 0 && wide_min_inlier_fraction <= 1, s, "wide_min_inlier_fraction", "must be in [0, 1]");
 }
 
 }  // namespace lrgc

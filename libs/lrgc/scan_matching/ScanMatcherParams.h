@@ -14,28 +14,28 @@ namespace lrgc
 /** Section [ScanMatcher]. */
 struct TScanMatcherParams : public mrpt::config::CLoadableOptions
 {
-	int maxIterations = 50;  //!< Gauss-Newton iterations before giving up (no convergence)
-	double maxCorrespondenceDist_m = 0.5;  //!< [m] initial gate: farther pairs are not formed
-	double refResolution_m = 0.02;  //!< [m] voxel size for reducing the reference points
-	double normalRadius_m = 0.15;  //!< [m] neighbourhood radius of the local line fits
-	double minInlierFraction = 0.25;  //!< of the scan's points, below it: no match
-	int minInliers = 20;  //!< absolute minimum of inlier points
-	double maxRmsResidual_m = 0.1;  //!< [m] inlier RMS residual above it: no match
-	double minResidualStd_m = 0.003;  //!< [m] floor of the estimated residual scale
+	int max_iterations = 50;  //!< Gauss-Newton iterations before giving up (no convergence)
+	double max_correspondence_dist_m = 0.5;  //!< [m] initial gate: farther pairs are not formed
+	double ref_resolution_m = 0.02;  //!< [m] voxel size for reducing the reference points
+	double normal_radius_m = 0.15;  //!< [m] neighbourhood radius of the local line fits
+	double min_inlier_fraction = 0.25;  //!< of the scan's points, below it: no match
+	int min_inliers = 20;  //!< absolute minimum of inlier points
+	double max_rms_residual_m = 0.1;  //!< [m] inlier RMS residual above it: no match
+	double min_residual_std_m = 0.003;  //!< [m] floor of the estimated residual scale
 	/** Of the scan points lying where the reference's beams passed (free space); above it: no
 	 * match. Used by loop closing and revisits; local registration matches with its own
 	 * [LocalRegistration] max_free_space_violation instead. */
-	double maxFreeSpaceViolation = 0.15;
-	double unobservableStd_m = 1.0;  //!< [m] std reported along directions the data do not fix
-	double wideSearchStep = 7.5 * M_PI / 180;  //!< [rad] heading step of matchWide's starts
+	double max_free_space_violation = 0.15;
+	double unobservable_std_m = 1.0;  //!< [m] std reported along directions the data do not fix
+	double wide_search_step = 7.5 * M_PI / 180;  //!< [rad] heading step of matchWide's starts
 												//!< (.ini key wideSearchStep_deg, degrees)
 	/** matchWide: lead the winner needs over every distinct alternative and over the guess's
-	 * own optimum, in share of the scan's points within maxRmsResidual_m of the reference. */
-	double wideAmbiguityMargin = 0.15;
+	 * own optimum, in share of the scan's points within max_rms_residual_m of the reference. */
+	double wide_ambiguity_margin = 0.15;
 	/** matchWide: the winner must match at least this fraction of the scan's points. True
 	 * glitch recoveries on the benchmark logs match 53-90 %; a false 108-deg "recovery" on
 	 * Intel matched 29 % (issue 11). */
-	double wideMinInlierFraction = 0.45;
+	double wide_min_inlier_fraction = 0.45;
 
 	void loadFromConfigFile(
 		const mrpt::config::CConfigFileBase& source, const std::string& section) override;

@@ -10,9 +10,9 @@ using namespace lrgc;
 TEST(ScanMatcherParams, roundTripUnknownKeysAndValidation)
 {
 	TScanMatcherParams p;
-	p.maxIterations = 33;
-	p.normalRadius_m = 0.21;
-	p.wideSearchStep = 5 * M_PI / 180;
+	p.max_iterations = 33;
+	p.normal_radius_m = 0.21;
+	p.wide_search_step = 5 * M_PI / 180;
 	mrpt::config::CConfigFileMemory saved;
 	p.saveToConfigFile(saved, "ScanMatcher");
 	std::string text;
@@ -20,9 +20,9 @@ TEST(ScanMatcherParams, roundTripUnknownKeysAndValidation)
 	const mrpt::config::CConfigFileMemory mem(text);
 	TScanMatcherParams q;
 	q.loadFromConfigFile(mem, "ScanMatcher");
-	EXPECT_EQ(q.maxIterations, 33);
-	EXPECT_DOUBLE_EQ(q.normalRadius_m, 0.21);
-	EXPECT_NEAR(q.wideSearchStep, 5 * M_PI / 180, 1e-12);
+	EXPECT_EQ(q.max_iterations, 33);
+	EXPECT_DOUBLE_EQ(q.normal_radius_m, 0.21);
+	EXPECT_NEAR(q.wide_search_step, 5 * M_PI / 180, 1e-12);
 	EXPECT_NEAR(mem.read_double("ScanMatcher", "wide_search_step_deg", 0), 5.0, 1e-12);
 
 	mrpt::config::CConfigFileMemory bad;
@@ -31,8 +31,8 @@ TEST(ScanMatcherParams, roundTripUnknownKeysAndValidation)
 	mrpt::config::CConfigFileMemory invalid;
 	invalid.write("ScanMatcher", "min_inlier_fraction", 1.5);
 	EXPECT_THROW(q.loadFromConfigFile(invalid, "ScanMatcher"), std::exception);
-	EXPECT_EQ(q.maxIterations, 33);  // a failed load leaves the values untouched
+	EXPECT_EQ(q.max_iterations, 33);  // a failed load leaves the values untouched
 	TScanMatcherParams neg;
-	neg.maxCorrespondenceDist_m = -1;
+	neg.max_correspondence_dist_m = -1;
 	EXPECT_THROW(CScanMatcher{neg}, std::exception);
 }

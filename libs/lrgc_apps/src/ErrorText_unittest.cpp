@@ -25,7 +25,7 @@ std::string oneLineOf(F&& f)
 template <typename T>
 void throwFromTemplate(T)  // __PRETTY_FUNCTION__ holds brackets: "[with T = double]"
 {
-	THROW_EXCEPTION("Invalid value for [MapBuilder] keyframe_distance: must be > 0");
+	THROW_EXCEPTION("Invalid value for [MapBuilder] keyframe_distance_m: must be > 0");
 }
 }  // namespace
 
@@ -37,7 +37,7 @@ TEST(ErrorText, MrptExceptionWithoutBannerLocationAndBacktrace)
 	EXPECT_EQ(oneLineOf([] { THROW_EXCEPTION_FMT("Unknown key '%s' in section [%s]", "k", "S"); }),
 			  "Unknown key 'k' in section [S]");
 	EXPECT_EQ(oneLineOf([] { throwFromTemplate(1.0); }),
-			  "Invalid value for [MapBuilder] keyframe_distance: must be > 0");
+			  "Invalid value for [MapBuilder] keyframe_distance_m: must be > 0");
 	EXPECT_EQ(oneLineOf([] { ASSERT_EQUAL_(1, 2); }).find('\n'), std::string::npos);
 }
 

@@ -120,7 +120,7 @@ std::string statsJson(const TRunOutputsSnapshot& snapshot)
 	  << "  \"loop_closures\": " << s.loopClosures << ",\n"
 	  << "  \"revisit_links\": " << s.revisitLinks << ",\n"
 	  // The de-skewing's laser sweep time at the end of the run [s]: [MapBuilder]
-	  // scan_sweep_time, or estimated online from this many scan pairs (CSweepEstimator).
+	  // scan_sweep_time_s, or estimated online from this many scan pairs (CSweepEstimator).
 	  << "  \"scan_sweep_time\": {\"seconds\": " << s.sweepTime
 	  << ", \"estimated\": " << (s.sweepTimeEstimated ? "true" : "false")
 	  << ", \"pairs\": " << s.sweepSamples << "},\n"
@@ -144,7 +144,7 @@ std::string statsJson(const TRunOutputsSnapshot& snapshot)
 	  << ", \"closure_ms\": {\"count\": " << closureMs.size()
 	  << ", \"median\": " << closure.median_ms << ", \"max\": " << closure.max_ms << "}"
 	  // Searches run on a worker thread; the mapping thread waits for a result only when it
-	  // is due (result_delay keyframes later) and not done yet.
+	  // is due (result_delay_keyframes keyframes later) and not done yet.
 	  << ", \"result_waits\": " << s.loopResultWaits
 	  << ", \"result_wait_s\": " << s.loopResultWaitSeconds
 	  << ", \"result_wait_max_ms\": " << 1e3 * s.loopResultWaitMaxSeconds

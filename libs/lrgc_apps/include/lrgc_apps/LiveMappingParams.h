@@ -20,18 +20,18 @@ namespace lrgc::apps
 {
 struct TLiveMappingParams : public mrpt::config::CLoadableOptions
 {
-	double saveIntervalSeconds = 60;   //!< [s] periodic save of all maps; 0: only at the end
-	double statusIntervalSeconds = 2;  //!< [s] status line period when stderr is not a terminal
+	double save_interval_s = 60;   //!< [s] periodic save of all maps; 0: only at the end
+	double status_interval_s = 2;  //!< [s] status line period when stderr is not a terminal
 	/** Laser scans allowed to wait for the mapper before it skips scans; 0: never skip (the
 	 * backlog may then grow without bound, and a stop waits until it is mapped). */
-	size_t maxBacklogScans = 20;
-	double sensorTimeoutSeconds = 3;   //!< [s] no valid observation this long: restart driver
-	double retryInitialSeconds = 0.5;  //!< [s] first back-off before restarting a sensor
-	double retryMaxSeconds = 30;       //!< [s] longest back-off
+	size_t max_backlog_scans = 20;
+	double sensor_timeout_s = 3;   //!< [s] no valid observation this long: restart driver
+	double retry_initial_s = 0.5;  //!< [s] first back-off before restarting a sensor
+	double retry_max_s = 30;       //!< [s] longest back-off
 	/** Apply a loop search's result as soon as the worker has it, so the robot never waits
 	 * ([LoopCloser] apply_when_ready for this run); false: at the fixed keyframe as offline
 	 * runs do, so that mapping the capture offline gives the same map. */
-	bool loopResultsWhenReady = true;
+	bool loop_results_when_ready = true;
 
 	/** Reads the keys of `section`; unknown keys and invalid values throw. */
 	void loadFromConfigFile(const mrpt::config::CConfigFileBase& source,

@@ -187,7 +187,7 @@ void CCarmenReader::addLaser(const TCarmenLaser& laser, const std::string& place
 	}
 
 	// Beam fan in the laser frame: beam i at start + i * step [rad], counter-clockwise.
-	double start = -M_PI / 2, step = M_PI / double(n - 1), maxRange = m_options.carmenMaxRange;
+	double start = -M_PI / 2, step = M_PI / double(n - 1), maxRange = m_options.carmen_max_range_m;
 	if (laser.hasOwnGeometry)
 	{
 		start = laser.startAngle;
@@ -195,7 +195,7 @@ void CCarmenReader::addLaser(const TCarmenLaser& laser, const std::string& place
 		maxRange = laser.maxRange;
 	}
 	else if (n == 180)
-		step = m_options.carmen180BeamsFov / double(n - 1);
+		step = m_options.carmen_180_beams_fov / double(n - 1);
 	const double aperture = step * double(n - 1);
 	// MRPT's fan is symmetric about the sensor's x axis: rotate the sensor by the centre.
 	const double centre = start + aperture / 2;

@@ -137,7 +137,7 @@ TEST(CarmenReader, PlacesTheLaserOnTheRobotFromTheTwoPosesOfItsLine)
 	// FOV 180 deg: the aperture is symmetric, so sensorPose is exactly the line's laser pose
 	// (with 179 deg the reader turns it by -0.5 deg to centre the aperture).
 	TLogReaderOptions opts;
-	opts.carmen180BeamsFov = M_PI;
+	opts.carmen_180_beams_fov = M_PI;
 	const auto r = readWholeLog(writeLog(dir, "basic.clf", basicLog()), opts);
 	ASSERT_FALSE(r.error);
 	const auto front = as<CObservation2DRangeScan>(r.entries[2]);
@@ -160,7 +160,7 @@ TEST(CarmenReader, GivesBeamAnglesAsTheDatasetsReadmeExplains)
 	const double deg = M_PI / 180;
 	{
 		TLogReaderOptions opts;
-		opts.carmen180BeamsFov = 180 * deg;  // the other reading: -90 .. +90, step 180/179
+		opts.carmen_180_beams_fov = 180 * deg;  // the other reading: -90 .. +90, step 180/179
 		const auto r = readWholeLog(path, opts);
 		ASSERT_FALSE(r.error);
 		// 180 beams, FOV 180 deg: -90 .. +90, step 180/179 deg.

@@ -11,22 +11,22 @@ void TLogReaderOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& 
 {
 	lrgc::rejectUnknownKeys(*this, source, section);
 	const double fovDeg = lrgc::readDouble(source, section, "carmen_180_beams_fov_deg",
-										   mrpt::RAD2DEG(carmen180BeamsFov));
+										   mrpt::RAD2DEG(carmen_180_beams_fov));
 	lrgc::requireParam(fovDeg > 0 && fovDeg <= 360, section, "carmen_180_beams_fov_deg",
 					   "must be in (0, 360] (180: last beam at +90 deg; 179: at +89 deg)");
 	const double maxRange =
-		lrgc::readDouble(source, section, "carmen_max_range_m", carmenMaxRange);
+		lrgc::readDouble(source, section, "carmen_max_range_m", carmen_max_range_m);
 	lrgc::requireParam(maxRange > 0, section, "carmen_max_range_m", "must be positive");
-	carmen180BeamsFov = mrpt::DEG2RAD(fovDeg);
-	carmenMaxRange = maxRange;
+	carmen_180_beams_fov = mrpt::DEG2RAD(fovDeg);
+	carmen_max_range_m = maxRange;
 }
 
 void TLogReaderOptions::saveToConfigFile(mrpt::config::CConfigFileBase& target,
 										 const std::string& section) const
 {
-	target.write(section, "carmen_180_beams_fov_deg", mrpt::RAD2DEG(carmen180BeamsFov), -1, -1,
+	target.write(section, "carmen_180_beams_fov_deg", mrpt::RAD2DEG(carmen_180_beams_fov), -1, -1,
 				 "First to last beam of a 180-beam CARMEN FLASER/RLASER [deg]: 180 or 179");
-	target.write(section, "carmen_max_range_m", carmenMaxRange, -1, -1,
+	target.write(section, "carmen_max_range_m", carmen_max_range_m, -1, -1,
 				 "CARMEN FLASER/RLASER readings >= this (less 5 mm) are no-returns [m]");
 }
 

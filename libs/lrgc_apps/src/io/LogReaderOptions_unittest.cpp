@@ -7,15 +7,15 @@ using lrgc::apps::TLogReaderOptions;
 TEST(LogReaderOptions, RoundTripsThroughIniText)
 {
 	TLogReaderOptions a;
-	a.carmen180BeamsFov = 170 * M_PI / 180;
-	a.carmenMaxRange = 30;
+	a.carmen_180_beams_fov = 170 * M_PI / 180;
+	a.carmen_max_range_m = 30;
 	mrpt::config::CConfigFileMemory ini;
 	a.saveToConfigFile(ini, "LogReader");
 	mrpt::config::CConfigFileMemory reread(ini.getContent());
 	TLogReaderOptions b;
 	b.loadFromConfigFile(reread, "LogReader");
-	EXPECT_NEAR(b.carmen180BeamsFov, a.carmen180BeamsFov, 1e-9);
-	EXPECT_DOUBLE_EQ(b.carmenMaxRange, 30);
+	EXPECT_NEAR(b.carmen_180_beams_fov, a.carmen_180_beams_fov, 1e-9);
+	EXPECT_DOUBLE_EQ(b.carmen_max_range_m, 30);
 	EXPECT_NE(ini.getContent().find("carmen_180_beams_fov_deg"), std::string::npos);
 	EXPECT_NE(ini.getContent().find("170"), std::string::npos) << "saved in degrees";
 }
@@ -23,12 +23,12 @@ TEST(LogReaderOptions, RoundTripsThroughIniText)
 TEST(LogReaderOptions, DefaultsAreTheDocumentedOnes)
 {
 	const TLogReaderOptions o;
-	EXPECT_DOUBLE_EQ(o.carmen180BeamsFov, 179 * M_PI / 180);
-	EXPECT_DOUBLE_EQ(o.carmenMaxRange, 50.0);
+	EXPECT_DOUBLE_EQ(o.carmen_180_beams_fov, 179 * M_PI / 180);
+	EXPECT_DOUBLE_EQ(o.carmen_max_range_m, 50.0);
 	mrpt::config::CConfigFileMemory empty;
 	TLogReaderOptions p;
 	p.loadFromConfigFile(empty, "LogReader");
-	EXPECT_DOUBLE_EQ(p.carmen180BeamsFov, 179 * M_PI / 180);
+	EXPECT_DOUBLE_EQ(p.carmen_180_beams_fov, 179 * M_PI / 180);
 }
 
 TEST(LogReaderOptions, RejectsUnknownKeysAndBadValues)

@@ -4,11 +4,11 @@
 
 namespace lrgc::apps
 {
-CLiveConsole::CLiveConsole(std::FILE* out, bool quiet, double statusIntervalSeconds)
+CLiveConsole::CLiveConsole(std::FILE* out, bool quiet, double status_interval_s)
 	: m_out(out),
 	  m_quiet(quiet),
 	  m_terminal(::isatty(::fileno(out)) != 0),
-	  m_interval(m_terminal ? 0.25 : statusIntervalSeconds)
+	  m_interval(m_terminal ? 0.25 : status_interval_s)
 {
 }
 

@@ -38,7 +38,7 @@ mrpt::obs::CObservation2DRangeScan::Ptr asOfflineReaderWould(
 lrgc::TLRGCParams liveParams(const TAppConfig& config)
 {
 	lrgc::TLRGCParams p = config.lrgc;
-	p.loop.apply_when_ready = config.live.loopResultsWhenReady;
+	p.loop.apply_when_ready = config.live.loop_results_when_ready;
 	return p;
 }
 }  // namespace
@@ -48,8 +48,8 @@ CLiveMapper::CLiveMapper(const TAppConfig& config, std::string outDir, std::stri
 	: m_builder(liveParams(config)),
 	  m_outDir(std::move(outDir)),
 	  m_console(console),
-	  m_policy(config.live.maxBacklogScans),
-	  m_maxBacklog(config.live.maxBacklogScans)
+	  m_policy(config.live.max_backlog_scans),
+	  m_maxBacklog(config.live.max_backlog_scans)
 {
 	m_builder.logging_enable_console_output = false;  // warnings are reported below
 	m_run.input = std::move(sensorsIni);

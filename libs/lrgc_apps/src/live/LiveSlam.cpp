@@ -99,7 +99,7 @@ public:
 		  m_params(setup.config.live),
 		  m_capture(captureFileOf(setup.outDir)),
 		  m_ini(setup.sensorsIni),
-		  m_console(err, setup.quiet, m_params.statusIntervalSeconds),
+		  m_console(err, setup.quiet, m_params.status_interval_s),
 		  m_mapper(setup.config, setup.outDir, setup.sensorsIni, m_console)
 	{
 		for (const auto& note : rig.notes) m_console.message("live: " + note, false);
@@ -117,8 +117,8 @@ public:
 				"live: %zu sensor(s) from %s; capture: %s; maps saved %s and at the end; "
 				"Ctrl-C stops",
 				m_sensors.size(), setup.sensorsIni.c_str(), m_capture.path().c_str(),
-				m_params.saveIntervalSeconds > 0
-					? mrpt::format("every %g s", m_params.saveIntervalSeconds).c_str()
+				m_params.save_interval_s > 0
+					? mrpt::format("every %g s", m_params.save_interval_s).c_str()
 					: "only on stop"),
 			false);
 	}
@@ -147,9 +147,9 @@ public:
 			m_scansMapped = m_mapper.counts().scansMapped;
 			m_console.status(statusLine(m_queues, m_mapper, m_sensors));
 			const auto now = std::chrono::steady_clock::now();
-			if (!closing && m_params.saveIntervalSeconds > 0 &&
+			if (!closing && m_params.save_interval_s > 0 &&
 				std::chrono::duration<double>(now - lastSave).count() >=
-					m_params.saveIntervalSeconds &&
+					m_params.save_interval_s &&
 				m_mapper.builder().stats().scans > 0 && periodicSave())
 				lastSave = now;
 		}

@@ -55,9 +55,9 @@ protected:
 			"process_rate = 200\nsensorLabel = FAKE\n");
 		m_setup.sensorsIni = m_sensors;
 		m_setup.outDir = m_dir + "/out";
-		m_setup.config.live.statusIntervalSeconds = 0.05;
-		m_setup.config.live.saveIntervalSeconds = 0.05;
-		m_setup.config.live.maxBacklogScans = 0;
+		m_setup.config.live.status_interval_s = 0.05;
+		m_setup.config.live.save_interval_s = 0.05;
+		m_setup.config.live.max_backlog_scans = 0;
 	}
 	int run()
 	{
@@ -141,7 +141,7 @@ TEST_F(LiveSlamTest, FallingBehindSkipsScansButNeverOdometryOrTheCapture)
 	// Bursts of 100 scans (+100 odometry: CGenericSensor keeps at most max_queue_len = 200
 	// objects between two getObservations()): the mapper is far behind at once.
 	laserScript().scansPerCall = 100;
-	m_setup.config.live.maxBacklogScans = 5;
+	m_setup.config.live.max_backlog_scans = 5;
 	ASSERT_EQ(run(), kExitOk) << m_console;
 	const std::string live = lrgc::test::readTextFile(out("live.json"));
 	const long mapped = jsonInt(live, "scans_mapped"),

@@ -26,7 +26,7 @@ CSensorSupervisor::CSensorSupervisor(const mrpt::config::CConfigFileBase& ini,
 	  m_params(params),
 	  m_sink(std::move(sink)),
 	  m_report(std::move(report)),
-	  m_backoff(params.retryInitialSeconds)
+	  m_backoff(params.retry_initial_s)
 {
 }
 
@@ -63,7 +63,7 @@ TSensorCounters CSensorSupervisor::counters() const
 	{
 		const double inCall =
 			std::chrono::duration<double>(TClock::now() - *m_inCallSince).count();
-		if (inCall > m_params.sensorTimeoutSeconds)
+		if (inCall > m_params.sensor_timeout_s)
 			c.state = mrpt::format("blocked %.0f s", inCall);
 	}
 	return c;
@@ -136,7 +136,7 @@ void CSensorSupervisor::threadMain()
 		{
 			fail("cannot start: " + oneLineError(e), true);
 			if (!waitFor(m_backoff)) break;
-			m_backoff = std::min(2 * m_backoff, m_params.retryMaxSeconds);
+			m_backoff = std::min(2 * m_backoff, m_params.retry_max_s);
 			continue;
 		}
 		if (!driver) break;  // stop requested during start-up
@@ -145,7 +145,7 @@ void CSensorSupervisor::threadMain()
 		if (!failure) break;
 		fail(*failure, false);
 		if (!waitFor(m_backoff)) break;
-		m_backoff = std::min(2 * m_backoff, m_params.retryMaxSeconds);
+		m_backoff = std::min(2 * m_backoff, m_params.retry_max_s);
 	}
 	setState("stopped");
 }
@@ -247,7 +247,7 @@ std::optional<std::string> CSensorSupervisor::runDriver(mrpt::hwdrivers::CGeneri
 			if (!m_flowing)
 			{
 				m_flowing = true;
-				m_backoff = m_params.retryInitialSeconds;
+				m_backoff = m_params.retry_initial_s;
 				setState("ok");
 				if (m_outageSince)
 					m_report(mrpt::format(
@@ -259,7 +259,7 @@ std::optional<std::string> CSensorSupervisor::runDriver(mrpt::hwdrivers::CGeneri
 			}
 		}
 		else if (std::chrono::duration<double>(now - lastValid).count() >
-				 m_params.sensorTimeoutSeconds)
+				 m_params.sensor_timeout_s)
 		{
 			std::string detail = driver.getState() == mrpt::hwdrivers::CGenericSensor::ssError
 									 ? "driver in error state"
@@ -268,7 +268,7 @@ std::optional<std::string> CSensorSupervisor::runDriver(mrpt::hwdrivers::CGeneri
 				detail += mrpt::format(", %zu observation(s) without data", rejectedSinceValid);
 			if (!m_outageSince) m_outageSince = lastValid;
 			return mrpt::format("sent no valid data for %.1f s: %s",
-								m_params.sensorTimeoutSeconds, detail.c_str());
+								m_params.sensor_timeout_s, detail.c_str());
 		}
 		waitUntil(t0 + period);
 	}

@@ -20,9 +20,9 @@ protected:
 		lrgc_test_fakes::registerFakeSensors();
 		laserScript().reset();
 		lrgc_test_fakes::makeRoomRun(20, laserScript());
-		m_params.sensorTimeoutSeconds = 0.2;
-		m_params.retryInitialSeconds = 0.01;
-		m_params.retryMaxSeconds = 0.03;
+		m_params.sensor_timeout_s = 0.2;
+		m_params.retry_initial_s = 0.01;
+		m_params.retry_max_s = 0.03;
 	}
 
 	std::unique_ptr<CSensorSupervisor> make(const std::string& driver,
@@ -155,7 +155,7 @@ TEST_F(SensorSupervisorTest, ADeadSensorDoesNotHoldUpAnother)
 
 TEST_F(SensorSupervisorTest, StopEndsABackOffWait)
 {
-	m_params.retryInitialSeconds = m_params.retryMaxSeconds = 3600;
+	m_params.retry_initial_s = m_params.retry_max_s = 3600;
 	auto dead = make("CFakeDeadSensor", "BROKEN");
 	dead->start();
 	ASSERT_TRUE(lrgc::test::waitUntil([&] { return dead->counters().failures == 1; }, 60));

@@ -34,9 +34,9 @@ struct TLogReaderOptions : public mrpt::config::CLoadableOptions
 	 * beam is at -90 deg. 180 deg (step 180/179) or 179 deg (step 1 deg). Measured on the
 	 * Intel log (relation metric, everything else equal): 179 deg gives 0.015 m mean
 	 * translational error, 180 deg 0.055 m; so the SICK's 1-degree mode, -90..+89 deg. */
-	double carmen180BeamsFov = 179.0 * M_PI / 180.0;
+	double carmen_180_beams_fov = 179.0 * M_PI / 180.0;
 	/** FLASER/RLASER readings at or above this (less 5 mm) are no-returns [m]. */
-	double carmenMaxRange = 50.0;
+	double carmen_max_range_m = 50.0;
 
 	/** Reads the keys of `section`; unknown keys and invalid values throw. */
 	void loadFromConfigFile(const mrpt::config::CConfigFileBase& source,

@@ -19,7 +19,7 @@ namespace lrgc::apps
 class CKeepUpPolicy
 {
 public:
-	explicit CKeepUpPolicy(size_t maxBacklogScans) : m_max(maxBacklogScans) {}
+	explicit CKeepUpPolicy(size_t max_backlog_scans) : m_max(max_backlog_scans) {}
 
 	/** For the laser scan at the head of the queue, with `waiting` laser scans queued behind
 	 * it: true to map it, false to skip it. */

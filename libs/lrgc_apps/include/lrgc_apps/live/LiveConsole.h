@@ -18,7 +18,7 @@ namespace lrgc::apps
 class CLiveConsole
 {
 public:
-	CLiveConsole(std::FILE* out, bool quiet, double statusIntervalSeconds);
+	CLiveConsole(std::FILE* out, bool quiet, double status_interval_s);
 
 	/** A line; `important` ones (problems) are printed even when quiet. Thread-safe. */
 	void message(const std::string& line, bool important = true);
