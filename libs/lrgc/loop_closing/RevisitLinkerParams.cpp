@@ -30,16 +30,15 @@ void TRevisitLinkerParams::loadFromConfigFile(
 void TRevisitLinkerParams::saveToConfigFile(
 	mrpt::config::CConfigFileBase& c, const std::string& s) const
 {
-	const int np = mrpt::config::MRPT_SAVE_NAME_PADDING(), vp = mrpt::config::MRPT_SAVE_VALUE_PADDING();
-	c.write(s, "enabled", enabled, np, vp, "End of run: scan match revisited places the online gate missed");
-	c.write(s, "radius_m", radius_m, np, vp, "[m] Old keyframes this close to a keyframe are candidates");
-	c.write(s, "max_phi_deg", mrpt::RAD2DEG(max_phi), np, vp, "[deg] ... and this close in heading");
-	c.write(s, "min_index_gap", uint64_t(min_index_gap), np, vp, "Candidates are older than this many keyframes");
-	c.write(s, "stride", uint64_t(stride), np, vp, "Every stride-th keyframe is tried");
-	c.write(s, "min_inlier_fraction", min_inlier_fraction, np, vp, "Least fraction of the keyframe's points matched");
-	c.write(s, "gate_chi2", gate_chi2, np, vp, "[chi2, 3 dof] Agreement of the match with the current relative pose");
-	c.write(s, "prior_std_xy_m", prior_std_xy_m, np, vp, "[m] Std of the current relative pose (loop-closed map)");
-	c.write(s, "prior_std_phi_deg", mrpt::RAD2DEG(prior_std_phi), np, vp, "[deg] Heading std of the current relative pose");
+	writeValue(c, s, "enabled", enabled, "End of run: scan match revisited places the online gate missed");
+	writeValue(c, s, "radius_m", radius_m, "[m] Old keyframes this close to a keyframe are candidates");
+	writeDegrees(c, s, "max_phi_deg", max_phi, "[deg] ... and this close in heading");
+	writeValue(c, s, "min_index_gap", uint64_t(min_index_gap), "Candidates are older than this many keyframes");
+	writeValue(c, s, "stride", uint64_t(stride), "Every stride-th keyframe is tried");
+	writeValue(c, s, "min_inlier_fraction", min_inlier_fraction, "Least fraction of the keyframe's points matched");
+	writeValue(c, s, "gate_chi2", gate_chi2, "[chi2, 3 dof] Agreement of the match with the current relative pose");
+	writeValue(c, s, "prior_std_xy_m", prior_std_xy_m, "[m] Std of the current relative pose (loop-closed map)");
+	writeDegrees(c, s, "prior_std_phi_deg", prior_std_phi, "[deg] Heading std of the current relative pose");
 }
 
 }  // namespace lrgc

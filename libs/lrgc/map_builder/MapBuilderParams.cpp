@@ -42,17 +42,16 @@ void TMapBuilderParams::loadFromConfigFile(
 void TMapBuilderParams::saveToConfigFile(
 	mrpt::config::CConfigFileBase& c, const std::string& s) const
 {
-	const int np = mrpt::config::MRPT_SAVE_NAME_PADDING(), vp = mrpt::config::MRPT_SAVE_VALUE_PADDING();
-	c.write(s, "keyframe_distance_m", keyframe_distance_m, np, vp, "[m] A scan becomes a keyframe (graph node) after this much travel");
-	c.write(s, "keyframe_angle_deg", mrpt::RAD2DEG(keyframe_angle), np, vp, "[deg] ... or after this much turn");
-	c.write(s, "min_scan_points", uint64_t(min_scan_points), np, vp, "Scans with fewer valid returns are skipped (with a warning)");
-	c.write(s, "grid_resolution_m", grid_resolution_m, np, vp, "[m] Cell size of the exported occupancy grid map");
-	c.write(s, "loop_closing", loop_closing, np, vp, "Global correlation and loop closing (false: local registration only)");
-	c.write(s, "final_optimization", final_optimization, np, vp, "Optimise the whole graph once more at the end of the run");
-	c.write(s, "scan_sweep_time_s", scan_sweep_time_s, np, vp, "[s] Laser's first beam to last (SICK LMS 2xx: 0.0067): scans are de-skewed by the motion over it; 0: off, or estimated online if [SweepEstimator] enabled");
-	c.write(s, "laser_label", laser_label, np, vp, "sensorLabel of the laser to map (CARMEN: LASER = FLASER, REAR_LASER = RLASER); empty: the first seen (lrgc-slam --laser)");
-	c.write(s, "min_range_m", min_range_m, np, vp, "[m] Readings of that laser below this are dropped (the robot's own posts); 0: none");
-	c.write(s, "max_range_m", max_range_m, np, vp, "[m] Readings above this are dropped; 0: only the sensor's own maximum range");
+	writeValue(c, s, "keyframe_distance_m", keyframe_distance_m, "[m] A scan becomes a keyframe (graph node) after this much travel");
+	writeDegrees(c, s, "keyframe_angle_deg", keyframe_angle, "[deg] ... or after this much turn");
+	writeValue(c, s, "min_scan_points", uint64_t(min_scan_points), "Scans with fewer valid returns are skipped (with a warning)");
+	writeValue(c, s, "grid_resolution_m", grid_resolution_m, "[m] Cell size of the exported occupancy grid map");
+	writeValue(c, s, "loop_closing", loop_closing, "Global correlation and loop closing (false: local registration only)");
+	writeValue(c, s, "final_optimization", final_optimization, "Optimise the whole graph once more at the end of the run");
+	writeValue(c, s, "scan_sweep_time_s", scan_sweep_time_s, "[s] Laser's first beam to last (SICK LMS 2xx: 0.0067): scans are de-skewed by the motion over it; 0: off, or estimated online if [SweepEstimator] enabled");
+	writeValue(c, s, "laser_label", laser_label, "sensorLabel of the laser to map (CARMEN: LASER = FLASER, REAR_LASER = RLASER); empty: the first seen (lrgc-slam --laser)");
+	writeValue(c, s, "min_range_m", min_range_m, "[m] Readings of that laser below this are dropped (the robot's own posts); 0: none");
+	writeValue(c, s, "max_range_m", max_range_m, "[m] Readings above this are dropped; 0: only the sensor's own maximum range");
 }
 
 namespace

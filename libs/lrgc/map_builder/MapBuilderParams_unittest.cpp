@@ -29,6 +29,34 @@ TEST(LRGCParams, TextRoundTripIsExact)
 	EXPECT_EQ(q.local.window_size, 13u);
 }
 
+// Save writes every number exactly, in every section: MRPT's "%f" / "%e" wrote 0.00012345 as
+// 0.000123 and relative_cost_tolerance = 1.000001e-04 as 1.000001e-04 whose next save differed.
+TEST(LRGCParams, SaveWritesEveryNumberExactly)
+{
+	lrgc::TLRGCParams p;
+	p.builder.keyframe_distance_m = 0.00012345;  // [MapBuilder], once padded
+	p.optimizer.relative_cost_tolerance = 1.000001e-04;  // [PoseGraphOptimizer]
+	p.correlator.blur_sigma_m = 0.1 + 1e-15;  // [PatchCorrelator], once unpadded
+	p.matcher.normal_radius_m = 0.123456789012345;  // [ScanMatcher], once "%.10g"
+	p.loop.max_window_phi = mrpt::DEG2RAD(17.123456789);  // a _deg key: through degrees
+	p.revisits.max_phi = mrpt::DEG2RAD(44.999999999);
+	const std::string text = saved(p);
+	lrgc::TLRGCParams q;
+	q.loadFromConfigFile(mrpt::config::CConfigFileMemory(text), {});
+	EXPECT_EQ(q.builder.keyframe_distance_m, p.builder.keyframe_distance_m);
+	EXPECT_EQ(q.optimizer.relative_cost_tolerance, p.optimizer.relative_cost_tolerance);
+	EXPECT_EQ(q.correlator.blur_sigma_m, p.correlator.blur_sigma_m);
+	EXPECT_EQ(q.matcher.normal_radius_m, p.matcher.normal_radius_m);
+	EXPECT_EQ(q.loop.max_window_phi, p.loop.max_window_phi);
+	EXPECT_EQ(q.revisits.max_phi, p.revisits.max_phi);
+	EXPECT_EQ(saved(q), text);
+	// The shortest text that reads back: defaults stay short ("0.3", not 0.29999999999999999).
+	const std::string defaults = saved(lrgc::TLRGCParams());
+	EXPECT_NE(defaults.find(" 0.3 "), std::string::npos) << defaults;
+	EXPECT_NE(defaults.find(" 150 "), std::string::npos) << defaults;  // not 1.5e+02
+	EXPECT_NE(text.find("0.00012345 "), std::string::npos) << text;
+}
+
 TEST(LRGCParams, EverySectionRejectsAnUnknownKey)
 {
 	for (const auto& section : lrgc::TLRGCParams::sectionNames())
