@@ -231,6 +231,50 @@ void writeDegrees(mrpt::config::CConfigFileBase& c, const std::string& section,
 			  comment);
 }
 
+mrpt::config::CConfigFileMemory withCurrentKeys(
+	const mrpt::config::CConfigFileBase& c, const std::vector<TRenamedKey>& renames,
+	const std::string& prefix, std::vector<std::string>& warnings)
+{
+	mrpt::config::CConfigFileMemory out;
+	std::vector<std::string> sections;
+	c.getAllSections(sections);
+	for (const auto& section : sections)
+	{
+		std::vector<std::string> keys;
+		c.getAllKeys(section, keys);
+		std::set<std::string> present;
+		for (const auto& k : keys) present.insert(mrpt::system::trim(k));
+		for (const auto& rawKey : keys)
+		{
+			const std::string key = mrpt::system::trim(rawKey);
+			std::string name = key;
+			for (const auto& r : renames)
+			{
+				if (prefix + r.section != section || r.oldKey != key) continue;
+				const std::string old = "[" + section + "] " + key;
+				if (r.newKey.empty())
+				{
+					warnings.push_back(old + " is no longer a key: ignored (" + r.why + ")");
+					name.clear();
+					break;
+				}
+				if (present.count(r.newKey))
+					THROW_EXCEPTION_FMT(
+						"Invalid value for [%s] %s: set twice, also under its old name %s",
+						section.c_str(), r.newKey.c_str(), key.c_str());
+				warnings.push_back(
+					old + " is now " + r.newKey +
+					"; read as such (lrgc-slam --write-default-config FILE writes the current "
+					"names)");
+				name = r.newKey;
+				break;
+			}
+			if (!name.empty()) out.write(section, name, c.read_string(section, rawKey, ""));
+		}
+	}
+	return out;
+}
+
 std::optional<TParamPlace> paramPlaceOf(const std::string& message)
 {
 	// The formats of throwBadValue()/requireParam(), rejectUnknownKeys() and

@@ -24,12 +24,14 @@
 #pragma once
 
 #include <mrpt/config/CConfigFileBase.h>
+#include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/config/CLoadableOptions.h>
 
 #include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace lrgc
 {
@@ -90,6 +92,22 @@ inline void writeValue(mrpt::config::CConfigFileBase& c, const std::string& sect
  * d such that readDegrees() gives back exactly `rad` (DEG2RAD(d) == rad). */
 void writeDegrees(mrpt::config::CConfigFileBase& c, const std::string& section,
 				  const std::string& key, double rad, const std::string& comment);
+
+/** A key an earlier lrgc wrote under another name, still read under it (issue 27: units in
+ * key names, one name per concept). newKey empty: no longer a key; its value is ignored. */
+struct TRenamedKey
+{
+	std::string section, oldKey, newKey;
+	std::string why;  //!< newKey empty: why the key is gone, for the warning
+};
+
+/** A copy of `c` with every key of `renames` written under its old name (in section
+ * prefix + section) moved to its new name, and one warning per such key, e.g. "[MapBuilder]
+ * keyframe_distance is now keyframe_distance_m; read as such (lrgc-slam --write-default-config
+ * FILE writes the current names)". Both names in one section is an error naming both. */
+mrpt::config::CConfigFileMemory withCurrentKeys(
+	const mrpt::config::CConfigFileBase& c, const std::vector<TRenamedKey>& renames,
+	const std::string& prefix, std::vector<std::string>& warnings);
 
 /** The section and key an error message of these functions (or of rejectUnknownSections())
  * is about, so that a caller holding the .ini text can point at its line: "Invalid value for

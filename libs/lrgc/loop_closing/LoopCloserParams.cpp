@@ -34,7 +34,6 @@ void TLoopCloserParams::loadFromConfigFile(
 	worker_budget_ms = readDouble(c, s, "worker_budget_ms", worker_budget_ms);
 	requireParam(worker_budget_ms >= 0, s, "worker_budget_ms", "must be >= 0");
 	max_backlog_keyframes = readCount(c, s, "max_backlog_keyframes", max_backlog_keyframes);
-	apply_when_ready = readBool(c, s, "apply_when_ready", apply_when_ready);
 	link_noise.load(c, s, "");
 	requireParam(patch_max_range_m > 0, s, "patch_max_range_m", "must be > 0");
 	requireParam(patch_min_keyframes >= 1 && patch_min_keyframes <= old_map_exclusion_keyframes, s,
@@ -81,7 +80,6 @@ void TLoopCloserParams::saveToConfigFile(
 	writeValue(c, s, "result_delay_keyframes", uint64_t(result_delay_keyframes), "[keyframes] A loop search started at keyframe k is applied at k + this (deterministic: the mapping thread waits there if needed)");
 	writeValue(c, s, "worker_budget_ms", worker_budget_ms, "[ms per keyframe] A result is applied where a modelled worker doing this much work per keyframe finishes it (deterministic; 0: at k + result_delay_keyframes)");
 	writeValue(c, s, "max_backlog_keyframes", uint64_t(max_backlog_keyframes), "[keyframes] Searches are skipped while the modelled worker is more than this behind");
-	writeValue(c, s, "apply_when_ready", apply_when_ready, "Apply a loop search's result as soon as it is ready (live runs; the map then depends on timing)");
 	link_noise.save(c, s, "", "every loop link (scans minutes apart: moved objects)");
 }
 

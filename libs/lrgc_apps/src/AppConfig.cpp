@@ -75,6 +75,31 @@ std::optional<size_t> iniLineOf(const std::string& path, const std::string& sect
 	return last;
 }
 
+const std::vector<lrgc::TRenamedKey>& appRenamedKeys()
+{
+	static const std::vector<lrgc::TRenamedKey> renamed = {
+		{"Localization", "patch_max_range", "patch_max_range_m", ""},
+		{"Localization", "track_radius", "track_radius_m", ""},
+		{"Localization", "min_inliers", "min_inlier_fraction", ""}};
+	return renamed;
+}
+
+namespace
+{
+// iniLineOf(), also where the file writes the key under an old name (appRenamedKeys(),
+// TLRGCParams::renamedKeys()).
+std::optional<size_t> lineOfKey(const std::string& path, const std::string& section,
+								const std::string& key)
+{
+	if (const auto line = iniLineOf(path, section, key)) return line;
+	for (const auto* table : {&TLRGCParams::renamedKeys(), &appRenamedKeys()})
+		for (const auto& r : *table)
+			if (!key.empty() && r.section == section && r.newKey == key)
+				if (const auto line = iniLineOf(path, section, r.oldKey)) return line;
+	return std::nullopt;
+}
+}  // namespace
+
 TAppConfig loadAppConfig(const std::string& path)
 {
 	TAppConfig cfg;
@@ -94,10 +119,11 @@ TAppConfig loadAppConfig(const std::string& path)
 		// of the input log.
 		const mrpt::config::CConfigFile ini(path);
 		rejectUnknownSections(ini, allowed);
-		cfg.lrgc.loadFromConfigFile(ini, {});
-		cfg.reader.loadFromConfigFile(ini, "LogReader");
-		cfg.live.loadFromConfigFile(ini, "LiveMapping");
-		cfg.localization.loadFromConfigFile(ini, "Localization");
+		cfg.warnings = cfg.lrgc.loadReportingRenames(ini, {});
+		const auto current = withCurrentKeys(ini, appRenamedKeys(), {}, cfg.warnings);
+		cfg.reader.loadFromConfigFile(current, "LogReader");
+		cfg.live.loadFromConfigFile(current, "LiveMapping");
+		cfg.localization.loadFromConfigFile(current, "Localization");
 	}
 	catch (const std::exception& e)
 	{
@@ -111,7 +137,7 @@ TAppConfig loadAppConfig(const std::string& path)
 			message = parsed->second;
 		}
 		else if (const auto place = paramPlaceOf(message))
-			if (const auto line = iniLineOf(path, place->section, place->key))
+			if (const auto line = lineOfKey(path, place->section, place->key))
 				where += ":" + std::to_string(*line);
 		throw CSetupError(where + ": " + message +
 							  "; lrgc-slam --write-default-config FILE writes every section and "

@@ -11,6 +11,7 @@
 
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace lrgc::apps
 {
@@ -20,7 +21,14 @@ struct TAppConfig
 	TLogReaderOptions reader;
 	TLiveMappingParams live;  //!< only used by --live
 	TLocalizationParams localization;  //!< [Localization]: --initial-map, --localize
+	/** One line per key of the .ini read under an old name ("[MapBuilder] keyframe_distance
+	 * is now keyframe_distance_m; ..."), for the app to report as warnings. */
+	std::vector<std::string> warnings;
 };
+
+/** The keys of the app's own sections renamed since an earlier lrgc (still read); the
+ * stages' are TLRGCParams::renamedKeys(). */
+const std::vector<lrgc::TRenamedKey>& appRenamedKeys();
 
 struct TSlamCommandLine;
 
