@@ -3,6 +3,12 @@
 
 #include <gtest/gtest.h>
 #include <mrpt/config/CConfigFileMemory.h>
+#include <mrpt/system/string_utils.h>
+
+#include <algorithm>
+#include <fstream>
+#include <iterator>
+#include <sstream>
 
 namespace
 {
@@ -33,4 +39,66 @@ TEST(AppConfig, AnOldFullIniGivesTheDefaultsAndAWarningPerOldKey)
 	EXPECT_TRUE(lrgc::apps::loadAppConfig(std::string(LRGC_SOURCE_DIR) +
 										  "/share/lrgc/lrgc-default.ini")
 					.warnings.empty());
+}
+
+// What --write-default-config hands a user is at most 40 keys, every one a key the loaders
+// know (a misspelt entry of userKeys() would silently drop it), each with a comment; the
+// expert file has every key; both are the defaults.
+TEST(AppConfig, TheUserFileHasAtMost40KnownKeysAndTheExpertFileAll)
+{
+	const auto& user = lrgc::apps::userKeys();
+	EXPECT_LE(user.size(), 40u);
+	const mrpt::config::CConfigFileMemory expert(lrgc::apps::expertAppConfigText());
+	const mrpt::config::CConfigFileMemory brief(lrgc::apps::defaultAppConfigText());
+	size_t briefKeys = 0;
+	std::vector<std::string> sections;
+	brief.getAllSections(sections);
+	for (const auto& s : sections)
+	{
+		std::vector<std::string> keys;
+		brief.getAllKeys(s, keys);
+		briefKeys += keys.size();
+	}
+	EXPECT_EQ(briefKeys, user.size());
+	for (const auto& [section, key] : user)
+		EXPECT_TRUE(expert.keyExists(section, key)) << section << " " << key;
+	std::istringstream text(lrgc::apps::defaultAppConfigText());
+	for (std::string line; std::getline(text, line);)
+		if (line.find('=') != std::string::npos)
+			EXPECT_NE(line.find(" // "), std::string::npos) << line << ": no one-line meaning";
+	// Both texts load (no unknown key, no old name) and give the defaults.
+	const auto loaded = [](const std::string& text)
+	{
+		const std::string path = std::string(LRGC_BINARY_DIR) + "/appconfig_unittest.ini";
+		std::ofstream(path) << text;
+		return lrgc::apps::loadAppConfig(path);
+	};
+	for (const auto& text : {lrgc::apps::defaultAppConfigText(), lrgc::apps::expertAppConfigText()})
+	{
+		const auto cfg = loaded(text);
+		EXPECT_TRUE(cfg.warnings.empty());
+		EXPECT_EQ(saved(cfg), saved(lrgc::apps::TAppConfig()));
+	}
+}
+
+// doc/parameters.md has a row for every key of every section (it says why each has its value).
+TEST(AppConfig, ParametersDocListsEveryKey)
+{
+	std::ifstream in(std::string(LRGC_SOURCE_DIR) + "/doc/parameters.md");
+	const std::string doc((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+	ASSERT_FALSE(doc.empty());
+	const mrpt::config::CConfigFileMemory expert(lrgc::apps::expertAppConfigText());
+	std::vector<std::string> sections;
+	expert.getAllSections(sections);
+	for (const auto& section : sections)
+	{
+		const size_t from = doc.find("## [" + section + "]");
+		ASSERT_NE(from, std::string::npos) << section;
+		const std::string part = doc.substr(from, doc.find("\n## ", from + 1) - from);
+		std::vector<std::string> keys;
+		expert.getAllKeys(section, keys);
+		for (const auto& key : keys)
+			EXPECT_NE(part.find("| `" + mrpt::system::trim(key) + "`"), std::string::npos)
+				<< "doc/parameters.md has no row for [" << section << "] " << key;
+	}
 }

@@ -15,7 +15,7 @@ namespace lrgc::apps
 namespace
 {
 // --write-default-config FILE: a file, never a folder, and an existing one only with --force.
-void writeDefaultConfig(const std::string& path, bool force)
+void writeDefaultConfig(const std::string& path, bool force, bool expert)
 {
 	namespace fs = std::filesystem;
 	std::error_code ec;
@@ -32,7 +32,7 @@ void writeDefaultConfig(const std::string& path, bool force)
 						  "' is not a directory; create it first, or name another file");
 	try
 	{
-		writeTextFileAtomically(path, defaultAppConfigText());
+		writeTextFileAtomically(path, expert ? expertAppConfigText() : defaultAppConfigText());
 	}
 	catch (const std::exception& e)
 	{
@@ -74,7 +74,7 @@ int CSlamApp::run(const std::vector<std::string>& args)
 		if (cl.version) { std::printf("lrgc-slam %s\n", LRGC_VERSION); return kExitOk; }
 		if (!cl.writeDefaultConfig.empty())
 		{
-			writeDefaultConfig(cl.writeDefaultConfig, cl.force);
+			writeDefaultConfig(cl.writeDefaultConfig, cl.force, cl.expert);
 			return kExitOk;
 		}
 		if (!cl.outDir.empty()) checkOutputDirectory(cl.outDir);

@@ -10,6 +10,7 @@
 #include <lrgc_apps/io/LogReader.h>
 
 #include <optional>
+#include <utility>
 #include <string>
 #include <vector>
 
@@ -47,7 +48,16 @@ TAppConfig loadAppConfig(const std::string& path);
 std::optional<size_t> iniLineOf(const std::string& path, const std::string& section,
 								const std::string& key);
 
-/** The default .ini, generated from the parameter structs' saveToConfigFile(). */
+/** The .ini a user starts from (lrgc-slam --write-default-config, share/lrgc/lrgc-default.ini):
+ * the keys of userKeys() only, with their default values, units and meanings, generated from
+ * the parameter structs' saveToConfigFile(). */
 std::string defaultAppConfigText();
+/** Every key (lrgc-slam --write-default-config FILE --expert, share/lrgc/lrgc-expert.ini);
+ * doc/parameters.md says why each has its value. */
+std::string expertAppConfigText();
+/** The keys a user of a new robot sets (sensor, odometry, map output, the accuracy / speed
+ * trade, live runs), as {section, key}; at most 40. Every other key keeps its default
+ * unless an .ini sets it. */
+const std::vector<std::pair<std::string, std::string>>& userKeys();
 
 }  // namespace lrgc::apps
