@@ -33,6 +33,32 @@ bool sameName(const std::string& a, const std::string& b)
 		std::equal(a.begin(), a.end(), b.begin(), [](unsigned char x, unsigned char y)
 				   { return std::tolower(x) == std::tolower(y); });
 }
+// A UTF-8 byte order mark (some editors write one) is no part of the first line; MRPT's
+// parser skips it too.
+std::string withoutByteOrderMark(const std::string& line)
+{
+	return line.rfind("\xEF\xBB\xBF", 0) == 0 ? line.substr(3) : line;
+}
+
+// MRPT's CConfigFile files a key written before the first [section] under section "", where
+// no loader looks: throws naming the first such line.
+void rejectKeysBeforeTheFirstSection(const std::string& path)
+{
+	std::ifstream in(path);
+	size_t n = 0;
+	for (std::string raw; std::getline(in, raw);)
+	{
+		const std::string line = trimmed(++n == 1 ? withoutByteOrderMark(raw) : raw);
+		if (line.empty() || line[0] == '#' || line[0] == ';' || line.rfind("//", 0) == 0)
+			continue;
+		if (line[0] == '[') return;
+		throw CSetupError(path + ":" + std::to_string(n) + ": '" + line.substr(0, 60) +
+						  "' comes before the first [section], so no section reads it; move it "
+						  "under its section (lrgc-slam --write-default-config FILE writes every "
+						  "section and key)");
+	}
+}
+
 // MRPT's config_parser() reports "Line N: what" (1-based): {N, what}.
 std::optional<std::pair<size_t, std::string>> parserLineOf(const std::string& message)
 {
@@ -59,7 +85,7 @@ std::optional<size_t> iniLineOf(const std::string& path, const std::string& sect
 	for (std::string raw; std::getline(in, raw);)
 	{
 		++n;
-		const std::string line = trimmed(raw);
+		const std::string line = trimmed(n == 1 ? withoutByteOrderMark(raw) : raw);
 		if (line.empty() || line[0] == '#' || line[0] == ';' || line.rfind("//", 0) == 0)
 			continue;
 		if (line[0] == '[')
@@ -106,6 +132,10 @@ TAppConfig loadAppConfig(const std::string& path)
 {
 	TAppConfig cfg;
 	if (path.empty()) return cfg;
+	if (std::filesystem::is_directory(path))
+		throw CSetupError("--config '" + path +
+						  "' is a folder; name an .ini file in it (lrgc-slam "
+						  "--write-default-config FILE writes one)");
 	if (!std::filesystem::is_regular_file(path))
 		throw CSetupError("--config '" + path +
 						  "': no such file; name an existing .ini (lrgc-slam "
@@ -114,6 +144,7 @@ TAppConfig loadAppConfig(const std::string& path)
 	allowed.push_back("LogReader");
 	allowed.push_back("LiveMapping");
 	allowed.push_back("Localization");
+	rejectKeysBeforeTheFirstSection(path);
 	try
 	{
 		// Inside the try: MRPT's parser throws on a malformed "${..}" / "$env{..}" / "$eval{..}"

@@ -102,3 +102,67 @@ TEST(AppConfig, ParametersDocListsEveryKey)
 				<< "doc/parameters.md has no row for [" << section << "] " << key;
 	}
 }
+
+namespace
+{
+// loadAppConfig's error message for an .ini holding `text` (written as FILE), "" if it loads.
+std::string configError(const std::string& name, const std::string& text)
+{
+	const std::string path = std::string(LRGC_BINARY_DIR) + "/" + name;
+	std::ofstream(path, std::ios::binary) << text;
+	try
+	{
+		lrgc::apps::loadAppConfig(path);
+	}
+	catch (const std::exception& e)
+	{
+		return e.what();
+	}
+	return "";
+}
+}  // namespace
+
+// Issue 30: a key before the first [section] was ignored without a word (MRPT files it under
+// section "", which no loader reads).
+TEST(AppConfig, AKeyBeforeTheFirstSectionIsAnErrorNamingItsLine)
+{
+	const std::string msg =
+		configError("presection.ini", "# tuned\nkeyframe_distance_m = 0.4\n[MapBuilder]\n");
+	EXPECT_NE(msg.find("presection.ini:2: 'keyframe_distance_m = 0.4' comes before the first "
+					   "[section]"),
+			  std::string::npos)
+		<< msg;
+	EXPECT_EQ(configError("comments.ini", "; a\n// b\n\n[MapBuilder]\nloop_closing = no\n"), "");
+}
+
+// Issue 30: a UTF-8 byte order mark (some editors write one) is no part of the first line:
+// the file loads, and an error still names its line.
+TEST(AppConfig, AUtf8ByteOrderMarkIsAccepted)
+{
+	const std::string bom = "\xEF\xBB\xBF";
+	const std::string path = std::string(LRGC_BINARY_DIR) + "/bom.ini";
+	std::ofstream(path, std::ios::binary) << bom << "[MapBuilder]\nkeyframe_distance_m = 0.4\n";
+	EXPECT_EQ(lrgc::apps::loadAppConfig(path).lrgc.builder.keyframe_distance_m, 0.4);
+	const std::string msg = configError("bom-bad.ini", bom + "[MapBuilder]\nkeyframe_distance_m = abc\n");
+	EXPECT_NE(msg.find("bom-bad.ini:2: Invalid value for [MapBuilder] keyframe_distance_m"),
+			  std::string::npos)
+		<< msg;
+	EXPECT_NE(configError("bom-key.ini", bom + "keyframe_distance_m = 0.4\n[MapBuilder]\n")
+				  .find("bom-key.ini:1: 'keyframe_distance_m = 0.4' comes before"),
+			  std::string::npos);
+}
+
+// Issue 30: --config naming a folder said "no such file".
+TEST(AppConfig, AFolderIsNamedAsOne)
+{
+	std::string msg;
+	try
+	{
+		lrgc::apps::loadAppConfig(std::string(LRGC_BINARY_DIR));
+	}
+	catch (const std::exception& e)
+	{
+		msg = e.what();
+	}
+	EXPECT_NE(msg.find("' is a folder; name an .ini file in it"), std::string::npos) << msg;
+}
