@@ -112,7 +112,7 @@ int CSlamApp::run(const std::vector<std::string>& args)
 int CSlamApp::convertOnly(const TSlamCommandLine& cl)
 {
 	const TAppConfig cfg = loadAppConfig(cl.config);
-	reportWarnings(cfg.warnings);  // keys read under an old name
+	for (const auto& w : cfg.warnings) report("warning: " + w);  // old key names, all shown
 	try
 	{
 		const TConversionStats st = convertToRawlog(cl.input, cl.saveRawlog, cfg.reader);

@@ -82,7 +82,7 @@ void CSlamApp::reportWarnings(const std::vector<std::string>& warnings)
 int CSlamApp::runOffline(const TSlamCommandLine& cl)
 {
 	const TAppConfig cfg = loadAppConfig(cl);
-	reportWarnings(cfg.warnings);  // keys read under an old name
+	for (const auto& w : cfg.warnings) report("warning: " + w);  // old key names, all shown
 	// Before the reader's guard process and the optimiser's threads, which inherit its mask.
 	const CStopSignalWatcher signals;
 	std::unique_ptr<CLogReader> reader;
