@@ -218,10 +218,17 @@ TEST(SlamBadInput, TruncatedRawlogSavesWhatWasMappedAndFails)
 TEST(SlamConfig, ShippedDefaultIniIsTheGeneratedOne)
 {
 	const std::string dir = makeTempDir("default_ini");
-	const auto r = runProcess(binaryPath("lrgc-slam"), {"--write-default-config", dir + "/d.ini"});
-	ASSERT_EQ(r.exitCode, 0) << r.output;
-	const std::string shipped = std::string(LRGC_SOURCE_DIR) + "/share/lrgc/lrgc-default.ini";
-	EXPECT_EQ(readTextFile(dir + "/d.ini"), readTextFile(shipped))
-		<< "share/lrgc/lrgc-default.ini is stale: regenerate it with "
-		   "build/bin/lrgc-slam --write-default-config share/lrgc/lrgc-default.ini";
+	for (const std::string& kind : {"default", "expert"})
+	{
+		std::vector<std::string> args = {"--write-default-config", dir + "/" + kind + ".ini"};
+		if (kind == "expert") args.push_back("--expert");
+		const auto r = runProcess(binaryPath("lrgc-slam"), args);
+		ASSERT_EQ(r.exitCode, 0) << r.output;
+		const std::string shipped = "share/lrgc/lrgc-" + kind + ".ini";
+		EXPECT_EQ(readTextFile(dir + "/" + kind + ".ini"),
+				  readTextFile(std::string(LRGC_SOURCE_DIR) + "/" + shipped))
+			<< shipped << " is stale: regenerate it with build/bin/lrgc-slam "
+			<< "--write-default-config " << shipped << " --force"
+			<< (kind == "expert" ? " --expert" : "");
+	}
 }

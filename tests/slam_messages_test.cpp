@@ -143,6 +143,29 @@ TEST(SlamMessages, InputErrorsAreOneLineWithoutBanner)
 	expectNoBannerNorBacktrace(stats);
 }
 
+// An .ini of an earlier lrgc (tests/data: the full default file at 7c31216) is read, each key
+// written under its old name reported once as a warning naming the new one, all of them
+// shown (they do not use up the log's warning budget), before the run starts.
+TEST(SlamMessages, OldKeyNamesAreWarningsNamingTheNewKey)
+{
+	const std::string dir = makeTempDir("msg_old_keys");
+	const auto r = runProcess(
+		binaryPath("lrgc-slam"),
+		{"--input", dir + "/nope.rawlog", "--out", dir + "/out", "--config",
+		 std::string(LRGC_SOURCE_DIR) + "/tests/data/lrgc-default-7c31216.ini"});
+	EXPECT_EQ(r.exitCode, 1) << r.output;
+	EXPECT_NE(r.output.find("warning: [MapBuilder] keyframe_distance is now keyframe_distance_m; "
+							"read as such (lrgc-slam --write-default-config FILE writes the "
+							"current names)\n"),
+			  std::string::npos)
+		<< r.output;
+	EXPECT_NE(r.output.find("warning: [LoopCloser] apply_when_ready is no longer a key: ignored"),
+			  std::string::npos)
+		<< r.output;
+	EXPECT_EQ(lineCount(r.output), 51u) << r.output;  // 50 old keys, then the input's error
+	EXPECT_EQ(r.output.find("further warnings"), std::string::npos) << r.output;
+}
+
 TEST(SlamMessages, WriteDefaultConfigOntoAFolderIsRefusedInOneLine)
 {
 	const std::string dir = makeTempDir("msg_config_folder");

@@ -4,6 +4,7 @@
 
 #include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/core/exceptions.h>
+#include <mrpt/core/format.h>
 #include <mrpt/system/string_utils.h>
 
 #include <algorithm>
@@ -86,7 +87,10 @@ double readDouble(const mrpt::config::CConfigFileBase& c, const std::string& sec
 double readDegrees(const mrpt::config::CConfigFileBase& c, const std::string& section,
 				   const std::string& key, double currentRad)
 {
-	return mrpt::DEG2RAD(readDouble(c, section, key, mrpt::RAD2DEG(currentRad)));
+	// An absent key keeps currentRad itself (not DEG2RAD(RAD2DEG(currentRad)), which may
+	// differ in the last bit).
+	if (!rawValue(c, section, key)) return currentRad;
+	return mrpt::DEG2RAD(readDouble(c, section, key, 0.0));
 }
 
 int readInt(const mrpt::config::CConfigFileBase& c, const std::string& section,
@@ -156,6 +160,119 @@ void rejectUnknownKeys(
 		THROW_EXCEPTION_FMT(
 			"Unknown key '%s' in section [%s]%s", key.c_str(), section.c_str(), hint.c_str());
 	}
+}
+
+namespace
+{
+// The shortest "%.{p}g" text of v whose value x gives back `target` through `back(x)`.
+template <typename Back>
+std::string shortestText(double v, double target, Back back)
+{
+	// At least as many digits as the integer part has, so that 50 is "50", not "5e+01".
+	const int intDigits =
+		std::abs(v) >= 1 ? std::min(17, int(std::floor(std::log10(std::abs(v)))) + 1) : 1;
+	for (int p = intDigits; p <= 17; ++p)
+	{
+		const std::string text = mrpt::format("%.*g", p, v);
+		const auto x = parseWhole<double>(text);
+		if (x && back(*x) == target) return text;
+	}
+	return mrpt::format("%.17g", v);
+}
+
+void writeText(mrpt::config::CConfigFileBase& c, const std::string& section,
+			   const std::string& key, const std::string& text, const std::string& comment)
+{
+	c.write(section, key, text, mrpt::config::MRPT_SAVE_NAME_PADDING(),
+			mrpt::config::MRPT_SAVE_VALUE_PADDING(), comment);
+}
+}  // namespace
+
+std::string exactDecimal(double v)
+{
+	return shortestText(v, v, [](double x) { return x; });
+}
+
+void writeValue(mrpt::config::CConfigFileBase& c, const std::string& section,
+				const std::string& key, double v, const std::string& comment)
+{
+	writeText(c, section, key, exactDecimal(v), comment);
+}
+
+void writeValue(mrpt::config::CConfigFileBase& c, const std::string& section,
+				const std::string& key, int v, const std::string& comment)
+{
+	writeText(c, section, key, std::to_string(v), comment);
+}
+
+void writeValue(mrpt::config::CConfigFileBase& c, const std::string& section,
+				const std::string& key, uint64_t v, const std::string& comment)
+{
+	writeText(c, section, key, std::to_string(v), comment);
+}
+
+void writeValue(mrpt::config::CConfigFileBase& c, const std::string& section,
+				const std::string& key, bool v, const std::string& comment)
+{
+	writeText(c, section, key, v ? "true" : "false", comment);
+}
+
+void writeValue(mrpt::config::CConfigFileBase& c, const std::string& section,
+				const std::string& key, const std::string& v, const std::string& comment)
+{
+	writeText(c, section, key, v, comment);
+}
+
+void writeDegrees(mrpt::config::CConfigFileBase& c, const std::string& section,
+				  const std::string& key, double rad, const std::string& comment)
+{
+	writeText(c, section, key,
+			  shortestText(mrpt::RAD2DEG(rad), rad, [](double d) { return mrpt::DEG2RAD(d); }),
+			  comment);
+}
+
+mrpt::config::CConfigFileMemory withCurrentKeys(
+	const mrpt::config::CConfigFileBase& c, const std::vector<TRenamedKey>& renames,
+	const std::string& prefix, std::vector<std::string>& warnings)
+{
+	mrpt::config::CConfigFileMemory out;
+	std::vector<std::string> sections;
+	c.getAllSections(sections);
+	for (const auto& section : sections)
+	{
+		std::vector<std::string> keys;
+		c.getAllKeys(section, keys);
+		std::set<std::string> present;
+		for (const auto& k : keys) present.insert(mrpt::system::trim(k));
+		for (const auto& rawKey : keys)
+		{
+			const std::string key = mrpt::system::trim(rawKey);
+			std::string name = key;
+			for (const auto& r : renames)
+			{
+				if (prefix + r.section != section || r.oldKey != key) continue;
+				const std::string old = "[" + section + "] " + key;
+				if (r.newKey.empty())
+				{
+					warnings.push_back(old + " is no longer a key: ignored (" + r.why + ")");
+					name.clear();
+					break;
+				}
+				if (present.count(r.newKey))
+					THROW_EXCEPTION_FMT(
+						"Invalid value for [%s] %s: set twice, also under its old name %s",
+						section.c_str(), r.newKey.c_str(), key.c_str());
+				warnings.push_back(
+					old + " is now " + r.newKey +
+					"; read as such (lrgc-slam --write-default-config FILE writes the current "
+					"names)");
+				name = r.newKey;
+				break;
+			}
+			if (!name.empty()) out.write(section, name, c.read_string(section, rawKey, ""));
+		}
+	}
+	return out;
 }
 
 std::optional<TParamPlace> paramPlaceOf(const std::string& message)

@@ -10,15 +10,28 @@
  * loader uses instead of CConfigFileBase::read_double() and friends: MRPT's readers take
  * `abc` and `0,5` for 0, `on` and `maybe` for false and `2.5` for 2 without a word, which turns
  * a typo into a wrong run or into a range error blamed on the value 0.
+ *
+ * Values are written by writeValue() and writeDegrees(), which every saver uses instead of
+ * CConfigFileBase::write(): a number is written as the shortest decimal text that reads back
+ * to the same double (MRPT writes "%f" / "%e", six decimals: 0.00012345 came back 0.000123),
+ * so save -> load -> save is the identity.
+ *
+ * Names: the C++ field is named as its key. Memory holds SI units and radians; a key whose
+ * value is in degrees ends in _deg and its field is the key without _deg (key
+ * max_window_phi_deg, field max_window_phi [rad]). Every other dimensioned key ends in its
+ * unit (_m, _s, _ms, _keyframes, _deg_per_s, ...); a fraction in [0, 1] is a *_fraction.
  */
 #pragma once
 
 #include <mrpt/config/CConfigFileBase.h>
+#include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/config/CLoadableOptions.h>
 
 #include <cstddef>
+#include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace lrgc
 {
@@ -53,6 +66,48 @@ bool readBool(const mrpt::config::CConfigFileBase& c, const std::string& section
 /** A string: the value as written, blanks and a trailing `// comment` aside (may be empty). */
 std::string readString(const mrpt::config::CConfigFileBase& c, const std::string& section,
 					   const std::string& key, const std::string& current);
+
+/** The shortest decimal text ("%.{p}g", p = 1..17; no exponent for 1 <= |v| < 1e17) that
+ * reads back as exactly v. */
+std::string exactDecimal(double v);
+
+/** Writers of one key: `key = value // comment`, numbers written exactly (exactDecimal). */
+void writeValue(mrpt::config::CConfigFileBase& c, const std::string& section,
+				const std::string& key, double v, const std::string& comment);
+void writeValue(mrpt::config::CConfigFileBase& c, const std::string& section,
+				const std::string& key, int v, const std::string& comment);
+void writeValue(mrpt::config::CConfigFileBase& c, const std::string& section,
+				const std::string& key, uint64_t v, const std::string& comment);
+void writeValue(mrpt::config::CConfigFileBase& c, const std::string& section,
+				const std::string& key, bool v, const std::string& comment);
+void writeValue(mrpt::config::CConfigFileBase& c, const std::string& section,
+				const std::string& key, const std::string& v, const std::string& comment);
+/** Text literals: without this overload they would convert to bool. */
+inline void writeValue(mrpt::config::CConfigFileBase& c, const std::string& section,
+					   const std::string& key, const char* v, const std::string& comment)
+{
+	writeValue(c, section, key, std::string(v), comment);
+}
+/** An angle held in radians, written in degrees (key ending in _deg): the shortest decimal
+ * d such that readDegrees() gives back exactly `rad` (DEG2RAD(d) == rad). */
+void writeDegrees(mrpt::config::CConfigFileBase& c, const std::string& section,
+				  const std::string& key, double rad, const std::string& comment);
+
+/** A key an earlier lrgc wrote under another name, still read under it (issue 27: units in
+ * key names, one name per concept). newKey empty: no longer a key; its value is ignored. */
+struct TRenamedKey
+{
+	std::string section, oldKey, newKey;
+	std::string why;  //!< newKey empty: why the key is gone, for the warning
+};
+
+/** A copy of `c` with every key of `renames` written under its old name (in section
+ * prefix + section) moved to its new name, and one warning per such key, e.g. "[MapBuilder]
+ * keyframe_distance is now keyframe_distance_m; read as such (lrgc-slam --write-default-config
+ * FILE writes the current names)". Both names in one section is an error naming both. */
+mrpt::config::CConfigFileMemory withCurrentKeys(
+	const mrpt::config::CConfigFileBase& c, const std::vector<TRenamedKey>& renames,
+	const std::string& prefix, std::vector<std::string>& warnings);
 
 /** The section and key an error message of these functions (or of rejectUnknownSections())
  * is about, so that a caller holding the .ini text can point at its line: "Invalid value for

@@ -51,20 +51,19 @@ void TLocalRegistrationParams::loadFromConfigFile(
 void TLocalRegistrationParams::saveToConfigFile(
 	mrpt::config::CConfigFileBase& c, const std::string& s) const
 {
-	const int np = mrpt::config::MRPT_SAVE_NAME_PADDING(), vp = mrpt::config::MRPT_SAVE_VALUE_PADDING();
-	c.write(s, "window_size", uint64_t(window_size), np, vp, "K: keyframes registered together while the prior comes from odometry (paper: K >= 7)");
-	c.write(s, "laser_only_window_size", uint64_t(laser_only_window_size), np, vp, "K while the prior is the constant-velocity model (no odometry)");
-	c.write(s, "max_pairwise_links", uint64_t(max_pairwise_links), np, vp, "Pairwise scan-match links per new keyframe, spread over the window");
-	c.write(s, "min_link_inlier_fraction", min_link_inlier_fraction, np, vp, "Min fraction of matched points for a pairwise scan-match link");
-	c.write(s, "glitch_gate_chi2", glitch_gate_chi2, np, vp, "[chi2, 3 dof] Odometry/match disagreement that triggers the wide search");
+	writeValue(c, s, "window_size", uint64_t(window_size), "K: keyframes registered together while the prior comes from odometry (paper: K >= 7)");
+	writeValue(c, s, "laser_only_window_size", uint64_t(laser_only_window_size), "K while the prior is the constant-velocity model (no odometry)");
+	writeValue(c, s, "max_pairwise_links", uint64_t(max_pairwise_links), "Pairwise scan-match links per new keyframe, spread over the window");
+	writeValue(c, s, "min_link_inlier_fraction", min_link_inlier_fraction, "Min fraction of matched points for a pairwise scan-match link");
+	writeValue(c, s, "glitch_gate_chi2", glitch_gate_chi2, "[chi2, 3 dof] Odometry/match disagreement that triggers the wide search");
 	link_noise.save(c, s, "", "every pairwise scan-match link (real-scan errors the matcher cannot see)");
-	c.write(s, "wide_search_angle_deg", mrpt::RAD2DEG(wide_search_angle), np, vp, "[deg] Half-width of the rotational search after an odometry glitch");
-	c.write(s, "glitch_min_turn_deg", mrpt::RAD2DEG(glitch_min_turn), np, vp, "[deg] A predicted step turning more than this is suspect: wide search if the match fails");
-	c.write(s, "glitch_min_gap_s", glitch_min_gap_s, np, vp, "[s] A step after a longer pause in the scans is suspect too");
-	c.write(s, "max_free_space_violation", max_free_space_violation, np, vp, "Local matches: tolerated fraction of points where the window saw free space (replaces [ScanMatcher] max_free_space_violation here)");
-	c.write(s, "patch_link", patch_link, np, vp, "Link each keyframe to the previous one by its match against the window patch (scan to map)");
+	writeDegrees(c, s, "wide_search_angle_deg", wide_search_angle, "[deg] Half-width of the rotational search after an odometry glitch");
+	writeDegrees(c, s, "glitch_min_turn_deg", glitch_min_turn, "[deg] A predicted step turning more than this is suspect: wide search if the match fails");
+	writeValue(c, s, "glitch_min_gap_s", glitch_min_gap_s, "[s] A step after a longer pause in the scans is suspect too");
+	writeValue(c, s, "max_free_space_violation", max_free_space_violation, "Local matches: tolerated fraction of points where the window saw free space (replaces [ScanMatcher] max_free_space_violation here)");
+	writeValue(c, s, "patch_link", patch_link, "Link each keyframe to the previous one by its match against the window patch (scan to map)");
 	patch_link_noise.save(c, s, "patch_", "the patch link");
-	c.write(s, "pairwise_link_weight", pairwise_link_weight, np, vp, "Pairwise (scan to scan) links' information is scaled by this, after the split among them");
+	writeValue(c, s, "pairwise_link_weight", pairwise_link_weight, "Pairwise (scan to scan) links' information is scaled by this, after the split among them");
 }
 
 }  // namespace lrgc

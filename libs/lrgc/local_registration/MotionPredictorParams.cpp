@@ -34,17 +34,16 @@ void TMotionPredictorParams::loadFromConfigFile(
 void TMotionPredictorParams::saveToConfigFile(
 	mrpt::config::CConfigFileBase& c, const std::string& s) const
 {
-	const int np = mrpt::config::MRPT_SAVE_NAME_PADDING(), vp = mrpt::config::MRPT_SAVE_VALUE_PADDING();
-	c.write(s, "use_odometry", use_odometry, np, vp, "Use wheel odometry if the log has it (else constant velocity)");
-	c.write(s, "sigma_floor_xy_m", sigma_floor_xy_m, np, vp, "[m] Odometry noise floor per step");
-	c.write(s, "sigma_floor_phi_deg", mrpt::RAD2DEG(sigma_floor_phi), np, vp, "[deg] Odometry heading noise floor per step");
-	c.write(s, "k_xy_m_per_m", k_xy_m_per_m, np, vp, "[m/m] Translational noise per metre travelled");
-	c.write(s, "k_xy_m_per_rad", k_xy_m_per_rad, np, vp, "[m/rad] Translational noise per radian turned");
-	c.write(s, "k_phi_rad_per_m", k_phi_rad_per_m, np, vp, "[rad/m] Heading noise per metre travelled");
-	c.write(s, "k_phi_rad_per_rad", k_phi_rad_per_rad, np, vp, "[rad/rad] Heading noise per radian turned");
-	c.write(s, "noise_correlation_length_m", noise_correlation_length_m, np, vp, "[m] Per-metre noise is proportional up to this distance, random-walk (std ~ sqrt) beyond");
-	c.write(s, "cv_sigma_xy_m", cv_sigma_xy_m, np, vp, "[m] Constant-velocity model (no odometry): std dev per step");
-	c.write(s, "cv_sigma_phi_deg", mrpt::RAD2DEG(cv_sigma_phi), np, vp, "[deg] Constant-velocity model: heading std dev per step");
+	writeValue(c, s, "use_odometry", use_odometry, "Use wheel odometry if the log has it (else constant velocity)");
+	writeValue(c, s, "sigma_floor_xy_m", sigma_floor_xy_m, "[m] Odometry noise floor per step");
+	writeDegrees(c, s, "sigma_floor_phi_deg", sigma_floor_phi, "[deg] Odometry heading noise floor per step");
+	writeValue(c, s, "k_xy_m_per_m", k_xy_m_per_m, "[m/m] Translational noise per metre travelled");
+	writeValue(c, s, "k_xy_m_per_rad", k_xy_m_per_rad, "[m/rad] Translational noise per radian turned");
+	writeValue(c, s, "k_phi_rad_per_m", k_phi_rad_per_m, "[rad/m] Heading noise per metre travelled");
+	writeValue(c, s, "k_phi_rad_per_rad", k_phi_rad_per_rad, "[rad/rad] Heading noise per radian turned");
+	writeValue(c, s, "noise_correlation_length_m", noise_correlation_length_m, "[m] Per-metre noise is proportional up to this distance, random-walk (std ~ sqrt) beyond");
+	writeValue(c, s, "cv_sigma_xy_m", cv_sigma_xy_m, "[m] Constant-velocity model (no odometry): std dev per step");
+	writeDegrees(c, s, "cv_sigma_phi_deg", cv_sigma_phi, "[deg] Constant-velocity model: heading std dev per step");
 }
 
 }  // namespace lrgc

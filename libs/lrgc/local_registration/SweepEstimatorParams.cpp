@@ -23,12 +23,11 @@ void TSweepEstimatorParams::loadFromConfigFile(
 void TSweepEstimatorParams::saveToConfigFile(
 	mrpt::config::CConfigFileBase& c, const std::string& s) const
 {
-	const int np = mrpt::config::MRPT_SAVE_NAME_PADDING(), vp = mrpt::config::MRPT_SAVE_VALUE_PADDING();
-	c.write(s, "enabled", enabled, np, vp, "Estimate the laser's sweep time from the scans of turns when [MapBuilder] scan_sweep_time_s = 0");
-	c.write(s, "max_sweep_time_s", max_sweep_time_s, np, vp, "[s] Largest sweep time considered");
-	c.write(s, "min_rate_change_deg_per_s", mrpt::RAD2DEG(min_rate_change_per_s), np, vp, "[deg/s] A scan is compared with a recent one turning at least this much faster or slower");
-	c.write(s, "min_samples", uint64_t(min_samples), np, vp, "Compared scan pairs before an estimate is used");
-	c.write(s, "max_std_s", max_std_s, np, vp, "[s] An estimate is used once its standard error is below this");
+	writeValue(c, s, "enabled", enabled, "Estimate the laser's sweep time from the scans of turns when [MapBuilder] scan_sweep_time_s = 0");
+	writeValue(c, s, "max_sweep_time_s", max_sweep_time_s, "[s] Largest sweep time considered");
+	writeDegrees(c, s, "min_rate_change_deg_per_s", min_rate_change_per_s, "[deg/s] A scan is compared with a recent one turning at least this much faster or slower");
+	writeValue(c, s, "min_samples", uint64_t(min_samples), "Compared scan pairs before an estimate is used");
+	writeValue(c, s, "max_std_s", max_std_s, "[s] An estimate is used once its standard error is below this");
 }
 
 }  // namespace lrgc

@@ -29,14 +29,13 @@ void TLocalizationParams::loadFromConfigFile(
 void TLocalizationParams::saveToConfigFile(
 	mrpt::config::CConfigFileBase& c, const std::string& s) const
 {
-	const int np = mrpt::config::MRPT_SAVE_NAME_PADDING(), vp = mrpt::config::MRPT_SAVE_VALUE_PADDING();
-	c.write(s, "patch_keyframes", uint64_t(patch_keyframes), np, vp, "Largest patch of new keyframes correlated against the whole map (tries 1, 2, 4, ... up to it)");
-	c.write(s, "patch_max_range_m", patch_max_range_m, np, vp, "[m] Patch points farther from its newest keyframe are left out");
-	c.write(s, "track_radius_m", track_radius_m, np, vp, "[m] --localize: map keyframes this close to the predicted pose are the tracking reference");
-	c.write(s, "track_max_keyframes", uint64_t(track_max_keyframes), np, vp, "--localize: at most this many (the nearest)");
-	c.write(s, "min_inlier_fraction", min_inlier_fraction, np, vp, "--localize: a good match has this fraction of the scan matched [0..1]");
-	c.write(s, "gate_chi2", gate_chi2, np, vp, "--localize: ... and agrees with the odometry prior within this chi2 (3 dof)");
-	c.write(s, "lost_after", uint64_t(lost_after), np, vp, "--localize: this many poor matches in a row: lost, relocalise by global correlation");
+	writeValue(c, s, "patch_keyframes", uint64_t(patch_keyframes), "Largest patch of new keyframes correlated against the whole map (tries 1, 2, 4, ... up to it)");
+	writeValue(c, s, "patch_max_range_m", patch_max_range_m, "[m] Patch points farther from its newest keyframe are left out");
+	writeValue(c, s, "track_radius_m", track_radius_m, "[m] --localize: map keyframes this close to the predicted pose are the tracking reference");
+	writeValue(c, s, "track_max_keyframes", uint64_t(track_max_keyframes), "--localize: at most this many (the nearest)");
+	writeValue(c, s, "min_inlier_fraction", min_inlier_fraction, "--localize: a good match has this fraction of the scan matched [0..1]");
+	writeValue(c, s, "gate_chi2", gate_chi2, "--localize: ... and agrees with the odometry prior within this chi2 (3 dof)");
+	writeValue(c, s, "lost_after", uint64_t(lost_after), "--localize: this many poor matches in a row: lost, relocalise by global correlation");
 }
 
 }  // namespace lrgc

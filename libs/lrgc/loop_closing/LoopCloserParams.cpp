@@ -34,7 +34,6 @@ void TLoopCloserParams::loadFromConfigFile(
 	worker_budget_ms = readDouble(c, s, "worker_budget_ms", worker_budget_ms);
 	requireParam(worker_budget_ms >= 0, s, "worker_budget_ms", "must be >= 0");
 	max_backlog_keyframes = readCount(c, s, "max_backlog_keyframes", max_backlog_keyframes);
-	apply_when_ready = readBool(c, s, "apply_when_ready", apply_when_ready);
 	link_noise.load(c, s, "");
 	requireParam(patch_max_range_m > 0, s, "patch_max_range_m", "must be > 0");
 	requireParam(patch_min_keyframes >= 1 && patch_min_keyframes <= old_map_exclusion_keyframes, s,
@@ -61,28 +60,26 @@ void TLoopCloserParams::loadFromConfigFile(
 void TLoopCloserParams::saveToConfigFile(
 	mrpt::config::CConfigFileBase& c, const std::string& s) const
 {
-	const int np = mrpt::config::MRPT_SAVE_NAME_PADDING(), vp = mrpt::config::MRPT_SAVE_VALUE_PADDING();
-	c.write(s, "old_map_exclusion_keyframes", uint64_t(old_map_exclusion_keyframes), np, vp, "m: newest keyframes left out of the old map (m > K)");
-	c.write(s, "patch_min_keyframes", uint64_t(patch_min_keyframes), np, vp, "Map patch size (keyframes) at zero uncertainty");
-	c.write(s, "patch_keyframes_per_m", patch_keyframes_per_m, np, vp, "[1/m] Patch growth per metre of position std (capped at old_map_exclusion_keyframes)");
-	c.write(s, "gate_sigma", gate_sigma, np, vp, "Mahalanobis gate on old poses' position relative to the current one");
-	c.write(s, "overlap_radius_m", overlap_radius_m, np, vp, "[m] Poses closer than this can see the same walls");
-	c.write(s, "window_sigmas", window_sigmas, np, vp, "Correlation search half-window, in position/heading std devs");
-	c.write(s, "max_window_xy_m", max_window_xy_m, np, vp, "[m] Cap of the translational search half-window");
-	c.write(s, "max_window_phi_deg", mrpt::RAD2DEG(max_window_phi), np, vp, "[deg] Cap of the rotational search half-window");
-	c.write(s, "confirm_above_sigma_m", confirm_above_sigma_m, np, vp, "[m] Gate std above which a loop is closed only when a second, independent match agrees (0: never)");
-	c.write(s, "consistent_chi2", consistent_chi2, np, vp, "[chi2, 3 dof] A loop link this consistent is added without a full solve");
-	c.write(s, "check_every", uint64_t(check_every), np, vp, "Look for a loop every this many keyframes");
-	c.write(s, "known_ground_check_every", uint64_t(known_ground_check_every), np, vp, "After a check that added a loop link agreeing with the map (no solve), look again only every this many keyframes");
-	c.write(s, "gate_reuse_keyframes", uint64_t(gate_reuse_keyframes), np, vp, "[keyframes] The gate's whole-graph propagation serves this many later keyframes while the graph behind it is unchanged (0: every keyframe)");
-	c.write(s, "match_ref_resolution_m", match_ref_resolution_m, np, vp, "[m] Voxel side of the loop link's reference cloud, built from every old scan around (0: [ScanMatcher] ref_resolution_m)");
-	c.write(s, "patch_max_range_m", patch_max_range_m, np, vp, "[m] Patch points farther than this from the newest keyframe are left out of the correlation");
-	c.write(s, "attempt_stride", attempt_stride, np, vp, "While the patch is grown, correlate once every attempt_stride * (patch - patch_min_keyframes) checks (0: every check)");
-	c.write(s, "background", background, np, vp, "Loop closing on a worker thread while scans are registered (false: on the mapping thread; same map)");
-	c.write(s, "result_delay_keyframes", uint64_t(result_delay_keyframes), np, vp, "[keyframes] A loop search started at keyframe k is applied at k + this (deterministic: the mapping thread waits there if needed)");
-	c.write(s, "worker_budget_ms", worker_budget_ms, np, vp, "[ms per keyframe] A result is applied where a modelled worker doing this much work per keyframe finishes it (deterministic; 0: at k + result_delay_keyframes)");
-	c.write(s, "max_backlog_keyframes", uint64_t(max_backlog_keyframes), np, vp, "[keyframes] Searches are skipped while the modelled worker is more than this behind");
-	c.write(s, "apply_when_ready", apply_when_ready, np, vp, "Apply a loop search's result as soon as it is ready (live runs; the map then depends on timing)");
+	writeValue(c, s, "old_map_exclusion_keyframes", uint64_t(old_map_exclusion_keyframes), "m: newest keyframes left out of the old map (m > K)");
+	writeValue(c, s, "patch_min_keyframes", uint64_t(patch_min_keyframes), "Map patch size (keyframes) at zero uncertainty");
+	writeValue(c, s, "patch_keyframes_per_m", patch_keyframes_per_m, "[1/m] Patch growth per metre of position std (capped at old_map_exclusion_keyframes)");
+	writeValue(c, s, "gate_sigma", gate_sigma, "Mahalanobis gate on old poses' position relative to the current one");
+	writeValue(c, s, "overlap_radius_m", overlap_radius_m, "[m] Poses closer than this can see the same walls");
+	writeValue(c, s, "window_sigmas", window_sigmas, "Correlation search half-window, in position/heading std devs");
+	writeValue(c, s, "max_window_xy_m", max_window_xy_m, "[m] Cap of the translational search half-window");
+	writeDegrees(c, s, "max_window_phi_deg", max_window_phi, "[deg] Cap of the rotational search half-window");
+	writeValue(c, s, "confirm_above_sigma_m", confirm_above_sigma_m, "[m] Gate std above which a loop is closed only when a second, independent match agrees (0: never)");
+	writeValue(c, s, "consistent_chi2", consistent_chi2, "[chi2, 3 dof] A loop link this consistent is added without a full solve");
+	writeValue(c, s, "check_every", uint64_t(check_every), "Look for a loop every this many keyframes");
+	writeValue(c, s, "known_ground_check_every", uint64_t(known_ground_check_every), "After a check that added a loop link agreeing with the map (no solve), look again only every this many keyframes");
+	writeValue(c, s, "gate_reuse_keyframes", uint64_t(gate_reuse_keyframes), "[keyframes] The gate's whole-graph propagation serves this many later keyframes while the graph behind it is unchanged (0: every keyframe)");
+	writeValue(c, s, "match_ref_resolution_m", match_ref_resolution_m, "[m] Voxel side of the loop link's reference cloud, built from every old scan around (0: [ScanMatcher] ref_resolution_m)");
+	writeValue(c, s, "patch_max_range_m", patch_max_range_m, "[m] Patch points farther than this from the newest keyframe are left out of the correlation");
+	writeValue(c, s, "attempt_stride", attempt_stride, "While the patch is grown, correlate once every attempt_stride * (patch - patch_min_keyframes) checks (0: every check)");
+	writeValue(c, s, "background", background, "Loop closing on a worker thread while scans are registered (false: on the mapping thread; same map)");
+	writeValue(c, s, "result_delay_keyframes", uint64_t(result_delay_keyframes), "[keyframes] A loop search started at keyframe k is applied at k + this (deterministic: the mapping thread waits there if needed)");
+	writeValue(c, s, "worker_budget_ms", worker_budget_ms, "[ms per keyframe] A result is applied where a modelled worker doing this much work per keyframe finishes it (deterministic; 0: at k + result_delay_keyframes)");
+	writeValue(c, s, "max_backlog_keyframes", uint64_t(max_backlog_keyframes), "[keyframes] Searches are skipped while the modelled worker is more than this behind");
 	link_noise.save(c, s, "", "every loop link (scans minutes apart: moved objects)");
 }
 

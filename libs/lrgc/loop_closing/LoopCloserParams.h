@@ -84,9 +84,10 @@ struct TLoopCloserParams : public mrpt::config::CLoadableOptions
 	 * Intel driven four times over add 2190 keyframes in every pass (no reuse); 150 adds
 	 * 184 / 28 / 28 after the first pass (doc/generalisation.md). */
 	size_t max_backlog_keyframes = 150;
-	/** Apply a result as soon as it is ready instead of at k + result_delay_keyframes (live runs: the
-	 * robot never waits; the map then depends on timing). lrgc-slam --live sets it from
-	 * [LiveMapping] loop_results_when_ready. */
+	/** Apply a result as soon as it is ready instead of at k + result_delay_keyframes (live
+	 * runs: the robot never waits; the map then depends on timing). Not an .ini key of
+	 * [LoopCloser]: lrgc-slam --live sets it from [LiveMapping] loop_results_when_ready, the
+	 * one key for it (an offline run is deterministic). */
 	bool apply_when_ready = false;
 	/** Noise floor of loop links (and end-of-run revisit links); keys link_floor_xy_m [m],
 	 * link_floor_phi_deg. Looser than local registration's: a loop link joins scans taken

@@ -15,13 +15,13 @@ namespace lrgc
 struct TPatchCorrelatorParams : public mrpt::config::CLoadableOptions
 {
 	/** Cell size of the old-map grid [m]; also the translation step of the pose grid. */
-	double resolution = 0.05;
+	double resolution_m = 0.05;
 	/** Standard deviation of the Gaussian folded into the old map [m] (scan noise of map
 	 * and patch plus the half-cell discretisation). */
-	double blurSigma = 0.10;
+	double blur_sigma_m = 0.10;
 	/** Rotation step of the pose grid [rad]; 0 derives it from the patch so that its
-	 * farthest point moves by one cell per step: resolution / max |p_patch|. */
-	double angularStep = 0;
+	 * farthest point moves by one cell per step: resolution_m / max |p_patch|. */
+	double angular_step = 0;
 
 	/** Filter 1, high score: least mean map probability over patch cells, in [0,1]. The
 	 * search also uses it as its pruning floor: no pose scoring less is ever returned. */

@@ -9,7 +9,7 @@ void TRevisitLinkerParams::loadFromConfigFile(
 {
 	rejectUnknownKeys(TRevisitLinkerParams(), c, s);
 	enabled = readBool(c, s, "enabled", enabled);
-	radius = readDouble(c, s, "radius", radius);
+	radius_m = readDouble(c, s, "radius_m", radius_m);
 	max_phi = readDegrees(c, s, "max_phi_deg", max_phi);
 	min_index_gap = readCount(c, s, "min_index_gap", min_index_gap);
 	stride = readCount(c, s, "stride", stride);
@@ -17,7 +17,7 @@ void TRevisitLinkerParams::loadFromConfigFile(
 	gate_chi2 = readDouble(c, s, "gate_chi2", gate_chi2);
 	prior_std_xy_m = readDouble(c, s, "prior_std_xy_m", prior_std_xy_m);
 	prior_std_phi = readDegrees(c, s, "prior_std_phi_deg", prior_std_phi);
-	requireParam(radius > 0, s, "radius", "must be > 0");
+	requireParam(radius_m > 0, s, "radius_m", "must be > 0");
 	requireParam(
 		max_phi > 0 && max_phi <= M_PI, s, "max_phi_deg", "must be in (0, 180]");
 	requireParam(stride >= 1, s, "stride", "must be >= 1");
@@ -30,16 +30,15 @@ void TRevisitLinkerParams::loadFromConfigFile(
 void TRevisitLinkerParams::saveToConfigFile(
 	mrpt::config::CConfigFileBase& c, const std::string& s) const
 {
-	const int np = mrpt::config::MRPT_SAVE_NAME_PADDING(), vp = mrpt::config::MRPT_SAVE_VALUE_PADDING();
-	c.write(s, "enabled", enabled, np, vp, "End of run: scan match revisited places the online gate missed");
-	c.write(s, "radius", radius, np, vp, "[m] Old keyframes this close to a keyframe are candidates");
-	c.write(s, "max_phi_deg", mrpt::RAD2DEG(max_phi), np, vp, "[deg] ... and this close in heading");
-	c.write(s, "min_index_gap", uint64_t(min_index_gap), np, vp, "Candidates are older than this many keyframes");
-	c.write(s, "stride", uint64_t(stride), np, vp, "Every stride-th keyframe is tried");
-	c.write(s, "min_inlier_fraction", min_inlier_fraction, np, vp, "Least fraction of the keyframe's points matched");
-	c.write(s, "gate_chi2", gate_chi2, np, vp, "[chi2, 3 dof] Agreement of the match with the current relative pose");
-	c.write(s, "prior_std_xy_m", prior_std_xy_m, np, vp, "[m] Std of the current relative pose (loop-closed map)");
-	c.write(s, "prior_std_phi_deg", mrpt::RAD2DEG(prior_std_phi), np, vp, "[deg] Heading std of the current relative pose");
+	writeValue(c, s, "enabled", enabled, "End of run: scan match revisited places the online gate missed");
+	writeValue(c, s, "radius_m", radius_m, "[m] Old keyframes this close to a keyframe are candidates");
+	writeDegrees(c, s, "max_phi_deg", max_phi, "[deg] ... and this close in heading");
+	writeValue(c, s, "min_index_gap", uint64_t(min_index_gap), "Candidates are older than this many keyframes");
+	writeValue(c, s, "stride", uint64_t(stride), "Every stride-th keyframe is tried");
+	writeValue(c, s, "min_inlier_fraction", min_inlier_fraction, "Least fraction of the keyframe's points matched");
+	writeValue(c, s, "gate_chi2", gate_chi2, "[chi2, 3 dof] Agreement of the match with the current relative pose");
+	writeValue(c, s, "prior_std_xy_m", prior_std_xy_m, "[m] Std of the current relative pose (loop-closed map)");
+	writeDegrees(c, s, "prior_std_phi_deg", prior_std_phi, "[deg] Heading std of the current relative pose");
 }
 
 }  // namespace lrgc

@@ -19,11 +19,10 @@ void TKeyframeReuseParams::loadFromConfigFile(
 void TKeyframeReuseParams::saveToConfigFile(
 	mrpt::config::CConfigFileBase& c, const std::string& s) const
 {
-	const int np = mrpt::config::MRPT_SAVE_NAME_PADDING(), vp = mrpt::config::MRPT_SAVE_VALUE_PADDING();
-	c.write(s, "enabled", enabled, np, vp, "No new keyframe where an existing one is within [MapBuilder] keyframe_distance_m and keyframe_angle_deg and its scan agrees: the scans hang from it (memory grows with the area mapped, not the time driven)");
-	c.write(s, "trust_keyframes", uint64_t(trust_keyframes), np, vp, "[keyframes] Keyframes are reused only within this many new keyframes of the last loop link");
-	c.write(s, "min_inlier_fraction", min_inlier_fraction, np, vp, "Least fraction of the scan matched against the reused keyframe's scan");
-	c.write(s, "gate_chi2", gate_chi2, np, vp, "[chi2, 3 dof] Agreement of that match with the scan's registered pose");
+	writeValue(c, s, "enabled", enabled, "No new keyframe where an existing one is within [MapBuilder] keyframe_distance_m and keyframe_angle_deg and its scan agrees: the scans hang from it (memory grows with the area mapped, not the time driven)");
+	writeValue(c, s, "trust_keyframes", uint64_t(trust_keyframes), "[keyframes] Keyframes are reused only within this many new keyframes of the last loop link");
+	writeValue(c, s, "min_inlier_fraction", min_inlier_fraction, "Least fraction of the scan matched against the reused keyframe's scan");
+	writeValue(c, s, "gate_chi2", gate_chi2, "[chi2, 3 dof] Agreement of that match with the scan's registered pose");
 }
 
 }  // namespace lrgc

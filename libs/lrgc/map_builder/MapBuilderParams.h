@@ -3,6 +3,7 @@
  * lrgc .ini, or an unknown key in a known one, is an error. */
 #pragma once
 
+#include <lrgc/common/params_io.h>
 #include <lrgc/local_registration/LocalRegistrationParams.h>
 #include <lrgc/local_registration/MotionPredictorParams.h>
 #include <lrgc/local_registration/SweepEstimatorParams.h>
@@ -57,14 +58,24 @@ struct TLRGCParams : public mrpt::config::CLoadableOptions
 	TPatchCorrelatorParams correlator;  //!< [PatchCorrelator]
 	TRevisitLinkerParams revisits;  //!< [RevisitLinker]
 
-	/** Loads every stage's section (`section` is ignored: each stage has its own); other
-	 * sections are left to the caller, who checks them against sectionNames(). */
+	/** Loads every stage's section. `section` is a prefix of every stage's section name, so
+	 * that one .ini can hold lrgc's sections beside another program's: "" reads [MapBuilder],
+	 * [ScanMatcher], ...; "lrgc." reads [lrgc.MapBuilder], [lrgc.ScanMatcher], ... Other
+	 * sections are left to the caller, who checks them against sectionNames(). Keys of an
+	 * earlier lrgc (renamedKeys()) are read under their new names; their warnings go to
+	 * stderr (loadReportingRenames() returns them instead). */
 	void loadFromConfigFile(
 		const mrpt::config::CConfigFileBase& c, const std::string& section = {}) override;
+	/** As loadFromConfigFile(), returning one warning per old key name read. */
+	std::vector<std::string> loadReportingRenames(
+		const mrpt::config::CConfigFileBase& c, const std::string& section = {});
+	/** Saves every stage's section, each name prefixed by `section` (as loadFromConfigFile). */
 	void saveToConfigFile(
 		mrpt::config::CConfigFileBase& c, const std::string& section = {}) const override;
-	/** The .ini sections of the stages, in the order they are saved. */
+	/** The .ini sections of the stages (without a prefix), in the order they are saved. */
 	static const std::vector<std::string>& sectionNames();
+	/** The keys of the stages' sections renamed since an earlier lrgc (still read). */
+	static const std::vector<TRenamedKey>& renamedKeys();
 };
 
 /** Throws naming the first section of `c` that is not in `allowed` (a misspelt section

@@ -1,5 +1,8 @@
 #include <gtest/gtest.h>
+#include <mrpt/config/CConfigFile.h>
 #include <mrpt/config/CConfigFileMemory.h>
+
+#include <algorithm>
 
 #include <lrgc/map_builder/MapBuilderParams.h>
 
@@ -27,6 +30,34 @@ TEST(LRGCParams, TextRoundTripIsExact)
 	EXPECT_EQ(saved(q), text);
 	EXPECT_NEAR(q.builder.keyframe_angle, mrpt::DEG2RAD(7.5), 1e-12);  // _deg keys load degrees
 	EXPECT_EQ(q.local.window_size, 13u);
+}
+
+// Save writes every number exactly, in every section: MRPT's "%f" / "%e" wrote 0.00012345 as
+// 0.000123 and relative_cost_tolerance = 1.000001e-04 as 1.000001e-04 whose next save differed.
+TEST(LRGCParams, SaveWritesEveryNumberExactly)
+{
+	lrgc::TLRGCParams p;
+	p.builder.keyframe_distance_m = 0.00012345;  // [MapBuilder], once padded
+	p.optimizer.relative_cost_tolerance = 1.000001e-04;  // [PoseGraphOptimizer]
+	p.correlator.blur_sigma_m = 0.1 + 1e-15;  // [PatchCorrelator], once unpadded
+	p.matcher.normal_radius_m = 0.123456789012345;  // [ScanMatcher], once "%.10g"
+	p.loop.max_window_phi = mrpt::DEG2RAD(17.123456789);  // a _deg key: through degrees
+	p.revisits.max_phi = mrpt::DEG2RAD(44.999999999);
+	const std::string text = saved(p);
+	lrgc::TLRGCParams q;
+	q.loadFromConfigFile(mrpt::config::CConfigFileMemory(text), {});
+	EXPECT_EQ(q.builder.keyframe_distance_m, p.builder.keyframe_distance_m);
+	EXPECT_EQ(q.optimizer.relative_cost_tolerance, p.optimizer.relative_cost_tolerance);
+	EXPECT_EQ(q.correlator.blur_sigma_m, p.correlator.blur_sigma_m);
+	EXPECT_EQ(q.matcher.normal_radius_m, p.matcher.normal_radius_m);
+	EXPECT_EQ(q.loop.max_window_phi, p.loop.max_window_phi);
+	EXPECT_EQ(q.revisits.max_phi, p.revisits.max_phi);
+	EXPECT_EQ(saved(q), text);
+	// The shortest text that reads back: defaults stay short ("0.3", not 0.29999999999999999).
+	const std::string defaults = saved(lrgc::TLRGCParams());
+	EXPECT_NE(defaults.find(" 0.3 "), std::string::npos) << defaults;
+	EXPECT_NE(defaults.find(" 150 "), std::string::npos) << defaults;  // not 1.5e+02
+	EXPECT_NE(text.find("0.00012345 "), std::string::npos) << text;
 }
 
 TEST(LRGCParams, EverySectionRejectsAnUnknownKey)
@@ -138,5 +169,85 @@ TEST(LRGCParams, RangeLimitsOutOfOrderAreErrors)
 		mrpt::config::CConfigFileMemory mem(std::string("[MapBuilder]\n") + bad + "\n");
 		lrgc::TLRGCParams p;
 		EXPECT_THROW(p.loadFromConfigFile(mem, {}), std::exception) << bad;
+	}
+}
+
+// An .ini written before the keys carried their units (share/lrgc/lrgc-default.ini at
+// 7c31216, every key) still loads: each old name is read as its new one with a warning naming
+// both, and the values are the defaults'.
+TEST(LRGCParams, AnOldFullIniLoadsAsTheDefaultsWithAWarningPerRenamedKey)
+{
+	const std::string path = std::string(LRGC_SOURCE_DIR) + "/tests/data/lrgc-default-7c31216.ini";
+	const mrpt::config::CConfigFile old(path);
+	lrgc::TLRGCParams p;
+	const std::vector<std::string> warnings = p.loadReportingRenames(old, {});
+	EXPECT_EQ(saved(p), saved(lrgc::TLRGCParams()));
+	EXPECT_EQ(warnings.size(), lrgc::TLRGCParams::renamedKeys().size());
+	const auto has = [&](const std::string& w)
+	{ return std::find(warnings.begin(), warnings.end(), w) != warnings.end(); };
+	EXPECT_TRUE(has("[MapBuilder] keyframe_distance is now keyframe_distance_m; read as such "
+					"(lrgc-slam --write-default-config FILE writes the current names)"));
+	EXPECT_TRUE(has("[LoopCloser] old_map_exclusion is now old_map_exclusion_keyframes; read as "
+					"such (lrgc-slam --write-default-config FILE writes the current names)"));
+	for (const auto& w : warnings) EXPECT_EQ(w.find('\n'), std::string::npos) << w;
+}
+
+TEST(LRGCParams, AnOldNameReadsAsTheNewOneAndBothNamesAreAnError)
+{
+	lrgc::TLRGCParams p;
+	const auto warnings = p.loadReportingRenames(mrpt::config::CConfigFileMemory(
+		"[MapBuilder]\nkeyframe_distance = 0.5\n[LoopCloser]\nmax_window_theta_deg = 20\n"));
+	EXPECT_EQ(p.builder.keyframe_distance_m, 0.5);
+	EXPECT_EQ(p.loop.max_window_phi, mrpt::DEG2RAD(20.0));
+	EXPECT_EQ(warnings.size(), 2u);
+	lrgc::TLRGCParams q;
+	try
+	{
+		q.loadReportingRenames(mrpt::config::CConfigFileMemory(
+			"[MapBuilder]\nkeyframe_distance = 0.5\nkeyframe_distance_m = 0.4\n"));
+		FAIL() << "both names accepted";
+	}
+	catch (const std::exception& e)
+	{
+		EXPECT_NE(std::string(e.what()).find("[MapBuilder] keyframe_distance_m: set twice, also "
+											 "under its old name keyframe_distance"),
+				  std::string::npos)
+			<< e.what();
+	}
+}
+
+// TLRGCParams' section argument prefixes every stage's section: lrgc's sections can share an
+// .ini with another program's (here one with its own [MapBuilder] and keys lrgc does not know).
+TEST(LRGCParams, TheSectionArgumentPrefixesEveryStageSection)
+{
+	lrgc::TLRGCParams p;
+	p.builder.keyframe_distance_m = 0.5;
+	p.loop.old_map_exclusion_keyframes = 45;
+	mrpt::config::CConfigFileMemory mem;
+	p.saveToConfigFile(mem, "lrgc_");
+	std::vector<std::string> sections;
+	mem.getAllSections(sections);
+	ASSERT_EQ(sections.size(), lrgc::TLRGCParams::sectionNames().size());
+	for (const auto& s : sections) EXPECT_EQ(s.rfind("lrgc_", 0), 0u) << s;
+
+	const std::string text = "[MapBuilder]\nodometry_topic = /odom\n" + mem.getContent();
+	lrgc::TLRGCParams q;
+	q.loadFromConfigFile(mrpt::config::CConfigFileMemory(text), "lrgc_");
+	EXPECT_EQ(saved(q), saved(p));
+	// Without the prefix, the other program's [MapBuilder] is read (and its key is unknown).
+	lrgc::TLRGCParams r;
+	EXPECT_THROW(r.loadFromConfigFile(mrpt::config::CConfigFileMemory(text), {}), std::exception);
+	// Errors name the prefixed section.
+	try
+	{
+		lrgc::TLRGCParams t;
+		t.loadFromConfigFile(mrpt::config::CConfigFileMemory("[lrgc_MapBuilder]\nkeyframe_distance_m = -1\n"), "lrgc_");
+		FAIL() << "negative keyframe distance accepted";
+	}
+	catch (const std::exception& e)
+	{
+		EXPECT_NE(std::string(e.what()).find("[lrgc_MapBuilder] keyframe_distance_m"),
+				  std::string::npos)
+			<< e.what();
 	}
 }

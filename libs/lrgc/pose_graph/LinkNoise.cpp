@@ -21,10 +21,8 @@ void TLinkNoise::save(
 	mrpt::config::CConfigFileBase& c, const std::string& s, const std::string& prefix,
 	const std::string& what) const
 {
-	const int np = mrpt::config::MRPT_SAVE_NAME_PADDING(), vp = mrpt::config::MRPT_SAVE_VALUE_PADDING();
-	c.write(s, prefix + "link_floor_xy_m", floor_xy_m, np, vp, "[m] Std added to " + what);
-	c.write(s, prefix + "link_floor_phi_deg", mrpt::RAD2DEG(floor_phi), np, vp,
-			"[deg] Heading std added to " + what);
+	writeValue(c, s, prefix + "link_floor_xy_m", floor_xy_m, "[m] Std added to " + what);
+	writeDegrees(c, s, prefix + "link_floor_phi_deg", floor_phi, "[deg] Heading std added to " + what);
 }
 
 }  // namespace lrgc

@@ -28,21 +28,13 @@ void TPoseGraphOptimizerParams::loadFromConfigFile(const mrpt::config::CConfigFi
 void TPoseGraphOptimizerParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
 												 const std::string& s) const
 {
-	const int np = mrpt::config::MRPT_SAVE_NAME_PADDING(),
-			  vp = mrpt::config::MRPT_SAVE_VALUE_PADDING();
-	c.write(s, "max_iterations", max_iterations, np, vp, "LM linearisations per solve [-]");
-	c.write(s, "relative_cost_tolerance", relative_cost_tolerance, np, vp,
-			"Stop when the cost falls by less than this fraction [-]");
-	c.write(s, "step_tolerance", step_tolerance, np, vp,
-			"Stop when the largest pose update is below this [m | rad]");
-	c.write(s, "initial_lambda", initial_lambda, np, vp,
-			"LM damping at the first step, relative to diag(H) [-]");
-	c.write(s, "robust_loop_closures", robust_loop_closures, np, vp,
-			"Dynamic Covariance Scaling on LoopClosure links [bool]");
-	c.write(s, "dcs_phi", dcs_phi, np, vp,
-			"DCS Phi: loop links with chi2 <= Phi keep full weight [chi2]");
-	c.write(s, "reject_scale", reject_scale, np, vp,
-			"Loop link reported as rejected if its final DCS scale is below [-]");
+	writeValue(c, s, "max_iterations", max_iterations, "LM linearisations per solve [-]");
+	writeValue(c, s, "relative_cost_tolerance", relative_cost_tolerance, "Stop when the cost falls by less than this fraction [-]");
+	writeValue(c, s, "step_tolerance", step_tolerance, "Stop when the largest pose update is below this [m | rad]");
+	writeValue(c, s, "initial_lambda", initial_lambda, "LM damping at the first step, relative to diag(H) [-]");
+	writeValue(c, s, "robust_loop_closures", robust_loop_closures, "Dynamic Covariance Scaling on LoopClosure links [bool]");
+	writeValue(c, s, "dcs_phi", dcs_phi, "DCS Phi: loop links with chi2 <= Phi keep full weight [chi2]");
+	writeValue(c, s, "reject_scale", reject_scale, "Loop link reported as rejected if its final DCS scale is below [-]");
 }
 
 }  // namespace lrgc

@@ -5,7 +5,7 @@
  * One iteration at pose x = (tx, ty, phi):
  *  1. associate: each scan point q_i = R(phi) p_i + t to its nearest reference anchor within
  *     the gate (exact search in CReferenceCloud);
- *  2. scale: s = max(minResidualStd, 1.4826 median |e|) [m] over all residual rows;
+ *  2. scale: s = max(min_residual_std_m, 1.4826 median |e|) [m] over all residual rows;
  *  3. weights: Cauchy w = 1 / (1 + |e|^2 / c^2), c = 2.3849 s (95% efficiency at Gaussian
  *     noise; an outlier's influence vanishes as 1/|e|);
  *  4. step: dx = -H^+ g, H = sum w J^T J, g = sum w J^T e, truncated along unobservable
@@ -209,7 +209,7 @@ std::optional<TScanMatch> CScanMatcher::matchPoints(
 	m.freeSpaceViolation = ref.freeSpaceViolation(asScan, m.scanInRef, std::max(0.1, 4 * scale));
 	if (m.freeSpaceViolation > P.max_free_space_violation) return std::nullopt;
 	// Residuals of anchors closer than this share reference noise (the line fit neighbourhood
-	// is up to 4 normalRadius wide where sparse).
+	// is up to 4 normal_radius_m wide where sparse).
 	const double cluster = std::max(0.5, 2 * P.normal_radius_m);
 	m.cov = detail::poseCovariance(ref, corr, info, kCauchy * scale, cluster, P.unobservable_std_m);
 	return m;

@@ -27,8 +27,7 @@ struct TScanMatcherParams : public mrpt::config::CLoadableOptions
 	 * [LocalRegistration] max_free_space_violation instead. */
 	double max_free_space_violation = 0.15;
 	double unobservable_std_m = 1.0;  //!< [m] std reported along directions the data do not fix
-	double wide_search_step = 7.5 * M_PI / 180;  //!< [rad] heading step of matchWide's starts
-												//!< (.ini key wideSearchStep_deg, degrees)
+	double wide_search_step = 7.5 * M_PI / 180;  //!< [rad] matchWide's heading step (key _deg)
 	/** matchWide: lead the winner needs over every distinct alternative and over the guess's
 	 * own optimum, in share of the scan's points within max_rms_residual_m of the reference. */
 	double wide_ambiguity_margin = 0.15;

@@ -13,6 +13,8 @@
 #include <charconv>
 #include <filesystem>
 #include <fstream>
+#include <set>
+#include <sstream>
 
 namespace lrgc::apps
 {
@@ -31,6 +33,32 @@ bool sameName(const std::string& a, const std::string& b)
 		std::equal(a.begin(), a.end(), b.begin(), [](unsigned char x, unsigned char y)
 				   { return std::tolower(x) == std::tolower(y); });
 }
+// A UTF-8 byte order mark (some editors write one) is no part of the first line; MRPT's
+// parser skips it too.
+std::string withoutByteOrderMark(const std::string& line)
+{
+	return line.rfind("\xEF\xBB\xBF", 0) == 0 ? line.substr(3) : line;
+}
+
+// MRPT's CConfigFile files a key written before the first [section] under section "", where
+// no loader looks: throws naming the first such line.
+void rejectKeysBeforeTheFirstSection(const std::string& path)
+{
+	std::ifstream in(path);
+	size_t n = 0;
+	for (std::string raw; std::getline(in, raw);)
+	{
+		const std::string line = trimmed(++n == 1 ? withoutByteOrderMark(raw) : raw);
+		if (line.empty() || line[0] == '#' || line[0] == ';' || line.rfind("//", 0) == 0)
+			continue;
+		if (line[0] == '[') return;
+		throw CSetupError(path + ":" + std::to_string(n) + ": '" + line.substr(0, 60) +
+						  "' comes before the first [section], so no section reads it; move it "
+						  "under its section (lrgc-slam --write-default-config FILE writes every "
+						  "section and key)");
+	}
+}
+
 // MRPT's config_parser() reports "Line N: what" (1-based): {N, what}.
 std::optional<std::pair<size_t, std::string>> parserLineOf(const std::string& message)
 {
@@ -57,7 +85,7 @@ std::optional<size_t> iniLineOf(const std::string& path, const std::string& sect
 	for (std::string raw; std::getline(in, raw);)
 	{
 		++n;
-		const std::string line = trimmed(raw);
+		const std::string line = trimmed(n == 1 ? withoutByteOrderMark(raw) : raw);
 		if (line.empty() || line[0] == '#' || line[0] == ';' || line.rfind("//", 0) == 0)
 			continue;
 		if (line[0] == '[')
@@ -75,10 +103,39 @@ std::optional<size_t> iniLineOf(const std::string& path, const std::string& sect
 	return last;
 }
 
+const std::vector<lrgc::TRenamedKey>& appRenamedKeys()
+{
+	static const std::vector<lrgc::TRenamedKey> renamed = {
+		{"Localization", "patch_max_range", "patch_max_range_m", ""},
+		{"Localization", "track_radius", "track_radius_m", ""},
+		{"Localization", "min_inliers", "min_inlier_fraction", ""}};
+	return renamed;
+}
+
+namespace
+{
+// iniLineOf(), also where the file writes the key under an old name (appRenamedKeys(),
+// TLRGCParams::renamedKeys()).
+std::optional<size_t> lineOfKey(const std::string& path, const std::string& section,
+								const std::string& key)
+{
+	if (const auto line = iniLineOf(path, section, key)) return line;
+	for (const auto* table : {&TLRGCParams::renamedKeys(), &appRenamedKeys()})
+		for (const auto& r : *table)
+			if (!key.empty() && r.section == section && r.newKey == key)
+				if (const auto line = iniLineOf(path, section, r.oldKey)) return line;
+	return std::nullopt;
+}
+}  // namespace
+
 TAppConfig loadAppConfig(const std::string& path)
 {
 	TAppConfig cfg;
 	if (path.empty()) return cfg;
+	if (std::filesystem::is_directory(path))
+		throw CSetupError("--config '" + path +
+						  "' is a folder; name an .ini file in it (lrgc-slam "
+						  "--write-default-config FILE writes one)");
 	if (!std::filesystem::is_regular_file(path))
 		throw CSetupError("--config '" + path +
 						  "': no such file; name an existing .ini (lrgc-slam "
@@ -87,6 +144,7 @@ TAppConfig loadAppConfig(const std::string& path)
 	allowed.push_back("LogReader");
 	allowed.push_back("LiveMapping");
 	allowed.push_back("Localization");
+	rejectKeysBeforeTheFirstSection(path);
 	try
 	{
 		// Inside the try: MRPT's parser throws on a malformed "${..}" / "$env{..}" / "$eval{..}"
@@ -94,10 +152,11 @@ TAppConfig loadAppConfig(const std::string& path)
 		// of the input log.
 		const mrpt::config::CConfigFile ini(path);
 		rejectUnknownSections(ini, allowed);
-		cfg.lrgc.loadFromConfigFile(ini, {});
-		cfg.reader.loadFromConfigFile(ini, "LogReader");
-		cfg.live.loadFromConfigFile(ini, "LiveMapping");
-		cfg.localization.loadFromConfigFile(ini, "Localization");
+		cfg.warnings = cfg.lrgc.loadReportingRenames(ini, {});
+		const auto current = withCurrentKeys(ini, appRenamedKeys(), {}, cfg.warnings);
+		cfg.reader.loadFromConfigFile(current, "LogReader");
+		cfg.live.loadFromConfigFile(current, "LiveMapping");
+		cfg.localization.loadFromConfigFile(current, "Localization");
 	}
 	catch (const std::exception& e)
 	{
@@ -111,7 +170,7 @@ TAppConfig loadAppConfig(const std::string& path)
 			message = parsed->second;
 		}
 		else if (const auto place = paramPlaceOf(message))
-			if (const auto line = iniLineOf(path, place->section, place->key))
+			if (const auto line = lineOfKey(path, place->section, place->key))
 				where += ":" + std::to_string(*line);
 		throw CSetupError(where + ": " + message +
 							  "; lrgc-slam --write-default-config FILE writes every section and "
@@ -128,7 +187,45 @@ TAppConfig loadAppConfig(const TSlamCommandLine& cl)
 	return cfg;
 }
 
-std::string defaultAppConfigText()
+const std::vector<std::pair<std::string, std::string>>& userKeys()
+{
+	static const std::vector<std::pair<std::string, std::string>> keys = {
+		{"MapBuilder", "laser_label"},
+		{"MapBuilder", "min_range_m"},
+		{"MapBuilder", "max_range_m"},
+		{"MapBuilder", "scan_sweep_time_s"},
+		{"MapBuilder", "keyframe_distance_m"},
+		{"MapBuilder", "keyframe_angle_deg"},
+		{"MapBuilder", "grid_resolution_m"},
+		{"MapBuilder", "loop_closing"},
+		{"MapBuilder", "final_optimization"},
+		{"KeyframeReuse", "enabled"},
+		{"MotionPredictor", "use_odometry"},
+		{"MotionPredictor", "k_xy_m_per_m"},
+		{"MotionPredictor", "k_xy_m_per_rad"},
+		{"MotionPredictor", "k_phi_rad_per_m"},
+		{"MotionPredictor", "k_phi_rad_per_rad"},
+		{"LocalRegistration", "window_size"},
+		{"LocalRegistration", "laser_only_window_size"},
+		{"LoopCloser", "max_window_xy_m"},
+		{"LoopCloser", "max_window_phi_deg"},
+		{"LoopCloser", "background"},
+		{"RevisitLinker", "enabled"},
+		{"LogReader", "carmen_180_beams_fov_deg"},
+		{"LogReader", "carmen_max_range_m"},
+		{"LiveMapping", "save_interval_s"},
+		{"LiveMapping", "max_backlog_scans"},
+		{"LiveMapping", "sensor_timeout_s"},
+		{"LiveMapping", "loop_results_when_ready"},
+		{"Localization", "track_radius_m"},
+		{"Localization", "lost_after"}};
+	return keys;
+}
+
+namespace
+{
+// Every section and key of the app, as saveToConfigFile() writes them.
+std::string allKeysText()
 {
 	return "# lrgc-slam parameters, generated by `lrgc-slam --write-default-config FILE`.\n"
 		   "# Units are given in the comments; keys ending in _deg are in degrees.\n" +
@@ -143,6 +240,53 @@ std::string appConfigSections(const TAppConfig& cfg)
 	cfg.live.saveToConfigFile(mem, "LiveMapping");
 	cfg.localization.saveToConfigFile(mem, "Localization");
 	return mem.getContent();
+}
+
+// The lines of an .ini text that set a key of `keep` (and the headers of their sections).
+std::string onlyKeys(
+	const std::string& text, const std::vector<std::pair<std::string, std::string>>& keep)
+{
+	const std::set<std::pair<std::string, std::string>> wanted(keep.begin(), keep.end());
+	std::string out, section;
+	std::istringstream in(text);
+	for (std::string line; std::getline(in, line);)
+	{
+		const std::string t = trimmed(line);
+		if (!t.empty() && t[0] == '[')
+		{
+			section = trimmed(t.substr(1, t.find(']') - 1));
+			const bool used = std::any_of(
+				keep.begin(), keep.end(), [&](const auto& k) { return k.first == section; });
+			if (used) out += (out.empty() ? "" : "\n") + line + "\n";
+			continue;
+		}
+		const size_t eq = t.find('=');
+		if (eq != std::string::npos && wanted.count({section, trimmed(t.substr(0, eq))}))
+			out += line + "\n";
+	}
+	return out;
+}
+}  // namespace
+
+std::string defaultAppConfigText()
+{
+	return "# lrgc-slam's parameters for a new robot, generated by `lrgc-slam "
+		   "--write-default-config FILE`.\n"
+		   "# Units are in the key names (_m, _s, _deg, ...) and comments. Every other key "
+		   "keeps its\n"
+		   "# default: `lrgc-slam --write-default-config FILE --expert` writes all of them\n"
+		   "# (share/lrgc/lrgc-expert.ini); doc/parameters.md says why each has its value.\n" +
+		onlyKeys(allKeysText(), userKeys());
+}
+
+std::string expertAppConfigText()
+{
+	return "# Every lrgc-slam parameter, generated by `lrgc-slam --write-default-config FILE "
+		   "--expert`.\n"
+		   "# Units are in the key names (_m, _s, _deg, ...) and comments; doc/parameters.md "
+		   "says why\n"
+		   "# each has its value. A user's few are in share/lrgc/lrgc-default.ini.\n" +
+		allKeysText();
 }
 
 }  // namespace lrgc::apps

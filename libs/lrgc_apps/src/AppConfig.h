@@ -10,7 +10,9 @@
 #include <lrgc_apps/io/LogReader.h>
 
 #include <optional>
+#include <utility>
 #include <string>
+#include <vector>
 
 namespace lrgc::apps
 {
@@ -20,7 +22,14 @@ struct TAppConfig
 	TLogReaderOptions reader;
 	TLiveMappingParams live;  //!< only used by --live
 	TLocalizationParams localization;  //!< [Localization]: --initial-map, --localize
+	/** One line per key of the .ini read under an old name ("[MapBuilder] keyframe_distance
+	 * is now keyframe_distance_m; ..."), for the app to report as warnings. */
+	std::vector<std::string> warnings;
 };
+
+/** The keys of the app's own sections renamed since an earlier lrgc (still read); the
+ * stages' are TLRGCParams::renamedKeys(). */
+const std::vector<lrgc::TRenamedKey>& appRenamedKeys();
 
 struct TSlamCommandLine;
 
@@ -39,8 +48,17 @@ TAppConfig loadAppConfig(const std::string& path);
 std::optional<size_t> iniLineOf(const std::string& path, const std::string& section,
 								const std::string& key);
 
-/** The default .ini, generated from the parameter structs' saveToConfigFile(). */
+/** The .ini a user starts from (lrgc-slam --write-default-config, share/lrgc/lrgc-default.ini):
+ * the keys of userKeys() only, with their default values, units and meanings, generated from
+ * the parameter structs' saveToConfigFile(). */
 std::string defaultAppConfigText();
+/** Every key (lrgc-slam --write-default-config FILE --expert, share/lrgc/lrgc-expert.ini);
+ * doc/parameters.md says why each has its value. */
+std::string expertAppConfigText();
+/** The keys a user of a new robot sets (sensor, odometry, map output, the accuracy / speed
+ * trade, live runs), as {section, key}; at most 40. Every other key keeps its default
+ * unless an .ini sets it. */
+const std::vector<std::pair<std::string, std::string>>& userKeys();
 
 /** Every section and key of `cfg`, as defaultAppConfigText() writes the defaults: the
  * config.ini of an output folder (RunConfigFile.h). */

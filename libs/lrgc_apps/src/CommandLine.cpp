@@ -77,6 +77,7 @@ TSlamCommandLine parseSlamCommandLine(const std::vector<std::string>& args)
 		else if (a == "--write-default-config") value(cl.writeDefaultConfig);
 		else if (parseSavedMapOption(args, i, cl)) continue;
 		else if (a == "--force") cl.force = true;
+		else if (a == "--expert") cl.expert = true;
 		else if (a == "--quiet" || a == "-q") cl.quiet = true;
 		else if (a == "--verbose" || a == "-v") cl.verbose = true;
 		else if (a == "--help" || a == "-h") cl.help = true;
@@ -90,6 +91,8 @@ TSlamCommandLine parseSlamCommandLine(const std::vector<std::string>& args)
 		throw CUsageError(
 			"--force is for --write-default-config (a run replaces only its own outputs in "
 			"--out, and never the input)");
+	if (cl.expert && cl.writeDefaultConfig.empty())
+		throw CUsageError("--expert is for --write-default-config (it writes every key)");
 	if (!cl.writeDefaultConfig.empty()) return cl;
 	if (!cl.icpSlamIni.empty()) return checkIcpSlamCommandLine(cl);
 	checkSavedMapOptions(cl);
@@ -129,7 +132,7 @@ std::string slamUsage()
 		   "  lrgc-slam --live SENSORS.ini [--config FILE.ini] --out DIR [--laser LABEL] [--quiet]\n"
 		   "  lrgc-slam --input FILE --initial-map MAP --out DIR   continue a saved map\n"
 		   "  lrgc-slam --input FILE --localize MAP --out DIR      localise on a saved map\n"
-		   "  lrgc-slam --write-default-config FILE.ini [--force]\n"
+		   "  lrgc-slam --write-default-config FILE.ini [--expert] [--force]\n"
 		   "  lrgc-slam ICP-SLAM.ini [RAWLOG] [--config FILE.ini]  icp-slam's command line\n"
 		   "  lrgc-slam --help | --version\n"
 		   "Options: -i --input, -c --config, -o --out, -q --quiet (no progress), -v --verbose\n"

@@ -6,7 +6,7 @@
  *   lrgc-slam --live SENSORS.ini [--config FILE.ini] --out DIR [--quiet]   (live sensors)
  *   lrgc-slam --input FILE --initial-map MAP --out DIR     (continue MAP: DIR or .simplemap)
  *   lrgc-slam --input FILE --localize MAP --out DIR        (localise on MAP, no mapping)
- *   lrgc-slam --write-default-config FILE.ini [--force]
+ *   lrgc-slam --write-default-config FILE.ini [--expert] [--force]
  *   lrgc-slam ICP-SLAM.ini [RAWLOG] [--config FILE.ini]      (icp-slam's command line: IcpSlamIni.h)
  *   --input and --live runs [--laser LABEL]: the laser to map (others are counted, ignored)
  *   any of them [--verbose]: on an error, MRPT's details (source location, call stack) too
@@ -35,6 +35,7 @@ struct TSlamCommandLine
 	/** An earlier output folder or a .simplemap(.gz): localise on it, never change it. */
 	std::string localize;
 	bool force = false;  //!< --write-default-config may replace an existing file
+	bool expert = false;  //!< --write-default-config writes every key, not the user's few
 	bool quiet = false;
 	bool verbose = false;  //!< errors with their details (source location, call stack)
 	bool help = false;

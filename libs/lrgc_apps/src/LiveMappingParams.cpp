@@ -35,21 +35,14 @@ void TLiveMappingParams::loadFromConfigFile(const mrpt::config::CConfigFileBase&
 void TLiveMappingParams::saveToConfigFile(mrpt::config::CConfigFileBase& target,
 										  const std::string& section) const
 {
-	target.write(section, "save_interval_s", save_interval_s, -1, -1,
-				 "Save all maps every this many seconds of a live run [s]; 0: only at the end");
-	target.write(section, "status_interval_s", status_interval_s, -1, -1,
-				 "Live status line period when stderr is not a terminal [s]");
-	target.write(section, "max_backlog_scans", static_cast<int>(max_backlog_scans), -1, -1,
-				 "Scans waiting for the mapper before it skips some to keep up (capture keeps "
+	writeValue(target, section, "save_interval_s", save_interval_s, "Save all maps every this many seconds of a live run [s]; 0: only at the end");
+	writeValue(target, section, "status_interval_s", status_interval_s, "Live status line period when stderr is not a terminal [s]");
+	writeValue(target, section, "max_backlog_scans", uint64_t(max_backlog_scans), "Scans waiting for the mapper before it skips some to keep up (capture keeps "
 				 "all); 0: never skip");
-	target.write(section, "sensor_timeout_s", sensor_timeout_s, -1, -1,
-				 "A sensor with no valid observation for this long is restarted [s]");
-	target.write(section, "retry_initial_s", retry_initial_s, -1, -1,
-				 "First wait before restarting a failed sensor; doubles on each failure [s]");
-	target.write(section, "retry_max_s", retry_max_s, -1, -1,
-				 "Longest wait between sensor restarts [s]");
-	target.write(section, "loop_results_when_ready", loop_results_when_ready, -1, -1,
-				 "Apply loop-closing results as soon as ready: the robot never waits (false: "
+	writeValue(target, section, "sensor_timeout_s", sensor_timeout_s, "A sensor with no valid observation for this long is restarted [s]");
+	writeValue(target, section, "retry_initial_s", retry_initial_s, "First wait before restarting a failed sensor; doubles on each failure [s]");
+	writeValue(target, section, "retry_max_s", retry_max_s, "Longest wait between sensor restarts [s]");
+	writeValue(target, section, "loop_results_when_ready", loop_results_when_ready, "Apply loop-closing results as soon as ready: the robot never waits (false: "
 				 "as offline, so mapping the capture offline gives the same map)");
 }
 

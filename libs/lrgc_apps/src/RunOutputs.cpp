@@ -135,7 +135,7 @@ std::string statsJson(const TRunOutputsSnapshot& snapshot)
 	  << loopCountsJson(s)
 	  // The de-skewing's laser sweep time at the end of the run [s]: [MapBuilder]
 	  // scan_sweep_time_s, or estimated online from this many scan pairs (CSweepEstimator).
-	  << "  \"scan_sweep_time_s\": {\"seconds\": " << s.sweepTime
+	  << "  \"scan_sweep_time\": {\"seconds\": " << s.sweepTime
 	  << ", \"estimated\": " << (s.sweepTimeEstimated ? "true" : "false")
 	  << ", \"pairs\": " << s.sweepSamples << "},\n"
 	  // The mapped laser ([MapBuilder] laser_label / --laser, else the first seen) and the

@@ -16,7 +16,7 @@ namespace lrgc::apps
 namespace
 {
 // --write-default-config FILE: a file, never a folder, and an existing one only with --force.
-void writeDefaultConfig(const std::string& path, bool force)
+void writeDefaultConfig(const std::string& path, bool force, bool expert)
 {
 	namespace fs = std::filesystem;
 	std::error_code ec;
@@ -33,7 +33,7 @@ void writeDefaultConfig(const std::string& path, bool force)
 						  "' is not a directory; create it first, or name another file");
 	try
 	{
-		writeTextFileAtomically(path, defaultAppConfigText());
+		writeTextFileAtomically(path, expert ? expertAppConfigText() : defaultAppConfigText());
 	}
 	catch (const std::exception& e)
 	{
@@ -75,7 +75,7 @@ int CSlamApp::run(const std::vector<std::string>& args)
 		if (cl.version) { std::printf("lrgc-slam %s\n", LRGC_VERSION); return kExitOk; }
 		if (!cl.writeDefaultConfig.empty())
 		{
-			writeDefaultConfig(cl.writeDefaultConfig, cl.force);
+			writeDefaultConfig(cl.writeDefaultConfig, cl.force, cl.expert);
 			return kExitOk;
 		}
 		if (!cl.icpSlamIni.empty()) takeIcpSlamIni(cl);
@@ -130,6 +130,7 @@ void CSlamApp::takeIcpSlamIni(TSlamCommandLine& cl)
 int CSlamApp::convertOnly(const TSlamCommandLine& cl)
 {
 	const TAppConfig cfg = loadAppConfig(cl.config);
+	for (const auto& w : cfg.warnings) report("warning: " + w);  // old key names, all shown
 	try
 	{
 		const TConversionStats st = convertToRawlog(cl.input, cl.saveRawlog, cfg.reader);

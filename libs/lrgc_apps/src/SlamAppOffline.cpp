@@ -84,6 +84,7 @@ void CSlamApp::reportWarnings(const std::vector<std::string>& warnings)
 int CSlamApp::runOffline(const TSlamCommandLine& cl)
 {
 	const TAppConfig cfg = loadAppConfig(cl);
+	for (const auto& w : cfg.warnings) report("warning: " + w);  // old key names, all shown
 	// Before the reader's guard process and the optimiser's threads, which inherit its mask.
 	const CStopSignalWatcher signals;
 	std::unique_ptr<CLogReader> reader;

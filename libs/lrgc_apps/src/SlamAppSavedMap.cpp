@@ -151,6 +151,7 @@ std::string localizationStatsJson(const CLocalizer& loc, const TRunSummary& run,
 int CSlamApp::runLocalize(const TSlamCommandLine& cl)
 {
 	const TAppConfig cfg = loadAppConfig(cl);
+	for (const auto& w : cfg.warnings) report("warning: " + w);  // old key names, all shown
 	// Before the reader's guard process, which inherits its mask.
 	const CStopSignalWatcher signals;
 	std::unique_ptr<CLogReader> reader;

@@ -42,6 +42,15 @@ CCarmenReader::CCarmenReader(const std::string& path, const TLogReaderOptions& o
 {
 }
 
+namespace
+{
+// A UTF-8 byte order mark (written by some editors) before the first line is no part of it.
+void dropByteOrderMark(std::string& line)
+{
+	if (line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);
+}
+}  // namespace
+
 bool CCarmenReader::readLine(std::string& line)
 {
 	while (true)
@@ -51,7 +60,7 @@ bool CCarmenReader::readLine(std::string& line)
 		{
 			line.assign(m_buffer, m_bufferPos, nl - m_bufferPos);
 			m_bufferPos = nl + 1;
-			++m_lineNumber;
+			if (++m_lineNumber == 1) dropByteOrderMark(line);
 			return true;
 		}
 		if (m_in.reachedEnd())
@@ -60,7 +69,7 @@ bool CCarmenReader::readLine(std::string& line)
 			line.assign(m_buffer, m_bufferPos, std::string::npos);  // last line, no '\n'
 			m_bufferPos = m_buffer.size();
 			m_lineEndedFile = true;
-			++m_lineNumber;
+			if (++m_lineNumber == 1) dropByteOrderMark(line);
 			return true;
 		}
 		m_buffer.erase(0, m_bufferPos);

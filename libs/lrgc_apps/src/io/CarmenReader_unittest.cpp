@@ -110,6 +110,20 @@ TEST(CarmenReader, YieldsMessagesInFileOrderWithOdometryBeforeEachScan)
 	EXPECT_EQ(r.stats.noReturnRanges, 0u);
 }
 
+// Issue 30: a UTF-8 byte order mark before the first comment made the log "no CARMEN log
+// (line 1 starts with '#')"; it is read as the same log without it.
+TEST(CarmenReader, ReadsALogThatStartsWithAUtf8ByteOrderMark)
+{
+	const std::string dir = lrgc::test::makeTempDir("carmen_bom");
+	const auto plain = readWholeLog(writeLog(dir, "plain.clf", basicLog()));
+	const auto bom = readWholeLog(writeLog(dir, "bom.clf", "\xEF\xBB\xBF" + basicLog()));
+	ASSERT_FALSE(bom.error) << *bom.error;
+	EXPECT_TRUE(bom.warnings.empty()) << bom.warnings.front();
+	EXPECT_EQ(bom.entries.size(), plain.entries.size());
+	EXPECT_EQ(bom.stats.scans, plain.stats.scans);
+	EXPECT_EQ(bom.stats.ignoredLines, plain.stats.ignoredLines);
+}
+
 TEST(CarmenReader, TakesEachScansOdometryFromItsOwnLine)
 {
 	const std::string dir = lrgc::test::makeTempDir("carmen_odometry");

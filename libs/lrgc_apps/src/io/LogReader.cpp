@@ -137,6 +137,8 @@ bool looksLikeMrptArchive(const std::string& b)
 	return true;
 }
 
+const std::string kUtf8Bom = "\xEF\xBB\xBF";
+
 enum class TextVerdict
 {
 	Carmen,
@@ -154,7 +156,8 @@ TextVerdict judgeCarmenText(const std::string& b, bool complete, std::string& wh
 		why = "binary data (NUL bytes) that is no MRPT archive";
 		return TextVerdict::NotCarmen;
 	}
-	size_t pos = 0, lineNo = 0;
+	// A UTF-8 byte order mark (an editor's) is no part of the first line.
+	size_t pos = b.rfind(kUtf8Bom, 0) == 0 ? kUtf8Bom.size() : 0, lineNo = 0;
 	while (pos < b.size())
 	{
 		size_t end = b.find('\n', pos);

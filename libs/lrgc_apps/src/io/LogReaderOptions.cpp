@@ -24,10 +24,8 @@ void TLogReaderOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& 
 void TLogReaderOptions::saveToConfigFile(mrpt::config::CConfigFileBase& target,
 										 const std::string& section) const
 {
-	target.write(section, "carmen_180_beams_fov_deg", mrpt::RAD2DEG(carmen_180_beams_fov), -1, -1,
-				 "First to last beam of a 180-beam CARMEN FLASER/RLASER [deg]: 180 or 179");
-	target.write(section, "carmen_max_range_m", carmen_max_range_m, -1, -1,
-				 "CARMEN FLASER/RLASER readings >= this (less 5 mm) are no-returns [m]");
+	writeDegrees(target, section, "carmen_180_beams_fov_deg", carmen_180_beams_fov, "First to last beam of a 180-beam CARMEN FLASER/RLASER [deg]: 180 or 179");
+	writeValue(target, section, "carmen_max_range_m", carmen_max_range_m, "CARMEN FLASER/RLASER readings >= this (less 5 mm) are no-returns [m]");
 }
 
 }  // namespace lrgc::apps

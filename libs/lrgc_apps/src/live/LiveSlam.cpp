@@ -388,6 +388,8 @@ int runLiveSlam(const TSlamCommandLine& cl, std::FILE* err)
 	TLiveSlamSetup setup;
 	setup.sensorsIni = cl.live;
 	setup.config = loadAppConfig(cl);
+	for (const auto& w : setup.config.warnings)  // keys read under an old name
+		std::fprintf(err, "warning: %s\n", w.c_str());
 	setup.outDir = cl.outDir;
 	setup.quiet = cl.quiet;
 	const CStopSignalWatcher signals;  // before the run's threads, which inherit its mask
