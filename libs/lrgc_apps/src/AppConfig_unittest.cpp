@@ -1,5 +1,5 @@
 /* loadAppConfig(): an .ini of an earlier lrgc still loads, its old key names reported. */
-#include "lrgc_apps/AppConfig.h"
+#include "AppConfig.h"
 
 #include <gtest/gtest.h>
 #include <mrpt/config/CConfigFileMemory.h>
