@@ -104,47 +104,31 @@ std::string statsJson(const CMetricMapBuilderLRGC& builder, const TRunSummary& r
 	return statsJson(snapshotRunOutputs(builder, run));
 }
 
-std::string statsJson(const TRunOutputsSnapshot& snapshot)
+namespace
 {
-	const TMapBuilderStats& s = snapshot.stats;
-	const TRunSummary& run = snapshot.run;
-	const CLaserSelector& lasers = snapshot.lasers;
-	const TLatencySummary lat = summarizeLatencies(run.latencyMs);
-	const TLoopCloserStats& lcs = snapshot.loopStats;
+// The mapped laser ([MapBuilder] laser_label / --laser, else the first seen) and the scans of
+// the other lasers, ignored, per sensor label.
+std::string laserJson(const CLaserSelector& lasers)
+{
+	std::ostringstream j;
+	j << "  \"laser\": {\"label\": " << jsonString(lasers.label())
+	  << ", \"chosen\": " << (lasers.chosen() ? "true" : "false")
+	  << ", \"ignored_scans\": " << jsonCounts(lasers.ignoredScans())
+	  << ", \"range_limited_readings\": " << lasers.rangeLimitedReadings() << "},\n";
+	return j.str();
+}
+
+// Loop closing: the searches and their outcomes, the schedule's waits and delays, the
+// modelled work and the searches shed, the worker's CPU time per step.
+std::string loopClosingJson(const TMapBuilderStats& s, const TLoopCloserStats& lcs)
+{
 	std::vector<double> closureMs;
 	for (const double sec : lcs.closureSeconds) closureMs.push_back(1e3 * sec);
 	const TLatencySummary closure = summarizeLatencies(closureMs);
 	std::ostringstream j;
 	j.precision(6);
 	j << std::fixed;
-	j << "{\n"
-	  << "  \"input\": " << jsonString(run.input) << ",\n"
-	  << "  \"format\": " << jsonString(run.format) << ",\n"
-	  << "  \"status\": " << jsonString(run.status) << ",\n"
-	  << "  \"log_entries\": " << run.logEntries << ",\n"
-	  << "  \"malformed_lines\": " << run.malformedLines << ",\n"
-	  << "  \"log_contents\": " << jsonCounts(run.logContents) << ",\n"
-	  << "  \"scans\": " << s.scans << ",\n"
-	  << "  \"keyframes\": " << s.keyframes << ",\n"
-	  << "  \"keyframes_reused\": " << s.keyframesReused << ",\n"
-	  << "  \"skipped_scans\": " << s.skippedScans << ",\n"
-	  << "  \"unmatched_scans\": " << s.unmatchedScans << ",\n"
-	  << "  \"scans_settled\": " << s.scansSettled << ",\n"
-	  << "  \"odometry_rejected\": " << s.odometryRejected << ",\n"
-	  << "  \"odometry_glitches_recovered\": " << s.glitchesRecovered << ",\n"
-	  << loopCountsJson(s)
-	  // The de-skewing's laser sweep time at the end of the run [s]: [MapBuilder]
-	  // scan_sweep_time_s, or estimated online from this many scan pairs (CSweepEstimator).
-	  << "  \"scan_sweep_time\": {\"seconds\": " << s.sweepTime
-	  << ", \"estimated\": " << (s.sweepTimeEstimated ? "true" : "false")
-	  << ", \"pairs\": " << s.sweepSamples << "},\n"
-	  // The mapped laser ([MapBuilder] laser_label / --laser, else the first seen) and the
-	  // scans of the other lasers, ignored, per sensor label.
-	  << "  \"laser\": {\"label\": " << jsonString(lasers.label())
-	  << ", \"chosen\": " << (lasers.chosen() ? "true" : "false")
-	  << ", \"ignored_scans\": " << jsonCounts(lasers.ignoredScans())
-	  << ", \"range_limited_readings\": " << lasers.rangeLimitedReadings() << "},\n"
-	  << "  \"loop_closing\": {\"attempts\": " << lcs.attempts
+	j << "  \"loop_closing\": {\"attempts\": " << lcs.attempts
 	  << ", \"accepted\": " << lcs.accepted
 	  << ", \"rejected_by_filters\": " << lcs.rejectedByFilters
 	  << ", \"rejected_by_match\": " << lcs.rejectedByMatch
@@ -170,15 +154,53 @@ std::string statsJson(const TRunOutputsSnapshot& snapshot)
 	  // CPU time of loop closing per step (the worker thread's, whatever else runs).
 	  << ", \"cpu_s\": {\"gate\": " << lcs.gateCpuSeconds << ", \"correlate\": "
 	  << lcs.correlateCpuSeconds << ", \"match\": " << lcs.matchCpuSeconds
-	  << ", \"close\": " << lcs.closeCpuSeconds << "}},\n"
-	  << (run.initialMap.empty() ? std::string()
-								 : "  \"initial_map\": {\"path\": " + jsonString(run.initialMap) +
-									   ", \"keyframes\": " + std::to_string(run.initialMapKeyframes) +
-									   ", \"start_found_after_scans\": " +
-									   std::to_string(run.startScans) +
-									   ", \"start_attempts\": " + std::to_string(run.startAttempts) +
-									   ", \"start_search_s\": " + std::to_string(run.startSeconds) +
-									   "},\n")
+	  << ", \"close\": " << lcs.closeCpuSeconds << "}},\n";
+	return j.str();
+}
+
+// The saved map this run continued (--initial-map / --localize), if any.
+std::string initialMapJson(const TRunSummary& run)
+{
+	if (run.initialMap.empty()) return {};
+	return "  \"initial_map\": {\"path\": " + jsonString(run.initialMap) +
+		", \"keyframes\": " + std::to_string(run.initialMapKeyframes) +
+		", \"start_found_after_scans\": " + std::to_string(run.startScans) +
+		", \"start_attempts\": " + std::to_string(run.startAttempts) +
+		", \"start_search_s\": " + std::to_string(run.startSeconds) + "},\n";
+}
+}  // namespace
+
+std::string statsJson(const TRunOutputsSnapshot& snapshot)
+{
+	const TMapBuilderStats& s = snapshot.stats;
+	const TRunSummary& run = snapshot.run;
+	const TLatencySummary lat = summarizeLatencies(run.latencyMs);
+	std::ostringstream j;
+	j.precision(6);
+	j << std::fixed;
+	j << "{\n"
+	  << "  \"input\": " << jsonString(run.input) << ",\n"
+	  << "  \"format\": " << jsonString(run.format) << ",\n"
+	  << "  \"status\": " << jsonString(run.status) << ",\n"
+	  << "  \"log_entries\": " << run.logEntries << ",\n"
+	  << "  \"malformed_lines\": " << run.malformedLines << ",\n"
+	  << "  \"log_contents\": " << jsonCounts(run.logContents) << ",\n"
+	  << "  \"scans\": " << s.scans << ",\n"
+	  << "  \"keyframes\": " << s.keyframes << ",\n"
+	  << "  \"keyframes_reused\": " << s.keyframesReused << ",\n"
+	  << "  \"skipped_scans\": " << s.skippedScans << ",\n"
+	  << "  \"unmatched_scans\": " << s.unmatchedScans << ",\n"
+	  << "  \"scans_settled\": " << s.scansSettled << ",\n"
+	  << "  \"odometry_rejected\": " << s.odometryRejected << ",\n"
+	  << "  \"odometry_glitches_recovered\": " << s.glitchesRecovered << ",\n"
+	  << loopCountsJson(s)
+	  // The de-skewing's laser sweep time at the end of the run [s]: [MapBuilder]
+	  // scan_sweep_time_s, or estimated online from this many scan pairs (CSweepEstimator).
+	  << "  \"scan_sweep_time\": {\"seconds\": " << s.sweepTime
+	  << ", \"estimated\": " << (s.sweepTimeEstimated ? "true" : "false")
+	  << ", \"pairs\": " << s.sweepSamples << "},\n"
+	  << laserJson(snapshot.lasers) << loopClosingJson(s, snapshot.loopStats)
+	  << initialMapJson(run)
 	  << "  \"warnings\": " << run.warnings << ",\n"
 	  << "  \"data_duration_s\": " << run.dataDurationSeconds << ",\n"
 	  << "  \"wall_time_s\": " << run.wallSeconds << ",\n"

@@ -38,6 +38,16 @@ double niceStep(double x)
 	return p;
 }
 
+/** A scale bar of a round length, about a sixth of the panel width, at its bottom left. */
+void drawScaleBar(cv::Mat& panel, int left, int width, double pxPerM)
+{
+	const double barM = niceStep(width / 6.0 / pxPerM);
+	const cv::Point b0(left + 15, panel.rows - 15);
+	const cv::Point b1(b0.x + static_cast<int>(std::lround(barM * pxPerM)), b0.y);
+	cv::line(panel, b0, b1, kBlack, 3);
+	label(panel, mrpt::format("%g m", barM), cv::Point(b0.x, b0.y - 8));
+}
+
 /** Map panel: the grid cropped to known cells and trajectory, scaled to fit. */
 cv::Mat drawMapPanel(const TPlotOptions& o, const TRosMapInfo& info,
 					 const std::vector<TTimedPose2D>& traj, const TGraphFile& graph,
@@ -106,13 +116,8 @@ cv::Mat drawMapPanel(const TPlotOptions& o, const TRosMapInfo& info,
 	cv::circle(panel, line.front(), 6, kGreen, cv::FILLED, cv::LINE_AA);
 	cv::circle(panel, line.back(), 5, kBlack, cv::FILLED, cv::LINE_AA);
 
-	// Scale bar, about a sixth of the panel width.
 	const double pxPerM = scale / info.resolution;
-	const double barM = niceStep(o.width / 6.0 / pxPerM);
-	const cv::Point b0(left + 15, panel.rows - 15);
-	const cv::Point b1(b0.x + static_cast<int>(std::lround(barM * pxPerM)), b0.y);
-	cv::line(panel, b0, b1, kBlack, 3);
-	label(panel, mrpt::format("%g m", barM), cv::Point(b0.x, b0.y - 8));
+	drawScaleBar(panel, left, o.width, pxPerM);
 
 	sum.pixelsPerMetre = pxPerM;
 	const cv::Point2d o0 = toPanel(0, 0);
