@@ -11,6 +11,7 @@ PACKAGES=(
   time                                        # /usr/bin/time -v for bench/run
   clang-14 libclang-rt-14-dev                 # libFuzzer and sanitizers for scripts/fuzz
   clang-format-14                             # scripts/check-format (CI)
+  universal-ctags                             # scripts/check-function-length (CI)
 )
 missing=()
 for p in "${PACKAGES[@]}"; do
