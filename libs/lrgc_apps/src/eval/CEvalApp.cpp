@@ -127,6 +127,14 @@ void jsonRelations(JsonOut& j, const char* key, const TRelationReport& r)
 		.integer("interpolated", ev.interpolatedCount);
 	jsonStats(j, "translational_m", ev.trans_m);
 	jsonStats(j, "rotational_deg", ev.rot_deg);
+	// The heading's tail over relations under 10 s apart (issue 28).
+	j.beginObject("short_relations")
+		.num("max_dt_s", kShortRelation_s, "%g")
+		.integer("count", ev.shortCount)
+		.integer("rotational_over_2_deg", ev.shortOver2deg)
+		.integer("rotational_over_5_deg", ev.shortOver5deg)
+		.num("share_over_2_deg", ev.shortOver2degShare(), "%.6f")
+		.end('}');
 	j.beginArray("unmatched_relations");
 	for (const auto& u : ev.unmatched)
 	{
@@ -159,6 +167,10 @@ void printRelations(std::ostream& out, const char* title, const TRelationReport&
 	{
 		out << statsLine("translational", ev.trans_m, "m");
 		out << statsLine("rotational", ev.rot_deg, "deg");
+		out << mrpt::format(
+			"  under %g s apart: %zu relations, %zu (%.2f %%) off by > 2 deg, %zu by > 5 deg\n",
+			kShortRelation_s, ev.shortCount, ev.shortOver2deg, 100 * ev.shortOver2degShare(),
+			ev.shortOver5deg);
 	}
 	for (std::size_t k = 0; k < ev.unmatched.size() && k < listMax; ++k)
 		out << "  unmatched, line " << r.relations[ev.unmatched[k].relationIndex].line << ": "

@@ -114,6 +114,12 @@ TRelationEvaluation evaluateRelations(const CTrajectory2D& trajectory,
 		if (err.interpolated) ++ev.interpolatedCount;
 		trans.push_back(err.trans_m);
 		rot.push_back(err.rot_deg);
+		if (std::abs(r.t2 - r.t1) < kShortRelation_s)
+		{
+			++ev.shortCount;
+			ev.shortOver2deg += err.rot_deg > 2.0;
+			ev.shortOver5deg += err.rot_deg > 5.0;
+		}
 		ev.errors.push_back(err);
 	}
 	ev.trans_m = TErrorStats::fromSamples(trans);

@@ -74,7 +74,17 @@ struct TRelationEvaluation
 	TErrorStats trans_m;                        //!< of |trans(e)| [m]
 	TErrorStats rot_deg;                        //!< of |rot(e)| [deg]
 	std::size_t interpolatedCount = 0;  //!< matched relations with an interpolated endpoint
+	/** The heading's tail over short relations (issue 28): of the matched relations less than
+	 * kShortRelation_s apart, how many, and how many are off by more than 2 and 5 deg. */
+	std::size_t shortCount = 0, shortOver2deg = 0, shortOver5deg = 0;
+	double shortOver2degShare() const
+	{
+		return shortCount ? double(shortOver2deg) / double(shortCount) : 0.0;
+	}
 };
+
+/** [s] a relation this short measures local registration (the heading's tail). */
+constexpr double kShortRelation_s = 10.0;
 
 /** e = (a^-1 (+) b) (+) relation^-1: the error transform of one relation, given the
  * estimated poses a = x(t1) and b = x(t2). */
