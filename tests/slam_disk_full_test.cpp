@@ -6,15 +6,16 @@
  * output of a run (every output, --save-rawlog included): in a fresh folder every file present
  * afterwards must equal the complete run's file, in a folder holding a complete earlier run
  * every file must still be there, complete. The run must fail, naming a file and the cause.
- * The log is made here: a robot driving down the middle of a 12 x 6 m room. */
+ * The log is made by the tests (room_log.h). */
 #include <gtest/gtest.h>
 
-#include <cmath>
+#include <algorithm>
 #include <filesystem>
 #include <map>
 
 #include "app_runner.h"
 #include "io_test_files.h"
+#include "room_log.h"
 #include "test_data.h"
 
 namespace fs = std::filesystem;
@@ -22,35 +23,6 @@ using namespace lrgc::test;
 
 namespace
 {
-// Range [m] from (x, y) along `angle` [rad] to the walls of the room [0, 12] x [0, 6].
-double rangeInRoom(double x, double y, double angle)
-{
-	const double c = std::cos(angle), s = std::sin(angle);
-	double r = 1e9;
-	if (c > 1e-9) r = std::min(r, (12.0 - x) / c);
-	if (c < -1e-9) r = std::min(r, -x / c);
-	if (s > 1e-9) r = std::min(r, (6.0 - y) / s);
-	if (s < -1e-9) r = std::min(r, -y / s);
-	return r;
-}
-
-// 81 FLASER scans (181 rays over 180 degrees) and odometry, x from 2 to 10 m at y = 3 m.
-std::string roomLog()
-{
-	std::string log;
-	for (int k = 0; k <= 80; ++k)
-	{
-		const mrpt::math::TPose2D robot(2.0 + 0.1 * k, 3.0, 0.0);
-		std::vector<double> ranges;
-		for (int i = 0; i <= 180; ++i)
-			ranges.push_back(rangeInRoom(robot.x, robot.y, (i - 90) * M_PI / 180.0));
-		const double t = 1000.0 + 0.2 * k;
-		log += odomLine(robot, t);
-		log += flaserLine(ranges, robot, robot, t + 0.01);
-	}
-	return log;
-}
-
 const std::vector<std::string> kOutputs = {
 	"map.gridmap.gz", "map.png", "map.pgm", "map.yaml", "map.simplemap.gz", "trajectory.tum",
 	"graph.graph", "graph.lrgc", "timing.csv", "stats.json", "log.rawlog"};

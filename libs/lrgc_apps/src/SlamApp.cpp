@@ -3,6 +3,7 @@
 #include "lrgc_apps/AppConfig.h"
 #include "lrgc_apps/ErrorText.h"
 #include "lrgc_apps/RunOutputs.h"
+#include "lrgc_apps/OutputsVsInputs.h"
 #include "lrgc_apps/atomic_file.h"
 
 #include <mrpt/core/format.h>
@@ -79,6 +80,8 @@ int CSlamApp::run(const std::vector<std::string>& args)
 		}
 		if (!cl.outDir.empty()) checkOutputDirectory(cl.outDir);
 		if (!cl.saveRawlog.empty()) checkOutputFile("--save-rawlog", cl.saveRawlog);
+		if (const std::string clash = slamOutputOverInput(cl); !clash.empty())
+			throw CSetupError(clash);
 		if (!cl.live.empty())
 		{
 			if (!m_live)

@@ -2,6 +2,7 @@
 #include <algorithm>
 #include "lrgc_apps/eval/CEvalApp.h"
 
+#include <lrgc_apps/OutputsVsInputs.h>
 #include <lrgc_apps/atomic_file.h>
 #include <mrpt/core/exceptions.h>
 #include <mrpt/core/format.h>
@@ -336,6 +337,14 @@ int CEvalApp::run(const std::vector<std::string>& args, std::ostream& out, std::
 	catch (const std::invalid_argument& e)
 	{
 		err << "lrgc-eval: " << e.what() << "; lrgc-eval --help lists the options\n";
+		return 2;
+	}
+	if (const std::string clash = outputOverInput(
+			{{"--json", o.jsonOut}},
+			{{"--trajectory", o.trajectory}, {"--relations", o.relations}, {"--ground-truth", o.groundTruth}});
+		!clash.empty())
+	{
+		err << "lrgc-eval: " << clash << "\n";
 		return 2;
 	}
 	try
