@@ -2,7 +2,11 @@
 
 #include "lrgc_apps/ErrorText.h"
 
-#include <mrpt/io/CFileGZInputStream.h>
+#include "lrgc_apps/io/LogReader.h"
+#include "lrgc_apps/io/RawlogObjects.h"
+
+#include <mrpt/maps/registerAllClasses.h>
+#include <mrpt/obs/registerAllClasses.h>
 #include <mrpt/serialization/CArchive.h>
 
 #include <filesystem>
@@ -15,24 +19,36 @@ namespace
 {
 mrpt::maps::CSimpleMap readSimplemap(const std::string& file, const std::string& option)
 {
-	mrpt::io::CFileGZInputStream in;
-	if (!in.open(file))
-		throw std::runtime_error(option + " '" + file + "': cannot open it");
-	mrpt::maps::CSimpleMap map;
+	// Read as rawlogs are (RawlogObjects.h): the guard's child meets the object first, under
+	// the memory budget, so a corrupted size cannot make this process allocate without bound
+	// (13 GB before bad_alloc, issue 30) or crash in MRPT's deserializer.
+	mrpt::obs::registerAllClasses_mrpt_obs();
+	mrpt::maps::registerAllClasses_mrpt_maps();
+	const auto unreadable = [&](const std::string& why) {
+		return std::runtime_error(option + " '" + file + "': not a readable MRPT CSimpleMap (" +
+								  why + ")");
+	};
+	std::shared_ptr<mrpt::maps::CSimpleMap> map;
 	try
 	{
-		auto arch = mrpt::serialization::archiveFrom(in);
-		arch >> map;
+		CLogInputFile in(file);
+		TArchive archive(in);
+		CDeserializationGuard guard(file);
+		TObjectRead r = guard.checkNextObject(0);
+		if (r.result != TObjectRead::Result::Failed) r = readArchiveObject(in, archive);
+		if (r.result == TObjectRead::Result::Failed) throw unreadable(r.problem + " at " + r.place);
+		if (r.result == TObjectRead::Result::End) throw unreadable("the file holds no object");
+		map = std::dynamic_pointer_cast<mrpt::maps::CSimpleMap>(r.object);
+		if (!map)
+			throw unreadable(std::string("it holds a ") + r.object->GetRuntimeClass()->className);
 	}
-	catch (const std::exception& e)
+	catch (const CLogReadError& e)
 	{
-		throw std::runtime_error(
-			option + " '" + file + "': not a readable MRPT CSimpleMap (" + oneLineError(e) +
-			")");
+		throw unreadable(oneLineError(e));
 	}
-	if (map.empty())
+	if (map->empty())
 		throw std::runtime_error(option + " '" + file + "': the map holds no keyframe");
-	return map;
+	return std::move(*map);
 }
 }  // namespace
 
