@@ -107,3 +107,17 @@ TEST_F(OutputsOverInputs, PlotOutOverTheMapImage)
 	EXPECT_NE(r.output.find("map.pgm"), std::string::npos) << r.output;
 	EXPECT_TRUE(readFileBytes(s_map + "/map.pgm") == before);
 }
+
+// Issue 30: a folder under an output's name (DIR/map.png/) was found only when the run tried
+// to rename map.png into place, after the whole mapping, and the outputs after it were lost.
+TEST_F(OutputsOverInputs, OutputNameTakenByAFolderIsFoundBeforeTheRun)
+{
+	const std::string dir = s_dir + "/c";
+	fs::create_directories(dir + "/map.png");
+	const auto r = runProcess(binaryPath("lrgc-slam"), {"--input", s_dir + "/room.clf", "--out", dir});
+	EXPECT_EQ(r.exitCode, 2) << r.output;
+	EXPECT_NE(r.output.find("--out: '" + dir + "/map.png' exists and is a folder"), std::string::npos)
+		<< r.output;
+	EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator()), 1)
+		<< "the refused run wrote into " << dir;
+}

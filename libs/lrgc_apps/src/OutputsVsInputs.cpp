@@ -56,6 +56,25 @@ void addSavedMap(std::vector<TNamedPath>& inputs, const std::string& option,
 	inputs.push_back({option, (fs::path(map) / kPoseGraphFile).string()});
 }
 
+// An output name already taken by a folder or a non-regular file (DIR/map.png/): the rename
+// at the end of the run would fail, after the mapping, and the outputs after it be lost.
+std::string outputNameTaken(const std::vector<TNamedPath>& outputs)
+{
+	namespace fs = std::filesystem;
+	for (const TNamedPath& out : outputs)
+	{
+		std::error_code ec;
+		const auto st = fs::symlink_status(out.path, ec);
+		if (out.path.empty() || ec || !fs::exists(st) || fs::is_regular_file(st) ||
+			fs::is_symlink(st))  // rename(2) replaces a link, whatever it points to
+			continue;
+		return out.option + ": '" + out.path + "' exists and is " +
+			   (fs::is_directory(st) ? "a folder" : "not a regular file") +
+			   "; an output is written there: move it away, or name another " + out.option;
+	}
+	return {};
+}
+
 // The folder --localize reads its map from: MAP itself, or the folder MAP is in.
 std::string mapFolder(const std::string& map)
 {
@@ -80,7 +99,8 @@ std::string slamOutputOverInput(const TSlamCommandLine& cl)
 	if (!cl.outDir.empty())
 		for (const char* name : kSlamOutputNames)
 			outputs.push_back({"--out", (std::filesystem::path(cl.outDir) / name).string()});
-	return outputOverInput(outputs, inputs);
+	if (std::string clash = outputOverInput(outputs, inputs); !clash.empty()) return clash;
+	return outputNameTaken(outputs);
 }
 
 }  // namespace lrgc::apps

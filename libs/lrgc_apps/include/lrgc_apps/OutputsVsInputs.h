@@ -35,7 +35,8 @@ struct TSlamCommandLine;
 /** lrgc-slam's check: no file it may write into --out (every name it writes there, in any
  * mode) or --save-rawlog is --input, --config, --live, or a file of --initial-map/--localize
  * (the map file, or a map folder's graph.lrgc and map.simplemap.gz); --localize never writes
- * into the map's folder. The one-line reason, or empty. */
+ * into the map's folder; and no name it writes into --out is taken by a folder or another
+ * non-regular file (found before the run, not at its end). The one-line reason, or empty. */
 std::string slamOutputOverInput(const TSlamCommandLine& cl);
 
 }  // namespace lrgc::apps
