@@ -2,6 +2,7 @@
  * odometry, no-returns, and every kind of damage (malformed line, NaN, negative, empty scan,
  * time going backwards, reordered lines, truncation, corruption), plain and gzip. */
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 #include <io_read_all.h>
 #include <io_test_files.h>
 #include <lrgc/scan_matching/Scan.h>
@@ -433,6 +434,17 @@ TEST(CarmenReader, MultiMemberAndZeroPaddedGzipReadWhole)
 		ASSERT_TRUE(r.error) << name << " went unnoticed";
 		EXPECT_TRUE(contains(*r.error, "truncated or corrupt")) << *r.error;
 	}
+}
+
+// Issue 30: a FIFO failed with "cannot get its size" and no hint.
+TEST(CarmenReader, FifoIsRefusedSayingWhatToDo)
+{
+	const std::string fifo = lrgc::test::makeTempDir("carmen_fifo") + "/log.clf";
+	ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+	const auto r = readWholeLog(fifo);
+	ASSERT_TRUE(r.error);
+	EXPECT_TRUE(contains(*r.error, "not a regular file")) << *r.error;
+	EXPECT_TRUE(contains(*r.error, "save the stream to a file first")) << *r.error;
 }
 
 TEST(CarmenReader, CorruptGzipFailsNamingTheByte)

@@ -93,6 +93,12 @@ CLogInputFile::CLogInputFile(const std::string& path) : m_path(path)
 	std::error_code ec;
 	if (!fs::exists(path, ec)) throw CLogReadError(path, "", "cannot open: no such file");
 	if (fs::is_directory(path, ec)) throw CLogReadError(path, "", "cannot open: a directory");
+	// Before any open(2): opening a FIFO for reading blocks until a writer comes.
+	if (!fs::is_regular_file(path, ec))
+		throw CLogReadError(path, "",
+							"not a regular file (a FIFO, a pipe or a device?): logs are read "
+							"from files, whose size gives the progress and whose gzip trailer is "
+							"checked; save the stream to a file first");
 	std::ifstream raw(path, std::ios::binary);
 	if (!raw) throw CLogReadError(path, "", "cannot open for reading (permissions?)");
 	m_fileSize = fs::file_size(path, ec);
