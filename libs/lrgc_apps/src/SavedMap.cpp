@@ -2,12 +2,7 @@
 
 #include "lrgc_apps/ErrorText.h"
 
-#include "lrgc_apps/io/LogReader.h"
-#include "lrgc_apps/io/RawlogObjects.h"
-
-#include <mrpt/maps/registerAllClasses.h>
-#include <mrpt/obs/registerAllClasses.h>
-#include <mrpt/serialization/CArchive.h>
+#include "lrgc_apps/io/SimplemapFile.h"
 
 #include <filesystem>
 #include <fstream>
@@ -15,43 +10,6 @@
 
 namespace lrgc::apps
 {
-namespace
-{
-mrpt::maps::CSimpleMap readSimplemap(const std::string& file, const std::string& option)
-{
-	// Read as rawlogs are (RawlogObjects.h): the guard's child meets the object first, under
-	// the memory budget, so a corrupted size cannot make this process allocate without bound
-	// (13 GB before bad_alloc, issue 30) or crash in MRPT's deserializer.
-	mrpt::obs::registerAllClasses_mrpt_obs();
-	mrpt::maps::registerAllClasses_mrpt_maps();
-	const auto unreadable = [&](const std::string& why) {
-		return std::runtime_error(option + " '" + file + "': not a readable MRPT CSimpleMap (" +
-								  why + ")");
-	};
-	std::shared_ptr<mrpt::maps::CSimpleMap> map;
-	try
-	{
-		CLogInputFile in(file);
-		TArchive archive(in);
-		CDeserializationGuard guard(file);
-		TObjectRead r = guard.checkNextObject(0);
-		if (r.result != TObjectRead::Result::Failed) r = readArchiveObject(in, archive);
-		if (r.result == TObjectRead::Result::Failed) throw unreadable(r.problem + " at " + r.place);
-		if (r.result == TObjectRead::Result::End) throw unreadable("the file holds no object");
-		map = std::dynamic_pointer_cast<mrpt::maps::CSimpleMap>(r.object);
-		if (!map)
-			throw unreadable(std::string("it holds a ") + r.object->GetRuntimeClass()->className);
-	}
-	catch (const CLogReadError& e)
-	{
-		throw unreadable(oneLineError(e));
-	}
-	if (map->empty())
-		throw std::runtime_error(option + " '" + file + "': the map holds no keyframe");
-	return std::move(*map);
-}
-}  // namespace
-
 TSavedMap loadSavedMap(const std::string& path, const std::string& option)
 {
 	namespace fs = std::filesystem;
@@ -64,7 +22,7 @@ TSavedMap loadSavedMap(const std::string& path, const std::string& option)
 								   "a .simplemap(.gz) file");
 	if (!fs::is_directory(path, ec))
 	{
-		out.keyframes = readSimplemap(path, option);
+		out.keyframes = readSimplemapFile(path, option);
 		return out;
 	}
 	const std::string simplemap = (fs::path(path) / kSimplemapFile).string();
@@ -72,7 +30,7 @@ TSavedMap loadSavedMap(const std::string& path, const std::string& option)
 		throw std::runtime_error(
 			option + " '" + path + "': the folder has no " + kSimplemapFile +
 			" (is it an lrgc output folder?)");
-	out.keyframes = readSimplemap(simplemap, option);
+	out.keyframes = readSimplemapFile(simplemap, option);
 	const std::string graphFile = (fs::path(path) / kPoseGraphFile).string();
 	if (!fs::exists(graphFile, ec)) return out;  // an older output folder: keyframes only
 	std::ifstream in(graphFile);
