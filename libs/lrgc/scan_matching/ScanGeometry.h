@@ -3,7 +3,8 @@
  * (issue 30: a 1e25 m reading overflowed CAnchorGrid's int64 cell indices; a NaN aperture or
  * sensor pose, or an aperture of 1e300 rad, put NaN points into a grid search).
  *
- * A scan is dropped (whole) when what places all its rays is unusable: no rays; an aperture
+ * A scan is dropped (whole) when what places all its rays is unusable: fewer than 2 rays (one
+ * ray has no angular step: its angle is NaN); an aperture
  * that is not finite or not in (0, 2 pi]; a sensor pose on the robot with a non-finite
  * coordinate or angle, or more than kMaxSensorOffset from the robot's origin; a maxRange that
  * is not finite and positive (0: no reading could be a return). A reading is clipped (marked

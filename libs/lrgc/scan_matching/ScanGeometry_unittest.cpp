@@ -51,7 +51,8 @@ TEST(ScanGeometry, UnusableGeometryDropsTheScanNamingWhy)
 	dropped([](auto& s) { s.sensorPose.y(1e6); }, "sensorPose");
 	dropped([](auto& s) { s.maxRange = 0.0f; }, "maxRange = 0");
 	dropped([](auto& s) { s.maxRange = static_cast<float>(kNaN); }, "maxRange");
-	dropped([](auto& s) { s.resizeScan(0); }, "no rays");
+	dropped([](auto& s) { s.resizeScan(0); }, "0 ray(s): fewer than 2");
+	dropped([](auto& s) { s.resizeScan(1); }, "1 ray(s): fewer than 2");  // found by fuzz_scan
 }
 
 TEST(ScanGeometry, FarReadingsAreClippedAndCounted)
