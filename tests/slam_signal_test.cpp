@@ -1,5 +1,6 @@
 /* End to end: SIGTERM and SIGINT stop an offline lrgc-slam run the way they stop a live one
- * (issue 13, item 10). CHOLMOD's METIS ordering re-installs SIGTERM handlers around every
+ * (issue 13, item 10); so do SIGHUP (the terminal closed) and SIGPIPE (`lrgc-slam ... | head`)
+ * (issue 30). CHOLMOD's METIS ordering re-installs SIGTERM handlers around every
  * ordering, so a handler-based run could die with status 143 or lose the signal: the run
  * instead blocks both signals in every thread and takes them in a watcher thread
  * (CStopSignalWatcher). The run ends, saves what it mapped (atomically) and exits 130.
@@ -13,7 +14,11 @@
 #include <mrpt/serialization/CArchive.h>
 
 #include <signal.h>
+#include <sys/wait.h>
 #include <unistd.h>
+
+#include <chrono>
+#include <thread>
 
 #include <filesystem>
 
@@ -105,6 +110,72 @@ TStoppedRun runAndStop(const std::string& name, int sig, int count, bool toGroup
 	return r;
 }
 }  // namespace
+
+// lrgc-slam with stdout and stderr into a pipe that the test closes after the first progress
+// line, as `lrgc-slam ... 2>&1 | head -n 1` does. The exit status, or nullopt on time-out.
+std::optional<int> runIntoClosedPipe(const std::string& log, const std::string& outDir)
+{
+	int fds[2];
+	if (::pipe(fds) != 0) return std::nullopt;
+	const std::string program = binaryPath("lrgc-slam");
+	const pid_t pid = ::fork();
+	if (pid == 0)
+	{
+		::dup2(fds[1], 1);
+		::dup2(fds[1], 2);
+		::close(fds[0]);
+		::close(fds[1]);
+		::execl(program.c_str(), program.c_str(), "--input", log.c_str(), "--out",
+				outDir.c_str(), static_cast<char*>(nullptr));
+		::_exit(127);
+	}
+	::close(fds[1]);
+	std::string seen;
+	char buf[512];
+	for (ssize_t n; seen.find("progress: ") == std::string::npos &&
+					(n = ::read(fds[0], buf, sizeof(buf))) > 0;)
+		seen.append(buf, static_cast<size_t>(n));
+	::close(fds[0]);  // the reader goes away: the next line written raises SIGPIPE
+	int status = 0;
+	for (int i = 0; i < 6000; ++i, std::this_thread::sleep_for(std::chrono::milliseconds(100)))
+		if (::waitpid(pid, &status, WNOHANG) == pid)
+			return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+	::kill(pid, SIGKILL);
+	::waitpid(pid, &status, 0);
+	return std::nullopt;
+}
+
+void expectPartialMapSaved(const std::string& outDir)
+{
+	for (const char* f : {"map.gridmap.gz", "map.simplemap.gz", "trajectory.tum", "stats.json"})
+		EXPECT_TRUE(fs::is_regular_file(outDir + "/" + f)) << f;
+	const std::string stats = readTextFile(outDir + "/stats.json");
+	EXPECT_NE(stats.find("\"status\": \"interrupted\""), std::string::npos) << stats;
+}
+
+TEST(SlamSignals, SighupMidRunSavesTheMapsAndExits130)
+{
+	LRGC_SKIP_IF_MISSING(senaRawlogPath());
+	// A closed terminal sends SIGHUP to its process group: the guard process of the rawlog
+	// reader gets it too.
+	const TStoppedRun r = runAndStop("sig_hup", SIGHUP, 1, true);
+	ASSERT_TRUE(r.status.has_value()) << "no progress line, or no exit:\n" << r.output;
+	ASSERT_EQ(*r.status, 130) << "died of SIGHUP (129), or ended before it?\n" << r.output;
+	expectPartialMapSaved(r.outDir);
+}
+
+TEST(SlamSignals, ClosedOutputPipeSavesTheMapsAndExits130)
+{
+	LRGC_SKIP_IF_MISSING(senaRawlogPath());
+	const std::string dir = makeTempDir("sig_pipe_" + std::to_string(::getpid()));
+	const std::string log = dir + "/sena-x40.rawlog";
+	writeRepeatedSena(log, kLaps);
+	const auto status = runIntoClosedPipe(log, dir + "/out");
+	fs::remove(log);
+	ASSERT_TRUE(status.has_value()) << "no exit";
+	ASSERT_EQ(*status, 130) << "died of SIGPIPE (141), or ended before it?";
+	expectPartialMapSaved(dir + "/out");
+}
 
 TEST(SlamSignals, SigtermMidRunSavesTheMapsAndExits130)
 {

@@ -27,7 +27,25 @@ CGlobalLocalizer::CGlobalLocalizer(
 		for (const auto& q : keyframes[i].scan.points) points.push_back(toMap(q));
 	}
 	ASSERTMSG_(!points.empty(), "CGlobalLocalizer: the map's scans hold no point");
-	m_grid = m_correlator.makeGrid(points, 3 * p.blur_sigma_m);
+	try
+	{
+		m_grid = m_correlator.makeGrid(points, 3 * p.blur_sigma_m);
+	}
+	catch (const std::exception&)
+	{
+		// A map wider than the correlation grid's cell budget (2^28 cells in CCorrelationGrid:
+		// about 820 x 820 m at 5 cm) gets a message a user can act on; anything else as it is.
+		Eigen::Vector2d plo = points.front(), phi = plo;
+		for (const auto& q : points) plo = plo.cwiseMin(q), phi = phi.cwiseMax(q);
+		const Eigen::Vector2d cells = (phi - plo) / p.resolution_m;
+		if (!(cells.x() * cells.y() > 2.5e8)) throw;
+		THROW_EXCEPTION_FMT(
+			"the map's scans span %.0f x %.0f m: too large to search whole for the log's start "
+			"at [PatchCorrelator] resolution_m = %g (a grid of at most about %.0f x %.0f m); a "
+			"coarser resolution (--config) covers more",
+			phi.x() - plo.x(), phi.y() - plo.y(), p.resolution_m, 16384 * p.resolution_m,
+			16384 * p.resolution_m);
+	}
 	const Eigen::Vector2d c = 0.5 * (lo + hi);
 	m_centre = mrpt::math::TPose2D(c.x(), c.y(), 0);
 	m_halfWindowXY = 0.5 * (hi - lo).maxCoeff() + kWindowMargin;

@@ -2,6 +2,7 @@
 
 #include <lrgc/common/se2.h>
 #include <lrgc/local_registration/MotionPredictor.h>
+#include <lrgc/scan_matching/ScanGeometry.h>
 
 #include <mrpt/obs/CActionRobotMovement2D.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
@@ -79,8 +80,11 @@ void CLocalizer::processActionObservation(
 	if (laser) processScan(laser);
 }
 
-void CLocalizer::processScan(const mrpt::obs::CObservation2DRangeScan::Ptr& laser)
+void CLocalizer::processScan(const mrpt::obs::CObservation2DRangeScan::Ptr& observed)
 {
+	// Through the door every scan takes (ScanGeometry.h): unusable geometry dropped.
+	const auto laser = checkScanGeometry(observed).scan;
+	if (!laser) return;
 	const TScan2D scan = scanFromObservation(*laser);
 	if (scan.points.size() < m_params.builder.min_scan_points) return;  // as the builder
 	++m_stats.scans;

@@ -347,7 +347,7 @@ mrpt::obs::CObservation2DRangeScan::Ptr CMetricMapBuilderLRGC::acceptLaser(
 	const mrpt::obs::CObservation2DRangeScan::Ptr& laser)
 {
 	auto mapped = m_lasers.select(laser);
-	if (auto w = m_lasers.takeWarning()) warn(std::move(*w));
+	while (auto w = m_lasers.takeWarning()) warn(std::move(*w));
 	return mapped;
 }
 

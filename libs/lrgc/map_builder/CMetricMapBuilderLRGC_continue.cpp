@@ -15,6 +15,7 @@
  * map.
  */
 #include <lrgc/map_builder/CMetricMapBuilderLRGC.h>
+#include <lrgc/scan_matching/ScanGeometry.h>
 #include <lrgc/map_builder/KeyframeReuse.h>
 
 #include <lrgc/common/se2.h>
@@ -115,6 +116,14 @@ void CMetricMapBuilderLRGC::adoptKeyframes(
 					label.empty() ? "" : (" labelled '" + label + "'").c_str());
 			continue;
 		}
+		// Saved maps come through the same door as logs (ScanGeometry.h).
+		const TScanGeometryCheck checked = checkScanGeometry(laser);
+		if (!checked.scan)
+		{
+			if (all) THROW_EXCEPTION_FMT("initial map entry %zu: %s", i, checked.problem.c_str());
+			continue;
+		}
+		laser = checked.scan;
 		TScan2D scan = scanFromObservation(*laser);
 		if (!all && scan.points.size() < m_params.builder.min_scan_points) continue;
 		if (label.empty()) label = laser->sensorLabel;

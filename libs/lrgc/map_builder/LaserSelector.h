@@ -8,6 +8,9 @@
  * failure this class exists for. Scans of the other lasers are counted per label. The mapped
  * laser's readings outside [min_range_m, max_range_m] are marked invalid (applyRangeLimits), so
  * that matching, the occupancy grid and the saved keyframes all go without them.
+ * Before any of that, each of the mapped laser's scans goes through checkScanGeometry()
+ * (ScanGeometry.h): a scan whose geometry cannot place its rays is dropped, a reading beyond
+ * kMaxRange clipped, each counted and the first few of each kind warned about.
  */
 #pragma once
 
@@ -15,10 +18,10 @@
 #include <lrgc/scan_matching/Scan.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
 
+#include <deque>
 #include <map>
 #include <optional>
 #include <string>
-#include <utility>
 
 namespace lrgc
 {
@@ -28,7 +31,8 @@ class CLaserSelector
 	explicit CLaserSelector(const TMapBuilderParams& params = {});
 
 	/** The scan to map (range limits applied; `laser` itself when none changes it), or
-	 * nullptr when `laser` is another laser's (counted in ignoredScans()). */
+	 * nullptr when `laser` is another laser's (counted in ignoredScans()) or its geometry is
+	 * unusable (counted in badGeometryScans()). */
 	mrpt::obs::CObservation2DRangeScan::Ptr select(
 		const mrpt::obs::CObservation2DRangeScan::Ptr& laser);
 	/** Makes `label` the mapped laser if none is chosen yet (scans entering through
@@ -43,8 +47,15 @@ class CLaserSelector
 	const std::map<std::string, size_t>& ignoredScans() const { return m_ignored; }
 	/** Readings of the mapped laser dropped by min_range_m / max_range_m. */
 	size_t rangeLimitedReadings() const { return m_rangeLimited; }
-	/** The warning about a second laser (once per run), then nullopt. */
-	std::optional<std::string> takeWarning() { return std::exchange(m_warning, std::nullopt); }
+	/** Scans of the mapped laser dropped by checkScanGeometry(). */
+	size_t badGeometryScans() const { return m_badGeometry; }
+	/** Why the first of those was dropped ("maxRange = 0 m (...)"), or empty. */
+	const std::string& firstGeometryProblem() const { return m_firstGeometryProblem; }
+	/** Readings of the mapped laser beyond kMaxRange, clipped by checkScanGeometry(). */
+	size_t clippedReadings() const { return m_clipped; }
+	/** The next warning not yet taken (a second laser, once per run; the first scans dropped
+	 * or clipped by checkScanGeometry()), or nullopt. */
+	std::optional<std::string> takeWarning();
 
    private:
 	std::string m_label;
@@ -52,8 +63,14 @@ class CLaserSelector
 	TRangeLimits m_limits;
 	std::map<std::string, size_t> m_ignored;
 	size_t m_rangeLimited = 0;
+	size_t m_badGeometry = 0, m_clipped = 0, m_clippedScans = 0;
+	std::string m_firstGeometryProblem;
 	bool m_warned = false;
-	std::optional<std::string> m_warning;
+	std::deque<std::string> m_warnings;
+
+	/** `laser` through checkScanGeometry(), counted and warned about. */
+	mrpt::obs::CObservation2DRangeScan::Ptr checkGeometry(
+		const mrpt::obs::CObservation2DRangeScan::Ptr& laser);
 };
 
 }  // namespace lrgc

@@ -3,6 +3,7 @@
 #include <mrpt/core/exceptions.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 
 namespace lrgc
@@ -23,13 +24,23 @@ CAnchorGrid::CAnchorGrid(
 	std::vector<uint64_t> keys(n);
 	for (size_t i = 0; i < n; ++i)
 		keys[i] = cellKey(cellIndex(points[i].x(), m_cell), cellIndex(points[i].y(), m_cell));
+	const auto indexable = [](const Eigen::Vector2d& p) {
+		return p.allFinite() && std::abs(p.x()) <= kMaxCoordinate && std::abs(p.y()) <= kMaxCoordinate;
+	};
 	for (uint32_t i = 0; i < n; ++i)
-		if (usable[i]) m_index.push_back(i);
+		if (usable[i] && indexable(points[i])) m_index.push_back(i);
 	std::sort(m_index.begin(), m_index.end(), [&](uint32_t a, uint32_t b) { return keys[a] < keys[b]; });
 	const size_t nUsable = m_index.size();
 	m_pos.resize(nUsable);
 	for (size_t k = 0; k < nUsable; ++k) m_pos[k] = points[m_index[k]];
 	if (nUsable == 0) return;
+	m_bx0 = m_by0 = INT64_MAX, m_bx1 = m_by1 = INT64_MIN;
+	for (const uint32_t i : m_index)
+	{
+		const int64_t ix = cellIndex(points[i].x(), m_cell), iy = cellIndex(points[i].y(), m_cell);
+		m_bx0 = std::min(m_bx0, ix), m_bx1 = std::max(m_bx1, ix);
+		m_by0 = std::min(m_by0, iy), m_by1 = std::max(m_by1, iy);
+	}
 	if (buildDense(points)) return;
 	size_t cells = 0;
 	for (size_t k = 0; k < nUsable; ++k) cells += (k == 0 || keys[m_index[k]] != keys[m_index[k - 1]]);
@@ -180,7 +191,8 @@ int CAnchorGrid::nearestDense(const Eigen::Vector2d& q, double maxDist, double* 
 		if (dy < 0 || dy >= m_ny || dx0 > dx1) return;
 		scan(m_rowPos, m_rowIndex, m_rowStart[dy * m_nx + dx0], m_rowStart[dy * m_nx + dx1 + 1]);
 	};
-	for (int64_t k = 0;; ++k)
+	const int64_t last = lastRing(cx, cy);
+	for (int64_t k = 0; k <= last; ++k)
 	{
 		if (k == 0) column(cx, cy, cy);
 		else
@@ -199,9 +211,23 @@ int CAnchorGrid::nearestDense(const Eigen::Vector2d& q, double maxDist, double* 
 	return bestIdx;
 }
 
+int CAnchorGrid::nearestByScan(const Eigen::Vector2d& q, double maxDist, double* d2Out) const
+{
+	double best = maxDist * maxDist;
+	int bestIdx = -1;
+	for (size_t k = 0; k < m_pos.size(); ++k)
+		if (const double d2 = (m_pos[k] - q).squaredNorm(); d2 < best)
+			best = d2, bestIdx = static_cast<int>(m_index[k]);
+	if (bestIdx >= 0 && d2Out) *d2Out = best;
+	return bestIdx;
+}
+
 int CAnchorGrid::nearest(const Eigen::Vector2d& q, double maxDist, double* d2Out) const
 {
-	if (m_pos.empty() || !(maxDist > 0)) return -1;
+	if (m_pos.empty() || !(maxDist > 0) || !mayHaveWithin(q, maxDist)) return -1;
+	const int64_t qx = cellIndex(q.x(), m_cell), qy = cellIndex(q.y(), m_cell);
+	if (std::min(double(lastRing(qx, qy)), maxDist / m_cell + 1) > double(kMaxRings))
+		return nearestByScan(q, maxDist, d2Out);
 	if (isDense()) return nearestDense(q, maxDist, d2Out);
 	// Ring search: ring k holds the cells at Chebyshev distance k from q's cell. After ring k,
 	// every unvisited point is at least `lb` away (distance from q to the border of the
@@ -218,7 +244,10 @@ int CAnchorGrid::nearest(const Eigen::Vector2d& q, double maxDist, double* d2Out
 			if (d2 < best) best = d2, bestIdx = static_cast<int>(m_index[k]);
 		}
 	};
-	for (int64_t k = 0;; ++k)
+	// Bounded twice: by maxDist (the stopping rule) and by the box (after ring `last`, every
+	// occupied cell has been visited), whatever maxDist.
+	const int64_t last = lastRing(cx, cy);
+	for (int64_t k = 0; k <= last; ++k)
 	{
 		if (k == 0) visit(cx, cy);
 		else

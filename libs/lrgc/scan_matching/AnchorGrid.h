@@ -49,13 +49,22 @@ public:
 	template <class F>
 	void forEachPointWithin(const Eigen::Vector2d& q, double radius, F&& fn) const;
 
-	/** floor(v / cell), inline (std::floor is a library call on baseline x86-64). */
+	/** floor(v / cell), inline (std::floor is a library call on baseline x86-64), clamped to
+	 * +-kMaxCellIndex (NaN: -kMaxCellIndex) so that the cast and the index arithmetic of the
+	 * searches cannot overflow, whatever v. */
 	static int64_t cellIndex(double v, double cell)
 	{
-		const double q = v / cell;
+		double q = v / cell;
+		if (!(q >= -kMaxCellIndex)) q = -kMaxCellIndex;
+		else if (q > kMaxCellIndex) q = kMaxCellIndex;
 		const auto t = static_cast<int64_t>(q);  // truncation towards zero
 		return t - (static_cast<double>(t) > q);
 	}
+	/** |cell index| bound: 2^40 cells (5.5e10 m at 5 cm), far beyond any indexed point. */
+	static constexpr double kMaxCellIndex = 1099511627776.0;
+	/** Points with a coordinate beyond this [m] (or not finite) are not indexed: no map is
+	 * 10 000 km wide, and the grid's box (in cells) then stays far from int64's range. */
+	static constexpr double kMaxCoordinate = 1e7;
 
 	/** Dense table used for these points (else the hash table); for tests. */
 	bool isDense() const { return !m_start.empty(); }
@@ -108,6 +117,27 @@ private:
 	/** Fills the dense table from the key-sorted m_index; false if the box is too large. */
 	bool buildDense(const std::vector<Eigen::Vector2d>& points);
 
+	/** False if no indexed point can be within maxDist of q (q not finite, or farther than
+	 * maxDist from the box of the indexed points' cells): the searches' early exit. */
+	bool mayHaveWithin(const Eigen::Vector2d& q, double maxDist) const
+	{
+		return q.allFinite() && q.x() >= m_bx0 * m_cell - maxDist &&
+			q.x() <= (m_bx1 + 1) * m_cell + maxDist && q.y() >= m_by0 * m_cell - maxDist &&
+			q.y() <= (m_by1 + 1) * m_cell + maxDist;
+	}
+	/** Searches of more rings, or radius queries over more cells, than this (an absurd maxDist
+	 * or radius, far beyond any gate) read every point instead: bounded work whatever the
+	 * query. Gates of metres on cells of centimetres never come near. */
+	static constexpr int64_t kMaxRings = 4096;
+	static constexpr double kMaxVisitedCells = double(size_t(1) << 24);
+	/** nearest() by reading every point (the first of equally near ones in m_pos order). */
+	int nearestByScan(const Eigen::Vector2d& q, double maxDist, double* d2Out) const;
+	/** Rings around cell (cx, cy) after which every cell of the box has been visited. */
+	int64_t lastRing(int64_t cx, int64_t cy) const
+	{
+		return std::max(std::max(cx - m_bx0, m_bx1 - cx), std::max(cy - m_by0, m_by1 - cy));
+	}
+
 	std::vector<Eigen::Vector2d> m_pos;  // indexed points, sorted by cell
 	std::vector<uint32_t> m_index;  // their indices in the input
 	std::vector<TCell> m_table;  // size: power of two
@@ -123,19 +153,29 @@ private:
 	std::vector<uint32_t> m_rowStart, m_rowIndex;
 	std::vector<Eigen::Vector2d> m_rowPos;
 	double m_cell = 0.1;  // [m]
+	// The box of the indexed points' cells in every mode: [m_bx0, m_bx1] x [m_by0, m_by1].
+	int64_t m_bx0 = 0, m_bx1 = -1, m_by0 = 0, m_by1 = -1;
 };
 
 template <class F>
 void CAnchorGrid::forEachPointWithin(const Eigen::Vector2d& q, double radius, F&& fn) const
 {
-	if (m_pos.empty()) return;
+	if (m_pos.empty() || !mayHaveWithin(q, radius)) return;
 	const double r2 = radius * radius;
-	const int64_t x0 = cellIndex(q.x() - radius, m_cell), x1 = cellIndex(q.x() + radius, m_cell);
-	const int64_t y0 = cellIndex(q.y() - radius, m_cell), y1 = cellIndex(q.y() + radius, m_cell);
+	// The disc's cells, clipped to the box (cells outside it are empty).
+	const int64_t x0 = std::max(cellIndex(q.x() - radius, m_cell), m_bx0),
+				  x1 = std::min(cellIndex(q.x() + radius, m_cell), m_bx1);
+	const int64_t y0 = std::max(cellIndex(q.y() - radius, m_cell), m_by0),
+				  y1 = std::min(cellIndex(q.y() + radius, m_cell), m_by1);
 	auto visitRun = [&](uint32_t b, uint32_t e) {
 		for (uint32_t k = b; k < e; ++k)
 			if ((m_pos[k] - q).squaredNorm() <= r2) fn(m_index[k], m_pos[k]);
 	};
+	if ((double(x1) - double(x0) + 1) * (double(y1) - double(y0) + 1) > kMaxVisitedCells)
+	{
+		visitRun(0, static_cast<uint32_t>(m_pos.size()));  // an absurd radius: read them all
+		return;
+	}
 	if (!m_start.empty())
 	{
 		// Dense table: the cells y0..y1 of a column are one run of m_pos, in (iy, run) order.

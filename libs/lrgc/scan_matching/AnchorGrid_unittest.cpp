@@ -4,6 +4,7 @@
 #include <lrgc/scan_matching/AnchorGrid.h>
 
 #include <algorithm>
+#include <limits>
 #include <random>
 #include <set>
 
@@ -187,4 +188,49 @@ TEST(AnchorGrid, equallyNearPointsResolvedAsTheRingWalkDoes)
 		upperLeft += got == static_cast<int>(4 * t);
 	}
 	EXPECT_GT(upperLeft, 0);
+}
+
+// Issue 30: far but finite points (1e25 m, a scan's absurd reading) overflowed the int64 cell
+// indices (a crash in buildDense, an endless findCell); NaN queries or points and a huge
+// maxDist sent nearest() round its rings for ever. Each case must end, and answer as brute
+// force over the sane points does. Timed by ctest's time-out, not here.
+TEST(AnchorGrid, FarNonFiniteAndAbsurdInputsEndAndAnswerRight)
+{
+	TCloud c = randomCloud(300, 11);
+	const size_t sane = c.pts.size();
+	const double nan = std::numeric_limits<double>::quiet_NaN();
+	for (const Eigen::Vector2d& far :
+		 {Eigen::Vector2d(1e25, 3), Eigen::Vector2d(-1e20, 1e20), Eigen::Vector2d(nan, 0),
+		  Eigen::Vector2d(0, std::numeric_limits<double>::infinity()), Eigen::Vector2d(2e7, 0)})
+		c.pts.push_back(far), c.usable.push_back(true);
+	for (const double cell : {0.05, 0.3})
+	{
+		const CAnchorGrid grid(c.pts, c.usable, cell);
+		for (const Eigen::Vector2d& q :
+			 {Eigen::Vector2d(0.1, 0.2), Eigen::Vector2d(1e25, 3), Eigen::Vector2d(nan, nan),
+			  Eigen::Vector2d(-3e30, 0), Eigen::Vector2d(4.0, -6.0)})
+			for (const double maxDist : {0.5, 3.0, 1e30})
+			{
+				int expected = -1;
+				double best = maxDist * maxDist;
+				for (size_t i = 0; i < sane; ++i)
+					if (c.usable[i] && (c.pts[i] - q).squaredNorm() < best)
+						best = (c.pts[i] - q).squaredNorm(), expected = static_cast<int>(i);
+				// Far queries see many points equally near (d2 rounds to the same double):
+				// any of them is right.
+				const int got = grid.nearest(q, maxDist);
+				ASSERT_EQ(got >= 0, expected >= 0)
+					<< "cell " << cell << " q " << q.transpose() << " maxDist " << maxDist;
+				if (got >= 0)
+				{
+					ASSERT_LT(size_t(got), sane) << "an absurd point was indexed";
+					EXPECT_EQ((c.pts[size_t(got)] - q).squaredNorm(), best) << q.transpose();
+				}
+				size_t within = 0;
+				grid.forEachWithin(q, std::min(maxDist, 1e3), [&](uint32_t i) {
+					EXPECT_LT(i, sane) << "an absurd point was indexed";
+					++within;
+				});
+			}
+	}
 }

@@ -3,10 +3,11 @@
 #include "atomic_file.h"
 
 #include <mrpt/img/CImage.h>
-#include <mrpt/io/CFileGZOutputStream.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
 #include <mrpt/maps/CSimpleMap.h>
 #include <mrpt/serialization/CArchive.h>
+
+#include <opencv2/imgcodecs.hpp>
 
 #include <cmath>
 #include <cstdio>
@@ -21,14 +22,8 @@ namespace
 template <class T>
 void writeArchiveGz(const T& object, const std::string& path)
 {
-	writeFileAtomically(path, [&](const std::string& tmp) {
-		mrpt::io::CFileGZOutputStream f;
-		if (!f.open(tmp))
-			THROW_EXCEPTION_FMT("cannot open '%s' for writing", tmp.c_str());
-		auto arch = mrpt::serialization::archiveFrom(f);
-		arch << object;
-		f.close();
-	});
+	writeArchiveAtomically(path, TFileCompression::Gzip,
+						   [&](mrpt::serialization::CArchive& arch) { arch << object; });
 }
 
 // ROS map_server trinary values for a cell's occupancy probability p(occupied).
@@ -51,13 +46,12 @@ void writeGridPng(const mrpt::maps::COccupancyGridMap2D& grid, const std::string
 	mrpt::img::CImage img;
 	// MRPT already puts the grid's top (max y) in image row 0: north up, as map.pgm (tested).
 	grid.getAsImage(img, /*verticalFlip=*/false, /*forceRGB=*/false);
-	writeFileAtomically(path, [&](const std::string& tmp) {
-		// CImage picks the format from the extension: keep ".png" at the end of tmp.
-		const std::string tmpPng = tmp + ".png";
-		if (!img.saveToFile(tmpPng))
-			THROW_EXCEPTION_FMT("cannot write image '%s'", tmpPng.c_str());
-		std::filesystem::rename(tmpPng, tmp);
-	});
+	// Encoded in memory (OpenCV's PNG encoder with its defaults, as CImage::saveToFile), then
+	// written with checked writes: imwrite's stdio flush at fclose cannot be checked.
+	std::vector<uchar> png;
+	if (!cv::imencode(".png", img.asCvMatRef(), png))
+		THROW_EXCEPTION_FMT("cannot encode the map image for '%s'", path.c_str());
+	writeTextFileAtomically(path, std::string_view(reinterpret_cast<const char*>(png.data()), png.size()));
 }
 
 void writeRosMap(const mrpt::maps::COccupancyGridMap2D& grid, const std::string& stemPath)
@@ -108,7 +102,10 @@ void writeTrajectoryTum(const TTrajectory& trajectory, const std::string& path)
 
 void writeGraph(const mrpt::graphs::CNetworkOfPoses2DInf& graph, const std::string& path)
 {
-	writeFileAtomically(path, [&](const std::string& tmp) { graph.saveToTextFile(tmp); });
+	// MRPT's saveToTextFile writes through an unchecked std::ofstream: render in memory.
+	std::ostringstream text;
+	graph.writeAsText(text);
+	writeTextFileAtomically(path, text.str());
 }
 
 }  // namespace lrgc::apps

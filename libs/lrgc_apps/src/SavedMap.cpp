@@ -2,11 +2,7 @@
 
 #include "ErrorText.h"
 
-#include <mrpt/io/CFileGZInputStream.h>
-#include <mrpt/maps/registerAllClasses.h>
-#include <mrpt/obs/registerAllClasses.h>
-#include <mrpt/poses/registerAllClasses.h>
-#include <mrpt/serialization/CArchive.h>
+#include "lrgc_apps/io/SimplemapFile.h"
 
 #include <filesystem>
 #include <fstream>
@@ -14,36 +10,6 @@
 
 namespace lrgc::apps
 {
-namespace
-{
-mrpt::maps::CSimpleMap readSimplemap(const std::string& file, const std::string& option)
-{
-	// The keyframes' classes (sensory frames, scans, pose PDFs), whether or not the linker
-	// kept their modules for other reasons; idempotent.
-	mrpt::obs::registerAllClasses_mrpt_obs();
-	mrpt::maps::registerAllClasses_mrpt_maps();
-	mrpt::poses::registerAllClasses_mrpt_poses();
-	mrpt::io::CFileGZInputStream in;
-	if (!in.open(file))
-		throw std::runtime_error(option + " '" + file + "': cannot open it");
-	mrpt::maps::CSimpleMap map;
-	try
-	{
-		auto arch = mrpt::serialization::archiveFrom(in);
-		arch >> map;
-	}
-	catch (const std::exception& e)
-	{
-		throw std::runtime_error(
-			option + " '" + file + "': not a readable MRPT CSimpleMap (" + oneLineError(e) +
-			")");
-	}
-	if (map.empty())
-		throw std::runtime_error(option + " '" + file + "': the map holds no keyframe");
-	return map;
-}
-}  // namespace
-
 TSavedMap loadSavedMap(const std::string& path, const std::string& option)
 {
 	namespace fs = std::filesystem;
@@ -56,7 +22,7 @@ TSavedMap loadSavedMap(const std::string& path, const std::string& option)
 								   "a .simplemap(.gz) file");
 	if (!fs::is_directory(path, ec))
 	{
-		out.keyframes = readSimplemap(path, option);
+		out.keyframes = readSimplemapFile(path, option);
 		return out;
 	}
 	const std::string simplemap = (fs::path(path) / kSimplemapFile).string();
@@ -64,7 +30,7 @@ TSavedMap loadSavedMap(const std::string& path, const std::string& option)
 		throw std::runtime_error(
 			option + " '" + path + "': the folder has no " + kSimplemapFile +
 			" (is it an lrgc output folder?)");
-	out.keyframes = readSimplemap(simplemap, option);
+	out.keyframes = readSimplemapFile(simplemap, option);
 	const std::string graphFile = (fs::path(path) / kPoseGraphFile).string();
 	if (!fs::exists(graphFile, ec)) return out;  // an older output folder: keyframes only
 	std::ifstream in(graphFile);

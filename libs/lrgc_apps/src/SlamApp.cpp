@@ -4,6 +4,7 @@
 #include "ErrorText.h"
 #include "IcpSlamIni.h"
 #include "lrgc_apps/RunOutputs.h"
+#include "OutputsVsInputs.h"
 #include "atomic_file.h"
 
 #include <mrpt/core/format.h>
@@ -81,6 +82,8 @@ int CSlamApp::run(const std::vector<std::string>& args)
 		if (!cl.icpSlamIni.empty()) takeIcpSlamIni(cl);
 		if (!cl.outDir.empty()) checkOutputDirectory(cl.outDir);
 		if (!cl.saveRawlog.empty()) checkOutputFile("--save-rawlog", cl.saveRawlog);
+		if (const std::string clash = slamOutputOverInput(cl); !clash.empty())
+			throw CSetupError(clash);
 		if (!cl.live.empty())
 		{
 			if (!m_live)

@@ -57,6 +57,9 @@ std::string nothingToMap(const CLogReader& reader, const CMetricMapBuilderLRGC& 
 	std::vector<std::string> why;
 	if (r.emptyScans > 0)
 		why.push_back(mrpt::format("%zu with under 2 readings", r.emptyScans));
+	if (const size_t n = builder.lasers().badGeometryScans(); n > 0)
+		why.push_back(mrpt::format("%zu dropped for their geometry: %s", n,
+								   builder.lasers().firstGeometryProblem().c_str()));
 	if (const size_t n = builder.stats().skippedScans; n > 0)
 		why.push_back(
 			mrpt::format("%zu with fewer valid returns than [MapBuilder] min_scan_points = %zu",

@@ -9,12 +9,26 @@
 
 namespace lrgc::apps
 {
+namespace
+{
+std::atomic<int> g_brokenPipes{0};  // SIGPIPEs taken since the watcher was made
+
+extern "C" void countBrokenPipe(int) { g_brokenPipes.fetch_add(1); }
+}  // namespace
+
 CStopSignalWatcher::CStopSignalWatcher()
 {
 	sigemptyset(&m_set);
 	sigaddset(&m_set, SIGINT);
 	sigaddset(&m_set, SIGTERM);
+	sigaddset(&m_set, SIGHUP);
 	pthread_sigmask(SIG_BLOCK, &m_set, &m_oldMask);
+	g_brokenPipes = 0;
+	struct sigaction pipe{};
+	pipe.sa_handler = countBrokenPipe;
+	pipe.sa_flags = SA_RESTART;
+	sigemptyset(&pipe.sa_mask);
+	sigaction(SIGPIPE, &pipe, &m_oldPipeAction);
 	m_thread = std::thread(
 		[this]
 		{
@@ -34,6 +48,12 @@ CStopSignalWatcher::~CStopSignalWatcher()
 	const timespec now = {0, 0};
 	while (sigtimedwait(&m_set, nullptr, &now) > 0) ++m_signals;  // taken, not left pending
 	pthread_sigmask(SIG_SETMASK, &m_oldMask, nullptr);
+	sigaction(SIGPIPE, &m_oldPipeAction, nullptr);
+}
+
+bool CStopSignalWatcher::stopRequested() const
+{
+	return m_signals.load() > 0 || g_brokenPipes.load() > 0;
 }
 
 }  // namespace lrgc::apps

@@ -1,4 +1,6 @@
-/* CStopSignalWatcher: Ctrl-C (SIGINT) and SIGTERM for lrgc-slam, offline and live.
+/* CStopSignalWatcher: Ctrl-C (SIGINT), SIGTERM, SIGHUP (the terminal closed) and SIGPIPE (the
+ * reader of our output went away: `lrgc-slam ... 2>&1 | head`) for lrgc-slam, offline and
+ * live: each asks the run to stop and save what it mapped.
  *
  * A signal handler is not enough: METIS (CHOLMOD's ordering, used by the pose-graph
  * optimiser) traps SIGTERM around every ordering with System V signal() and re-installs the
@@ -12,6 +14,13 @@
  * may stay behind). Create it before any other thread of the run. A signal that comes after
  * the watcher's last look, before its destructor unblocks the signals again, is taken (and
  * counted) by the destructor, not left pending to kill the process once unblocked.
+ *
+ * SIGHUP is taken as SIGINT and SIGTERM are. SIGPIPE cannot be: the kernel sends it to the
+ * thread whose write failed, where a blocked one would stay pending, unseen by the watcher.
+ * It gets a handler instead (METIS leaves SIGPIPE alone) that counts it; it asks for a stop
+ * but never for the immediate exit, since every later write to the closed pipe raises it
+ * again (those writes fail with EPIPE, and the run goes on to save). The count is the one
+ * global of the class: a signal handler has nowhere else to put it.
  */
 #pragma once
 
@@ -31,10 +40,11 @@ public:
 	CStopSignalWatcher(const CStopSignalWatcher&) = delete;
 	CStopSignalWatcher& operator=(const CStopSignalWatcher&) = delete;
 
-	bool stopRequested() const { return m_signals.load() > 0; }
+	bool stopRequested() const;
 
 private:
 	sigset_t m_set{}, m_oldMask{};
+	struct sigaction m_oldPipeAction{};
 	std::atomic<int> m_signals{0};
 	std::atomic<bool> m_quit{false};
 	std::thread m_thread;

@@ -2,6 +2,7 @@
 #include <algorithm>
 #include "eval/CEvalApp.h"
 
+#include "OutputsVsInputs.h"
 #include "atomic_file.h"
 #include <mrpt/core/exceptions.h>
 #include <mrpt/core/format.h>
@@ -354,6 +355,14 @@ int CEvalApp::run(const std::vector<std::string>& args, std::ostream& out, std::
 	catch (const std::invalid_argument& e)
 	{
 		err << "lrgc-eval: " << e.what() << "; lrgc-eval --help lists the options\n";
+		return 2;
+	}
+	if (const std::string clash = outputOverInput(
+			{{"--json", o.jsonOut}},
+			{{"--trajectory", o.trajectory}, {"--relations", o.relations}, {"--ground-truth", o.groundTruth}});
+		!clash.empty())
+	{
+		err << "lrgc-eval: " << clash << "\n";
 		return 2;
 	}
 	try

@@ -2,6 +2,7 @@
  * OpenCV into one PNG. */
 #include "eval/CPlotApp.h"
 
+#include "OutputsVsInputs.h"
 #include "atomic_file.h"
 #include "eval/plot_inputs.h"
 #include <lrgc_apps/eval/trajectory.h>
@@ -228,6 +229,12 @@ TPlotSummary CPlotApp::render(const TPlotOptions& o)
 {
 	TPlotSummary sum;
 	const TRosMapInfo info = loadRosMapYaml(o.mapYaml);
+	if (const std::string clash = outputOverInput(
+			{{"--out", o.out}}, {{"--map", o.mapYaml}, {"--map's image", info.imagePath},
+								 {"--trajectory", o.trajectory}, {"--graph", o.graph},
+								 {"--timing", o.timing}});
+		!clash.empty())
+		throw std::invalid_argument(clash);
 	const CTrajectory2D traj = CTrajectory2D::loadFromFile(o.trajectory);
 	const TGraphFile graph = o.graph.empty() ? TGraphFile{} : loadGraphFile(o.graph);
 	const auto loops = loopClosureEdges(graph, o.loopMinGap);

@@ -12,6 +12,8 @@ using Kind = TCarmenRecord::Kind;
 // Largest reading count accepted: guards the allocation against a garbled count field
 // (real scanners have at most a few thousand beams).
 constexpr long kMaxReadings = 100000;
+// |timestamp| bound [s]: year 5138 as UNIX time; beyond, mrpt::Clock::fromDouble overflows.
+constexpr double kMaxTimestamp = 1e11;
 
 void tokenize(std::string_view line, std::vector<std::string_view>& tokens)
 {
@@ -73,6 +75,16 @@ public:
 		++m_index;
 		return v;
 	}
+	/** A timestamp [s]: finite and within kMaxTimestamp (beyond, MRPT's clock overflows:
+	 * 1e300 became 0.000000). */
+	double timestamp(const char* name)
+	{
+		const double t = number(name, true);
+		if (m_ok && !(std::abs(t) <= kMaxTimestamp))
+			fail(std::string(name) + " '" + std::string(m_tokens[m_index - 1]) +
+				 "' is out of range (|t| <= 1e11 s)");
+		return t;
+	}
 	mrpt::math::TPose2D pose(const char* name)
 	{
 		mrpt::math::TPose2D p;
@@ -102,6 +114,10 @@ public:
 		m_rec.fieldsAfterTimestamp = rest;
 		if (rest > 2)
 			fail(std::to_string(rest - 2) + " unexpected field(s) after logger_timestamp");
+		else if (double v = 0; rest == 1 && parseDouble(m_tokens[m_index], v))
+			// A hostname alone is accepted; a number there is a field too many before it.
+			fail("1 unexpected number after the timestamp (a reading too many, the fields "
+				 "after the readings shifted?)");
 		else if (rest == 2)
 		{
 			++m_index;  // hostname
@@ -138,7 +154,7 @@ void parseFlaser(CFieldParser& p, TCarmenLaser& l)
 	parseRanges(p, n, l.ranges);
 	l.laserPose = p.pose("laser pose");
 	l.robotPose = p.pose("odometry pose");
-	l.timestamp = p.number("timestamp", true);
+	l.timestamp = p.timestamp("timestamp");
 	p.trailer();
 }
 
@@ -166,7 +182,7 @@ void parseRobotLaser(CFieldParser& p, TCarmenLaser& l)
 	l.tv = p.number("tv", false);
 	l.rv = p.number("rv", false);
 	p.skip(3);  // forward_safety_dist side_safety_dist turn_axis
-	l.timestamp = p.number("timestamp", true);
+	l.timestamp = p.timestamp("timestamp");
 	p.trailer();
 }
 
@@ -177,7 +193,7 @@ void parseOdom(CFieldParser& p, TCarmenOdometry& o)
 	o.tv = p.number("tv", false);
 	o.rv = p.number("rv", false);
 	o.accel = p.number("accel", false);
-	o.timestamp = p.number("timestamp", true);
+	o.timestamp = p.timestamp("timestamp");
 	p.trailer();
 }
 }  // namespace

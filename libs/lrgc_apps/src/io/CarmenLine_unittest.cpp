@@ -119,6 +119,11 @@ TEST(CarmenLine, FlagsMalformedLinesNamingTheProblem)
 		{"ROBOTLASER1 0 -1.5 3.0 0 30 0.01 0 2 1 2 0 0 0 0 0 0 0 0 0 0 0 0 5 h 5",
 		 "angular_resolution"},
 		{"ROBOTLASER1 0 -1.5 3.0 0.1 30 0.01 0 2 1 2 5 0 0 0", "remissions"},
+		// Issue 30: a reading too many and no host fields shifted every field after it.
+		{"FLASER 2 1 2 3 0 0 0 0 0 0 5", "1 unexpected number after the timestamp"},
+		// Issue 30: 1e300 became 0.000000 (MRPT's clock overflows).
+		{"FLASER 2 1 2 0 0 0 0 0 0 1e300 h 5", "timestamp '1e300' is out of range"},
+		{"ODOM 1 2 3 0 0 0 -1e12", "timestamp '-1e12' is out of range"},
 	};
 	for (const auto& c : cases)
 	{

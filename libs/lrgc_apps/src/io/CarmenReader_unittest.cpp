@@ -2,6 +2,7 @@
  * odometry, no-returns, and every kind of damage (malformed line, NaN, negative, empty scan,
  * time going backwards, reordered lines, truncation, corruption), plain and gzip. */
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 #include <io_read_all.h>
 #include <io_test_files.h>
 #include <lrgc/scan_matching/Scan.h>
@@ -409,6 +410,55 @@ TEST(CarmenReader, TruncatedGzipFailsAfterReturningEveryCompleteLine)
 			EXPECT_GT(r.stats.scans, 150u) << cut;
 		}
 	}
+}
+
+// Issue 30: a valid multi-member gzip log (`cat a.gz b.gz`) or one with zero padding after
+// its member was mapped, then reported "truncated or corrupt". Both read whole now; a
+// multi-member log cut short, or with data after the padding, still fails.
+TEST(CarmenReader, MultiMemberAndZeroPaddedGzipReadWhole)
+{
+	const std::string dir = lrgc::test::makeTempDir("carmen_gz_members");
+	const TPose2D p{0, 0, 0};
+	std::string first, second;
+	for (int k = 0; k < 200; ++k)
+		(k < 100 ? first : second) +=
+			lrgc::test::flaserLine(ramp(180, 1 + 0.001 * k, 0.013), p, p, kT0 + 0.1 * k);
+	lrgc::test::writeGzFile(dir + "/a.gz", first);
+	lrgc::test::writeGzFile(dir + "/b.gz", second);
+	const std::string a = lrgc::test::readFileBytes(dir + "/a.gz");
+	const std::string b = lrgc::test::readFileBytes(dir + "/b.gz");
+	const auto readAs = [&](const std::string& name, const std::string& bytes) {
+		lrgc::test::writeFileBytes(dir + "/" + name, bytes);
+		return readWholeLog(dir + "/" + name);
+	};
+	const auto both = readAs("both.clf.gz", a + b);
+	ASSERT_FALSE(both.error) << *both.error;
+	EXPECT_EQ(both.stats.scans, 200u);
+	const auto padded = readAs("padded.clf.gz", a + std::string(512, '\0'));
+	ASSERT_FALSE(padded.error) << *padded.error;
+	EXPECT_EQ(padded.stats.scans, 100u);
+	const auto bothPadded = readAs("both-padded.clf.gz", a + b + std::string(3, '\0'));
+	ASSERT_FALSE(bothPadded.error) << *bothPadded.error;
+	EXPECT_EQ(bothPadded.stats.scans, 200u);
+	for (const auto& [name, bytes] :
+		 {std::pair<std::string, std::string>{"cut.clf.gz", a + b.substr(0, b.size() - 5)},
+		  {"garbage.clf.gz", a + std::string(4, '\0') + b}})
+	{
+		const auto r = readAs(name, bytes);
+		ASSERT_TRUE(r.error) << name << " went unnoticed";
+		EXPECT_TRUE(contains(*r.error, "truncated or corrupt")) << *r.error;
+	}
+}
+
+// Issue 30: a FIFO failed with "cannot get its size" and no hint.
+TEST(CarmenReader, FifoIsRefusedSayingWhatToDo)
+{
+	const std::string fifo = lrgc::test::makeTempDir("carmen_fifo") + "/log.clf";
+	ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+	const auto r = readWholeLog(fifo);
+	ASSERT_TRUE(r.error);
+	EXPECT_TRUE(contains(*r.error, "not a regular file")) << *r.error;
+	EXPECT_TRUE(contains(*r.error, "save the stream to a file first")) << *r.error;
 }
 
 TEST(CarmenReader, CorruptGzipFailsNamingTheByte)

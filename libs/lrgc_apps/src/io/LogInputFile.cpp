@@ -7,6 +7,10 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <optional>
+#include <vector>
+
+#include <zlib.h>
 
 namespace lrgc::apps
 {
@@ -30,6 +34,49 @@ uint32_t littleEndian32(const unsigned char* b)
 {
 	return uint32_t(b[0]) | uint32_t(b[1]) << 8 | uint32_t(b[2]) << 16 | uint32_t(b[3]) << 24;
 }
+
+/* The uncompressed length of a whole gzip file, inflated member by member: RFC 1952 lets
+ * members follow one another (`cat a.gz b.gz`), and zero bytes after the last one are padding
+ * (tape blocks; gzip(1) accepts them too). zlib checks each member's CRC-32 and length.
+ * nullopt if a member is cut short or corrupt, or anything but zeros follows a member that
+ * is not the start of another. */
+std::optional<uint64_t> inflatedLengthOfMembers(const std::string& path)
+{
+	std::ifstream f(path, std::ios::binary);
+	z_stream z{};
+	if (!f || ::inflateInit2(&z, 15 + 16) != Z_OK) return std::nullopt;
+	std::vector<unsigned char> in(1 << 16), out(1 << 16);
+	uint64_t total = 0;
+	bool inMember = true, padding = false, ok = true;
+	while (ok)
+	{
+		if (z.avail_in == 0)
+		{
+			f.read(reinterpret_cast<char*>(in.data()), static_cast<std::streamsize>(in.size()));
+			if (f.gcount() <= 0) break;
+			z.next_in = in.data();
+			z.avail_in = static_cast<uInt>(f.gcount());
+		}
+		if (!inMember)  // between members: zeros (padding) or the next member's header
+		{
+			while (z.avail_in > 0 && *z.next_in == 0) ++z.next_in, --z.avail_in, padding = true;
+			if (z.avail_in == 0) continue;
+			if (padding) ok = false;  // data after the padding
+			::inflateReset(&z);
+			inMember = true;
+			continue;
+		}
+		z.next_out = out.data();
+		z.avail_out = static_cast<uInt>(out.size());
+		const int r = ::inflate(&z, Z_NO_FLUSH);
+		total += out.size() - z.avail_out;
+		if (r == Z_STREAM_END) inMember = false;
+		else if (r != Z_OK && r != Z_BUF_ERROR) ok = false;
+	}
+	::inflateEnd(&z);
+	if (!ok || inMember) return std::nullopt;
+	return total;
+}
 }  // namespace
 
 uint32_t crc32Update(uint32_t crc, const void* data, size_t size)
@@ -46,6 +93,12 @@ CLogInputFile::CLogInputFile(const std::string& path) : m_path(path)
 	std::error_code ec;
 	if (!fs::exists(path, ec)) throw CLogReadError(path, "", "cannot open: no such file");
 	if (fs::is_directory(path, ec)) throw CLogReadError(path, "", "cannot open: a directory");
+	// Before any open(2): opening a FIFO for reading blocks until a writer comes.
+	if (!fs::is_regular_file(path, ec))
+		throw CLogReadError(path, "",
+							"not a regular file (a FIFO, a pipe or a device?): logs are read "
+							"from files, whose size gives the progress and whose gzip trailer is "
+							"checked; save the stream to a file first");
 	std::ifstream raw(path, std::ios::binary);
 	if (!raw) throw CLogReadError(path, "", "cannot open for reading (permissions?)");
 	m_fileSize = fs::file_size(path, ec);
@@ -124,7 +177,10 @@ void CLogInputFile::verifyCompleteAtEnd()
 	std::array<unsigned char, 1 << 16> scratch;
 	while (!m_reachedEnd) Read(scratch.data(), scratch.size());
 	if (!m_isGzip) return;
-	if (m_crc != m_trailerCrc || static_cast<uint32_t>(m_position) != m_trailerSize)
+	if (m_crc == m_trailerCrc && static_cast<uint32_t>(m_position) == m_trailerSize) return;
+	// Not one member ending at the file's end: several members, or zero padding after the last,
+	// are whole too if every member inflates with its CRC-32 and length and the lengths add up.
+	if (inflatedLengthOfMembers(m_path) != std::optional<uint64_t>(m_position))
 		throw CLogReadError(
 			m_path, "byte " + std::to_string(m_position),
 			"the gzip data stop here without a matching trailer (length and CRC-32 differ "

@@ -11,7 +11,7 @@ namespace lrgc
 namespace
 {
 constexpr const char* kMagic = "LRGC_POSE_GRAPH";
-constexpr int kVersion = 1;
+constexpr int kVersion = 2;  // 2: the END line; 1 (without it) is still read
 
 LinkType linkTypeFromName(const std::string& name, const std::string& where)
 {
@@ -20,6 +20,17 @@ LinkType linkTypeFromName(const std::string& name, const std::string& where)
 	THROW_EXCEPTION_FMT(
 		"%s: unknown link type '%s' (Odometry, ScanMatch or LoopClosure)", where.c_str(),
 		name.c_str());
+}
+// "END <nodes> <links>": the counts the writer wrote, checked against those read.
+void checkEnd(std::istringstream& s, const CPoseGraph& graph, const std::string& at)
+{
+	size_t nodes = 0, links = 0;
+	if (!(s >> nodes >> links) || !(s >> std::ws).eof())
+		THROW_EXCEPTION_FMT("%s: bad END line (END nodes links)", at.c_str());
+	if (nodes != graph.numNodes() || links != graph.numLinks())
+		THROW_EXCEPTION_FMT(
+			"%s: END says %zu nodes and %zu links, the file has %zu and %zu", at.c_str(), nodes,
+			links, graph.numNodes(), graph.numLinks());
 }
 }  // namespace
 
@@ -44,7 +55,7 @@ std::string poseGraphToText(const CPoseGraph& graph, const std::string& laserLab
 			l.to, l.toInFrom.x, l.toInFrom.y, l.toInFrom.phi, I(0, 0), I(0, 1), I(0, 2), I(1, 1),
 			I(1, 2), I(2, 2), toString(l.type), graph.isLinkEnabled(id) ? 1 : 0);
 	}
-	return out;
+	return out + mrpt::format("END %zu %zu\n", graph.numNodes(), graph.numLinks());
 }
 
 TSavedPoseGraph poseGraphFromText(std::istream& in, const std::string& where)
@@ -52,7 +63,8 @@ TSavedPoseGraph poseGraphFromText(std::istream& in, const std::string& where)
 	TSavedPoseGraph saved;
 	std::string line;
 	size_t lineNo = 0;
-	bool header = false;
+	int version = 0;
+	bool ended = false;
 	while (std::getline(in, line))
 	{
 		++lineNo;
@@ -62,14 +74,19 @@ TSavedPoseGraph poseGraphFromText(std::istream& in, const std::string& where)
 		s.imbue(std::locale::classic());
 		std::string record;
 		s >> record;
-		if (!header)
+		if (version == 0)
 		{
-			int version = 0;
-			if (record != kMagic || !(s >> version) || version != kVersion)
+			if (record != kMagic || !(s >> version) || version < 1 || version > kVersion)
 				THROW_EXCEPTION_FMT(
 					"%s: not an lrgc pose graph (expected '%s %d' first)", at.c_str(), kMagic,
 					kVersion);
-			header = true;
+			continue;
+		}
+		if (ended) THROW_EXCEPTION_FMT("%s: '%s' after the END line", at.c_str(), record.c_str());
+		if (record == "END" && version >= 2)
+		{
+			checkEnd(s, saved.graph, at);
+			ended = true;
 			continue;
 		}
 		if (record == "LASER")
@@ -118,7 +135,12 @@ TSavedPoseGraph poseGraphFromText(std::istream& in, const std::string& where)
 		}
 		THROW_EXCEPTION_FMT("%s: unknown record '%s'", at.c_str(), record.c_str());
 	}
-	if (!header) THROW_EXCEPTION_FMT("%s: empty file, not an lrgc pose graph", where.c_str());
+	if (version == 0) THROW_EXCEPTION_FMT("%s: empty file, not an lrgc pose graph", where.c_str());
+	// Without the END line a file cut at a line boundary would load as a smaller graph.
+	if (version >= 2 && !ended)
+		THROW_EXCEPTION_FMT(
+			"%s: cut short after line %zu (%zu nodes, %zu links read; no END line)",
+			where.c_str(), lineNo, saved.graph.numNodes(), saved.graph.numLinks());
 	return saved;
 }
 

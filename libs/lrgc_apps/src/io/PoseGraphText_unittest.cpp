@@ -85,3 +85,37 @@ TEST(PoseGraphText, badInputIsAnErrorNamingTheLine)
 	fails(head + "EDGE_SE2 0 1 1 0 0\n", "unknown record 'EDGE_SE2'");
 	EXPECT_EQ(parse(head + "# comment\n\nLINK 0 1 1 0 0 1 0 0 1 0 1 Odometry 1\n").graph.numLinks(), 1U);
 }
+
+// Issue 30: a graph.lrgc cut at a line boundary loaded silently as a smaller graph.
+TEST(PoseGraphText, fileCutAtALineBoundaryIsAnError)
+{
+	const std::string head = "LRGC_POSE_GRAPH 2\nNODE 0 0 0 0\nNODE 1 1 0 0\n";
+	const std::string link = "LINK 0 1 1 0 0 1 0 0 1 0 1 Odometry 1\n";
+	EXPECT_EQ(parse(head + link + "END 2 1\n").graph.numLinks(), 1U);
+	const auto fails = [&](const std::string& text, const std::string& what) {
+		try
+		{
+			parse(text);
+			ADD_FAILURE() << "accepted: " << text;
+		}
+		catch (const std::exception& e)
+		{
+			EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
+		}
+	};
+	fails(head + link, "cut short after line 4 (2 nodes, 1 links read; no END line)");
+	fails(head + "END 2 1\n", "END says 2 nodes and 1 links, the file has 2 and 0");
+	fails(head + link + "END 2 1\n" + link, "after the END line");
+	// What poseGraphToText writes ends with the END line: cut anywhere before it, it fails.
+	CPoseGraph g;
+	g.addNode({0, 0, 0});
+	g.addNode({1, 0, 0});
+	lrgc::TLink l;
+	l.from = 0, l.to = 1, l.toInFrom = {1, 0, 0}, l.information = Eigen::Matrix3d::Identity();
+	g.addLink(l);
+	const std::string text = lrgc::poseGraphToText(g);
+	// (From after the magic line on: a cut before it is an 'empty file'.)
+	const size_t magicEnd = text.find('\n', text.find("LRGC_POSE_GRAPH")) + 1;
+	for (size_t cut = magicEnd; cut < text.size(); cut = text.find('\n', cut) + 1)
+		fails(text.substr(0, cut), "cut short");
+}

@@ -3,7 +3,6 @@
 #include "atomic_file.h"
 #include "lrgc_apps/io/LogReader.h"
 
-#include <mrpt/io/CFileGZOutputStream.h>
 #include <mrpt/obs/CActionRobotMovement2D.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
 #include <mrpt/obs/CObservationOdometry.h>
@@ -73,25 +72,19 @@ TConversionStats convertToRawlog(const std::string& inPath, const std::string& o
 {
 	const std::unique_ptr<CLogReader> reader = openLog(inPath, options);
 	TConversionStats stats;
-	writeFileAtomically(outRawlogPath,
-						[&](const std::string& tmpPath)
-						{
-							mrpt::io::CFileGZOutputStream file;
-							if (!file.open(tmpPath))
-								THROW_EXCEPTION_FMT("cannot open '%s' for writing",
-													tmpPath.c_str());
-							auto out = mrpt::serialization::archiveFrom(file);
-							CObservationWriter writer(out, stats);
-							while (const std::optional<TLogEntry> entry = reader->next())
-							{
-								writer.write(*entry);
-								for (auto& w : reader->takeWarnings())
-									stats.warningText.push_back(std::move(w));
-							}
-							for (auto& w : reader->takeWarnings())
-								stats.warningText.push_back(std::move(w));
-							file.close();
-						});
+	writeArchiveAtomically(outRawlogPath, TFileCompression::Gzip,
+						   [&](mrpt::serialization::CArchive& out)
+						   {
+							   CObservationWriter writer(out, stats);
+							   while (const std::optional<TLogEntry> entry = reader->next())
+							   {
+								   writer.write(*entry);
+								   for (auto& w : reader->takeWarnings())
+									   stats.warningText.push_back(std::move(w));
+							   }
+							   for (auto& w : reader->takeWarnings())
+								   stats.warningText.push_back(std::move(w));
+						   });
 	stats.warnings = reader->stats().warnings;
 	return stats;
 }

@@ -203,7 +203,7 @@ void onChildFree(const volatile void* p)
 // The child is the reader's disposable stand-in: it dies by a fault of MRPT's deserializer
 // itself, whatever handler the host program installed (a crash reporter, a sanitizer), so
 // that the reader can name the signal; it ignores the stop signals a terminal or a service
-// manager sends to the whole process group (Ctrl-C, `timeout`, systemd: the reader decides
+// manager sends to the whole process group (Ctrl-C, a closed terminal, `timeout`, systemd: the reader decides
 // when to stop, and kills it; had the child died of it, the reader would have reported the
 // object it was on as corrupt); it dies of SIGPIPE at its next report once the reader is gone
 // (not PR_SET_PDEATHSIG, which fires when the thread that forked ends, not the process); and
@@ -214,6 +214,7 @@ void becomeQuietDisposableChild()
 		::signal(sig, SIG_DFL);
 	::signal(SIGINT, SIG_IGN);
 	::signal(SIGTERM, SIG_IGN);
+	::signal(SIGHUP, SIG_IGN);
 	const int devNull = ::open("/dev/null", O_WRONLY | O_CLOEXEC);
 	if (devNull >= 0)
 	{

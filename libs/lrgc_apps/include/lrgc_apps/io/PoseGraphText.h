@@ -6,10 +6,11 @@
  * only LoopClosure links robust) nor disabled links, and g2o readers want one edge per pair.
  *
  * Format (one record per line, '#' comments):
- *   LRGC_POSE_GRAPH 1
+ *   LRGC_POSE_GRAPH 2
  *   LASER <sensor label of the keyframes' scans>          (optional)
  *   NODE <i> <x> <y> <phi>                                 (i = 0, 1, 2, ... in order)
  *   LINK <from> <to> <x> <y> <phi> <I00> <I01> <I02> <I11> <I12> <I22> <type> <enabled>
+ *   END <nodes> <links>                                    (last; version 1 files lack it)
  * Units m and rad; Z = (from <- to); I the upper triangle of the information matrix over
  * (x, y, phi) in the frame of `from`; type Odometry | ScanMatch | LoopClosure; enabled 0 | 1.
  * Node i is entry i of the map's CSimpleMap (map.simplemap.gz).
@@ -32,7 +33,8 @@ struct TSavedPoseGraph
 std::string poseGraphToText(const CPoseGraph& graph, const std::string& laserLabel = {});
 
 /** Parses the text written by poseGraphToText(); throws naming `where` and the line number
- * on anything else (unknown record, bad number, node out of order, invalid link). */
+ * on anything else (unknown record, bad number, node out of order, invalid link; in a
+ * version 2 file, no END line or counts other than its own: a file cut at a line boundary). */
 TSavedPoseGraph poseGraphFromText(std::istream& in, const std::string& where);
 
 }  // namespace lrgc
