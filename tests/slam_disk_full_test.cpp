@@ -25,10 +25,16 @@ namespace
 {
 const std::vector<std::string> kOutputs = {
 	"map.gridmap.gz", "map.png", "map.pgm", "map.yaml", "map.simplemap.gz", "trajectory.tum",
-	"graph.graph", "graph.lrgc", "timing.csv", "stats.json", "log.rawlog"};
+	"graph.graph", "graph.lrgc", "timing.csv", "stats.json", "log.rawlog", "config.ini",
+	"map.3Dscene", "pf-localization.ini", "observations2map.ini"};
 
 // Files whose content holds measured times: compared by their shape, not their bytes.
-bool holdsTimes(const std::string& name) { return name == "timing.csv" || name == "stats.json"; }
+/** Outputs whose text differs from run to run: times, or the run's own folder in its paths. */
+bool holdsTimes(const std::string& name)
+{
+	return name == "timing.csv" || name == "stats.json" || name == "pf-localization.ini" ||
+		name == "observations2map.ini";
+}
 
 size_t lineCount(const std::string& text) { return std::count(text.begin(), text.end(), '\n'); }
 

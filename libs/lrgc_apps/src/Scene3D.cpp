@@ -2,7 +2,6 @@
 
 #include "atomic_file.h"
 
-#include <mrpt/io/CFileGZOutputStream.h>
 #include <mrpt/opengl/CPointCloud.h>
 #include <mrpt/opengl/CSetOfLines.h>
 #include <mrpt/opengl/CSetOfObjects.h>
@@ -69,12 +68,10 @@ void writeScene3D(const mrpt::maps::COccupancyGridMap2D& grid, const TTrajectory
 				  const CPoseGraph& graph, const std::string& path)
 {
 	const mrpt::opengl::COpenGLScene scene = makeScene3D(grid, trajectory, graph);
-	writeFileAtomically(path,
-						[&](const std::string& tmp)
-						{
-							mrpt::io::CFileGZOutputStream f(tmp);
-							mrpt::serialization::archiveFrom(f) << scene;
-						});
+	// Gzip as MRPT's CFileGZOutputStream writes it (SceneViewer3D reads either), every write
+	// checked: a full disk never publishes a cut scene.
+	writeArchiveAtomically(
+		path, TFileCompression::Gzip, [&](mrpt::serialization::CArchive& a) { a << scene; });
 }
 
 }  // namespace lrgc::apps

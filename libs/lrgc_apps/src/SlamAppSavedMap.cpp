@@ -148,6 +148,30 @@ std::string localizationStatsJson(const CLocalizer& loc, const TRunSummary& run,
 }
 }  // namespace
 
+namespace
+{
+// --localize's outputs in cl.outDir (never the map's folder: checked before the run): the
+// trajectory and the per-scan latencies once a scan was localised, the configuration, stats.
+void writeLocalizationOutputs(
+	const CLocalizer& localizer, const TRunSummary& run, const TAppConfig& cfg,
+	const TSlamCommandLine& cl)
+{
+	namespace fs = std::filesystem;
+	fs::create_directories(cl.outDir);
+	const auto path = [&](const char* name) { return (fs::path(cl.outDir) / name).string(); };
+	if (!localizer.trajectory().empty())
+	{
+		writeTrajectoryTum(localizer.trajectory(), path("trajectory.tum"));
+		std::string csv = "scan_index,timestamp,latency_ms\n";
+		for (size_t i = 0; i < run.latencyMs.size(); ++i)
+			csv += mrpt::format("%zu,%.6f,%.4f\n", i, run.latencyStamp[i], run.latencyMs[i]);
+		writeTextFileAtomically(path("timing.csv"), csv);
+	}
+	writeTextFileAtomically(path(kRunConfigFile), runConfigText(cfg, cl.input));
+	writeTextFileAtomically(path("stats.json"), localizationStatsJson(localizer, run, cl.localize));
+}
+}  // namespace
+
 int CSlamApp::runLocalize(const TSlamCommandLine& cl)
 {
 	const TAppConfig cfg = loadAppConfig(cl);
@@ -217,19 +241,7 @@ int CSlamApp::runLocalize(const TSlamCommandLine& cl)
 	}
 	progress.finish(exitCode == kExitOk ? 1.0 : reader->fractionRead(), s.scans);
 	finishRunSummary(run, clock, m_warningsTotal);
-	namespace fs = std::filesystem;
-	fs::create_directories(cl.outDir);
-	const auto path = [&](const char* name) { return (fs::path(cl.outDir) / name).string(); };
-	if (!localizer->trajectory().empty())
-	{
-		writeTrajectoryTum(localizer->trajectory(), path("trajectory.tum"));
-		std::string csv = "scan_index,timestamp,latency_ms\n";
-		for (size_t i = 0; i < run.latencyMs.size(); ++i)
-			csv += mrpt::format("%zu,%.6f,%.4f\n", i, run.latencyStamp[i], run.latencyMs[i]);
-		writeTextFileAtomically(path("timing.csv"), csv);
-	}
-	writeTextFileAtomically(path(kRunConfigFile), runConfigText(cfg, cl.input));
-	writeTextFileAtomically(path("stats.json"), localizationStatsJson(*localizer, run, cl.localize));
+	writeLocalizationOutputs(*localizer, run, cfg, cl);
 	if (exitCode != kExitOk) report("lrgc-slam: " + run.status);
 	if (!cl.quiet || exitCode != kExitOk)
 		report(mrpt::format(

@@ -169,6 +169,42 @@ void CCarmenReader::addOdometry(const TCarmenOdometry& odom, const std::string& 
 	m_pending.push_back(TLogEntry{nullptr, nullptr, obs, path() + ": " + place});
 }
 
+namespace
+{
+/* The scan's ranges from a CARMEN line's readings [m]: r >= maxRange - 5 mm (or +inf) and
+ * r == 0 are no-returns (invalid, counted in `noReturns`); NaN and r < 0 are invalid and
+ * returned as the count of bad readings, the first at `firstBad`. */
+size_t setRanges(
+	CObservation2DRangeScan& scan, const std::vector<double>& ranges, double maxRange,
+	size_t& noReturns, size_t& firstBad)
+{
+	const double noReturnFrom = maxRange - kNoReturnTolerance;
+	size_t bad = 0;
+	for (size_t i = 0; i < ranges.size(); ++i)
+	{
+		const double r = ranges[i];
+		if (std::isnan(r) || r < 0)
+		{
+			if (bad++ == 0) firstBad = i;
+			scan.setScanRange(i, 0);
+			scan.setScanRangeValidity(i, false);
+		}
+		else if (r >= noReturnFrom || r == 0)
+		{
+			++noReturns;
+			scan.setScanRange(i, r == 0 ? 0.f : static_cast<float>(maxRange));
+			scan.setScanRangeValidity(i, false);
+		}
+		else
+		{
+			scan.setScanRange(i, static_cast<float>(r));
+			scan.setScanRangeValidity(i, true);
+		}
+	}
+	return bad;
+}
+}  // namespace
+
 void CCarmenReader::addLaser(const TCarmenLaser& laser, const std::string& place)
 {
 	const auto stamp = mrpt::Clock::fromDouble(laser.timestamp);
@@ -221,30 +257,8 @@ void CCarmenReader::addLaser(const TCarmenLaser& laser, const std::string& place
 							 mrpt::math::wrapToPi(laserInRobot.phi + centre), 0, 0);
 	scan->resizeScan(n);
 
-	// r >= maxRange - 5 mm (or +inf) and r == 0: no-return; NaN and r < 0: invalid, reported.
-	const double noReturnFrom = maxRange - kNoReturnTolerance;
-	size_t bad = 0, firstBad = 0;
-	for (size_t i = 0; i < n; ++i)
-	{
-		const double r = laser.ranges[i];
-		if (std::isnan(r) || r < 0)
-		{
-			if (bad++ == 0) firstBad = i;
-			scan->setScanRange(i, 0);
-			scan->setScanRangeValidity(i, false);
-		}
-		else if (r >= noReturnFrom || r == 0)
-		{
-			++m_stats.noReturnRanges;
-			scan->setScanRange(i, r == 0 ? 0.f : static_cast<float>(maxRange));
-			scan->setScanRangeValidity(i, false);
-		}
-		else
-		{
-			scan->setScanRange(i, static_cast<float>(r));
-			scan->setScanRangeValidity(i, true);
-		}
-	}
+	size_t firstBad = 0;
+	const size_t bad = setRanges(*scan, laser.ranges, maxRange, m_stats.noReturnRanges, firstBad);
 	if (bad > 0)
 	{
 		m_stats.invalidRanges += bad;

@@ -58,6 +58,49 @@ std::string poseGraphToText(const CPoseGraph& graph, const std::string& laserLab
 	return out + mrpt::format("END %zu %zu\n", graph.numNodes(), graph.numLinks());
 }
 
+namespace
+{
+// NODE i x y phi: node i (in order) at (x [m], y [m], phi [rad]) in the map frame.
+void readNode(std::istringstream& s, CPoseGraph& graph, const std::string& at)
+{
+	size_t i = 0;
+	mrpt::math::TPose2D p;
+	if (!(s >> i >> p.x >> p.y >> p.phi) || !(s >> std::ws).eof())
+		THROW_EXCEPTION_FMT("%s: bad NODE line (NODE i x y phi)", at.c_str());
+	if (i != graph.numNodes())
+		THROW_EXCEPTION_FMT(
+			"%s: NODE %zu out of order (expected %zu)", at.c_str(), i, graph.numNodes());
+	graph.addNode(p);
+}
+
+// LINK from to x y phi I00 I01 I02 I11 I12 I22 type enabled: Z = (from <- to), the upper
+// triangle of its information, its LinkType name, and whether the back-end kept it.
+void readLink(std::istringstream& s, CPoseGraph& graph, const std::string& at)
+{
+	TLink l;
+	double I[6];
+	std::string type;
+	int enabled = -1;
+	if (!(s >> l.from >> l.to >> l.toInFrom.x >> l.toInFrom.y >> l.toInFrom.phi >> I[0] >> I[1] >>
+		  I[2] >> I[3] >> I[4] >> I[5] >> type >> enabled) ||
+		!(enabled == 0 || enabled == 1) || !(s >> std::ws).eof())
+		THROW_EXCEPTION_FMT(
+			"%s: bad LINK line (LINK from to x y phi I00 I01 I02 I11 I12 I22 type enabled)",
+			at.c_str());
+	l.information << I[0], I[1], I[2], I[1], I[3], I[4], I[2], I[4], I[5];
+	l.type = linkTypeFromName(type, at);
+	try
+	{
+		const size_t id = graph.addLink(l);
+		if (!enabled) graph.setLinkEnabled(id, false);
+	}
+	catch (const std::exception& e)
+	{
+		THROW_EXCEPTION_FMT("%s: %s", at.c_str(), e.what());
+	}
+}
+}  // namespace
+
 TSavedPoseGraph poseGraphFromText(std::istream& in, const std::string& where)
 {
 	TSavedPoseGraph saved;
@@ -96,41 +139,12 @@ TSavedPoseGraph poseGraphFromText(std::istream& in, const std::string& where)
 		}
 		if (record == "NODE")
 		{
-			size_t i = 0;
-			mrpt::math::TPose2D p;
-			if (!(s >> i >> p.x >> p.y >> p.phi) || !(s >> std::ws).eof())
-				THROW_EXCEPTION_FMT("%s: bad NODE line (NODE i x y phi)", at.c_str());
-			if (i != saved.graph.numNodes())
-				THROW_EXCEPTION_FMT(
-					"%s: NODE %zu out of order (expected %zu)", at.c_str(), i,
-					saved.graph.numNodes());
-			saved.graph.addNode(p);
+			readNode(s, saved.graph, at);
 			continue;
 		}
 		if (record == "LINK")
 		{
-			TLink l;
-			double I[6];
-			std::string type;
-			int enabled = -1;
-			if (!(s >> l.from >> l.to >> l.toInFrom.x >> l.toInFrom.y >> l.toInFrom.phi >> I[0] >>
-				  I[1] >> I[2] >> I[3] >> I[4] >> I[5] >> type >> enabled) ||
-				!(enabled == 0 || enabled == 1) || !(s >> std::ws).eof())
-				THROW_EXCEPTION_FMT(
-					"%s: bad LINK line (LINK from to x y phi I00 I01 I02 I11 I12 I22 type "
-					"enabled)",
-					at.c_str());
-			l.information << I[0], I[1], I[2], I[1], I[3], I[4], I[2], I[4], I[5];
-			l.type = linkTypeFromName(type, at);
-			try
-			{
-				const size_t id = saved.graph.addLink(l);
-				if (!enabled) saved.graph.setLinkEnabled(id, false);
-			}
-			catch (const std::exception& e)
-			{
-				THROW_EXCEPTION_FMT("%s: %s", at.c_str(), e.what());
-			}
+			readLink(s, saved.graph, at);
 			continue;
 		}
 		THROW_EXCEPTION_FMT("%s: unknown record '%s'", at.c_str(), record.c_str());
