@@ -41,7 +41,7 @@ std::string summary(const std::string& json, const std::string& key)
 						"\": \\{\"median\": ([0-9.]+), \"p99\": ([0-9.]+), \"max\": ([0-9.]+)");
 	if (!std::regex_search(json, m, re)) return "(absent)";
 	return "median " + std::string(m[1]) + ", p99 " + std::string(m[2]) + ", max " +
-		std::string(m[3]);
+		   std::string(m[3]);
 }
 
 long jsonInt(const std::string& json, const std::string& key)
@@ -56,8 +56,8 @@ std::string saveDurations(const std::string& log)
 {
 	std::string out;
 	const std::regex re("live: maps saved \\([^)]*\\) in ([0-9.]+) s");
-	for (auto it = std::sregex_iterator(log.begin(), log.end(), re); it != std::sregex_iterator();
-		 ++it)
+	for (auto it = std::sregex_iterator(log.begin(), log.end(), re);
+		 it != std::sregex_iterator(); ++it)
 		out += (out.empty() ? "" : " ") + std::string((*it)[1]);
 	return out.empty() ? "none" : out;
 }
@@ -71,14 +71,16 @@ int runOnce(const TLms1xxRecording& rec, const std::string& slam, double saveInt
 					  out = dir + "/out";
 	std::ostringstream s;
 	s << "[LASER]\ndriver = CLMS100Eth\nprocess_rate = 50\nsensorLabel = LMS1XX\n"
-	  << "ip_address = 127.0.0.1\nTCP_port = " << emu.port() << "\npose_x = "
-	  << rec.sensorPose.x() << "\npose_y = " << rec.sensorPose.y()
-	  << "\npose_z = " << rec.sensorPose.z() << "\npose_yaw = " << mrpt::RAD2DEG(rec.sensorPose.yaw())
+	  << "ip_address = 127.0.0.1\nTCP_port = " << emu.port()
+	  << "\npose_x = " << rec.sensorPose.x() << "\npose_y = " << rec.sensorPose.y()
+	  << "\npose_z = " << rec.sensorPose.z()
+	  << "\npose_yaw = " << mrpt::RAD2DEG(rec.sensorPose.yaw())
 	  << "\npose_pitch = 0\npose_roll = 0\n";
 	writeTextFile(sensors, s.str());
-	writeTextFile(config, "[LiveMapping]\nstatus_interval_s = 0.5\nsensor_timeout_s = 2\n"
-						  "max_backlog_scans = 0\nsave_interval_s = " +
-							  std::to_string(saveInterval) + "\n");
+	writeTextFile(config,
+				  "[LiveMapping]\nstatus_interval_s = 0.5\nsensor_timeout_s = 2\n"
+				  "max_backlog_scans = 0\nsave_interval_s = " +
+					  std::to_string(saveInterval) + "\n");
 	CChildProcess app(slam, {"--live", sensors, "--config", config, "--out", out},
 					  dir + "/live.log");
 	// Served to the end, or lrgc-slam gave up early (a bad --keep folder, a crash).
@@ -99,12 +101,12 @@ int runOnce(const TLms1xxRecording& rec, const std::string& slam, double saveInt
 	}
 	const std::string live = readTextFile(out + "/live.json"),
 					  stats = readTextFile(out + "/stats.json");
-	std::printf("scans served %zu, mapped %ld, skipped %ld, periodic saves %ld (took [s]: %s)\n"
-				"  queue latency [ms]: %s\n  mapping latency [ms]: %s\n",
-				emu.scansServed(), jsonInt(live, "scans_mapped"),
-				jsonInt(live, "skipped_to_keep_up"), jsonInt(live, "saves"),
-				saveDurations(app.output()).c_str(), summary(live, "queue_latency_ms").c_str(),
-				summary(stats, "latency_ms").c_str());
+	std::printf(
+		"scans served %zu, mapped %ld, skipped %ld, periodic saves %ld (took [s]: %s)\n"
+		"  queue latency [ms]: %s\n  mapping latency [ms]: %s\n",
+		emu.scansServed(), jsonInt(live, "scans_mapped"), jsonInt(live, "skipped_to_keep_up"),
+		jsonInt(live, "saves"), saveDurations(app.output()).c_str(),
+		summary(live, "queue_latency_ms").c_str(), summary(stats, "latency_ms").c_str());
 	std::fflush(stdout);
 	return 0;
 }
@@ -118,10 +120,14 @@ int main(int argc, char** argv)
 	for (int i = 1; i + 1 < argc; i += 2)
 	{
 		const std::string a = argv[i], v = argv[i + 1];
-		if (a == "--slam") slam = v;
-		else if (a == "--save-interval") saveInterval = std::atof(v.c_str());
-		else if (a == "--runs") runs = std::atoi(v.c_str());
-		else if (a == "--keep") keep = v;
+		if (a == "--slam")
+			slam = v;
+		else if (a == "--save-interval")
+			saveInterval = std::atof(v.c_str());
+		else if (a == "--runs")
+			runs = std::atoi(v.c_str());
+		else if (a == "--keep")
+			keep = v;
 		else
 		{
 			std::fprintf(stderr, "unknown option '%s'\n", a.c_str());

@@ -22,7 +22,8 @@ struct TCase
 	std::vector<std::vector<TPose2D>> refPoses;
 };
 
-/** 32 seeded situations: a robot in a room, `patch` scans 15 cm apart, then the scan to match. */
+/** 32 seeded situations: a robot in a room, `patch` scans 15 cm apart, then the scan to match.
+ */
 TCase makeCase(int beams, int patch)
 {
 	TCase c;
@@ -52,7 +53,8 @@ TCase makeCase(int beams, int patch)
 		c.refPoses.push_back(inRef);
 		c.scans.push_back(lrgc::test::simulateScan(world, p, laser, rng));
 		const TPose2D truth = lrgc::between(poses[0], p);
-		c.guesses.emplace_back(truth.x + 0.05 * N(rng), truth.y + 0.05 * N(rng), truth.phi + 0.035 * N(rng));
+		c.guesses.emplace_back(truth.x + 0.05 * N(rng), truth.y + 0.05 * N(rng),
+							   truth.phi + 0.035 * N(rng));
 	}
 	return c;
 }
@@ -105,7 +107,13 @@ void BM_matchWide(benchmark::State& state)
 }  // namespace
 
 // Args: beams, scans in the reference patch.
-BENCHMARK(BM_match)->Args({180, 1})->Args({361, 1})->Args({180, 10})->Args({361, 10})->Unit(benchmark::kMicrosecond);
-BENCHMARK(BM_buildReference)->Args({180, 1})->Args({361, 1})->Args({180, 10})->Args({361, 10})->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_match)->Args({180, 1})->Args({361, 1})->Args({180, 10})->Args({361, 10})->Unit(
+	benchmark::kMicrosecond);
+BENCHMARK(BM_buildReference)
+	->Args({180, 1})
+	->Args({361, 1})
+	->Args({180, 10})
+	->Args({361, 10})
+	->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_matchWide)->Args({180})->Args({361})->Unit(benchmark::kMillisecond);
 BENCHMARK_MAIN();

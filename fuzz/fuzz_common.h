@@ -15,7 +15,8 @@ namespace lrgc::fuzz
 /** A file in $TMPDIR (or /tmp) that this process rewrites for every input. */
 inline const std::string& scratchPath(const char* name)
 {
-	static const std::string dir = [] {
+	static const std::string dir = []
+	{
 		const char* t = std::getenv("TMPDIR");
 		return std::string(t && *t ? t : "/tmp");
 	}();
@@ -36,14 +37,14 @@ inline const std::string& writeScratch(const char* name, const uint8_t* data, si
 	return path;
 }
 
-#define LRGC_FUZZ_CHECK(cond, what)                                                  \
-	do                                                                               \
-	{                                                                                \
-		if (!(cond))                                                                 \
-		{                                                                            \
+#define LRGC_FUZZ_CHECK(cond, what)                                                     \
+	do                                                                                  \
+	{                                                                                   \
+		if (!(cond))                                                                    \
+		{                                                                               \
 			std::fprintf(stderr, "lrgc fuzz invariant broken: %s (%s)\n", what, #cond); \
-			std::abort();                                                            \
-		}                                                                            \
+			std::abort();                                                               \
+		}                                                                               \
 	} while (0)
 
 }  // namespace lrgc::fuzz

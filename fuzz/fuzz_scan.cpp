@@ -53,7 +53,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
 		scan->setScanRange(i, ranges[i]), scan->setScanRangeValidity(i, i % 7 != 3);
 
 	const lrgc::TScanGeometryCheck checked = lrgc::checkScanGeometry(scan);
-	LRGC_FUZZ_CHECK(bool(checked.scan) == checked.problem.empty(), "dropped exactly with a reason");
+	LRGC_FUZZ_CHECK(bool(checked.scan) == checked.problem.empty(),
+					"dropped exactly with a reason");
 	if (!checked.scan) return 0;
 	// The de-skewing motion is the builder's estimate, finite and small: bound it likewise.
 	const auto bounded = [](double v) { return std::isfinite(v) ? std::fmod(v, 10.0) : 0.0; };
@@ -68,11 +69,15 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
 		const Eigen::Vector2d q = p + Eigen::Vector2d(0.3, -0.2);
 		double d2 = 0;
 		const int k = grid.nearest(q, 1.0, &d2);
-		LRGC_FUZZ_CHECK(k < 0 || (size_t(k) < s.points.size() && d2 < 1.0), "nearest within the gate");
-		grid.forEachWithin(q, 0.5, [&](uint32_t i) {
-			LRGC_FUZZ_CHECK(i < s.points.size() && (s.points[i] - q).norm() <= 0.5 + 1e-9,
-							"radius query within the radius");
-		});
+		LRGC_FUZZ_CHECK(k < 0 || (size_t(k) < s.points.size() && d2 < 1.0),
+						"nearest within the gate");
+		grid.forEachWithin(
+			q, 0.5,
+			[&](uint32_t i)
+			{
+				LRGC_FUZZ_CHECK(i < s.points.size() && (s.points[i] - q).norm() <= 0.5 + 1e-9,
+								"radius query within the radius");
+			});
 	}
 	return 0;
 }

@@ -12,6 +12,7 @@ PACKAGES=(
   clang-14 libclang-rt-14-dev                 # libFuzzer and sanitizers for scripts/fuzz
   clang-format-14                             # scripts/check-format (CI)
   universal-ctags                             # scripts/check-function-length (CI)
+  lintian                                     # tests/debian/check_packages.sh (the .deb files)
 )
 missing=()
 for p in "${PACKAGES[@]}"; do

@@ -29,7 +29,8 @@ TTrajectory galleryWalk(uint32_t seed)
 {
 	// Along the gallery's axis, 1 m steps, a 31-deg turn in place at x = 30, 4 m on that
 	// heading, a turn back (another 31 deg) and on to x = 60.
-	const Eigen::Vector2d a(5, 4), b(30, 4), c = b + 4 * Eigen::Vector2d(std::cos(kTurn), std::sin(kTurn));
+	const Eigen::Vector2d a(5, 4), b(30, 4),
+		c = b + 4 * Eigen::Vector2d(std::cos(kTurn), std::sin(kTurn));
 	return makeTrajectory({a, b, c, {60, c.y()}}, 1.0, TOdometryNoise{}, seed, kTurn + 0.01);
 }
 }  // namespace

@@ -22,7 +22,8 @@ namespace
 {
 /** Per-scan position errors [m] after the least-squares rigid alignment (2D Umeyama without
  * scale) of the estimate's positions onto the truth's. */
-std::vector<double> alignedErrors(const lrgc::TTrajectory& est, const std::vector<TPose2D>& truth)
+std::vector<double> alignedErrors(const lrgc::TTrajectory& est,
+								  const std::vector<TPose2D>& truth)
 {
 	const size_t n = truth.size();
 	Eigen::Vector2d me = Eigen::Vector2d::Zero(), mt = Eigen::Vector2d::Zero();
@@ -33,7 +34,8 @@ std::vector<double> alignedErrors(const lrgc::TTrajectory& est, const std::vecto
 	double sxx = 0, sxy = 0;  // sum of e . t and e x t over centred points
 	for (size_t k = 0; k < n; ++k)
 	{
-		const Eigen::Vector2d e = Eigen::Vector2d(est[k].robotInMap.x, est[k].robotInMap.y) - me;
+		const Eigen::Vector2d e =
+			Eigen::Vector2d(est[k].robotInMap.x, est[k].robotInMap.y) - me;
 		const Eigen::Vector2d t = Eigen::Vector2d(truth[k].x, truth[k].y) - mt;
 		sxx += e.dot(t), sxy += e.x() * t.y() - e.y() * t.x();
 	}
@@ -41,7 +43,8 @@ std::vector<double> alignedErrors(const lrgc::TTrajectory& est, const std::vecto
 	std::vector<double> err(n);
 	for (size_t k = 0; k < n; ++k)
 	{
-		const Eigen::Vector2d e = Eigen::Vector2d(est[k].robotInMap.x, est[k].robotInMap.y) - me;
+		const Eigen::Vector2d e =
+			Eigen::Vector2d(est[k].robotInMap.x, est[k].robotInMap.y) - me;
 		const Eigen::Vector2d r(c * e.x() - s * e.y(), s * e.x() + c * e.y());
 		err[k] = (r + mt - Eigen::Vector2d(truth[k].x, truth[k].y)).norm();
 	}

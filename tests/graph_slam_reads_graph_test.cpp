@@ -100,7 +100,8 @@ TEST(GraphSlamReadsGraph, MrptKeepsEveryEdgeAndItsOptimiserOurPoses)
 	}
 	EXPECT_LT(worstXY, 0.01) << "node " << worstNode << " moved by " << worstXY << " m";
 	EXPECT_LT(worstPhi, 0.1 * M_PI / 180) << worstPhi * 180 / M_PI << " deg";
-	std::printf("MRPT's levmarq on SENA's graph.graph: %zu edges, %zu iterations, largest move "
-				"%.4f m (node %d), %.4f deg\n", edges, result.num_iters, worstXY, worstNode,
-				worstPhi * 180 / M_PI);
+	std::printf(
+		"MRPT's levmarq on SENA's graph.graph: %zu edges, %zu iterations, largest move "
+		"%.4f m (node %d), %.4f deg\n",
+		edges, result.num_iters, worstXY, worstNode, worstPhi * 180 / M_PI);
 }

@@ -33,7 +33,8 @@ std::string demoIni(const std::string& rawlog, size_t offset)
 	for (std::string line; std::getline(in, line);)
 	{
 		if (line.rfind("rawlog_file", 0) == 0) line = "rawlog_file=" + rawlog;
-		if (line.rfind("rawlog_offset", 0) == 0) line = "rawlog_offset=" + std::to_string(offset);
+		if (line.rfind("rawlog_offset", 0) == 0)
+			line = "rawlog_offset=" + std::to_string(offset);
 		out += line + "\n";
 	}
 	return out;
@@ -42,7 +43,8 @@ std::string demoIni(const std::string& rawlog, size_t offset)
 size_t count(const std::string& text, const std::string& what)
 {
 	size_t n = 0;
-	for (size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
+	for (size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1))
+		++n;
 	return n;
 }
 
@@ -96,7 +98,9 @@ TEST(IcpSlamIni, MrptsDemoIniRunsAndWritesBothOutputSets)
 	EXPECT_EQ(path.back().step, 224u);
 	std::istringstream tum(readTextFile(out + "/trajectory.tum"));
 	double t, x, y, z, qx, qy, qz, qw;
-	while (tum >> t >> x >> y >> z >> qx >> qy >> qz >> qw) {}
+	while (tum >> t >> x >> y >> z >> qx >> qy >> qz >> qw)
+	{
+	}
 	EXPECT_NEAR(path.back().x, x, 1e-5);
 	EXPECT_NEAR(path.back().y, y, 1e-5);
 	EXPECT_NEAR(path.back().phi, 2 * std::atan2(qz, qw), 1e-5);
@@ -131,8 +135,9 @@ TEST(IcpSlamIni, MissingKeysAndOtherFilesAreClearErrors)
 	EXPECT_NE(r.output.find("no-out.ini: [MappingApplication] logOutput_dir is missing"),
 			  std::string::npos)
 		<< r.output;
-	writeTextFile(dir + "/offset.ini",
-				  "[MappingApplication]\nrawlog_file = x\nlogOutput_dir = o\nrawlog_offset = -3\n");
+	writeTextFile(
+		dir + "/offset.ini",
+		"[MappingApplication]\nrawlog_file = x\nlogOutput_dir = o\nrawlog_offset = -3\n");
 	r = runProcess(binaryPath("lrgc-slam"), {"offset.ini"}, dir);
 	EXPECT_EQ(r.exitCode, 2) << r.output;
 	EXPECT_NE(r.output.find("offset.ini:4: [MappingApplication] rawlog_offset '-3'"),

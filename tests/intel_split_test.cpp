@@ -32,10 +32,11 @@ TIntelHalves intelHalvesMapped(const std::string& name)
 	h.first = h.dir + "/intel-first.clf";
 	h.second = h.dir + "/intel-second.clf";
 	h.relations = sharedDatasetPath("intel/intel.relations");
-	const auto counts = splitCarmenLog(sharedDatasetPath("intel/intel.clf.gz"), h.first, h.second);
+	const auto counts =
+		splitCarmenLog(sharedDatasetPath("intel/intel.clf.gz"), h.first, h.second);
 	EXPECT_GT(counts.firstDataLines, 20000U);
-	const auto r =
-		runProcess(binaryPath("lrgc-slam"), {"--input", h.first, "--out", h.dir + "/first", "--quiet"});
+	const auto r = runProcess(binaryPath("lrgc-slam"),
+							  {"--input", h.first, "--out", h.dir + "/first", "--quiet"});
 	EXPECT_EQ(r.exitCode, 0) << r.output;
 	return h;
 }
@@ -46,8 +47,8 @@ eval::TRelationEvaluation evaluateTogether(const TIntelHalves& h, const std::str
 	const std::string both = h.dir + "/" + "both.tum";
 	writeTextFile(both, readTextFile(h.dir + "/first/trajectory.tum") +
 							readTextFile(secondDir + "/trajectory.tum"));
-	return eval::evaluateRelations(
-		eval::CTrajectory2D::loadFromFile(both), eval::loadRelations(h.relations));
+	return eval::evaluateRelations(eval::CTrajectory2D::loadFromFile(both),
+								   eval::loadRelations(h.relations));
 }
 }  // namespace
 
@@ -56,9 +57,9 @@ TEST(IntelSplit, secondHalfContinuesTheFirstHalfsMap)
 	LRGC_SKIP_IF_MISSING(sharedDatasetPath("intel/intel.clf.gz"));
 	LRGC_SKIP_IF_MISSING(sharedDatasetPath("intel/intel.relations"));
 	const TIntelHalves h = intelHalvesMapped("intel_split_continue");
-	const auto r = runProcess(
-		binaryPath("lrgc-slam"),
-		{"--input", h.second, "--initial-map", h.dir + "/first", "--out", h.dir + "/second", "--quiet"});
+	const auto r = runProcess(binaryPath("lrgc-slam"),
+							  {"--input", h.second, "--initial-map", h.dir + "/first", "--out",
+							   h.dir + "/second", "--quiet"});
 	ASSERT_EQ(r.exitCode, 0) << r.output;
 	EXPECT_NE(r.output.find("the log starts at"), std::string::npos) << r.output;
 	const auto ev = evaluateTogether(h, h.dir + "/second");
@@ -75,9 +76,9 @@ TEST(IntelSplit, secondHalfIsLocalisedOnTheFirstHalfsMap)
 	LRGC_SKIP_IF_MISSING(sharedDatasetPath("intel/intel.clf.gz"));
 	LRGC_SKIP_IF_MISSING(sharedDatasetPath("intel/intel.relations"));
 	const TIntelHalves h = intelHalvesMapped("intel_split_localize");
-	const auto r = runProcess(
-		binaryPath("lrgc-slam"),
-		{"--input", h.second, "--localize", h.dir + "/first", "--out", h.dir + "/second", "--quiet"});
+	const auto r = runProcess(binaryPath("lrgc-slam"),
+							  {"--input", h.second, "--localize", h.dir + "/first", "--out",
+							   h.dir + "/second", "--quiet"});
 	ASSERT_EQ(r.exitCode, 0) << r.output;
 	const auto ev = evaluateTogether(h, h.dir + "/second");
 	RecordProperty("mean_trans_m", std::to_string(ev.trans_m.mean));

@@ -2,8 +2,8 @@
  * must not grow its graph with the time driven. The ring of loop_closing_test.cpp (20 m x
  * 14 m of 2 m corridors, a 6 m laser, wheels slipping 9 % on the north corridor so the map
  * drifts and the loop must be closed first), with 24 boxes along its walls so that most
- * places constrain a scan match in every direction, is driven three times. With the defaults the
- * second and third turns add few keyframes: the scans hang from the first turn's keyframes,
+ * places constrain a scan match in every direction, is driven three times. With the defaults
+ * the second and third turns add few keyframes: the scans hang from the first turn's keyframes,
  * the loop is closed by true links only, and the trajectory is as near the truth as without
  * reuse. With [KeyframeReuse] enabled = false the same observations add a keyframe every
  * 0.3 m on every turn (the test's own control: the counts it asserts are not a given).
@@ -27,7 +27,7 @@ struct TRun
 	lrgc::TMapBuilderStats stats;
 	TLoopLinkAudit links;
 	size_t firstTurnKeyframes = 0;  //!< made while driving the first turn
-	size_t laterKeyframes = 0;  //!< made on the second and third turns
+	size_t laterKeyframes = 0;      //!< made on the second and third turns
 };
 
 TRun runThreeTurns(bool reuse)
@@ -84,7 +84,8 @@ TEST(KeyframeReuse, drivingTheRingAgainAddsFewKeyframes)
 	// 44 against 154; without reuse 344): where a match leaves the corridor's axis free, a
 	// new keyframe and a loop search are made instead.
 	EXPECT_LT(with.laterKeyframes, 0.35 * with.firstTurnKeyframes)
-		<< with.laterKeyframes << " keyframes after a first turn of " << with.firstTurnKeyframes;
+		<< with.laterKeyframes << " keyframes after a first turn of "
+		<< with.firstTurnKeyframes;
 	EXPECT_GT(with.stats.keyframesReused, with.firstTurnKeyframes);
 	// The loop is still closed, by true links only, and the map is as good.
 	EXPECT_GT(with.stats.loopClosures, 0U);

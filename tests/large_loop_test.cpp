@@ -20,20 +20,19 @@ using lrgc::TLRGCParams;
 
 namespace
 {
-constexpr double L = 100, H = 50;  // [m] the loop's corners: (0,0), (L,0), (L,H), (0,H)
-constexpr double kCorridor = 2.4;  // [m] corridor width
-constexpr double kHall = 10;  // [m] half side of the corner halls
-constexpr double kTurnBias = 1.08;  // odometry turn / true turn
-constexpr double kDoor = 1.0;  // [m] width of a door into a side room
-constexpr double kRoom = 3.0;  // [m] width of a side room along the corridor
+constexpr double L = 100, H = 50;     // [m] the loop's corners: (0,0), (L,0), (L,H), (0,H)
+constexpr double kCorridor = 2.4;     // [m] corridor width
+constexpr double kHall = 10;          // [m] half side of the corner halls
+constexpr double kTurnBias = 1.08;    // odometry turn / true turn
+constexpr double kDoor = 1.0;         // [m] width of a door into a side room
+constexpr double kRoom = 3.0;         // [m] width of a side room along the corridor
 constexpr double kRoomSpacing = 6.0;  // [m] least distance between two doors on one side
-constexpr double kReturnTo = 75;  // [m] the run ends this far along the first corridor
+constexpr double kReturnTo = 75;      // [m] the run ends this far along the first corridor
 
 /** A wall from a to b (axis-aligned) with a doorway of width `door` centred at `door_at`
  * (a point on the wall), or no doorway if door <= 0. */
-void wallWithDoor(
-	CSyntheticWorld& w, const Eigen::Vector2d& a, const Eigen::Vector2d& b,
-	const Eigen::Vector2d& doorAt, double door)
+void wallWithDoor(CSyntheticWorld& w, const Eigen::Vector2d& a, const Eigen::Vector2d& b,
+				  const Eigen::Vector2d& doorAt, double door)
 {
 	if (door <= 0)
 	{
@@ -58,9 +57,8 @@ CSyntheticWorld makeHallLoopWorld(uint32_t seed)
 		const Eigen::Vector2d sx(kHall, 0), sy(0, kHall);
 		const Eigen::Vector2d p00 = c - sx - sy, p10 = c + sx - sy, p11 = c + sx + sy,
 							  p01 = c - sx + sy;
-		auto door = [&](const Eigen::Vector2d& dir) {
-			return (dir == toNext || dir == toPrev) ? kCorridor : 0.0;
-		};
+		auto door = [&](const Eigen::Vector2d& dir)
+		{ return (dir == toNext || dir == toPrev) ? kCorridor : 0.0; };
 		wallWithDoor(w, p00, p10, c - sy, door({0, -1}));
 		wallWithDoor(w, p10, p11, c + sx, door({1, 0}));
 		wallWithDoor(w, p11, p01, c + sy, door({0, 1}));
@@ -105,12 +103,12 @@ CSyntheticWorld makeHallLoopWorld(uint32_t seed)
 	return w;
 }
 
-/** Once around from (20, 0) and on along the first corridor to (kReturnTo, 0); odometry turns kTurnBias too
- * much (a gyro scale error) on top of the usual noise. */
+/** Once around from (20, 0) and on along the first corridor to (kReturnTo, 0); odometry turns
+ * kTurnBias too much (a gyro scale error) on top of the usual noise. */
 TTrajectory hallLoop()
 {
-	TTrajectory tr = makeTrajectory(
-		{{20, 0}, {L, 0}, {L, H}, {0, H}, {0, 0}, {kReturnTo, 0}}, 0.2, TOdometryNoise{}, 3);
+	TTrajectory tr = makeTrajectory({{20, 0}, {L, 0}, {L, H}, {0, H}, {0, 0}, {kReturnTo, 0}},
+									0.2, TOdometryNoise{}, 3);
 	for (auto& inc : tr.odometryIncrements) inc.phi *= kTurnBias;
 	rebuildOdometryPoses(tr);
 	return tr;
@@ -130,8 +128,9 @@ struct TLoopSetup
 {
 	bool loopClosing = true;
 	double maxWindowXY = -1, maxWindowTheta = -1;  //!< [m], [rad]; < 0: the default caps
-	double confirmAboveSigma = -1;  //!< [m]; < 0: the default
-	double maxBacklog = -1;  //!< [LoopCloser] max_backlog_keyframes [keyframes]; < 0: the default
+	double confirmAboveSigma = -1;                 //!< [m]; < 0: the default
+	double maxBacklog =
+		-1;  //!< [LoopCloser] max_backlog_keyframes [keyframes]; < 0: the default
 };
 
 TRun runHallLoop(const TLoopSetup& setup)
@@ -146,7 +145,8 @@ TRun runHallLoop(const TLoopSetup& setup)
 	if (setup.maxWindowXY >= 0) p.loop.max_window_xy_m = setup.maxWindowXY;
 	if (setup.maxWindowTheta >= 0) p.loop.max_window_phi = setup.maxWindowTheta;
 	if (setup.confirmAboveSigma >= 0) p.loop.confirm_above_sigma_m = setup.confirmAboveSigma;
-	if (setup.maxBacklog >= 0) p.loop.max_backlog_keyframes = static_cast<size_t>(setup.maxBacklog);
+	if (setup.maxBacklog >= 0)
+		p.loop.max_backlog_keyframes = static_cast<size_t>(setup.maxBacklog);
 	CMetricMapBuilderLRGC builder(p);
 	builder.setMinLoggingLevel(mrpt::system::LVL_ERROR);  // every hall scan is skipped
 	feedBuilder(builder, world, tr, opt);
@@ -160,8 +160,8 @@ TRun runHallLoop(const TLoopSetup& setup)
 	std::vector<mrpt::math::TPose2D> truth;
 	for (const auto& e : est)
 	{
-		step.push_back(static_cast<size_t>(std::lround(
-			(mrpt::Clock::toDouble(e.timestamp) - 1.6e9) / opt.scanPeriod)));
+		step.push_back(static_cast<size_t>(
+			std::lround((mrpt::Clock::toDouble(e.timestamp) - 1.6e9) / opt.scanPeriod)));
 		truth.push_back(tr.truePoses.at(step.back()));
 	}
 	run.error = trajectoryError(est, truth);
@@ -188,8 +188,8 @@ const TRun& drifted()
 void expectClosedCorrectly(const TRun& on)
 {
 	const TRun& off = drifted();
-	::testing::Test::RecordProperty(
-		"heading_drift_deg", std::to_string(mrpt::RAD2DEG(off.headingErrorAtReturn)));
+	::testing::Test::RecordProperty("heading_drift_deg",
+									std::to_string(mrpt::RAD2DEG(off.headingErrorAtReturn)));
 	::testing::Test::RecordProperty("final_off_m", std::to_string(off.error.finalXY));
 	EXPECT_GT(mrpt::RAD2DEG(off.headingErrorAtReturn), 20.0) << "the loop must drift enough";
 	EXPECT_GT(off.error.finalXY, 3.0);
@@ -217,9 +217,9 @@ TEST(LargeLoop, closedWithTheWindowTheCovarianceAsksFor)
 	TLoopSetup s;
 	s.maxWindowXY = 1000, s.maxWindowTheta = M_PI;
 	// Searches over the whole hall cost the worker seconds each: with the default backlog
-	// ([LoopCloser] max_backlog_keyframes, 150 keyframes) its modelled schedule skips the searches of the
-	// return, the ones that close the loop. A user who uncaps the window lets the worker fall
-	// further behind.
+	// ([LoopCloser] max_backlog_keyframes, 150 keyframes) its modelled schedule skips the
+	// searches of the return, the ones that close the loop. A user who uncaps the window lets
+	// the worker fall further behind.
 	s.maxBacklog = 100000;
 	expectClosedCorrectly(runHallLoop(s));
 }

@@ -34,7 +34,8 @@ long statsCount(const std::string& stats, const std::string& key)
 size_t countOf(const std::string& text, const std::string& what)
 {
 	size_t n = 0;
-	for (size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
+	for (size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1))
+		++n;
 	return n;
 }
 
@@ -55,8 +56,8 @@ std::vector<double> castScan(const CSyntheticWorld& world, const TPose2D& laserI
 std::string twoLaserLog(size_t* frontScans)
 {
 	const CSyntheticWorld world = makeRoomWorld(5, 4);
-	const TTrajectory tr = makeTrajectory(
-		{{1.5, 3.5}, {5.5, 3.5}, {5.5, 5.8}, {2.0, 5.8}}, 0.1, TOdometryNoise{}, 21);
+	const TTrajectory tr = makeTrajectory({{1.5, 3.5}, {5.5, 3.5}, {5.5, 5.8}, {2.0, 5.8}}, 0.1,
+										  TOdometryNoise{}, 21);
 	const TPose2D rearInRobot(-0.2, 0, M_PI);
 	std::string log;
 	const auto rearOdo = lrgc::compose(tr.odometryPoses[0], rearInRobot);
@@ -75,7 +76,8 @@ struct TRun
 	std::string output, stats;
 };
 
-TRun runSlam(const std::string& log, const std::string& out, std::vector<std::string> extra = {})
+TRun runSlam(const std::string& log, const std::string& out,
+			 std::vector<std::string> extra = {})
 {
 	std::vector<std::string> args{"--input", log, "--out", out, "--quiet"};
 	args.insert(args.end(), extra.begin(), extra.end());
@@ -138,8 +140,8 @@ TEST(LaserChoice, SyntheticTwoLaserLog)
 	checkLaserChoice(dir + "/two-lasers.clf", frontScans, dir);
 
 	// --laser is for mapping: without a value, or with a conversion only, a usage error.
-	const auto noValue = runProcess(binaryPath("lrgc-slam"),
-									{"--input", dir + "/two-lasers.clf", "--out", dir, "--laser"});
+	const auto noValue = runProcess(
+		binaryPath("lrgc-slam"), {"--input", dir + "/two-lasers.clf", "--out", dir, "--laser"});
 	EXPECT_EQ(noValue.exitCode, 2) << noValue.output;
 	EXPECT_NE(noValue.output.find("option --laser needs a value"), std::string::npos)
 		<< noValue.output;

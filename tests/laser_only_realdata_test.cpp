@@ -25,9 +25,9 @@ TEST(LaserOnlyRealData, intelJitteredClockLocalRegistrationKeepsItsHeading)
 	writeTextFile(
 		dir + "/laser-only.ini",
 		"[MotionPredictor]\nuse_odometry = false\n[MapBuilder]\nloop_closing = false\n");
-	const auto r = runProcess(
-		binaryPath("lrgc-slam"), {"--input", log, "--config", dir + "/laser-only.ini", "--out",
-								  dir + "/out", "--quiet"});
+	const auto r = runProcess(binaryPath("lrgc-slam"),
+							  {"--input", log, "--config", dir + "/laser-only.ini", "--out",
+							   dir + "/out", "--quiet"});
 	ASSERT_EQ(r.exitCode, 0) << r.output;
 
 	const auto trajectory = eval::CTrajectory2D::loadFromFile(dir + "/out/trajectory.tum");
@@ -41,7 +41,8 @@ TEST(LaserOnlyRealData, intelJitteredClockLocalRegistrationKeepsItsHeading)
 	std::vector<double> shortRange;
 	const auto rel = eval::loadRelations(relations);
 	for (const auto& e : result.errors)
-		if (rel[e.relationIndex].t2 - rel[e.relationIndex].t1 < 10) shortRange.push_back(e.trans_m);
+		if (rel[e.relationIndex].t2 - rel[e.relationIndex].t1 < 10)
+			shortRange.push_back(e.trans_m);
 	ASSERT_GT(shortRange.size(), 1000U);
 	EXPECT_LT(eval::TErrorStats::fromSamples(shortRange).mean, 0.03);
 }

@@ -230,8 +230,9 @@ protected:
 TEST_F(LiveSickLms1xx, LiveMapEqualsOfflineMapOfTheCapture)
 {
 	CLms1xxEmulator emu(m_rec.scans);
-	const auto d = prepare("live_every_scan", emu, m_rec.sensorPose,
-						   "max_backlog_scans = 0\nsave_interval_s = 3\nloop_results_when_ready = false\n");
+	const auto d = prepare(
+		"live_every_scan", emu, m_rec.sensorPose,
+		"max_backlog_scans = 0\nsave_interval_s = 3\nloop_results_when_ready = false\n");
 	CChildProcess app(binaryPath("lrgc-slam"),
 					  {"--live", d.sensors, "--config", d.config, "--out", d.out},
 					  d.dir + "/live.log");

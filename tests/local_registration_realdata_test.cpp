@@ -47,13 +47,14 @@ TEST_P(LocalRegistrationRealData, aloneBeatsPublishedScanMatching)
 	EXPECT_LT(result.trans_m.mean, GetParam().scanMatchingError) << name;
 }
 
-INSTANTIATE_TEST_SUITE_P(
-	BenchmarkLogs, LocalRegistrationRealData,
-	::testing::Values(TPublished{"intel", 0.220}, TPublished{"aces", 0.173},
-					  TPublished{"mit-csail", 0.106}),
-	[](const ::testing::TestParamInfo<TPublished>& p) {
-		std::string s = p.param.log;
-		for (char& c : s)
-			if (c == '-') c = '_';
-		return s;
-	});
+INSTANTIATE_TEST_SUITE_P(BenchmarkLogs, LocalRegistrationRealData,
+						 ::testing::Values(TPublished{"intel", 0.220},
+										   TPublished{"aces", 0.173},
+										   TPublished{"mit-csail", 0.106}),
+						 [](const ::testing::TestParamInfo<TPublished>& p)
+						 {
+							 std::string s = p.param.log;
+							 for (char& c : s)
+								 if (c == '-') c = '_';
+							 return s;
+						 });

@@ -43,9 +43,8 @@ struct TRun
 	TLoopLinkAudit links;
 };
 
-TRun runRing(
-	uint32_t worldSeed, double slip, bool loopClosing, size_t knownGroundCheckEvery = 1,
-	bool keyframeReuse = true)
+TRun runRing(uint32_t worldSeed, double slip, bool loopClosing,
+			 size_t knownGroundCheckEvery = 1, bool keyframeReuse = true)
 {
 	const auto world = makeRingCorridorWorld(W, H, 2.0, worldSeed, 4);
 	const TTrajectory tr = slippingRing(slip);
@@ -127,7 +126,8 @@ TEST(LoopClosing, onKnownGroundEverySecondKeyframeIsChecked)
 	const TRun off = runRing(5, 1.09, false);
 	const TRun every = runRing(5, 1.09, true, 1, false);
 	const TRun second = runRing(5, 1.09, true, 2, false);
-	const auto checks = [](const TRun& r) { return r.loop.gatePropagations + r.loop.gateReuses; };
+	const auto checks = [](const TRun& r)
+	{ return r.loop.gatePropagations + r.loop.gateReuses; };
 	RecordProperty("checks_every", std::to_string(checks(every)));
 	RecordProperty("checks_second", std::to_string(checks(second)));
 	EXPECT_GT(every.loop.accepted, 2U);  // links on known ground, not only the closing one

@@ -53,8 +53,9 @@ struct TRun
 	lrgc::TLoopCloserStats loop;
 };
 
-TRun mapRing(const TLRGCParams& p, std::chrono::milliseconds extraDelay,
-			 const std::function<void(const CMetricMapBuilderLRGC&, std::atomic<bool>&)>& reader = {})
+TRun mapRing(
+	const TLRGCParams& p, std::chrono::milliseconds extraDelay,
+	const std::function<void(const CMetricMapBuilderLRGC&, std::atomic<bool>&)>& reader = {})
 {
 	const auto world = makeRingCorridorWorld(W, H, 2.0, 5, 4);
 	const TTrajectory tr = slippingRing();
@@ -68,11 +69,12 @@ TRun mapRing(const TLRGCParams& p, std::chrono::milliseconds extraDelay,
 	feedBuilder(builder, world, tr, opt);
 	done = true;
 	if (readerThread.joinable()) readerThread.join();
-	return {builder.trajectory(), builder.stats(), trajectoryError(builder.trajectory(), tr.truePoses),
-			builder.loopCloserStats()};
+	return {builder.trajectory(), builder.stats(),
+			trajectoryError(builder.trajectory(), tr.truePoses), builder.loopCloserStats()};
 }
 
-void expectSameTrajectory(const lrgc::TTrajectory& a, const lrgc::TTrajectory& b, const char* what)
+void expectSameTrajectory(const lrgc::TTrajectory& a, const lrgc::TTrajectory& b,
+						  const char* what)
 {
 	ASSERT_EQ(a.size(), b.size()) << what;
 	for (size_t i = 0; i < a.size(); ++i)
@@ -165,7 +167,12 @@ TEST(MapBuilderThreads, gettersAndChangesTakeTheCriticalSection)
 	CLockableBuilder builder;
 	const std::vector<std::pair<const char*, std::function<void()>>> calls = {
 		{"getCurrentPoseEstimation", [&] { builder.getCurrentPoseEstimation(); }},
-		{"getCurrentlyBuiltMap", [&] { mrpt::maps::CSimpleMap m; builder.getCurrentlyBuiltMap(m); }},
+		{"getCurrentlyBuiltMap",
+		 [&]
+		 {
+			 mrpt::maps::CSimpleMap m;
+			 builder.getCurrentlyBuiltMap(m);
+		 }},
 		{"getCurrentlyBuiltMapSize", [&] { builder.getCurrentlyBuiltMapSize(); }},
 		{"getCurrentlyBuiltMetricMap", [&] { builder.getCurrentlyBuiltMetricMap(); }},
 		{"trajectory", [&] { builder.trajectory(); }},
@@ -186,7 +193,12 @@ TEST(MapBuilderThreads, gettersAndChangesTakeTheCriticalSection)
 	{
 		builder.enterCriticalSection();
 		std::atomic<bool> returned{false};
-		std::thread t([&] { call(); returned = true; });
+		std::thread t(
+			[&]
+			{
+				call();
+				returned = true;
+			});
 		std::this_thread::sleep_for(std::chrono::milliseconds(50));
 		EXPECT_FALSE(returned) << name << " returned while the critical section was held";
 		builder.leaveCriticalSection();
@@ -196,8 +208,8 @@ TEST(MapBuilderThreads, gettersAndChangesTakeTheCriticalSection)
 }
 
 // [LoopCloser] worker_budget_ms: results land where a worker doing that much modelled work per
-// keyframe would finish them, and searches are skipped past max_backlog_keyframes. A budget far below
-// what the searches cost delays results and sheds searches; the schedule still depends on
+// keyframe would finish them, and searches are skipped past max_backlog_keyframes. A budget far
+// below what the searches cost delays results and sheds searches; the schedule still depends on
 // the data alone, so a slowed worker gives the same map.
 TEST(LoopClosingWorker, aModelledWorkerDelaysCostlyResultsAndShedsSearchesWhateverItsSpeed)
 {

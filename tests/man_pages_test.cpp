@@ -41,10 +41,11 @@ TEST(ManPages, EveryOptionOfHelpIsInTheManPage)
 		EXPECT_GE(inHelp.size(), 5u) << program;
 		const auto inMan = longOptions(readTextFile(manPage(program)), true);
 		for (const auto& option : inHelp)
-			EXPECT_TRUE(inMan.count(option)) << option << " of " << program
-											 << " --help is not in " << manPage(program);
+			EXPECT_TRUE(inMan.count(option))
+				<< option << " of " << program << " --help is not in " << manPage(program);
 	}
-	const auto script = readTextFile(std::string(LRGC_SOURCE_DIR) + "/scripts/calibrate-sweep-time");
+	const auto script =
+		readTextFile(std::string(LRGC_SOURCE_DIR) + "/scripts/calibrate-sweep-time");
 	const auto inMan = longOptions(readTextFile(manPage("calibrate-sweep-time")), true);
 	for (const auto& option : longOptions(script.substr(script.find("def main")), false))
 		EXPECT_TRUE(inMan.count(option)) << option << " of calibrate-sweep-time";
@@ -53,9 +54,11 @@ TEST(ManPages, EveryOptionOfHelpIsInTheManPage)
 TEST(ManPages, GroffFormatsThemWithoutWarnings)
 {
 	if (!fileExists("/usr/bin/groff")) GTEST_SKIP() << "groff not installed";
-	for (const std::string program : {"lrgc-slam", "lrgc-eval", "lrgc-plot", "calibrate-sweep-time"})
+	for (const std::string program :
+		 {"lrgc-slam", "lrgc-eval", "lrgc-plot", "calibrate-sweep-time"})
 	{
-		const auto r = runProcess("/usr/bin/groff", {"-man", "-Tutf8", "-ww", "-z", manPage(program)});
+		const auto r =
+			runProcess("/usr/bin/groff", {"-man", "-Tutf8", "-ww", "-z", manPage(program)});
 		EXPECT_EQ(r.exitCode, 0) << program << ": " << r.output;
 		EXPECT_EQ(r.output, "") << program;
 	}

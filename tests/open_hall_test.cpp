@@ -28,7 +28,7 @@ struct THeadingDrift
 {
 	double travel_m = 0;
 	double finalPer100m_deg = 0;  //!< |final heading error| * 100 m / travel
-	double maxPer100m_deg = 0;  //!< max_k |heading error_k| * 100 m / travel
+	double maxPer100m_deg = 0;    //!< max_k |heading error_k| * 100 m / travel
 };
 
 THeadingDrift headingDrift(const lrgc::TTrajectory& est, const std::vector<TPose2D>& truth)
@@ -51,7 +51,8 @@ THeadingDrift headingDrift(const lrgc::TTrajectory& est, const std::vector<TPose
  * radii), as real odometry drifts. */
 void addHeadingBias(TTrajectory& tr, double bias_rad_per_m)
 {
-	for (auto& inc : tr.odometryIncrements) inc.phi += bias_rad_per_m * std::hypot(inc.x, inc.y);
+	for (auto& inc : tr.odometryIncrements)
+		inc.phi += bias_rad_per_m * std::hypot(inc.x, inc.y);
 	rebuildOdometryPoses(tr);
 }
 
@@ -132,7 +133,8 @@ TEST(OpenHall, localRegistrationKeepsItsHeading)
 		EXPECT_LT(double(r.stats.unmatchedScans), 0.02 * double(r.stats.scans));
 	}
 	std::printf(
-		"[ open hall ] heading drift per 100 m (max over each run): mean %.3f, worst %.3f deg\n",
+		"[ open hall ] heading drift per 100 m (max over each run): mean %.3f, worst %.3f "
+		"deg\n",
 		sumDrift / kSeeds, worstDrift);
 	// The odometry alone drifts by ~17 deg / 100 m; the scans must hold the heading.
 	EXPECT_LT(sumDrift / kSeeds, kHallMeanDriftPer100m_deg);

@@ -189,12 +189,13 @@ TEST(PfLocalization, theOutputFoldersIniRunsAsItIs)
 		GTEST_SKIP() << kPfLocalization << " not installed (Debian package mrpt-apps)";
 	const std::string dir = makeTempDir("pf_ini_" + std::to_string(::getpid()));
 	const std::string out = dir + "/out";
-	const auto slam =
-		runProcess(binaryPath("lrgc-slam"), {"--input", senaRawlogPath(), "--out", out, "--quiet"});
+	const auto slam = runProcess(binaryPath("lrgc-slam"),
+								 {"--input", senaRawlogPath(), "--out", out, "--quiet"});
 	ASSERT_EQ(slam.exitCode, 0) << slam.output;
 	fs::create_directories(dir + "/elsewhere");
 	const std::string gridBefore = readTextFile(out + "/map.gridmap.gz");
-	const auto pf = runProcess(kPfLocalization, {out + "/pf-localization.ini"}, dir + "/elsewhere");
+	const auto pf =
+		runProcess(kPfLocalization, {out + "/pf-localization.ini"}, dir + "/elsewhere");
 	writeTextFile(dir + "/pf-localization.log", pf.output);
 	ASSERT_EQ(pf.exitCode, 0) << "log in " << dir;
 
@@ -231,11 +232,12 @@ TEST(Observations2map, theOutputFoldersIniRebuildsTheGrid)
 		GTEST_SKIP() << kObservations2map << " not installed (Debian package mrpt-apps)";
 	const std::string dir = makeTempDir("o2m_ini_" + std::to_string(::getpid()));
 	const std::string out = dir + "/out";
-	const auto slam =
-		runProcess(binaryPath("lrgc-slam"), {"--input", senaRawlogPath(), "--out", out, "--quiet"});
+	const auto slam = runProcess(binaryPath("lrgc-slam"),
+								 {"--input", senaRawlogPath(), "--out", out, "--quiet"});
 	ASSERT_EQ(slam.exitCode, 0) << slam.output;
-	const auto o2m = runProcess(kObservations2map, {out + "/observations2map.ini",
-													 out + "/map.simplemap.gz", dir + "/rebuilt"});
+	const auto o2m = runProcess(
+		kObservations2map,
+		{out + "/observations2map.ini", out + "/map.simplemap.gz", dir + "/rebuilt"});
 	ASSERT_EQ(o2m.exitCode, 0) << o2m.output;
 	const auto load = [](const std::string& path)
 	{

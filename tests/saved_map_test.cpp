@@ -37,23 +37,24 @@ std::vector<std::pair<mrpt::obs::CObservation::Ptr, mrpt::obs::CObservation::Ptr
 		auto odo = mrpt::obs::CObservationOdometry::Create();
 		odo->timestamp = t;
 		odo->odometry = mrpt::poses::CPose2D(tr.odometryPoses[k]);
-		out.emplace_back(
-			odo, laserObservationFromScan(simulateScan(world, tr.truePoses[k], laser, rng), laser, t));
+		out.emplace_back(odo, laserObservationFromScan(
+								  simulateScan(world, tr.truePoses[k], laser, rng), laser, t));
 	}
 	return out;
 }
 
 template <class Consumer>
-void feed(Consumer& c, const std::pair<mrpt::obs::CObservation::Ptr, mrpt::obs::CObservation::Ptr>& s)
+void feed(Consumer& c,
+		  const std::pair<mrpt::obs::CObservation::Ptr, mrpt::obs::CObservation::Ptr>& s)
 {
 	c.processObservation(s.first);
 	c.processObservation(s.second);
 }
 
 /** RMS and max position error [m] of estimates (map = frame of `mapOrigin`) against truth. */
-std::pair<double, double> errorInMap(
-	const lrgc::TTrajectory& est, const std::vector<TPose2D>& truth, const TPose2D& mapOrigin,
-	size_t from = 0)
+std::pair<double, double> errorInMap(const lrgc::TTrajectory& est,
+									 const std::vector<TPose2D>& truth,
+									 const TPose2D& mapOrigin, size_t from = 0)
 {
 	double s2 = 0, mx = 0;
 	size_t n = 0;
@@ -138,10 +139,12 @@ TEST(SavedMap, aPlainSimplemapKeepsItsPosesAndItsLoops)
 	const auto& g = b.graph();
 	ASSERT_EQ(g.numNodes(), keyframes.size());
 	for (size_t i = 0; i < g.numNodes(); ++i)
-		EXPECT_NEAR(lrgc::translationNorm(lrgc::between(g.pose(i), a.builder.graph().pose(i))), 0, 1e-9);
+		EXPECT_NEAR(lrgc::translationNorm(lrgc::between(g.pose(i), a.builder.graph().pose(i))),
+					0, 1e-9);
 	// A chain of scan matches, and loop links where the map revisits its places (the room
 	// is driven round twice): before the fix only the chain was there.
-	EXPECT_EQ(countLinks(g, LinkType::ScanMatch) + countLinks(g, LinkType::Odometry), g.numNodes() - 1);
+	EXPECT_EQ(countLinks(g, LinkType::ScanMatch) + countLinks(g, LinkType::Odometry),
+			  g.numNodes() - 1);
 	EXPECT_GT(countLinks(g, LinkType::ScanMatch), (g.numNodes() - 1) * 9 / 10);
 	EXPECT_GE(countLinks(g, LinkType::LoopClosure), 5U);
 }
@@ -154,8 +157,8 @@ TEST(SavedMap, aLogStartingAnywhereInTheMapIsLocatedAndContinuesIt)
 	std::istringstream text(lrgc::poseGraphToText(a.builder.graph(), a.builder.laserLabel()));
 	const auto saved = lrgc::poseGraphFromText(text, "graph.lrgc");
 	// Log B starts in the room's far corner facing back, and crosses the room.
-	const TTrajectory trB = makeTrajectory(
-		{{8.0, 5.2}, {2.0, 5.2}, {2.0, 2.0}, {8.0, 2.0}}, 0.1, TOdometryNoise{}, 9);
+	const TTrajectory trB = makeTrajectory({{8.0, 5.2}, {2.0, 5.2}, {2.0, 2.0}, {8.0, 2.0}},
+										   0.1, TOdometryNoise{}, 9);
 	const auto obsB = steps(a.world, trB, 2e9, 3);
 
 	CMetricMapBuilderLRGC b;
@@ -165,10 +168,12 @@ TEST(SavedMap, aLogStartingAnywhereInTheMapIsLocatedAndContinuesIt)
 	lrgc::CStartFinder finder(global, b.params(), {});
 	std::optional<lrgc::TStartFound> found;
 	size_t read = 0;
-	while (!found && read < obsB.size()) feed(finder.probe(), obsB[read++]), found = finder.tryLocate();
+	while (!found && read < obsB.size())
+		feed(finder.probe(), obsB[read++]), found = finder.tryLocate();
 	ASSERT_TRUE(found) << "last rejection: " << finder.lastRejection();
 	EXPECT_LT(read, 60U);
-	const TPose2D start = lrgc::compose(found->probeInMap, finder.probe().trajectory().front().robotInMap);
+	const TPose2D start =
+		lrgc::compose(found->probeInMap, finder.probe().trajectory().front().robotInMap);
 	const TPose2D trueStart = lrgc::between(a.tr.truePoses.front(), trB.truePoses.front());
 	EXPECT_LT(lrgc::translationNorm(lrgc::between(trueStart, start)), 0.1);
 	b.startSessionAt(start, found->cov);
@@ -183,14 +188,16 @@ TEST(SavedMap, aLogStartingAnywhereInTheMapIsLocatedAndContinuesIt)
 	CMetricMapBuilderLRGC alone;
 	for (const auto& s : obsB) feed(alone, s);
 	alone.finish();
-	const auto [rmsAlone, mxAlone] = errorInMap(alone.trajectory(), trB.truePoses, trB.truePoses.front());
+	const auto [rmsAlone, mxAlone] =
+		errorInMap(alone.trajectory(), trB.truePoses, trB.truePoses.front());
 	RecordProperty("rms_alone_m", std::to_string(rmsAlone));
 	EXPECT_LT(rms, rmsAlone + 0.01);
 	EXPECT_LT(mx, mxAlone + 0.05);
 	std::vector<double> errors;
 	for (size_t k = 0; k < trB.truePoses.size(); ++k)
 		errors.push_back(lrgc::translationNorm(lrgc::between(
-			trB.truePoses[k], lrgc::compose(a.tr.truePoses.front(), b.trajectory()[k].robotInMap))));
+			trB.truePoses[k],
+			lrgc::compose(a.tr.truePoses.front(), b.trajectory()[k].robotInMap))));
 	std::nth_element(errors.begin(), errors.begin() + long(errors.size() / 2), errors.end());
 	EXPECT_LT(errors[errors.size() / 2], 0.02);
 	// B's loops to the old map closed: new loop links beyond the old map's own.
@@ -203,14 +210,16 @@ TEST(SavedMap, localisationTracksTheRobotAndRelocalisesAfterAKidnap)
 	// Log B drives along the south wall, is carried (kidnapped) to the north-west corner
 	// without its wheels knowing, and drives on east.
 	const TTrajectory b1 = makeTrajectory({{2.0, 2.0}, {8.0, 2.0}}, 0.1, TOdometryNoise{}, 21);
-	const TTrajectory b2 = makeTrajectory({{2.0, 5.3}, {8.0, 5.3}, {8.0, 3.0}}, 0.1, TOdometryNoise{}, 22);
+	const TTrajectory b2 =
+		makeTrajectory({{2.0, 5.3}, {8.0, 5.3}, {8.0, 3.0}}, 0.1, TOdometryNoise{}, 22);
 	TTrajectory tr = b1;
 	const TPose2D jumpOdo = tr.odometryPoses.back();
 	for (size_t k = 0; k < b2.truePoses.size(); ++k)
 	{
 		tr.truePoses.push_back(b2.truePoses[k]);
 		// The odometry goes on from where it was, with b2's own increments.
-		tr.odometryPoses.push_back(lrgc::compose(jumpOdo, lrgc::between(b2.odometryPoses.front(), b2.odometryPoses[k])));
+		tr.odometryPoses.push_back(lrgc::compose(
+			jumpOdo, lrgc::between(b2.odometryPoses.front(), b2.odometryPoses[k])));
 	}
 	const auto obs = steps(a.world, tr, 3e9, 4);
 	lrgc::CLocalizer loc(a.builder.graph(), a.builder.keyframes(), a.builder.params(), {});
@@ -226,7 +235,8 @@ TEST(SavedMap, localisationTracksTheRobotAndRelocalisesAfterAKidnap)
 	const size_t offset = 0;
 	const std::vector<TPose2D>& truth = tr.truePoses;
 	// Before the kidnap, and over the second half of b2 (relocalised by then).
-	lrgc::TTrajectory before(loc.trajectory().begin(), loc.trajectory().begin() + long(b1.truePoses.size() - offset));
+	lrgc::TTrajectory before(loc.trajectory().begin(),
+							 loc.trajectory().begin() + long(b1.truePoses.size() - offset));
 	const auto [rms1, max1] = errorInMap(before, truth, a.tr.truePoses.front());
 	const size_t late = b1.truePoses.size() - offset + b2.truePoses.size() / 2;
 	const auto [rms2, max2] = errorInMap(loc.trajectory(), truth, a.tr.truePoses.front(), late);

@@ -71,8 +71,8 @@ void writeRoomRawlog(const std::string& path,
 // did not heed SIGTERM before issue 30).
 TProcessResult mapBounded(const std::string& log, const std::string& out)
 {
-	return runProcess("/usr/bin/timeout",
-					  {"-k", "5", "120", binaryPath("lrgc-slam"), "--input", log, "--out", out, "--quiet"});
+	return runProcess("/usr/bin/timeout", {"-k", "5", "120", binaryPath("lrgc-slam"), "--input",
+										   log, "--out", out, "--quiet"});
 }
 
 void expectMappedWithWarning(const std::string& log, const std::string& warning)
@@ -88,7 +88,10 @@ void expectMappedWithWarning(const std::string& log, const std::string& warning)
 class AbsurdGeometry : public ::testing::Test
 {
 protected:
-	void SetUp() override { m_dir = makeTempDir("absurd_geometry_" + std::to_string(::getpid())); }
+	void SetUp() override
+	{
+		m_dir = makeTempDir("absurd_geometry_" + std::to_string(::getpid()));
+	}
 	std::string m_dir;
 };
 }  // namespace
@@ -109,7 +112,8 @@ TEST_F(AbsurdGeometry, RawlogNaNApertureIsDropped)
 TEST_F(AbsurdGeometry, RawlogNaNSensorPoseIsDropped)
 {
 	writeRoomRawlog(m_dir + "/pose.rawlog", [](auto& s) { s.sensorPose.x(kNaN); });
-	expectMappedWithWarning(m_dir + "/pose.rawlog", "dropped: sensorPose has a non-finite value");
+	expectMappedWithWarning(m_dir + "/pose.rawlog",
+							"dropped: sensorPose has a non-finite value");
 }
 
 TEST_F(AbsurdGeometry, CarmenFarReadingAndHugeResolution)
@@ -132,7 +136,8 @@ TEST_F(AbsurdGeometry, CarmenFarReadingAndHugeResolution)
 
 TEST_F(AbsurdGeometry, MaxRangeZeroIsNamedWhenNothingIsMapped)
 {
-	writeRoomRawlog(m_dir + "/zero.rawlog", [](auto& s) { s.maxRange = 0.0f; }, true);
+	writeRoomRawlog(
+		m_dir + "/zero.rawlog", [](auto& s) { s.maxRange = 0.0f; }, true);
 	const auto r = mapBounded(m_dir + "/zero.rawlog", m_dir + "/zero.out");
 	EXPECT_EQ(r.exitCode, 1) << r.output;
 	EXPECT_NE(r.output.find("nothing to map"), std::string::npos) << r.output;

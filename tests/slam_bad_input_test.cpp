@@ -17,8 +17,8 @@ using namespace lrgc::test;
 TEST(SlamBadInput, MissingInputFileIsNamed)
 {
 	const std::string dir = makeTempDir("bad_missing");
-	const auto r = runProcess(
-		binaryPath("lrgc-slam"), {"--input", dir + "/nope.rawlog", "--out", dir + "/out"});
+	const auto r = runProcess(binaryPath("lrgc-slam"),
+							  {"--input", dir + "/nope.rawlog", "--out", dir + "/out"});
 	EXPECT_EQ(r.exitCode, 1) << r.output;
 	EXPECT_NE(r.output.find("nope.rawlog"), std::string::npos) << r.output;
 }
@@ -32,11 +32,13 @@ TEST(SlamBadInput, SaveRawlogOverTheInputIsRefusedAndTheInputKept)
 	fs::create_symlink(input, dir + "/link.clf");
 	for (const std::string& target : {input, dir + "/./log.clf", dir + "/link.clf"})
 	{
-		const auto r = runProcess(binaryPath("lrgc-slam"), {"--input", input, "--save-rawlog", target});
+		const auto r =
+			runProcess(binaryPath("lrgc-slam"), {"--input", input, "--save-rawlog", target});
 		EXPECT_EQ(r.exitCode, 2) << target << ": " << r.output;
 		EXPECT_NE(r.output.find("refusing to overwrite"), std::string::npos) << r.output;
 		std::ifstream in(input);
-		const std::string now((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+		const std::string now((std::istreambuf_iterator<char>(in)),
+							  std::istreambuf_iterator<char>());
 		EXPECT_EQ(now, content) << "the input was changed by --save-rawlog " << target;
 	}
 }
@@ -57,8 +59,9 @@ TEST(SlamBadInput, SaveRawlogIsCheckedBeforeTheRun)
 				"'" + dir + "/missing' is not a directory; create it first"},
 		  TCase{"/dev/null", "--save-rawlog '/dev/null' exists and is not a regular file"},
 		  // No one may write into /proc, root included.
-		  TCase{"/proc/lrgc.rawlog", "--save-rawlog '/proc/lrgc.rawlog': cannot write into "
-									 "'/proc'"}})
+		  TCase{"/proc/lrgc.rawlog",
+				"--save-rawlog '/proc/lrgc.rawlog': cannot write into "
+				"'/proc'"}})
 	{
 		for (const bool alsoMap : {false, true})
 		{
@@ -196,11 +199,13 @@ TEST(SlamBadInput, TruncatedRawlogSavesWhatWasMappedAndFails)
 	// The SENA rawlog is gzip-compressed: decompress, cut the stream at 60 %, store plain.
 	const std::string plain = dir + "/sena.rawlog";
 	ASSERT_EQ(
-		runProcess("/bin/sh", {"-c", "gzip -dc < \"$0\" > \"$1\"", senaRawlogPath(), plain}).exitCode,
+		runProcess("/bin/sh", {"-c", "gzip -dc < \"$0\" > \"$1\"", senaRawlogPath(), plain})
+			.exitCode,
 		0);
 	const auto size = fs::file_size(plain);
 	fs::resize_file(plain, size * 6 / 10);
-	const auto r = runProcess(binaryPath("lrgc-slam"), {"--input", plain, "--out", dir + "/out"});
+	const auto r =
+		runProcess(binaryPath("lrgc-slam"), {"--input", plain, "--out", dir + "/out"});
 	EXPECT_EQ(r.exitCode, 1) << r.output;
 	EXPECT_NE(r.output.find("sena.rawlog"), std::string::npos) << r.output;
 	EXPECT_NE(r.output.find("byte"), std::string::npos) << r.output;
@@ -218,7 +223,7 @@ TEST(SlamBadInput, TruncatedRawlogSavesWhatWasMappedAndFails)
 TEST(SlamConfig, ShippedDefaultIniIsTheGeneratedOne)
 {
 	const std::string dir = makeTempDir("default_ini");
-	for (const std::string& kind : {"default", "expert"})
+	for (const std::string kind : {"default", "expert"})
 	{
 		std::vector<std::string> args = {"--write-default-config", dir + "/" + kind + ".ini"};
 		if (kind == "expert") args.push_back("--expert");

@@ -33,14 +33,15 @@ TEST(SlamConfigIni, OutputFolderConfigRepeatsTheRun)
 		const size_t eq = ini.find('=', at);
 		const size_t end = ini.find_first_of("/\n", eq);
 		const std::string v = ini.substr(eq + 1, end - eq - 1);
-		return v.substr(v.find_first_not_of(' '), v.find_last_not_of(' ') - v.find_first_not_of(' ') + 1);
+		return v.substr(v.find_first_not_of(' '),
+						v.find_last_not_of(' ') - v.find_first_not_of(' ') + 1);
 	};
 	EXPECT_EQ(valueOf("keyframe_distance_m"), "0.45");  // full precision, shortest text
 	EXPECT_EQ(valueOf("max_range_m"), "30.5");
 
-	r = runProcess(binaryPath("lrgc-slam"), {"--input", senaRawlogPath(), "--config",
-											 dir + "/first/config.ini", "--out", dir + "/again",
-											 "--quiet"});
+	r = runProcess(binaryPath("lrgc-slam"),
+				   {"--input", senaRawlogPath(), "--config", dir + "/first/config.ini", "--out",
+					dir + "/again", "--quiet"});
 	ASSERT_EQ(r.exitCode, 0) << r.output;
 	const std::string first = readTextFile(dir + "/first/trajectory.tum");
 	EXPECT_GT(first.size(), 1000u);

@@ -23,20 +23,34 @@ using namespace lrgc::test;
 
 namespace
 {
-const std::vector<std::string> kOutputs = {
-	"map.gridmap.gz", "map.png", "map.pgm", "map.yaml", "map.simplemap.gz", "trajectory.tum",
-	"graph.graph", "graph.lrgc", "timing.csv", "stats.json", "log.rawlog", "config.ini",
-	"map.3Dscene", "pf-localization.ini", "observations2map.ini"};
+const std::vector<std::string> kOutputs = {"map.gridmap.gz",
+										   "map.png",
+										   "map.pgm",
+										   "map.yaml",
+										   "map.simplemap.gz",
+										   "trajectory.tum",
+										   "graph.graph",
+										   "graph.lrgc",
+										   "timing.csv",
+										   "stats.json",
+										   "log.rawlog",
+										   "config.ini",
+										   "map.3Dscene",
+										   "pf-localization.ini",
+										   "observations2map.ini"};
 
 // Files whose content holds measured times: compared by their shape, not their bytes.
 /** Outputs whose text differs from run to run: times, or the run's own folder in its paths. */
 bool holdsTimes(const std::string& name)
 {
 	return name == "timing.csv" || name == "stats.json" || name == "pf-localization.ini" ||
-		name == "observations2map.ini";
+		   name == "observations2map.ini";
 }
 
-size_t lineCount(const std::string& text) { return std::count(text.begin(), text.end(), '\n'); }
+size_t lineCount(const std::string& text)
+{
+	return std::count(text.begin(), text.end(), '\n');
+}
 
 class DiskFull : public ::testing::Test
 {
@@ -60,17 +74,18 @@ protected:
 	TProcessResult run(const std::string& out, long long failAfter, const char* fsync = "")
 	{
 		fs::create_directories(out);
-		return runProcess("/usr/bin/env",
-						  {"LD_PRELOAD=" LRGC_WRITE_FAULT_SHIM, "LRGC_FAULT_DIR=" + out + "/",
-						   "LRGC_FAULT_WRITE_AFTER=" + std::to_string(failAfter),
-						   std::string("LRGC_FAULT_FSYNC=") + fsync, binaryPath("lrgc-slam"),
-						   "--input", m_log, "--out", out, "--save-rawlog", out + "/log.rawlog",
-						   "--quiet"});
+		return runProcess(
+			"/usr/bin/env",
+			{"LD_PRELOAD=" LRGC_WRITE_FAULT_SHIM, "LRGC_FAULT_DIR=" + out + "/",
+			 "LRGC_FAULT_WRITE_AFTER=" + std::to_string(failAfter),
+			 std::string("LRGC_FAULT_FSYNC=") + fsync, binaryPath("lrgc-slam"), "--input",
+			 m_log, "--out", out, "--save-rawlog", out + "/log.rawlog", "--quiet"});
 	}
 
 	// Every file in `out` is a complete output (equal to the good run's; for the timed ones,
 	// the same number of lines and a JSON object closed), and no temporary is left.
-	void expectOnlyCompleteFiles(const std::string& out, bool allPresent, const std::string& what)
+	void expectOnlyCompleteFiles(const std::string& out, bool allPresent,
+								 const std::string& what)
 	{
 		for (const auto& entry : fs::directory_iterator(out))
 		{
@@ -85,7 +100,8 @@ protected:
 				EXPECT_TRUE(lineCount(bytes) == lineCount(good) &&
 							bytes.substr(bytes.size() > 2 ? bytes.size() - 2 : 0) ==
 								good.substr(good.size() - 2))
-					<< what << ": " << name << " is cut short:\n" << bytes;
+					<< what << ": " << name << " is cut short:\n"
+					<< bytes;
 		}
 		if (!allPresent) return;
 		for (const auto& name : kOutputs)
@@ -95,8 +111,7 @@ protected:
 	void copyGoodInto(const std::string& out)
 	{
 		fs::create_directories(out);
-		for (const auto& name : kOutputs)
-			fs::copy_file(m_good + "/" + name, out + "/" + name);
+		for (const auto& name : kOutputs) fs::copy_file(m_good + "/" + name, out + "/" + name);
 	}
 
 	std::string m_dir, m_log, m_good;
@@ -110,19 +125,22 @@ TEST_F(DiskFull, NoBrokenFileAtAnyFailurePoint)
 	// 0, a few bytes, then 40 points across the whole output; even steps into a fresh
 	// folder, odd ones into a folder holding a complete earlier run.
 	std::vector<long long> points = {0, 1, 100};
-	for (int k = 1; k < 40; ++k) points.push_back(static_cast<long long>(m_totalBytes * k / 40));
+	for (int k = 1; k < 40; ++k)
+		points.push_back(static_cast<long long>(m_totalBytes * k / 40));
 	for (size_t i = 0; i < points.size(); ++i)
 	{
 		const bool earlierRun = i % 2 == 1;
 		const std::string out = m_dir + "/sweep" + std::to_string(i);
 		if (earlierRun) copyGoodInto(out);
-		const std::string what =
-			"fail after " + std::to_string(points[i]) + " of " + std::to_string(m_totalBytes) +
-			" bytes" + (earlierRun ? " (over an earlier run)" : "");
+		const std::string what = "fail after " + std::to_string(points[i]) + " of " +
+								 std::to_string(m_totalBytes) + " bytes" +
+								 (earlierRun ? " (over an earlier run)" : "");
 		const auto r = run(out, points[i]);
 		EXPECT_NE(r.exitCode, 0) << what << ": " << r.output;
-		EXPECT_NE(r.output.find("No space left on device"), std::string::npos) << what << ": " << r.output;
-		EXPECT_NE(r.output.find(out + "/"), std::string::npos) << what << ": names no file: " << r.output;
+		EXPECT_NE(r.output.find("No space left on device"), std::string::npos)
+			<< what << ": " << r.output;
+		EXPECT_NE(r.output.find(out + "/"), std::string::npos)
+			<< what << ": names no file: " << r.output;
 		expectOnlyCompleteFiles(out, earlierRun, what);
 		if (HasFailure()) break;  // one point's story is enough
 	}

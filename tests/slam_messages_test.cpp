@@ -24,7 +24,10 @@ using namespace lrgc::test;
 
 namespace
 {
-size_t lineCount(const std::string& s) { return std::count(s.begin(), s.end(), '\n'); }
+size_t lineCount(const std::string& s)
+{
+	return std::count(s.begin(), s.end(), '\n');
+}
 
 // What MRPT's exception texts look like; none of it may reach a user without --verbose.
 void expectNoBannerNorBacktrace(const std::string& output)
@@ -36,7 +39,8 @@ void expectNoBannerNorBacktrace(const std::string& output)
 std::set<std::string> namesIn(const std::string& dir)
 {
 	std::set<std::string> names;
-	for (const auto& e : fs::directory_iterator(dir)) names.insert(e.path().filename().string());
+	for (const auto& e : fs::directory_iterator(dir))
+		names.insert(e.path().filename().string());
 	return names;
 }
 
@@ -59,16 +63,18 @@ TEST(SlamMessages, ConfigErrorsAreOneLineNamingFileKeyAndWhatToDo)
 	};
 	for (const TCase& c :
 		 {TCase{"[MapBuilder]\nkeyframe_distanse = 0.5\n",
-				{"lrgc-slam: " + dir + "/bad.ini:2: Unknown key 'keyframe_distanse' in section "
-				 "[MapBuilder] (did you mean 'keyframe_distance_m'?)",
+				{"lrgc-slam: " + dir +
+					 "/bad.ini:2: Unknown key 'keyframe_distanse' in section "
+					 "[MapBuilder] (did you mean 'keyframe_distance_m'?)",
 				 "--write-default-config"}},
 		  TCase{"# tuned\n\n[ScanMatcherr]\n",
 				{dir + "/bad.ini:3: ", "ScanMatcherr", "--write-default-config"}},
 		  // The line of the key in its section, not of the same key in another section.
-		  TCase{"[LoopCloser]\n; note\n[MapBuilder]\nmin_scan_points = 20\n"
-				"keyframe_distance_m = abc\n",
-				{dir + "/bad.ini:5: Invalid value for [MapBuilder] keyframe_distance_m: 'abc' is "
-					   "not a number"}},
+		  TCase{
+			  "[LoopCloser]\n; note\n[MapBuilder]\nmin_scan_points = 20\n"
+			  "keyframe_distance_m = abc\n",
+			  {dir + "/bad.ini:5: Invalid value for [MapBuilder] keyframe_distance_m: 'abc' is "
+					 "not a number"}},
 		  // Found by fuzz/fuzz_ini: MRPT's parser throws on an unclosed ${ / $env{ (even in a
 		  // comment); that was an exit status 1 with no file named.
 		  TCase{"[MapBuilder]\nkeyframe_distance_m = 0.3 // see $env{HOME\n",
@@ -77,18 +83,18 @@ TEST(SlamMessages, ConfigErrorsAreOneLineNamingFileKeyAndWhatToDo)
 	{
 		writeTextFile(dir + "/bad.ini", c.ini);
 		// The configuration is read before the log is opened: the input need not exist.
-		const auto r = runProcess(binaryPath("lrgc-slam"), {"--input", dir + "/none.rawlog",
-															"--config", dir + "/bad.ini",
-															"--out", dir + "/out"});
+		const auto r =
+			runProcess(binaryPath("lrgc-slam"), {"--input", dir + "/none.rawlog", "--config",
+												 dir + "/bad.ini", "--out", dir + "/out"});
 		EXPECT_EQ(r.exitCode, 2) << r.output;
 		EXPECT_EQ(lineCount(r.output), 1u) << r.output;
 		for (const auto& text : c.expected)
 			EXPECT_NE(r.output.find(text), std::string::npos) << text << " in:\n" << r.output;
 		expectNoBannerNorBacktrace(r.output);
 	}
-	const auto r = runProcess(binaryPath("lrgc-slam"), {"--input", dir + "/none.rawlog",
-														"--config", dir + "/missing.ini",
-														"--out", dir + "/out"});
+	const auto r =
+		runProcess(binaryPath("lrgc-slam"), {"--input", dir + "/none.rawlog", "--config",
+											 dir + "/missing.ini", "--out", dir + "/out"});
 	EXPECT_EQ(r.exitCode, 2) << r.output;
 	EXPECT_EQ(lineCount(r.output), 1u) << r.output;
 	EXPECT_NE(r.output.find("--config '" + dir + "/missing.ini': no such file"),
@@ -101,8 +107,8 @@ TEST(SlamMessages, VerboseAddsTheDetails)
 {
 	const std::string dir = makeTempDir("msg_verbose");
 	writeTextFile(dir + "/bad.ini", "[MapBuilder]\nkeyframe_distanse = 0.5\n");
-	const std::vector<std::string> args = {"--input", dir + "/none.rawlog", "--config",
-										   dir + "/bad.ini", "--out", dir + "/out"};
+	const std::vector<std::string> args = {
+		"--input", dir + "/none.rawlog", "--config", dir + "/bad.ini", "--out", dir + "/out"};
 	const auto plain = runProcess(binaryPath("lrgc-slam"), args);
 	auto verboseArgs = args;
 	verboseArgs.push_back("--verbose");
@@ -128,11 +134,13 @@ TEST(SlamMessages, InputErrorsAreOneLineWithoutBanner)
 	// one line, in the console and in stats.json.
 	LRGC_SKIP_IF_MISSING(senaRawlogPath());
 	const std::string plain = dir + "/sena.rawlog";
-	ASSERT_EQ(runProcess("/bin/sh", {"-c", "gzip -dc < \"$0\" > \"$1\"", senaRawlogPath(), plain})
-				  .exitCode,
-			  0);
+	ASSERT_EQ(
+		runProcess("/bin/sh", {"-c", "gzip -dc < \"$0\" > \"$1\"", senaRawlogPath(), plain})
+			.exitCode,
+		0);
 	fs::resize_file(plain, fs::file_size(plain) / 2);
-	r = runProcess(binaryPath("lrgc-slam"), {"--input", plain, "--out", dir + "/out", "--quiet"});
+	r = runProcess(binaryPath("lrgc-slam"),
+				   {"--input", plain, "--out", dir + "/out", "--quiet"});
 	EXPECT_EQ(r.exitCode, 1) << r.output;
 	EXPECT_NE(r.output.find("lrgc-slam: input error: " + plain + ": byte "), std::string::npos)
 		<< r.output;
@@ -149,18 +157,20 @@ TEST(SlamMessages, InputErrorsAreOneLineWithoutBanner)
 TEST(SlamMessages, OldKeyNamesAreWarningsNamingTheNewKey)
 {
 	const std::string dir = makeTempDir("msg_old_keys");
-	const auto r = runProcess(
-		binaryPath("lrgc-slam"),
-		{"--input", dir + "/nope.rawlog", "--out", dir + "/out", "--config",
-		 std::string(LRGC_SOURCE_DIR) + "/tests/data/lrgc-default-7c31216.ini"});
+	const auto r =
+		runProcess(binaryPath("lrgc-slam"),
+				   {"--input", dir + "/nope.rawlog", "--out", dir + "/out", "--config",
+					std::string(LRGC_SOURCE_DIR) + "/tests/data/lrgc-default-7c31216.ini"});
 	EXPECT_EQ(r.exitCode, 1) << r.output;
-	EXPECT_NE(r.output.find("warning: [MapBuilder] keyframe_distance is now keyframe_distance_m; "
-							"read as such (lrgc-slam --write-default-config FILE writes the "
-							"current names)\n"),
-			  std::string::npos)
+	EXPECT_NE(
+		r.output.find("warning: [MapBuilder] keyframe_distance is now keyframe_distance_m; "
+					  "read as such (lrgc-slam --write-default-config FILE writes the "
+					  "current names)\n"),
+		std::string::npos)
 		<< r.output;
-	EXPECT_NE(r.output.find("warning: [LoopCloser] apply_when_ready is no longer a key: ignored"),
-			  std::string::npos)
+	EXPECT_NE(
+		r.output.find("warning: [LoopCloser] apply_when_ready is no longer a key: ignored"),
+		std::string::npos)
 		<< r.output;
 	EXPECT_EQ(lineCount(r.output), 51u) << r.output;  // 50 old keys, then the input's error
 	EXPECT_EQ(r.output.find("further warnings"), std::string::npos) << r.output;
@@ -232,16 +242,19 @@ TEST(SlamMessages, UsageErrorsAreOneLineAndHelpListsEveryOption)
 
 	r = runProcess(binaryPath("lrgc-slam"), {"--help"});
 	EXPECT_EQ(r.exitCode, 0) << r.output;
-	for (const char* option : {"--input", "--config", "--out", "--quiet", "--save-rawlog",
-							   "--live", "--write-default-config", "--force", "--verbose",
-							   "--help", "--version"})
-		EXPECT_NE(r.output.find(option), std::string::npos) << option << " not in:\n" << r.output;
+	for (const char* option :
+		 {"--input", "--config", "--out", "--quiet", "--save-rawlog", "--live",
+		  "--write-default-config", "--force", "--verbose", "--help", "--version"})
+		EXPECT_NE(r.output.find(option), std::string::npos) << option << " not in:\n"
+															<< r.output;
 	// The synopsis (the lines before "Options:") shows --laser with the runs that take it.
 	const std::string synopsis = r.output.substr(0, r.output.find("Options:"));
 	EXPECT_NE(synopsis.find("--input FILE [--config FILE.ini] --out DIR [--laser LABEL]"),
-			  std::string::npos) << synopsis;
+			  std::string::npos)
+		<< synopsis;
 	EXPECT_NE(synopsis.find("--live SENSORS.ini [--config FILE.ini] --out DIR [--laser LABEL]"),
-			  std::string::npos) << synopsis;
+			  std::string::npos)
+		<< synopsis;
 
 	r = runProcess(binaryPath("lrgc-slam"), {"--version"});
 	EXPECT_EQ(r.exitCode, 0) << r.output;
@@ -262,7 +275,8 @@ TEST(SlamMessages, InterruptedRunShowsHowFarItGot)
 	LRGC_SKIP_IF_MISSING(senaRawlogPath());
 	const std::string dir = makeTempDir("msg_interrupted_" + std::to_string(::getpid()));
 	CChildProcess app(binaryPath("lrgc-slam"),
-					  {"--input", senaRawlogPath(), "--out", dir + "/out"}, dir + "/console.txt");
+					  {"--input", senaRawlogPath(), "--out", dir + "/out"},
+					  dir + "/console.txt");
 	// SIGINT once the run takes it (its signal watcher starts after the .ini is read).
 	const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
 	while (!takesSignal(app.pid(), SIGINT) && std::chrono::steady_clock::now() < deadline)

@@ -51,7 +51,8 @@ TEST_F(OutputsOverInputs, SlamInputInsideOutFolderUnderAnOutputName)
 	const std::string dir = s_dir + "/a";
 	fs::create_directories(dir);
 	fs::copy_file(s_dir + "/room.clf", dir + "/timing.csv");
-	expectRefused("lrgc-slam", {"--input", dir + "/timing.csv", "--out", dir}, dir + "/timing.csv");
+	expectRefused("lrgc-slam", {"--input", dir + "/timing.csv", "--out", dir},
+				  dir + "/timing.csv");
 	EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator()), 1)
 		<< "the refused run wrote into " << dir;
 }
@@ -62,7 +63,8 @@ TEST_F(OutputsOverInputs, SlamSeesThroughSymlinksAndDetours)
 	fs::create_directories(dir + "/sub");
 	fs::copy_file(s_dir + "/room.clf", dir + "/trajectory.tum");
 	fs::create_directory_symlink(dir, s_dir + "/b-link");
-	expectRefused("lrgc-slam", {"--input", s_dir + "/b-link/trajectory.tum", "--out", dir + "/sub/.."},
+	expectRefused("lrgc-slam",
+				  {"--input", s_dir + "/b-link/trajectory.tum", "--out", dir + "/sub/.."},
 				  dir + "/trajectory.tum");
 	expectRefused("lrgc-slam",
 				  {"--input", s_dir + "/room.clf", "--save-rawlog", dir + "/trajectory.tum",
@@ -73,7 +75,8 @@ TEST_F(OutputsOverInputs, SlamSeesThroughSymlinksAndDetours)
 TEST_F(OutputsOverInputs, SlamNeverWritesIntoTheMapItLocalizesOn)
 {
 	for (const char* name : {"trajectory.tum", "timing.csv", "stats.json"})
-		expectRefused("lrgc-slam", {"--input", s_dir + "/room.clf", "--localize", s_map, "--out", s_map},
+		expectRefused("lrgc-slam",
+					  {"--input", s_dir + "/room.clf", "--localize", s_map, "--out", s_map},
 					  s_map + "/" + name);
 	// A map file: its folder is the map's folder.
 	expectRefused("lrgc-slam",
@@ -84,7 +87,8 @@ TEST_F(OutputsOverInputs, SlamNeverWritesIntoTheMapItLocalizesOn)
 
 TEST_F(OutputsOverInputs, SlamInitialMapIsNotRewrittenInPlace)
 {
-	expectRefused("lrgc-slam", {"--input", s_dir + "/room.clf", "--initial-map", s_map, "--out", s_map},
+	expectRefused("lrgc-slam",
+				  {"--input", s_dir + "/room.clf", "--initial-map", s_map, "--out", s_map},
 				  s_map + "/graph.lrgc");
 }
 
@@ -100,8 +104,8 @@ TEST_F(OutputsOverInputs, PlotOutOverTheMapImage)
 {
 	const std::string before = readFileBytes(s_map + "/map.pgm");
 	const auto r = runProcess(binaryPath("lrgc-plot"),
-							  {"--map", s_map + "/map.yaml", "--trajectory", s_map + "/trajectory.tum",
-							   "--out", s_map + "/map.pgm"});
+							  {"--map", s_map + "/map.yaml", "--trajectory",
+							   s_map + "/trajectory.tum", "--out", s_map + "/map.pgm"});
 	EXPECT_NE(r.exitCode, 0) << r.output;
 	EXPECT_NE(r.output.find("never written over an input"), std::string::npos) << r.output;
 	EXPECT_NE(r.output.find("map.pgm"), std::string::npos) << r.output;
@@ -114,9 +118,11 @@ TEST_F(OutputsOverInputs, OutputNameTakenByAFolderIsFoundBeforeTheRun)
 {
 	const std::string dir = s_dir + "/c";
 	fs::create_directories(dir + "/map.png");
-	const auto r = runProcess(binaryPath("lrgc-slam"), {"--input", s_dir + "/room.clf", "--out", dir});
+	const auto r =
+		runProcess(binaryPath("lrgc-slam"), {"--input", s_dir + "/room.clf", "--out", dir});
 	EXPECT_EQ(r.exitCode, 2) << r.output;
-	EXPECT_NE(r.output.find("--out: '" + dir + "/map.png' exists and is a folder"), std::string::npos)
+	EXPECT_NE(r.output.find("--out: '" + dir + "/map.png' exists and is a folder"),
+			  std::string::npos)
 		<< r.output;
 	EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator()), 1)
 		<< "the refused run wrote into " << dir;

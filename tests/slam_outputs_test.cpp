@@ -31,7 +31,7 @@ namespace
 // One lrgc-slam run on SENA shared by the tests of this file.
 class SenaRun : public ::testing::Test
 {
-   protected:
+protected:
 	static void SetUpTestSuite()
 	{
 		if (!fileExists(senaRawlogPath())) return;
@@ -42,14 +42,18 @@ class SenaRun : public ::testing::Test
 		fs::create_directory(out("earlier"));
 		writeTextFile(out("earlier/map.png"), kNotes);
 		writeTextFile(out("map.png"), "an earlier map");
-		s_result = runProcess(binaryPath("lrgc-slam"), {"--input", senaRawlogPath(), "--out", s_out});
+		s_result =
+			runProcess(binaryPath("lrgc-slam"), {"--input", senaRawlogPath(), "--out", s_out});
 	}
 	void SetUp() override
 	{
 		LRGC_SKIP_IF_MISSING(senaRawlogPath());
 		ASSERT_EQ(s_result.exitCode, 0) << s_result.output;
 	}
-	static std::string out(const std::string& name) { return (fs::path(s_out) / name).string(); }
+	static std::string out(const std::string& name)
+	{
+		return (fs::path(s_out) / name).string();
+	}
 	static inline const std::string kNotes = "the user's own notes\n";
 	static inline std::string s_out;
 	static inline TProcessResult s_result;
@@ -160,12 +164,13 @@ TEST_F(SenaRun, RosMapAndPngAreConsistent)
 TEST_F(SenaRun, AnExistingFolderKeepsEveryFileButOurOutputs)
 {
 	std::set<std::string> names;
-	for (const auto& e : fs::directory_iterator(s_out)) names.insert(e.path().filename().string());
-	EXPECT_EQ(names, (std::set<std::string>{"notes.txt", "earlier", "map.gridmap.gz", "map.png",
-											"map.pgm", "map.yaml", "map.simplemap.gz",
-											"trajectory.tum", "graph.graph", "graph.lrgc", "timing.csv",
-											"stats.json", "config.ini", "pf-localization.ini",
-											"observations2map.ini", "map.3Dscene"}));
+	for (const auto& e : fs::directory_iterator(s_out))
+		names.insert(e.path().filename().string());
+	EXPECT_EQ(names, (std::set<std::string>{
+						 "notes.txt", "earlier", "map.gridmap.gz", "map.png", "map.pgm",
+						 "map.yaml", "map.simplemap.gz", "trajectory.tum", "graph.graph",
+						 "graph.lrgc", "timing.csv", "stats.json", "config.ini",
+						 "pf-localization.ini", "observations2map.ini", "map.3Dscene"}));
 	EXPECT_EQ(readTextFile(out("notes.txt")), kNotes);
 	EXPECT_EQ(readTextFile(out("earlier/map.png")), kNotes);
 	EXPECT_NE(readTextFile(out("map.png")), "an earlier map");  // ours: replaced
@@ -185,12 +190,14 @@ TEST_F(SenaRun, ConsoleSaysWhatTheCountsCount)
 	std::istringstream graph(readTextFile(out("graph.lrgc")));
 	size_t loopLinks = 0;
 	for (std::string line; std::getline(graph, line);)
-		loopLinks += line.rfind("LINK ", 0) == 0 && line.find(" LoopClosure ") != std::string::npos;
+		loopLinks +=
+			line.rfind("LINK ", 0) == 0 && line.find(" LoopClosure ") != std::string::npos;
 	EXPECT_EQ(std::to_string(loopLinks), m[2].str());
 	// lrgc-plot draws the same loop links.
-	const auto plot = runProcess(binaryPath("lrgc-plot"),
-								 {"--map", out("map.yaml"), "--trajectory", out("trajectory.tum"),
-								  "--graph", out("graph.lrgc"), "--out", s_out + "-plot.png"});
+	const auto plot =
+		runProcess(binaryPath("lrgc-plot"),
+				   {"--map", out("map.yaml"), "--trajectory", out("trajectory.tum"), "--graph",
+					out("graph.lrgc"), "--out", s_out + "-plot.png"});
 	EXPECT_EQ(plot.exitCode, 0) << plot.output;
 	EXPECT_NE(plot.output.find(", " + m[2].str() + " loop links, "), std::string::npos)
 		<< plot.output;
@@ -201,8 +208,8 @@ TEST_F(SenaRun, ConsoleSaysWhatTheCountsCount)
 TEST_F(SenaRun, StatsAndTimingAreWritten)
 {
 	const std::string stats = readTextFile(out("stats.json"));
-	for (const char* key : {"\"scans\": 225", "\"latency_ms\"", "\"peak_rss_mb\"", "\"wall_time_s\"",
-							"\"loop_closures\"", "\"status\": \"complete\""})
+	for (const char* key : {"\"scans\": 225", "\"latency_ms\"", "\"peak_rss_mb\"",
+							"\"wall_time_s\"", "\"loop_closures\"", "\"status\": \"complete\""})
 		EXPECT_NE(stats.find(key), std::string::npos) << key;
 	// Loop closures (accepted matches with the old map), and the loop links by origin.
 	const std::regex counts(
@@ -211,7 +218,7 @@ TEST_F(SenaRun, StatsAndTimingAreWritten)
 	std::smatch m;
 	ASSERT_TRUE(std::regex_search(stats, m, counts)) << stats;
 	EXPECT_EQ(m[1].str(), m[2].str());
-	EXPECT_GT(std::stoi(m[1].str()), 0);  // SENA has a loop
+	EXPECT_GT(std::stoi(m[1].str()), 0);             // SENA has a loop
 	EXPECT_EQ(countLines(out("timing.csv")), 226u);  // header + one per scan
 	for (const auto& e : fs::directory_iterator(s_out))
 		EXPECT_EQ(e.path().filename().string().rfind(".tmp.", 0), std::string::npos)
@@ -226,25 +233,26 @@ TEST_F(SenaRun, Scene3DLoadsWithGridTrajectoryAndLoopLinks)
 	mrpt::io::CFileGZInputStream f(out("map.3Dscene"));
 	mrpt::serialization::archiveFrom(f) >> scene;
 	ASSERT_TRUE(scene.getByName("gridmap"));
-	const auto grid = std::dynamic_pointer_cast<mrpt::opengl::CSetOfObjects>(
-		scene.getByName("gridmap"));
+	const auto grid =
+		std::dynamic_pointer_cast<mrpt::opengl::CSetOfObjects>(scene.getByName("gridmap"));
 	ASSERT_TRUE(grid);
 	EXPECT_GT(grid->size(), 0u);
-	const auto path = std::dynamic_pointer_cast<mrpt::opengl::CSetOfLines>(
-		scene.getByName("trajectory"));
+	const auto path =
+		std::dynamic_pointer_cast<mrpt::opengl::CSetOfLines>(scene.getByName("trajectory"));
 	ASSERT_TRUE(path);
 	EXPECT_EQ(path->getLineCount(), 224u);  // 225 scans
-	const auto loops = std::dynamic_pointer_cast<mrpt::opengl::CSetOfLines>(
-		scene.getByName("loop_links"));
+	const auto loops =
+		std::dynamic_pointer_cast<mrpt::opengl::CSetOfLines>(scene.getByName("loop_links"));
 	ASSERT_TRUE(loops);
 	std::istringstream graph(readTextFile(out("graph.lrgc")));
 	size_t loopLinks = 0;
 	for (std::string line; std::getline(graph, line);)
-		loopLinks += line.rfind("LINK ", 0) == 0 && line.find(" LoopClosure 1") != std::string::npos;
+		loopLinks +=
+			line.rfind("LINK ", 0) == 0 && line.find(" LoopClosure 1") != std::string::npos;
 	EXPECT_GT(loopLinks, 0u);
 	EXPECT_EQ(loops->getLineCount(), loopLinks);
-	const auto nodes = std::dynamic_pointer_cast<mrpt::opengl::CPointCloud>(
-		scene.getByName("keyframes"));
+	const auto nodes =
+		std::dynamic_pointer_cast<mrpt::opengl::CPointCloud>(scene.getByName("keyframes"));
 	ASSERT_TRUE(nodes);
 	mrpt::maps::CSimpleMap sm;
 	readArchiveGz(out("map.simplemap.gz"), sm);

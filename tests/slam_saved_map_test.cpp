@@ -35,13 +35,14 @@ TEST(SlamSavedMap, senaContinuedAndLocalisedOnItsOwnMap)
 {
 	LRGC_SKIP_IF_MISSING(senaRawlogPath());
 	const std::string dir = makeTempDir("slam_saved_map_" + std::to_string(::getpid()));
-	const auto first = runProcess(
-		binaryPath("lrgc-slam"), {"--input", senaRawlogPath(), "--out", dir + "/first", "--quiet"});
+	const auto first =
+		runProcess(binaryPath("lrgc-slam"),
+				   {"--input", senaRawlogPath(), "--out", dir + "/first", "--quiet"});
 	ASSERT_EQ(first.exitCode, 0) << first.output;
 	const size_t oldNodes = graphNodes(dir + "/first");
 
-	const auto cont = runProcess(
-		binaryPath("lrgc-slam"), {"--input", senaRawlogPath(), "--initial-map", dir + "/first",
+	const auto cont = runProcess(binaryPath("lrgc-slam"),
+								 {"--input", senaRawlogPath(), "--initial-map", dir + "/first",
 								  "--out", dir + "/cont", "--quiet"});
 	ASSERT_EQ(cont.exitCode, 0) << cont.output;
 	EXPECT_NE(cont.output.find("the log starts at"), std::string::npos) << cont.output;
@@ -49,9 +50,9 @@ TEST(SlamSavedMap, senaContinuedAndLocalisedOnItsOwnMap)
 	EXPECT_EQ(field(readTextFile(dir + "/cont/stats.json"), "scans"),
 			  field(readTextFile(dir + "/first/stats.json"), "scans"));
 
-	const auto loc = runProcess(
-		binaryPath("lrgc-slam"), {"--input", senaRawlogPath(), "--localize", dir + "/first",
-								  "--out", dir + "/loc", "--quiet"});
+	const auto loc =
+		runProcess(binaryPath("lrgc-slam"), {"--input", senaRawlogPath(), "--localize",
+											 dir + "/first", "--out", dir + "/loc", "--quiet"});
 	ASSERT_EQ(loc.exitCode, 0) << loc.output;
 	const std::string stats = readTextFile(dir + "/loc/stats.json");
 	EXPECT_EQ(field(stats, "localized_scans"), field(stats, "scans"));
@@ -64,7 +65,8 @@ TEST(SlamSavedMap, icpSlamsSimplemapIsContinued)
 	LRGC_SKIP_IF_MISSING(senaRawlogPath());
 	if (!fileExists(kIcpSlam)) GTEST_SKIP() << kIcpSlam << " not installed (mrpt-apps)";
 	const std::string dir = makeTempDir("slam_saved_map_icp_" + std::to_string(::getpid()));
-	std::string ini = readTextFile(std::string(LRGC_SOURCE_DIR) + "/bench/icp-slam_headless.ini");
+	std::string ini =
+		readTextFile(std::string(LRGC_SOURCE_DIR) + "/bench/icp-slam_headless.ini");
 	const auto p = ini.find("logOutput_dir=");
 	ASSERT_NE(p, std::string::npos);
 	ini.replace(p, ini.find('\n', p) - p, "logOutput_dir=" + dir + "/icp");
@@ -74,14 +76,14 @@ TEST(SlamSavedMap, icpSlamsSimplemapIsContinued)
 	const std::string simplemap = dir + "/icp/_finalmap_.simplemap";
 	ASSERT_TRUE(fileExists(simplemap));
 
-	const auto cont = runProcess(
-		binaryPath("lrgc-slam"),
-		{"--input", senaRawlogPath(), "--initial-map", simplemap, "--out", dir + "/cont", "--quiet"});
+	const auto cont =
+		runProcess(binaryPath("lrgc-slam"), {"--input", senaRawlogPath(), "--initial-map",
+											 simplemap, "--out", dir + "/cont", "--quiet"});
 	ASSERT_EQ(cont.exitCode, 0) << cont.output;
 	EXPECT_NE(cont.output.find("linked anew from the keyframes' poses"), std::string::npos);
-	const auto loc = runProcess(
-		binaryPath("lrgc-slam"),
-		{"--input", senaRawlogPath(), "--localize", simplemap, "--out", dir + "/loc", "--quiet"});
+	const auto loc =
+		runProcess(binaryPath("lrgc-slam"), {"--input", senaRawlogPath(), "--localize",
+											 simplemap, "--out", dir + "/loc", "--quiet"});
 	ASSERT_EQ(loc.exitCode, 0) << loc.output;
 }
 
@@ -93,26 +95,32 @@ TEST(SlamSavedMap, badArgumentsAndMapsAreOneLineErrors)
 		binaryPath("lrgc-slam"),
 		{"--input", log, "--initial-map", dir, "--localize", dir, "--out", dir + "/o"});
 	EXPECT_EQ(both.exitCode, 2);
-	EXPECT_NE(both.output.find("--initial-map and --localize exclude each other"), std::string::npos)
+	EXPECT_NE(both.output.find("--initial-map and --localize exclude each other"),
+			  std::string::npos)
 		<< both.output;
-	const auto noInput = runProcess(binaryPath("lrgc-slam"), {"--localize", dir, "--out", dir + "/o"});
+	const auto noInput =
+		runProcess(binaryPath("lrgc-slam"), {"--localize", dir, "--out", dir + "/o"});
 	EXPECT_EQ(noInput.exitCode, 2);
-	EXPECT_NE(noInput.output.find("--localize needs --input FILE"), std::string::npos) << noInput.output;
+	EXPECT_NE(noInput.output.find("--localize needs --input FILE"), std::string::npos)
+		<< noInput.output;
 
 	LRGC_SKIP_IF_MISSING(log);
 	const auto missing = runProcess(
 		binaryPath("lrgc-slam"),
 		{"--input", log, "--initial-map", dir + "/nothing", "--out", dir + "/o", "--quiet"});
 	EXPECT_EQ(missing.exitCode, 1);
-	EXPECT_NE(missing.output.find("--initial-map '" + dir + "/nothing': no such file or folder"),
-			  std::string::npos) << missing.output;
-	const auto notAMap = runProcess(
-		binaryPath("lrgc-slam"), {"--input", log, "--localize", log, "--out", dir + "/o", "--quiet"});
+	EXPECT_NE(
+		missing.output.find("--initial-map '" + dir + "/nothing': no such file or folder"),
+		std::string::npos)
+		<< missing.output;
+	const auto notAMap = runProcess(binaryPath("lrgc-slam"), {"--input", log, "--localize", log,
+															  "--out", dir + "/o", "--quiet"});
 	EXPECT_EQ(notAMap.exitCode, 1);
 	EXPECT_NE(notAMap.output.find("not a readable MRPT CSimpleMap"), std::string::npos)
 		<< notAMap.output;
-	const auto notAFolder = runProcess(
-		binaryPath("lrgc-slam"), {"--input", log, "--localize", dir, "--out", dir + "/o", "--quiet"});
+	const auto notAFolder =
+		runProcess(binaryPath("lrgc-slam"),
+				   {"--input", log, "--localize", dir, "--out", dir + "/o", "--quiet"});
 	EXPECT_EQ(notAFolder.exitCode, 1);
 	EXPECT_NE(notAFolder.output.find("the folder has no map.simplemap.gz"), std::string::npos)
 		<< notAFolder.output;

@@ -58,7 +58,8 @@ void writeRepeatedSena(const std::string& path, int laps)
 			auto frame = mrpt::obs::CSensoryFrame::Create();
 			for (const auto& obs : *e.observations)
 			{
-				mrpt::obs::CObservation::Ptr copy(dynamic_cast<mrpt::obs::CObservation*>(obs->clone()));
+				mrpt::obs::CObservation::Ptr copy(
+					dynamic_cast<mrpt::obs::CObservation*>(obs->clone()));
 				copy->timestamp += lap * k;
 				frame->insert(copy);
 			}
@@ -187,11 +188,13 @@ TEST(SlamSignals, SigtermMidRunSavesTheMapsAndExits130)
 	EXPECT_TRUE(r.disposition.blockedInMain);
 	EXPECT_LE(r.disposition.unblockedThreads, 1u) << r.disposition.threads << " threads";
 	EXPECT_GE(r.disposition.threads, 2u) << "the watcher thread is missing";
-	ASSERT_EQ(*r.status, 130) << "the run ended before the signal, or died of it?\n" << r.output;
+	ASSERT_EQ(*r.status, 130) << "the run ended before the signal, or died of it?\n"
+							  << r.output;
 	EXPECT_NE(r.output.find("interrupted"), std::string::npos) << r.output;
 	EXPECT_EQ(r.output.find("100.0%"), std::string::npos) << r.output;
-	for (const char* f : {"map.gridmap.gz", "map.png", "map.pgm", "map.yaml", "map.simplemap.gz",
-						  "trajectory.tum", "graph.graph", "timing.csv", "stats.json"})
+	for (const char* f :
+		 {"map.gridmap.gz", "map.png", "map.pgm", "map.yaml", "map.simplemap.gz",
+		  "trajectory.tum", "graph.graph", "timing.csv", "stats.json"})
 		EXPECT_TRUE(fs::is_regular_file(r.outDir + "/" + f)) << f;
 	const std::string stats = readTextFile(r.outDir + "/stats.json");
 	EXPECT_NE(stats.find("\"status\": \"interrupted\""), std::string::npos) << stats;

@@ -29,11 +29,13 @@ int main(int argc, char** argv)
 	mrpt::obs::CSensoryFrame::Ptr frame;
 	mrpt::obs::CObservation::Ptr observation;
 	size_t index = 0;
-	while (mrpt::obs::CRawlog::getActionObservationPairOrObservation(
-		archive, actions, frame, observation, index))
+	while (mrpt::obs::CRawlog::getActionObservationPairOrObservation(archive, actions, frame,
+																	 observation, index))
 	{
-		if (actions && frame) mapper.processActionObservation(*actions, *frame);
-		else if (observation) mapper.processObservation(observation);
+		if (actions && frame)
+			mapper.processActionObservation(*actions, *frame);
+		else if (observation)
+			mapper.processObservation(observation);
 	}
 	mapper.finish();
 

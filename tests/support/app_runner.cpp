@@ -20,8 +20,8 @@ std::string shellQuote(const std::string& s)
 }
 }  // namespace
 
-TProcessResult runProcess(
-	const std::string& program, const std::vector<std::string>& args, const std::string& cwd)
+TProcessResult runProcess(const std::string& program, const std::vector<std::string>& args,
+						  const std::string& cwd)
 {
 	std::string cmd;
 	if (!cwd.empty()) cmd += "cd " + shellQuote(cwd) + " && ";
@@ -33,13 +33,17 @@ TProcessResult runProcess(
 	if (!pipe) throw std::runtime_error("popen failed for: " + cmd);
 	std::array<char, 4096> buf{};
 	size_t n;
-	while ((n = std::fread(buf.data(), 1, buf.size(), pipe)) > 0) r.output.append(buf.data(), n);
+	while ((n = std::fread(buf.data(), 1, buf.size(), pipe)) > 0)
+		r.output.append(buf.data(), n);
 	const int status = ::pclose(pipe);
 	r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
 	return r;
 }
 
-std::string binaryPath(const std::string& name) { return std::string(LRGC_BINARY_DIR) + "/bin/" + name; }
+std::string binaryPath(const std::string& name)
+{
+	return std::string(LRGC_BINARY_DIR) + "/bin/" + name;
+}
 
 std::string readTextFile(const std::string& path)
 {

@@ -13,8 +13,8 @@ struct TProcessResult
 };
 
 /** Runs `program args...` with stdin from /dev/null, capturing output; `cwd` if not empty. */
-TProcessResult runProcess(
-	const std::string& program, const std::vector<std::string>& args, const std::string& cwd = {});
+TProcessResult runProcess(const std::string& program, const std::vector<std::string>& args,
+						  const std::string& cwd = {});
 
 /** build/bin/<name> */
 std::string binaryPath(const std::string& name);

@@ -8,8 +8,8 @@
 
 namespace lrgc::test
 {
-TSplitCounts splitCarmenLog(
-	const std::string& log, const std::string& firstOut, const std::string& secondOut)
+TSplitCounts splitCarmenLog(const std::string& log, const std::string& firstOut,
+							const std::string& secondOut)
 {
 	mrpt::io::CFileGZInputStream in;
 	if (!in.open(log)) THROW_EXCEPTION_FMT("cannot open '%s'", log.c_str());
@@ -24,14 +24,16 @@ TSplitCounts splitCarmenLog(
 		std::string line = text.substr(pos, end - pos);
 		pos = end + 1;
 		if (line.empty()) continue;
-		(line[0] == '#' || line.rfind("PARAM", 0) == 0 ? header : data).push_back(std::move(line));
+		(line[0] == '#' || line.rfind("PARAM", 0) == 0 ? header : data)
+			.push_back(std::move(line));
 	}
 	if (data.empty()) THROW_EXCEPTION_FMT("'%s' holds no data line", log.c_str());
 	const size_t half = data.size() / 2;
 	std::ofstream a(firstOut), b(secondOut);
 	for (const auto& h : header) a << h << '\n', b << h << '\n';
 	for (size_t i = 0; i < data.size(); ++i) (i < half ? a : b) << data[i] << '\n';
-	if (!a || !b) THROW_EXCEPTION_FMT("cannot write '%s' or '%s'", firstOut.c_str(), secondOut.c_str());
+	if (!a || !b)
+		THROW_EXCEPTION_FMT("cannot write '%s' or '%s'", firstOut.c_str(), secondOut.c_str());
 	return {header.size(), half, data.size() - half};
 }
 

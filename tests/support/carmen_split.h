@@ -16,7 +16,7 @@ struct TSplitCounts
 
 /** Writes the halves of `log` to `firstOut` and `secondOut` (plain text). Throws if `log`
  * cannot be read or holds no data line. */
-TSplitCounts splitCarmenLog(
-	const std::string& log, const std::string& firstOut, const std::string& secondOut);
+TSplitCounts splitCarmenLog(const std::string& log, const std::string& firstOut,
+							const std::string& secondOut);
 
 }  // namespace lrgc::test

@@ -103,7 +103,8 @@ bool maskHas(const std::string& statusFile, const std::string& field, int sig)
 	std::ifstream status(statusFile);
 	for (std::string line; std::getline(status, line);)
 		if (line.rfind(field + ":", 0) == 0)
-			return (std::stoull(line.substr(field.size() + 1), nullptr, 16) >> (sig - 1)) & 1ULL;
+			return (std::stoull(line.substr(field.size() + 1), nullptr, 16) >> (sig - 1)) &
+				   1ULL;
 	return false;
 }
 }  // namespace

@@ -11,7 +11,8 @@
 namespace lrgc::test
 {
 /** RMS of the position error of every node against ground truth [m]. */
-inline double rmsPositionError(const CPoseGraph& g, const std::vector<mrpt::math::TPose2D>& truth)
+inline double rmsPositionError(const CPoseGraph& g,
+							   const std::vector<mrpt::math::TPose2D>& truth)
 {
 	double s = 0;
 	for (size_t i = 0; i < g.numNodes(); ++i)

@@ -75,10 +75,11 @@ void feedBuilder(lrgc::CMetricMapBuilderLRGC& builder, const CSyntheticWorld& wo
 			opt.laser.sensorInRobot,
 			TPose2D(0, 0, opt.beamOffsetStep * double(k % std::max(1, opt.beamOffsetCycle))));
 		const auto& p = tr.truePoses[k];
-		const TScan2D scan = opt.crowd
-			? simulateScan(
-				  opt.crowd->addTo(world, opt.scanPeriod * double(k), {p.x, p.y}), p, laser, rng)
-			: simulateScan(world, p, laser, rng);
+		const TScan2D scan =
+			opt.crowd
+				? simulateScan(opt.crowd->addTo(world, opt.scanPeriod * double(k), {p.x, p.y}),
+							   p, laser, rng)
+				: simulateScan(world, p, laser, rng);
 		builder.processObservation(laserObservationFromScan(scan, laser, t));
 	}
 	builder.finish();

@@ -65,8 +65,8 @@ TBox CSyntheticWorld::bounds() const
 	return b;
 }
 
-std::optional<double> CSyntheticWorld::castRay(
-	const Eigen::Vector2d& o, double angle, double maxRange) const
+std::optional<double> CSyntheticWorld::castRay(const Eigen::Vector2d& o, double angle,
+											   double maxRange) const
 {
 	// Ray o + t d (t > 0) against segment a + s e (0 <= s <= 1):
 	// t = cross(a - o, e) / cross(d, e), s = cross(a - o, d) / cross(d, e).
@@ -99,9 +99,9 @@ double CSyntheticWorld::distanceToNearest(const Eigen::Vector2d& p) const
 	return best;
 }
 
-lrgc::TScan2D simulateScan(
-	const CSyntheticWorld& world, const mrpt::math::TPose2D& robotInWorld,
-	const TLaserSimParams& laser, std::mt19937& rng)
+lrgc::TScan2D simulateScan(const CSyntheticWorld& world,
+						   const mrpt::math::TPose2D& robotInWorld,
+						   const TLaserSimParams& laser, std::mt19937& rng)
 {
 	ASSERT_GE_(laser.beams, 2);
 	lrgc::TScan2D scan;
@@ -131,19 +131,18 @@ lrgc::TScan2D simulateScan(
 void removeBearingSector(lrgc::TScan2D& scan, double from_rad, double to_rad)
 {
 	auto& pts = scan.points;
-	pts.erase(
-		std::remove_if(
-			pts.begin(), pts.end(),
-			[&](const Eigen::Vector2d& p)
-			{
-				const double b = std::atan2(p.y(), p.x());
-				return b >= from_rad && b <= to_rad;
-			}),
-		pts.end());
+	pts.erase(std::remove_if(pts.begin(), pts.end(),
+							 [&](const Eigen::Vector2d& p)
+							 {
+								 const double b = std::atan2(p.y(), p.x());
+								 return b >= from_rad && b <= to_rad;
+							 }),
+			  pts.end());
 }
 
-std::optional<mrpt::math::TPose2D> sampleFreePose(
-	const CSyntheticWorld& world, const TBox& region, double clearance, std::mt19937& rng)
+std::optional<mrpt::math::TPose2D> sampleFreePose(const CSyntheticWorld& world,
+												  const TBox& region, double clearance,
+												  std::mt19937& rng)
 {
 	std::uniform_real_distribution<double> ux(region.min.x(), region.max.x()),
 		uy(region.min.y(), region.max.y()), ua(-M_PI, M_PI);
@@ -151,7 +150,8 @@ std::optional<mrpt::math::TPose2D> sampleFreePose(
 	{
 		const Eigen::Vector2d p(ux(rng), uy(rng));
 		const double phi = ua(rng);
-		if (world.distanceToNearest(p) >= clearance) return mrpt::math::TPose2D(p.x(), p.y(), phi);
+		if (world.distanceToNearest(p) >= clearance)
+			return mrpt::math::TPose2D(p.x(), p.y(), phi);
 	}
 	return std::nullopt;
 }
@@ -204,7 +204,11 @@ CSyntheticWorld makeRepeatedRoomsWorld(int nx, int ny, double s, double door)
 		for (int j = 0; j < ny; ++j)
 		{
 			const double x = i * s, y = j * s;
-			if (i == 0 || i == nx) { w.addSegment({x, y}, {x, y + s}); continue; }
+			if (i == 0 || i == nx)
+			{
+				w.addSegment({x, y}, {x, y + s});
+				continue;
+			}
 			w.addSegment({x, y}, {x, y + g0});
 			w.addSegment({x, y + g1}, {x, y + s});
 		}
@@ -212,7 +216,11 @@ CSyntheticWorld makeRepeatedRoomsWorld(int nx, int ny, double s, double door)
 		for (int i = 0; i < nx; ++i)
 		{
 			const double x = i * s, y = j * s;
-			if (j == 0 || j == ny) { w.addSegment({x, y}, {x + s, y}); continue; }
+			if (j == 0 || j == ny)
+			{
+				w.addSegment({x, y}, {x + s, y});
+				continue;
+			}
 			w.addSegment({x, y}, {x + g0, y});
 			w.addSegment({x + g1, y}, {x + s, y});
 		}
@@ -223,7 +231,8 @@ CSyntheticWorld makeRepeatedRoomsWorld(int nx, int ny, double s, double door)
 			const Eigen::Vector2d o(i * s, j * s);
 			w.addBox(o + Eigen::Vector2d(0.3 * s, 0.3 * s), 0.4, 0.25, 0.3);
 			w.addCircle(o + Eigen::Vector2d(0.7 * s, 0.65 * s), 0.2, 12);
-			w.addSegment(o + Eigen::Vector2d(0.75 * s, 0.2 * s), o + Eigen::Vector2d(0.9 * s, 0.2 * s));
+			w.addSegment(o + Eigen::Vector2d(0.75 * s, 0.2 * s),
+						 o + Eigen::Vector2d(0.9 * s, 0.2 * s));
 		}
 	return w;
 }
@@ -240,7 +249,8 @@ CSyntheticWorld makeOpenHallWorld(uint32_t seed, double L, double W, int alcoves
 	while (starts.size() < static_cast<size_t>(alcoves))
 	{
 		const double x = ux(rng);
-		if (std::all_of(starts.begin(), starts.end(), [&](double s) { return std::abs(s - x) > kAlcoveWidth + 1; }))
+		if (std::all_of(starts.begin(), starts.end(),
+						[&](double s) { return std::abs(s - x) > kAlcoveWidth + 1; }))
 			starts.push_back(x);
 	}
 	std::sort(starts.begin(), starts.end());
@@ -321,8 +331,8 @@ Eigen::Vector2d CCrowd::position(size_t i, double t) const
 	return p;
 }
 
-CSyntheticWorld CCrowd::addTo(
-	const CSyntheticWorld& world, double t, const Eigen::Vector2d& robot, double keepOut) const
+CSyntheticWorld CCrowd::addTo(const CSyntheticWorld& world, double t,
+							  const Eigen::Vector2d& robot, double keepOut) const
 {
 	constexpr double kPersonRadius = 0.25;  // [m]
 	CSyntheticWorld w = world;
@@ -334,8 +344,8 @@ CSyntheticWorld CCrowd::addTo(
 	return w;
 }
 
-mrpt::math::TPose2D noisyIncrement(
-	const mrpt::math::TPose2D& inc, const TOdometryNoise& n, std::mt19937& rng)
+mrpt::math::TPose2D noisyIncrement(const mrpt::math::TPose2D& inc, const TOdometryNoise& n,
+								   std::mt19937& rng)
 {
 	// Thrun's decomposition: rotate rot1, translate trans, rotate rot2.
 	const double trans = std::hypot(inc.x, inc.y);
@@ -348,14 +358,14 @@ mrpt::math::TPose2D noisyIncrement(
 	return {t * std::cos(r1), t * std::sin(r1), mrpt::math::wrapToPi(r1 + r2)};
 }
 
-TTrajectory makeTrajectory(
-	const std::vector<Eigen::Vector2d>& wp, double step, const TOdometryNoise& noise,
-	uint32_t seed, double maxTurn)
+TTrajectory makeTrajectory(const std::vector<Eigen::Vector2d>& wp, double step,
+						   const TOdometryNoise& noise, uint32_t seed, double maxTurn)
 {
 	ASSERT_GE_(wp.size(), 2U);
 	ASSERT_(step > 0 && maxTurn > 0);
 	TTrajectory tr;
-	auto heading = [&](size_t i) { return std::atan2((wp[i + 1] - wp[i]).y(), (wp[i + 1] - wp[i]).x()); };
+	auto heading = [&](size_t i)
+	{ return std::atan2((wp[i + 1] - wp[i]).y(), (wp[i + 1] - wp[i]).x()); };
 	mrpt::math::TPose2D cur(wp[0].x(), wp[0].y(), heading(0));
 	tr.truePoses.push_back(cur);
 	for (size_t i = 0; i + 1 < wp.size(); ++i)
@@ -383,7 +393,8 @@ TTrajectory makeTrajectory(
 	tr.odometryPoses.push_back(tr.truePoses.front());
 	for (size_t k = 0; k + 1 < tr.truePoses.size(); ++k)
 	{
-		const auto inc = noisyIncrement(lrgc::between(tr.truePoses[k], tr.truePoses[k + 1]), noise, rng);
+		const auto inc =
+			noisyIncrement(lrgc::between(tr.truePoses[k], tr.truePoses[k + 1]), noise, rng);
 		tr.odometryIncrements.push_back(inc);
 		tr.odometryPoses.push_back(lrgc::compose(tr.odometryPoses.back(), inc));
 	}

@@ -1,10 +1,10 @@
 /* A synthetic 2D world for tests: line segments, a ray-casting laser, world builders and a
  * trajectory + noisy odometry generator. Everything is seeded, so a test is reproducible.
  *
- * Frames: world points in metres; poses are mrpt::math::TPose2D "robotInWorld" (world <- robot).
- * simulateScan() returns a lrgc::TScan2D exactly as scanFromObservation() would (valid returns
- * only, in the robot frame, sensor offset applied). No-returns (nothing within maxRange, or
- * dropped beams) are simply absent, as in a real TScan2D.
+ * Frames: world points in metres; poses are mrpt::math::TPose2D "robotInWorld" (world <-
+ * robot). simulateScan() returns a lrgc::TScan2D exactly as scanFromObservation() would (valid
+ * returns only, in the robot frame, sensor offset applied). No-returns (nothing within
+ * maxRange, or dropped beams) are simply absent, as in a real TScan2D.
  *
  * Typical use:
  *   auto world = lrgc::test::makeRoomWorld(42);
@@ -57,8 +57,8 @@ public:
 
 	/** Distance [m] from `origin` to the first segment hit along the ray of direction `angle`
 	 * [rad, world frame], or nullopt if nothing is hit within maxRange. */
-	std::optional<double> castRay(
-		const Eigen::Vector2d& origin, double angle, double maxRange) const;
+	std::optional<double> castRay(const Eigen::Vector2d& origin, double angle,
+								  double maxRange) const;
 	/** Euclidean distance [m] from p to the nearest segment (infinity if empty). */
 	double distanceToNearest(const Eigen::Vector2d& p) const;
 
@@ -71,20 +71,20 @@ struct TLaserSimParams
 {
 	double fov_deg = 180;  //!< aperture, first to last beam, symmetric about the sensor x axis
 	int beams = 361;
-	double maxRange = 30;  //!< [m]; hits at or beyond it are no-returns (absent)
+	double maxRange = 30;         //!< [m]; hits at or beyond it are no-returns (absent)
 	double rangeNoiseStd = 0.01;  //!< Gaussian range noise [m]
 	/** Probability that a beam returns a spurious range, uniform in [minRange, true range]
 	 * (dust, people, glass): an outlier in front of the true surface. */
 	double outlierRate = 0;
-	double dropRate = 0;  //!< probability that a beam returns nothing (absent)
+	double dropRate = 0;     //!< probability that a beam returns nothing (absent)
 	double minRange = 0.05;  //!< [m] smallest valid range
 	mrpt::math::TPose2D sensorInRobot{0, 0, 0};  //!< (robot <- sensor)
 };
 
 /** Ray-casts a scan from robotInWorld. Random draws come from rng (noise, outliers, drops). */
-lrgc::TScan2D simulateScan(
-	const CSyntheticWorld& world, const mrpt::math::TPose2D& robotInWorld,
-	const TLaserSimParams& laser, std::mt19937& rng);
+lrgc::TScan2D simulateScan(const CSyntheticWorld& world,
+						   const mrpt::math::TPose2D& robotInWorld,
+						   const TLaserSimParams& laser, std::mt19937& rng);
 
 /** Removes the points whose bearing in the robot frame lies in [from, to] [rad]: a wide gap of
  * no-return readings (an open door onto a hall beyond maxRange, a black surface). */
@@ -92,8 +92,9 @@ void removeBearingSector(lrgc::TScan2D& scan, double from_rad, double to_rad);
 
 /** A uniformly drawn pose in `region` at least `clearance` [m] from every segment, heading
  * uniform in (-pi, pi]; nullopt after 1000 failed draws. */
-std::optional<mrpt::math::TPose2D> sampleFreePose(
-	const CSyntheticWorld& world, const TBox& region, double clearance, std::mt19937& rng);
+std::optional<mrpt::math::TPose2D> sampleFreePose(const CSyntheticWorld& world,
+												  const TBox& region, double clearance,
+												  std::mt19937& rng);
 
 // ---------------------------------------------------------------------------------------------
 // World builders
@@ -112,7 +113,8 @@ CSyntheticWorld makeCorridorWorld(double length = 200, double width = 2.0);
  * [i*s, (i+1)*s] x [j*s, (j+1)*s]), joined by doorways of width `door` [m] centred on each
  * shared wall, each room furnished identically (a box and a pillar at the same place):
  * perceptual aliasing for loop-closing tests. */
-CSyntheticWorld makeRepeatedRoomsWorld(int nx, int ny, double roomSize = 6.0, double door = 1.0);
+CSyntheticWorld makeRepeatedRoomsWorld(int nx, int ny, double roomSize = 6.0,
+									   double door = 1.0);
 
 /** A wide open hall, corners (0,0)-(L,W) (default 60 x 30 m), where a long laser sees few
  * walls: the north side is a glass facade (no segments: no returns) except for 6 m of wall
@@ -133,9 +135,8 @@ class CCrowd
 {
 public:
 	CCrowd(const TBox& region, int count, uint32_t seed);
-	CSyntheticWorld addTo(
-		const CSyntheticWorld& world, double t, const Eigen::Vector2d& robot,
-		double keepOut = 1.0) const;
+	CSyntheticWorld addTo(const CSyntheticWorld& world, double t, const Eigen::Vector2d& robot,
+						  double keepOut = 1.0) const;
 	/** Position [m] of person i at time t [s]. */
 	Eigen::Vector2d position(size_t i, double t) const;
 	size_t size() const { return m_start.size(); }
@@ -171,14 +172,13 @@ struct TTrajectory
 };
 
 /** Samples poses every `step` [m] along the polyline through `waypoints` (heading along the
- * path, turning in place at corners in steps of at most `maxTurn` [rad]) and draws noisy odometry
- * increments from `seed`. Needs at least 2 waypoints. */
-TTrajectory makeTrajectory(
-	const std::vector<Eigen::Vector2d>& waypoints, double step, const TOdometryNoise& noise,
-	uint32_t seed, double maxTurn = 0.35);
+ * path, turning in place at corners in steps of at most `maxTurn` [rad]) and draws noisy
+ * odometry increments from `seed`. Needs at least 2 waypoints. */
+TTrajectory makeTrajectory(const std::vector<Eigen::Vector2d>& waypoints, double step,
+						   const TOdometryNoise& noise, uint32_t seed, double maxTurn = 0.35);
 
 /** Adds one draw of odometry noise to a true increment (the model of TOdometryNoise). */
-mrpt::math::TPose2D noisyIncrement(
-	const mrpt::math::TPose2D& trueIncrement, const TOdometryNoise& noise, std::mt19937& rng);
+mrpt::math::TPose2D noisyIncrement(const mrpt::math::TPose2D& trueIncrement,
+								   const TOdometryNoise& noise, std::mt19937& rng);
 
 }  // namespace lrgc::test

@@ -16,7 +16,8 @@ std::string sharedDatasetPath(const std::string& relative)
 {
 	if (const char* env = std::getenv("LRGC_SHARED_DATASETS"); env && *env)
 		return (fs::path(env) / relative).string();
-	return (fs::path(LRGC_SOURCE_DIR).parent_path() / "shared" / "datasets" / relative).string();
+	return (fs::path(LRGC_SOURCE_DIR).parent_path() / "shared" / "datasets" / relative)
+		.string();
 }
 
 std::string makeTempDir(const std::string& name)
@@ -27,6 +28,9 @@ std::string makeTempDir(const std::string& name)
 	return dir.string();
 }
 
-bool fileExists(const std::string& path) { return fs::exists(path); }
+bool fileExists(const std::string& path)
+{
+	return fs::exists(path);
+}
 
 }  // namespace lrgc::test

@@ -21,9 +21,9 @@ bool fileExists(const std::string& path);
 }  // namespace lrgc::test
 
 /** Skips the current test, naming the missing file, if `path` does not exist. */
-#define LRGC_SKIP_IF_MISSING(path)                                              \
-	do                                                                          \
-	{                                                                           \
-		if (!::lrgc::test::fileExists(path))                                    \
-			GTEST_SKIP() << "test data not present here: " << (path);           \
+#define LRGC_SKIP_IF_MISSING(path)                                    \
+	do                                                                \
+	{                                                                 \
+		if (!::lrgc::test::fileExists(path))                          \
+			GTEST_SKIP() << "test data not present here: " << (path); \
 	} while (0)

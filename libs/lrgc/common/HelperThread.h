@@ -20,7 +20,7 @@ namespace lrgc
 {
 class CHelperThread
 {
-   public:
+public:
 	explicit CHelperThread(bool threaded = true) : m_threaded(threaded) {}
 	/** Runs the jobs still queued, then stops the thread. */
 	~CHelperThread();
@@ -31,7 +31,7 @@ class CHelperThread
 	void post(std::function<void()> job);
 	bool threaded() const { return m_threaded; }
 
-   private:
+private:
 	void threadMain();
 
 	const bool m_threaded;

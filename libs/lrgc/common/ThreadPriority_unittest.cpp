@@ -10,8 +10,14 @@
 
 namespace
 {
-int niceOf(pid_t tid) { return ::getpriority(PRIO_PROCESS, static_cast<id_t>(tid)); }
-pid_t thisThread() { return static_cast<pid_t>(::syscall(SYS_gettid)); }
+int niceOf(pid_t tid)
+{
+	return ::getpriority(PRIO_PROCESS, static_cast<id_t>(tid));
+}
+pid_t thisThread()
+{
+	return static_cast<pid_t>(::syscall(SYS_gettid));
+}
 }  // namespace
 
 TEST(ThreadPriority, lowersTheCallingThreadAndNoOther)

@@ -135,9 +135,8 @@ std::string readString(const mrpt::config::CConfigFileBase& c, const std::string
 	return raw ? *raw : current;
 }
 
-void rejectUnknownKeys(
-	const mrpt::config::CLoadableOptions& knownKeysFrom,
-	const mrpt::config::CConfigFileBase& source, const std::string& section)
+void rejectUnknownKeys(const mrpt::config::CLoadableOptions& knownKeysFrom,
+					   const mrpt::config::CConfigFileBase& source, const std::string& section)
 {
 	mrpt::config::CConfigFileMemory mem;
 	knownKeysFrom.saveToConfigFile(mem, section);
@@ -157,8 +156,8 @@ void rejectUnknownKeys(
 		for (const auto& k : known)
 			if (const size_t d = editDistance(key, k); d < bestDist) bestDist = d, best = k;
 		const std::string hint = best.empty() ? "" : " (did you mean '" + best + "'?)";
-		THROW_EXCEPTION_FMT(
-			"Unknown key '%s' in section [%s]%s", key.c_str(), section.c_str(), hint.c_str());
+		THROW_EXCEPTION_FMT("Unknown key '%s' in section [%s]%s", key.c_str(), section.c_str(),
+							hint.c_str());
 	}
 }
 
@@ -231,9 +230,10 @@ void writeDegrees(mrpt::config::CConfigFileBase& c, const std::string& section,
 			  comment);
 }
 
-mrpt::config::CConfigFileMemory withCurrentKeys(
-	const mrpt::config::CConfigFileBase& c, const std::vector<TRenamedKey>& renames,
-	const std::string& prefix, std::vector<std::string>& warnings)
+mrpt::config::CConfigFileMemory withCurrentKeys(const mrpt::config::CConfigFileBase& c,
+												const std::vector<TRenamedKey>& renames,
+												const std::string& prefix,
+												std::vector<std::string>& warnings)
 {
 	mrpt::config::CConfigFileMemory out;
 	std::vector<std::string> sections;
@@ -292,7 +292,8 @@ std::optional<TParamPlace> paramPlaceOf(const std::string& message)
 	{
 		const auto section = between(at, '[', ']');
 		const size_t keyFrom = message.find("] ", at);
-		const size_t keyEnd = keyFrom == std::string::npos ? keyFrom : message.find(':', keyFrom);
+		const size_t keyEnd =
+			keyFrom == std::string::npos ? keyFrom : message.find(':', keyFrom);
 		if (!section || keyEnd == std::string::npos) return std::nullopt;
 		return TParamPlace{*section, message.substr(keyFrom + 2, keyEnd - keyFrom - 2)};
 	}
@@ -309,12 +310,12 @@ std::optional<TParamPlace> paramPlaceOf(const std::string& message)
 	return std::nullopt;
 }
 
-void requireParam(
-	bool ok, const std::string& section, const std::string& key, const std::string& what)
+void requireParam(bool ok, const std::string& section, const std::string& key,
+				  const std::string& what)
 {
 	if (!ok)
-		THROW_EXCEPTION_FMT(
-			"Invalid value for [%s] %s: %s", section.c_str(), key.c_str(), what.c_str());
+		THROW_EXCEPTION_FMT("Invalid value for [%s] %s: %s", section.c_str(), key.c_str(),
+							what.c_str());
 }
 
 }  // namespace lrgc

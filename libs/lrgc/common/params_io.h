@@ -38,9 +38,8 @@ namespace lrgc
 /** Throws (mrpt::ExceptionWithCallBackBase via THROW_EXCEPTION) if `source` has, in
  * `section`, a key that `knownKeysFrom.saveToConfigFile()` does not write. The message names
  * the section, the key, and the closest valid key. */
-void rejectUnknownKeys(
-	const mrpt::config::CLoadableOptions& knownKeysFrom,
-	const mrpt::config::CConfigFileBase& source, const std::string& section);
+void rejectUnknownKeys(const mrpt::config::CLoadableOptions& knownKeysFrom,
+					   const mrpt::config::CConfigFileBase& source, const std::string& section);
 
 /** Strict readers of one key of `section`. A key that is absent keeps `current`. A present
  * value (blanks and a trailing `// comment` aside) must be one whole value of the type, else
@@ -105,9 +104,10 @@ struct TRenamedKey
  * prefix + section) moved to its new name, and one warning per such key, e.g. "[MapBuilder]
  * keyframe_distance is now keyframe_distance_m; read as such (lrgc-slam --write-default-config
  * FILE writes the current names)". Both names in one section is an error naming both. */
-mrpt::config::CConfigFileMemory withCurrentKeys(
-	const mrpt::config::CConfigFileBase& c, const std::vector<TRenamedKey>& renames,
-	const std::string& prefix, std::vector<std::string>& warnings);
+mrpt::config::CConfigFileMemory withCurrentKeys(const mrpt::config::CConfigFileBase& c,
+												const std::vector<TRenamedKey>& renames,
+												const std::string& prefix,
+												std::vector<std::string>& warnings);
 
 /** The section and key an error message of these functions (or of rejectUnknownSections())
  * is about, so that a caller holding the .ini text can point at its line: "Invalid value for
@@ -120,7 +120,7 @@ struct TParamPlace
 std::optional<TParamPlace> paramPlaceOf(const std::string& message);
 
 /** Throws with a message naming section and key if `ok` is false. For validation on load. */
-void requireParam(
-	bool ok, const std::string& section, const std::string& key, const std::string& what);
+void requireParam(bool ok, const std::string& section, const std::string& key,
+				  const std::string& what);
 
 }  // namespace lrgc

@@ -87,20 +87,24 @@ TEST(ParamsIo, BooleansAreTrueFalseYesNoOneZeroInAnyCase)
 
 TEST(ParamsIo, ErrorMessagesNameTheirSectionAndKeyForALineNumber)
 {
-	const auto placeOf = [](const std::string& message) {
+	const auto placeOf = [](const std::string& message)
+	{
 		const auto p = lrgc::paramPlaceOf(message);
 		return p ? "[" + p->section + "] " + p->key : std::string("none");
 	};
 	EXPECT_EQ(placeOf(errorOf([] { lrgc::readDouble(ini("abc"), "Stage", "key", 0); })),
 			  "[Stage] key");
-	EXPECT_EQ(placeOf(errorOf([] { lrgc::requireParam(false, "Stage", "key", "must be > 0"); })),
-			  "[Stage] key");
+	EXPECT_EQ(
+		placeOf(errorOf([] { lrgc::requireParam(false, "Stage", "key", "must be > 0"); })),
+		"[Stage] key");
 	struct TOneKey : mrpt::config::CLoadableOptions
 	{
-		void loadFromConfigFile(const mrpt::config::CConfigFileBase&, const std::string&) override
+		void loadFromConfigFile(const mrpt::config::CConfigFileBase&,
+								const std::string&) override
 		{
 		}
-		void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override
+		void saveToConfigFile(mrpt::config::CConfigFileBase& c,
+							  const std::string& s) const override
 		{
 			c.write(s, "key", 1);
 		}

@@ -22,8 +22,8 @@ using mrpt::math::TPose2D;
 inline TPose2D compose(const TPose2D& a, const TPose2D& b)
 {
 	const double c = std::cos(a.phi), s = std::sin(a.phi);
-	return {
-		a.x + c * b.x - s * b.y, a.y + s * b.x + c * b.y, mrpt::math::wrapToPi(a.phi + b.phi)};
+	return {a.x + c * b.x - s * b.y, a.y + s * b.x + c * b.y,
+			mrpt::math::wrapToPi(a.phi + b.phi)};
 }
 
 /** a^-1 */
@@ -51,7 +51,7 @@ inline Eigen::Vector2d transformPoint(const TPose2D& pose, const Eigen::Vector2d
 /** transformPoint with the rotation computed once, for loops over the points of a scan. */
 class CPointTransform
 {
-   public:
+public:
 	explicit CPointTransform(const TPose2D& pose)
 		: m_x(pose.x), m_y(pose.y), m_c(std::cos(pose.phi)), m_s(std::sin(pose.phi))
 	{
@@ -61,11 +61,14 @@ class CPointTransform
 		return {m_x + m_c * p.x() - m_s * p.y(), m_y + m_s * p.x() + m_c * p.y()};
 	}
 
-   private:
+private:
 	double m_x, m_y, m_c, m_s;
 };
 
-inline Eigen::Vector3d toVector(const TPose2D& p) { return {p.x, p.y, p.phi}; }
+inline Eigen::Vector3d toVector(const TPose2D& p)
+{
+	return {p.x, p.y, p.phi};
+}
 inline TPose2D fromVector(const Eigen::Vector3d& v)
 {
 	return {v.x(), v.y(), mrpt::math::wrapToPi(v.z())};
@@ -83,15 +86,18 @@ inline Eigen::Matrix3d rotateCovariance(const Eigen::Matrix3d& C, double phi)
 }
 
 /** Translation norm [m]. */
-inline double translationNorm(const TPose2D& p) { return std::hypot(p.x, p.y); }
+inline double translationNorm(const TPose2D& p)
+{
+	return std::hypot(p.x, p.y);
+}
 
 /** Chi-square of the disagreement between two independent estimates of one relative pose:
  *     d = v(expected^-1 (+) measured),   chi2 = d^T C^-1 d   [-, 3 dof]
  * with C the sum of both covariances over (x [m], y [m], phi [rad]) in the frame the poses
  * are expressed in. The gates of local registration (odometry glitches) and of the revisit
  * sweep compare it with a chi-square quantile. */
-inline double disagreementChi2(
-	const TPose2D& expected, const TPose2D& measured, const Eigen::Matrix3d& C)
+inline double disagreementChi2(const TPose2D& expected, const TPose2D& measured,
+							   const Eigen::Matrix3d& C)
 {
 	const Eigen::Vector3d d = toVector(between(expected, measured));
 	return d.dot(C.ldlt().solve(d));

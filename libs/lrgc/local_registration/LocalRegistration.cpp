@@ -26,9 +26,10 @@ const double kSecondOpinionTurn = mrpt::DEG2RAD(10.0);
 constexpr double kSecondOpinionShift = 0.3;
 }  // namespace
 
-CLocalRegistration::CLocalRegistration(
-	const TLocalRegistrationParams& p, const TScanMatcherParams& matcher,
-	const TPoseGraphOptimizerParams& optimizer, bool helperThread)
+CLocalRegistration::CLocalRegistration(const TLocalRegistrationParams& p,
+									   const TScanMatcherParams& matcher,
+									   const TPoseGraphOptimizerParams& optimizer,
+									   bool helperThread)
 	: m_params(p), m_matcherParams(matcher), m_optimizer(optimizer), m_helper(helperThread)
 {
 	// [LocalRegistration] max_free_space_violation (0.3) replaces [ScanMatcher]'s (0.15) for
@@ -51,8 +52,8 @@ void CLocalRegistration::enterKeyframe(size_t node, bool reused, const CPoseGrap
 	m_cloudNewest.reset();
 }
 
-const CReferenceCloud& CLocalRegistration::windowCloud(
-	const CPoseGraph& graph, const TKeyframes& keyframes)
+const CReferenceCloud& CLocalRegistration::windowCloud(const CPoseGraph& graph,
+													   const TKeyframes& keyframes)
 {
 	const size_t newest = m_window.back();
 	if (m_cloudNewest == newest) return m_cloud;
@@ -69,14 +70,15 @@ const CReferenceCloud& CLocalRegistration::windowCloud(
 	return m_cloud;
 }
 
-CReferenceCloud CLocalRegistration::patchOf(
-	const std::vector<TScan2D>& scans, const std::vector<TPose2D>& posesInMap,
-	const TScanMatcherParams& p)
+CReferenceCloud CLocalRegistration::patchOf(const std::vector<TScan2D>& scans,
+											const std::vector<TPose2D>& posesInMap,
+											const TScanMatcherParams& p)
 {
 	// The patch: every window scan with its pose in the newest keyframe's frame,
 	// (newest <- node); the cloud keeps their range images for the free-space check.
 	std::vector<TPose2D> scansInNewest;
-	for (const TPose2D& pose : posesInMap) scansInNewest.push_back(between(posesInMap.back(), pose));
+	for (const TPose2D& pose : posesInMap)
+		scansInNewest.push_back(between(posesInMap.back(), pose));
 	return CReferenceCloud::fromScans(scans, scansInNewest, p);
 }
 
@@ -103,8 +105,8 @@ void CLocalRegistration::build(TPreparedWindow& job, const TScanMatcherParams& p
 	try
 	{
 		job.cloud = patchOf(job.scans, job.posesInMap, p);
-		job.newestCloud =
-			std::make_shared<const CReferenceCloud>(CReferenceCloud::fromScan(job.scans.back(), p));
+		job.newestCloud = std::make_shared<const CReferenceCloud>(
+			CReferenceCloud::fromScan(job.scans.back(), p));
 	}
 	catch (...)
 	{
@@ -141,8 +143,8 @@ bool CLocalRegistration::takePreparedWindow(const CPoseGraph& graph)
 	return true;
 }
 
-CLocalRegistration::TCloudPtr CLocalRegistration::keyframeCloud(
-	size_t node, const TKeyframes& keyframes)
+CLocalRegistration::TCloudPtr CLocalRegistration::keyframeCloud(size_t node,
+																const TKeyframes& keyframes)
 {
 	for (const auto& [n, cloud] : m_keyframeClouds)
 		if (n == node) return cloud;
@@ -156,7 +158,8 @@ void CLocalRegistration::cacheKeyframeCloud(size_t node, TCloudPtr cloud)
 {
 	for (const auto& entry : m_keyframeClouds)
 		if (entry.first == node) return;
-	if (m_keyframeClouds.size() >= std::max(m_params.window_size, m_params.laser_only_window_size))
+	if (m_keyframeClouds.size() >=
+		std::max(m_params.window_size, m_params.laser_only_window_size))
 		m_keyframeClouds.pop_front();
 	m_keyframeClouds.emplace_back(node, std::move(cloud));
 }
@@ -208,16 +211,19 @@ void CLocalRegistration::parallelFor(size_t n, const std::function<void(size_t)>
 }
 
 std::vector<std::optional<TScanMatch>> CLocalRegistration::matchAll(
-	const std::vector<TCloudPtr>& refs, const TScan2D& scan, const std::vector<TPose2D>& guesses)
+	const std::vector<TCloudPtr>& refs, const TScan2D& scan,
+	const std::vector<TPose2D>& guesses)
 {
 	std::vector<std::optional<TScanMatch>> results(refs.size());
-	parallelFor(refs.size(), [&](size_t l) { results[l] = m_matcher.match(*refs[l], scan, guesses[l]); });
+	parallelFor(refs.size(),
+				[&](size_t l) { results[l] = m_matcher.match(*refs[l], scan, guesses[l]); });
 	return results;
 }
 
-TRegistration CLocalRegistration::registerScan(
-	const CPoseGraph& graph, const TKeyframes& keyframes, const TScan2D& scan,
-	const mrpt::math::TPose2D& priorInMap, const TMotionPrediction& prediction)
+TRegistration CLocalRegistration::registerScan(const CPoseGraph& graph,
+											   const TKeyframes& keyframes, const TScan2D& scan,
+											   const mrpt::math::TPose2D& priorInMap,
+											   const TMotionPrediction& prediction)
 {
 	const Eigen::Matrix3d& priorCov = prediction.cov;
 	TRegistration reg{priorInMap, priorCov, false, false};
@@ -239,9 +245,8 @@ TRegistration CLocalRegistration::registerScan(
 	const TPose2D guess = between(newestInMap, priorInMap);
 
 	// Squared Mahalanobis distance between the prior and a match, 3 dof.
-	auto disagreement = [&](const TScanMatch& m) {
-		return disagreementChi2(guess, m.scanInRef, priorCov + m.cov);
-	};
+	auto disagreement = [&](const TScanMatch& m)
+	{ return disagreementChi2(guess, m.scanInRef, priorCov + m.cov); };
 	std::optional<TScanMatch> match = m_matcher.match(cloud, scan, guess);
 	const bool disagrees = match && disagreement(*match) > m_params.glitch_gate_chi2;
 	// A pause in the scans or a large predicted turn, and the plain match failed or
@@ -250,20 +255,22 @@ TRegistration CLocalRegistration::registerScan(
 	// a clear majority of the scan matched, a clear lead over every other heading and over
 	// the prior's own optimum). A doubtful case keeps the prior, not a contradicting match.
 	const bool suspect = std::abs(prediction.motion.phi) > m_params.glitch_min_turn ||
-		prediction.stepSeconds > m_params.glitch_min_gap_s;
+						 prediction.stepSeconds > m_params.glitch_min_gap_s;
 	// Nothing made the odometry suspect, yet the match turns the robot by more than
-	// kSecondOpinionTurn against it, or shifts it by more than kSecondOpinionShift: people or a repetitive scene (a hall's pillar rows) can
-	// pull a plain match into another basin, and one such scan turns every later scan with it
-	// (a 70 x 45 m hall with 25 people: 23 deg in one step, the map's tail 10 m off). The wide
-	// search gives the second opinion, with the same standard of evidence.
-	const bool implausible = disagrees &&
-		(std::abs(mrpt::math::wrapToPi(match->scanInRef.phi - guess.phi)) > kSecondOpinionTurn ||
-		 translationNorm(between(guess, match->scanInRef)) > kSecondOpinionShift);
+	// kSecondOpinionTurn against it, or shifts it by more than kSecondOpinionShift: people or a
+	// repetitive scene (a hall's pillar rows) can pull a plain match into another basin, and
+	// one such scan turns every later scan with it (a 70 x 45 m hall with 25 people: 23 deg in
+	// one step, the map's tail 10 m off). The wide search gives the second opinion, with the
+	// same standard of evidence.
+	const bool implausible =
+		disagrees && (std::abs(mrpt::math::wrapToPi(match->scanInRef.phi - guess.phi)) >
+						  kSecondOpinionTurn ||
+					  translationNorm(between(guess, match->scanInRef)) > kSecondOpinionShift);
 	if ((implausible || (suspect && (!match || disagrees))) && m_params.wide_search_angle > 0)
 	{
-		match = m_matcher.matchWide(
-			cloud, scan, guess, m_params.wide_search_angle,
-			[this](size_t n, const std::function<void(size_t)>& fn) { parallelFor(n, fn); });
+		match = m_matcher.matchWide(cloud, scan, guess, m_params.wide_search_angle,
+									[this](size_t n, const std::function<void(size_t)>& fn)
+									{ parallelFor(n, fn); });
 		reg.wideSearch = match.has_value();
 	}
 	// Wheels that did not turn at all are the one odometry reading to trust over a match
@@ -285,8 +292,8 @@ TRegistration CLocalRegistration::registerScan(
 	return reg;
 }
 
-size_t CLocalRegistration::linkAndOptimize(
-	CPoseGraph& graph, const TKeyframes& keyframes, const TLink& odometryLink)
+size_t CLocalRegistration::linkAndOptimize(CPoseGraph& graph, const TKeyframes& keyframes,
+										   const TLink& odometryLink)
 {
 	const size_t newNode = odometryLink.to;
 	ASSERT_(!m_window.empty() && m_window.back() == newNode);
@@ -304,10 +311,9 @@ size_t CLocalRegistration::linkAndOptimize(
 	if (m_params.patch_link && m_lastPatchMatch && m_lastPatchMatch->node == odometryLink.from)
 	{
 		pairwiseWeight = m_params.pairwise_link_weight;
-		graph.addLink(
-			{m_lastPatchMatch->node, newNode, m_lastPatchMatch->scanInNode,
-			 linkInformation(m_lastPatchMatch->cov, m_params.patch_link_noise),
-			 LinkType::ScanMatch});
+		graph.addLink({m_lastPatchMatch->node, newNode, m_lastPatchMatch->scanInNode,
+					   linkInformation(m_lastPatchMatch->cov, m_params.patch_link_noise),
+					   LinkType::ScanMatch});
 		++added;
 	}
 	m_lastPatchMatch.reset();

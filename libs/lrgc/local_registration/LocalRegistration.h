@@ -3,12 +3,12 @@
  * Each new scan is matched against a local patch made of the last K keyframes' scans (in the
  * frame of the newest keyframe), which gives its pose. The window is the last K distinct
  * keyframes the robot was at (enterKeyframe): the newest ones, or on ground the map already
- * has, existing keyframes it came back to (CKeyframeReuse); those are held fixed. When the scan becomes a keyframe it is
- * linked to the previous keyframe by odometry and by that patch match (the "patch link", scan
- * to map; with an odometry prior only), and to window keyframes it overlaps by pairwise scan
- * matches (down-weighted when the patch link is there), and consistent pose estimation (Lu &
- * Milios 1997) over the window only adjusts the last K poses, all older poses held fixed:
- * constant cost per scan.
+ * has, existing keyframes it came back to (CKeyframeReuse); those are held fixed. When the scan
+ * becomes a keyframe it is linked to the previous keyframe by odometry and by that patch match
+ * (the "patch link", scan to map; with an odometry prior only), and to window keyframes it
+ * overlaps by pairwise scan matches (down-weighted when the patch link is there), and
+ * consistent pose estimation (Lu & Milios 1997) over the window only adjusts the last K poses,
+ * all older poses held fixed: constant cost per scan.
  *
  * Odometry glitches (the benchmark logs have single steps turning 60-85 deg wrongly, after
  * pauses of seconds in the scans): a step is suspect when its predicted turn exceeds
@@ -20,8 +20,8 @@
  * own optimum); a doubtful case keeps the prior rather than risk a wrong pose (issue 11: a
  * true 31-deg turn in an alcoved hall overruled, a 29 %-inlier 108-deg "recovery" on Intel).
  * After an override the keyframe's odometry link is down-weighted to the constant-velocity
- * noise so it cannot pull the map. Otherwise the scans win over the odometry, except when the wheels
- * did not move at all: a match moving a robot that stands still is a wrong fit (people
+ * noise so it cannot pull the map. Otherwise the scans win over the odometry, except when the
+ * wheels did not move at all: a match moving a robot that stands still is a wrong fit (people
  * walking by, a rotationally ambiguous place), and the prior is kept.
  *
  * Cost per keyframe: one patch build, at most `max_pairwise_links` pairwise matches against
@@ -64,26 +64,25 @@ namespace lrgc
 struct TRegistration
 {
 	mrpt::math::TPose2D scanInMap;  //!< (map <- robot at the scan)
-	Eigen::Matrix3d cov;  //!< of the scan pose relative to the newest keyframe, map axes
+	Eigen::Matrix3d cov;   //!< of the scan pose relative to the newest keyframe, map axes
 	bool matched = false;  //!< false: no acceptable match, the prior was kept
 	bool odometryRejected = false;  //!< the match disagrees with the prior beyond the gate
-	bool wideSearch = false;  //!< the match came from the wide rotational search
+	bool wideSearch = false;        //!< the match came from the wide rotational search
 };
 
 class CLocalRegistration
 {
-   public:
+public:
 	/** `helperThread` false: the helper's work runs on the caller's thread (same results). */
-	CLocalRegistration(
-		const TLocalRegistrationParams& p, const TScanMatcherParams& matcher,
-		const TPoseGraphOptimizerParams& optimizer, bool helperThread = true);
+	CLocalRegistration(const TLocalRegistrationParams& p, const TScanMatcherParams& matcher,
+					   const TPoseGraphOptimizerParams& optimizer, bool helperThread = true);
 	~CLocalRegistration();
 
 	/** Matches `scan` against the window of the newest keyframes of `graph`.
 	 * priorInMap: `prediction` composed onto the previous scan's pose. */
-	TRegistration registerScan(
-		const CPoseGraph& graph, const TKeyframes& keyframes, const TScan2D& scan,
-		const mrpt::math::TPose2D& priorInMap, const TMotionPrediction& prediction);
+	TRegistration registerScan(const CPoseGraph& graph, const TKeyframes& keyframes,
+							   const TScan2D& scan, const mrpt::math::TPose2D& priorInMap,
+							   const TMotionPrediction& prediction);
 
 	/** The robot is now at keyframe `node`: the window's newest entry, the frame of its patch.
 	 * A new keyframe (just added to the graph), or with `reused` an existing one it came back
@@ -100,8 +99,8 @@ class CLocalRegistration
 	/** Links the newest node (just added to `graph` at its registered pose and entered) to
 	 * the window: `odometryLink` (from the previous anchor) plus the patch link and pairwise
 	 * scan matches, then optimises the window. Returns the number of scan-match links added. */
-	size_t linkAndOptimize(
-		CPoseGraph& graph, const TKeyframes& keyframes, const TLink& odometryLink);
+	size_t linkAndOptimize(CPoseGraph& graph, const TKeyframes& keyframes,
+						   const TLink& odometryLink);
 
 	/** Poses changed outside the window (loop closure): rebuild the patch on next use. */
 	void invalidate() { m_cloudNewest.reset(); }
@@ -120,7 +119,7 @@ class CLocalRegistration
 	/** The window's keyframes, oldest first. */
 	const std::deque<size_t>& window() const { return m_window; }
 
-   private:
+private:
 	/** K: window_size after a scan with an odometry prior, laser_only_window_size after one
 	 * with the constant-velocity prior (the last registerScan's). */
 	size_t windowSize() const
@@ -137,7 +136,7 @@ class CLocalRegistration
 		std::vector<size_t> nodes;
 		std::vector<TScan2D> scans;
 		std::vector<mrpt::math::TPose2D> posesInMap;  //!< of `nodes`, (map <- node)
-		std::atomic<bool> claimed{false};  //!< a thread builds what follows
+		std::atomic<bool> claimed{false};             //!< a thread builds what follows
 		CReferenceCloud cloud;
 		TCloudPtr newestCloud;
 		std::exception_ptr error;
@@ -150,9 +149,9 @@ class CLocalRegistration
 	std::vector<size_t> windowNodes() const { return {m_window.begin(), m_window.end()}; }
 	const CReferenceCloud& windowCloud(const CPoseGraph& graph, const TKeyframes& keyframes);
 	/** The patch of `scans` placed at `posesInMap`, in the frame of the last one. */
-	static CReferenceCloud patchOf(
-		const std::vector<TScan2D>& scans, const std::vector<mrpt::math::TPose2D>& posesInMap,
-		const TScanMatcherParams& p);
+	static CReferenceCloud patchOf(const std::vector<TScan2D>& scans,
+								   const std::vector<mrpt::math::TPose2D>& posesInMap,
+								   const TScanMatcherParams& p);
 	void prepareNextWindow(const CPoseGraph& graph, const TKeyframes& keyframes);
 	static void build(TPreparedWindow& job, const TScanMatcherParams& p);
 	/** Waits for the prepared patch; true (and m_cloud set) if the window is unchanged. */
@@ -182,7 +181,7 @@ class CLocalRegistration
 	};
 	std::optional<TPatchMatch> m_lastPatchMatch;
 
-	CReferenceCloud m_cloud;  //!< window patch in the frame of node *m_cloudNewest
+	CReferenceCloud m_cloud;              //!< window patch in the frame of node *m_cloudNewest
 	std::optional<size_t> m_cloudNewest;  //!< reset whenever the window or its poses change
 	std::deque<size_t> m_window;  //!< the last K distinct keyframes entered, oldest first
 	size_t m_firstFree = 0;  //!< the window solve moves only nodes >= this (and never node 0)

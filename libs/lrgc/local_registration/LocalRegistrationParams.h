@@ -1,5 +1,6 @@
-/* Section [LocalRegistration]: the parameters of CLocalRegistration, apart from the class so that the
- * map builder's public header (MapBuilderParams.h) needs none of the stage's internals. */
+/* Section [LocalRegistration]: the parameters of CLocalRegistration, apart from the class so
+ * that the map builder's public header (MapBuilderParams.h) needs none of the stage's
+ * internals. */
 #pragma once
 
 #include <mrpt/config/CLoadableOptions.h>
@@ -22,11 +23,14 @@ struct TLocalRegistrationParams : public mrpt::config::CLoadableOptions
 	 * laser-only keyframes carries their heading drift into the patch (Intel laser-only
 	 * 0.511 m at 10, 1.23 m at 15). */
 	size_t laser_only_window_size = 10;
-	size_t max_pairwise_links = 5;  //!< pairwise scan-match links per new keyframe (spread over the window)
-	double min_link_inlier_fraction = 0.5;  //!< pairwise link only if this fraction of points matched
+	size_t max_pairwise_links =
+		5;  //!< pairwise scan-match links per new keyframe (spread over the window)
+	double min_link_inlier_fraction =
+		0.5;                          //!< pairwise link only if this fraction of points matched
 	double glitch_gate_chi2 = 16.27;  //!< [chi2, 3 dof] prior/match disagreement (p = 0.001)
 	double wide_search_angle = mrpt::DEG2RAD(90.0);  //!< [rad] (key wide_search_angle_deg)
-	double glitch_min_turn = mrpt::DEG2RAD(30.0);  //!< [rad] a step turning more is suspect (key glitch_min_turn_deg)
+	double glitch_min_turn = mrpt::DEG2RAD(
+		30.0);  //!< [rad] a step turning more is suspect (key glitch_min_turn_deg)
 	double glitch_min_gap_s = 1.0;  //!< [s] a step after a longer pause in the scans is suspect
 	/** Free-space tolerance of local matches, replacing [ScanMatcher]'s: with an odometry
 	 * prior a wrong match is unlikely, while people walking through the window's scans and
@@ -48,9 +52,10 @@ struct TLocalRegistrationParams : public mrpt::config::CLoadableOptions
 	 * fails (doc/architecture.md). */
 	double pairwise_link_weight = 0.05;
 
-	void loadFromConfigFile(
-		const mrpt::config::CConfigFileBase& c, const std::string& s) override;
-	void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
+	void loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
+							const std::string& s) override;
+	void saveToConfigFile(mrpt::config::CConfigFileBase& c,
+						  const std::string& s) const override;
 };
 
 }  // namespace lrgc

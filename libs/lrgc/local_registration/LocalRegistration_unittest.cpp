@@ -70,8 +70,8 @@ struct TKnownRun
 
 /** Keyframes 0..n-1 of `run` at their true poses, chained by tight scan-match links, entered
  * into `local`'s window in order. */
-void enterTrueWindow(const TKnownRun& run, size_t n, CLocalRegistration& local, CPoseGraph& graph,
-					 TKeyframes& keyframes)
+void enterTrueWindow(const TKnownRun& run, size_t n, CLocalRegistration& local,
+					 CPoseGraph& graph, TKeyframes& keyframes)
 {
 	const auto& truth = run.tr.truePoses;
 	for (size_t i = 0; i < n; ++i)
@@ -186,7 +186,8 @@ TEST(LocalRegistration, registerScanFromARoughPriorAndAGlitchOnlyByTheWideSearch
 	TKeyframes keyframes;
 	for (size_t i = 0; i < 6; ++i)
 		graph.addNode(truth[i]), keyframes.push_back(run.keyframes[i]);
-	const auto enterWindow = [&graph](CLocalRegistration& local) {
+	const auto enterWindow = [&graph](CLocalRegistration& local)
+	{
 		for (size_t i = 0; i < 6; ++i) local.enterKeyframe(i, false, graph);
 	};
 	// The scan 15 cm past the newest keyframe.
@@ -196,7 +197,8 @@ TEST(LocalRegistration, registerScanFromARoughPriorAndAGlitchOnlyByTheWideSearch
 	const Eigen::Matrix3d priorCov =
 		Eigen::Vector3d(0.1 * 0.1, 0.1 * 0.1, std::pow(5 * M_PI / 180, 2)).asDiagonal();
 	// The odometry prediction of one 0.2 s step that turns `turn` [rad].
-	const auto step = [&](double turn) {
+	const auto step = [&](double turn)
+	{
 		lrgc::TMotionPrediction m;
 		m.motion = TPose2D(0.15, 0, turn);
 		m.cov = priorCov;
@@ -209,8 +211,7 @@ TEST(LocalRegistration, registerScanFromARoughPriorAndAGlitchOnlyByTheWideSearch
 		CLocalRegistration local(p.local, p.matcher, p.optimizer);
 		enterWindow(local);
 		const TPose2D prior = compose(scanTruth, TPose2D(0.08, -0.09, 0.07));
-		const TRegistration reg =
-			local.registerScan(graph, keyframes, scan, prior, step(0.0));
+		const TRegistration reg = local.registerScan(graph, keyframes, scan, prior, step(0.0));
 		ASSERT_TRUE(reg.matched);
 		EXPECT_FALSE(reg.odometryRejected);
 		EXPECT_FALSE(reg.wideSearch);
@@ -272,8 +273,9 @@ TEST(LocalRegistration, keyframeRegisteredAgainstThePatchGetsThePatchLink)
 		pred.cov = CMotionPredictor().odometryCov(pred.motion);
 		pred.fromOdometry = fromOdometry;
 		pred.stepSeconds = 0.2;
-		const TRegistration reg = local.registerScan(
-			graph, keyframes, run.keyframes[n].scan, compose(graph.pose(n - 1), pred.motion), pred);
+		const TRegistration reg =
+			local.registerScan(graph, keyframes, run.keyframes[n].scan,
+							   compose(graph.pose(n - 1), pred.motion), pred);
 		ASSERT_TRUE(reg.matched);
 		EXPECT_LT(positionError(truth[n], reg.scanInMap), kTolXY);
 		graph.addNode(reg.scanInMap);
@@ -288,7 +290,7 @@ TEST(LocalRegistration, keyframeRegisteredAgainstThePatchGetsThePatchLink)
 		const TLink& first = graph.link(linksBefore + 1);
 		const TPose2D registered = between(truth[n - 1], reg.scanInMap);
 		const bool isPatchLink = first.from == n - 1 && first.to == n &&
-			translationNorm(between(first.toInFrom, registered)) < 1e-9;
+								 translationNorm(between(first.toInFrom, registered)) < 1e-9;
 		EXPECT_EQ(isPatchLink, fromOdometry);
 		// Pairwise links: information scaled by pairwise_link_weight with the patch link.
 		double maxPairwiseInfo = 0;
@@ -383,7 +385,8 @@ TEST(LocalRegistration, helperThreadLeavesEveryResultBitForBit)
 	for (size_t n = 1; n < run.tr.truePoses.size(); ++n)
 	{
 		if (n == 12)
-		{  // X_i <- C (+) X_i for the newest nodes, as CLoopClosing carries them along (carriedAlong)
+		{  // X_i <- C (+) X_i for the newest nodes, as CLoopClosing carries them along
+		   // (carriedAlong)
 			const TPose2D C(0.04, -0.03, 0.02);
 			for (size_t i = 5; i < n; ++i) graph.setPose(i, compose(C, graph.pose(i)));
 			local.invalidate();

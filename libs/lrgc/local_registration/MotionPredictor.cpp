@@ -91,13 +91,12 @@ double CMotionPredictor::meanScanPeriod() const
 bool CMotionPredictor::clockJittered() const
 {
 	const double T = scanPeriod();
-	return std::any_of(m_recentSteps.begin(), m_recentSteps.end(), [T](double dt) {
-		return dt < kJitterFraction * T;
-	});
+	return std::any_of(m_recentSteps.begin(), m_recentSteps.end(),
+					   [T](double dt) { return dt < kJitterFraction * T; });
 }
 
-void CMotionPredictor::commitScan(
-	mrpt::Clock::time_point t, const mrpt::math::TPose2D& estimatedMotion)
+void CMotionPredictor::commitScan(mrpt::Clock::time_point t,
+								  const mrpt::math::TPose2D& estimatedMotion)
 {
 	if (m_lastScanTime)
 	{

@@ -49,7 +49,7 @@ struct TMotionPrediction
 
 class CMotionPredictor
 {
-   public:
+public:
 	explicit CMotionPredictor(const TMotionPredictorParams& p = {}) : m_params(p) {}
 
 	/** Robot motion (previous <- current) in the robot frame, e.g. from a rawlog action. */
@@ -78,9 +78,9 @@ class CMotionPredictor
 	bool clockJittered() const;
 	const TMotionPredictorParams& params() const { return m_params; }
 
-   private:
+private:
 	TMotionPredictorParams m_params;
-	std::optional<mrpt::math::TPose2D> m_odomNow;  //!< latest (odom <- robot)
+	std::optional<mrpt::math::TPose2D> m_odomNow;     //!< latest (odom <- robot)
 	std::optional<mrpt::math::TPose2D> m_odomAtScan;  //!< (odom <- robot) at the last scan
 	std::optional<mrpt::Clock::time_point> m_lastScanTime;
 	mrpt::math::TPose2D m_lastMotion{0, 0, 0};  //!< estimated motion of the last step

@@ -119,9 +119,11 @@ TEST(MotionPredictor, odometryPriorIsTheOdometryMotionWithProportionalNoise)
 TEST(MotionPredictor, odometryNoiseOfALongBlindStretchGrowsWithTheSquareRootOfDistance)
 {
 	const CMotionPredictor predictor;
-	const auto distanceStd = [&](double d) {
+	const auto distanceStd = [&](double d)
+	{
 		const Eigen::Matrix3d c = predictor.odometryCov(TPose2D(d, 0, 0));
-		return Eigen::Vector2d(std::sqrt(c(0, 0)) - 0.01, std::sqrt(c(2, 2)) - mrpt::DEG2RAD(0.5));
+		return Eigen::Vector2d(std::sqrt(c(0, 0)) - 0.01,
+							   std::sqrt(c(2, 2)) - mrpt::DEG2RAD(0.5));
 	};
 	// Proportional up to 1 m: 0.1 m/m and 0.05 rad/m (defaults).
 	EXPECT_NEAR(distanceStd(0.5).x(), 0.05, 1e-12);

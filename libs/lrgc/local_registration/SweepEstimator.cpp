@@ -13,11 +13,11 @@ using mrpt::math::TPose2D;
 
 namespace
 {
-constexpr double kCauchy = 2.385;  // Cauchy width in residual scales (95 % efficiency)
-constexpr size_t kRecentScans = 10;  // scans a new one may be compared with
-constexpr double kMaxPairDistance = 1.0;  // [m] ... if this close
+constexpr double kCauchy = 2.385;          // Cauchy width in residual scales (95 % efficiency)
+constexpr size_t kRecentScans = 10;        // scans a new one may be compared with
+constexpr double kMaxPairDistance = 1.0;   // [m] ... if this close
 constexpr double kMaxPairTurn = M_PI / 4;  // [rad] ... and turned this little
-constexpr size_t kGridSteps = 400;  // sweep times tried: max_sweep_time_s / kGridSteps apart
+constexpr size_t kGridSteps = 400;    // sweep times tried: max_sweep_time_s / kGridSteps apart
 constexpr size_t kMaxSamples = 5000;  // newest pairs kept for the standard error
 constexpr size_t kMinInliers = 40;
 // A rate change beyond this is a clock glitch, not a robot (Intel's jitter bursts: 6.7 rad/s).
@@ -44,9 +44,8 @@ double robustScale(std::vector<double>& absResiduals, double floor)
 // iteration; the gate shrinks from 0.3 m to 4 c sigma. Std of s: sigma sqrt((A^-1)_ss),
 // A = sum w J J^T (optimistic: residuals along one wall are correlated; the regression's
 // robust standard error does not rely on it).
-std::optional<TSkewFit> fitSkew(
-	const CReferenceCloud& ref, const TScan2D& scan, const std::vector<float>& fractions,
-	const TPose2D& guess)
+std::optional<TSkewFit> fitSkew(const CReferenceCloud& ref, const TScan2D& scan,
+								const std::vector<float>& fractions, const TPose2D& guess)
 {
 	ASSERT_EQUAL_(scan.points.size(), fractions.size());
 	Eigen::Vector4d v(guess.x, guess.y, guess.phi, 0.0);
@@ -105,8 +104,8 @@ std::optional<TSkewFit> fitSkew(
 	return fit;
 }
 
-CSweepEstimator::CSweepEstimator(
-	const TSweepEstimatorParams& p, const TScanMatcherParams& matcher, double fixedSweepTime)
+CSweepEstimator::CSweepEstimator(const TSweepEstimatorParams& p,
+								 const TScanMatcherParams& matcher, double fixedSweepTime)
 	: m_params(p), m_matcher(matcher)
 {
 	m_fixed = fixedSweepTime > 0 || !p.enabled;
@@ -114,9 +113,9 @@ CSweepEstimator::CSweepEstimator(
 	if (!m_fixed) m_loss.assign(kGridSteps + 1, 0.0);
 }
 
-void CSweepEstimator::observe(
-	const mrpt::obs::CObservation2DRangeScan& obs, const TScan2D& scan, double turnRate,
-	double appliedTurn, const TPose2D& step, bool matched)
+void CSweepEstimator::observe(const mrpt::obs::CObservation2DRangeScan& obs,
+							  const TScan2D& scan, double turnRate, double appliedTurn,
+							  const TPose2D& step, bool matched)
 {
 	if (m_fixed) return;
 	m_pose = m_recent.empty() ? TPose2D(0, 0, 0) : compose(m_pose, step);
@@ -134,9 +133,9 @@ void CSweepEstimator::observe(
 			ref->cloud = std::make_shared<const CReferenceCloud>(
 				CReferenceCloud::fromScan(ref->scan, m_matcher));
 		if (auto fit = fitSkew(*ref->cloud, scan, cur.fractions, between(ref->pose, cur.pose)))
-			addSample(
-				cur.turnRate - ref->turnRate, fit->skew + cur.appliedTurn - ref->appliedTurn,
-				kStdInflation * fit->skewStd);
+			addSample(cur.turnRate - ref->turnRate,
+					  fit->skew + cur.appliedTurn - ref->appliedTurn,
+					  kStdInflation * fit->skewStd);
 	}
 	if (!usable) cur.fractions.clear();
 	m_recent.push_back(std::move(cur));
@@ -169,8 +168,10 @@ void CSweepEstimator::addSample(double x, double y, double std)
 		const double u = (y - double(g) * h * x) / (kCauchy * std);
 		m_loss[g] += std::log1p(u * u);
 	}
-	if (m_samples.size() < kMaxSamples) m_samples.push_back({x, y, std});
-	else m_samples[m_nextSample++ % kMaxSamples] = {x, y, std};
+	if (m_samples.size() < kMaxSamples)
+		m_samples.push_back({x, y, std});
+	else
+		m_samples[m_nextSample++ % kMaxSamples] = {x, y, std};
 	++m_summary.samples;
 	updateEstimate();
 }

@@ -52,27 +52,27 @@ struct TSkewFit
 /** Fits `scan` (fractions[i]: sweep fraction of point i, Scan.h sweepFractions) to the line
  * anchors of `ref` from `guess` (ref <- scan), with the extra de-skewing rotation
  * R(f_i skew) of each point about the robot. nullopt if too few points match. */
-std::optional<TSkewFit> fitSkew(
-	const CReferenceCloud& ref, const TScan2D& scan, const std::vector<float>& fractions,
-	const mrpt::math::TPose2D& guess);
+std::optional<TSkewFit> fitSkew(const CReferenceCloud& ref, const TScan2D& scan,
+								const std::vector<float>& fractions,
+								const mrpt::math::TPose2D& guess);
 
 /** What the estimator knows, for stats.json and logs. */
 struct TSweepEstimate
 {
-	double sweepTime = 0;  //!< [s] in use for the next scan
+	double sweepTime = 0;    //!< [s] in use for the next scan
 	bool estimated = false;  //!< sweepTime comes from the scans (else fixed, or 0)
-	double estimate = 0;  //!< [s] latest estimate (used or not yet), 0 before any pair
-	double std = 0;  //!< [s] its standard error (0 before min_samples pairs)
-	size_t samples = 0;  //!< scan pairs compared
+	double estimate = 0;     //!< [s] latest estimate (used or not yet), 0 before any pair
+	double std = 0;          //!< [s] its standard error (0 before min_samples pairs)
+	size_t samples = 0;      //!< scan pairs compared
 };
 
 class CSweepEstimator
 {
-   public:
+public:
 	/** fixedSweepTime > 0 ([MapBuilder] scan_sweep_time_s), or p.enabled false: that value is
 	 * used throughout and nothing is estimated. */
-	CSweepEstimator(
-		const TSweepEstimatorParams& p, const TScanMatcherParams& matcher, double fixedSweepTime);
+	CSweepEstimator(const TSweepEstimatorParams& p, const TScanMatcherParams& matcher,
+					double fixedSweepTime);
 
 	/** [s] sweep time to de-skew the next scan with. */
 	double sweepTime() const { return m_summary.sweepTime; }
@@ -81,9 +81,9 @@ class CSweepEstimator
 	/** One scan as converted (`obs` -> `scan`, de-skewed by appliedTurn [rad] over the
 	 * sweep) while turning at turnRate [rad/s]; `step` (previous scan <- this one) as
 	 * registered, `matched` false if registration kept the prediction. */
-	void observe(
-		const mrpt::obs::CObservation2DRangeScan& obs, const TScan2D& scan, double turnRate,
-		double appliedTurn, const mrpt::math::TPose2D& step, bool matched);
+	void observe(const mrpt::obs::CObservation2DRangeScan& obs, const TScan2D& scan,
+				 double turnRate, double appliedTurn, const mrpt::math::TPose2D& step,
+				 bool matched);
 
 	/** A new log from the same laser (a new session on a saved map): the estimate stays,
 	 * the recent scans are dropped (their poses are of the other log). */
@@ -92,7 +92,7 @@ class CSweepEstimator
 	/** One pair (x = w_i - w_r [rad/s], y [rad], std of y [rad]); observe() calls it. */
 	void addSample(double x, double y, double std);
 
-   private:
+private:
 	struct TRecent
 	{
 		TScan2D scan;
@@ -115,9 +115,9 @@ class CSweepEstimator
 	TSweepEstimate m_summary;
 	mrpt::math::TPose2D m_pose{0, 0, 0};
 	std::deque<TRecent> m_recent;
-	std::vector<double> m_loss;  //!< Cauchy loss of the pairs at each grid sweep time
+	std::vector<double> m_loss;      //!< Cauchy loss of the pairs at each grid sweep time
 	std::vector<TSample> m_samples;  //!< the newest pairs, for the standard error
-	size_t m_nextSample = 0;  //!< where the next pair goes once m_samples is full
+	size_t m_nextSample = 0;         //!< where the next pair goes once m_samples is full
 };
 
 }  // namespace lrgc

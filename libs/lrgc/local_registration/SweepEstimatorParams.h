@@ -17,7 +17,8 @@ struct TSweepEstimatorParams : public mrpt::config::CLoadableOptions
 	 * nonzero scan_sweep_time_s is a fixed, calibrated value and wins). Off by default: it
 	 * helps MIT-CSAIL and Killian and hurts Intel and ACES (doc/scan-matching.md). */
 	bool enabled = false;
-	double max_sweep_time_s = 0.1;  //!< [s] largest sweep time considered (a 10 Hz 360 deg lidar)
+	double max_sweep_time_s =
+		0.1;  //!< [s] largest sweep time considered (a 10 Hz 360 deg lidar)
 	/** [rad/s] a scan is compared with a recent one whose turn rate differs by at least
 	 * this much (key min_rate_change_deg_per_s): equal rates stretch both scans alike. */
 	double min_rate_change_per_s = mrpt::DEG2RAD(10.0);
@@ -25,9 +26,10 @@ struct TSweepEstimatorParams : public mrpt::config::CLoadableOptions
 	/** [s] an estimate is used once its standard error is below this */
 	double max_std_s = 0.002;
 
-	void loadFromConfigFile(
-		const mrpt::config::CConfigFileBase& c, const std::string& s) override;
-	void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
+	void loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
+							const std::string& s) override;
+	void saveToConfigFile(mrpt::config::CConfigFileBase& c,
+						  const std::string& s) const override;
 };
 
 }  // namespace lrgc

@@ -15,7 +15,7 @@ using mrpt::math::TPose2D;
 namespace
 {
 constexpr double kHalfX = 4.0, kHalfY = 3.0;  // [m] rectangular room, centred at the origin
-const Eigen::Vector2d kRobotAt(0.7, -0.4);  // [m] the robot turns in place here (off centre)
+const Eigen::Vector2d kRobotAt(0.7, -0.4);    // [m] the robot turns in place here (off centre)
 constexpr size_t kBeams = 361;
 
 /** Range from kRobotAt along direction a [rad] (room frame) to the walls. */
@@ -31,8 +31,8 @@ double rangeToWalls(double a)
 /** A 180 deg scan whose middle beam fires at heading heading(0); beam i at time
  * (i / 360 - 1/2) tau, when the heading is heading(t). Ranges with 5 mm noise. */
 template <class Heading>
-mrpt::obs::CObservation2DRangeScan scanWhileTurning(
-	Heading heading, double tau, std::mt19937& rng)
+mrpt::obs::CObservation2DRangeScan scanWhileTurning(Heading heading, double tau,
+													std::mt19937& rng)
 {
 	std::normal_distribution<double> noise(0.0, 0.005);
 	mrpt::obs::CObservation2DRangeScan obs;
@@ -77,7 +77,10 @@ TSweepEstimatorParams on()
 }
 
 // Back and forth: rate 1.5 sin(2 pi t / 4) rad/s, heading within +-0.95 rad.
-double swinging(double t) { return -1.5 * 4 / (2 * M_PI) * std::cos(2 * M_PI * t / 4); }
+double swinging(double t)
+{
+	return -1.5 * 4 / (2 * M_PI) * std::cos(2 * M_PI * t / 4);
+}
 }  // namespace
 
 TEST(SweepEstimator, fitSkewRecoversTheSkewOfATurningScan)
@@ -88,15 +91,16 @@ TEST(SweepEstimator, fitSkewRecoversTheSkewOfATurningScan)
 	const auto obs = scanWhileTurning([&](double t) { return 0.1 + w * t; }, tau, rng);
 	const CReferenceCloud ref =
 		CReferenceCloud::fromScan(scanFromObservation(refObs), TScanMatcherParams());
-	const auto fit = fitSkew(ref, scanFromObservation(obs), sweepFractions(obs), TPose2D(0, 0, 0.08));
+	const auto fit =
+		fitSkew(ref, scanFromObservation(obs), sweepFractions(obs), TPose2D(0, 0, 0.08));
 	ASSERT_TRUE(fit);
 	EXPECT_NEAR(fit->skew, w * tau, 0.003);
 	EXPECT_NEAR(fit->scanInRef.phi, 0.1, 0.002);
 	EXPECT_NEAR(fit->scanInRef.x, 0.0, 0.005);
 	// The same scan de-skewed has no skew left.
-	const auto straight = fitSkew(
-		ref, scanFromObservation(obs, nullptr, TPose2D(0, 0, w * tau)), sweepFractions(obs),
-		TPose2D(0, 0, 0.08));
+	const auto straight =
+		fitSkew(ref, scanFromObservation(obs, nullptr, TPose2D(0, 0, w * tau)),
+				sweepFractions(obs), TPose2D(0, 0, 0.08));
 	ASSERT_TRUE(straight);
 	EXPECT_NEAR(straight->skew, 0.0, 0.003);
 }
@@ -109,7 +113,8 @@ TEST(SweepEstimator, recoversTheSweepTimeFromTurns)
 		EXPECT_EQ(est.sweepTime(), 0.0);  // nothing known yet: no de-skewing
 		feed(est, swinging, 300, 0.1, tau);
 		const TSweepEstimate& s = est.summary();
-		EXPECT_TRUE(s.estimated) << "tau " << tau << ", std " << s.std << ", pairs " << s.samples;
+		EXPECT_TRUE(s.estimated) << "tau " << tau << ", std " << s.std << ", pairs "
+								 << s.samples;
 		EXPECT_GT(s.samples, 100u);
 		EXPECT_NEAR(est.sweepTime(), tau, 0.15 * tau + 0.0005) << "std " << s.std;
 	}
@@ -118,14 +123,16 @@ TEST(SweepEstimator, recoversTheSweepTimeFromTurns)
 TEST(SweepEstimator, noTurnsNoEstimate)
 {
 	CSweepEstimator est(on(), TScanMatcherParams(), 0.0);
-	feed(est, [](double) { return 0.3; }, 100, 0.1, 0.0267);
+	feed(
+		est, [](double) { return 0.3; }, 100, 0.1, 0.0267);
 	EXPECT_EQ(est.summary().samples, 0u);
 	EXPECT_FALSE(est.summary().estimated);
 	EXPECT_EQ(est.sweepTime(), 0.0);
 	// A steady turn stretches every scan alike: only the first scans (the first one, at
 	// rest, is within the 10 recent ones) are compared, too few for an estimate.
 	CSweepEstimator steady(on(), TScanMatcherParams(), 0.0);
-	feed(steady, [](double t) { return 0.5 * t; }, 100, 0.1, 0.0267);
+	feed(
+		steady, [](double t) { return 0.5 * t; }, 100, 0.1, 0.0267);
 	EXPECT_LE(steady.summary().samples, 10u);
 	EXPECT_FALSE(steady.summary().estimated);
 	EXPECT_EQ(steady.sweepTime(), 0.0);

@@ -10,8 +10,8 @@
 
 namespace lrgc
 {
-CGlobalLocalizer::CGlobalLocalizer(
-	const CPoseGraph& map, const TKeyframes& keyframes, const TPatchCorrelatorParams& p)
+CGlobalLocalizer::CGlobalLocalizer(const CPoseGraph& map, const TKeyframes& keyframes,
+								   const TPatchCorrelatorParams& p)
 	: m_correlator(p)
 {
 	ASSERTMSG_(map.numNodes() > 0, "CGlobalLocalizer: the map has no keyframe");
@@ -55,13 +55,12 @@ TGlobalLocation CGlobalLocalizer::locate(const std::vector<Eigen::Vector2d>& pat
 {
 	const auto t0 = std::chrono::steady_clock::now();
 	TGlobalLocation out;
-	out.correlation = m_correlator.correlate(m_grid, patchPoints, m_centre, m_halfWindowXY, M_PI);
-	out.verdict = out.correlation
-		? out.correlation->checkFilters(m_correlator.params())
-		: TCorrelationVerdict{
-			  TCorrelationVerdict::Reason::LowScore, 0, m_correlator.params().min_score};
-	out.seconds =
-		std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+	out.correlation =
+		m_correlator.correlate(m_grid, patchPoints, m_centre, m_halfWindowXY, M_PI);
+	out.verdict = out.correlation ? out.correlation->checkFilters(m_correlator.params())
+								  : TCorrelationVerdict{TCorrelationVerdict::Reason::LowScore,
+														0, m_correlator.params().min_score};
+	out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 	return out;
 }
 

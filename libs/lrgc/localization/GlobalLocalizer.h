@@ -29,31 +29,31 @@ struct TGlobalLocation
 	/** The best pose (map <- patch) and its figures; nullopt if no pose reaches min_score. */
 	std::optional<TCorrelationResult> correlation;
 	TCorrelationVerdict verdict;  //!< of the three filters
-	double seconds = 0;  //!< time of the attempt [s]
+	double seconds = 0;           //!< time of the attempt [s]
 	bool accepted() const { return correlation && verdict.accepted(); }
 };
 
 class CGlobalLocalizer
 {
-   public:
+public:
 	/** [m] The search window reaches this far beyond the keyframe poses' bounding box: a
 	 * new robot may stand where the old one only looked. */
 	static constexpr double kWindowMargin = 3.0;
 
 	/** The map: node i of `map` at its pose with keyframes[i]'s scan. Throws if empty. */
-	CGlobalLocalizer(
-		const CPoseGraph& map, const TKeyframes& keyframes, const TPatchCorrelatorParams& p);
+	CGlobalLocalizer(const CPoseGraph& map, const TKeyframes& keyframes,
+					 const TPatchCorrelatorParams& p);
 
 	/** Correlates `patchPoints` (patch frame [m]) against the whole map. */
 	TGlobalLocation locate(const std::vector<Eigen::Vector2d>& patchPoints) const;
 
 	const CPatchCorrelator& correlator() const { return m_correlator; }
 
-   private:
+private:
 	CPatchCorrelator m_correlator;
 	CCorrelationGrid m_grid;
 	mrpt::math::TPose2D m_centre;  //!< centre of the search window (heading 0)
-	double m_halfWindowXY = 0;  //!< [m]
+	double m_halfWindowXY = 0;     //!< [m]
 };
 
 }  // namespace lrgc

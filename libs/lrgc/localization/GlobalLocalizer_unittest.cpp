@@ -26,7 +26,8 @@ TEST(GlobalLocalizer, AMapTooWideForTheGridIsAClearError)
 	{
 		const std::string what = e.what();
 		EXPECT_NE(what.find("the map's scans span 1000 x 1002 m: too large to search whole"),
-				  std::string::npos) << what;
+				  std::string::npos)
+			<< what;
 		EXPECT_NE(what.find("a coarser resolution (--config)"), std::string::npos) << what;
 	}
 	TPatchCorrelatorParams coarse;

@@ -6,8 +6,8 @@
 
 namespace lrgc
 {
-void TLocalizationParams::loadFromConfigFile(
-	const mrpt::config::CConfigFileBase& c, const std::string& s)
+void TLocalizationParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
+											 const std::string& s)
 {
 	rejectUnknownKeys(TLocalizationParams(), c, s);
 	patch_keyframes = readCount(c, s, "patch_keyframes", patch_keyframes);
@@ -21,21 +21,32 @@ void TLocalizationParams::loadFromConfigFile(
 	requireParam(patch_max_range_m > 0, s, "patch_max_range_m", "must be > 0 m");
 	requireParam(track_radius_m > 0, s, "track_radius_m", "must be > 0 m");
 	requireParam(track_max_keyframes >= 1, s, "track_max_keyframes", "must be >= 1");
-	requireParam(min_inlier_fraction >= 0 && min_inlier_fraction <= 1, s, "min_inlier_fraction", "must be in [0, 1]");
+	requireParam(min_inlier_fraction >= 0 && min_inlier_fraction <= 1, s, "min_inlier_fraction",
+				 "must be in [0, 1]");
 	requireParam(gate_chi2 > 0, s, "gate_chi2", "must be > 0");
 	requireParam(lost_after >= 1, s, "lost_after", "must be >= 1");
 }
 
-void TLocalizationParams::saveToConfigFile(
-	mrpt::config::CConfigFileBase& c, const std::string& s) const
+void TLocalizationParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
+										   const std::string& s) const
 {
-	writeValue(c, s, "patch_keyframes", uint64_t(patch_keyframes), "Largest patch of new keyframes correlated against the whole map (tries 1, 2, 4, ... up to it)");
-	writeValue(c, s, "patch_max_range_m", patch_max_range_m, "[m] Patch points farther from its newest keyframe are left out");
-	writeValue(c, s, "track_radius_m", track_radius_m, "[m] --localize: map keyframes this close to the predicted pose are the tracking reference");
-	writeValue(c, s, "track_max_keyframes", uint64_t(track_max_keyframes), "--localize: at most this many (the nearest)");
-	writeValue(c, s, "min_inlier_fraction", min_inlier_fraction, "--localize: a good match has this fraction of the scan matched [0..1]");
-	writeValue(c, s, "gate_chi2", gate_chi2, "--localize: ... and agrees with the odometry prior within this chi2 (3 dof)");
-	writeValue(c, s, "lost_after", uint64_t(lost_after), "--localize: this many poor matches in a row: lost, relocalise by global correlation");
+	writeValue(c, s, "patch_keyframes", uint64_t(patch_keyframes),
+			   "Largest patch of new keyframes correlated against the whole map (tries 1, 2, "
+			   "4, ... up to it)");
+	writeValue(c, s, "patch_max_range_m", patch_max_range_m,
+			   "[m] Patch points farther from its newest keyframe are left out");
+	writeValue(c, s, "track_radius_m", track_radius_m,
+			   "[m] --localize: map keyframes this close to the predicted pose are the "
+			   "tracking reference");
+	writeValue(c, s, "track_max_keyframes", uint64_t(track_max_keyframes),
+			   "--localize: at most this many (the nearest)");
+	writeValue(c, s, "min_inlier_fraction", min_inlier_fraction,
+			   "--localize: a good match has this fraction of the scan matched [0..1]");
+	writeValue(c, s, "gate_chi2", gate_chi2,
+			   "--localize: ... and agrees with the odometry prior within this chi2 (3 dof)");
+	writeValue(
+		c, s, "lost_after", uint64_t(lost_after),
+		"--localize: this many poor matches in a row: lost, relocalise by global correlation");
 }
 
 }  // namespace lrgc

@@ -31,9 +31,10 @@ struct TLocalizationParams : public mrpt::config::CLoadableOptions
 	 * localisation runs again (relocalisation) while odometry carries the pose. */
 	size_t lost_after = 25;
 
-	void loadFromConfigFile(
-		const mrpt::config::CConfigFileBase& c, const std::string& s) override;
-	void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
+	void loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
+							const std::string& s) override;
+	void saveToConfigFile(mrpt::config::CConfigFileBase& c,
+						  const std::string& s) const override;
 };
 
 }  // namespace lrgc

@@ -14,9 +14,8 @@ namespace lrgc
 {
 using mrpt::math::TPose2D;
 
-CLocalizer::CLocalizer(
-	const CPoseGraph& map, const TKeyframes& keyframes, const TLRGCParams& params,
-	const TLocalizationParams& localization)
+CLocalizer::CLocalizer(const CPoseGraph& map, const TKeyframes& keyframes,
+					   const TLRGCParams& params, const TLocalizationParams& localization)
 	: m_map(map),
 	  m_keyframes(keyframes),
 	  m_params(params),
@@ -62,8 +61,8 @@ void CLocalizer::processObservation(const mrpt::obs::CObservation::Ptr& obs)
 	}
 }
 
-void CLocalizer::processActionObservation(
-	mrpt::obs::CActionCollection& action, mrpt::obs::CSensoryFrame& observations)
+void CLocalizer::processActionObservation(mrpt::obs::CActionCollection& action,
+										  mrpt::obs::CSensoryFrame& observations)
 {
 	if (auto odo = action.getBestMovementEstimation(); odo && odo->poseChange)
 		m_predictor->addOdometryIncrement(odo->poseChange->getMeanVal().asTPose());
@@ -98,9 +97,8 @@ void CLocalizer::processScan(const mrpt::obs::CObservation2DRangeScan::Ptr& obse
 		{
 			adoptFinderPoses(*found);
 			m_stats.started = true;
-			MRPT_LOG_INFO_FMT(
-				"start found after %zu scans (score %.2f, ambiguity %.2f)", m_stats.scans,
-				found->score, found->ambiguity);
+			MRPT_LOG_INFO_FMT("start found after %zu scans (score %.2f, ambiguity %.2f)",
+							  m_stats.scans, found->score, found->ambiguity);
 		}
 		else
 			++m_stats.scansBeforeStart;
@@ -124,9 +122,8 @@ void CLocalizer::processScan(const mrpt::obs::CObservation2DRangeScan::Ptr& obse
 	{
 		if (++m_poorInARow < m_lp.lost_after) return;
 		++m_stats.lostEvents;
-		MRPT_LOG_WARN_FMT(
-			"lost at t=%.3f after %zu poor matches: relocalising", mrpt::Clock::toDouble(t),
-			m_poorInARow);
+		MRPT_LOG_WARN_FMT("lost at t=%.3f after %zu poor matches: relocalising",
+						  mrpt::Clock::toDouble(t), m_poorInARow);
 		m_finder = std::make_unique<CStartFinder>(m_global, m_params, m_lp);
 		m_finderFirstIndex = m_trajectory.size();  // the probe starts with the next scan
 		return;
@@ -179,17 +176,15 @@ bool CLocalizer::track(const TScan2D& scan, mrpt::Clock::time_point t)
 		const auto m = m_matcher.match(m_ref, scan, guess);
 		// The map's scans were taken at other times (people, doors) and its passes agree to
 		// about the loop links' noise floor, not to the match covariance alone.
-		good = m && m->inlierFraction >= m_lp.min_inlier_fraction &&
-			disagreementChi2(
-				guess, m->scanInRef,
-				rotateCovariance(priorCov, -m_refInMap.phi) + m->cov +
-					m_params.loop.link_noise.floorCovariance()) <=
-				m_lp.gate_chi2;
+		good =
+			m && m->inlierFraction >= m_lp.min_inlier_fraction &&
+			disagreementChi2(guess, m->scanInRef,
+							 rotateCovariance(priorCov, -m_refInMap.phi) + m->cov +
+								 m_params.loop.link_noise.floorCovariance()) <= m_lp.gate_chi2;
 		if (good) pose = compose(m_refInMap, m->scanInRef);
 	}
 	if (!good)
-		if (const auto local = matchRecent(scan, prior))
-			pose = *local, ++m_stats.recentMatches;
+		if (const auto local = matchRecent(scan, prior)) pose = *local, ++m_stats.recentMatches;
 	m_driftCov = good ? Eigen::Matrix3d::Zero() : priorCov;
 	m_predictor->commitScan(t, between(m_pose, pose));
 	m_pose = pose;
@@ -205,10 +200,10 @@ std::optional<TPose2D> CLocalizer::matchRecent(const TScan2D& scan, const TPose2
 	const TPose2D refInMap = m_recent.back().second;
 	std::vector<TScan2D> scans;
 	std::vector<TPose2D> inRef;
-	for (const auto& [s, p] : m_recent) scans.push_back(s), inRef.push_back(between(refInMap, p));
-	const auto m = m_matcher.match(
-		CReferenceCloud::fromScans(scans, inRef, m_matcher.params()), scan,
-		between(refInMap, prior));
+	for (const auto& [s, p] : m_recent)
+		scans.push_back(s), inRef.push_back(between(refInMap, p));
+	const auto m = m_matcher.match(CReferenceCloud::fromScans(scans, inRef, m_matcher.params()),
+								   scan, between(refInMap, prior));
 	if (!m || m->inlierFraction < m_params.local.min_link_inlier_fraction) return std::nullopt;
 	return compose(refInMap, m->scanInRef);
 }
@@ -230,7 +225,8 @@ bool CLocalizer::referenceNear(const TPose2D& pose)
 {
 	std::vector<std::pair<double, size_t>> near;
 	for (size_t i = 0; i < m_map.numNodes(); ++i)
-		if (const double d = translationNorm(between(m_map.pose(i), pose)); d <= m_lp.track_radius_m)
+		if (const double d = translationNorm(between(m_map.pose(i), pose));
+			d <= m_lp.track_radius_m)
 			near.emplace_back(d, i);
 	if (near.empty()) return false;
 	std::sort(near.begin(), near.end());

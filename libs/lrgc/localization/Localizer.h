@@ -46,33 +46,32 @@ class CMotionPredictor;
 
 struct TLocalizerStats
 {
-	size_t scans = 0;  //!< laser scans of the laser used
-	size_t localizedScans = 0;  //!< scans with a map pose (the trajectory)
-	size_t scansBeforeStart = 0;  //!< scans taken before the start was found
+	size_t scans = 0;                         //!< laser scans of the laser used
+	size_t localizedScans = 0;                //!< scans with a map pose (the trajectory)
+	size_t scansBeforeStart = 0;              //!< scans taken before the start was found
 	size_t goodMatches = 0, poorMatches = 0;  //!< tracking against the map, once started
-	size_t recentMatches = 0;  //!< of the poor ones, placed by the log's recent scans
-	size_t lostEvents = 0;  //!< lost_after poor matches in a row
-	size_t relocalizations = 0;  //!< lost, then found again by global localisation
+	size_t recentMatches = 0;        //!< of the poor ones, placed by the log's recent scans
+	size_t lostEvents = 0;           //!< lost_after poor matches in a row
+	size_t relocalizations = 0;      //!< lost, then found again by global localisation
 	size_t recoveredByTracking = 0;  //!< lost, then a good tracking match came first
-	size_t globalAttempts = 0;  //!< global correlations (start and relocalisations)
-	double globalSeconds = 0;  //!< their total time [s]
-	bool started = false;  //!< the start was found
-	std::string lastRejection;  //!< of the last failed global attempt
+	size_t globalAttempts = 0;       //!< global correlations (start and relocalisations)
+	double globalSeconds = 0;        //!< their total time [s]
+	bool started = false;            //!< the start was found
+	std::string lastRejection;       //!< of the last failed global attempt
 };
 
 class CLocalizer : public mrpt::system::COutputLogger
 {
-   public:
+public:
 	/** The map: node i of `map` at its pose with keyframes[i]'s scan (copied). */
-	CLocalizer(
-		const CPoseGraph& map, const TKeyframes& keyframes, const TLRGCParams& params,
-		const TLocalizationParams& localization);
+	CLocalizer(const CPoseGraph& map, const TKeyframes& keyframes, const TLRGCParams& params,
+			   const TLocalizationParams& localization);
 	~CLocalizer() override;
 
 	/** Odometry (CObservationOdometry) or a 2D laser scan; other kinds are ignored. */
 	void processObservation(const mrpt::obs::CObservation::Ptr& obs);
-	void processActionObservation(
-		mrpt::obs::CActionCollection& action, mrpt::obs::CSensoryFrame& observations);
+	void processActionObservation(mrpt::obs::CActionCollection& action,
+								  mrpt::obs::CSensoryFrame& observations);
 
 	/** One pose per localised scan, in the order of the scans. */
 	const TTrajectory& trajectory() const { return m_trajectory; }
@@ -82,7 +81,7 @@ class CLocalizer : public mrpt::system::COutputLogger
 	/** The laser used (first seen). */
 	const std::string& laserLabel() const { return m_laserLabel; }
 
-   private:
+private:
 	void processScan(const mrpt::obs::CObservation2DRangeScan::Ptr& laser);
 	void feedFinder(const mrpt::obs::CObservation2DRangeScan::Ptr& laser);
 	void adoptFinderPoses(const TStartFound& found);
@@ -90,8 +89,8 @@ class CLocalizer : public mrpt::system::COutputLogger
 	/** The reference cloud of the map keyframes near `pose`; false if there are none. */
 	bool referenceNear(const mrpt::math::TPose2D& pose);
 	/** The prior matched against the recent scans; nullopt if that fails too. */
-	std::optional<mrpt::math::TPose2D> matchRecent(
-		const TScan2D& scan, const mrpt::math::TPose2D& prior) const;
+	std::optional<mrpt::math::TPose2D> matchRecent(const TScan2D& scan,
+												   const mrpt::math::TPose2D& prior) const;
 	void keepRecent(const TScan2D& scan, const mrpt::math::TPose2D& pose);
 
 	CPoseGraph m_map;
@@ -107,7 +106,8 @@ class CLocalizer : public mrpt::system::COutputLogger
 
 	TTrajectory m_trajectory;
 	mrpt::math::TPose2D m_pose{0, 0, 0};  //!< of the last scan
-	Eigen::Matrix3d m_driftCov = Eigen::Matrix3d::Zero();  //!< since the last good match, map axes
+	Eigen::Matrix3d m_driftCov =
+		Eigen::Matrix3d::Zero();  //!< since the last good match, map axes
 	size_t m_poorInARow = 0;
 	std::vector<size_t> m_refNodes;  //!< keyframes of the current reference cloud
 	CReferenceCloud m_ref;

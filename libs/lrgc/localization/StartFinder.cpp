@@ -6,9 +6,8 @@
 
 namespace lrgc
 {
-CStartFinder::CStartFinder(
-	const CGlobalLocalizer& localizer, const TLRGCParams& params,
-	const TLocalizationParams& localization)
+CStartFinder::CStartFinder(const CGlobalLocalizer& localizer, const TLRGCParams& params,
+						   const TLocalizationParams& localization)
 	: m_localizer(localizer), m_params(localization)
 {
 	TLRGCParams probeParams = params;

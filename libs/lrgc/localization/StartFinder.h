@@ -26,16 +26,15 @@ struct TStartFound
 	/** Covariance of the located patch pose [m^2, rad^2], map axes. */
 	Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
 	double score = 0, ambiguity = 0;  //!< of the accepted correlation
-	size_t patchKeyframes = 0;  //!< keyframes in the accepted patch
+	size_t patchKeyframes = 0;        //!< keyframes in the accepted patch
 };
 
 class CStartFinder
 {
-   public:
+public:
 	/** `params`: the pipeline's parameters (the probe uses them with loop closing off). */
-	CStartFinder(
-		const CGlobalLocalizer& localizer, const TLRGCParams& params,
-		const TLocalizationParams& localization);
+	CStartFinder(const CGlobalLocalizer& localizer, const TLRGCParams& params,
+				 const TLocalizationParams& localization);
 
 	/** The probe: feed it the new log's entries (processObservation or
 	 * processActionObservation), then call tryLocate(). */
@@ -50,7 +49,7 @@ class CStartFinder
 	/** Why the last attempt failed ("score 0.41 < min_score 0.60"), empty before one. */
 	const std::string& lastRejection() const { return m_lastRejection; }
 
-   private:
+private:
 	const CGlobalLocalizer& m_localizer;
 	TLocalizationParams m_params;
 	std::unique_ptr<CMetricMapBuilderLRGC> m_probe;

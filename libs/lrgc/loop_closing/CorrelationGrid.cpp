@@ -77,7 +77,8 @@ void stampLevel0(const std::vector<Eigen::Vector2i>& occupied, const std::vector
 	for (const auto& o : occupied)
 		for (int dy = std::max(-R, -o.y()); dy <= std::min(R, height - 1 - o.y()); ++dy)
 		{
-			const int rx = static_cast<int>(std::floor(std::sqrt(double(lut.size() - 1 - size_t(dy * dy)))));
+			const int rx = static_cast<int>(
+				std::floor(std::sqrt(double(lut.size() - 1 - size_t(dy * dy)))));
 			const int x0 = std::max(-rx, -o.x()), x1 = std::min(rx, width - 1 - o.x());
 			uint8_t* row = L0 + size_t(o.y() + dy + pad) * size_t(stride) + size_t(o.x() + pad);
 			for (int dx = x0; dx <= x1; ++dx)
@@ -87,8 +88,9 @@ void stampLevel0(const std::vector<Eigen::Vector2i>& occupied, const std::vector
 
 // Level 0 from the occupied cells by an exact Euclidean distance transform (OpenCV): each
 // cell's value is lut[d^2], d the distance to the nearest occupied cell [cells].
-void distanceLevel0(const std::vector<Eigen::Vector2i>& occupied, const std::vector<uint8_t>& lut,
-					int width, int height, int pad, int stride, uint8_t* L0)
+void distanceLevel0(const std::vector<Eigen::Vector2i>& occupied,
+					const std::vector<uint8_t>& lut, int width, int height, int pad, int stride,
+					uint8_t* L0)
 {
 	// Occupied cells are 0 (distanceTransform measures the distance to the nearest zero).
 	cv::Mat free(height, width, CV_8U, cv::Scalar(255));

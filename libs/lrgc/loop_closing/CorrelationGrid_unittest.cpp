@@ -97,8 +97,10 @@ TEST(CorrelationGrid, LevelZeroMatchesBruteForceForSparseAndDenseInput)
 			{
 				long d2 = std::numeric_limits<long>::max();
 				for (const auto& o : occ)
-					d2 = std::min(d2, long(o.x() - x) * (o.x() - x) + long(o.y() - y) * (o.y() - y));
-				const double p = 255.0 * std::exp(-double(d2) * res * res / (2 * sigma * sigma));
+					d2 = std::min(
+						d2, long(o.x() - x) * (o.x() - x) + long(o.y() - y) * (o.y() - y));
+				const double p =
+					255.0 * std::exp(-double(d2) * res * res / (2 * sigma * sigma));
 				const long expected = p < 0.5 ? 0 : std::lround(p);
 				ASSERT_EQ(long(g.value(0, x, y)), expected)
 					<< count << " points, sigma " << sigma << ", cell " << x << "," << y;

@@ -42,7 +42,7 @@ double threadCpuSeconds()
 /** Adds the thread CPU time from construction to destruction (or to stop()) to `sum` [s]. */
 class CCpuTimer
 {
-   public:
+public:
 	explicit CCpuTimer(double& sum) : m_sum(&sum), m_t0(threadCpuSeconds()) {}
 	~CCpuTimer() { stop(); }
 	void stop()
@@ -50,7 +50,7 @@ class CCpuTimer
 		if (m_sum) *m_sum += threadCpuSeconds() - m_t0, m_sum = nullptr;
 	}
 
-   private:
+private:
 	double* m_sum;
 	double m_t0;
 };
@@ -65,18 +65,20 @@ bool matchesAgree(const CPoseGraph& g, const TLink& a, const TLink& b)
 	const TPose2D viaB = compose(between(g.pose(a.from), g.pose(b.from)), b.toInFrom);
 	const TPose2D d = between(viaA, viaB);
 	return translationNorm(d) <= kAgreeXY + kAgreePerMetre * translationNorm(newSide) &&
-		std::abs(mrpt::math::wrapToPi(d.phi)) <= kAgreeTheta;
+		   std::abs(mrpt::math::wrapToPi(d.phi)) <= kAgreeTheta;
 }
 
 /** Index in `candidates` of the node nearest to `pose` (map frame) and its distance [m]; the
  * first on ties. */
-std::pair<size_t, double> nearestCandidate(
-	const CPoseGraph& graph, const std::vector<size_t>& candidates, const TPose2D& pose)
+std::pair<size_t, double> nearestCandidate(const CPoseGraph& graph,
+										   const std::vector<size_t>& candidates,
+										   const TPose2D& pose)
 {
 	size_t nearest = 0;
 	double best = 1e18;
 	for (size_t i = 0; i < candidates.size(); ++i)
-		if (const double d = translationNorm(between(graph.pose(candidates[i]), pose)); d < best)
+		if (const double d = translationNorm(between(graph.pose(candidates[i]), pose));
+			d < best)
 			best = d, nearest = i;
 	return {nearest, best};
 }
@@ -88,8 +90,8 @@ std::pair<size_t, double> nearestCandidate(
  *     chi2 = e^T S^-1 e   [-, 3 dof]
  * the same form as the back-end's test (PoseGraphOptimizer.cpp), with the gate's covariance in
  * place of the graph's marginal. */
-double gateInnovationChi2(
-	const TRelativeUncertainty& iFromJ, const TPose2D& z, const Eigen::Matrix3d& omega)
+double gateInnovationChi2(const TRelativeUncertainty& iFromJ, const TPose2D& z,
+						  const Eigen::Matrix3d& omega)
 {
 	const TPose2D& P = iFromJ.nodeInSource;
 	Eigen::Matrix3d A = Eigen::Matrix3d::Identity();
@@ -104,14 +106,14 @@ double gateInnovationChi2(
 
 struct CLoopCloser::TCandidates
 {
-	std::vector<size_t> nodes;  //!< gated old nodes
+	std::vector<size_t> nodes;                   //!< gated old nodes
 	std::vector<TRelativeUncertainty> relative;  //!< per node: (newest <- node), covariance
-	double sigmaXY = 0, sigmaTheta = 0;  //!< largest position / heading std among them
+	double sigmaXY = 0, sigmaTheta = 0;          //!< largest position / heading std among them
 };
 
-CLoopCloser::CLoopCloser(
-	const TLoopCloserParams& p, const TPatchCorrelatorParams& correlator,
-	const TScanMatcherParams& matcher, const TPoseGraphOptimizerParams& optimizer)
+CLoopCloser::CLoopCloser(const TLoopCloserParams& p, const TPatchCorrelatorParams& correlator,
+						 const TScanMatcherParams& matcher,
+						 const TPoseGraphOptimizerParams& optimizer)
 	: m_params(p),
 	  m_matcherParams(matcher),
 	  m_correlator(correlator),
@@ -137,9 +139,11 @@ auto CLoopCloser::gate(const CPoseGraph& graph, size_t newest) -> std::optional<
 		const Eigen::Vector2d t(r.nodeInSource.x, r.nodeInSource.y);
 		const double norm = t.norm();
 		const Eigen::Vector2d ts =
-			norm > m_params.overlap_radius_m ? Eigen::Vector2d(t * (1 - m_params.overlap_radius_m / norm))
-										   : Eigen::Vector2d::Zero();
-		const Eigen::Matrix2d Cxy = r.cov.topLeftCorner<2, 2>() + 1e-6 * Eigen::Matrix2d::Identity();
+			norm > m_params.overlap_radius_m
+				? Eigen::Vector2d(t * (1 - m_params.overlap_radius_m / norm))
+				: Eigen::Vector2d::Zero();
+		const Eigen::Matrix2d Cxy =
+			r.cov.topLeftCorner<2, 2>() + 1e-6 * Eigen::Matrix2d::Identity();
 		if (ts.dot(Cxy.ldlt().solve(ts)) > m_params.gate_sigma * m_params.gate_sigma) continue;
 		c.nodes.push_back(r.node);
 		c.relative.push_back(r);
@@ -175,17 +179,20 @@ std::optional<TLoopClosure> CLoopCloser::process(CPoseGraph& graph, const TScanR
 	return lc;
 }
 
-// Every check_every keyframes (known_ground_check_every after a check that agreed with the map).
+// Every check_every keyframes (known_ground_check_every after a check that agreed with the
+// map).
 bool CLoopCloser::checkDue()
 {
-	const size_t every = m_onKnownGround ? m_params.known_ground_check_every : m_params.check_every;
+	const size_t every =
+		m_onKnownGround ? m_params.known_ground_check_every : m_params.check_every;
 	if (++m_keyframesSinceCheck < every) return false;
 	m_keyframesSinceCheck = 0;
 	m_onKnownGround = false;
 	return true;
 }
 
-auto CLoopCloser::timedGate(const CPoseGraph& graph, size_t newest) -> std::optional<TCandidates>
+auto CLoopCloser::timedGate(const CPoseGraph& graph, size_t newest)
+	-> std::optional<TCandidates>
 {
 	CCpuTimer gateTimer(m_stats.gateCpuSeconds);
 	auto candidates = gate(graph, newest);
@@ -200,14 +207,14 @@ auto CLoopCloser::timedGate(const CPoseGraph& graph, size_t newest) -> std::opti
 auto CLoopCloser::searchWindow(const TCandidates& c, size_t newest) const -> TSearchWindow
 {
 	TSearchWindow w;
-	w.xy = std::clamp(
-		m_params.window_sigmas * c.sigmaXY, 2 * m_correlator.params().resolution_m,
-		m_params.max_window_xy_m);
-	w.theta = std::clamp(
-		m_params.window_sigmas * c.sigmaTheta, mrpt::DEG2RAD(2.0), m_params.max_window_phi);
-	w.patchSize = std::min<size_t>(
-		m_params.old_map_exclusion_keyframes,
-		m_params.patch_min_keyframes + static_cast<size_t>(m_params.patch_keyframes_per_m * c.sigmaXY));
+	w.xy = std::clamp(m_params.window_sigmas * c.sigmaXY,
+					  2 * m_correlator.params().resolution_m, m_params.max_window_xy_m);
+	w.theta = std::clamp(m_params.window_sigmas * c.sigmaTheta, mrpt::DEG2RAD(2.0),
+						 m_params.max_window_phi);
+	w.patchSize =
+		std::min<size_t>(m_params.old_map_exclusion_keyframes,
+						 m_params.patch_min_keyframes +
+							 static_cast<size_t>(m_params.patch_keyframes_per_m * c.sigmaXY));
 	w.patchFirst = newest + 1 - std::min(w.patchSize, newest + 1);
 	return w;
 }
@@ -225,8 +232,10 @@ bool CLoopCloser::attemptDue(const TSearchWindow& w)
 
 // Step 2: the patch (in the newest keyframe's frame) against the old map (map frame), through
 // the paper's three filters (score, ambiguity, variance).
-std::optional<TCorrelationResult> CLoopCloser::correlatePatch(
-	const CPoseGraph& graph, const TScanRefs& scans, const TCandidates& c, TSearchWindow& w)
+std::optional<TCorrelationResult> CLoopCloser::correlatePatch(const CPoseGraph& graph,
+															  const TScanRefs& scans,
+															  const TCandidates& c,
+															  TSearchWindow& w)
 {
 	CCpuTimer correlateTimer(m_stats.correlateCpuSeconds);
 	const TPatchAndMap pm = patchAndOldMap(graph, scans, c, w);
@@ -237,8 +246,10 @@ std::optional<TCorrelationResult> CLoopCloser::correlatePatch(
 	const CCorrelationGrid grid =
 		m_correlator.makeGrid(pm.oldMap, 3 * m_correlator.params().blur_sigma_m);
 	const auto corr = countedCorrelation(grid, pm.patch, graph.pose(graph.numNodes() - 1), w);
-	const TCorrelationVerdict verdict = corr ? corr->checkFilters(m_correlator.params())
-											 : TCorrelationVerdict{TCorrelationVerdict::Reason::LowScore, 0, m_correlator.params().min_score};
+	const TCorrelationVerdict verdict =
+		corr ? corr->checkFilters(m_correlator.params())
+			 : TCorrelationVerdict{TCorrelationVerdict::Reason::LowScore, 0,
+								   m_correlator.params().min_score};
 	correlateTimer.stop();
 	progress();
 	if (verdict.accepted()) return corr;
@@ -253,9 +264,8 @@ std::optional<TCorrelationResult> CLoopCloser::correlatePatch(
 // nothing: beyond the farthest old point plus the patch radius and the blur's reach (p(m) > 0
 // up to 3.53 sigma; 4 sigma and two cells of margin), no patch point meets the map, so
 // w.xy shrinks to that.
-auto CLoopCloser::patchAndOldMap(
-	const CPoseGraph& graph, const TScanRefs& scans, const TCandidates& c,
-	TSearchWindow& w) const -> TPatchAndMap
+auto CLoopCloser::patchAndOldMap(const CPoseGraph& graph, const TScanRefs& scans,
+								 const TCandidates& c, TSearchWindow& w) const -> TPatchAndMap
 {
 	const size_t newest = graph.numNodes() - 1;
 	const TPose2D newestInMap = graph.pose(newest);
@@ -286,8 +296,8 @@ auto CLoopCloser::patchAndOldMap(
 	if (pm.oldMap.empty()) return pm;
 	double farthest = 0;
 	for (const auto& q : pm.oldMap) farthest = std::max(farthest, (q - centre).norm());
-	w.xy = std::min(
-		w.xy, farthest + patchRadius + 4 * blur + 2 * m_correlator.params().resolution_m);
+	w.xy = std::min(w.xy,
+					farthest + patchRadius + 4 * blur + 2 * m_correlator.params().resolution_m);
 	return pm;
 }
 
@@ -300,7 +310,8 @@ std::optional<TCorrelationResult> CLoopCloser::countedCorrelation(
 	TCorrelationEffort effort;
 	double counted = 0;  // poses scored x cells counted so far
 	bool prepared = false;
-	effort.onProgress = [this, &counted, &prepared](const TCorrelationEffort& e) {
+	effort.onProgress = [this, &counted, &prepared](const TCorrelationEffort& e)
+	{
 		if (!std::exchange(prepared, true))
 			m_stats.work.correlationAngleCells += double(e.headings) * double(e.patchCells);
 		const double poseCells = double(e.posesScored) * double(e.patchCells);
@@ -317,9 +328,9 @@ std::optional<TCorrelationResult> CLoopCloser::countedCorrelation(
 // Step 3: the correlation's pose seeds a scan match of the newest keyframe against the old
 // scans near the nearest candidate j; the result is the loop link j -> newest, vetted when
 // the gate's covariance agrees with it (the back-end's bound, 3 Phi, before its own test).
-auto CLoopCloser::matchLoopLink(
-	const CPoseGraph& graph, const TScanRefs& scans, const TCandidates& c,
-	const TPose2D& corrected) -> std::optional<TLoopMatch>
+auto CLoopCloser::matchLoopLink(const CPoseGraph& graph, const TScanRefs& scans,
+								const TCandidates& c, const TPose2D& corrected)
+	-> std::optional<TLoopMatch>
 {
 	CCpuTimer matchTimer(m_stats.matchCpuSeconds);
 	const size_t newest = graph.numNodes() - 1;
@@ -341,23 +352,24 @@ auto CLoopCloser::matchLoopLink(
 	m.info = linkInformation(match->cov, m_params.link_noise);
 	m.link = {oldNode, newest, match->scanInRef, m.info, LinkType::LoopClosure};
 	m.vetted = gateInnovationChi2(c.relative[oldIndex], match->scanInRef, m.info) <
-		3 * m_optimizer.params().dcs_phi;
+			   3 * m_optimizer.params().dcs_phi;
 	return m;
 }
 
 // The reference of step 3's match: the candidates within 2 overlap radii of the corrected
 // pose, in old node's frame, cropped to the points the new scan can reach at the correlated
 // pose (a few cm off): correspondence gate plus the widest line fit, with margin to spare.
-CReferenceCloud CLoopCloser::oldScansNear(
-	const CPoseGraph& graph, const TScanRefs& scans, const TCandidates& c, size_t oldNode,
-	const TPose2D& corrected)
+CReferenceCloud CLoopCloser::oldScansNear(const CPoseGraph& graph, const TScanRefs& scans,
+										  const TCandidates& c, size_t oldNode,
+										  const TPose2D& corrected)
 {
 	const TPose2D oldInMap = graph.pose(oldNode);
 	std::vector<TScan2D> refScans;
 	std::vector<TPose2D> refInOld;
 	for (const size_t j : c.nodes)
 	{
-		if (translationNorm(between(graph.pose(j), corrected)) > 2 * m_params.overlap_radius_m) continue;
+		if (translationNorm(between(graph.pose(j), corrected)) > 2 * m_params.overlap_radius_m)
+			continue;
 		refScans.push_back(*scans[j]);
 		m_stats.work.matchRefPoints += scans[j]->points.size();
 		refInOld.push_back(between(oldInMap, graph.pose(j)));
@@ -368,21 +380,23 @@ CReferenceCloud CLoopCloser::oldScansNear(
 	const double cropMargin =
 		m_matcherParams.max_correspondence_dist_m + 4 * m_matcherParams.normal_radius_m + 0.2;
 	TScanMatcherParams refParams = m_matcherParams;
-	if (m_params.match_ref_resolution_m > 0) refParams.ref_resolution_m = m_params.match_ref_resolution_m;
+	if (m_params.match_ref_resolution_m > 0)
+		refParams.ref_resolution_m = m_params.match_ref_resolution_m;
 	return CReferenceCloud::fromScansNear(refScans, refInOld, refParams, scanInOld, cropMargin);
 }
 
 // With a very uncertain gate (std > confirm_above_sigma_m) a match is held until a later match
 // from a disjoint patch agrees with it. Returns false while the match is held (or dropped);
 // true to go on, with the confirmed held link added to the graph (`heldId`, vetted or not).
-bool CLoopCloser::confirmed(
-	CPoseGraph& graph, const TCandidates& c, const TSearchWindow& w, const TLoopMatch& m,
-	std::optional<size_t>& heldId, std::vector<size_t>& vettedLinks)
+bool CLoopCloser::confirmed(CPoseGraph& graph, const TCandidates& c, const TSearchWindow& w,
+							const TLoopMatch& m, std::optional<size_t>& heldId,
+							std::vector<size_t>& vettedLinks)
 {
 	const size_t newest = m.link.to;
 	if (m_held && newest > m_held->link.to + 2 * m_params.old_map_exclusion_keyframes)
 		m_held.reset(), ++m_stats.unconfirmed;  // no agreeing match came in time
-	if (m_params.confirm_above_sigma_m <= 0 || c.sigmaXY <= m_params.confirm_above_sigma_m) return true;
+	if (m_params.confirm_above_sigma_m <= 0 || c.sigmaXY <= m_params.confirm_above_sigma_m)
+		return true;
 	if (m_held && m_held->link.to >= w.patchFirst) return false;  // same evidence
 	if (!m_held || !matchesAgree(graph, m_held->link, m.link))
 	{
@@ -402,9 +416,9 @@ bool CLoopCloser::confirmed(
 // with robust loop links: a link the back-end down-weights is disabled and the closure
 // rejected; else the patch keyframes are re-matched against the old map (paper 2.2) and the
 // graph optimised again.
-std::optional<TLoopClosure> CLoopCloser::closeLoop(
-	CPoseGraph& graph, const TScanRefs& scans, const TCandidates& c, const TSearchWindow& w,
-	const TLoopMatch& m)
+std::optional<TLoopClosure> CLoopCloser::closeLoop(CPoseGraph& graph, const TScanRefs& scans,
+												   const TCandidates& c, const TSearchWindow& w,
+												   const TLoopMatch& m)
 {
 	std::vector<size_t> vettedLinks;
 	std::optional<size_t> heldId;  // a held match confirmed: its link goes in first
@@ -421,9 +435,10 @@ std::optional<TLoopClosure> CLoopCloser::closeLoop(
 		CCpuTimer closeTimer(m_stats.closeCpuSeconds);
 		const auto report = optimize(graph, vettedLinks);
 		++m_stats.optimizations;
-		const auto downweighted = [&](size_t id) {
-			return std::binary_search(
-				report.downweightedLinks.begin(), report.downweightedLinks.end(), id);
+		const auto downweighted = [&](size_t id)
+		{
+			return std::binary_search(report.downweightedLinks.begin(),
+									  report.downweightedLinks.end(), id);
 		};
 		if (downweighted(lc.linkId) || (heldId && downweighted(*heldId)))
 		{
@@ -452,10 +467,12 @@ TOptimizationReport CLoopCloser::optimize(CPoseGraph& graph, const std::vector<s
 	const double elements = double(graph.numNodes() + graph.numLinks());
 	m_stats.work.solveElements += elements;
 	progress();
-	m_optimizer.setIterationCallback([this, elements] {
-		m_stats.work.solveIterationElements += elements;
-		progress();
-	});
+	m_optimizer.setIterationCallback(
+		[this, elements]
+		{
+			m_stats.work.solveIterationElements += elements;
+			progress();
+		});
 	const TOptimizationReport r = m_optimizer.optimize(graph, 0, vetted);
 	m_optimizer.setIterationCallback({});
 	return r;
@@ -464,9 +481,8 @@ TOptimizationReport CLoopCloser::optimize(CPoseGraph& graph, const std::vector<s
 // Paper 2.2: after the loop is closed, rerun with new scan matches between the newly linked
 // poses. Each patch keyframe is matched against its nearest old candidate, now that the
 // poses are topologically correct.
-size_t CLoopCloser::rematch(
-	CPoseGraph& graph, const TScanRefs& scans, const TCandidates& c, size_t patchFirst,
-	size_t newest)
+size_t CLoopCloser::rematch(CPoseGraph& graph, const TScanRefs& scans, const TCandidates& c,
+							size_t patchFirst, size_t newest)
 {
 	size_t added = 0;
 	for (size_t k = patchFirst; k < newest; k += kRematchStride)
@@ -482,7 +498,8 @@ size_t CLoopCloser::rematch(
 		// them (chi2 of e = v(Z^-1 (+) (X_nearest^-1 (+) X_k)) above 3 Phi, DCS's bound)
 		// converged to another wall, and would add a wrong link of its own.
 		const Eigen::Matrix3d info = linkInformation(m->cov, m_params.link_noise);
-		const Eigen::Vector3d e = linkResidual(graph.pose(nearest), graph.pose(k), m->scanInRef);
+		const Eigen::Vector3d e =
+			linkResidual(graph.pose(nearest), graph.pose(k), m->scanInRef);
 		if (e.dot(info * e) > 3 * m_optimizer.params().dcs_phi)
 		{
 			++m_stats.rematchesRefused;

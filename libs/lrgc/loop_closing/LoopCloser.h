@@ -3,9 +3,10 @@
  * After each new keyframe n:
  *  1. Gate. The uncertainty of every old pose relative to n comes from the graph
  *     (propagateUncertainty; reused, chained through its source, for the next
- *     gate_reuse_keyframes keyframes while the old map is unchanged). Old poses (all but the newest m keyframes, m > K) whose position
- *     could lie within `overlap_radius_m` of n's, at Mahalanobis distance <= gate_sigma, are
- *     candidates. Their largest position std sigma sets the search window
+ *     gate_reuse_keyframes keyframes while the old map is unchanged). Old poses (all but the
+ * newest m keyframes, m > K) whose position could lie within `overlap_radius_m` of n's, at
+ * Mahalanobis distance <= gate_sigma, are candidates. Their largest position std sigma sets the
+ * search window
  *     (+- window_sigmas * sigma) and the patch size (grows linearly with sigma), so a large
  *     loop is closed only on strong evidence; both shrink back once a loop is closed.
  *  2. Correlate. The patch (newest P keyframes' scans, in n's frame) is correlated against the
@@ -44,12 +45,11 @@ namespace lrgc
 class CReferenceCloud;
 class CLoopCloser
 {
-   public:
+public:
 	/** The loop closer's own section, and those of the three stages it drives (correlator,
 	 * matcher, optimizer). Its loop links' noise floor is p.link_noise. */
-	CLoopCloser(
-		const TLoopCloserParams& p, const TPatchCorrelatorParams& correlator,
-		const TScanMatcherParams& matcher, const TPoseGraphOptimizerParams& optimizer);
+	CLoopCloser(const TLoopCloserParams& p, const TPatchCorrelatorParams& correlator,
+				const TScanMatcherParams& matcher, const TPoseGraphOptimizerParams& optimizer);
 
 	/** Looks for a loop for the newest keyframe and closes it; `scans[i]` is node i's scan.
 	 * Returns the closure if a link was added (the graph may have been optimised: callers
@@ -67,7 +67,7 @@ class CLoopCloser
 	/** Why the last attempt was rejected (empty if accepted or not attempted). */
 	const std::string& lastRejection() const { return m_lastRejection; }
 
-   private:
+private:
 	struct TCandidates;
 	/** Step 2's search: half window [m, rad] and the patch (keyframes patchFirst..newest). */
 	struct TSearchWindow
@@ -77,7 +77,7 @@ class CLoopCloser
 	};
 	struct TPatchAndMap
 	{
-		std::vector<Eigen::Vector2d> patch;  //!< [newest keyframe's frame]
+		std::vector<Eigen::Vector2d> patch;   //!< [newest keyframe's frame]
 		std::vector<Eigen::Vector2d> oldMap;  //!< [map frame]
 	};
 	/** Step 3's loop link (old -> newest) with its information, vetted by the gate. */
@@ -93,32 +93,33 @@ class CLoopCloser
 	std::optional<TCandidates> timedGate(const CPoseGraph& graph, size_t newest);
 	TSearchWindow searchWindow(const TCandidates& c, size_t newest) const;
 	bool attemptDue(const TSearchWindow& w);
-	std::optional<TCorrelationResult> correlatePatch(
-		const CPoseGraph& graph, const TScanRefs& scans, const TCandidates& c, TSearchWindow& w);
-	TPatchAndMap patchAndOldMap(
-		const CPoseGraph& graph, const TScanRefs& scans, const TCandidates& c,
-		TSearchWindow& w) const;
+	std::optional<TCorrelationResult> correlatePatch(const CPoseGraph& graph,
+													 const TScanRefs& scans,
+													 const TCandidates& c, TSearchWindow& w);
+	TPatchAndMap patchAndOldMap(const CPoseGraph& graph, const TScanRefs& scans,
+								const TCandidates& c, TSearchWindow& w) const;
 	std::optional<TCorrelationResult> countedCorrelation(
 		const CCorrelationGrid& grid, const std::vector<Eigen::Vector2d>& patch,
 		const mrpt::math::TPose2D& newestInMap, const TSearchWindow& w);
-	std::optional<TLoopMatch> matchLoopLink(
-		const CPoseGraph& graph, const TScanRefs& scans, const TCandidates& c,
-		const mrpt::math::TPose2D& corrected);
-	CReferenceCloud oldScansNear(
-		const CPoseGraph& graph, const TScanRefs& scans, const TCandidates& c, size_t oldNode,
-		const mrpt::math::TPose2D& corrected);
-	bool confirmed(
-		CPoseGraph& graph, const TCandidates& c, const TSearchWindow& w, const TLoopMatch& m,
-		std::optional<size_t>& heldId, std::vector<size_t>& vettedLinks);
-	std::optional<TLoopClosure> closeLoop(
-		CPoseGraph& graph, const TScanRefs& scans, const TCandidates& c, const TSearchWindow& w,
-		const TLoopMatch& m);
+	std::optional<TLoopMatch> matchLoopLink(const CPoseGraph& graph, const TScanRefs& scans,
+											const TCandidates& c,
+											const mrpt::math::TPose2D& corrected);
+	CReferenceCloud oldScansNear(const CPoseGraph& graph, const TScanRefs& scans,
+								 const TCandidates& c, size_t oldNode,
+								 const mrpt::math::TPose2D& corrected);
+	bool confirmed(CPoseGraph& graph, const TCandidates& c, const TSearchWindow& w,
+				   const TLoopMatch& m, std::optional<size_t>& heldId,
+				   std::vector<size_t>& vettedLinks);
+	std::optional<TLoopClosure> closeLoop(CPoseGraph& graph, const TScanRefs& scans,
+										  const TCandidates& c, const TSearchWindow& w,
+										  const TLoopMatch& m);
 
 	std::optional<TCandidates> gate(const CPoseGraph& graph, size_t newest);
 	/** (newest <- node) with covariance for every node (gate_reuse_keyframes). */
-	std::vector<TRelativeUncertainty> relativeUncertainty(const CPoseGraph& graph, size_t newest);
-	std::optional<std::vector<TRelativeUncertainty>> reuseGate(
-		const CPoseGraph& graph, size_t newest) const;
+	std::vector<TRelativeUncertainty> relativeUncertainty(const CPoseGraph& graph,
+														  size_t newest);
+	std::optional<std::vector<TRelativeUncertainty>> reuseGate(const CPoseGraph& graph,
+															   size_t newest) const;
 	size_t rematch(CPoseGraph& graph, const TScanRefs& scans, const TCandidates& c,
 				   size_t patchFirst, size_t newest);
 
@@ -154,7 +155,7 @@ class CLoopCloser
 	};
 	std::optional<TGateCache> m_gateCache;
 	size_t m_keyframesSinceCheck = 0;
-	bool m_onKnownGround = false;  //!< the last check added a link that agreed with the map
+	bool m_onKnownGround = false;     //!< the last check added a link that agreed with the map
 	size_t m_checksSinceAttempt = 0;  //!< for attempt_stride
 };
 

@@ -5,11 +5,12 @@
 
 namespace lrgc
 {
-void TLoopCloserParams::loadFromConfigFile(
-	const mrpt::config::CConfigFileBase& c, const std::string& s)
+void TLoopCloserParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
+										   const std::string& s)
 {
 	rejectUnknownKeys(TLoopCloserParams(), c, s);
-	old_map_exclusion_keyframes = readCount(c, s, "old_map_exclusion_keyframes", old_map_exclusion_keyframes);
+	old_map_exclusion_keyframes =
+		readCount(c, s, "old_map_exclusion_keyframes", old_map_exclusion_keyframes);
 	patch_min_keyframes = readCount(c, s, "patch_min_keyframes", patch_min_keyframes);
 	patch_keyframes_per_m = readDouble(c, s, "patch_keyframes_per_m", patch_keyframes_per_m);
 	gate_sigma = readDouble(c, s, "gate_sigma", gate_sigma);
@@ -36,50 +37,81 @@ void TLoopCloserParams::loadFromConfigFile(
 	max_backlog_keyframes = readCount(c, s, "max_backlog_keyframes", max_backlog_keyframes);
 	link_noise.load(c, s, "");
 	requireParam(patch_max_range_m > 0, s, "patch_max_range_m", "must be > 0");
-	requireParam(patch_min_keyframes >= 1 && patch_min_keyframes <= old_map_exclusion_keyframes, s,
-				 "patch_min_keyframes",
-				 mrpt::format("%zu must be in [1, old_map_exclusion_keyframes]; old_map_exclusion_keyframes is %zu",
+	requireParam(patch_min_keyframes >= 1 && patch_min_keyframes <= old_map_exclusion_keyframes,
+				 s, "patch_min_keyframes",
+				 mrpt::format("%zu must be in [1, old_map_exclusion_keyframes]; "
+							  "old_map_exclusion_keyframes is %zu",
 							  patch_min_keyframes, old_map_exclusion_keyframes));
 	requireParam(patch_keyframes_per_m >= 0, s, "patch_keyframes_per_m", "must be >= 0");
 	requireParam(gate_sigma > 0, s, "gate_sigma", "must be > 0");
 	requireParam(overlap_radius_m >= 0, s, "overlap_radius_m", "must be >= 0");
 	requireParam(window_sigmas > 0, s, "window_sigmas", "must be > 0");
 	requireParam(max_window_xy_m > 0, s, "max_window_xy_m", "must be > 0");
-	requireParam(
-		max_window_phi > 0 && max_window_phi <= M_PI, s, "max_window_phi_deg",
-		"must be in (0, 180]");
+	requireParam(max_window_phi > 0 && max_window_phi <= M_PI, s, "max_window_phi_deg",
+				 "must be in (0, 180]");
 	requireParam(consistent_chi2 > 0, s, "consistent_chi2", "must be > 0");
 	requireParam(check_every >= 1, s, "check_every", "must be >= 1");
-	requireParam(
-		known_ground_check_every >= 1, s, "known_ground_check_every", "must be >= 1");
-	requireParam(
-		gate_reuse_keyframes <= old_map_exclusion_keyframes, s, "gate_reuse_keyframes",
-		mrpt::format("%zu must be <= old_map_exclusion_keyframes (%zu)", gate_reuse_keyframes, old_map_exclusion_keyframes));
+	requireParam(known_ground_check_every >= 1, s, "known_ground_check_every", "must be >= 1");
+	requireParam(gate_reuse_keyframes <= old_map_exclusion_keyframes, s, "gate_reuse_keyframes",
+				 mrpt::format("%zu must be <= old_map_exclusion_keyframes (%zu)",
+							  gate_reuse_keyframes, old_map_exclusion_keyframes));
 }
 
-void TLoopCloserParams::saveToConfigFile(
-	mrpt::config::CConfigFileBase& c, const std::string& s) const
+void TLoopCloserParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
+										 const std::string& s) const
 {
-	writeValue(c, s, "old_map_exclusion_keyframes", uint64_t(old_map_exclusion_keyframes), "m: newest keyframes left out of the old map (m > K)");
-	writeValue(c, s, "patch_min_keyframes", uint64_t(patch_min_keyframes), "Map patch size (keyframes) at zero uncertainty");
-	writeValue(c, s, "patch_keyframes_per_m", patch_keyframes_per_m, "[1/m] Patch growth per metre of position std (capped at old_map_exclusion_keyframes)");
-	writeValue(c, s, "gate_sigma", gate_sigma, "Mahalanobis gate on old poses' position relative to the current one");
-	writeValue(c, s, "overlap_radius_m", overlap_radius_m, "[m] Poses closer than this can see the same walls");
-	writeValue(c, s, "window_sigmas", window_sigmas, "Correlation search half-window, in position/heading std devs");
-	writeValue(c, s, "max_window_xy_m", max_window_xy_m, "[m] Cap of the translational search half-window");
-	writeDegrees(c, s, "max_window_phi_deg", max_window_phi, "[deg] Cap of the rotational search half-window");
-	writeValue(c, s, "confirm_above_sigma_m", confirm_above_sigma_m, "[m] Gate std above which a loop is closed only when a second, independent match agrees (0: never)");
-	writeValue(c, s, "consistent_chi2", consistent_chi2, "[chi2, 3 dof] A loop link this consistent is added without a full solve");
-	writeValue(c, s, "check_every", uint64_t(check_every), "Look for a loop every this many keyframes");
-	writeValue(c, s, "known_ground_check_every", uint64_t(known_ground_check_every), "After a check that added a loop link agreeing with the map (no solve), look again only every this many keyframes");
-	writeValue(c, s, "gate_reuse_keyframes", uint64_t(gate_reuse_keyframes), "[keyframes] The gate's whole-graph propagation serves this many later keyframes while the graph behind it is unchanged (0: every keyframe)");
-	writeValue(c, s, "match_ref_resolution_m", match_ref_resolution_m, "[m] Voxel side of the loop link's reference cloud, built from every old scan around (0: [ScanMatcher] ref_resolution_m)");
-	writeValue(c, s, "patch_max_range_m", patch_max_range_m, "[m] Patch points farther than this from the newest keyframe are left out of the correlation");
-	writeValue(c, s, "attempt_stride", attempt_stride, "While the patch is grown, correlate once every attempt_stride * (patch - patch_min_keyframes) checks (0: every check)");
-	writeValue(c, s, "background", background, "Loop closing on a worker thread while scans are registered (false: on the mapping thread; same map)");
-	writeValue(c, s, "result_delay_keyframes", uint64_t(result_delay_keyframes), "[keyframes] A loop search started at keyframe k is applied at k + this (deterministic: the mapping thread waits there if needed)");
-	writeValue(c, s, "worker_budget_ms", worker_budget_ms, "[ms per keyframe] A result is applied where a modelled worker doing this much work per keyframe finishes it (deterministic; 0: at k + result_delay_keyframes)");
-	writeValue(c, s, "max_backlog_keyframes", uint64_t(max_backlog_keyframes), "[keyframes] Searches are skipped while the modelled worker is more than this behind");
+	writeValue(c, s, "old_map_exclusion_keyframes", uint64_t(old_map_exclusion_keyframes),
+			   "m: newest keyframes left out of the old map (m > K)");
+	writeValue(c, s, "patch_min_keyframes", uint64_t(patch_min_keyframes),
+			   "Map patch size (keyframes) at zero uncertainty");
+	writeValue(
+		c, s, "patch_keyframes_per_m", patch_keyframes_per_m,
+		"[1/m] Patch growth per metre of position std (capped at old_map_exclusion_keyframes)");
+	writeValue(c, s, "gate_sigma", gate_sigma,
+			   "Mahalanobis gate on old poses' position relative to the current one");
+	writeValue(c, s, "overlap_radius_m", overlap_radius_m,
+			   "[m] Poses closer than this can see the same walls");
+	writeValue(c, s, "window_sigmas", window_sigmas,
+			   "Correlation search half-window, in position/heading std devs");
+	writeValue(c, s, "max_window_xy_m", max_window_xy_m,
+			   "[m] Cap of the translational search half-window");
+	writeDegrees(c, s, "max_window_phi_deg", max_window_phi,
+				 "[deg] Cap of the rotational search half-window");
+	writeValue(c, s, "confirm_above_sigma_m", confirm_above_sigma_m,
+			   "[m] Gate std above which a loop is closed only when a second, independent "
+			   "match agrees (0: never)");
+	writeValue(c, s, "consistent_chi2", consistent_chi2,
+			   "[chi2, 3 dof] A loop link this consistent is added without a full solve");
+	writeValue(c, s, "check_every", uint64_t(check_every),
+			   "Look for a loop every this many keyframes");
+	writeValue(c, s, "known_ground_check_every", uint64_t(known_ground_check_every),
+			   "After a check that added a loop link agreeing with the map (no solve), look "
+			   "again only every this many keyframes");
+	writeValue(c, s, "gate_reuse_keyframes", uint64_t(gate_reuse_keyframes),
+			   "[keyframes] The gate's whole-graph propagation serves this many later "
+			   "keyframes while the graph behind it is unchanged (0: every keyframe)");
+	writeValue(c, s, "match_ref_resolution_m", match_ref_resolution_m,
+			   "[m] Voxel side of the loop link's reference cloud, built from every old scan "
+			   "around (0: [ScanMatcher] ref_resolution_m)");
+	writeValue(c, s, "patch_max_range_m", patch_max_range_m,
+			   "[m] Patch points farther than this from the newest keyframe are left out of "
+			   "the correlation");
+	writeValue(c, s, "attempt_stride", attempt_stride,
+			   "While the patch is grown, correlate once every attempt_stride * (patch - "
+			   "patch_min_keyframes) checks (0: every check)");
+	writeValue(c, s, "background", background,
+			   "Loop closing on a worker thread while scans are registered (false: on the "
+			   "mapping thread; same map)");
+	writeValue(c, s, "result_delay_keyframes", uint64_t(result_delay_keyframes),
+			   "[keyframes] A loop search started at keyframe k is applied at k + this "
+			   "(deterministic: the mapping thread waits there if needed)");
+	writeValue(
+		c, s, "worker_budget_ms", worker_budget_ms,
+		"[ms per keyframe] A result is applied where a modelled worker doing this much work "
+		"per keyframe finishes it (deterministic; 0: at k + result_delay_keyframes)");
+	writeValue(
+		c, s, "max_backlog_keyframes", uint64_t(max_backlog_keyframes),
+		"[keyframes] Searches are skipped while the modelled worker is more than this behind");
 	link_noise.save(c, s, "", "every loop link (scans minutes apart: moved objects)");
 }
 

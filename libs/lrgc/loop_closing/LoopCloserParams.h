@@ -14,13 +14,14 @@ namespace lrgc
 {
 struct TLoopCloserParams : public mrpt::config::CLoadableOptions
 {
-	size_t old_map_exclusion_keyframes = 40;  //!< m: newest keyframes left out of the old map (m > K)
-	size_t patch_min_keyframes = 10;  //!< patch size at zero uncertainty
+	size_t old_map_exclusion_keyframes =
+		40;                            //!< m: newest keyframes left out of the old map (m > K)
+	size_t patch_min_keyframes = 10;   //!< patch size at zero uncertainty
 	double patch_keyframes_per_m = 8;  //!< patch growth per metre of position std [1/m]
-	double gate_sigma = 3.0;  //!< Mahalanobis gate on the candidates' position [-]
-	double overlap_radius_m = 3.0;  //!< [m] poses this close can see the same walls
-	double window_sigmas = 3.0;  //!< search half-window in standard deviations [-]
-	double max_window_xy_m = 15.0;  //!< [m] cap of the translational search half-window
+	double gate_sigma = 3.0;           //!< Mahalanobis gate on the candidates' position [-]
+	double overlap_radius_m = 3.0;     //!< [m] poses this close can see the same walls
+	double window_sigmas = 3.0;        //!< search half-window in standard deviations [-]
+	double max_window_xy_m = 15.0;     //!< [m] cap of the translational search half-window
 	double max_window_phi = mrpt::DEG2RAD(30.0);  //!< [rad] (key max_window_phi_deg)
 	/** [m] When the gate's largest position std exceeds this, an accepted match is only held:
 	 * its link is added when a later match, from a patch that shares no keyframe with it,
@@ -41,9 +42,10 @@ struct TLoopCloserParams : public mrpt::config::CLoadableOptions
 	size_t known_ground_check_every = 1;
 	/** The gate's propagation over the whole graph, done at an anchor keyframe a, serves the
 	 * next this many keyframes n while the graph behind a is unchanged (no pose of the old
-	 * map moved, no loop link added, no link reaching further back than a - old_map_exclusion_keyframes):
-	 * (n <- v) = (n <- a) (+) (a <- v), so a keyframe costs a pass over the labels instead of
-	 * a Dijkstra over every link. At most old_map_exclusion_keyframes; 0: propagate at every keyframe. */
+	 * map moved, no loop link added, no link reaching further back than a -
+	 * old_map_exclusion_keyframes): (n <- v) = (n <- a) (+) (a <- v), so a keyframe costs a
+	 * pass over the labels instead of a Dijkstra over every link. At most
+	 * old_map_exclusion_keyframes; 0: propagate at every keyframe. */
 	size_t gate_reuse_keyframes = 39;
 	/** [m] Voxel side of the link's reference cloud (step 3), built from every old scan
 	 * around: many views fill the walls' voxels densely, and the line fits' cost grows with
@@ -62,19 +64,21 @@ struct TLoopCloserParams : public mrpt::config::CLoadableOptions
 	 * grows past the closing place between two attempts). */
 	double attempt_stride = 0.5;
 	/** Run loop closing on a worker thread (CLoopClosingWorker) while the mapping thread goes
-	 * on registering scans; false: on the mapping thread (the same map, without the overlap). */
+	 * on registering scans; false: on the mapping thread (the same map, without the overlap).
+	 */
 	bool background = true;
-	/** A loop search started at keyframe k is applied to the map at keyframe k + result_delay_keyframes
-	 * (the mapping thread waits there only if the worker is not done): the result never
-	 * depends on the machine's speed. Searches start at every keyframe (check_every) and queue
-	 * up on the worker; results are applied in order. 0: applied at once. */
+	/** A loop search started at keyframe k is applied to the map at keyframe k +
+	 * result_delay_keyframes (the mapping thread waits there only if the worker is not done):
+	 * the result never depends on the machine's speed. Searches start at every keyframe
+	 * (check_every) and queue up on the worker; results are applied in order. 0: applied at
+	 * once. */
 	size_t result_delay_keyframes = 1;
 	/** [ms of the reference machine per keyframe] With this > 0, a result is applied at the
-	 * keyframe where a modelled worker finishes it (not before k + result_delay_keyframes): a worker
-	 * that does this much of the work modelled by TLoopWork per keyframe, one job after the
-	 * other. A whole-graph closure of a large map then lands some hundred keyframes later
-	 * instead of stalling the mapping thread at k + result_delay_keyframes; the schedule is still a
-	 * function of the log alone. 0: every result at k + result_delay_keyframes. */
+	 * keyframe where a modelled worker finishes it (not before k + result_delay_keyframes): a
+	 * worker that does this much of the work modelled by TLoopWork per keyframe, one job after
+	 * the other. A whole-graph closure of a large map then lands some hundred keyframes later
+	 * instead of stalling the mapping thread at k + result_delay_keyframes; the schedule is
+	 * still a function of the log alone. 0: every result at k + result_delay_keyframes. */
 	double worker_budget_ms = 5;
 	/** [keyframes] When the modelled worker is more than this behind the newest keyframe, a
 	 * job only brings the worker's graph up to date and skips its search (the next keyframes
@@ -94,9 +98,10 @@ struct TLoopCloserParams : public mrpt::config::CLoadableOptions
 	 * minutes apart (people, doors, chairs moved). */
 	TLinkNoise link_noise;
 
-	void loadFromConfigFile(
-		const mrpt::config::CConfigFileBase& c, const std::string& s) override;
-	void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
+	void loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
+							const std::string& s) override;
+	void saveToConfigFile(mrpt::config::CConfigFileBase& c,
+						  const std::string& s) const override;
 };
 
 }  // namespace lrgc

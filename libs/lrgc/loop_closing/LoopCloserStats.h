@@ -29,7 +29,8 @@ struct TLoopCloserStats
 	/** CPU time of the thread that ran loop closing, per step of CLoopCloser [s]: the gate
 	 * (uncertainty propagation), the correlation (old-map grid and search), the link's scan
 	 * match (reference cloud and match) and the closure (solves and re-matching). */
-	double gateCpuSeconds = 0, correlateCpuSeconds = 0, matchCpuSeconds = 0, closeCpuSeconds = 0;
+	double gateCpuSeconds = 0, correlateCpuSeconds = 0, matchCpuSeconds = 0,
+		   closeCpuSeconds = 0;
 	/** The same work in machine-independent counts (the worker's schedule, LoopWork.h). */
 	TLoopWork work;
 	/** Searches the worker skipped because its modelled schedule ran more than

@@ -10,8 +10,8 @@ namespace lrgc
 {
 using mrpt::math::TPose2D;
 
-std::vector<TRelativeUncertainty> CLoopCloser::relativeUncertainty(
-	const CPoseGraph& graph, size_t newest)
+std::vector<TRelativeUncertainty> CLoopCloser::relativeUncertainty(const CPoseGraph& graph,
+																   size_t newest)
 {
 	if (auto reused = reuseGate(graph, newest))
 	{
@@ -23,9 +23,10 @@ std::vector<TRelativeUncertainty> CLoopCloser::relativeUncertainty(
 	m_stats.work.gatePropagatedNodes += graph.numNodes();
 	progress();
 	const auto& poses = graph.poses();
-	m_gateCache = TGateCache{
-		newest, graph.numLinks(), {poses.begin(), poses.begin() + newest + 1},
-		propagateUncertainty(graph, newest)};
+	m_gateCache = TGateCache{newest,
+							 graph.numLinks(),
+							 {poses.begin(), poses.begin() + newest + 1},
+							 propagateUncertainty(graph, newest)};
 	return m_gateCache->labels;
 }
 
@@ -35,22 +36,23 @@ std::vector<TRelativeUncertainty> CLoopCloser::relativeUncertainty(
 // with (n <- a) from a Dijkstra from n stopped at a (the nodes it settles first keep their
 // own labels). Valid while the graph behind a is as it was: no pose of the old map
 // (0..a - old_map_exclusion_keyframes) moved (the Jacobians), no loop link (a shorter path that
-// bypasses a) and no link reaching further back than a - old_map_exclusion_keyframes. Otherwise, or
-// after gate_reuse_keyframes keyframes: nullopt.
-std::optional<std::vector<TRelativeUncertainty>> CLoopCloser::reuseGate(
-	const CPoseGraph& graph, size_t newest) const
+// bypasses a) and no link reaching further back than a - old_map_exclusion_keyframes.
+// Otherwise, or after gate_reuse_keyframes keyframes: nullopt.
+std::optional<std::vector<TRelativeUncertainty>> CLoopCloser::reuseGate(const CPoseGraph& graph,
+																		size_t newest) const
 {
 	if (!m_gateCache || m_params.gate_reuse_keyframes == 0) return std::nullopt;
 	const TGateCache& c = *m_gateCache;
 	if (newest <= c.anchor || newest - c.anchor > m_params.gate_reuse_keyframes)
 		return std::nullopt;
-	const auto samePose = [](const TPose2D& p, const TPose2D& q) {
-		return p.x == q.x && p.y == q.y && p.phi == q.phi;
-	};
+	const auto samePose = [](const TPose2D& p, const TPose2D& q)
+	{ return p.x == q.x && p.y == q.y && p.phi == q.phi; };
 	// Local registration keeps adjusting the newest keyframes around a (its window); their
 	// moves are millimetres and change the Jacobians along the paths only that much.
-	const size_t settled = c.anchor + 1 - std::min(c.anchor + 1, m_params.old_map_exclusion_keyframes);
-	if (!std::equal(c.poses.begin(), c.poses.begin() + settled, graph.poses().begin(), samePose))
+	const size_t settled =
+		c.anchor + 1 - std::min(c.anchor + 1, m_params.old_map_exclusion_keyframes);
+	if (!std::equal(c.poses.begin(), c.poses.begin() + settled, graph.poses().begin(),
+					samePose))
 		return std::nullopt;
 	for (size_t id = c.links; id < graph.numLinks(); ++id)
 	{

@@ -11,9 +11,9 @@ namespace lrgc
 {
 using mrpt::math::TPose2D;
 
-CLoopClosing::CLoopClosing(
-	const TLoopCloserParams& p, const TPatchCorrelatorParams& correlator,
-	const TScanMatcherParams& matcher, const TPoseGraphOptimizerParams& optimizer)
+CLoopClosing::CLoopClosing(const TLoopCloserParams& p, const TPatchCorrelatorParams& correlator,
+						   const TScanMatcherParams& matcher,
+						   const TPoseGraphOptimizerParams& optimizer)
 	: m_whenReady(p.apply_when_ready),
 	  m_resultDelay(p.result_delay_keyframes),
 	  m_worker(std::make_unique<CLoopClosingWorker>(p, correlator, matcher, optimizer))
@@ -22,11 +22,13 @@ CLoopClosing::CLoopClosing(
 
 CLoopClosing::~CLoopClosing() = default;
 
-TLoopCloserStats CLoopClosing::stats() const { return m_worker->stats(); }
+TLoopCloserStats CLoopClosing::stats() const
+{
+	return m_worker->stats();
+}
 
-TLoopUpdate CLoopClosing::afterKeyframe(
-	CPoseGraph& graph, const TKeyframes& keyframes, bool newKeyframe, size_t anchor,
-	TPose2D& robotInMap)
+TLoopUpdate CLoopClosing::afterKeyframe(CPoseGraph& graph, const TKeyframes& keyframes,
+										bool newKeyframe, size_t anchor, TPose2D& robotInMap)
 {
 	++m_keyframeClock;
 	TLoopUpdate update;
@@ -54,10 +56,10 @@ TLoopUpdate CLoopClosing::drain(CPoseGraph& graph, size_t anchor, TPose2D& robot
 }
 
 // The results that are due, in job order: a search handed over at keyframe clock c is due
-// where the worker's schedule puts it (CLoopClosingWorker::due: c + result_delay_keyframes, or where
-// the modelled worker finishes it; waited for if not done), or in a live run once ready.
-void CLoopClosing::applyDue(
-	CPoseGraph& graph, bool atKeyframe, size_t anchor, TPose2D& robotInMap, TLoopUpdate& update)
+// where the worker's schedule puts it (CLoopClosingWorker::due: c + result_delay_keyframes, or
+// where the modelled worker finishes it; waited for if not done), or in a live run once ready.
+void CLoopClosing::applyDue(CPoseGraph& graph, bool atKeyframe, size_t anchor,
+							TPose2D& robotInMap, TLoopUpdate& update)
 {
 	while (m_worker->pending() > 0)
 	{
@@ -104,9 +106,8 @@ void CLoopClosing::collectNewLinks(const CPoseGraph& graph)
 // A search's result, computed from the graph as it was at keyframe k = r.newest: its links are
 // added; if it moved the map, nodes firstMoved..k take its poses and the nodes added since,
 // and the robot, are carried along by node k's correction (LoopCorrection.h).
-void CLoopClosing::apply(
-	TLoopJobResult&& r, CPoseGraph& graph, size_t anchor, TPose2D& robotInMap,
-	TLoopUpdate& update)
+void CLoopClosing::apply(TLoopJobResult&& r, CPoseGraph& graph, size_t anchor,
+						 TPose2D& robotInMap, TLoopUpdate& update)
 {
 	const size_t k = r.newest, n = graph.numNodes();
 	if (!r.poses.empty())
@@ -114,7 +115,8 @@ void CLoopClosing::apply(
 		const TPose2D oldK = graph.pose(k), oldAnchor = graph.pose(anchor);
 		for (size_t i = 0; i < r.poses.size(); ++i) graph.setPose(r.firstMoved + i, r.poses[i]);
 		const TPose2D newK = graph.pose(k);
-		for (size_t i = k + 1; i < n; ++i) graph.setPose(i, carriedAlong(oldK, newK, graph.pose(i)));
+		for (size_t i = k + 1; i < n; ++i)
+			graph.setPose(i, carriedAlong(oldK, newK, graph.pose(i)));
 		robotInMap = carriedAlong(oldAnchor, graph.pose(anchor), robotInMap);
 		update.posesMoved = true;
 	}

@@ -54,10 +54,9 @@ struct TLoopScheduleStats
 
 class CLoopClosing
 {
-   public:
-	CLoopClosing(
-		const TLoopCloserParams& p, const TPatchCorrelatorParams& correlator,
-		const TScanMatcherParams& matcher, const TPoseGraphOptimizerParams& optimizer);
+public:
+	CLoopClosing(const TLoopCloserParams& p, const TPatchCorrelatorParams& correlator,
+				 const TScanMatcherParams& matcher, const TPoseGraphOptimizerParams& optimizer);
 	/** Lets the worker's job in hand finish and drops the queued ones. */
 	~CLoopClosing();
 	CLoopClosing(const CLoopClosing&) = delete;
@@ -67,9 +66,8 @@ class CLoopClosing
 	 * then, for a new keyframe (`newKeyframe`; not at a reused one), hands it over for a loop
 	 * search. `anchor` is the keyframe the robot hangs from and `robotInMap` its pose: carried
 	 * along by the corrections applied. */
-	TLoopUpdate afterKeyframe(
-		CPoseGraph& graph, const TKeyframes& keyframes, bool newKeyframe, size_t anchor,
-		mrpt::math::TPose2D& robotInMap);
+	TLoopUpdate afterKeyframe(CPoseGraph& graph, const TKeyframes& keyframes, bool newKeyframe,
+							  size_t anchor, mrpt::math::TPose2D& robotInMap);
 	/** Between keyframes of a live run (apply_when_ready): applies the results ready now. */
 	TLoopUpdate whenReady(CPoseGraph& graph, size_t anchor, mrpt::math::TPose2D& robotInMap);
 	/** End of the run: waits for every search handed over and applies its result. */
@@ -78,16 +76,14 @@ class CLoopClosing
 	TLoopCloserStats stats() const;  //!< the worker's counters (any thread)
 	const TLoopScheduleStats& schedule() const { return m_schedule; }
 
-   private:
+private:
 	friend struct TLoopClosingTestAccess;  // tests: a slow worker (LoopClosingTestAccess.h)
 
-	void applyDue(
-		CPoseGraph& graph, bool atKeyframe, size_t anchor, mrpt::math::TPose2D& robotInMap,
-		TLoopUpdate& update);
+	void applyDue(CPoseGraph& graph, bool atKeyframe, size_t anchor,
+				  mrpt::math::TPose2D& robotInMap, TLoopUpdate& update);
 	void handOver(CPoseGraph& graph, const TKeyframes& keyframes);
-	void apply(
-		TLoopJobResult&& r, CPoseGraph& graph, size_t anchor, mrpt::math::TPose2D& robotInMap,
-		TLoopUpdate& update);
+	void apply(TLoopJobResult&& r, CPoseGraph& graph, size_t anchor,
+			   mrpt::math::TPose2D& robotInMap, TLoopUpdate& update);
 	/** Queues the links added to `graph` since the last call for the next job. */
 	void collectNewLinks(const CPoseGraph& graph);
 

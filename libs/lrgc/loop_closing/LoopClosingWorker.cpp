@@ -13,9 +13,10 @@ namespace lrgc
 {
 using mrpt::math::TPose2D;
 
-CLoopClosingWorker::CLoopClosingWorker(
-	const TLoopCloserParams& p, const TPatchCorrelatorParams& correlator,
-	const TScanMatcherParams& matcher, const TPoseGraphOptimizerParams& optimizer)
+CLoopClosingWorker::CLoopClosingWorker(const TLoopCloserParams& p,
+									   const TPatchCorrelatorParams& correlator,
+									   const TScanMatcherParams& matcher,
+									   const TPoseGraphOptimizerParams& optimizer)
 	: m_resultDelay(p.result_delay_keyframes),
 	  // Live runs take results when ready: the model would only shed searches the real
 	  // worker, given the robot's time, has done long ago.
@@ -89,8 +90,8 @@ bool CLoopClosingWorker::due(size_t clock, double& waitedSeconds)
 			if (m_results.front().dueAt > clock) return false;
 			break;
 		}
-		const size_t leastDue = m_runningJob == m_taken ? m_runningDue
-														: m_pendingClocks.front() + m_resultDelay;
+		const size_t leastDue =
+			m_runningJob == m_taken ? m_runningDue : m_pendingClocks.front() + m_resultDelay;
 		if (leastDue > clock) break;
 		m_cv.wait(lock);
 		waited = true;
@@ -178,13 +179,15 @@ void CLoopClosingWorker::updateReplica(const TLoopJob& job)
 				break;
 			}
 		}
-		if (node >= m_replica.numNodes()) m_replica.addNode(pose ? *pose : m_sentPoses[node]);
-		else if (pose) m_replica.setPose(node, *pose);
+		if (node >= m_replica.numNodes())
+			m_replica.addNode(pose ? *pose : m_sentPoses[node]);
+		else if (pose)
+			m_replica.setPose(node, *pose);
 	}
 }
 
-size_t CLoopClosingWorker::dueKeyframe(
-	size_t clock, double start, const TLoopWork& work, double* finish) const
+size_t CLoopClosingWorker::dueKeyframe(size_t clock, double start, const TLoopWork& work,
+									   double* finish) const
 {
 	if (m_budgetMs <= 0) return clock + m_resultDelay;
 	const double f = start + work.referenceMs() / m_budgetMs;
@@ -222,7 +225,8 @@ TLoopJobResult CLoopClosingWorker::execute(TLoopJob& job)
 	const TLoopWork before = m_closer.stats().work;
 	TLoopWork update;
 	update.jobs = 1, update.newScans = job.scans.size();
-	const auto workSoFar = [&] {
+	const auto workSoFar = [&]
+	{
 		TLoopWork w = m_closer.stats().work - before;
 		return w += update;
 	};
@@ -234,8 +238,10 @@ TLoopJobResult CLoopClosingWorker::execute(TLoopJob& job)
 	TLoopJobResult r;
 	r.newest = job.newest;
 	r.clock = job.clock;
-	if (m_budgetMs > 0 && start - double(job.clock) > double(m_maxBacklog)) m_closer.countShed();
-	else r.closure = m_closer.process(m_replica, m_scans);
+	if (m_budgetMs > 0 && start - double(job.clock) > double(m_maxBacklog))
+		m_closer.countShed();
+	else
+		r.closure = m_closer.process(m_replica, m_scans);
 	m_closer.setProgressCallback({});
 	double finish = start;
 	r.dueAt = dueKeyframe(job.clock, start, workSoFar(), &finish);

@@ -22,18 +22,18 @@
  *
  * Determinism: a job's result depends only on the jobs so far, never on when the worker runs;
  * the map builder applies it at a keyframe fixed by the log alone, so offline runs give the
- * same map on any machine: k + result_delay_keyframes, or, with [LoopCloser] worker_budget_ms, the
- * keyframe where a modelled worker would finish it. The modelled worker does worker_budget_ms
- * of the work TLoopWork counts per keyframe, one job after the other:
- *     start_j = max(k_j, finish_{j-1}),  finish_j = start_j + W_j / worker_budget_ms
- *     due_j = max(k_j + result_delay_keyframes, ceil(finish_j))            [keyframes]
- * with k_j the mapping thread's keyframe clock when it handed the job over (keyframes taken,
- * new or reused: on known ground the robot reuses keyframes and adds no node, and results must
- * still land) and W_j the job's modelled work [ms]. A job that would start more than max_backlog_keyframes
- * keyframes behind skips its search. While a job runs, the worker publishes the due keyframe
- * its work so far implies (a lower bound), so the mapping thread waits only when the real
- * worker is slower than the modelled one. With `background` off a job runs inside
- * submit() on the caller's thread: the same results, for debugging and tests.
+ * same map on any machine: k + result_delay_keyframes, or, with [LoopCloser] worker_budget_ms,
+ * the keyframe where a modelled worker would finish it. The modelled worker does
+ * worker_budget_ms of the work TLoopWork counts per keyframe, one job after the other: start_j
+ * = max(k_j, finish_{j-1}),  finish_j = start_j + W_j / worker_budget_ms due_j = max(k_j +
+ * result_delay_keyframes, ceil(finish_j))            [keyframes] with k_j the mapping thread's
+ * keyframe clock when it handed the job over (keyframes taken, new or reused: on known ground
+ * the robot reuses keyframes and adds no node, and results must still land) and W_j the job's
+ * modelled work [ms]. A job that would start more than max_backlog_keyframes keyframes behind
+ * skips its search. While a job runs, the worker publishes the due keyframe its work so far
+ * implies (a lower bound), so the mapping thread waits only when the real worker is slower than
+ * the modelled one. With `background` off a job runs inside submit() on the caller's thread:
+ * the same results, for debugging and tests.
  */
 #pragma once
 
@@ -75,7 +75,7 @@ struct TLoopJobResult
 {
 	size_t newest = 0;
 	std::optional<TLoopClosure> closure;  //!< accepted loop closure, if any
-	std::vector<TLink> links;  //!< links the loop closer added, in order
+	std::vector<TLink> links;             //!< links the loop closer added, in order
 	std::vector<char> linkEnabled;  //!< per link: still enabled (the back-end may refuse it)
 	/** New poses of nodes firstMoved..newest if the job optimised the graph, else empty. */
 	size_t firstMoved = 0;
@@ -87,11 +87,11 @@ struct TLoopJobResult
 
 class CLoopClosingWorker
 {
-   public:
+public:
 	/** The loop closer's sections; a thread is started when p.background is set. */
-	CLoopClosingWorker(
-		const TLoopCloserParams& p, const TPatchCorrelatorParams& correlator,
-		const TScanMatcherParams& matcher, const TPoseGraphOptimizerParams& optimizer);
+	CLoopClosingWorker(const TLoopCloserParams& p, const TPatchCorrelatorParams& correlator,
+					   const TScanMatcherParams& matcher,
+					   const TPoseGraphOptimizerParams& optimizer);
 	/** Lets the job in hand finish, drops the queued ones, and stops the thread. */
 	~CLoopClosingWorker();
 	CLoopClosingWorker(const CLoopClosingWorker&) = delete;
@@ -114,7 +114,7 @@ class CLoopClosingWorker
 	/** Counters of every job done so far. */
 	TLoopCloserStats stats() const;
 
-   private:
+private:
 	friend struct TLoopClosingTestAccess;  // tests: a slow machine (m_extraDelayMs)
 
 	/** A result that moved poses, until the mapping thread has applied it. */
@@ -138,16 +138,17 @@ class CLoopClosingWorker
 	const size_t m_maxBacklog;
 	CLoopCloser m_closer;
 	CPoseGraph m_replica;  //!< the mapping thread's graph as of the last job, corrected
-	TScanRefs m_scans;  //!< per replica node
-	/** The poses as the mapping thread sent them (M), for the corrections it has not applied. */
+	TScanRefs m_scans;     //!< per replica node
+	/** The poses as the mapping thread sent them (M), for the corrections it has not applied.
+	 */
 	std::vector<mrpt::math::TPose2D> m_sentPoses;
 	std::vector<TCorrection> m_unapplied;
 	size_t m_jobsDone = 0;
-	double m_modelledFree = 0;  //!< keyframe at which the modelled worker is free
+	double m_modelledFree = 0;               //!< keyframe at which the modelled worker is free
 	std::atomic<int64_t> m_extraDelayMs{0};  //!< tests: every job first sleeps this long [ms]
 
 	std::deque<size_t> m_pendingClocks;  // of the jobs not taken; the mapping thread's
-	size_t m_taken = 0;                 // results taken (the mapping thread's)
+	size_t m_taken = 0;                  // results taken (the mapping thread's)
 
 	mutable std::mutex m_mutex;  // guards what follows
 	std::condition_variable m_cv;

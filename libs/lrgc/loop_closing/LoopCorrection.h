@@ -14,9 +14,9 @@
 namespace lrgc
 {
 /** X_i carried along by the correction of X_k to X'_k (see above). */
-inline mrpt::math::TPose2D carriedAlong(
-	const mrpt::math::TPose2D& oldK, const mrpt::math::TPose2D& newK,
-	const mrpt::math::TPose2D& x)
+inline mrpt::math::TPose2D carriedAlong(const mrpt::math::TPose2D& oldK,
+										const mrpt::math::TPose2D& newK,
+										const mrpt::math::TPose2D& x)
 {
 	return compose(newK, between(oldK, x));
 }

@@ -15,11 +15,11 @@ constexpr double kSolveElement = 1.95e-3, kSolveIterationElement = 1.11e-3;
 double TLoopWork::referenceMs() const
 {
 	return kJob * double(jobs) + kNewScan * double(newScans) +
-		kGateNode * double(gatePropagatedNodes) + kGateLabel * double(gateReusedLabels) +
-		kCorrelation * double(correlations) + kAngleCell * correlationAngleCells +
-		kPoseCell * correlationPoseCells + kMatch * double(matches) +
-		kMatchRefPoint * double(matchRefPoints) + kSolveElement * solveElements +
-		kSolveIterationElement * solveIterationElements;
+		   kGateNode * double(gatePropagatedNodes) + kGateLabel * double(gateReusedLabels) +
+		   kCorrelation * double(correlations) + kAngleCell * correlationAngleCells +
+		   kPoseCell * correlationPoseCells + kMatch * double(matches) +
+		   kMatchRefPoint * double(matchRefPoints) + kSolveElement * solveElements +
+		   kSolveIterationElement * solveIterationElements;
 }
 
 TLoopWork& TLoopWork::operator+=(const TLoopWork& o)

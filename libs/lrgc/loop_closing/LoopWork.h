@@ -32,11 +32,11 @@ struct TLoopWork
 	size_t gatePropagatedNodes = 0;  //!< nodes of the graph at each whole-graph propagation
 	size_t gateReusedLabels = 0;     //!< labels chained by gate reuse
 	size_t correlations = 0;
-	double correlationAngleCells = 0;  //!< sum of headings x distinct patch cells
-	double correlationPoseCells = 0;   //!< sum of poses scored x distinct patch cells
-	size_t matches = 0;                //!< loop link scan matches (step 3)
-	size_t matchRefPoints = 0;         //!< points of the old scans they were built from
-	double solveElements = 0;          //!< sum over whole-graph solves of nodes + links
+	double correlationAngleCells = 0;   //!< sum of headings x distinct patch cells
+	double correlationPoseCells = 0;    //!< sum of poses scored x distinct patch cells
+	size_t matches = 0;                 //!< loop link scan matches (step 3)
+	size_t matchRefPoints = 0;          //!< points of the old scans they were built from
+	double solveElements = 0;           //!< sum over whole-graph solves of nodes + links
 	double solveIterationElements = 0;  //!< the same, times the solve's iterations
 
 	/** Modelled time of this work on the reference machine [ms]. */

@@ -187,9 +187,8 @@ Eigen::Matrix3d clusterCovariance(const TPatchCorrelatorParams& prm,
 }
 
 /** A search window run() can take: a grid, a finite centre, half widths in [0, 1000]. */
-void checkWindow(
-	const CCorrelationGrid& grid, const mrpt::math::TPose2D& center, double halfWindowXY,
-	double halfWindowTheta)
+void checkWindow(const CCorrelationGrid& grid, const mrpt::math::TPose2D& center,
+				 double halfWindowXY, double halfWindowTheta)
 {
 	if (grid.empty()) THROW_EXCEPTION("CPatchCorrelator: the old-map grid is empty");
 	if (!(halfWindowXY >= 0 && halfWindowXY <= 1e3) ||
@@ -205,9 +204,9 @@ void checkWindow(
  * that moves the patch's farthest cell by one cell, res / r_max, at most 0.1 rad; the whole
  * circle once when the window covers it. Positions every cell within +-halfWindowXY. The
  * patch's cells under every heading are precomputed (appendBaseCells). */
-void preparePoseGrid(
-	const CCorrelationGrid& grid, const std::vector<Eigen::Vector2d>& pts, double angularStep,
-	double halfWindowXY, double halfWindowTheta, TGridSpec& spec, TPoseGridProblem& pb)
+void preparePoseGrid(const CCorrelationGrid& grid, const std::vector<Eigen::Vector2d>& pts,
+					 double angularStep, double halfWindowXY, double halfWindowTheta,
+					 TGridSpec& spec, TPoseGridProblem& pb)
 {
 	double maxRadius = 0;
 	for (const auto& p : pts) maxRadius = std::max(maxRadius, p.norm());
@@ -236,9 +235,8 @@ void preparePoseGrid(
 
 /** Step 4's exclusion zone: the best pose's cluster, the headings within cluster_radius_phi_deg
  * and the cells within cluster_radius_m of it [cells^2]. */
-detail::TExclusionZone bestCluster(
-	const TPatchCorrelatorParams& prm, const TGridSpec& spec, int numAngles,
-	const detail::TSearchHit& best)
+detail::TExclusionZone bestCluster(const TPatchCorrelatorParams& prm, const TGridSpec& spec,
+								   int numAngles, const detail::TSearchHit& best)
 {
 	detail::TExclusionZone zone;
 	zone.inAngle.resize(size_t(numAngles));
@@ -292,8 +290,8 @@ CPatchCorrelator::CPatchCorrelator(const TPatchCorrelatorParams& params) : m_par
 CCorrelationGrid CPatchCorrelator::makeGrid(const std::vector<Eigen::Vector2d>& pointsInMap,
 											double margin) const
 {
-	return CCorrelationGrid::fromPoints(pointsInMap, m_params.resolution_m, m_params.blur_sigma_m,
-										margin);
+	return CCorrelationGrid::fromPoints(pointsInMap, m_params.resolution_m,
+										m_params.blur_sigma_m, margin);
 }
 
 std::optional<TCorrelationResult> CPatchCorrelator::correlate(
@@ -332,14 +330,16 @@ std::optional<TCorrelationResult> CPatchCorrelator::run(
 	if (effort->onProgress)
 	{
 		effort->onProgress(*effort);
-		pb.onEvaluations = [&] {
+		pb.onEvaluations = [&]
+		{
 			effort->posesScored += TPoseGridProblem::kProgressEvaluations;
 			effort->onProgress(*effort);
 		};
 	}
 
 	// Step 3: the best pose, scoring at least min_score.
-	const auto search = [&](int64_t floor, const detail::TExclusionZone& z, bool firstHit) {
+	const auto search = [&](int64_t floor, const detail::TExclusionZone& z, bool firstHit)
+	{
 		return exhaustive ? detail::searchExhaustive(pb, floor, z)
 						  : detail::searchBranchAndBound(pb, floor, z, firstHit);
 	};
@@ -358,9 +358,10 @@ std::optional<TCorrelationResult> CPatchCorrelator::run(
 
 	// Step 4: the rival, outside the best cluster; ambiguity = s(best) / s(rival) (branch and
 	// bound needs only to know whether a rival reaches s(best) / min_ambiguity).
-	const int64_t floor2 = exhaustive ? 0
-									  : static_cast<int64_t>(std::ceil(
-											double(best.score) / m_params.min_ambiguity - 1e-9));
+	const int64_t floor2 =
+		exhaustive ? 0
+				   : static_cast<int64_t>(
+						 std::ceil(double(best.score) / m_params.min_ambiguity - 1e-9));
 	const detail::TSearchHit rival =
 		search(floor2, bestCluster(m_params, spec, pb.numAngles, best), true);
 	res.ambiguity = std::numeric_limits<double>::infinity();

@@ -119,8 +119,7 @@ public:
 	std::optional<TCorrelationResult> correlate(const CCorrelationGrid& oldMap,
 												const std::vector<Eigen::Vector2d>& patchPoints,
 												const mrpt::math::TPose2D& centerPatchInMap,
-												double halfWindowXY,
-												double halfWindowTheta,
+												double halfWindowXY, double halfWindowTheta,
 												TCorrelationEffort* effort = nullptr) const;
 
 	/** The paper's exhaustive search over the same pose grid; same contract, except that the

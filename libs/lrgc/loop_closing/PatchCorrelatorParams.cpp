@@ -32,22 +32,35 @@ void TPatchCorrelatorParams::loadFromConfigFile(const mrpt::config::CConfigFileB
 void TPatchCorrelatorParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
 											  const std::string& s) const
 {
-	writeValue(c, s, "resolution_m", resolution_m, "Old-map cell and translation step of the pose grid [m]");
-	writeValue(c, s, "blur_sigma_m", blur_sigma_m, "Gaussian sigma folded into the old map (scan noise + discretisation) [m]");
-	writeDegrees(c, s, "angular_step_deg", angular_step, "Heading step of the pose grid [deg]; 0 = resolution_m / farthest patch point");
-	writeValue(c, s, "min_score", min_score, "Filter 1: least mean map probability over patch cells [0..1]");
-	writeValue(c, s, "min_ambiguity", min_ambiguity, "Filter 2: least ratio best-cluster peak / best score outside it [>= 1]");
-	writeValue(c, s, "max_std_xy_m", max_std_xy_m, "Filter 3: largest std dev of the best cluster in x and in y [m]");
-	writeDegrees(c, s, "max_std_phi_deg", max_std_phi, "Filter 3: largest std dev of the best cluster in heading [deg]");
-	writeValue(c, s, "cluster_radius_m", cluster_radius_m, "Poses this close to the best one [m] belong to its cluster");
-	writeDegrees(c, s, "cluster_radius_phi_deg", cluster_radius_phi, "... and this close in heading [deg]");
-	writeValue(c, s, "cluster_score_scale", cluster_score_scale, "Relative score drop giving weight 1/e in the cluster covariance [0..1]");
+	writeValue(c, s, "resolution_m", resolution_m,
+			   "Old-map cell and translation step of the pose grid [m]");
+	writeValue(c, s, "blur_sigma_m", blur_sigma_m,
+			   "Gaussian sigma folded into the old map (scan noise + discretisation) [m]");
+	writeDegrees(
+		c, s, "angular_step_deg", angular_step,
+		"Heading step of the pose grid [deg]; 0 = resolution_m / farthest patch point");
+	writeValue(c, s, "min_score", min_score,
+			   "Filter 1: least mean map probability over patch cells [0..1]");
+	writeValue(c, s, "min_ambiguity", min_ambiguity,
+			   "Filter 2: least ratio best-cluster peak / best score outside it [>= 1]");
+	writeValue(c, s, "max_std_xy_m", max_std_xy_m,
+			   "Filter 3: largest std dev of the best cluster in x and in y [m]");
+	writeDegrees(c, s, "max_std_phi_deg", max_std_phi,
+				 "Filter 3: largest std dev of the best cluster in heading [deg]");
+	writeValue(c, s, "cluster_radius_m", cluster_radius_m,
+			   "Poses this close to the best one [m] belong to its cluster");
+	writeDegrees(c, s, "cluster_radius_phi_deg", cluster_radius_phi,
+				 "... and this close in heading [deg]");
+	writeValue(c, s, "cluster_score_scale", cluster_score_scale,
+			   "Relative score drop giving weight 1/e in the cluster covariance [0..1]");
 }
 
 void TPatchCorrelatorParams::validate(const std::string& s) const
 {
-	requireParam(resolution_m > 0 && resolution_m <= 1, s, "resolution_m", "must be in (0, 1] m");
-	requireParam(blur_sigma_m >= 0 && blur_sigma_m <= 2, s, "blur_sigma_m", "must be in [0, 2] m");
+	requireParam(resolution_m > 0 && resolution_m <= 1, s, "resolution_m",
+				 "must be in (0, 1] m");
+	requireParam(blur_sigma_m >= 0 && blur_sigma_m <= 2, s, "blur_sigma_m",
+				 "must be in [0, 2] m");
 	requireParam(angular_step >= 0 && angular_step <= DEG2RAD(10.0), s, "angular_step_deg",
 				 "must be in [0, 10] deg");
 	requireParam(min_score >= 0 && min_score <= 1, s, "min_score", "must be in [0, 1]");

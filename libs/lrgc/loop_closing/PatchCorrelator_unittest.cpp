@@ -135,9 +135,9 @@ void expectSameResult(const TCorrelationResult& bnb, const TCorrelationResult& e
 		EXPECT_GE(bnb.ambiguity, ex.ambiguity) << "trial " << trial;
 		EXPECT_LE(bnb.ambiguity, prm.min_ambiguity * (1 + 1e-12)) << "trial " << trial;
 		const TPose2D r = bnb.clusterPeaks[1].patchInMap;
-		EXPECT_TRUE(
-			std::hypot(r.x - bnb.patchInMap.x, r.y - bnb.patchInMap.y) > prm.cluster_radius_m ||
-			angleDiff(r.phi, bnb.patchInMap.phi) > prm.cluster_radius_phi)
+		EXPECT_TRUE(std::hypot(r.x - bnb.patchInMap.x, r.y - bnb.patchInMap.y) >
+						prm.cluster_radius_m ||
+					angleDiff(r.phi, bnb.patchInMap.phi) > prm.cluster_radius_phi)
 			<< "trial " << trial << ": the rival lies outside the best cluster";
 	}
 	else
@@ -223,8 +223,8 @@ TEST(PatchCorrelator, HeadingBlockBoundIsAtLeastEveryScoreOfItsBlock)
 			for (int i = i0; i < i0 + (1 << h); ++i)
 				for (int j = j0; j < j0 + (1 << h); ++j)
 					best = std::max(best, lrgc::detail::scoreAt(pb, 0, a, i, j));
-		const int64_t bound = lrgc::detail::blockBound(
-			pb, a0, a1, h, i0, j0, std::numeric_limits<int64_t>::min());
+		const int64_t bound = lrgc::detail::blockBound(pb, a0, a1, h, i0, j0,
+													   std::numeric_limits<int64_t>::min());
 		ASSERT_GE(bound, best) << "headings " << a0 << ".." << a1 << ", level " << h
 							   << ", cells (" << i0 << ", " << j0 << ")";
 		tightBlocks += bound < int64_t(255) * pb.numPoints;

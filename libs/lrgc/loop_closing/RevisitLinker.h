@@ -11,9 +11,9 @@
  *   for every `stride`-th keyframe k, the nearest old keyframe j (index gap > min_index_gap)
  *   within `radius` and `max_phi_deg` of k's pose, not yet linked near (k, j) (no link
  *   between k +- 2 and j +- 2), is scan matched (guess: the current relative pose). The
- *   match is kept if at least `min_inlier_fraction` of k's points matched and it agrees with the guess
- *   (squared Mahalanobis distance <= gate_chi2, under the match covariance plus a prior of
- *   `prior_std_xy_m` / `prior_std_phi_deg`); it becomes a LoopClosure link (robust in the
+ *   match is kept if at least `min_inlier_fraction` of k's points matched and it agrees with
+ * the guess (squared Mahalanobis distance <= gate_chi2, under the match covariance plus a prior
+ * of `prior_std_xy_m` / `prior_std_phi_deg`); it becomes a LoopClosure link (robust in the
  *   back-end, so a wrong one is down-weighted by the final optimisation).
  * Frames: poses (map <- robot) from the graph; links (from <- to). Units: m, rad.
  */
@@ -31,15 +31,14 @@ namespace lrgc
 {
 class CRevisitLinker
 {
-   public:
-	CRevisitLinker(
-		const TRevisitLinkerParams& p, const TScanMatcherParams& matcher,
-		const TLinkNoise& linkNoise);
+public:
+	CRevisitLinker(const TRevisitLinkerParams& p, const TScanMatcherParams& matcher,
+				   const TLinkNoise& linkNoise);
 
 	/** Adds the revisit links to `graph` (no optimisation); returns how many. */
 	size_t linkRevisits(CPoseGraph& graph, const TKeyframes& keyframes) const;
 
-   private:
+private:
 	TRevisitLinkerParams m_params;
 	TScanMatcherParams m_matcherParams;
 	TLinkNoise m_linkNoise;

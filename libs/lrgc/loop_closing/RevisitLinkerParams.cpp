@@ -4,8 +4,8 @@
 
 namespace lrgc
 {
-void TRevisitLinkerParams::loadFromConfigFile(
-	const mrpt::config::CConfigFileBase& c, const std::string& s)
+void TRevisitLinkerParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
+											  const std::string& s)
 {
 	rejectUnknownKeys(TRevisitLinkerParams(), c, s);
 	enabled = readBool(c, s, "enabled", enabled);
@@ -18,27 +18,34 @@ void TRevisitLinkerParams::loadFromConfigFile(
 	prior_std_xy_m = readDouble(c, s, "prior_std_xy_m", prior_std_xy_m);
 	prior_std_phi = readDegrees(c, s, "prior_std_phi_deg", prior_std_phi);
 	requireParam(radius_m > 0, s, "radius_m", "must be > 0");
-	requireParam(
-		max_phi > 0 && max_phi <= M_PI, s, "max_phi_deg", "must be in (0, 180]");
+	requireParam(max_phi > 0 && max_phi <= M_PI, s, "max_phi_deg", "must be in (0, 180]");
 	requireParam(stride >= 1, s, "stride", "must be >= 1");
-	requireParam(min_inlier_fraction > 0 && min_inlier_fraction <= 1, s, "min_inlier_fraction", "must be in (0, 1]");
+	requireParam(min_inlier_fraction > 0 && min_inlier_fraction <= 1, s, "min_inlier_fraction",
+				 "must be in (0, 1]");
 	requireParam(gate_chi2 > 0, s, "gate_chi2", "must be > 0");
 	requireParam(prior_std_xy_m > 0, s, "prior_std_xy_m", "must be > 0");
 	requireParam(prior_std_phi > 0, s, "prior_std_phi_deg", "must be > 0");
 }
 
-void TRevisitLinkerParams::saveToConfigFile(
-	mrpt::config::CConfigFileBase& c, const std::string& s) const
+void TRevisitLinkerParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
+											const std::string& s) const
 {
-	writeValue(c, s, "enabled", enabled, "End of run: scan match revisited places the online gate missed");
-	writeValue(c, s, "radius_m", radius_m, "[m] Old keyframes this close to a keyframe are candidates");
+	writeValue(c, s, "enabled", enabled,
+			   "End of run: scan match revisited places the online gate missed");
+	writeValue(c, s, "radius_m", radius_m,
+			   "[m] Old keyframes this close to a keyframe are candidates");
 	writeDegrees(c, s, "max_phi_deg", max_phi, "[deg] ... and this close in heading");
-	writeValue(c, s, "min_index_gap", uint64_t(min_index_gap), "Candidates are older than this many keyframes");
+	writeValue(c, s, "min_index_gap", uint64_t(min_index_gap),
+			   "Candidates are older than this many keyframes");
 	writeValue(c, s, "stride", uint64_t(stride), "Every stride-th keyframe is tried");
-	writeValue(c, s, "min_inlier_fraction", min_inlier_fraction, "Least fraction of the keyframe's points matched");
-	writeValue(c, s, "gate_chi2", gate_chi2, "[chi2, 3 dof] Agreement of the match with the current relative pose");
-	writeValue(c, s, "prior_std_xy_m", prior_std_xy_m, "[m] Std of the current relative pose (loop-closed map)");
-	writeDegrees(c, s, "prior_std_phi_deg", prior_std_phi, "[deg] Heading std of the current relative pose");
+	writeValue(c, s, "min_inlier_fraction", min_inlier_fraction,
+			   "Least fraction of the keyframe's points matched");
+	writeValue(c, s, "gate_chi2", gate_chi2,
+			   "[chi2, 3 dof] Agreement of the match with the current relative pose");
+	writeValue(c, s, "prior_std_xy_m", prior_std_xy_m,
+			   "[m] Std of the current relative pose (loop-closed map)");
+	writeDegrees(c, s, "prior_std_phi_deg", prior_std_phi,
+				 "[deg] Heading std of the current relative pose");
 }
 
 }  // namespace lrgc

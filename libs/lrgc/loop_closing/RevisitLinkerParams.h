@@ -13,19 +13,20 @@ namespace lrgc
 {
 struct TRevisitLinkerParams : public mrpt::config::CLoadableOptions
 {
-	bool enabled = true;  //!< run the sweep at the end of the run (loop closing on)
+	bool enabled = true;    //!< run the sweep at the end of the run (loop closing on)
 	double radius_m = 1.0;  //!< [m] old keyframes this close to k are candidates
 	double max_phi = mrpt::DEG2RAD(45.0);  //!< [rad] (key max_phi_deg)
-	size_t min_index_gap = 40;  //!< j < k - min_index_gap (not the local window)
-	size_t stride = 2;  //!< every stride-th keyframe is tried
-	double min_inlier_fraction = 0.5;  //!< least fraction of k's points matched
-	double gate_chi2 = 16.27;  //!< [chi2, 3 dof] agreement of the match with the guess
+	size_t min_index_gap = 40;             //!< j < k - min_index_gap (not the local window)
+	size_t stride = 2;                     //!< every stride-th keyframe is tried
+	double min_inlier_fraction = 0.5;      //!< least fraction of k's points matched
+	double gate_chi2 = 16.27;     //!< [chi2, 3 dof] agreement of the match with the guess
 	double prior_std_xy_m = 0.3;  //!< [m] std of the guess (loop-closed map)
 	double prior_std_phi = mrpt::DEG2RAD(3.0);  //!< [rad] (key prior_std_phi_deg)
 
-	void loadFromConfigFile(
-		const mrpt::config::CConfigFileBase& c, const std::string& s) override;
-	void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
+	void loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
+							const std::string& s) override;
+	void saveToConfigFile(mrpt::config::CConfigFileBase& c,
+						  const std::string& s) const override;
 };
 
 }  // namespace lrgc

@@ -49,13 +49,11 @@ struct TRevisitRun
 			kf.scanIndex = k;
 			keyframes.push_back(std::move(kf));
 			// A loop-closed map: a few cm and a fraction of a degree off the truth.
-			graph.addNode(compose(
-				tr.truePoses[k],
-				TPose2D(0.03 * noise(rng), 0.03 * noise(rng), 0.005 * noise(rng))));
+			graph.addNode(compose(tr.truePoses[k], TPose2D(0.03 * noise(rng), 0.03 * noise(rng),
+														   0.005 * noise(rng))));
 			if (k > 0)
-				graph.addLink(
-					{k - 1, k, between(tr.truePoses[k - 1], tr.truePoses[k]),
-					 Eigen::Matrix3d::Identity() * 1e4, LinkType::Odometry});
+				graph.addLink({k - 1, k, between(tr.truePoses[k - 1], tr.truePoses[k]),
+							   Eigen::Matrix3d::Identity() * 1e4, LinkType::Odometry});
 		}
 	}
 };
@@ -84,7 +82,8 @@ TEST(RevisitLinker, linksTheRevisitedLegAtTheTrueRelativePoses)
 		EXPECT_EQ(l.type, LinkType::LoopClosure);
 		EXPECT_GT(l.to, l.from + 10) << "a revisit, not the local window";
 		const TPose2D truth = between(run.tr.truePoses[l.from], run.tr.truePoses[l.to]);
-		EXPECT_LT(translationNorm(between(truth, l.toInFrom)), 0.02) << l.from << " -> " << l.to;
+		EXPECT_LT(translationNorm(between(truth, l.toInFrom)), 0.02)
+			<< l.from << " -> " << l.to;
 		EXPECT_LT(std::abs(between(truth, l.toInFrom).phi), mrpt::DEG2RAD(0.3));
 		EXPECT_LT(translationNorm(truth), testParams().radius_m + 0.2);
 	}

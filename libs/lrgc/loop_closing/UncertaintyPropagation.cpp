@@ -43,8 +43,8 @@ Eigen::Matrix3d compound(double c, double s, const Eigen::Matrix3d& covU, double
 }
 }  // namespace
 
-TRelativeUncertainty chainUncertainty(
-	const TRelativeUncertainty& aInSource, const TRelativeUncertainty& vInA)
+TRelativeUncertainty chainUncertainty(const TRelativeUncertainty& aInSource,
+									  const TRelativeUncertainty& vInA)
 {
 	const TPose2D& a = aInSource.nodeInSource;
 	const TPose2D& v = vInA.nodeInSource;
@@ -110,8 +110,7 @@ std::vector<TRelativeUncertainty> propagateUncertainty(const CPoseGraph& g, size
 			const TPose2D& vInMap = g.pose(v);
 			const double dx = vInMap.x - uInMap.x, dy = vInMap.y - uInMap.y;
 			const Eigen::Matrix3d covUV =
-				l.from == u ? covLink
-							: inverseCovariance(between(vInMap, uInMap), covLink);
+				l.from == u ? covLink : inverseCovariance(between(vInMap, uInMap), covLink);
 			const Eigen::Matrix3d covV =
 				compound(cs, ss, covU, cu * dx + su * dy, -su * dx + cu * dy, covUV);
 			const double keyV = positionVariance(covV);

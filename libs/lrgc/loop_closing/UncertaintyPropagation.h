@@ -56,8 +56,8 @@ std::vector<TRelativeUncertainty> propagateUncertainty(const CPoseGraph& g, size
 
 /** (source <- v) from (source <- a) and (a <- v) (`.node` is v): the pose composed and the
  * covariance compounded to first order, as one step of a path in propagateUncertainty. */
-TRelativeUncertainty chainUncertainty(
-	const TRelativeUncertainty& aInSource, const TRelativeUncertainty& vInA);
+TRelativeUncertainty chainUncertainty(const TRelativeUncertainty& aInSource,
+									  const TRelativeUncertainty& vInA);
 
 /** Covariance of Z^-1 given that of Z = (x, y, phi), first order at Z:
  *     J = d(Z^-1)/dZ = [-c -s  s x - c y;  s -c  c x + s y;  0 0 -1],  C' = J C J^T. */

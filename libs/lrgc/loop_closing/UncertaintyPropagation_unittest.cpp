@@ -153,7 +153,8 @@ TEST(UncertaintyPropagation, ChainingThroughANodeOnEveryPathEqualsTheWholePropag
 	{
 		CPoseGraph g = chain(30, reversed);
 		// A bend, so the Jacobians' heading terms matter.
-		for (size_t i = 10; i < 30; ++i) g.setPose(i, compose({5, 0, 0.4}, {kStep * double(i - 10), 0, 0}));
+		for (size_t i = 10; i < 30; ++i)
+			g.setPose(i, compose({5, 0, 0.4}, {kStep * double(i - 10), 0, 0}));
 		const size_t source = 29, anchor = 22;
 		TUncertaintyLimits stop;
 		stop.stopAtNode = anchor;
@@ -167,14 +168,15 @@ TEST(UncertaintyPropagation, ChainingThroughANodeOnEveryPathEqualsTheWholePropag
 		{
 			if (r.node > anchor) continue;  // behind the anchor only
 			const TRelativeUncertainty chained = chainUncertainty(near.back(), r);
-			const auto it = std::find_if(
-				whole.begin(), whole.end(), [&](const auto& w) { return w.node == r.node; });
+			const auto it = std::find_if(whole.begin(), whole.end(),
+										 [&](const auto& w) { return w.node == r.node; });
 			ASSERT_NE(it, whole.end());
 			EXPECT_EQ(chained.node, r.node);
 			EXPECT_NEAR(chained.nodeInSource.x, it->nodeInSource.x, 1e-9);
 			EXPECT_NEAR(chained.nodeInSource.y, it->nodeInSource.y, 1e-9);
 			EXPECT_NEAR(chained.nodeInSource.phi, it->nodeInSource.phi, 1e-9);
-			EXPECT_LT((chained.cov - it->cov).cwiseAbs().maxCoeff(), 1e-9 * (1 + it->cov.norm()))
+			EXPECT_LT((chained.cov - it->cov).cwiseAbs().maxCoeff(),
+					  1e-9 * (1 + it->cov.norm()))
 				<< "node " << r.node << (reversed ? " (links reversed)" : "");
 		}
 	}

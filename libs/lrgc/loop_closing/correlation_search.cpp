@@ -8,14 +8,15 @@
  * term of S. A range of headings (top nodes span 2^top of them, split in halves on the way
  * down together with the translations) is bounded the same way from its middle heading, the
  * block grown by how far a point can move within the range (headingBlockBound): one bound
- * then prunes many headings at once, which a full-circle search needs. Nodes are explored depth first, best bound first; a node is dropped when it
- * cannot beat the best leaf found so far, i.e. B < S_best, or B == S_best and its smallest
- * linear index is larger than the best's. The optimum's ancestors all satisfy B >= S_opt
- * with a smaller or equal index, so none of them is ever dropped: the result is exact.
- * Top-level nodes tile only the translations that put a patch point inside the grid (the
- * rest score 0, below any positive floor), so a window much wider than the old map costs
- * what the map's extent costs. A bound is abandoned early once the partial sum plus 255 per remaining point cannot reach
- * the required value (the node is pruned anyway, and pruned nodes are the majority).
+ * then prunes many headings at once, which a full-circle search needs. Nodes are explored depth
+ * first, best bound first; a node is dropped when it cannot beat the best leaf found so far,
+ * i.e. B < S_best, or B == S_best and its smallest linear index is larger than the best's. The
+ * optimum's ancestors all satisfy B >= S_opt with a smaller or equal index, so none of them is
+ * ever dropped: the result is exact. Top-level nodes tile only the translations that put a
+ * patch point inside the grid (the rest score 0, below any positive floor), so a window much
+ * wider than the old map costs what the map's extent costs. A bound is abandoned early once the
+ * partial sum plus 255 per remaining point cannot reach the required value (the node is pruned
+ * anyway, and pruned nodes are the majority).
  */
 #include "correlation_search.h"
 
@@ -266,8 +267,8 @@ private:
 // most the sum over points of the max over the (2^h + 2M)-cell square at
 // base_am + (i0 - M, j0 - M): one lookup in level H, 2^H >= 2^h + 2M. Without such a level,
 // or with c unknown: the trivial bound 255 N.
-int64_t blockBound(
-	const TPoseGridProblem& pb, int a0, int a1, int h, int i0, int j0, int64_t required)
+int64_t blockBound(const TPoseGridProblem& pb, int a0, int a1, int h, int i0, int j0,
+				   int64_t required)
 {
 	if (a0 == a1) return boundedSum(pb, h, a0, i0, j0, required);
 	if (pb.cellsPerAngleStep < 0) return int64_t(255) * pb.numPoints;

@@ -80,8 +80,8 @@ int64_t scoreAt(const TPoseGridProblem& pb, int level, int a, int i, int j);
 
 /** Upper bound of S over headings [a0, a1] x translations [i0, i0 + 2^h) x [j0, j0 + 2^h),
  * or -1 once it is known to be below `required`. */
-int64_t blockBound(
-	const TPoseGridProblem& pb, int a0, int a1, int h, int i0, int j0, int64_t required);
+int64_t blockBound(const TPoseGridProblem& pb, int a0, int a1, int h, int i0, int j0,
+				   int64_t required);
 
 TSearchHit searchExhaustive(const TPoseGridProblem& pb, int64_t floorScore,
 							const TExclusionZone& zone);

@@ -54,9 +54,8 @@ std::vector<std::string> CMetricMapBuilderLRGC::takeWarnings()
 // its keyframe, on a keyframe the map already has, or as a new keyframe linked to the
 // window), look for loops and close them (at a keyframe, in the background), record.
 // ---------------------------------------------------------------------------------------
-void CMetricMapBuilderLRGC::processScan(
-	const mrpt::obs::CObservation2DRangeScan::Ptr& laser,
-	const mrpt::obs::CSensoryFrame::Ptr& observations)
+void CMetricMapBuilderLRGC::processScan(const mrpt::obs::CObservation2DRangeScan::Ptr& laser,
+										const mrpt::obs::CSensoryFrame::Ptr& observations)
 {
 	if (m_loops && m_params.loop.apply_when_ready) takeReadyLoopResults();  // a live run
 	const TMotionPrediction prediction = m_predictor->predict(laser->timestamp);
@@ -79,20 +78,19 @@ std::optional<TScan2D> CMetricMapBuilderLRGC::convertScan(
 	TScan2D scan = scanFromObservation(laser, &conv, sweep);
 	if (scan.points.size() >= m_params.builder.min_scan_points) return scan;
 	++m_stats.skippedScans;
-	warn(mrpt::format(
-		"scan at t=%.6f skipped: %zu valid returns of %zu (min %zu)",
-		mrpt::Clock::toDouble(laser.timestamp), scan.points.size(), conv.total,
-		m_params.builder.min_scan_points));
+	warn(mrpt::format("scan at t=%.6f skipped: %zu valid returns of %zu (min %zu)",
+					  mrpt::Clock::toDouble(laser.timestamp), scan.points.size(), conv.total,
+					  m_params.builder.min_scan_points));
 	return std::nullopt;
 }
 
 // Step 2: register against the last K keyframes, from the predicted pose (the previous scan's
 // composed with the predicted motion; a given prior for a session's first scan).
-TRegistration CMetricMapBuilderLRGC::registerLocally(
-	const TScan2D& scan, const TMotionPrediction& prediction)
+TRegistration CMetricMapBuilderLRGC::registerLocally(const TScan2D& scan,
+													 const TMotionPrediction& prediction)
 {
-	const TPose2D priorInMap = m_nextScanPrior ? *m_nextScanPrior
-		: m_scans.empty()						 ? TPose2D(0, 0, 0)
+	const TPose2D priorInMap = m_nextScanPrior   ? *m_nextScanPrior
+							   : m_scans.empty() ? TPose2D(0, 0, 0)
 												 : compose(m_lastScanInMap, prediction.motion);
 	m_nextScanPrior.reset();
 	return m_local->registerScan(m_graph, m_keyframes, scan, priorInMap, prediction);
@@ -100,27 +98,29 @@ TRegistration CMetricMapBuilderLRGC::registerLocally(
 
 // The robot moved to the registered pose: the motion model, the sweep estimator and the
 // motion since the anchor keyframe (the next odometry link) follow it.
-void CMetricMapBuilderLRGC::followRobot(
-	const mrpt::obs::CObservation2DRangeScan& laser, const TScan2D& scan,
-	const TMotionPrediction& prediction, const TPose2D& sweep, const TRegistration& reg)
+void CMetricMapBuilderLRGC::followRobot(const mrpt::obs::CObservation2DRangeScan& laser,
+										const TScan2D& scan,
+										const TMotionPrediction& prediction,
+										const TPose2D& sweep, const TRegistration& reg)
 {
-	if (!prediction.fromOdometry || reg.odometryRejected) m_odometryTrustedSinceKeyframe = false;
+	if (!prediction.fromOdometry || reg.odometryRejected)
+		m_odometryTrustedSinceKeyframe = false;
 	m_motionSinceKeyframe = compose(m_motionSinceKeyframe, prediction.motion);
 	m_scanStep = prediction.motion;
 	m_scanStepFromOdometry = prediction.fromOdometry;
 	const TPose2D step = between(m_lastScanInMap, reg.scanInMap);
 	m_predictor->commitScan(laser.timestamp, step);
 	const double dt = stepSeconds(prediction);
-	m_sweep->observe(
-		laser, scan, dt > 0 ? prediction.motion.phi / dt : 0.0, sweep.phi, step, reg.matched);
+	m_sweep->observe(laser, scan, dt > 0 ? prediction.motion.phi / dt : 0.0, sweep.phi, step,
+					 reg.matched);
 	m_lastScanInMap = reg.scanInMap;
 	m_lastScanCov = reg.cov;
 }
 
 // Bookkeeping of step 2: unmatched scans, odometry glitches, the sweep estimate.
-void CMetricMapBuilderLRGC::recordRegistration(
-	const mrpt::obs::CObservation2DRangeScan& laser, const TMotionPrediction& prediction,
-	const TRegistration& reg)
+void CMetricMapBuilderLRGC::recordRegistration(const mrpt::obs::CObservation2DRangeScan& laser,
+											   const TMotionPrediction& prediction,
+											   const TRegistration& reg)
 {
 	if (!reg.matched && m_graph.numNodes() > 0) ++m_stats.unmatchedScans;
 	if (reg.odometryRejected) ++m_stats.odometryRejected;
@@ -140,19 +140,19 @@ void CMetricMapBuilderLRGC::recordRegistration(
 
 // Step 3: near its keyframe the scan hangs from it; farther, on ground the map already has, it
 // anchors at the keyframe there (CKeyframeReuse); else it becomes a new keyframe.
-void CMetricMapBuilderLRGC::placeScan(
-	const mrpt::obs::CObservation2DRangeScan::Ptr& laser,
-	const mrpt::obs::CSensoryFrame::Ptr& observations, TScan2D&& scan, const TRegistration& reg,
-	size_t scanIndex)
+void CMetricMapBuilderLRGC::placeScan(const mrpt::obs::CObservation2DRangeScan::Ptr& laser,
+									  const mrpt::obs::CSensoryFrame::Ptr& observations,
+									  TScan2D&& scan, const TRegistration& reg,
+									  size_t scanIndex)
 {
 	const bool atStart = m_graph.numNodes() == 0 || m_sessionStartCov.has_value();
 	if (!atStart && !isNewKeyframe(reg.scanInMap))
 		recordScan(laser->timestamp, anchor(), between(m_graph.pose(anchor()), reg.scanInMap));
-	else if (const auto reused = atStart || !reg.matched || reg.odometryRejected || reg.wideSearch
-			 ? std::nullopt
-			 : m_reuse->reusableKeyframe(
-				   m_graph, m_keyframes, scan, reg.scanInMap, reg.cov, anchor(),
-				   m_local->window()))
+	else if (const auto reused =
+				 atStart || !reg.matched || reg.odometryRejected || reg.wideSearch
+					 ? std::nullopt
+					 : m_reuse->reusableKeyframe(m_graph, m_keyframes, scan, reg.scanInMap,
+												 reg.cov, anchor(), m_local->window()))
 		enterReusedKeyframe(*reused, reg, laser->timestamp);
 	else
 		enterNewKeyframe(laser, observations, std::move(scan), reg, scanIndex);
@@ -160,8 +160,9 @@ void CMetricMapBuilderLRGC::placeScan(
 
 // The robot's anchor moves to an existing keyframe, linked to the previous anchor by this
 // scan (linkReused); the loop results due are applied (no search: the keyframe is not new).
-void CMetricMapBuilderLRGC::enterReusedKeyframe(
-	const TReusedKeyframe& reused, const TRegistration& reg, mrpt::Clock::time_point stamp)
+void CMetricMapBuilderLRGC::enterReusedKeyframe(const TReusedKeyframe& reused,
+												const TRegistration& reg,
+												mrpt::Clock::time_point stamp)
 {
 	++m_stats.keyframesReused;
 	linkReused(reused, reg);
@@ -182,9 +183,11 @@ void CMetricMapBuilderLRGC::enterNewKeyframe(
 	size_t scanIndex)
 {
 	const std::optional<size_t> previous = m_local->anchor();
-	const size_t node = addKeyframe(laser, observations, std::move(scan), reg.scanInMap, scanIndex);
+	const size_t node =
+		addKeyframe(laser, observations, std::move(scan), reg.scanInMap, scanIndex);
 	m_local->enterKeyframe(node, false, m_graph);
-	if (m_sessionStartCov) linkSessionStart(node);  // to the old map, by a scan match
+	if (m_sessionStartCov)
+		linkSessionStart(node);  // to the old map, by a scan match
 	else if (previous)
 	{
 		m_stats.scanMatchLinks +=
@@ -199,8 +202,8 @@ void CMetricMapBuilderLRGC::enterNewKeyframe(
 	recordScan(laser->timestamp, node, TPose2D(0, 0, 0), true);
 }
 
-void CMetricMapBuilderLRGC::recordScan(
-	mrpt::Clock::time_point stamp, size_t node, const TPose2D& robotInNode, bool keyframe)
+void CMetricMapBuilderLRGC::recordScan(mrpt::Clock::time_point stamp, size_t node,
+									   const TPose2D& robotInNode, bool keyframe)
 {
 	m_scans.push_back({stamp, node, robotInNode, m_scanStep, m_scanStepFromOdometry, keyframe});
 }
@@ -253,9 +256,9 @@ TLoopCloserStats CMetricMapBuilderLRGC::loopCloserStats() const
 double CMetricMapBuilderLRGC::stepSeconds(const TMotionPrediction& prediction) const
 {
 	return m_predictor->clockJittered() ||
-			prediction.stepSeconds < 0.5 * m_predictor->scanPeriod()
-		? m_predictor->meanScanPeriod()
-		: prediction.stepSeconds;
+				   prediction.stepSeconds < 0.5 * m_predictor->scanPeriod()
+			   ? m_predictor->meanScanPeriod()
+			   : prediction.stepSeconds;
 }
 
 // The robot's motion over the laser sweep: the predicted step scaled by sweep / step time,
@@ -283,10 +286,9 @@ void CMetricMapBuilderLRGC::linkReused(const TReusedKeyframe& c, const TRegistra
 	const TPose2D scanInA = between(aInMap, reg.scanInMap);
 	const TPose2D z = compose(scanInA, inverse(c.scanInNode));
 	const Eigen::Matrix3d covA = rotateCovariance(reg.cov, -aInMap.phi);  // map axes -> a's
-	const Eigen::Matrix3d covC = rotateCovariance(c.cov, z.phi);  // c's axes -> a's
-	m_graph.addLink(
-		{a, c.node, z, linkInformation(covA + covC, m_params.loop.link_noise),
-		 LinkType::LoopClosure});
+	const Eigen::Matrix3d covC = rotateCovariance(c.cov, z.phi);          // c's axes -> a's
+	m_graph.addLink({a, c.node, z, linkInformation(covA + covC, m_params.loop.link_noise),
+					 LinkType::LoopClosure});
 	++m_stats.loopClosureLinks;
 }
 
@@ -299,13 +301,13 @@ bool CMetricMapBuilderLRGC::isNewKeyframe(const TPose2D& scanInMap) const
 {
 	const TPose2D d = between(compose(m_graph.pose(anchor()), m_anchorOffset), scanInMap);
 	return translationNorm(d) >= m_params.builder.keyframe_distance_m ||
-		std::abs(d.phi) >= m_params.builder.keyframe_angle;
+		   std::abs(d.phi) >= m_params.builder.keyframe_angle;
 }
 
-size_t CMetricMapBuilderLRGC::addKeyframe(
-	const mrpt::obs::CObservation2DRangeScan::Ptr& laser,
-	const mrpt::obs::CSensoryFrame::Ptr& observations, TScan2D&& scan, const TPose2D& scanInMap,
-	size_t scanIndex)
+size_t CMetricMapBuilderLRGC::addKeyframe(const mrpt::obs::CObservation2DRangeScan::Ptr& laser,
+										  const mrpt::obs::CSensoryFrame::Ptr& observations,
+										  TScan2D&& scan, const TPose2D& scanInMap,
+										  size_t scanIndex)
 {
 	const size_t node = m_graph.addNode(scanInMap);
 	ASSERT_EQUAL_(node, m_keyframes.size());
@@ -368,8 +370,8 @@ void CMetricMapBuilderLRGC::processObservation(const mrpt::obs::CObservation::Pt
 		++m_stats.ignoredObservations;
 }
 
-void CMetricMapBuilderLRGC::processActionObservation(
-	mrpt::obs::CActionCollection& action, mrpt::obs::CSensoryFrame& observations)
+void CMetricMapBuilderLRGC::processActionObservation(mrpt::obs::CActionCollection& action,
+													 mrpt::obs::CSensoryFrame& observations)
 {
 	const auto lock = lockMap();
 	if (auto odo = action.getBestMovementEstimation(); odo && odo->poseChange)
@@ -384,8 +386,10 @@ void CMetricMapBuilderLRGC::processActionObservation(
 		}
 		else if (auto od = std::dynamic_pointer_cast<mrpt::obs::CObservationOdometry>(o))
 			m_predictor->addOdometryAbsolute(od->odometry.asTPose());
-	if (laser) processScan(laser, sf);
-	else ++m_stats.ignoredObservations;
+	if (laser)
+		processScan(laser, sf);
+	else
+		++m_stats.ignoredObservations;
 }
 
 }  // namespace lrgc

@@ -18,9 +18,9 @@
  * critical section (critZoneChangingMap), and the getters that copy something out
  * (getCurrentPoseEstimation, getCurrentlyBuiltMap(Size), getCurrentlyBuiltMetricMap,
  * saveCurrentEstimationToImage, trajectory, buildOccupancyGrid, gridKeyframes, statsCopy,
- * loopCloserStats, lastScanTimestamp) take it too, so another thread may call them while mapping goes on.
- * The getters returning references (graph, keyframes, stats, lasers, params) are for the mapping
- * thread, or for any thread once mapping has stopped.
+ * loopCloserStats, lastScanTimestamp) take it too, so another thread may call them while
+ * mapping goes on. The getters returning references (graph, keyframes, stats, lasers, params)
+ * are for the mapping thread, or for any thread once mapping has stopped.
  */
 #pragma once
 
@@ -63,7 +63,7 @@ struct TMapBuilderStats
 	/** Times a scan due to become a keyframe was anchored at an existing one instead
 	 * (CKeyframeReuse: ground the map already has). */
 	size_t keyframesReused = 0;
-	size_t skippedScans = 0;  //!< too few valid returns
+	size_t skippedScans = 0;    //!< too few valid returns
 	size_t unmatchedScans = 0;  //!< no acceptable local match: the prediction was kept
 	/** Scans whose pose was off their neighbours' odometry chain at the end of the run and
 	 * was settled onto it (settleIsolatedScans). */
@@ -91,7 +91,7 @@ struct TMapBuilderStats
 
 class CMetricMapBuilderLRGC : public mrpt::slam::CMetricMapBuilder
 {
-   public:
+public:
 	explicit CMetricMapBuilderLRGC(const TLRGCParams& params = {});
 	~CMetricMapBuilderLRGC() override;
 
@@ -107,16 +107,14 @@ class CMetricMapBuilderLRGC : public mrpt::slam::CMetricMapBuilder
 	 * loop links, so loop closures keep the old map's loops. `x0` sets the pose of the next
 	 * scan (default: the last keyframe of `initialMap`, or the origin); see also
 	 * startSessionAt(). The old keyframes are not scans of this run (trajectory()). */
-	void initialize(
-		const mrpt::maps::CSimpleMap& initialMap = mrpt::maps::CSimpleMap(),
-		const mrpt::poses::CPosePDF* x0 = nullptr) override;
+	void initialize(const mrpt::maps::CSimpleMap& initialMap = mrpt::maps::CSimpleMap(),
+					const mrpt::poses::CPosePDF* x0 = nullptr) override;
 	/** Continues a map saved by lrgc exactly: the keyframes of `keyframes` (entry i = node i)
-	 * with the graph `graph` (poses, links, link types, disabled links; lrgc_apps/io/PoseGraphText.h) as
-	 * they were. `laserLabel`: the scans to take from each entry (empty: the first one).
-	 * Throws if the sizes differ or an entry has no such scan. */
-	void initialize(
-		const mrpt::maps::CSimpleMap& keyframes, const CPoseGraph& graph,
-		const std::string& laserLabel = {});
+	 * with the graph `graph` (poses, links, link types, disabled links;
+	 * lrgc_apps/io/PoseGraphText.h) as they were. `laserLabel`: the scans to take from each
+	 * entry (empty: the first one). Throws if the sizes differ or an entry has no such scan. */
+	void initialize(const mrpt::maps::CSimpleMap& keyframes, const CPoseGraph& graph,
+					const std::string& laserLabel = {});
 	/** The next scan starts a new session at `scanInMap` (from global localisation, with its
 	 * covariance `cov` [m^2, rad^2]): it becomes a keyframe linked to the old map by a scan
 	 * match against the old keyframes around it (by `cov` if that fails), and the local
@@ -125,8 +123,8 @@ class CMetricMapBuilderLRGC : public mrpt::slam::CMetricMapBuilder
 	/** The laser the map is built from (first seen, or restored). */
 	const std::string& laserLabel() const { return m_lasers.label(); }
 	mrpt::poses::CPose3DPDF::Ptr getCurrentPoseEstimation() const override;
-	void processActionObservation(
-		mrpt::obs::CActionCollection& action, mrpt::obs::CSensoryFrame& observations) override;
+	void processActionObservation(mrpt::obs::CActionCollection& action,
+								  mrpt::obs::CSensoryFrame& observations) override;
 	void getCurrentlyBuiltMap(mrpt::maps::CSimpleMap& out_map) const override;
 	unsigned int getCurrentlyBuiltMapSize() override;
 	/** A CMultiMetricMap holding the occupancy grid of the current estimate, brought up to
@@ -135,7 +133,8 @@ class CMetricMapBuilderLRGC : public mrpt::slam::CMetricMapBuilder
 	const mrpt::maps::CMultiMetricMap* getCurrentlyBuiltMetricMap() const override;
 	/** Saves the occupancy grid of the current estimate; the format follows the file's
 	 * extension (.png, .bmp, ...); formatEMF_BMP is ignored. */
-	void saveCurrentEstimationToImage(const std::string& file, bool formatEMF_BMP = true) override;
+	void saveCurrentEstimationToImage(const std::string& file,
+									  bool formatEMF_BMP = true) override;
 
 	// --- lone observations (rawlogs in the observations-only layout, CARMEN, live) ---
 	/** Odometry (CObservationOdometry) or a 2D laser scan; other kinds are counted and
@@ -167,11 +166,11 @@ class CMetricMapBuilderLRGC : public mrpt::slam::CMetricMapBuilder
 	/** Warnings since the last call (skipped scans, ...), for the caller to report. */
 	std::vector<std::string> takeWarnings();
 
-   private:
+private:
 	struct TScanRecord
 	{
 		mrpt::Clock::time_point timestamp;
-		size_t node;  //!< keyframe the scan hangs from
+		size_t node;                      //!< keyframe the scan hangs from
 		mrpt::math::TPose2D robotInNode;  //!< (node <- robot at the scan)
 		/** The predicted step into this scan, (previous scan <- this scan), and whether it
 		 * came from odometry (settleIsolatedScans). */
@@ -181,50 +180,45 @@ class CMetricMapBuilderLRGC : public mrpt::slam::CMetricMapBuilder
 	};
 
 	// The story of one scan (CMetricMapBuilderLRGC.cpp), its steps in the paper's order.
-	void processScan(
-		const mrpt::obs::CObservation2DRangeScan::Ptr& laser,
-		const mrpt::obs::CSensoryFrame::Ptr& observations);
-	std::optional<TScan2D> convertScan(
-		const mrpt::obs::CObservation2DRangeScan& laser, const mrpt::math::TPose2D& sweep);
+	void processScan(const mrpt::obs::CObservation2DRangeScan::Ptr& laser,
+					 const mrpt::obs::CSensoryFrame::Ptr& observations);
+	std::optional<TScan2D> convertScan(const mrpt::obs::CObservation2DRangeScan& laser,
+									   const mrpt::math::TPose2D& sweep);
 	TRegistration registerLocally(const TScan2D& scan, const TMotionPrediction& prediction);
-	void followRobot(
-		const mrpt::obs::CObservation2DRangeScan& laser, const TScan2D& scan,
-		const TMotionPrediction& prediction, const mrpt::math::TPose2D& sweep,
-		const TRegistration& reg);
-	void recordRegistration(
-		const mrpt::obs::CObservation2DRangeScan& laser, const TMotionPrediction& prediction,
-		const TRegistration& reg);
-	void placeScan(
-		const mrpt::obs::CObservation2DRangeScan::Ptr& laser,
-		const mrpt::obs::CSensoryFrame::Ptr& observations, TScan2D&& scan,
-		const TRegistration& reg, size_t scanIndex);
-	void enterReusedKeyframe(
-		const TReusedKeyframe& reused, const TRegistration& reg, mrpt::Clock::time_point stamp);
-	void enterNewKeyframe(
-		const mrpt::obs::CObservation2DRangeScan::Ptr& laser,
-		const mrpt::obs::CSensoryFrame::Ptr& observations, TScan2D&& scan,
-		const TRegistration& reg, size_t scanIndex);
+	void followRobot(const mrpt::obs::CObservation2DRangeScan& laser, const TScan2D& scan,
+					 const TMotionPrediction& prediction, const mrpt::math::TPose2D& sweep,
+					 const TRegistration& reg);
+	void recordRegistration(const mrpt::obs::CObservation2DRangeScan& laser,
+							const TMotionPrediction& prediction, const TRegistration& reg);
+	void placeScan(const mrpt::obs::CObservation2DRangeScan::Ptr& laser,
+				   const mrpt::obs::CSensoryFrame::Ptr& observations, TScan2D&& scan,
+				   const TRegistration& reg, size_t scanIndex);
+	void enterReusedKeyframe(const TReusedKeyframe& reused, const TRegistration& reg,
+							 mrpt::Clock::time_point stamp);
+	void enterNewKeyframe(const mrpt::obs::CObservation2DRangeScan::Ptr& laser,
+						  const mrpt::obs::CSensoryFrame::Ptr& observations, TScan2D&& scan,
+						  const TRegistration& reg, size_t scanIndex);
 	void closeLoops(bool newKeyframe);
 	void takeReadyLoopResults();
-	/** Records the scan in the trajectory, hanging from `node`, with the step predicted for it. */
-	void recordScan(
-		mrpt::Clock::time_point stamp, size_t node, const mrpt::math::TPose2D& robotInNode,
-		bool keyframe = false);
+	/** Records the scan in the trajectory, hanging from `node`, with the step predicted for it.
+	 */
+	void recordScan(mrpt::Clock::time_point stamp, size_t node,
+					const mrpt::math::TPose2D& robotInNode, bool keyframe = false);
 	/** End of the run: scans left off by an isolated registration follow the odometry between
 	 * their neighbours (IsolatedScans.h). */
 	void settleIsolatedScans();
 	/** Takes in what applying loop results did (links, closures, moved poses). */
 	void recordLoopUpdate(const TLoopUpdate& u);
 	bool isNewKeyframe(const mrpt::math::TPose2D& scanInMap) const;
-	/** The keyframe the robot is at: the scans hang from it, keyframe distances count from it. */
+	/** The keyframe the robot is at: the scans hang from it, keyframe distances count from it.
+	 */
 	size_t anchor() const;
 	void linkReused(const TReusedKeyframe& c, const TRegistration& reg);
 	double stepSeconds(const TMotionPrediction& prediction) const;
 	mrpt::math::TPose2D sweepMotion(const TMotionPrediction& prediction) const;
-	size_t addKeyframe(
-		const mrpt::obs::CObservation2DRangeScan::Ptr& laser,
-		const mrpt::obs::CSensoryFrame::Ptr& observations, TScan2D&& scan,
-		const mrpt::math::TPose2D& scanInMap, size_t scanIndex);
+	size_t addKeyframe(const mrpt::obs::CObservation2DRangeScan::Ptr& laser,
+					   const mrpt::obs::CSensoryFrame::Ptr& observations, TScan2D&& scan,
+					   const mrpt::math::TPose2D& scanInMap, size_t scanIndex);
 	TLink odometryLink(size_t from, size_t to) const;
 	mrpt::obs::CObservation2DRangeScan::Ptr acceptLaser(
 		const mrpt::obs::CObservation2DRangeScan::Ptr& laser);
@@ -240,7 +234,8 @@ class CMetricMapBuilderLRGC : public mrpt::slam::CMetricMapBuilder
 	}
 	// Continuing a map (CMetricMapBuilderLRGC_continue.cpp).
 	void resetState();
-	void adoptKeyframes(const mrpt::maps::CSimpleMap& map, const std::string& laserLabel, bool all);
+	void adoptKeyframes(const mrpt::maps::CSimpleMap& map, const std::string& laserLabel,
+						bool all);
 	void linkChainAndRevisits();
 	void linkSessionStart(size_t node);
 	void enterNewestKeyframes();
@@ -251,8 +246,9 @@ class CMetricMapBuilderLRGC : public mrpt::slam::CMetricMapBuilder
 	std::unique_ptr<CLocalRegistration> m_local;
 	std::unique_ptr<CKeyframeReuse> m_reuse;
 	std::unique_ptr<CLoopClosing> m_loops;  //!< null with loop closing off
-	friend struct TLoopClosingTestAccess;  // tests: a slow worker (tests/support)
-	std::chrono::milliseconds m_loopSearchExtraDelay{0};  //!< tests only; kept across initialize()
+	friend struct TLoopClosingTestAccess;   // tests: a slow worker (tests/support)
+	std::chrono::milliseconds m_loopSearchExtraDelay{
+		0};  //!< tests only; kept across initialize()
 	CPoseGraph m_graph;
 	TKeyframes m_keyframes;
 	std::vector<TScanRecord> m_scans;

@@ -57,10 +57,10 @@ Eigen::Matrix3d informationOf(const Eigen::Vector3d& std)
 void CMetricMapBuilderLRGC::resetState()
 {
 	m_predictor = std::make_unique<CMotionPredictor>(m_params.motion);
-	m_sweep = std::make_unique<CSweepEstimator>(
-		m_params.sweep, m_params.matcher, m_params.builder.scan_sweep_time_s);
-	m_local = std::make_unique<CLocalRegistration>(
-		m_params.local, m_params.matcher, m_params.optimizer);
+	m_sweep = std::make_unique<CSweepEstimator>(m_params.sweep, m_params.matcher,
+												m_params.builder.scan_sweep_time_s);
+	m_local = std::make_unique<CLocalRegistration>(m_params.local, m_params.matcher,
+												   m_params.optimizer);
 	TScanMatcherParams localMatcher = m_params.matcher;  // as local registration's matches
 	localMatcher.max_free_space_violation = m_params.local.max_free_space_violation;
 	m_reuse = std::make_unique<CKeyframeReuse>(
@@ -68,8 +68,8 @@ void CMetricMapBuilderLRGC::resetState()
 		localMatcher, m_params.loop.link_noise);
 	m_loops.reset();  // lets a search in hand finish first
 	if (m_params.builder.loop_closing)
-		m_loops = std::make_unique<CLoopClosing>(
-			m_params.loop, m_params.correlator, m_params.matcher, m_params.optimizer);
+		m_loops = std::make_unique<CLoopClosing>(m_params.loop, m_params.correlator,
+												 m_params.matcher, m_params.optimizer);
 	if (m_loops && m_loopSearchExtraDelay.count() > 0)
 		TLoopClosingTestAccess::setExtraDelay(*m_loops, m_loopSearchExtraDelay);
 	m_graph = CPoseGraph();
@@ -90,8 +90,8 @@ void CMetricMapBuilderLRGC::resetState()
 // The keyframes of a CSimpleMap with their stored poses (returned in `poses`, not yet graph
 // nodes). `all`: every entry must give a keyframe (an exact restore), else entries without a
 // usable scan are skipped.
-void CMetricMapBuilderLRGC::adoptKeyframes(
-	const mrpt::maps::CSimpleMap& map, const std::string& laserLabel, bool all)
+void CMetricMapBuilderLRGC::adoptKeyframes(const mrpt::maps::CSimpleMap& map,
+										   const std::string& laserLabel, bool all)
 {
 	std::string label = laserLabel;
 	for (size_t i = 0; i < map.size(); ++i)
@@ -111,16 +111,17 @@ void CMetricMapBuilderLRGC::adoptKeyframes(
 		if (!laser)
 		{
 			if (all)
-				THROW_EXCEPTION_FMT(
-					"initial map entry %zu has no pose or no 2D laser scan%s", i,
-					label.empty() ? "" : (" labelled '" + label + "'").c_str());
+				THROW_EXCEPTION_FMT("initial map entry %zu has no pose or no 2D laser scan%s",
+									i,
+									label.empty() ? "" : (" labelled '" + label + "'").c_str());
 			continue;
 		}
 		// Saved maps come through the same door as logs (ScanGeometry.h).
 		const TScanGeometryCheck checked = checkScanGeometry(laser);
 		if (!checked.scan)
 		{
-			if (all) THROW_EXCEPTION_FMT("initial map entry %zu: %s", i, checked.problem.c_str());
+			if (all)
+				THROW_EXCEPTION_FMT("initial map entry %zu: %s", i, checked.problem.c_str());
 			continue;
 		}
 		laser = checked.scan;
@@ -145,15 +146,15 @@ void CMetricMapBuilderLRGC::linkChainAndRevisits()
 	for (size_t i = 1; i < m_graph.numNodes(); ++i)
 	{
 		const TPose2D guess = between(m_graph.pose(i - 1), m_graph.pose(i));
-		const auto m = matcher.match(
-			CReferenceCloud::fromScan(m_keyframes[i - 1].scan, m_params.matcher),
-			m_keyframes[i].scan, guess);
+		const auto m =
+			matcher.match(CReferenceCloud::fromScan(m_keyframes[i - 1].scan, m_params.matcher),
+						  m_keyframes[i].scan, guess);
 		if (m && m->inlierFraction >= m_params.local.min_link_inlier_fraction &&
 			disagreementChi2(guess, m->scanInRef, guessCov + m->cov) <= kAgreeChi2)
 		{
-			m_graph.addLink(
-				{i - 1, i, m->scanInRef, linkInformation(m->cov, m_params.local.link_noise),
-				 LinkType::ScanMatch});
+			m_graph.addLink({i - 1, i, m->scanInRef,
+							 linkInformation(m->cov, m_params.local.link_noise),
+							 LinkType::ScanMatch});
 			++m_stats.scanMatchLinks;
 		}
 		else
@@ -165,15 +166,17 @@ void CMetricMapBuilderLRGC::linkChainAndRevisits()
 	}
 	if (m_params.revisits.enabled && m_graph.numNodes() > 1)
 	{
-		const CRevisitLinker linker(m_params.revisits, m_params.matcher, m_params.loop.link_noise);
+		const CRevisitLinker linker(m_params.revisits, m_params.matcher,
+									m_params.loop.link_noise);
 		const size_t added = linker.linkRevisits(m_graph, m_keyframes);
 		m_stats.loopClosureLinks += added;
-		MRPT_LOG_INFO_FMT("initial map: %zu keyframes, %zu revisit links", m_graph.numNodes(), added);
+		MRPT_LOG_INFO_FMT("initial map: %zu keyframes, %zu revisit links", m_graph.numNodes(),
+						  added);
 	}
 }
 
-void CMetricMapBuilderLRGC::initialize(
-	const mrpt::maps::CSimpleMap& initialMap, const mrpt::poses::CPosePDF* x0)
+void CMetricMapBuilderLRGC::initialize(const mrpt::maps::CSimpleMap& initialMap,
+									   const mrpt::poses::CPosePDF* x0)
 {
 	const auto lock = lockMap();
 	resetState();
@@ -190,9 +193,8 @@ void CMetricMapBuilderLRGC::initialize(
 		m_nextScanPrior = m_lastScanInMap;
 }
 
-void CMetricMapBuilderLRGC::initialize(
-	const mrpt::maps::CSimpleMap& keyframes, const CPoseGraph& graph,
-	const std::string& laserLabel)
+void CMetricMapBuilderLRGC::initialize(const mrpt::maps::CSimpleMap& keyframes,
+									   const CPoseGraph& graph, const std::string& laserLabel)
 {
 	if (keyframes.size() != graph.numNodes())
 		THROW_EXCEPTION_FMT(
@@ -236,8 +238,9 @@ void CMetricMapBuilderLRGC::startSessionAt(const TPose2D& scanInMap, const Eigen
 }
 
 // The first keyframe of a session: linked to the nearest old keyframe by a scan match against
-// the old keyframes within overlap_radius_m (in the nearest one's frame), placed where the match
-// puts it; without an agreeing match, by the start pose with the localisation's covariance.
+// the old keyframes within overlap_radius_m (in the nearest one's frame), placed where the
+// match puts it; without an agreeing match, by the start pose with the localisation's
+// covariance.
 void CMetricMapBuilderLRGC::linkSessionStart(size_t node)
 {
 	const Eigen::Matrix3d cov = *m_sessionStartCov;
@@ -265,15 +268,15 @@ void CMetricMapBuilderLRGC::linkSessionStart(size_t node)
 	mp.max_free_space_violation = m_params.local.max_free_space_violation;
 	std::optional<TScanMatch> m;
 	if (!scans.empty())
-		m = CScanMatcher(mp).match(
-			CReferenceCloud::fromScans(scans, scansInNearest, mp), m_keyframes[node].scan, guess);
+		m = CScanMatcher(mp).match(CReferenceCloud::fromScans(scans, scansInNearest, mp),
+								   m_keyframes[node].scan, guess);
 	TLink link{nearest, node, guess, linkInformation(covInNearest, m_params.loop.link_noise),
 			   LinkType::LoopClosure};
 	// The old scans were taken at another time: their agreement with a new scan is limited by
 	// the loop links' noise floor, as is the correlation's with the match.
 	if (m && m->inlierFraction >= m_params.local.min_link_inlier_fraction &&
-		disagreementChi2(
-			guess, m->scanInRef, covInNearest + m->cov + m_params.loop.link_noise.floorCovariance()) <=
+		disagreementChi2(guess, m->scanInRef,
+						 covInNearest + m->cov + m_params.loop.link_noise.floorCovariance()) <=
 			kAgreeChi2)
 	{
 		link.toInFrom = m->scanInRef;
@@ -289,16 +292,15 @@ void CMetricMapBuilderLRGC::linkSessionStart(size_t node)
 			   : mrpt::format(
 					 "its scan match with the old map (%.0f %% inliers, %.2f m, %.1f deg off) "
 					 "does not confirm it",
-					 100 * m->inlierFraction,
-					 translationNorm(between(guess, m->scanInRef)),
+					 100 * m->inlierFraction, translationNorm(between(guess, m->scanInRef)),
 					 mrpt::RAD2DEG(between(guess, m->scanInRef).phi))
 					 .c_str()));
 	m_graph.addLink(link);
 	m_reuse->noteLoopLink(node);
 	++m_stats.loopClosureLinks;
 	m_local->invalidate();
-	MRPT_LOG_INFO_FMT(
-		"session starts at keyframe %zu, linked to old keyframe %zu", node, nearest);
+	MRPT_LOG_INFO_FMT("session starts at keyframe %zu, linked to old keyframe %zu", node,
+					  nearest);
 }
 
 }  // namespace lrgc

@@ -45,8 +45,10 @@ mrpt::maps::COccupancyGridMap2D::Ptr CMetricMapBuilderLRGC::buildOccupancyGrid()
 	const auto lock = lockMap();
 	// The incremental grid keeps two grids (base and result) and this returns a copy: for a
 	// single call (an offline run's outputs) one grid built from scratch is the same map at a
-	// third of the memory (Killian's peak RSS, /usr/bin/time: 330 MB through the cache, 290 MB).
-	if (!m_grid) return CIncrementalGrid::buildFromScratch(gridKeyframesLocked(), gridSettings());
+	// third of the memory (Killian's peak RSS, /usr/bin/time: 330 MB through the cache, 290
+	// MB).
+	if (!m_grid)
+		return CIncrementalGrid::buildFromScratch(gridKeyframesLocked(), gridSettings());
 	return std::make_shared<mrpt::maps::COccupancyGridMap2D>(*updatedGridLocked());
 }
 

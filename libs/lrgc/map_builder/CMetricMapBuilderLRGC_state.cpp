@@ -1,6 +1,6 @@
 /* CMetricMapBuilderLRGC: the current estimate, and what the map builder hands out (CSimpleMap
- * of keyframes, trajectory; the occupancy grid: CMetricMapBuilderLRGC_grid.cpp). Initialisation and continuing a saved map:
- * CMetricMapBuilderLRGC_continue.cpp. */
+ * of keyframes, trajectory; the occupancy grid: CMetricMapBuilderLRGC_grid.cpp). Initialisation
+ * and continuing a saved map: CMetricMapBuilderLRGC_continue.cpp. */
 #include <lrgc/map_builder/CMetricMapBuilderLRGC.h>
 #include <lrgc/map_builder/IsolatedScans.h>
 #include <lrgc/local_registration/LocalRegistration.h>
@@ -46,7 +46,8 @@ void CMetricMapBuilderLRGC::getCurrentlyBuiltMap(mrpt::maps::CSimpleMap& out_map
 	const auto lock = lockMap();
 	out_map.clear();
 	for (size_t i = 0; i < m_keyframes.size(); ++i)
-		out_map.insert(gaussian3D(m_graph.pose(i), Eigen::Matrix3d::Zero()), m_keyframes[i].observations);
+		out_map.insert(gaussian3D(m_graph.pose(i), Eigen::Matrix3d::Zero()),
+					   m_keyframes[i].observations);
 }
 
 unsigned int CMetricMapBuilderLRGC::getCurrentlyBuiltMapSize()
@@ -62,20 +63,21 @@ void CMetricMapBuilderLRGC::finish()
 	if (!m_params.builder.final_optimization || m_graph.numNodes() < 2) return;
 	if (m_loops && m_params.revisits.enabled)
 	{
-		const CRevisitLinker linker(m_params.revisits, m_params.matcher, m_params.loop.link_noise);
+		const CRevisitLinker linker(m_params.revisits, m_params.matcher,
+									m_params.loop.link_noise);
 		const size_t added = linker.linkRevisits(m_graph, m_keyframes);
 		m_stats.loopClosureLinks += added;
 		m_stats.revisitLinks = added;
 		MRPT_LOG_INFO_FMT("end of run: %zu revisit links re-matched", added);
 	}
 	const auto report = CPoseGraphOptimizer(m_params.optimizer).optimize(m_graph, 0);
-	MRPT_LOG_INFO_FMT(
-		"final optimisation: %zu nodes, %d iterations, chi2 %.3g -> %.3g", m_graph.numNodes(),
-		report.iterations, report.initialChi2, report.finalChi2);
+	MRPT_LOG_INFO_FMT("final optimisation: %zu nodes, %d iterations, chi2 %.3g -> %.3g",
+					  m_graph.numNodes(), report.iterations, report.initialChi2,
+					  report.finalChi2);
 	settleIsolatedScans();
-	m_lastScanInMap = m_scans.empty()
-		? m_lastScanInMap
-		: compose(m_graph.pose(m_scans.back().node), m_scans.back().robotInNode);
+	m_lastScanInMap = m_scans.empty() ? m_lastScanInMap
+									  : compose(m_graph.pose(m_scans.back().node),
+												m_scans.back().robotInNode);
 	m_metricMapDirty = true;
 }
 
@@ -84,8 +86,8 @@ void CMetricMapBuilderLRGC::settleIsolatedScans()
 	std::vector<TScanStep> steps;
 	steps.reserve(m_scans.size());
 	for (const auto& s : m_scans)
-		steps.push_back(
-			{compose(m_graph.pose(s.node), s.robotInNode), s.step, s.stepFromOdometry, s.keyframe});
+		steps.push_back({compose(m_graph.pose(s.node), s.robotInNode), s.step,
+						 s.stepFromOdometry, s.keyframe});
 	const auto settled = lrgc::settleIsolatedScans(steps);
 	for (const auto& [i, pose] : settled)
 		m_scans[i].robotInNode = between(m_graph.pose(m_scans[i].node), pose);
@@ -97,7 +99,8 @@ TTrajectory CMetricMapBuilderLRGC::trajectory() const
 	const auto lock = lockMap();
 	TTrajectory t;
 	t.reserve(m_scans.size());
-	for (const auto& s : m_scans) t.push_back({s.timestamp, compose(m_graph.pose(s.node), s.robotInNode)});
+	for (const auto& s : m_scans)
+		t.push_back({s.timestamp, compose(m_graph.pose(s.node), s.robotInNode)});
 	return t;
 }
 

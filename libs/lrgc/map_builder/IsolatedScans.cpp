@@ -10,10 +10,10 @@ using mrpt::math::TPose2D;
 
 namespace
 {
-constexpr size_t kMaxRun = 3;  //!< [scans] longest run that can be isolated
+constexpr size_t kMaxRun = 3;         //!< [scans] longest run that can be isolated
 constexpr double kBridgeGate = 0.05;  //!< [m] the odometry must bridge the run this well
-constexpr double kOffGate = 0.15;  //!< [m] a scan of the run is off the chain by more
-constexpr double kOffFactor = 4;  //!< ... and by more than this times the bridge's residual
+constexpr double kOffGate = 0.15;     //!< [m] a scan of the run is off the chain by more
+constexpr double kOffFactor = 4;      //!< ... and by more than this times the bridge's residual
 
 /** The odometry chain from scan a over steps a+1..b: the pose of each scan a+1..b [map]. */
 std::vector<TPose2D> odometryChain(const std::vector<TScanStep>& s, size_t a, size_t b)

@@ -28,7 +28,7 @@ namespace lrgc
 /** One scan of the trajectory as the check sees it. */
 struct TScanStep
 {
-	mrpt::math::TPose2D pose;  //!< final pose [map frame]
+	mrpt::math::TPose2D pose;          //!< final pose [map frame]
 	mrpt::math::TPose2D odometryStep;  //!< (previous scan <- this scan) from odometry
 	bool fromOdometry = false;  //!< odometryStep is odometry (not a constant-velocity guess)
 	bool keyframe = false;  //!< a graph node (its node keeps its pose; the scan's is settled)

@@ -11,10 +11,13 @@ namespace lrgc
 {
 using mrpt::math::TPose2D;
 
-CKeyframeReuse::CKeyframeReuse(
-	const TKeyframeReuseParams& p, double keyframeDistance, double keyframeAngle,
-	const TScanMatcherParams& matcher, const TLinkNoise& floor)
-	: m_params(p), m_distance(keyframeDistance), m_angle(keyframeAngle), m_matcher(matcher),
+CKeyframeReuse::CKeyframeReuse(const TKeyframeReuseParams& p, double keyframeDistance,
+							   double keyframeAngle, const TScanMatcherParams& matcher,
+							   const TLinkNoise& floor)
+	: m_params(p),
+	  m_distance(keyframeDistance),
+	  m_angle(keyframeAngle),
+	  m_matcher(matcher),
 	  m_floor(floor)
 {
 }
@@ -42,9 +45,9 @@ std::optional<TReusedKeyframe> CKeyframeReuse::reusableKeyframe(
 		const TPose2D& p = graph.pose(c);
 		const double dx = scanInMap.x - p.x, dy = scanInMap.y - p.y;
 		if (std::abs(dx) >= m_distance || std::abs(dy) >= m_distance) continue;
-		const double norm = std::max(
-			std::hypot(dx, dy) / m_distance,
-			std::abs(mrpt::math::wrapToPi(scanInMap.phi - p.phi)) / m_angle);
+		const double norm =
+			std::max(std::hypot(dx, dy) / m_distance,
+					 std::abs(mrpt::math::wrapToPi(scanInMap.phi - p.phi)) / m_angle);
 		if (norm >= bestNorm) continue;
 		if (std::find(window.begin(), window.end(), c) != window.end()) continue;
 		best = c, bestNorm = norm;

@@ -6,12 +6,12 @@
  * grow its graph, its loop searches and its memory with the time driven. Instead, as in the
  * reduced pose graph of Johannsson et al. (2013), the scan takes an existing keyframe c as its
  * anchor when c covers its pose, i.e. the pose would not be a new keyframe relative to c:
- *     |t(X_c^-1 (+) X_scan)| < keyframe_distance_m  and  |phi(X_c^-1 (+) X_scan)| < keyframe_angle,
- * the nearest such c (in units of those two). The scans hang from c, c enters the local
- * window (CLocalRegistration::enterKeyframe), so the next scans are registered against the
- * map's own keyframes there, and the builder links the previous anchor to c by the scan's two
- * matches (the revisit's evidence is kept as a link, not as a node). The graph then grows with
- * the area covered at the keyframe spacing, not with the time driven.
+ *     |t(X_c^-1 (+) X_scan)| < keyframe_distance_m  and  |phi(X_c^-1 (+) X_scan)| <
+ * keyframe_angle, the nearest such c (in units of those two). The scans hang from c, c enters
+ * the local window (CLocalRegistration::enterKeyframe), so the next scans are registered
+ * against the map's own keyframes there, and the builder links the previous anchor to c by the
+ * scan's two matches (the revisit's evidence is kept as a link, not as a node). The graph then
+ * grows with the area covered at the keyframe spacing, not with the time driven.
  *
  * Reusing c asserts that the robot's estimate agrees with the map at c, which holds only after
  * a loop link has tied the robot's recent keyframes to the map (the loop closer's three
@@ -45,23 +45,22 @@ struct TReusedKeyframe
 {
 	size_t node = 0;
 	mrpt::math::TPose2D scanInNode;  //!< (node <- robot at the scan), from the match
-	Eigen::Matrix3d cov;  //!< of scanInNode, in the node's axes
+	Eigen::Matrix3d cov;             //!< of scanInNode, in the node's axes
 };
 
 class CKeyframeReuse
 {
-   public:
+public:
 	/** keyframeDistance [m], keyframeAngle [rad]: [MapBuilder]'s keyframe spacing, the
 	 * cover of a keyframe; matcher: the local registration's; floor: the loop links' noise
 	 * floor. */
-	CKeyframeReuse(
-		const TKeyframeReuseParams& p, double keyframeDistance, double keyframeAngle,
-		const TScanMatcherParams& matcher, const TLinkNoise& floor);
+	CKeyframeReuse(const TKeyframeReuseParams& p, double keyframeDistance, double keyframeAngle,
+				   const TScanMatcherParams& matcher, const TLinkNoise& floor);
 
 	/** A loop link entered the graph while `node` was the newest keyframe. The map builder
 	 * passes the newest keyframe when the worker's result arrives, not the link's own end:
-	 * a result lands up to [LoopCloser] max_backlog_keyframes keyframes after its search, and the
-	 * keyframes since are carried along by its correction. */
+	 * a result lands up to [LoopCloser] max_backlog_keyframes keyframes after its search, and
+	 * the keyframes since are carried along by its correction. */
 	void noteLoopLink(size_t node);
 
 	/** The existing keyframe to anchor `scan` at instead of making it a new keyframe, if one
@@ -73,7 +72,7 @@ class CKeyframeReuse
 		const mrpt::math::TPose2D& scanInMap, const Eigen::Matrix3d& scanCov, size_t anchor,
 		const std::deque<size_t>& window) const;
 
-   private:
+private:
 	TKeyframeReuseParams m_params;
 	double m_distance, m_angle;
 	CScanMatcher m_matcher;

@@ -16,12 +16,14 @@ struct TKeyframeReuseParams : public mrpt::config::CLoadableOptions
 	 * keyframes after the last loop link (the map there was made consistent with the robot's
 	 * pose) */
 	size_t trust_keyframes = 3;
-	double min_inlier_fraction = 0.5;  //!< least fraction of the scan matched against the reused scan
+	double min_inlier_fraction =
+		0.5;                   //!< least fraction of the scan matched against the reused scan
 	double gate_chi2 = 16.27;  //!< [chi2, 3 dof] agreement of that match with the registration
 
-	void loadFromConfigFile(
-		const mrpt::config::CConfigFileBase& c, const std::string& s) override;
-	void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
+	void loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
+							const std::string& s) override;
+	void saveToConfigFile(mrpt::config::CConfigFileBase& c,
+						  const std::string& s) const override;
 };
 
 }  // namespace lrgc

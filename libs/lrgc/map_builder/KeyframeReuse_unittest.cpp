@@ -36,7 +36,10 @@ struct TKnownMap
 		}
 		for (size_t i = 18; i < 28; ++i) window.push_back(i);
 	}
-	TScan2D scanAt(const TPose2D& truth) { return lrgc::test::simulateScan(world, truth, {}, rng); }
+	TScan2D scanAt(const TPose2D& truth)
+	{
+		return lrgc::test::simulateScan(world, truth, {}, rng);
+	}
 };
 
 const Eigen::Matrix3d kRegCov =
@@ -47,19 +50,20 @@ TEST(KeyframeReuse, anOldKeyframeIsReusedOnlyAfterALoopLinkAndWhereTheScanAgrees
 {
 	TKnownMap m;
 	const TLRGCParams p;
-	CKeyframeReuse reuse(
-		p.reuse, p.builder.keyframe_distance_m, p.builder.keyframe_angle, p.matcher,
-		p.loop.link_noise);
+	CKeyframeReuse reuse(p.reuse, p.builder.keyframe_distance_m, p.builder.keyframe_angle,
+						 p.matcher, p.loop.link_noise);
 	// Back near keyframe 3 (x = 2.25), 8 cm on and turned 3 deg: covered by it.
 	const TPose2D truth(2.33, 1.52, 3 * M_PI / 180);
 	const TScan2D scan = m.scanAt(truth);
 	const size_t anchor = 27;
 	// No loop link yet: the robot's estimate is not known to agree with the map.
 	EXPECT_FALSE(m.window.empty());
-	EXPECT_FALSE(reuse.reusableKeyframe(m.graph, m.keyframes, scan, truth, kRegCov, anchor, m.window));
+	EXPECT_FALSE(
+		reuse.reusableKeyframe(m.graph, m.keyframes, scan, truth, kRegCov, anchor, m.window));
 
 	reuse.noteLoopLink(27);
-	const auto r = reuse.reusableKeyframe(m.graph, m.keyframes, scan, truth, kRegCov, anchor, m.window);
+	const auto r =
+		reuse.reusableKeyframe(m.graph, m.keyframes, scan, truth, kRegCov, anchor, m.window);
 	ASSERT_TRUE(r);
 	EXPECT_EQ(r->node, 3U);  // the nearest
 	const TPose2D inNode = between(m.graph.pose(3), truth);
@@ -68,18 +72,21 @@ TEST(KeyframeReuse, anOldKeyframeIsReusedOnlyAfterALoopLinkAndWhereTheScanAgrees
 
 	// A registration 15 cm off the truth: the scan's own match disagrees, no reuse.
 	const TPose2D off = compose(truth, TPose2D(0.0, 0.15, 0.0));
-	EXPECT_FALSE(reuse.reusableKeyframe(m.graph, m.keyframes, scan, off, kRegCov, anchor, m.window));
+	EXPECT_FALSE(
+		reuse.reusableKeyframe(m.graph, m.keyframes, scan, off, kRegCov, anchor, m.window));
 	// Turned 20 deg away from every keyframe: not covered (keyframe_angle 15 deg).
 	const TPose2D turned(2.25, 1.5, 20 * M_PI / 180);
-	EXPECT_FALSE(reuse.reusableKeyframe(
-		m.graph, m.keyframes, m.scanAt(turned), turned, kRegCov, anchor, m.window));
+	EXPECT_FALSE(reuse.reusableKeyframe(m.graph, m.keyframes, m.scanAt(turned), turned, kRegCov,
+										anchor, m.window));
 	// Near keyframe 24, which is in the local window: not a candidate (its neighbours
 	// outside the window are more than keyframe_distance_m away).
 	const TPose2D recent(1.5 + 0.25 * 24 + 0.05, 1.5, 0.0);
-	EXPECT_FALSE(reuse.reusableKeyframe(
-		m.graph, m.keyframes, m.scanAt(recent), recent, kRegCov, anchor, m.window));
+	EXPECT_FALSE(reuse.reusableKeyframe(m.graph, m.keyframes, m.scanAt(recent), recent, kRegCov,
+										anchor, m.window));
 
 	// trust_keyframes new keyframes later without a loop link: the trust is gone.
-	for (size_t i = 0; i < p.reuse.trust_keyframes + 1; ++i) m.graph.addNode(TPose2D(20, 20, 0));
-	EXPECT_FALSE(reuse.reusableKeyframe(m.graph, m.keyframes, scan, truth, kRegCov, anchor, m.window));
+	for (size_t i = 0; i < p.reuse.trust_keyframes + 1; ++i)
+		m.graph.addNode(TPose2D(20, 20, 0));
+	EXPECT_FALSE(
+		reuse.reusableKeyframe(m.graph, m.keyframes, scan, truth, kRegCov, anchor, m.window));
 }

@@ -29,11 +29,12 @@ mrpt::obs::CObservation2DRangeScan::Ptr CLaserSelector::select(
 		if (!m_chosen && !m_warned)
 		{
 			m_warned = true;
-			m_warnings.push_back(
-				"a second laser: mapping '" + m_label + "' (the first seen), ignoring the scans of '" +
-				laser->sensorLabel + "' (counted in stats.json); to map '" + laser->sensorLabel +
-				"' instead, give --laser " + laser->sensorLabel + " (or [MapBuilder] laser_label = " +
-				laser->sensorLabel + ")");
+			m_warnings.push_back("a second laser: mapping '" + m_label +
+								 "' (the first seen), ignoring the scans of '" +
+								 laser->sensorLabel + "' (counted in stats.json); to map '" +
+								 laser->sensorLabel + "' instead, give --laser " +
+								 laser->sensorLabel +
+								 " (or [MapBuilder] laser_label = " + laser->sensorLabel + ")");
 		}
 		return nullptr;
 	}
@@ -58,10 +59,12 @@ mrpt::obs::CObservation2DRangeScan::Ptr CLaserSelector::checkGeometry(
 			c.problem.c_str(), m_badGeometry == kListed ? " (further ones are counted)" : ""));
 	if (c.clipped > 0 && ++m_clippedScans <= kListed)
 		m_warnings.push_back(mrpt::format(
-			"scan at t=%.6f of '%s': %zu readings beyond %g m ignored (no 2D laser reaches that "
+			"scan at t=%.6f of '%s': %zu readings beyond %g m ignored (no 2D laser reaches "
+			"that "
 			"far)%s",
 			t, laser->sensorLabel.c_str(), c.clipped, kMaxRange,
-			m_clippedScans == kListed ? " (further scans with such readings are counted)" : ""));
+			m_clippedScans == kListed ? " (further scans with such readings are counted)"
+									  : ""));
 	m_clipped += c.clipped;
 	return std::move(c.scan);
 }

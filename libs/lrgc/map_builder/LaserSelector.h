@@ -27,7 +27,7 @@ namespace lrgc
 {
 class CLaserSelector
 {
-   public:
+public:
 	explicit CLaserSelector(const TMapBuilderParams& params = {});
 
 	/** The scan to map (range limits applied; `laser` itself when none changes it), or
@@ -57,7 +57,7 @@ class CLaserSelector
 	 * or clipped by checkScanGeometry()), or nullopt. */
 	std::optional<std::string> takeWarning();
 
-   private:
+private:
 	std::string m_label;
 	bool m_chosen = false;
 	TRangeLimits m_limits;

@@ -16,7 +16,8 @@ CObservation2DRangeScan::Ptr scan(const std::string& label, float range = 3.0f)
 	s->aperture = static_cast<float>(M_PI);
 	s->maxRange = 30;
 	s->resizeScan(181);
-	for (size_t i = 0; i < 181; ++i) s->setScanRange(i, range), s->setScanRangeValidity(i, true);
+	for (size_t i = 0; i < 181; ++i)
+		s->setScanRange(i, range), s->setScanRangeValidity(i, true);
 	return s;
 }
 }  // namespace
@@ -78,9 +79,11 @@ TEST(RangeLimits, PostsAndFarReadingsAreMarkedInvalidOnACopy)
 	for (size_t i : {10, 11, 12, 170, 90}) EXPECT_FALSE(out->getScanRangeValidity(i)) << i;
 	for (size_t i : {0, 9, 13, 89, 180}) EXPECT_TRUE(out->getScanRangeValidity(i)) << i;
 	EXPECT_FLOAT_EQ(out->getScanRange(10), 0.12f);  // ranges kept, only flagged
-	EXPECT_TRUE(in->getScanRangeValidity(10));  // the input is never changed
+	EXPECT_TRUE(in->getScanRangeValidity(10));      // the input is never changed
 	// Exactly at a limit is inside; max_range_m 0 is no upper limit.
-	EXPECT_EQ(lrgc::applyRangeLimits(scan("LASER", 0.3f), {0.3, 0}, &marked)->getScanRangeValidity(0), true);
+	EXPECT_EQ(
+		lrgc::applyRangeLimits(scan("LASER", 0.3f), {0.3, 0}, &marked)->getScanRangeValidity(0),
+		true);
 	EXPECT_EQ(marked, 0u);
 	const auto far = lrgc::applyRangeLimits(scan("LASER", 29.0f), {0.0, 0.0}, &marked);
 	EXPECT_EQ(marked, 0u);

@@ -14,8 +14,8 @@
 
 namespace lrgc
 {
-void TMapBuilderParams::loadFromConfigFile(
-	const mrpt::config::CConfigFileBase& c, const std::string& s)
+void TMapBuilderParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
+										   const std::string& s)
 {
 	rejectUnknownKeys(TMapBuilderParams(), c, s);
 	keyframe_distance_m = readDouble(c, s, "keyframe_distance_m", keyframe_distance_m);
@@ -28,8 +28,8 @@ void TMapBuilderParams::loadFromConfigFile(
 	laser_label = readString(c, s, "laser_label", laser_label);
 	min_range_m = readDouble(c, s, "min_range_m", min_range_m);
 	max_range_m = readDouble(c, s, "max_range_m", max_range_m);
-	requireParam(
-		scan_sweep_time_s >= 0 && scan_sweep_time_s < 1, s, "scan_sweep_time_s", "must be in [0, 1) s");
+	requireParam(scan_sweep_time_s >= 0 && scan_sweep_time_s < 1, s, "scan_sweep_time_s",
+				 "must be in [0, 1) s");
 	requireParam(min_range_m >= 0, s, "min_range_m", "must be >= 0 m (0: no lower limit)");
 	requireParam(
 		max_range_m == 0 || max_range_m > min_range_m, s, "max_range_m",
@@ -37,24 +37,36 @@ void TMapBuilderParams::loadFromConfigFile(
 	requireParam(keyframe_distance_m > 0, s, "keyframe_distance_m", "must be > 0");
 	requireParam(keyframe_angle > 0, s, "keyframe_angle_deg", "must be > 0");
 	requireParam(min_scan_points >= 3, s, "min_scan_points", "must be >= 3");
-	requireParam(
-		grid_resolution_m >= 0.005 && grid_resolution_m <= 1, s, "grid_resolution_m",
-		"must be in [0.005, 1] m");
+	requireParam(grid_resolution_m >= 0.005 && grid_resolution_m <= 1, s, "grid_resolution_m",
+				 "must be in [0.005, 1] m");
 }
 
-void TMapBuilderParams::saveToConfigFile(
-	mrpt::config::CConfigFileBase& c, const std::string& s) const
+void TMapBuilderParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
+										 const std::string& s) const
 {
-	writeValue(c, s, "keyframe_distance_m", keyframe_distance_m, "[m] A scan becomes a keyframe (graph node) after this much travel");
-	writeDegrees(c, s, "keyframe_angle_deg", keyframe_angle, "[deg] ... or after this much turn");
-	writeValue(c, s, "min_scan_points", uint64_t(min_scan_points), "Scans with fewer valid returns are skipped (with a warning)");
-	writeValue(c, s, "grid_resolution_m", grid_resolution_m, "[m] Cell size of the exported occupancy grid map");
-	writeValue(c, s, "loop_closing", loop_closing, "Global correlation and loop closing (false: local registration only)");
-	writeValue(c, s, "final_optimization", final_optimization, "Optimise the whole graph once more at the end of the run");
-	writeValue(c, s, "scan_sweep_time_s", scan_sweep_time_s, "[s] Laser's first beam to last (SICK LMS 2xx: 0.0067): scans are de-skewed by the motion over it; 0: off, or estimated online if [SweepEstimator] enabled");
-	writeValue(c, s, "laser_label", laser_label, "sensorLabel of the laser to map (CARMEN: LASER = FLASER, REAR_LASER = RLASER); empty: the first seen (lrgc-slam --laser)");
-	writeValue(c, s, "min_range_m", min_range_m, "[m] Readings of that laser below this are dropped (the robot's own posts); 0: none");
-	writeValue(c, s, "max_range_m", max_range_m, "[m] Readings above this are dropped; 0: only the sensor's own maximum range");
+	writeValue(c, s, "keyframe_distance_m", keyframe_distance_m,
+			   "[m] A scan becomes a keyframe (graph node) after this much travel");
+	writeDegrees(c, s, "keyframe_angle_deg", keyframe_angle,
+				 "[deg] ... or after this much turn");
+	writeValue(c, s, "min_scan_points", uint64_t(min_scan_points),
+			   "Scans with fewer valid returns are skipped (with a warning)");
+	writeValue(c, s, "grid_resolution_m", grid_resolution_m,
+			   "[m] Cell size of the exported occupancy grid map");
+	writeValue(c, s, "loop_closing", loop_closing,
+			   "Global correlation and loop closing (false: local registration only)");
+	writeValue(c, s, "final_optimization", final_optimization,
+			   "Optimise the whole graph once more at the end of the run");
+	writeValue(c, s, "scan_sweep_time_s", scan_sweep_time_s,
+			   "[s] Laser's first beam to last (SICK LMS 2xx: 0.0067): scans are de-skewed by "
+			   "the motion over it; 0: off, or estimated online if [SweepEstimator] enabled");
+	writeValue(c, s, "laser_label", laser_label,
+			   "sensorLabel of the laser to map (CARMEN: LASER = FLASER, REAR_LASER = RLASER); "
+			   "empty: the first seen (lrgc-slam --laser)");
+	writeValue(
+		c, s, "min_range_m", min_range_m,
+		"[m] Readings of that laser below this are dropped (the robot's own posts); 0: none");
+	writeValue(c, s, "max_range_m", max_range_m,
+			   "[m] Readings above this are dropped; 0: only the sensor's own maximum range");
 }
 
 namespace
@@ -64,22 +76,18 @@ namespace
 template <class Params, class Stage>
 std::vector<std::pair<const char*, Stage*>> stages(Params& p)
 {
-	return {{"MapBuilder", &p.builder},
-			{"KeyframeReuse", &p.reuse},
-			{"MotionPredictor", &p.motion},
-			{"SweepEstimator", &p.sweep},
-			{"ScanMatcher", &p.matcher},
-			{"LocalRegistration", &p.local},
-			{"PoseGraphOptimizer", &p.optimizer},
-			{"LoopCloser", &p.loop},
-			{"PatchCorrelator", &p.correlator},
-			{"RevisitLinker", &p.revisits}};
+	return {{"MapBuilder", &p.builder},           {"KeyframeReuse", &p.reuse},
+			{"MotionPredictor", &p.motion},       {"SweepEstimator", &p.sweep},
+			{"ScanMatcher", &p.matcher},          {"LocalRegistration", &p.local},
+			{"PoseGraphOptimizer", &p.optimizer}, {"LoopCloser", &p.loop},
+			{"PatchCorrelator", &p.correlator},   {"RevisitLinker", &p.revisits}};
 }
 }  // namespace
 
 const std::vector<std::string>& TLRGCParams::sectionNames()
 {
-	static const std::vector<std::string> names = [] {
+	static const std::vector<std::string> names = []
+	{
 		TLRGCParams p;
 		std::vector<std::string> out;
 		for (const auto& [name, stage] : stages<TLRGCParams, mrpt::config::CLoadableOptions>(p))
@@ -89,8 +97,8 @@ const std::vector<std::string>& TLRGCParams::sectionNames()
 	return names;
 }
 
-void rejectUnknownSections(
-	const mrpt::config::CConfigFileBase& c, const std::vector<std::string>& allowed)
+void rejectUnknownSections(const mrpt::config::CConfigFileBase& c,
+						   const std::vector<std::string>& allowed)
 {
 	std::vector<std::string> sections;
 	c.getAllSections(sections);
@@ -174,15 +182,15 @@ std::vector<std::string> TLRGCParams::loadReportingRenames(
 	return warnings;
 }
 
-void TLRGCParams::loadFromConfigFile(
-	const mrpt::config::CConfigFileBase& c, const std::string& prefix)
+void TLRGCParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
+									 const std::string& prefix)
 {
 	for (const auto& w : loadReportingRenames(c, prefix))
 		std::fprintf(stderr, "lrgc: warning: %s\n", w.c_str());
 }
 
-void TLRGCParams::saveToConfigFile(
-	mrpt::config::CConfigFileBase& c, const std::string& prefix) const
+void TLRGCParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
+								   const std::string& prefix) const
 {
 	for (const auto& [name, stage] :
 		 stages<const TLRGCParams, const mrpt::config::CLoadableOptions>(*this))

@@ -37,10 +37,10 @@ TEST(LRGCParams, TextRoundTripIsExact)
 TEST(LRGCParams, SaveWritesEveryNumberExactly)
 {
 	lrgc::TLRGCParams p;
-	p.builder.keyframe_distance_m = 0.00012345;  // [MapBuilder], once padded
-	p.optimizer.relative_cost_tolerance = 1.000001e-04;  // [PoseGraphOptimizer]
-	p.correlator.blur_sigma_m = 0.1 + 1e-15;  // [PatchCorrelator], once unpadded
-	p.matcher.normal_radius_m = 0.123456789012345;  // [ScanMatcher], once "%.10g"
+	p.builder.keyframe_distance_m = 0.00012345;           // [MapBuilder], once padded
+	p.optimizer.relative_cost_tolerance = 1.000001e-04;   // [PoseGraphOptimizer]
+	p.correlator.blur_sigma_m = 0.1 + 1e-15;              // [PatchCorrelator], once unpadded
+	p.matcher.normal_radius_m = 0.123456789012345;        // [ScanMatcher], once "%.10g"
 	p.loop.max_window_phi = mrpt::DEG2RAD(17.123456789);  // a _deg key: through degrees
 	p.revisits.max_phi = mrpt::DEG2RAD(44.999999999);
 	const std::string text = saved(p);
@@ -81,14 +81,16 @@ TEST(LRGCParams, InvalidValuesAreRejectedNamingTheKey)
 	}
 	catch (const std::exception& e)
 	{
-		EXPECT_NE(std::string(e.what()).find("keyframe_distance_m"), std::string::npos) << e.what();
+		EXPECT_NE(std::string(e.what()).find("keyframe_distance_m"), std::string::npos)
+			<< e.what();
 	}
 }
 
 TEST(LRGCParams, UnknownSectionIsRejected)
 {
 	mrpt::config::CConfigFileMemory mem("[MapBuilderr]\nkeyframe_distance_m = 1\n");
-	EXPECT_THROW(lrgc::rejectUnknownSections(mem, lrgc::TLRGCParams::sectionNames()), std::exception);
+	EXPECT_THROW(lrgc::rejectUnknownSections(mem, lrgc::TLRGCParams::sectionNames()),
+				 std::exception);
 	mrpt::config::CConfigFileMemory ok("[MapBuilder]\nkeyframe_distance_m = 1\n");
 	EXPECT_NO_THROW(lrgc::rejectUnknownSections(ok, lrgc::TLRGCParams::sectionNames()));
 }
@@ -122,10 +124,9 @@ TEST(LRGCParams, ABadValueIsBlamedOnItsOwnKey)
 	EXPECT_EQ(fraction.find("max_pairwise_links"), std::string::npos) << fraction;
 	// A whole but too small window: the key that no longer fits says why, with both values.
 	const std::string small = loadError("[LocalRegistration]\nwindow_size = 2\n");
-	EXPECT_NE(
-		small.find("max_pairwise_links: 5 must be below window_size (2) and "
-				   "laser_only_window_size (10)"),
-		std::string::npos)
+	EXPECT_NE(small.find("max_pairwise_links: 5 must be below window_size (2) and "
+						 "laser_only_window_size (10)"),
+			  std::string::npos)
 		<< small;
 	// Read leniently, "abc" was 0 and blamed as "must be > 0".
 	const std::string text = loadError("[MapBuilder]\nkeyframe_distance_m = abc\n");
@@ -164,7 +165,8 @@ TEST(LRGCParams, LaserLabelAndRangeLimitsRoundTrip)
 
 TEST(LRGCParams, RangeLimitsOutOfOrderAreErrors)
 {
-	for (const char* bad : {"min_range_m = -0.1", "max_range_m = -1", "min_range_m = 2\nmax_range_m = 1"})
+	for (const char* bad :
+		 {"min_range_m = -0.1", "max_range_m = -1", "min_range_m = 2\nmax_range_m = 1"})
 	{
 		mrpt::config::CConfigFileMemory mem(std::string("[MapBuilder]\n") + bad + "\n");
 		lrgc::TLRGCParams p;
@@ -177,7 +179,8 @@ TEST(LRGCParams, RangeLimitsOutOfOrderAreErrors)
 // both, and the values are the defaults'.
 TEST(LRGCParams, AnOldFullIniLoadsAsTheDefaultsWithAWarningPerRenamedKey)
 {
-	const std::string path = std::string(LRGC_SOURCE_DIR) + "/tests/data/lrgc-default-7c31216.ini";
+	const std::string path =
+		std::string(LRGC_SOURCE_DIR) + "/tests/data/lrgc-default-7c31216.ini";
 	const mrpt::config::CConfigFile old(path);
 	lrgc::TLRGCParams p;
 	const std::vector<std::string> warnings = p.loadReportingRenames(old, {});
@@ -185,10 +188,12 @@ TEST(LRGCParams, AnOldFullIniLoadsAsTheDefaultsWithAWarningPerRenamedKey)
 	EXPECT_EQ(warnings.size(), lrgc::TLRGCParams::renamedKeys().size());
 	const auto has = [&](const std::string& w)
 	{ return std::find(warnings.begin(), warnings.end(), w) != warnings.end(); };
-	EXPECT_TRUE(has("[MapBuilder] keyframe_distance is now keyframe_distance_m; read as such "
-					"(lrgc-slam --write-default-config FILE writes the current names)"));
-	EXPECT_TRUE(has("[LoopCloser] old_map_exclusion is now old_map_exclusion_keyframes; read as "
-					"such (lrgc-slam --write-default-config FILE writes the current names)"));
+	EXPECT_TRUE(
+		has("[MapBuilder] keyframe_distance is now keyframe_distance_m; read as such "
+			"(lrgc-slam --write-default-config FILE writes the current names)"));
+	EXPECT_TRUE(
+		has("[LoopCloser] old_map_exclusion is now old_map_exclusion_keyframes; read as "
+			"such (lrgc-slam --write-default-config FILE writes the current names)"));
 	for (const auto& w : warnings) EXPECT_EQ(w.find('\n'), std::string::npos) << w;
 }
 
@@ -209,9 +214,10 @@ TEST(LRGCParams, AnOldNameReadsAsTheNewOneAndBothNamesAreAnError)
 	}
 	catch (const std::exception& e)
 	{
-		EXPECT_NE(std::string(e.what()).find("[MapBuilder] keyframe_distance_m: set twice, also "
-											 "under its old name keyframe_distance"),
-				  std::string::npos)
+		EXPECT_NE(
+			std::string(e.what()).find("[MapBuilder] keyframe_distance_m: set twice, also "
+									   "under its old name keyframe_distance"),
+			std::string::npos)
 			<< e.what();
 	}
 }
@@ -236,12 +242,15 @@ TEST(LRGCParams, TheSectionArgumentPrefixesEveryStageSection)
 	EXPECT_EQ(saved(q), saved(p));
 	// Without the prefix, the other program's [MapBuilder] is read (and its key is unknown).
 	lrgc::TLRGCParams r;
-	EXPECT_THROW(r.loadFromConfigFile(mrpt::config::CConfigFileMemory(text), {}), std::exception);
+	EXPECT_THROW(r.loadFromConfigFile(mrpt::config::CConfigFileMemory(text), {}),
+				 std::exception);
 	// Errors name the prefixed section.
 	try
 	{
 		lrgc::TLRGCParams t;
-		t.loadFromConfigFile(mrpt::config::CConfigFileMemory("[lrgc_MapBuilder]\nkeyframe_distance_m = -1\n"), "lrgc_");
+		t.loadFromConfigFile(
+			mrpt::config::CConfigFileMemory("[lrgc_MapBuilder]\nkeyframe_distance_m = -1\n"),
+			"lrgc_");
 		FAIL() << "negative keyframe distance accepted";
 	}
 	catch (const std::exception& e)

@@ -1,8 +1,8 @@
 /* [MapBuilder] min_range_m cleans a robot's own posts out of the map: the laser of a synthetic
  * run sees, besides the room, two posts of the robot 0.15 m away at +-60 degrees (21 beams
  * each), in every scan. Without the limit they are matched and drawn into the grid at every
- * keyframe (later rays clear some); with min_range_m = 0.3 m no keyframe point, no grid cell and no saved keyframe
- * observation holds them, and the readings dropped are counted. */
+ * keyframe (later rays clear some); with min_range_m = 0.3 m no keyframe point, no grid cell
+ * and no saved keyframe observation holds them, and the readings dropped are counted. */
 #include <gtest/gtest.h>
 
 #include <lrgc/common/se2.h>
@@ -23,8 +23,8 @@ constexpr int kBeamsPerPost = 21;
 struct TPostsRun
 {
 	CSyntheticWorld world = makeRoomWorld(5, 0);
-	TTrajectory tr = makeTrajectory(
-		{{1.5, 3.5}, {5.5, 3.5}, {5.5, 5.8}, {1.2, 5.8}}, 0.05, TOdometryNoise{}, 21);
+	TTrajectory tr = makeTrajectory({{1.5, 3.5}, {5.5, 3.5}, {5.5, 5.8}, {1.2, 5.8}}, 0.05,
+									TOdometryNoise{}, 21);
 	TLaserSimParams laser;  // 180 deg, 361 beams: 0.5 deg apart
 	size_t postReadings = 0;
 
@@ -39,7 +39,8 @@ struct TPostsRun
 			odo->timestamp = t;
 			odo->odometry = mrpt::poses::CPose2D(tr.odometryPoses[k]);
 			builder.processObservation(odo);
-			auto obs = laserObservationFromScan(simulateScan(world, tr.truePoses[k], laser, rng), laser, t);
+			auto obs = laserObservationFromScan(
+				simulateScan(world, tr.truePoses[k], laser, rng), laser, t);
 			for (const int centre : {60, 300})  // beam index of -60 and +60 deg
 				for (int i = centre - kBeamsPerPost / 2; i <= centre + kBeamsPerPost / 2; ++i)
 				{

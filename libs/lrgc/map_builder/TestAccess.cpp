@@ -6,8 +6,8 @@
 
 namespace lrgc
 {
-void TLoopClosingTestAccess::setExtraDelay(
-	CMetricMapBuilderLRGC& builder, std::chrono::milliseconds d)
+void TLoopClosingTestAccess::setExtraDelay(CMetricMapBuilderLRGC& builder,
+										   std::chrono::milliseconds d)
 {
 	builder.m_loopSearchExtraDelay = d;
 	if (builder.m_loops) setExtraDelay(*builder.m_loops, d);

@@ -24,8 +24,8 @@ struct TOrientedLink
 
 // Information the least-squares optimum saw: s^2 Omega for a robust loop link (DCS scale at
 // the current poses), Omega otherwise.
-Eigen::Matrix3d effectiveInformation(
-	const CPoseGraph& g, const TLink& l, const TPoseGraphOptimizerParams& p)
+Eigen::Matrix3d effectiveInformation(const CPoseGraph& g, const TLink& l,
+									 const TPoseGraphOptimizerParams& p)
 {
 	if (!p.robust_loop_closures || l.type != LinkType::LoopClosure) return l.information;
 	const Eigen::Vector3d e = linkResidual(g.pose(l.from), g.pose(l.to), l.toInFrom);
@@ -60,8 +60,8 @@ TOrientedLink fuse(const std::vector<TOrientedLink>& links)
 }
 }  // namespace
 
-mrpt::graphs::CNetworkOfPoses2DInf toMrptLeastSquares(
-	const CPoseGraph& g, const TPoseGraphOptimizerParams& params)
+mrpt::graphs::CNetworkOfPoses2DInf toMrptLeastSquares(const CPoseGraph& g,
+													  const TPoseGraphOptimizerParams& params)
 {
 	std::map<std::pair<size_t, size_t>, std::vector<TOrientedLink>> pairs;
 	for (size_t id = 0; id < g.numLinks(); ++id)
@@ -69,8 +69,10 @@ mrpt::graphs::CNetworkOfPoses2DInf toMrptLeastSquares(
 		if (!g.isLinkEnabled(id)) continue;
 		const TLink& l = g.link(id);
 		const Eigen::Matrix3d info = effectiveInformation(g, l, params);
-		if (l.from < l.to) pairs[{l.from, l.to}].push_back({l.toInFrom, info});
-		else pairs[{l.to, l.from}].push_back(reversed(l.toInFrom, info));
+		if (l.from < l.to)
+			pairs[{l.from, l.to}].push_back({l.toInFrom, info});
+		else
+			pairs[{l.to, l.from}].push_back(reversed(l.toInFrom, info));
 	}
 	mrpt::graphs::CNetworkOfPoses2DInf net;
 	for (size_t i = 0; i < g.numNodes(); ++i) net.nodes[i] = mrpt::poses::CPose2D(g.pose(i));

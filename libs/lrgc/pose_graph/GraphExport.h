@@ -30,7 +30,7 @@ namespace lrgc
 {
 /** One EDGE_SE2 per node pair, each the information-weighted fusion of the pair's enabled
  * links with the weights of the optimiser `params` (see the file comment). */
-mrpt::graphs::CNetworkOfPoses2DInf toMrptLeastSquares(
-	const CPoseGraph& g, const TPoseGraphOptimizerParams& params);
+mrpt::graphs::CNetworkOfPoses2DInf toMrptLeastSquares(const CPoseGraph& g,
+													  const TPoseGraphOptimizerParams& params);
 
 }  // namespace lrgc

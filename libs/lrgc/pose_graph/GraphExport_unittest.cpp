@@ -40,8 +40,8 @@ void addReversedTwins(TSimulatedPoseGraph& sim, uint32_t seed)
 		if (l.type != LinkType::Odometry) continue;
 		const Eigen::Vector3d e = L * Eigen::Vector3d(n(rng), n(rng), n(rng));
 		const TPose2D truth = between(sim.groundTruth[l.to], sim.groundTruth[l.from]);
-		sim.graph.addLink({l.to, l.from, compose(truth, fromVector(e)), cov.inverse(),
-						   LinkType::ScanMatch});
+		sim.graph.addLink(
+			{l.to, l.from, compose(truth, fromVector(e)), cov.inverse(), LinkType::ScanMatch});
 	}
 }
 
@@ -56,7 +56,8 @@ TPoseGraphOptimizerParams tight(bool robust)
 }
 
 /** The exported network as MRPT's .graph reader sees it (one edge per pair), back as ours. */
-CPoseGraph throughGraphFile(const mrpt::graphs::CNetworkOfPoses2DInf& net, const std::string& name)
+CPoseGraph throughGraphFile(const mrpt::graphs::CNetworkOfPoses2DInf& net,
+							const std::string& name)
 {
 	const std::string file = lrgc::test::makeTempDir(name) + "/g.graph";
 	net.saveToTextFile(file);
@@ -70,7 +71,8 @@ size_t nodePairs(const CPoseGraph& g)
 	std::set<std::pair<size_t, size_t>> pairs;
 	for (size_t id = 0; id < g.numLinks(); ++id)
 		if (g.isLinkEnabled(id))
-			pairs.insert({std::min(g.link(id).from, g.link(id).to), std::max(g.link(id).from, g.link(id).to)});
+			pairs.insert({std::min(g.link(id).from, g.link(id).to),
+						  std::max(g.link(id).from, g.link(id).to)});
 	return pairs.size();
 }
 }  // namespace
@@ -109,13 +111,15 @@ TEST(GraphExport, DownWeightedLoopLinksKeepTheRobustOptimum)
 		const size_t from = 40 + 50 * k, to = from + 25;
 		const TPose2D truth = between(sim.groundTruth[from], sim.groundTruth[to]);
 		sim.graph.addLink({from, to, compose(truth, TPose2D(2.0, -1.0, 0.5)),
-						   Eigen::Vector3d(400, 400, 2500).asDiagonal(), LinkType::LoopClosure});
+						   Eigen::Vector3d(400, 400, 2500).asDiagonal(),
+						   LinkType::LoopClosure});
 	}
 	CPoseGraph ours = sim.graph;
 	const auto rep = CPoseGraphOptimizer(tight(true)).optimize(ours, 0);
 	ASSERT_GE(rep.downweightedLinks.size(), 5u);
 
-	CPoseGraph lsq = throughGraphFile(toMrptLeastSquares(ours, tight(true)), "graph_export_dcs");
+	CPoseGraph lsq =
+		throughGraphFile(toMrptLeastSquares(ours, tight(true)), "graph_export_dcs");
 	CPoseGraphOptimizer(tight(false)).optimize(lsq, 0);
 	EXPECT_LT(test::maxPoseDifference(lsq, ours), 1e-3);
 
@@ -134,7 +138,8 @@ TEST(GraphExport, DisabledLinksAreNotWritten)
 	g.addNode({2, 0, 0});
 	g.addLink({0, 1, {1, 0, 0}, Eigen::Matrix3d::Identity(), LinkType::Odometry});
 	g.addLink({1, 2, {1, 0, 0}, Eigen::Matrix3d::Identity(), LinkType::Odometry});
-	const size_t off = g.addLink({2, 0, {5, 5, 1}, Eigen::Matrix3d::Identity(), LinkType::LoopClosure});
+	const size_t off =
+		g.addLink({2, 0, {5, 5, 1}, Eigen::Matrix3d::Identity(), LinkType::LoopClosure});
 	g.setLinkEnabled(off, false);
 	const auto net = toMrptLeastSquares(g, {});
 	EXPECT_EQ(net.edges.size(), 2u);
@@ -161,8 +166,19 @@ TEST(GraphExport, AReversedLinkKeepsItsMeaning)
 	for (int r = 0; r < 3; ++r)
 		for (int c = 0; c < 3; ++c) infoOut(r, c) = edge.cov_inv(r, c);
 	const TPose2D zOut(edge.mean.x(), edge.mean.y(), edge.mean.phi());
-	EXPECT_LT(test::maxPoseDifference([&] { CPoseGraph a; a.addNode(zOut); return a; }(),
-									  [&] { CPoseGraph a; a.addNode(inverse(z)); return a; }()),
+	EXPECT_LT(test::maxPoseDifference(
+				  [&]
+				  {
+					  CPoseGraph a;
+					  a.addNode(zOut);
+					  return a;
+				  }(),
+				  [&]
+				  {
+					  CPoseGraph a;
+					  a.addNode(inverse(z));
+					  return a;
+				  }()),
 			  1e-12);
 	for (const TPose2D& d : {TPose2D(0.01, 0, 0), TPose2D(0, -0.01, 0), TPose2D(0, 0, 0.01),
 							 TPose2D(0.005, 0.005, -0.005)})

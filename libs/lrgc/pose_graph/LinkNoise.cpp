@@ -7,22 +7,23 @@
 
 namespace lrgc
 {
-void TLinkNoise::load(
-	const mrpt::config::CConfigFileBase& c, const std::string& s, const std::string& prefix)
+void TLinkNoise::load(const mrpt::config::CConfigFileBase& c, const std::string& s,
+					  const std::string& prefix)
 {
-	const std::string xyKey = prefix + "link_floor_xy_m", phiKey = prefix + "link_floor_phi_deg";
+	const std::string xyKey = prefix + "link_floor_xy_m",
+					  phiKey = prefix + "link_floor_phi_deg";
 	floor_xy_m = readDouble(c, s, xyKey, floor_xy_m);
 	floor_phi = readDegrees(c, s, phiKey, floor_phi);
 	requireParam(floor_xy_m >= 0, s, xyKey, "must be >= 0");
 	requireParam(floor_phi >= 0, s, phiKey, "must be >= 0");
 }
 
-void TLinkNoise::save(
-	mrpt::config::CConfigFileBase& c, const std::string& s, const std::string& prefix,
-	const std::string& what) const
+void TLinkNoise::save(mrpt::config::CConfigFileBase& c, const std::string& s,
+					  const std::string& prefix, const std::string& what) const
 {
 	writeValue(c, s, prefix + "link_floor_xy_m", floor_xy_m, "[m] Std added to " + what);
-	writeDegrees(c, s, prefix + "link_floor_phi_deg", floor_phi, "[deg] Heading std added to " + what);
+	writeDegrees(c, s, prefix + "link_floor_phi_deg", floor_phi,
+				 "[deg] Heading std added to " + what);
 }
 
 }  // namespace lrgc

@@ -24,26 +24,28 @@ namespace lrgc
 {
 struct TLinkNoise
 {
-	double floor_xy_m = 0.01;  //!< [m]
+	double floor_xy_m = 0.01;              //!< [m]
 	double floor_phi = 0.25 * M_PI / 180;  //!< [rad] (0.25 deg)
 
 	/** diag(fxy^2, fxy^2, fphi^2): the covariance the floor adds [m^2, m^2, rad^2]. */
 	Eigen::Matrix3d floorCovariance() const
 	{
-		const Eigen::Vector3d floor2(floor_xy_m * floor_xy_m, floor_xy_m * floor_xy_m, floor_phi * floor_phi);
+		const Eigen::Vector3d floor2(floor_xy_m * floor_xy_m, floor_xy_m * floor_xy_m,
+									 floor_phi * floor_phi);
 		return floor2.asDiagonal();
 	}
 
 	/** Keys <prefix>link_floor_xy_m [m] and <prefix>link_floor_phi_deg of section s (each
 	 * must be >= 0); missing keys keep the current values. */
-	void load(const mrpt::config::CConfigFileBase& c, const std::string& s, const std::string& prefix);
+	void load(const mrpt::config::CConfigFileBase& c, const std::string& s,
+			  const std::string& prefix);
 	/** The same keys, commented "Std added to <what>". */
 	void save(mrpt::config::CConfigFileBase& c, const std::string& s, const std::string& prefix,
 			  const std::string& what) const;
 };
 
-inline Eigen::Matrix3d linkInformation(
-	const Eigen::Matrix3d& matchCov, const TLinkNoise& noise, double share = 1.0)
+inline Eigen::Matrix3d linkInformation(const Eigen::Matrix3d& matchCov, const TLinkNoise& noise,
+									   double share = 1.0)
 {
 	const Eigen::Matrix3d C = matchCov + noise.floorCovariance();
 	return C.inverse() / share;

@@ -86,7 +86,7 @@ private:
 	std::vector<TLink> m_links;
 	std::vector<uint8_t> m_enabled;                // per link
 	std::vector<std::vector<size_t>> m_adjacency;  // per node: incident link ids
-	size_t m_lowestMoved = SIZE_MAX;  // see takeLowestMovedNode()
+	size_t m_lowestMoved = SIZE_MAX;               // see takeLowestMovedNode()
 };
 
 }  // namespace lrgc

@@ -364,8 +364,8 @@ CPoseGraphOptimizer::~CPoseGraphOptimizer() = default;
 CPoseGraphOptimizer::CPoseGraphOptimizer(CPoseGraphOptimizer&&) noexcept = default;
 CPoseGraphOptimizer& CPoseGraphOptimizer::operator=(CPoseGraphOptimizer&&) noexcept = default;
 
-TOptimizationReport CPoseGraphOptimizer::solve(
-	detail::TProblem& prob, const std::vector<size_t>& vettedLoopLinks) const
+TOptimizationReport CPoseGraphOptimizer::solve(detail::TProblem& prob,
+											   const std::vector<size_t>& vettedLoopLinks) const
 {
 	TOptimizationReport rep;
 	rep.numFreeNodes = prob.varNode.size();
@@ -374,7 +374,8 @@ TOptimizationReport CPoseGraphOptimizer::solve(
 	rep.initialChi2 = prob.evaluate(prob.x, k, &rep.initialCost);
 	std::lock_guard<std::mutex> lock(m_impl->mutex);
 	detail::TNormalEquations ne;
-	const bool graduated = k.robust && scheduleLoopLinks(prob, m_params, m_impl->solver, ne, vettedLoopLinks);
+	const bool graduated =
+		k.robust && scheduleLoopLinks(prob, m_params, m_impl->solver, ne, vettedLoopLinks);
 	double maxPhiStart = 0;
 	for (const auto& l : prob.links) maxPhiStart = std::max(maxPhiStart, l.phiStart);
 	// Stages: the graduated links' Phi shrinks 4x per stage (a few LM iterations each) until
@@ -383,10 +384,9 @@ TOptimizationReport CPoseGraphOptimizer::solve(
 	{
 		const bool last = !graduated || maxPhiStart / k.divisor <= k.phi;
 		const int budget = m_params.max_iterations - rep.iterations;
-		const TPass pass =
-			levenbergMarquardt(prob, k, m_params, last ? m_params.relative_cost_tolerance : 1e-3,
-							   last ? budget : std::min(5, budget), m_impl->solver, ne,
-							   m_onIteration);
+		const TPass pass = levenbergMarquardt(
+			prob, k, m_params, last ? m_params.relative_cost_tolerance : 1e-3,
+			last ? budget : std::min(5, budget), m_impl->solver, ne, m_onIteration);
 		rep.iterations += pass.iterations;
 		rep.converged = last && pass.converged;
 		if (last || rep.iterations >= m_params.max_iterations) break;

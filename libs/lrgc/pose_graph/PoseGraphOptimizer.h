@@ -74,8 +74,8 @@ public:
 	 * `vettedLoopLinks`: ids of LoopClosure links that their caller has already found
 	 * consistent with the graph's uncertainty (CLoopCloser's gate covariance); they start
 	 * graduated without the back-end's own innovation test (see scheduleLoopLinks). */
-	TOptimizationReport optimize(
-		CPoseGraph& g, size_t anchor = 0, const std::vector<size_t>& vettedLoopLinks = {}) const;
+	TOptimizationReport optimize(CPoseGraph& g, size_t anchor = 0,
+								 const std::vector<size_t>& vettedLoopLinks = {}) const;
 
 	/** Optimises only `freeNodes` (e.g. the local registration window of the last K poses);
 	 * every other node reached by their enabled links is held fixed. Uses per-node adjacency
@@ -85,8 +85,8 @@ public:
 									   const std::vector<size_t>& freeNodes) const;
 
 private:
-	TOptimizationReport solve(
-		detail::TProblem& prob, const std::vector<size_t>& vettedLoopLinks = {}) const;
+	TOptimizationReport solve(detail::TProblem& prob,
+							  const std::vector<size_t>& vettedLoopLinks = {}) const;
 
 	struct Impl;  // CHOLMOD workspace and the cached symbolic factorisation
 	TPoseGraphOptimizerParams m_params;

@@ -29,12 +29,18 @@ void TPoseGraphOptimizerParams::saveToConfigFile(mrpt::config::CConfigFileBase& 
 												 const std::string& s) const
 {
 	writeValue(c, s, "max_iterations", max_iterations, "LM linearisations per solve [-]");
-	writeValue(c, s, "relative_cost_tolerance", relative_cost_tolerance, "Stop when the cost falls by less than this fraction [-]");
-	writeValue(c, s, "step_tolerance", step_tolerance, "Stop when the largest pose update is below this [m | rad]");
-	writeValue(c, s, "initial_lambda", initial_lambda, "LM damping at the first step, relative to diag(H) [-]");
-	writeValue(c, s, "robust_loop_closures", robust_loop_closures, "Dynamic Covariance Scaling on LoopClosure links [bool]");
-	writeValue(c, s, "dcs_phi", dcs_phi, "DCS Phi: loop links with chi2 <= Phi keep full weight [chi2]");
-	writeValue(c, s, "reject_scale", reject_scale, "Loop link reported as rejected if its final DCS scale is below [-]");
+	writeValue(c, s, "relative_cost_tolerance", relative_cost_tolerance,
+			   "Stop when the cost falls by less than this fraction [-]");
+	writeValue(c, s, "step_tolerance", step_tolerance,
+			   "Stop when the largest pose update is below this [m | rad]");
+	writeValue(c, s, "initial_lambda", initial_lambda,
+			   "LM damping at the first step, relative to diag(H) [-]");
+	writeValue(c, s, "robust_loop_closures", robust_loop_closures,
+			   "Dynamic Covariance Scaling on LoopClosure links [bool]");
+	writeValue(c, s, "dcs_phi", dcs_phi,
+			   "DCS Phi: loop links with chi2 <= Phi keep full weight [chi2]");
+	writeValue(c, s, "reject_scale", reject_scale,
+			   "Loop link reported as rejected if its final DCS scale is below [-]");
 }
 
 }  // namespace lrgc

@@ -1,5 +1,6 @@
 /* CPoseGraphOptimizer: residual Jacobians, convergence to ground truth, MRPT's reference
- * optimiser, windowed solves, parameters. False loop closures: PoseGraphOptimizerRobust_unittest. */
+ * optimiser, windowed solves, parameters. False loop closures:
+ * PoseGraphOptimizerRobust_unittest. */
 #include <gtest/gtest.h>
 #include <lrgc/pose_graph/PoseGraphOptimizer.h>
 #include "manhattan_pose_graph.h"
@@ -19,7 +20,6 @@
 using namespace lrgc;
 using lrgc::test::maxPoseDifference;
 using lrgc::test::rmsPositionError;
-
 
 TEST(PoseGraphOptimizer, ResidualJacobiansMatchNumericDifferences)
 {

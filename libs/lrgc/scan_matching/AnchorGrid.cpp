@@ -13,8 +13,8 @@ namespace
 constexpr uint64_t kHashMul = 0x9E3779B97F4A7C15ULL;  // Fibonacci hashing
 }
 
-CAnchorGrid::CAnchorGrid(
-	const std::vector<Eigen::Vector2d>& points, const std::vector<bool>& usable, double cell)
+CAnchorGrid::CAnchorGrid(const std::vector<Eigen::Vector2d>& points,
+						 const std::vector<bool>& usable, double cell)
 	: m_cell(cell)
 {
 	ASSERT_EQUAL_(points.size(), usable.size());
@@ -24,12 +24,15 @@ CAnchorGrid::CAnchorGrid(
 	std::vector<uint64_t> keys(n);
 	for (size_t i = 0; i < n; ++i)
 		keys[i] = cellKey(cellIndex(points[i].x(), m_cell), cellIndex(points[i].y(), m_cell));
-	const auto indexable = [](const Eigen::Vector2d& p) {
-		return p.allFinite() && std::abs(p.x()) <= kMaxCoordinate && std::abs(p.y()) <= kMaxCoordinate;
+	const auto indexable = [](const Eigen::Vector2d& p)
+	{
+		return p.allFinite() && std::abs(p.x()) <= kMaxCoordinate &&
+			   std::abs(p.y()) <= kMaxCoordinate;
 	};
 	for (uint32_t i = 0; i < n; ++i)
 		if (usable[i] && indexable(points[i])) m_index.push_back(i);
-	std::sort(m_index.begin(), m_index.end(), [&](uint32_t a, uint32_t b) { return keys[a] < keys[b]; });
+	std::sort(m_index.begin(), m_index.end(),
+			  [&](uint32_t a, uint32_t b) { return keys[a] < keys[b]; });
 	const size_t nUsable = m_index.size();
 	m_pos.resize(nUsable);
 	for (size_t k = 0; k < nUsable; ++k) m_pos[k] = points[m_index[k]];
@@ -37,13 +40,15 @@ CAnchorGrid::CAnchorGrid(
 	m_bx0 = m_by0 = INT64_MAX, m_bx1 = m_by1 = INT64_MIN;
 	for (const uint32_t i : m_index)
 	{
-		const int64_t ix = cellIndex(points[i].x(), m_cell), iy = cellIndex(points[i].y(), m_cell);
+		const int64_t ix = cellIndex(points[i].x(), m_cell),
+					  iy = cellIndex(points[i].y(), m_cell);
 		m_bx0 = std::min(m_bx0, ix), m_bx1 = std::max(m_bx1, ix);
 		m_by0 = std::min(m_by0, iy), m_by1 = std::max(m_by1, iy);
 	}
 	if (buildDense(points)) return;
 	size_t cells = 0;
-	for (size_t k = 0; k < nUsable; ++k) cells += (k == 0 || keys[m_index[k]] != keys[m_index[k - 1]]);
+	for (size_t k = 0; k < nUsable; ++k)
+		cells += (k == 0 || keys[m_index[k]] != keys[m_index[k - 1]]);
 	size_t size = 16;
 	while (size < 2 * cells) size *= 2;
 	m_table.assign(size, TCell{});
@@ -66,8 +71,10 @@ void CAnchorGrid::buildBitmap(const std::vector<Eigen::Vector2d>& points)
 	int64_t x0 = INT64_MAX, y0 = INT64_MAX, x1 = INT64_MIN, y1 = INT64_MIN;
 	for (const uint32_t i : m_index)
 	{
-		const int64_t ix = cellIndex(points[i].x(), m_cell), iy = cellIndex(points[i].y(), m_cell);
-		x0 = std::min(x0, ix), x1 = std::max(x1, ix), y0 = std::min(y0, iy), y1 = std::max(y1, iy);
+		const int64_t ix = cellIndex(points[i].x(), m_cell),
+					  iy = cellIndex(points[i].y(), m_cell);
+		x0 = std::min(x0, ix), x1 = std::max(x1, ix), y0 = std::min(y0, iy),
+		y1 = std::max(y1, iy);
 	}
 	const double cells = (double(x1 - x0) + 1) * (double(y1 - y0) + 1);
 	if (cells > double(kBitmapMaxCells)) return;
@@ -75,8 +82,9 @@ void CAnchorGrid::buildBitmap(const std::vector<Eigen::Vector2d>& points)
 	m_occupied.assign((static_cast<size_t>(m_nx * m_ny) + 63) / 64, 0);
 	for (const uint32_t i : m_index)
 	{
-		const uint64_t b = static_cast<uint64_t>(
-			(cellIndex(points[i].x(), m_cell) - m_x0) * m_ny + (cellIndex(points[i].y(), m_cell) - m_y0));
+		const uint64_t b =
+			static_cast<uint64_t>((cellIndex(points[i].x(), m_cell) - m_x0) * m_ny +
+								  (cellIndex(points[i].y(), m_cell) - m_y0));
 		m_occupied[b >> 6] |= uint64_t(1) << (b & 63);
 	}
 }
@@ -169,32 +177,43 @@ int CAnchorGrid::nearestDense(const Eigen::Vector2d& q, double maxDist, double* 
 	int bestIdx = -1;
 	Eigen::Vector2d bestPos(0, 0);
 	auto scan = [&](const std::vector<Eigen::Vector2d>& pos, const std::vector<uint32_t>& index,
-					uint32_t b, uint32_t e) {
+					uint32_t b, uint32_t e)
+	{
 		for (uint32_t k = b; k < e; ++k)
 		{
 			const double d2 = (pos[k] - q).squaredNorm();
-			if (d2 < best) best = d2, bestIdx = static_cast<int>(index[k]), bestPos = pos[k];
+			if (d2 < best)
+				best = d2, bestIdx = static_cast<int>(index[k]), bestPos = pos[k];
 			else if (d2 == best && bestIdx >= 0 &&
-					 ringRank(cellIndex(pos[k].x(), m_cell) - cx, cellIndex(pos[k].y(), m_cell) - cy) <
-						 ringRank(cellIndex(bestPos.x(), m_cell) - cx, cellIndex(bestPos.y(), m_cell) - cy))
+					 ringRank(cellIndex(pos[k].x(), m_cell) - cx,
+							  cellIndex(pos[k].y(), m_cell) - cy) <
+						 ringRank(cellIndex(bestPos.x(), m_cell) - cx,
+								  cellIndex(bestPos.y(), m_cell) - cy))
 				bestIdx = static_cast<int>(index[k]), bestPos = pos[k];
 		}
 	};
-	// Cells (ix, y0..y1) of the column table, (x0..x1, iy) of the row table, clipped to the box.
-	auto column = [&](int64_t ix, int64_t y0, int64_t y1) {
-		const int64_t dx = ix - m_x0, dy0 = std::max<int64_t>(y0 - m_y0, 0), dy1 = std::min(y1 - m_y0, m_ny - 1);
+	// Cells (ix, y0..y1) of the column table, (x0..x1, iy) of the row table, clipped to the
+	// box.
+	auto column = [&](int64_t ix, int64_t y0, int64_t y1)
+	{
+		const int64_t dx = ix - m_x0, dy0 = std::max<int64_t>(y0 - m_y0, 0),
+					  dy1 = std::min(y1 - m_y0, m_ny - 1);
 		if (dx < 0 || dx >= m_nx || dy0 > dy1) return;
 		scan(m_pos, m_index, m_start[dx * m_ny + dy0], m_start[dx * m_ny + dy1 + 1]);
 	};
-	auto row = [&](int64_t iy, int64_t x0, int64_t x1) {
-		const int64_t dy = iy - m_y0, dx0 = std::max<int64_t>(x0 - m_x0, 0), dx1 = std::min(x1 - m_x0, m_nx - 1);
+	auto row = [&](int64_t iy, int64_t x0, int64_t x1)
+	{
+		const int64_t dy = iy - m_y0, dx0 = std::max<int64_t>(x0 - m_x0, 0),
+					  dx1 = std::min(x1 - m_x0, m_nx - 1);
 		if (dy < 0 || dy >= m_ny || dx0 > dx1) return;
-		scan(m_rowPos, m_rowIndex, m_rowStart[dy * m_nx + dx0], m_rowStart[dy * m_nx + dx1 + 1]);
+		scan(m_rowPos, m_rowIndex, m_rowStart[dy * m_nx + dx0],
+			 m_rowStart[dy * m_nx + dx1 + 1]);
 	};
 	const int64_t last = lastRing(cx, cy);
 	for (int64_t k = 0; k <= last; ++k)
 	{
-		if (k == 0) column(cx, cy, cy);
+		if (k == 0)
+			column(cx, cy, cy);
 		else
 		{
 			row(cy - k, cx - k, cx + k);
@@ -202,9 +221,9 @@ int CAnchorGrid::nearestDense(const Eigen::Vector2d& q, double maxDist, double* 
 			column(cx - k, cy - k + 1, cy + k - 1);
 			column(cx + k, cy - k + 1, cy + k - 1);
 		}
-		const double lb = std::min(
-			std::min(q.x() - (cx - k) * m_cell, (cx + k + 1) * m_cell - q.x()),
-			std::min(q.y() - (cy - k) * m_cell, (cy + k + 1) * m_cell - q.y()));
+		const double lb =
+			std::min(std::min(q.x() - (cx - k) * m_cell, (cx + k + 1) * m_cell - q.x()),
+					 std::min(q.y() - (cy - k) * m_cell, (cy + k + 1) * m_cell - q.y()));
 		if (lb * lb >= best) break;
 	}
 	if (bestIdx >= 0 && d2Out) *d2Out = best;
@@ -249,15 +268,17 @@ int CAnchorGrid::nearest(const Eigen::Vector2d& q, double maxDist, double* d2Out
 	const int64_t last = lastRing(cx, cy);
 	for (int64_t k = 0; k <= last; ++k)
 	{
-		if (k == 0) visit(cx, cy);
+		if (k == 0)
+			visit(cx, cy);
 		else
 		{
 			for (int64_t i = -k; i <= k; ++i) visit(cx + i, cy - k), visit(cx + i, cy + k);
-			for (int64_t j = -k + 1; j <= k - 1; ++j) visit(cx - k, cy + j), visit(cx + k, cy + j);
+			for (int64_t j = -k + 1; j <= k - 1; ++j)
+				visit(cx - k, cy + j), visit(cx + k, cy + j);
 		}
-		const double lb = std::min(
-			std::min(q.x() - (cx - k) * m_cell, (cx + k + 1) * m_cell - q.x()),
-			std::min(q.y() - (cy - k) * m_cell, (cy + k + 1) * m_cell - q.y()));
+		const double lb =
+			std::min(std::min(q.x() - (cx - k) * m_cell, (cx + k + 1) * m_cell - q.x()),
+					 std::min(q.y() - (cy - k) * m_cell, (cy + k + 1) * m_cell - q.y()));
 		if (lb * lb >= best) break;
 	}
 	if (bestIdx >= 0 && d2Out) *d2Out = best;

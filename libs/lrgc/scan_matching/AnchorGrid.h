@@ -29,8 +29,8 @@ class CAnchorGrid
 public:
 	CAnchorGrid() = default;
 	/** Indexes points[i] for every i with usable[i] (sizes must match). */
-	CAnchorGrid(
-		const std::vector<Eigen::Vector2d>& points, const std::vector<bool>& usable, double cell);
+	CAnchorGrid(const std::vector<Eigen::Vector2d>& points, const std::vector<bool>& usable,
+				double cell);
 
 	bool empty() const { return m_pos.empty(); }
 
@@ -55,8 +55,10 @@ public:
 	static int64_t cellIndex(double v, double cell)
 	{
 		double q = v / cell;
-		if (!(q >= -kMaxCellIndex)) q = -kMaxCellIndex;
-		else if (q > kMaxCellIndex) q = kMaxCellIndex;
+		if (!(q >= -kMaxCellIndex))
+			q = -kMaxCellIndex;
+		else if (q > kMaxCellIndex)
+			q = kMaxCellIndex;
 		const auto t = static_cast<int64_t>(q);  // truncation towards zero
 		return t - (static_cast<double>(t) > q);
 	}
@@ -110,7 +112,7 @@ private:
 	static uint64_t cellKey(int64_t ix, int64_t iy)
 	{
 		return (static_cast<uint64_t>(static_cast<uint32_t>(ix)) << 32) |
-			static_cast<uint32_t>(iy);
+			   static_cast<uint32_t>(iy);
 	}
 	const TCell* findCell(int64_t ix, int64_t iy) const;
 	int nearestDense(const Eigen::Vector2d& q, double maxDist, double* d2Out) const;
@@ -122,8 +124,8 @@ private:
 	bool mayHaveWithin(const Eigen::Vector2d& q, double maxDist) const
 	{
 		return q.allFinite() && q.x() >= m_bx0 * m_cell - maxDist &&
-			q.x() <= (m_bx1 + 1) * m_cell + maxDist && q.y() >= m_by0 * m_cell - maxDist &&
-			q.y() <= (m_by1 + 1) * m_cell + maxDist;
+			   q.x() <= (m_bx1 + 1) * m_cell + maxDist && q.y() >= m_by0 * m_cell - maxDist &&
+			   q.y() <= (m_by1 + 1) * m_cell + maxDist;
 	}
 	/** Searches of more rings, or radius queries over more cells, than this (an absurd maxDist
 	 * or radius, far beyond any gate) read every point instead: bounded work whatever the
@@ -139,13 +141,15 @@ private:
 	}
 
 	std::vector<Eigen::Vector2d> m_pos;  // indexed points, sorted by cell
-	std::vector<uint32_t> m_index;  // their indices in the input
-	std::vector<TCell> m_table;  // size: power of two
+	std::vector<uint32_t> m_index;       // their indices in the input
+	std::vector<TCell> m_table;          // size: power of two
 	uint64_t m_mask = 0;
 	// The box of the indexed points' cells: (m_x0, m_y0) + [0, m_nx) x [0, m_ny).
-	// Hashed mode: bit i m_ny + j of m_occupied is set if cell (m_x0 + i, m_y0 + j) holds a point.
+	// Hashed mode: bit i m_ny + j of m_occupied is set if cell (m_x0 + i, m_y0 + j) holds a
+	// point.
 	std::vector<uint64_t> m_occupied;
-	// Dense table: cell (m_x0 + i, m_y0 + j) holds the run [m_start[i m_ny + j], m_start[.. + 1])
+	// Dense table: cell (m_x0 + i, m_y0 + j) holds the run [m_start[i m_ny + j], m_start[.. +
+	// 1])
 	std::vector<uint32_t> m_start;
 	int64_t m_x0 = 0, m_y0 = 0, m_nx = 0, m_ny = 0;
 	// The points again in row-major cell order: cell (m_x0 + i, m_y0 + j) holds
@@ -167,7 +171,8 @@ void CAnchorGrid::forEachPointWithin(const Eigen::Vector2d& q, double radius, F&
 				  x1 = std::min(cellIndex(q.x() + radius, m_cell), m_bx1);
 	const int64_t y0 = std::max(cellIndex(q.y() - radius, m_cell), m_by0),
 				  y1 = std::min(cellIndex(q.y() + radius, m_cell), m_by1);
-	auto visitRun = [&](uint32_t b, uint32_t e) {
+	auto visitRun = [&](uint32_t b, uint32_t e)
+	{
 		for (uint32_t k = b; k < e; ++k)
 			if ((m_pos[k] - q).squaredNorm() <= r2) fn(m_index[k], m_pos[k]);
 	};
@@ -179,9 +184,11 @@ void CAnchorGrid::forEachPointWithin(const Eigen::Vector2d& q, double radius, F&
 	if (!m_start.empty())
 	{
 		// Dense table: the cells y0..y1 of a column are one run of m_pos, in (iy, run) order.
-		const int64_t dy0 = std::max<int64_t>(y0 - m_y0, 0), dy1 = std::min(y1 - m_y0, m_ny - 1);
+		const int64_t dy0 = std::max<int64_t>(y0 - m_y0, 0),
+					  dy1 = std::min(y1 - m_y0, m_ny - 1);
 		if (dy0 > dy1) return;
-		for (int64_t dx = std::max<int64_t>(x0 - m_x0, 0); dx <= std::min(x1 - m_x0, m_nx - 1); ++dx)
+		for (int64_t dx = std::max<int64_t>(x0 - m_x0, 0); dx <= std::min(x1 - m_x0, m_nx - 1);
+			 ++dx)
 			visitRun(m_start[dx * m_ny + dy0], m_start[dx * m_ny + dy1 + 1]);
 		return;
 	}

@@ -24,7 +24,8 @@ TCloud randomCloud(size_t n, uint32_t seed)
 	std::uniform_real_distribution<double> u(-5, 5);
 	std::bernoulli_distribution keep(0.8);
 	TCloud c;
-	for (size_t i = 0; i < n; ++i) c.pts.emplace_back(u(rng), u(rng)), c.usable.push_back(keep(rng));
+	for (size_t i = 0; i < n; ++i)
+		c.pts.emplace_back(u(rng), u(rng)), c.usable.push_back(keep(rng));
 	return c;
 }
 }  // namespace
@@ -49,7 +50,10 @@ TEST(AnchorGrid, nearestEqualsBruteForceWithinTheGate)
 			double d2 = -1;
 			const int got = grid.nearest(q, gate, &d2);
 			ASSERT_EQ(got, expected) << "cell " << cell << " query " << q.transpose();
-			if (got >= 0) { EXPECT_DOUBLE_EQ(d2, best); }
+			if (got >= 0)
+			{
+				EXPECT_DOUBLE_EQ(d2, best);
+			}
 		}
 	}
 }
@@ -58,7 +62,8 @@ TEST(AnchorGrid, forEachWithinVisitsExactlyTheUsablePointsInTheDisc)
 {
 	const TCloud c = randomCloud(1000, 9);
 	const CAnchorGrid grid(c.pts, c.usable, 0.25);
-	for (const Eigen::Vector2d& q : {Eigen::Vector2d(0, 0), Eigen::Vector2d(4.9, -4.9), Eigen::Vector2d(9, 9)})
+	for (const Eigen::Vector2d& q :
+		 {Eigen::Vector2d(0, 0), Eigen::Vector2d(4.9, -4.9), Eigen::Vector2d(9, 9)})
 	{
 		std::set<size_t> got, expected;
 		grid.forEachWithin(q, 0.8, [&](uint32_t i) { got.insert(i); });
@@ -68,10 +73,12 @@ TEST(AnchorGrid, forEachWithinVisitsExactlyTheUsablePointsInTheDisc)
 		// forEachPointWithin: the same points, in the same order, each with its position.
 		std::vector<uint32_t> order, orderWithPos;
 		grid.forEachWithin(q, 0.8, [&](uint32_t i) { order.push_back(i); });
-		grid.forEachPointWithin(q, 0.8, [&](uint32_t i, const Eigen::Vector2d& p) {
-			orderWithPos.push_back(i);
-			EXPECT_EQ(p, c.pts[i]);
-		});
+		grid.forEachPointWithin(q, 0.8,
+								[&](uint32_t i, const Eigen::Vector2d& p)
+								{
+									orderWithPos.push_back(i);
+									EXPECT_EQ(p, c.pts[i]);
+								});
 		EXPECT_EQ(orderWithPos, order);
 	}
 }
@@ -107,7 +114,10 @@ TEST(AnchorGrid, denseAndHashedCellsGiveTheSameAnswers)
 			double d2a = -1, d2b = -1;
 			const int a = dense.nearest(q, gate, &d2a), b = hashed.nearest(q, gate, &d2b);
 			ASSERT_EQ(a, b) << "query " << q.transpose() << " gate " << gate;
-			if (a >= 0) { EXPECT_EQ(d2a, d2b); }
+			if (a >= 0)
+			{
+				EXPECT_EQ(d2a, d2b);
+			}
 		}
 		std::vector<uint32_t> inDense, inHashed;
 		dense.forEachWithin(q, 0.3, [&](uint32_t i) { inDense.push_back(i); });
@@ -132,14 +142,17 @@ TEST(AnchorGrid, forEachWithinVisitsCellsInColumnMajorOrderDenseOrHashed)
 	{
 		const CAnchorGrid grid(cloud->pts, cloud->usable, cell);
 		EXPECT_EQ(grid.isDense(), cloud == &c);
-		for (const Eigen::Vector2d& q : {Eigen::Vector2d(0.03, -1.2), Eigen::Vector2d(-4.5, 4.6)})
+		for (const Eigen::Vector2d& q :
+			 {Eigen::Vector2d(0.03, -1.2), Eigen::Vector2d(-4.5, 4.6)})
 		{
 			std::vector<std::pair<int64_t, int64_t>> cells;
-			grid.forEachWithin(q, 1.5, [&](uint32_t i) {
-				cells.emplace_back(
-					CAnchorGrid::cellIndex(cloud->pts[i].x(), cell),
-					CAnchorGrid::cellIndex(cloud->pts[i].y(), cell));
-			});
+			grid.forEachWithin(q, 1.5,
+							   [&](uint32_t i)
+							   {
+								   cells.emplace_back(
+									   CAnchorGrid::cellIndex(cloud->pts[i].x(), cell),
+									   CAnchorGrid::cellIndex(cloud->pts[i].y(), cell));
+							   });
 			EXPECT_GT(cells.size(), 20u);
 			EXPECT_TRUE(std::is_sorted(cells.begin(), cells.end()));
 		}
@@ -148,10 +161,11 @@ TEST(AnchorGrid, forEachWithinVisitsCellsInColumnMajorOrderDenseOrHashed)
 
 TEST(AnchorGrid, cellIndexIsFloorOfTheRatio)
 {
-	for (const double v : {0.0, -0.0, 0.1, -0.1, 0.3, -0.3, 0.29999999999999999, 1e-300, -1e-300, 123.456,
-						   -123.456, 1e6, -1e6, 0.7, -0.7})
+	for (const double v : {0.0, -0.0, 0.1, -0.1, 0.3, -0.3, 0.29999999999999999, 1e-300,
+						   -1e-300, 123.456, -123.456, 1e6, -1e6, 0.7, -0.7})
 		for (const double cell : {0.1, 0.02, 0.3, 1.0})
-			EXPECT_EQ(CAnchorGrid::cellIndex(v, cell), static_cast<int64_t>(std::floor(v / cell)))
+			EXPECT_EQ(CAnchorGrid::cellIndex(v, cell),
+					  static_cast<int64_t>(std::floor(v / cell)))
 				<< v << " / " << cell;
 }
 
@@ -227,10 +241,12 @@ TEST(AnchorGrid, FarNonFiniteAndAbsurdInputsEndAndAnswerRight)
 					EXPECT_EQ((c.pts[size_t(got)] - q).squaredNorm(), best) << q.transpose();
 				}
 				size_t within = 0;
-				grid.forEachWithin(q, std::min(maxDist, 1e3), [&](uint32_t i) {
-					EXPECT_LT(i, sane) << "an absurd point was indexed";
-					++within;
-				});
+				grid.forEachWithin(q, std::min(maxDist, 1e3),
+								   [&](uint32_t i)
+								   {
+									   EXPECT_LT(i, sane) << "an absurd point was indexed";
+									   ++within;
+								   });
 			}
 	}
 }

@@ -10,7 +10,8 @@ namespace lrgc
 {
 namespace
 {
-constexpr double kFreeSpaceBin_rad = M_PI / 180;  // [rad] bearing bins of the range images (1 deg)
+constexpr double kFreeSpaceBin_rad =
+	M_PI / 180;                         // [rad] bearing bins of the range images (1 deg)
 constexpr size_t kFreeSpaceBins = 361;  // bins over (-pi, pi]
 /** [m] Violating scan points count only with a violating neighbour in scan order this close. */
 constexpr double kWallGap_m = 0.3;
@@ -28,7 +29,8 @@ struct TBinBorders
 	TBinBorders()
 	{
 		for (size_t b = 0; b < kFreeSpaceBins; ++b)
-			c[b] = std::cos(b * kFreeSpaceBin_rad - M_PI), s[b] = std::sin(b * kFreeSpaceBin_rad - M_PI);
+			c[b] = std::cos(b * kFreeSpaceBin_rad - M_PI),
+			s[b] = std::sin(b * kFreeSpaceBin_rad - M_PI);
 	}
 };
 }  // namespace
@@ -51,7 +53,8 @@ long bearingBin(double x, double y)
 	const long b0 = static_cast<long>((a + M_PI) / kFreeSpaceBin_rad);
 	if (b0 < 2 || b0 > 357) return exactBin(x, y);
 	const double eps = 1e-9 * (ax + ay);  // >= 1e-9 rad times |(x, y)|
-	auto cross = [&](long b) { return borders.c[b] * y - borders.s[b] * x; };  // |d| sin(d - border)
+	auto cross = [&](long b)
+	{ return borders.c[b] * y - borders.s[b] * x; };  // |d| sin(d - border)
 	for (long b = b0 - 1; b <= b0 + 1; ++b)
 	{
 		const double lo = cross(b), hi = cross(b + 1);
@@ -66,7 +69,8 @@ CRangeImage::CRangeImage(const std::vector<Eigen::Vector2d>& pts)
 	auto& m = m_minRange;
 	for (const auto& q : pts)
 	{
-		const auto b = std::min(kFreeSpaceBins - 1, static_cast<size_t>(bearingBin(q.x(), q.y())));
+		const auto b =
+			std::min(kFreeSpaceBins - 1, static_cast<size_t>(bearingBin(q.x(), q.y())));
 		const auto r = static_cast<float>(q.norm());
 		if (m[b] == 0 || r < m[b]) m[b] = r;
 	}
@@ -79,7 +83,8 @@ bool CRangeImage::inFreeSpace(const Eigen::Vector2d& d, double margin, bool* kno
 	const long n = static_cast<long>(m_minRange.size());
 	const long b = bearingBin(d.x(), d.y());
 	float f = 1e9f;
-	for (long k = b - 1; k <= b + 1; ++k) f = std::min(f, m_minRange[static_cast<size_t>((k + n) % n)]);
+	for (long k = b - 1; k <= b + 1; ++k)
+		f = std::min(f, m_minRange[static_cast<size_t>((k + n) % n)]);
 	if (known) *known = f > 0;
 	return d.norm() < f - margin;
 }
@@ -89,8 +94,8 @@ void CFreeSpaceViews::add(const TScan2D& scan, const mrpt::math::TPose2D& scanIn
 	m_views.push_back({scanInRef, CRangeImage(scan.points)});
 }
 
-double CFreeSpaceViews::scanViolation(
-	const TScan2D& scan, const mrpt::math::TPose2D& scanInRef, double margin) const
+double CFreeSpaceViews::scanViolation(const TScan2D& scan, const mrpt::math::TPose2D& scanInRef,
+									  double margin) const
 {
 	const auto& pts = scan.points;
 	if (pts.empty() || m_views.empty()) return 0;
@@ -107,10 +112,11 @@ double CFreeSpaceViews::scanViolation(
 	const double c0 = std::cos(scanInRef.phi), s0 = std::sin(scanInRef.phi);
 	for (size_t i = 0; i < pts.size(); ++i)
 	{
-		inRef[i] = Eigen::Vector2d(
-			scanInRef.x + c0 * pts[i].x() - s0 * pts[i].y(), scanInRef.y + s0 * pts[i].x() + c0 * pts[i].y());
+		inRef[i] = Eigen::Vector2d(scanInRef.x + c0 * pts[i].x() - s0 * pts[i].y(),
+								   scanInRef.y + s0 * pts[i].x() + c0 * pts[i].y());
 		for (size_t k = 0; k < m_views.size(); ++k)
-			if (m_views[k].image.inFreeSpace(toView[k].first * inRef[i] + toView[k].second, margin))
+			if (m_views[k].image.inFreeSpace(toView[k].first * inRef[i] + toView[k].second,
+											 margin))
 			{
 				viol[i] = 1;
 				break;
@@ -120,7 +126,8 @@ double CFreeSpaceViews::scanViolation(
 	for (size_t i = 0; i < pts.size(); ++i)
 	{
 		const bool prev = i > 0 && viol[i - 1] && (inRef[i] - inRef[i - 1]).norm() < kWallGap_m;
-		const bool next = i + 1 < pts.size() && viol[i + 1] && (inRef[i] - inRef[i + 1]).norm() < kWallGap_m;
+		const bool next =
+			i + 1 < pts.size() && viol[i + 1] && (inRef[i] - inRef[i + 1]).norm() < kWallGap_m;
 		count += viol[i] && (prev || next);
 	}
 	return static_cast<double>(count) / pts.size();

@@ -47,8 +47,8 @@ public:
 	/** Share [0..1] of `scan`'s points (placed at scanInRef) lying in the free space of some
 	 * view, counted only when a neighbour in scan order within kWallGap_m does too (walls, not
 	 * isolated spurious returns). 0 without views. */
-	double scanViolation(
-		const TScan2D& scan, const mrpt::math::TPose2D& scanInRef, double margin) const;
+	double scanViolation(const TScan2D& scan, const mrpt::math::TPose2D& scanInRef,
+						 double margin) const;
 
 private:
 	struct TView

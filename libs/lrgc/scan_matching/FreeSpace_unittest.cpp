@@ -56,13 +56,15 @@ TEST(FreeSpace, aScanPushedIntoSeenFreeSpaceViolatesItAndTheTrueOneDoesNot)
 TEST(FreeSpace, bearingBinIsTheAtan2FormulaEverywhere)
 {
 	const double bin = M_PI / 180;
-	auto exact = [&](double x, double y) { return static_cast<long>((std::atan2(y, x) + M_PI) / bin); };
+	auto exact = [&](double x, double y)
+	{ return static_cast<long>((std::atan2(y, x) + M_PI) / bin); };
 	std::vector<std::pair<double, double>> dirs = {
-		{1, 0}, {-1, 0}, {-1, -0.0}, {0, 1}, {0, -1}, {0, 0}, {-0.0, 0}, {1, 1}, {-1, 1}, {-1, -1},
-		{1, -1}, {-5, 1e-300}, {-5, -1e-300}, {3, 1e-17}};
+		{1, 0}, {-1, 0}, {-1, -0.0}, {0, 1},  {0, -1},      {0, 0},        {-0.0, 0},
+		{1, 1}, {-1, 1}, {-1, -1},   {1, -1}, {-5, 1e-300}, {-5, -1e-300}, {3, 1e-17}};
 	// Every bin border, on it and just either side of it (down to 1e-15 rad), at 3 ranges.
 	for (int b = 0; b <= 360; ++b)
-		for (const double off : {0.0, 1e-15, -1e-15, 1e-10, -1e-10, 1e-8, -1e-8, 1e-4, -1e-4, 0.5 * bin})
+		for (const double off :
+			 {0.0, 1e-15, -1e-15, 1e-10, -1e-10, 1e-8, -1e-8, 1e-4, -1e-4, 0.5 * bin})
 			for (const double r : {0.05, 3.7, 81.0})
 			{
 				const double t = b * bin - M_PI + off;

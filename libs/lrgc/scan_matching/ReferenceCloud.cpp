@@ -17,12 +17,14 @@ namespace lrgc
 {
 namespace
 {
-int64_t cellIndex(double v, double cell) { return CAnchorGrid::cellIndex(v, cell); }
+int64_t cellIndex(double v, double cell)
+{
+	return CAnchorGrid::cellIndex(v, cell);
+}
 
 /** Points averaged per square cell of side `res`: returns means and counts (as weights). */
-void voxelReduce(
-	const std::vector<Eigen::Vector2d>& pts, double res, std::vector<Eigen::Vector2d>& out,
-	std::vector<double>& weights)
+void voxelReduce(const std::vector<Eigen::Vector2d>& pts, double res,
+				 std::vector<Eigen::Vector2d>& out, std::vector<double>& weights)
 {
 	std::vector<std::pair<std::pair<int64_t, int64_t>, uint32_t>> keyed;
 	keyed.reserve(pts.size());
@@ -45,7 +47,8 @@ void voxelReduce(
 }
 }  // namespace
 
-CReferenceCloud::CReferenceCloud(std::vector<Eigen::Vector2d> pointsInRef, const TScanMatcherParams& p)
+CReferenceCloud::CReferenceCloud(std::vector<Eigen::Vector2d> pointsInRef,
+								 const TScanMatcherParams& p)
 {
 	p.validate();
 	m_inputCount = pointsInRef.size();
@@ -59,7 +62,7 @@ CReferenceCloud::CReferenceCloud(std::vector<Eigen::Vector2d> pointsInRef, const
 	buildGrid();
 	fitLines(p, weights);
 	m_rawGrid = std::move(m_grid);  // the fits' neighbourhoods, for forEachFitTerm
-	buildGrid();  // line anchors moved (by about the noise) onto their lines
+	buildGrid();                    // line anchors moved (by about the noise) onto their lines
 }
 
 CReferenceCloud CReferenceCloud::fromScan(const TScan2D& scan, const TScanMatcherParams& p)
@@ -69,8 +72,9 @@ CReferenceCloud CReferenceCloud::fromScan(const TScan2D& scan, const TScanMatche
 	return c;
 }
 
-double CReferenceCloud::freeSpaceViolation(
-	const TScan2D& scan, const mrpt::math::TPose2D& scanInRef, double margin) const
+double CReferenceCloud::freeSpaceViolation(const TScan2D& scan,
+										   const mrpt::math::TPose2D& scanInRef,
+										   double margin) const
 {
 	const auto& pts = scan.points;
 	if (pts.empty()) return 0;
@@ -84,8 +88,8 @@ double CReferenceCloud::freeSpaceViolation(
 	{
 		if (!a.isLine) continue;
 		bool k = false;
-		const Eigen::Vector2d d(
-			refInScan.x + c1 * a.pos.x() - s1 * a.pos.y(), refInScan.y + s1 * a.pos.x() + c1 * a.pos.y());
+		const Eigen::Vector2d d(refInScan.x + c1 * a.pos.x() - s1 * a.pos.y(),
+								refInScan.y + s1 * a.pos.x() + c1 * a.pos.y());
 		const bool v = img.inFreeSpace(d, margin, &k);
 		known += k, viol += v && k;
 	}
@@ -98,9 +102,8 @@ CReferenceCloud CReferenceCloud::fromScansWhere(
 	const TScanMatcherParams& p, const std::function<bool(const Eigen::Vector2d&)>& keep)
 {
 	if (scans.size() != scansInRef.size())
-		THROW_EXCEPTION_FMT(
-			"CReferenceCloud::fromScans: %zu scans but %zu poses", scans.size(),
-			scansInRef.size());
+		THROW_EXCEPTION_FMT("CReferenceCloud::fromScans: %zu scans but %zu poses", scans.size(),
+							scansInRef.size());
 	std::vector<Eigen::Vector2d> pts;
 	size_t n = 0;
 	for (const auto& s : scans) n += s.points.size();
@@ -116,9 +119,9 @@ CReferenceCloud CReferenceCloud::fromScansWhere(
 	return c;
 }
 
-CReferenceCloud CReferenceCloud::fromScans(
-	const std::vector<TScan2D>& scans, const std::vector<mrpt::math::TPose2D>& scansInRef,
-	const TScanMatcherParams& p)
+CReferenceCloud CReferenceCloud::fromScans(const std::vector<TScan2D>& scans,
+										   const std::vector<mrpt::math::TPose2D>& scansInRef,
+										   const TScanMatcherParams& p)
 {
 	return fromScansWhere(scans, scansInRef, p, {});
 }
@@ -143,11 +146,13 @@ CReferenceCloud CReferenceCloud::fromScansNear(
 	}
 	std::sort(marked.begin(), marked.end());
 	marked.erase(std::unique(marked.begin(), marked.end()), marked.end());
-	return fromScansWhere(scans, scansInRef, p, [&](const Eigen::Vector2d& r) {
-		return std::binary_search(
-			marked.begin(), marked.end(),
-			std::pair{cellIndex(r.x(), margin), cellIndex(r.y(), margin)});
-	});
+	return fromScansWhere(scans, scansInRef, p,
+						  [&](const Eigen::Vector2d& r)
+						  {
+							  return std::binary_search(marked.begin(), marked.end(),
+														std::pair{cellIndex(r.x(), margin),
+																  cellIndex(r.y(), margin)});
+						  });
 }
 
 void CReferenceCloud::buildGrid()
@@ -171,18 +176,20 @@ struct TMoments
 	double nearest2 = std::numeric_limits<double>::infinity();
 };
 
-TMoments momentsWithin(
-	const CAnchorGrid& grid, const std::vector<double>& w, size_t self,
-	const Eigen::Vector2d& x, double r)
+TMoments momentsWithin(const CAnchorGrid& grid, const std::vector<double>& w, size_t self,
+					   const Eigen::Vector2d& x, double r)
 {
 	TMoments mo;
-	grid.forEachPointWithin(x, r, [&](uint32_t k, const Eigen::Vector2d& pos) {
-		const double wk = w[k], dx = pos.x() - x.x(), dy = pos.y() - x.y();
-		mo.W += wk, mo.sx += wk * dx, mo.sy += wk * dy;
-		mo.sxx += wk * dx * dx, mo.sxy += wk * dx * dy, mo.syy += wk * dy * dy;
-		++mo.count;
-		if (k != self) mo.nearest2 = std::min(mo.nearest2, dx * dx + dy * dy);
-	});
+	grid.forEachPointWithin(
+		x, r,
+		[&](uint32_t k, const Eigen::Vector2d& pos)
+		{
+			const double wk = w[k], dx = pos.x() - x.x(), dy = pos.y() - x.y();
+			mo.W += wk, mo.sx += wk * dx, mo.sy += wk * dy;
+			mo.sxx += wk * dx * dx, mo.sxy += wk * dx * dy, mo.syy += wk * dy * dy;
+			++mo.count;
+			if (k != self) mo.nearest2 = std::min(mo.nearest2, dx * dx + dy * dy);
+		});
 	return mo;
 }
 
@@ -200,10 +207,12 @@ std::optional<TLineFromMoments> lineOf(const TMoments& mo, const Eigen::Vector2d
 	if (mo.count < 4) return std::nullopt;
 	const double W = mo.W;
 	const double mx = mo.sx / W, my = mo.sy / W;
-	const double cxx = mo.sxx / W - mx * mx, cxy = mo.sxy / W - mx * my, cyy = mo.syy / W - my * my;
+	const double cxx = mo.sxx / W - mx * mx, cxy = mo.sxy / W - mx * my,
+				 cyy = mo.syy / W - my * my;
 	TLineFromMoments f;
 	f.m = x + Eigen::Vector2d(mx, my);
-	const double tr = cxx + cyy, disc = std::sqrt(std::max(0.0, 0.25 * (cxx - cyy) * (cxx - cyy) + cxy * cxy));
+	const double tr = cxx + cyy,
+				 disc = std::sqrt(std::max(0.0, 0.25 * (cxx - cyy) * (cxx - cyy) + cxy * cxy));
 	f.l1 = 0.5 * tr + disc, f.l2 = std::max(0.0, 0.5 * tr - disc);
 	if (!(f.l1 > 0) || f.l2 > 0.0625 * f.l1) return std::nullopt;
 	// Tangent: eigenvector of l1, (l1 - cyy, cxy) or (cxy, l1 - cxx), whichever is longer (both
@@ -228,12 +237,14 @@ void CReferenceCloud::fitLines(const TScanMatcherParams& p, const std::vector<do
 	// (variance sigma^2 / w_k) and, from the weighted least-squares line,
 	//   beta_jk = w_k / W + u_j w_k u_k / sum_l w_l u_l^2,   u = (x - m) . t.
 	// sigma^2 per raw point is estimated from each fit, l2 W / (n - 2), and its median kept.
-	// The beta_jk are not stored: forEachFitTerm recomputes them from the fit (m, W, sum w u^2).
+	// The beta_jk are not stored: forEachFitTerm recomputes them from the fit (m, W, sum w
+	// u^2).
 	std::vector<Eigen::Vector2d> newPos(m_anchors.size());
 	std::vector<double> sigma2;
 	m_count = w;
 	m_lineFits.assign(m_anchors.size(), TLineFit{});
-	for (size_t i = 0; i < m_anchors.size(); ++i) newPos[i] = fitAnchor(i, p.normal_radius_m, w, sigma2);
+	for (size_t i = 0; i < m_anchors.size(); ++i)
+		newPos[i] = fitAnchor(i, p.normal_radius_m, w, sigma2);
 	for (size_t i = 0; i < m_anchors.size(); ++i) m_anchors[i].pos = newPos[i];
 	m_noiseVar = p.min_residual_std_m * p.min_residual_std_m;
 	if (!sigma2.empty())
@@ -248,8 +259,8 @@ void CReferenceCloud::fitLines(const TScanMatcherParams& p, const std::vector<do
 // has too few points or is too thick: range noise thickens a small neighbourhood, a corner
 // stays thick at every size. Returns the anchor's position (projected onto its line); appends
 // the fit's noise estimate l2 W / (n - 2) to `sigma2`.
-Eigen::Vector2d CReferenceCloud::fitAnchor(
-	size_t i, double r0, const std::vector<double>& w, std::vector<double>& sigma2)
+Eigen::Vector2d CReferenceCloud::fitAnchor(size_t i, double r0, const std::vector<double>& w,
+										   std::vector<double>& sigma2)
 {
 	const Eigen::Vector2d x = m_anchors[i].pos;
 	double r = r0;

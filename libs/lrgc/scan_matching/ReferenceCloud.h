@@ -9,8 +9,8 @@
  *     weighted PCA of its neighbours within normal_radius_m (widened up to 4x where the data
  *     are sparse). A thin neighbourhood (thickness < 1/4 of its length along the line) makes a
  *     LINE anchor: the point projected onto the fitted line, plus the unit normal. Otherwise
- *     (corners, clutter, isolated returns) it is a POINT anchor as in Lu & Milios' point-to-point
- *     correspondences.
+ *     (corners, clutter, isolated returns) it is a POINT anchor as in Lu & Milios'
+ * point-to-point correspondences.
  *  3. Noise model: how each fitted line's error depends on the reduced points' noise, for the
  *     match covariance (ScanMatcherCovariance.cpp).
  * Queries go through a CAnchorGrid over the anchors (exact bounded nearest neighbour), and the
@@ -41,7 +41,7 @@ public:
 	/** One reduced reference point with its local geometry. */
 	struct TAnchor
 	{
-		Eigen::Vector2d pos;  //!< [m] in ref; on the fitted line for LINE anchors
+		Eigen::Vector2d pos;           //!< [m] in ref; on the fitted line for LINE anchors
 		Eigen::Vector2d normal{0, 0};  //!< unit normal for LINE anchors, (0,0) for POINT
 		bool isLine = false;
 		float fitRadius = 0;  //!< [m] neighbourhood radius of the line fit (0 for POINT)
@@ -51,7 +51,8 @@ public:
 		 * neighbour)^2 / 12: a point-to-point pair need not be the same surface point. */
 		float samplingVar = 0;
 		/** False for isolated returns (fewer than 3 neighbours within 4 normal_radius_m): no
-		 * line and no trustworthy point (a wall sampled at grazing incidence); never matched. */
+		 * line and no trustworthy point (a wall sampled at grazing incidence); never matched.
+		 */
 		bool usable = true;
 	};
 
@@ -62,19 +63,20 @@ public:
 	/** One scan as the reference (its robot frame is the reference frame). */
 	static CReferenceCloud fromScan(const TScan2D& scan, const TScanMatcherParams& p);
 	/** A local patch: scans[k] placed at scansInRef[k] (ref <- scan k). Sizes must match. */
-	static CReferenceCloud fromScans(
-		const std::vector<TScan2D>& scans, const std::vector<mrpt::math::TPose2D>& scansInRef,
-		const TScanMatcherParams& p);
+	static CReferenceCloud fromScans(const std::vector<TScan2D>& scans,
+									 const std::vector<mrpt::math::TPose2D>& scansInRef,
+									 const TScanMatcherParams& p);
 	/** fromScans keeping only the points within about `margin` [m] of some point of
 	 * `nearInRef` (cells of side margin: a kept point is within 2 sqrt(2) margin).
 	 * For matching a scan known to lie at nearInRef to within a few cm: with margin >=
 	 * maxCorrespondenceDist + 4 normalRadius (the widest line fit) every anchor the match can
 	 * reach gets the same line fit as without the crop. The views (free-space check) are
 	 * kept whole. */
-	static CReferenceCloud fromScansNear(
-		const std::vector<TScan2D>& scans, const std::vector<mrpt::math::TPose2D>& scansInRef,
-		const TScanMatcherParams& p, const std::vector<Eigen::Vector2d>& nearInRef,
-		double margin);
+	static CReferenceCloud fromScansNear(const std::vector<TScan2D>& scans,
+										 const std::vector<mrpt::math::TPose2D>& scansInRef,
+										 const TScanMatcherParams& p,
+										 const std::vector<Eigen::Vector2d>& nearInRef,
+										 double margin);
 
 	bool empty() const { return m_anchors.empty(); }
 	size_t size() const { return m_anchors.size(); }
@@ -102,11 +104,14 @@ public:
 		if (!m_anchors[j].isLine) return;
 		const TLineFit& f = m_lineFits[j];
 		const Eigen::Vector2d t(-m_anchors[j].normal.y(), m_anchors[j].normal.x());
-		m_rawGrid.forEachPointWithin(f.centre, f.radius, [&](uint32_t k, const Eigen::Vector2d& pos) {
-			const double uk = (pos - f.mean).dot(t);
-			fn(k, static_cast<float>(m_count[k] / f.W),
-			   static_cast<float>(f.suu > 0 ? m_count[k] * uk / f.suu : 0));
-		});
+		m_rawGrid.forEachPointWithin(
+			f.centre, f.radius,
+			[&](uint32_t k, const Eigen::Vector2d& pos)
+			{
+				const double uk = (pos - f.mean).dot(t);
+				fn(k, static_cast<float>(m_count[k] / f.W),
+				   static_cast<float>(f.suu > 0 ? m_count[k] * uk / f.suu : 0));
+			});
 	}
 	double pointVariance(size_t k) const { return m_noiseVar / m_count[k]; }
 	/** Estimated range noise variance of one raw input point along the surface normal [m^2]. */
@@ -120,8 +125,8 @@ public:
 	 *  - ref -> scan: LINE anchors lying in front of the scan's own returns, over the LINE
 	 *    anchors inside the scan's observed rays.
 	 * Returns the larger. A wrong alignment moves walls into space the other side saw empty. */
-	double freeSpaceViolation(
-		const TScan2D& scan, const mrpt::math::TPose2D& scanInRef, double margin) const;
+	double freeSpaceViolation(const TScan2D& scan, const mrpt::math::TPose2D& scanInRef,
+							  double margin) const;
 
 	/** Calls fn(index) for every usable anchor within radius [m] of q. */
 	template <class F>
@@ -134,8 +139,8 @@ private:
 	/** Indexes the usable anchors at their current positions. */
 	void buildGrid();
 	void fitLines(const TScanMatcherParams& p, const std::vector<double>& weights);
-	Eigen::Vector2d fitAnchor(
-		size_t i, double r0, const std::vector<double>& w, std::vector<double>& sigma2);
+	Eigen::Vector2d fitAnchor(size_t i, double r0, const std::vector<double>& w,
+							  std::vector<double>& sigma2);
 
 	std::vector<TAnchor> m_anchors;
 	CAnchorGrid m_grid;

@@ -55,10 +55,11 @@ TEST(ReferenceCloud, lineAnchorsLieOnTheWallsWithTheirNormals)
 		const double dist = world.distanceToNearest(pw);
 		sumOffset2 += dist * dist;
 		const Eigen::Vector2d nw = Eigen::Rotation2Dd(pose.phi) * a.normal;
-		if (std::abs(nw.dot(nearestSegmentNormal(world, pw))) > std::cos(5 * M_PI / 180)) ++goodNormals;
+		if (std::abs(nw.dot(nearestSegmentNormal(world, pw))) > std::cos(5 * M_PI / 180))
+			++goodNormals;
 	}
-	std::cout << "anchors " << ref.size() << " lines " << lines << " good normals " << goodNormals
-			  << " rms offset " << std::sqrt(sumOffset2 / lines) << "\n";
+	std::cout << "anchors " << ref.size() << " lines " << lines << " good normals "
+			  << goodNormals << " rms offset " << std::sqrt(sumOffset2 / lines) << "\n";
 	// Most of a room scan is wall: line anchors, normals within 5 deg of the true ones, and
 	// the line fit removes most of the 1 cm range noise.
 	EXPECT_GT(lines, 0.8 * ref.size());
@@ -75,19 +76,22 @@ TEST(ReferenceCloud, fitTermsAreThoseOfAWeightedLeastSquaresLine)
 	std::mt19937 rng(11);
 	TLaserSimParams laser;
 	laser.rangeNoiseStd = 0.01;
-	const auto ref = CReferenceCloud::fromScan(simulateScan(world, TPose2D(5, 3.5, 0.3), laser, rng), TScanMatcherParams());
+	const auto ref = CReferenceCloud::fromScan(
+		simulateScan(world, TPose2D(5, 3.5, 0.3), laser, rng), TScanMatcherParams());
 	size_t lines = 0;
 	for (size_t j = 0; j < ref.size(); ++j)
 	{
 		double sumB0 = 0, sumB1 = 0;
 		size_t terms = 0;
 		bool selfIncluded = false;
-		ref.forEachFitTerm(j, [&](uint32_t k, float b0, float b1) {
-			ASSERT_LT(k, ref.size());
-			EXPECT_GT(b0, 0.0F);
-			sumB0 += b0, sumB1 += b1, ++terms;
-			selfIncluded |= k == j;
-		});
+		ref.forEachFitTerm(j,
+						   [&](uint32_t k, float b0, float b1)
+						   {
+							   ASSERT_LT(k, ref.size());
+							   EXPECT_GT(b0, 0.0F);
+							   sumB0 += b0, sumB1 += b1, ++terms;
+							   selfIncluded |= k == j;
+						   });
 		if (!ref.anchors()[j].isLine)
 		{
 			EXPECT_EQ(terms, 0U);
@@ -119,7 +123,8 @@ TEST(ReferenceCloud, nearestIsExactWithinTheGate)
 		int brute = -1;
 		double bestD = gate * gate;
 		for (size_t i = 0; i < ref.size(); ++i)
-			if (const double d = (ref.anchors()[i].pos - q).squaredNorm(); d < bestD) bestD = d, brute = int(i);
+			if (const double d = (ref.anchors()[i].pos - q).squaredNorm(); d < bestD)
+				bestD = d, brute = int(i);
 		double d2 = -1;
 		const int got = ref.nearest(q, gate, &d2);
 		ASSERT_EQ(got, brute) << "query " << q.transpose() << " gate " << gate;
@@ -188,7 +193,8 @@ TEST(ReferenceCloud, cropAroundAScanKeepsEveryAnchorTheScanCanReach)
 	for (const auto& q : query.points) queryInRef.push_back(transformPoint(*queryPose, q));
 	const double margin = p.max_correspondence_dist_m + 4 * p.normal_radius_m + 0.2;
 	const CReferenceCloud full = CReferenceCloud::fromScans(scans, poses, p);
-	const CReferenceCloud cropped = CReferenceCloud::fromScansNear(scans, poses, p, queryInRef, margin);
+	const CReferenceCloud cropped =
+		CReferenceCloud::fromScansNear(scans, poses, p, queryInRef, margin);
 	EXPECT_LT(cropped.size(), full.size());
 	size_t compared = 0;
 	for (const auto& q : queryInRef)

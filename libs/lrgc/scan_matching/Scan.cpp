@@ -9,10 +9,11 @@ mrpt::obs::CObservation2DRangeScan::Ptr applyRangeLimits(
 	size_t* marked)
 {
 	ASSERT_(obs);
-	const auto outside = [&](size_t i) {
+	const auto outside = [&](size_t i)
+	{
 		const double r = obs->getScanRange(i);
 		return obs->getScanRangeValidity(i) &&
-			(r < limits.min || (limits.max > 0 && r > limits.max));
+			   (r < limits.min || (limits.max > 0 && r > limits.max));
 	};
 	const size_t n = obs->getScanSize();
 	size_t count = 0;
@@ -31,15 +32,34 @@ namespace
 bool isReturn(const mrpt::obs::CObservation2DRangeScan& obs, size_t i, TScanConversionStats& st)
 {
 	const double r = obs.getScanRange(i);
-	if (!obs.getScanRangeValidity(i)) { ++st.invalidFlag; return false; }
-	if (!std::isfinite(r)) { ++st.notFinite; return false; }
-	if (r <= 0) { ++st.nonPositive; return false; }
-	if (r >= obs.maxRange) { ++st.noReturn; return false; }
+	if (!obs.getScanRangeValidity(i))
+	{
+		++st.invalidFlag;
+		return false;
+	}
+	if (!std::isfinite(r))
+	{
+		++st.notFinite;
+		return false;
+	}
+	if (r <= 0)
+	{
+		++st.nonPositive;
+		return false;
+	}
+	if (r >= obs.maxRange)
+	{
+		++st.noReturn;
+		return false;
+	}
 	return true;
 }
 
 /** Fraction of the sweep at beam i of n, from the middle beam: -1/2 (first) .. +1/2 (last). */
-double sweepFraction(size_t i, size_t n) { return n > 1 ? double(i) / double(n - 1) - 0.5 : 0.0; }
+double sweepFraction(size_t i, size_t n)
+{
+	return n > 1 ? double(i) / double(n - 1) - 0.5 : 0.0;
+}
 }  // namespace
 
 std::vector<float> sweepFractions(const mrpt::obs::CObservation2DRangeScan& obs)
@@ -52,9 +72,8 @@ std::vector<float> sweepFractions(const mrpt::obs::CObservation2DRangeScan& obs)
 	return out;
 }
 
-TScan2D scanFromObservation(
-	const mrpt::obs::CObservation2DRangeScan& obs, TScanConversionStats* stats,
-	const mrpt::math::TPose2D& sweepMotion)
+TScan2D scanFromObservation(const mrpt::obs::CObservation2DRangeScan& obs,
+							TScanConversionStats* stats, const mrpt::math::TPose2D& sweepMotion)
 {
 	TScan2D scan;
 	scan.maxRange = obs.maxRange;
@@ -84,8 +103,8 @@ TScan2D scanFromObservation(
 		// De-skew (file comment of Scan.h): into the robot frame at the middle beam's time.
 		const double f = sweepFraction(i, n);
 		const double fc = std::cos(f * sweepMotion.phi), fs = std::sin(f * sweepMotion.phi);
-		scan.points.emplace_back(
-			fc * rx - fs * ry + f * sweepMotion.x, fs * rx + fc * ry + f * sweepMotion.y);
+		scan.points.emplace_back(fc * rx - fs * ry + f * sweepMotion.x,
+								 fs * rx + fc * ry + f * sweepMotion.y);
 	}
 	if (stats) *stats = st;
 	return scan;

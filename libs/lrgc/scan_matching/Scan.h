@@ -18,9 +18,9 @@
  * (Intel and MIT-CSAIL: 4.5 ms, ACES: 26.7 ms).
  * No-return readings (invalid flag, NaN, r <= 0, r >= maxRange) are not obstacles and are
  * dropped here; the count of each kind is reported so callers can say what they skipped.
- * Range limits ([MapBuilder] min_range_m, max_range_m: a robot's own posts, a 360-degree lidar's
- * view of the robot) are applied before, to the observation itself (applyRangeLimits), so
- * that the occupancy grid and the saved keyframes drop those readings too.
+ * Range limits ([MapBuilder] min_range_m, max_range_m: a robot's own posts, a 360-degree
+ * lidar's view of the robot) are applied before, to the observation itself (applyRangeLimits),
+ * so that the occupancy grid and the saved keyframes drop those readings too.
  */
 #pragma once
 
@@ -46,11 +46,11 @@ struct TScan2D
 /** Why readings of a scan were dropped. */
 struct TScanConversionStats
 {
-	size_t total = 0;  //!< rays in the observation
+	size_t total = 0;        //!< rays in the observation
 	size_t invalidFlag = 0;  //!< marked invalid by the driver / reader
-	size_t notFinite = 0;  //!< NaN or infinite range
+	size_t notFinite = 0;    //!< NaN or infinite range
 	size_t nonPositive = 0;  //!< r <= 0
-	size_t noReturn = 0;  //!< r >= maxRange
+	size_t noReturn = 0;     //!< r >= maxRange
 	size_t kept() const { return total - invalidFlag - notFinite - nonPositive - noReturn; }
 };
 
@@ -74,9 +74,10 @@ mrpt::obs::CObservation2DRangeScan::Ptr applyRangeLimits(
 /** Converts an MRPT laser observation; never throws on bad ranges (they are counted).
  * `sweepMotion`: the robot's motion over the sweep, first beam -> last beam, in the robot
  * frame [m, m, rad] (zero: no de-skewing). */
-TScan2D scanFromObservation(
-	const mrpt::obs::CObservation2DRangeScan& obs, TScanConversionStats* stats = nullptr,
-	const mrpt::math::TPose2D& sweepMotion = mrpt::math::TPose2D(0, 0, 0));
+TScan2D scanFromObservation(const mrpt::obs::CObservation2DRangeScan& obs,
+							TScanConversionStats* stats = nullptr,
+							const mrpt::math::TPose2D& sweepMotion = mrpt::math::TPose2D(0, 0,
+																						 0));
 
 /** The sweep fraction f = i / (n - 1) - 1/2 of each point scanFromObservation(obs) keeps, in
  * the same order: where in the sweep (first beam -1/2, last +1/2) the point was measured. */

@@ -14,8 +14,10 @@ namespace
 std::string geometryProblem(const mrpt::obs::CObservation2DRangeScan& obs)
 {
 	// One ray has no angular step (aperture / (n - 1)): its angle, hence its point, is NaN.
-	if (obs.getScanSize() < 2) return mrpt::format("%zu ray(s): fewer than 2", obs.getScanSize());
-	if (!std::isfinite(obs.aperture) || !(obs.aperture > 0) || obs.aperture > 2 * M_PI * (1 + 1e-9))
+	if (obs.getScanSize() < 2)
+		return mrpt::format("%zu ray(s): fewer than 2", obs.getScanSize());
+	if (!std::isfinite(obs.aperture) || !(obs.aperture > 0) ||
+		obs.aperture > 2 * M_PI * (1 + 1e-9))
 		return mrpt::format("aperture = %g rad (must be in (0, 2 pi])", obs.aperture);
 	const auto& p = obs.sensorPose;
 	for (const double v : {p.x(), p.y(), p.z(), p.yaw(), p.pitch(), p.roll()})

@@ -29,7 +29,7 @@ struct TScanGeometryCheck
 	 * the scan is dropped. */
 	mrpt::obs::CObservation2DRangeScan::Ptr scan;
 	std::string problem;  //!< why it was dropped ("aperture = nan rad"), else empty
-	size_t clipped = 0;  //!< readings beyond kMaxRange marked invalid
+	size_t clipped = 0;   //!< readings beyond kMaxRange marked invalid
 };
 
 /** Readings beyond this [m] are clipped (the farthest-reaching 2D lidars: a few hundred m). */

@@ -35,7 +35,8 @@ TEST(ScanGeometry, ValidScanPassesUntouched)
 
 TEST(ScanGeometry, UnusableGeometryDropsTheScanNamingWhy)
 {
-	const auto dropped = [](auto&& spoil, const std::string& named) {
+	const auto dropped = [](auto&& spoil, const std::string& named)
+	{
 		auto s = validScan();
 		spoil(*s);
 		const auto c = checkScanGeometry(s);
@@ -43,7 +44,8 @@ TEST(ScanGeometry, UnusableGeometryDropsTheScanNamingWhy)
 		EXPECT_NE(c.problem.find(named), std::string::npos) << c.problem;
 	};
 	dropped([](auto& s) { s.aperture = static_cast<float>(kNaN); }, "aperture");
-	dropped([](auto& s) { s.aperture = std::numeric_limits<float>::infinity(); }, "aperture");  // 1e300 x 180
+	dropped([](auto& s) { s.aperture = std::numeric_limits<float>::infinity(); },
+			"aperture");  // 1e300 x 180
 	dropped([](auto& s) { s.aperture = 7.0f; }, "aperture");
 	dropped([](auto& s) { s.aperture = 0.0f; }, "aperture");
 	dropped([](auto& s) { s.sensorPose.x(kNaN); }, "sensorPose");

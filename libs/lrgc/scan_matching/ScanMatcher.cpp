@@ -36,8 +36,8 @@ constexpr double kConvergedStep_m = 1e-5;
 constexpr double kFreezeStep_m = 1e-3;
 
 /** Residual and jacobians of scan point p against anchor a at pose x (R p precomputed in r). */
-void linearise(
-	const CReferenceCloud& ref, const Eigen::Vector2d& r, const Eigen::Vector3d& x, TCorrespondence& k)
+void linearise(const CReferenceCloud& ref, const Eigen::Vector2d& r, const Eigen::Vector3d& x,
+			   TCorrespondence& k)
 {
 	const auto& a = ref.anchors()[k.anchor];
 	const Eigen::Vector2d q(r.x() + x.x(), r.y() + x.y());
@@ -63,12 +63,13 @@ void linearise(
 
 /** Nearest-anchor association within the gate (frozen == false), or re-linearisation of the
  * pairs already in `out` at the new pose (frozen == true). */
-void associate(
-	const CReferenceCloud& ref, const std::vector<Eigen::Vector2d>& pts, const Eigen::Vector3d& x,
-	double gate, bool frozen, std::vector<TCorrespondence>& out)
+void associate(const CReferenceCloud& ref, const std::vector<Eigen::Vector2d>& pts,
+			   const Eigen::Vector3d& x, double gate, bool frozen,
+			   std::vector<TCorrespondence>& out)
 {
 	const double c = std::cos(x.z()), s = std::sin(x.z());
-	auto rot = [&](const Eigen::Vector2d& p) { return Eigen::Vector2d(c * p.x() - s * p.y(), s * p.x() + c * p.y()); };
+	auto rot = [&](const Eigen::Vector2d& p)
+	{ return Eigen::Vector2d(c * p.x() - s * p.y(), s * p.x() + c * p.y()); };
 	if (frozen)
 	{
 		for (auto& k : out) linearise(ref, rot(pts[k.point]), x, k);
@@ -88,7 +89,8 @@ void associate(
 	}
 }
 
-double robustScale(const std::vector<TCorrespondence>& corr, double floor, std::vector<double>& tmp)
+double robustScale(const std::vector<TCorrespondence>& corr, double floor,
+				   std::vector<double>& tmp)
 {
 	tmp.clear();
 	for (const auto& k : corr)
@@ -103,9 +105,8 @@ double robustScale(const std::vector<TCorrespondence>& corr, double floor, std::
 }
 
 /** Robust weights and the normal equations; returns the RMS lever arm L [m]. */
-double weighAndAccumulate(
-	std::vector<TCorrespondence>& corr, double scale, Eigen::Matrix3d& H, Eigen::Vector3d& g,
-	Eigen::Matrix3d& Hspur)
+double weighAndAccumulate(std::vector<TCorrespondence>& corr, double scale, Eigen::Matrix3d& H,
+						  Eigen::Vector3d& g, Eigen::Matrix3d& Hspur)
 {
 	const double c2 = (kCauchy * scale) * (kCauchy * scale), s2 = scale * scale;
 	H.setZero();
@@ -122,7 +123,8 @@ double weighAndAccumulate(
 		g += k.w * k.e0 * k.J0;
 		Hspur.noalias() += (k.w * k.normalVar) * k.Jt * k.Jt.transpose();
 		// Lever arm |R p| is the rotation jacobian's magnitude for a line (or point) residual.
-		const double arm2 = k.isLine ? k.J0.z() * k.J0.z() : k.J0.z() * k.J0.z() + k.J1.z() * k.J1.z();
+		const double arm2 =
+			k.isLine ? k.J0.z() * k.J0.z() : k.J0.z() * k.J0.z() + k.J1.z() * k.J1.z();
 		if (!k.isLine)
 		{
 			H.noalias() += k.w * k.J1 * k.J1.transpose();
@@ -135,17 +137,21 @@ double weighAndAccumulate(
 }
 }  // namespace
 
-CScanMatcher::CScanMatcher(const TScanMatcherParams& p) : m_params(p) { m_params.validate(); }
+CScanMatcher::CScanMatcher(const TScanMatcherParams& p) : m_params(p)
+{
+	m_params.validate();
+}
 
-std::optional<TScanMatch> CScanMatcher::match(
-	const CReferenceCloud& ref, const TScan2D& scan, const mrpt::math::TPose2D& guess) const
+std::optional<TScanMatch> CScanMatcher::match(const CReferenceCloud& ref, const TScan2D& scan,
+											  const mrpt::math::TPose2D& guess) const
 {
 	return matchPoints(ref, scan.points, guess, m_params.max_correspondence_dist_m);
 }
 
-std::optional<TScanMatch> CScanMatcher::matchPoints(
-	const CReferenceCloud& ref, const std::vector<Eigen::Vector2d>& pts,
-	const mrpt::math::TPose2D& guess, double gate0, bool check) const
+std::optional<TScanMatch> CScanMatcher::matchPoints(const CReferenceCloud& ref,
+													const std::vector<Eigen::Vector2d>& pts,
+													const mrpt::math::TPose2D& guess,
+													double gate0, bool check) const
 {
 	const auto& P = m_params;
 	if (ref.empty() || pts.size() < static_cast<size_t>(P.min_inliers)) return std::nullopt;
@@ -200,18 +206,21 @@ std::optional<TScanMatch> CScanMatcher::matchPoints(
 	m.unobservableDims = info.unobservable;
 	// Unchecked (matchWide's alternatives): the converged pose and its inliers, no verdict.
 	if (!check) return m;
-	if (inliers < static_cast<size_t>(P.min_inliers) || m.inlierFraction < P.min_inlier_fraction ||
-		m.rmsResidual > P.max_rms_residual_m || info.unobservable > 1)
+	if (inliers < static_cast<size_t>(P.min_inliers) ||
+		m.inlierFraction < P.min_inlier_fraction || m.rmsResidual > P.max_rms_residual_m ||
+		info.unobservable > 1)
 		return std::nullopt;
 	// Free-space consistency: aligned scan points must not sit where the reference saw through.
 	TScan2D asScan;
 	asScan.points = pts;
-	m.freeSpaceViolation = ref.freeSpaceViolation(asScan, m.scanInRef, std::max(0.1, 4 * scale));
+	m.freeSpaceViolation =
+		ref.freeSpaceViolation(asScan, m.scanInRef, std::max(0.1, 4 * scale));
 	if (m.freeSpaceViolation > P.max_free_space_violation) return std::nullopt;
 	// Residuals of anchors closer than this share reference noise (the line fit neighbourhood
 	// is up to 4 normal_radius_m wide where sparse).
 	const double cluster = std::max(0.5, 2 * P.normal_radius_m);
-	m.cov = detail::poseCovariance(ref, corr, info, kCauchy * scale, cluster, P.unobservable_std_m);
+	m.cov =
+		detail::poseCovariance(ref, corr, info, kCauchy * scale, cluster, P.unobservable_std_m);
 	return m;
 }
 
@@ -224,9 +233,8 @@ constexpr size_t kWideSearchSample = 120;
 /** Share of the points `pts` (scan frame) lying within `tol` [m] of a reference anchor at
  * pose x (ref <- scan). matchWide compares hypotheses by it: a match's own inlier fraction
  * counts residuals within a few of *its* residual scales, which a wrong fit inflates. */
-double explainedFraction(
-	const CReferenceCloud& ref, const std::vector<Eigen::Vector2d>& pts,
-	const mrpt::math::TPose2D& x, double tol)
+double explainedFraction(const CReferenceCloud& ref, const std::vector<Eigen::Vector2d>& pts,
+						 const mrpt::math::TPose2D& x, double tol)
 {
 	if (pts.empty()) return 0;
 	const CPointTransform toRef(x);
@@ -236,9 +244,11 @@ double explainedFraction(
 }
 }  // namespace
 
-std::optional<TScanMatch> CScanMatcher::matchWide(
-	const CReferenceCloud& ref, const TScan2D& scan, const mrpt::math::TPose2D& guess,
-	double searchAngle, const TParallelFor& parallel) const
+std::optional<TScanMatch> CScanMatcher::matchWide(const CReferenceCloud& ref,
+												  const TScan2D& scan,
+												  const mrpt::math::TPose2D& guess,
+												  double searchAngle,
+												  const TParallelFor& parallel) const
 {
 	ASSERT_(searchAngle >= 0);
 	const double margin = m_params.wide_ambiguity_margin;
@@ -246,7 +256,8 @@ std::optional<TScanMatch> CScanMatcher::matchWide(
 	// match may have (max_rms_residual_m [m]) of the reference.
 	const double tol = m_params.max_rms_residual_m;
 	// Distinct hypotheses: farther apart than 0.2 m or 3 deg.
-	auto distinct = [](const mrpt::math::TPose2D& a, const mrpt::math::TPose2D& b) {
+	auto distinct = [](const mrpt::math::TPose2D& a, const mrpt::math::TPose2D& b)
+	{
 		const auto d = between(a, b);
 		return translationNorm(d) > 0.2 || std::abs(d.phi) > 3 * M_PI / 180;
 	};
@@ -259,20 +270,24 @@ std::optional<TScanMatch> CScanMatcher::matchWide(
 	const int n = static_cast<int>(std::floor(searchAngle / m_params.wide_search_step + 1e-9));
 	// Start i explores heading guess.phi + (i - n) wide_search_step; kept in start order.
 	std::vector<std::optional<std::pair<double, mrpt::math::TPose2D>>> starts(2 * n + 1);
-	const std::function<void(size_t)> explore = [&](size_t i) {
+	const std::function<void(size_t)> explore = [&](size_t i)
+	{
 		mrpt::math::TPose2D g = guess;
-		g.phi = mrpt::math::wrapToPi(guess.phi + (static_cast<int>(i) - n) * m_params.wide_search_step);
+		g.phi = mrpt::math::wrapToPi(guess.phi +
+									 (static_cast<int>(i) - n) * m_params.wide_search_step);
 		if (auto m = matchPoints(ref, sub, g, 2 * m_params.max_correspondence_dist_m, false))
 			starts[i] = {explainedFraction(ref, sub, m->scanInRef, tol), m->scanInRef};
 	};
-	if (parallel) parallel(starts.size(), explore);
+	if (parallel)
+		parallel(starts.size(), explore);
 	else
 		for (size_t i = 0; i < starts.size(); ++i) explore(i);
 	std::vector<std::pair<double, mrpt::math::TPose2D>> found;  // (score, ref <- scan)
 	for (const auto& s : starts)
 		if (s) found.push_back(*s);
 	if (found.empty()) return std::nullopt;
-	std::sort(found.begin(), found.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+	std::sort(found.begin(), found.end(),
+			  [](const auto& a, const auto& b) { return a.first > b.first; });
 	const auto& [bestScore, bestPose] = found.front();
 	for (size_t i = 1; i < found.size(); ++i)
 		if (distinct(bestPose, found[i].second) && bestScore - found[i].first < margin)

@@ -15,8 +15,8 @@
  * through its line fits, so residuals sharing a stretch of reference wall count as correlated,
  * and (b) a leave-one-cluster-out jackknife over reference cells, which measures correlation
  * from the data. Directions the data do not fix (a featureless corridor's axis: information
- * below s^2 / unobservable_std_m^2, or not clearly above what the normals' noise fakes) keep the
- * guess and get variance unobservable_std_m^2. Alignments that put either side's points in
+ * below s^2 / unobservable_std_m^2, or not clearly above what the normals' noise fakes) keep
+ * the guess and get variance unobservable_std_m^2. Alignments that put either side's points in
  * space the other side saw empty are rejected. Measured NEES: doc/scan-matching.md.
  */
 #pragma once
@@ -65,9 +65,8 @@ public:
 
 	/** Local match from guessScanInRef (ref <- scan). nullopt: too few inliers, no convergence,
 	 * RMS too large, or geometry degenerate in more than one direction. Never the guess. */
-	std::optional<TScanMatch> match(
-		const CReferenceCloud& ref, const TScan2D& scan,
-		const mrpt::math::TPose2D& guessScanInRef) const;
+	std::optional<TScanMatch> match(const CReferenceCloud& ref, const TScan2D& scan,
+									const mrpt::math::TPose2D& guessScanInRef) const;
 
 	/** For odometry glitches: starts match() from headings guess.phi + k * wide_search_step
 	 * over [-searchAngle_rad, +searchAngle_rad] and returns the best converged match, refined
@@ -79,15 +78,16 @@ public:
 	 * guess was right"), converged on the whole scan. Else nullopt.
 	 * The starts are independent: `parallel`, if given, runs them (TParallelFor), with the
 	 * same result as one after the other. */
-	std::optional<TScanMatch> matchWide(
-		const CReferenceCloud& ref, const TScan2D& scan,
-		const mrpt::math::TPose2D& guessScanInRef, double searchAngle_rad,
-		const TParallelFor& parallel = {}) const;
+	std::optional<TScanMatch> matchWide(const CReferenceCloud& ref, const TScan2D& scan,
+										const mrpt::math::TPose2D& guessScanInRef,
+										double searchAngle_rad,
+										const TParallelFor& parallel = {}) const;
 
 private:
-	std::optional<TScanMatch> matchPoints(
-		const CReferenceCloud& ref, const std::vector<Eigen::Vector2d>& pts,
-		const mrpt::math::TPose2D& guess, double initialGate, bool check = true) const;
+	std::optional<TScanMatch> matchPoints(const CReferenceCloud& ref,
+										  const std::vector<Eigen::Vector2d>& pts,
+										  const mrpt::math::TPose2D& guess, double initialGate,
+										  bool check = true) const;
 
 	TScanMatcherParams m_params;
 };

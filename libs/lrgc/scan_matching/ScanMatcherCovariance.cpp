@@ -7,8 +7,9 @@
  * reference wall share that stretch's noise. Two meats are formed and the larger kept (the
  * smallest PSD upper bound of the two resulting covariances):
  *  - model: independent scan noise (variance = the weighted residual variance, conservative)
- *    plus the reference's noise propagated through its line fits (CReferenceCloud::forEachFitTerm),
- *    which correlates exactly the residuals that share fit points;
+ *    plus the reference's noise propagated through its line fits
+ * (CReferenceCloud::forEachFitTerm), which correlates exactly the residuals that share fit
+ * points;
  *  - data: leave-one-cluster-out jackknife over reference cells of side `cluster`,
  *    (G-1)/G sum_g d_g d_g^T with d_g = (A - A_g)^-1 s_g, s_g = sum_{i in g} psi_i J_i, which
  *    catches correlation the model does not know and corrects the leverage of the few clusters
@@ -29,12 +30,15 @@ namespace lrgc::detail
 {
 namespace
 {
-Eigen::Matrix3d scaling(double L) { return Eigen::Vector3d(1, 1, 1 / L).asDiagonal(); }
+Eigen::Matrix3d scaling(double L)
+{
+	return Eigen::Vector3d(1, 1, 1 / L).asDiagonal();
+}
 
 /** The smallest (PSD order) upper bound of A and B in the form B^1/2 max(I, M) B^1/2 with
  * M = B^-1/2 A B^-T/2, computed on the subspace spanned by the columns of P (orthonormal). */
-Eigen::Matrix3d psdMaxOnSubspace(
-	const Eigen::Matrix3d& A, const Eigen::Matrix3d& B, const Eigen::MatrixXd& P)
+Eigen::Matrix3d psdMaxOnSubspace(const Eigen::Matrix3d& A, const Eigen::Matrix3d& B,
+								 const Eigen::MatrixXd& P)
 {
 	const Eigen::MatrixXd Ao = P.transpose() * A * P, Bo = P.transpose() * B * P;
 	const Eigen::LLT<Eigen::MatrixXd> llt(Bo);
@@ -44,14 +48,16 @@ Eigen::Matrix3d psdMaxOnSubspace(
 	const Eigen::MatrixXd M = Linv * Ao * Linv.transpose();
 	const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(M);
 	const Eigen::VectorXd d = es.eigenvalues().cwiseMax(1.0);
-	const Eigen::MatrixXd Mmax = es.eigenvectors() * d.asDiagonal() * es.eigenvectors().transpose();
+	const Eigen::MatrixXd Mmax =
+		es.eigenvectors() * d.asDiagonal() * es.eigenvectors().transpose();
 	return P * (Lb * Mmax * Lb.transpose()) * P.transpose();
 }
 /** Covariance of the score sum_i w_i J_i^T e_i under the noise model: independent scan noise
  * (variance s_scan^2 per residual row) and the reference's anchor noise propagated through
- * the line fits (CReferenceCloud::forEachFitTerm), which correlates residuals sharing fit points. */
-Eigen::Matrix3d modelScoreCovariance(
-	const CReferenceCloud& ref, const std::vector<TCorrespondence>& corr)
+ * the line fits (CReferenceCloud::forEachFitTerm), which correlates residuals sharing fit
+ * points. */
+Eigen::Matrix3d modelScoreCovariance(const CReferenceCloud& ref,
+									 const std::vector<TCorrespondence>& corr)
 {
 	// Per reference point used, in order of first use (touched): g_k (LINE fit terms) and G_k
 	// (POINT anchors), at slot[k]. A match uses a few hundred of a patch's thousands of points.
@@ -60,7 +66,8 @@ Eigen::Matrix3d modelScoreCovariance(
 	std::vector<uint32_t> touched;
 	std::vector<Eigen::Vector3d> g;
 	std::vector<Eigen::Matrix<double, 3, 2>> G;
-	auto use = [&](uint32_t k) {
+	auto use = [&](uint32_t k)
+	{
 		if (slot[k] == kUnused)
 		{
 			slot[k] = static_cast<uint32_t>(touched.size());
@@ -81,10 +88,12 @@ Eigen::Matrix3d modelScoreCovariance(
 			Bscan += k.w * k.w * k.J0 * k.J0.transpose();
 			rows += 1;
 			const double u = ref.anchors()[k.anchor].u + k.tOff;  // line coordinate of q
-			ref.forEachFitTerm(k.anchor, [&](uint32_t point, float b0, float b1) {
-				const double beta = b0 + u * b1;
-				g[use(point)] += k.w * beta * k.J0;
-			});
+			ref.forEachFitTerm(k.anchor,
+							   [&](uint32_t point, float b0, float b1)
+							   {
+								   const double beta = b0 + u * b1;
+								   g[use(point)] += k.w * beta * k.J0;
+							   });
 			continue;
 		}
 		Bscan += k.w * k.w * (k.J0 * k.J0.transpose() + k.J1 * k.J1.transpose());
@@ -103,15 +112,14 @@ Eigen::Matrix3d modelScoreCovariance(
 	{
 		const uint32_t k = touched[s];
 		B += ref.pointVariance(k) * (g[s] * g[s].transpose() + G[s] * G[s].transpose()) +
-			ref.anchors()[k].samplingVar * G[s] * G[s].transpose();
+			 ref.anchors()[k].samplingVar * G[s] * G[s].transpose();
 	}
 	return B;
 }
 }  // namespace
 
-TScaledInfo analyseInformation(
-	const Eigen::Matrix3d& H, const Eigen::Matrix3d& Hspurious, double L, double scale,
-	double unobservableStd)
+TScaledInfo analyseInformation(const Eigen::Matrix3d& H, const Eigen::Matrix3d& Hspurious,
+							   double L, double scale, double unobservableStd)
 {
 	constexpr double kSpurious = 10;
 	TScaledInfo I;
@@ -180,16 +188,18 @@ TBread breadByCluster(const std::vector<TCorrespondence>& corr, double c, double
 			Eigen::Matrix<double, 3, 2> J;
 			J << k.J0, k.J1;
 			const Eigen::Vector2d e(k.e0, k.e1);
-			Eigen::Matrix2d D = k.w * Eigen::Matrix2d::Identity() - 2 * k.w * k.w / c2 * e * e.transpose();
+			Eigen::Matrix2d D =
+				k.w * Eigen::Matrix2d::Identity() - 2 * k.w * k.w / c2 * e * e.transpose();
 			const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(D);
-			D = es.eigenvectors() * es.eigenvalues().cwiseMax(0.0).asDiagonal() * es.eigenvectors().transpose();
+			D = es.eigenvectors() * es.eigenvalues().cwiseMax(0.0).asDiagonal() *
+				es.eigenvectors().transpose();
 			Mk = J * D * J.transpose();
 		}
 		b.Hpsi += Mk;
 		const auto ix = static_cast<int64_t>(std::floor(k.anchorPos.x() / cluster));
 		const auto iy = static_cast<int64_t>(std::floor(k.anchorPos.y() / cluster));
 		const uint64_t key = (static_cast<uint64_t>(static_cast<uint32_t>(ix)) << 32) |
-			static_cast<uint32_t>(iy);
+							 static_cast<uint32_t>(iy);
 		auto& cl = b.clusters[key];
 		cl.s += s;
 		cl.M += Mk;
@@ -212,9 +222,9 @@ Eigen::MatrixXd observableInverse(const Eigen::MatrixXd& Ho, const TScaledInfo& 
 /** Leave-one-cluster-out (jackknife) spread: delta_g = (H - M_g)^-1 s_g on the observable
  * subspace, eigenvalues of H - M_g floored at the unobservability threshold; returns
  * sum_g P delta_g delta_g^T P^T (the caller scales by (G - 1) / G). */
-Eigen::Matrix3d jackknifeSpread(
-	const TBread& b, const Eigen::MatrixXd& Ho, const Eigen::MatrixXd& P,
-	const Eigen::Matrix3d& S, double minInfo)
+Eigen::Matrix3d jackknifeSpread(const TBread& b, const Eigen::MatrixXd& Ho,
+								const Eigen::MatrixXd& P, const Eigen::Matrix3d& S,
+								double minInfo)
 {
 	Eigen::Matrix3d Csand = Eigen::Matrix3d::Zero();
 	for (const auto& [key, cl] : b.clusters)
@@ -222,8 +232,8 @@ Eigen::Matrix3d jackknifeSpread(
 		const Eigen::MatrixXd Hg = Ho - P.transpose() * (S * cl.M * S) * P;
 		const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(Hg);
 		const Eigen::VectorXd inv = es.eigenvalues().cwiseMax(minInfo).cwiseInverse();
-		const Eigen::VectorXd d =
-			es.eigenvectors() * inv.asDiagonal() * es.eigenvectors().transpose() * (P.transpose() * (S * cl.s));
+		const Eigen::VectorXd d = es.eigenvectors() * inv.asDiagonal() *
+								  es.eigenvectors().transpose() * (P.transpose() * (S * cl.s));
 		Csand += P * d * d.transpose() * P.transpose();
 	}
 	return Csand;
@@ -233,9 +243,9 @@ Eigen::Matrix3d jackknifeSpread(
 // The pose covariance: on the observable subspace the larger (psdMaxOnSubspace) of the model
 // sandwich H^-1 B H^-1 and the cluster jackknife's (with more than 3 clusters); along the
 // unobservable directions unobservableStd^2 [m^2 / rad^2 in scaled units].
-Eigen::Matrix3d poseCovariance(
-	const CReferenceCloud& ref, const std::vector<TCorrespondence>& corr, const TScaledInfo& I,
-	double c, double cluster, double unobservableStd)
+Eigen::Matrix3d poseCovariance(const CReferenceCloud& ref,
+							   const std::vector<TCorrespondence>& corr, const TScaledInfo& I,
+							   double c, double cluster, double unobservableStd)
 {
 	const Eigen::Matrix3d Bmodel = modelScoreCovariance(ref, corr);
 	const TBread bread = breadByCluster(corr, c, cluster);
@@ -248,8 +258,10 @@ Eigen::Matrix3d poseCovariance(
 	Eigen::Matrix3d Cs = Eigen::Matrix3d::Zero();
 	for (int k = 0, j = 0; k < 3; ++k)
 	{
-		if (I.observable[k]) P.col(j++) = I.V.col(k);
-		else Cs += unobservableStd * unobservableStd * I.V.col(k) * I.V.col(k).transpose();
+		if (I.observable[k])
+			P.col(j++) = I.V.col(k);
+		else
+			Cs += unobservableStd * unobservableStd * I.V.col(k) * I.V.col(k).transpose();
 	}
 	if (nObs > 0)
 	{

@@ -21,11 +21,11 @@ struct TCorrespondence
 	/** POINT: variance of the anchor per axis [m^2] (noise / count + sampling); residual
 	 * weight is scaled by s^2 / (s^2 + varAnchor), the Cauchy width by its inverse. */
 	double varAnchor = 0;
-	double c2 = 0;  //!< squared Cauchy width used for this residual [m^2]
+	double c2 = 0;              //!< squared Cauchy width used for this residual [m^2]
 	Eigen::Vector2d anchorPos;  //!< for clustering correlated residuals
 	bool isLine = true;
 	uint32_t anchor = 0;  //!< index in the reference cloud
-	uint32_t point = 0;  //!< index in the scan
+	uint32_t point = 0;   //!< index in the scan
 	double tOff = 0;  //!< LINE: tangential offset t . (q - a) [m] of the point from the anchor
 	/** LINE: change of J0 per radian of normal tilt, [-n_y, n_x, n . R p], and the tilt's
 	 * variance [rad^2]: a noisy normal fakes information along the line (corridor axis). */
@@ -38,27 +38,26 @@ struct TCorrespondence
  * [m], so eigenvalues of the information are comparable in m^-2. */
 struct TScaledInfo
 {
-	Eigen::Matrix3d V;  //!< eigenvectors (columns) of the scaled information
+	Eigen::Matrix3d V;       //!< eigenvectors (columns) of the scaled information
 	Eigen::Vector3d lambda;  //!< eigenvalues, ascending [m^-2]
 	bool observable[3] = {true, true, true};
 	int unobservable = 0;
-	double L = 1;  //!< lever arm [m]
+	double L = 1;        //!< lever arm [m]
 	double minInfo = 0;  //!< observability threshold s^2 / unobservableStd^2 [m^-2]
 };
 
 /** Gauss-Newton step (scaled truncated eigen-solve): no motion along directions with
  * information lambda_k < s^2 / unobservableStd^2, or less than kSpurious times what the
  * normals' noise alone would fake there (Hspurious = sum w normalVar Jt Jt^T). */
-TScaledInfo analyseInformation(
-	const Eigen::Matrix3d& H, const Eigen::Matrix3d& Hspurious, double L, double scale,
-	double unobservableStd);
+TScaledInfo analyseInformation(const Eigen::Matrix3d& H, const Eigen::Matrix3d& Hspurious,
+							   double L, double scale, double unobservableStd);
 Eigen::Vector3d solveStep(const TScaledInfo& I, const Eigen::Vector3d& g);
 
 /** Covariance of (tx, ty, phi): cluster-robust sandwich, bounded below by the i.i.d. model,
  * unobservableStd^2 along unobservable directions. `cluster` [m] is the side of the reference
  * cells whose residuals are treated as correlated. */
-Eigen::Matrix3d poseCovariance(
-	const CReferenceCloud& ref, const std::vector<TCorrespondence>& corr, const TScaledInfo& I,
-	double cauchyC, double cluster, double unobservableStd);
+Eigen::Matrix3d poseCovariance(const CReferenceCloud& ref,
+							   const std::vector<TCorrespondence>& corr, const TScaledInfo& I,
+							   double cauchyC, double cluster, double unobservableStd);
 
 }  // namespace lrgc::detail

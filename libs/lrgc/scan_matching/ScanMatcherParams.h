@@ -16,11 +16,11 @@ struct TScanMatcherParams : public mrpt::config::CLoadableOptions
 {
 	int max_iterations = 50;  //!< Gauss-Newton iterations before giving up (no convergence)
 	double max_correspondence_dist_m = 0.5;  //!< [m] initial gate: farther pairs are not formed
-	double ref_resolution_m = 0.02;  //!< [m] voxel size for reducing the reference points
-	double normal_radius_m = 0.15;  //!< [m] neighbourhood radius of the local line fits
+	double ref_resolution_m = 0.02;     //!< [m] voxel size for reducing the reference points
+	double normal_radius_m = 0.15;      //!< [m] neighbourhood radius of the local line fits
 	double min_inlier_fraction = 0.25;  //!< of the scan's points, below it: no match
-	int min_inliers = 20;  //!< absolute minimum of inlier points
-	double max_rms_residual_m = 0.1;  //!< [m] inlier RMS residual above it: no match
+	int min_inliers = 20;               //!< absolute minimum of inlier points
+	double max_rms_residual_m = 0.1;    //!< [m] inlier RMS residual above it: no match
 	double min_residual_std_m = 0.003;  //!< [m] floor of the estimated residual scale
 	/** Of the scan points lying where the reference's beams passed (free space); above it: no
 	 * match. Used by loop closing and revisits; local registration matches with its own
@@ -36,10 +36,10 @@ struct TScanMatcherParams : public mrpt::config::CLoadableOptions
 	 * Intel matched 29 % (issue 11). */
 	double wide_min_inlier_fraction = 0.45;
 
-	void loadFromConfigFile(
-		const mrpt::config::CConfigFileBase& source, const std::string& section) override;
-	void saveToConfigFile(
-		mrpt::config::CConfigFileBase& target, const std::string& section) const override;
+	void loadFromConfigFile(const mrpt::config::CConfigFileBase& source,
+							const std::string& section) override;
+	void saveToConfigFile(mrpt::config::CConfigFileBase& target,
+						  const std::string& section) const override;
 	/** Throws (naming section and key) if a value is out of range. */
 	void validate(const std::string& section = "ScanMatcher") const;
 };

@@ -33,7 +33,8 @@ TEST(ScanMatcherRealData, senaConsecutiveScans)
 	std::vector<TScan2D> scans;
 	std::vector<TPose2D> odoSincePrev;  // odometry from the previous scan to this one
 	TPose2D pending(0, 0, 0);
-	while (mrpt::obs::CRawlog::getActionObservationPairOrObservation(arch, acts, sf, obs, entry))
+	while (
+		mrpt::obs::CRawlog::getActionObservationPairOrObservation(arch, acts, sf, obs, entry))
 	{
 		if (acts)
 			if (auto mv = acts->getBestMovementEstimation(); mv && mv->poseChange)
@@ -66,18 +67,21 @@ TEST(ScanMatcherRealData, senaConsecutiveScans)
 		corr.push_back(translationNorm(between(odoSincePrev[k], m->scanInRef)));
 		rms.push_back(m->rmsResidual);
 	}
-	auto med = [](std::vector<double> v) {
+	auto med = [](std::vector<double> v)
+	{
 		std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
 		return v[v.size() / 2];
 	};
-	auto q95 = [](std::vector<double> v) {
+	auto q95 = [](std::vector<double> v)
+	{
 		std::sort(v.begin(), v.end());
 		return v[static_cast<size_t>(0.95 * (v.size() - 1))];
 	};
-	std::cout << "SENA consecutive scans: matched " << matched << "/" << pairs << "; median sd(xy) "
-			  << med(sdX) * 1000 << " mm (95% " << q95(sdX) * 1000 << "), median sd(phi) "
-			  << med(sdPhi) * 180 / M_PI << " deg, median correction to odometry " << med(corr) * 1000
-			  << " mm (95% " << q95(corr) * 1000 << "), median rms residual " << med(rms) * 1000 << " mm\n";
+	std::cout << "SENA consecutive scans: matched " << matched << "/" << pairs
+			  << "; median sd(xy) " << med(sdX) * 1000 << " mm (95% " << q95(sdX) * 1000
+			  << "), median sd(phi) " << med(sdPhi) * 180 / M_PI
+			  << " deg, median correction to odometry " << med(corr) * 1000 << " mm (95% "
+			  << q95(corr) * 1000 << "), median rms residual " << med(rms) * 1000 << " mm\n";
 	EXPECT_GE(matched, 0.9 * pairs);
 	EXPECT_LT(q95(corr), 0.3);  // odometry between consecutive scans is off by centimetres
 	EXPECT_LT(med(sdX), 0.02);

@@ -18,8 +18,8 @@ TEST(SyntheticWorld, castRayHitsTheNearestSegment)
 	ASSERT_TRUE(w.castRay({0, 0}, 0, 10));
 	EXPECT_NEAR(*w.castRay({0, 0}, 0, 10), 2.0, 1e-12);
 	EXPECT_NEAR(*w.castRay({3, 0}, 0, 10), 2.0, 1e-12);  // from between the walls
-	EXPECT_FALSE(w.castRay({0, 0}, M_PI / 2, 10));  // nothing up there
-	EXPECT_FALSE(w.castRay({0, 0}, 0, 1.5));  // beyond max range: a no-return
+	EXPECT_FALSE(w.castRay({0, 0}, M_PI / 2, 10));       // nothing up there
+	EXPECT_FALSE(w.castRay({0, 0}, 0, 1.5));             // beyond max range: a no-return
 	EXPECT_NEAR(*w.castRay({0, 0.5}, 0, 10), 2.0, 1e-12);
 	EXPECT_NEAR(w.distanceToNearest({3, 0}), 1.0, 1e-12);
 }
@@ -39,7 +39,8 @@ TEST(SyntheticWorld, noiselessScanPointsLieOnTheWalls)
 	// Drops and outliers do what they say, and the same seed gives the same scan.
 	laser.dropRate = 0.5;
 	std::mt19937 a(3), b(3);
-	const auto s1 = simulateScan(world, robot, laser, a), s2 = simulateScan(world, robot, laser, b);
+	const auto s1 = simulateScan(world, robot, laser, a),
+			   s2 = simulateScan(world, robot, laser, b);
 	EXPECT_EQ(s1.points, s2.points);
 	EXPECT_NEAR(double(s1.points.size()) / scan.points.size(), 0.5, 0.1);
 	auto cut = scan;
@@ -63,7 +64,8 @@ TEST(SyntheticWorld, corridorAndRepeatedRooms)
 	const auto s1 = simulateScan(rooms, TPose2D(2, 2.5, 0.3), laser, r1);
 	const auto s2 = simulateScan(rooms, TPose2D(8, 8.5, 0.3), laser, r2);
 	ASSERT_EQ(s1.points.size(), s2.points.size());
-	for (size_t i = 0; i < s1.points.size(); ++i) EXPECT_LT((s1.points[i] - s2.points[i]).norm(), 1e-9);
+	for (size_t i = 0; i < s1.points.size(); ++i)
+		EXPECT_LT((s1.points[i] - s2.points[i]).norm(), 1e-9);
 }
 
 TEST(SyntheticWorld, trajectoryAndOdometry)
@@ -85,9 +87,12 @@ TEST(SyntheticWorld, trajectoryAndOdometry)
 	EXPECT_LE(maxStep, 0.2 + 1e-9);
 	EXPECT_LE(maxTurn, 0.35 + 1e-9);
 	// Odometry drifts (noise on), but stays near the truth over this short path.
-	const double drift = lrgc::translationNorm(lrgc::between(tr.truePoses.back(), tr.odometryPoses.back()));
+	const double drift =
+		lrgc::translationNorm(lrgc::between(tr.truePoses.back(), tr.odometryPoses.back()));
 	EXPECT_GT(drift, 1e-4);
 	EXPECT_LT(drift, 1.0);
 	const auto exact = makeTrajectory(wp, 0.2, TOdometryNoise{0, 0, 0, 0}, 7);
-	EXPECT_LT(lrgc::translationNorm(lrgc::between(exact.truePoses.back(), exact.odometryPoses.back())), 1e-9);
+	EXPECT_LT(lrgc::translationNorm(
+				  lrgc::between(exact.truePoses.back(), exact.odometryPoses.back())),
+			  1e-9);
 }

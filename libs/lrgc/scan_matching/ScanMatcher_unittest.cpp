@@ -48,8 +48,9 @@ struct TTrialStats
 	{
 		std::cout << name << ": matched " << matched << "/" << trials << ", NEES " << nees()
 				  << ", trans err median " << median(transErr) * 1000 << " mm (95% "
-				  << quantile(transErr, 0.95) * 1000 << "), rot err median " << median(rotErr) / kDeg
-				  << " deg (95% " << quantile(rotErr, 0.95) / kDeg << ")"
+				  << quantile(transErr, 0.95) * 1000 << "), rot err median "
+				  << median(rotErr) / kDeg << " deg (95% " << quantile(rotErr, 0.95) / kDeg
+				  << ")"
 				  << " NEES median " << median(neesList) << " q90 " << quantile(neesList, 0.9)
 				  << " q99 " << quantile(neesList, 0.99) << "\n";
 	}
@@ -60,7 +61,8 @@ Eigen::Vector3d poseError(const TPose2D& est, const TPose2D& truth)
 	return {est.x - truth.x, est.y - truth.y, mrpt::math::wrapToPi(est.phi - truth.phi)};
 }
 
-void record(TTrialStats& st, const std::optional<TScanMatch>& m, const TPose2D& truth, double covScale = 1)
+void record(TTrialStats& st, const std::optional<TScanMatch>& m, const TPose2D& truth,
+			double covScale = 1)
 {
 	++st.trials;
 	if (!m) return;
@@ -71,8 +73,9 @@ void record(TTrialStats& st, const std::optional<TScanMatch>& m, const TPose2D& 
 	st.errCov.emplace_back(e, m->cov);
 	if (std::getenv("LRGC_DEBUG_TRIALS") && e.head<2>().norm() > 0.02)
 		std::cout << "  trial " << st.trials << " err " << e.transpose() << " sd "
-				  << m->cov.diagonal().cwiseSqrt().transpose() << " inliers " << m->inlierFraction
-				  << " free-space violation " << m->freeSpaceViolation << " unobs " << m->unobservableDims << "\n";
+				  << m->cov.diagonal().cwiseSqrt().transpose() << " inliers "
+				  << m->inlierFraction << " free-space violation " << m->freeSpaceViolation
+				  << " unobs " << m->unobservableDims << "\n";
 
 	if (m->unobservableDims > 0) return;  // accuracy is for fully constrained matches
 	st.transErr.push_back(e.head<2>().norm());
@@ -82,11 +85,13 @@ void record(TTrialStats& st, const std::optional<TScanMatch>& m, const TPose2D& 
 TPose2D perturb(const TPose2D& p, double sdXY, double sdPhi, std::mt19937& rng)
 {
 	std::normal_distribution<double> N(0, 1);
-	return {p.x + sdXY * N(rng), p.y + sdXY * N(rng), mrpt::math::wrapToPi(p.phi + sdPhi * N(rng))};
+	return {p.x + sdXY * N(rng), p.y + sdXY * N(rng),
+			mrpt::math::wrapToPi(p.phi + sdPhi * N(rng))};
 }
 
 /** A pair of poses in a room world: A free, B = A (+) a random motion, also free. */
-std::pair<TPose2D, TPose2D> roomPosePair(const CSyntheticWorld& w, std::mt19937& rng, double dist, double turn)
+std::pair<TPose2D, TPose2D> roomPosePair(const CSyntheticWorld& w, std::mt19937& rng,
+										 double dist, double turn)
 {
 	const TBox region{{1, 1}, {9, 6}};
 	for (;;)
@@ -95,15 +100,15 @@ std::pair<TPose2D, TPose2D> roomPosePair(const CSyntheticWorld& w, std::mt19937&
 		if (!a) continue;
 		std::uniform_real_distribution<double> u(-1, 1);
 		const TPose2D b = compose(*a, TPose2D(dist * u(rng), dist * u(rng), turn * u(rng)));
-		if (w.distanceToNearest({b.x, b.y}) > 0.4 && b.x > 0.3 && b.x < 9.7 && b.y > 0.3 && b.y < 6.7)
+		if (w.distanceToNearest({b.x, b.y}) > 0.4 && b.x > 0.3 && b.x < 9.7 && b.y > 0.3 &&
+			b.y < 6.7)
 			return {*a, b};
 	}
 }
 
 /** Scan-to-scan trials in room worlds; covScale multiplies the reported covariance. */
-TTrialStats roomTrials(
-	int n, uint32_t seed, const TLaserSimParams& laser, double covScale = 1,
-	const TScanMatcherParams& params = {})
+TTrialStats roomTrials(int n, uint32_t seed, const TLaserSimParams& laser, double covScale = 1,
+					   const TScanMatcherParams& params = {})
 {
 	TTrialStats st;
 	std::mt19937 rng(seed);
@@ -116,7 +121,8 @@ TTrialStats roomTrials(
 		const auto scanB = simulateScan(world, b, laser, rng);
 		const TPose2D truth = between(a, b);
 		const auto ref = CReferenceCloud::fromScan(scanA, params);
-		record(st, matcher.match(ref, scanB, perturb(truth, 0.05, 2 * kDeg, rng)), truth, covScale);
+		record(st, matcher.match(ref, scanB, perturb(truth, 0.05, 2 * kDeg, rng)), truth,
+			   covScale);
 	}
 	return st;
 }
@@ -213,16 +219,19 @@ TEST(ScanMatcher, corridorAxisIsReportedUnobservable)
 	for (int t = 0; t < trials; ++t)
 	{
 		const TPose2D a(100 + 10 * N(rng), 1 + 0.2 * N(rng), 0.1 * N(rng));
-		const TPose2D b = compose(a, TPose2D(0.3 + 0.05 * N(rng), 0.05 * N(rng), 0.03 * N(rng)));
+		const TPose2D b =
+			compose(a, TPose2D(0.3 + 0.05 * N(rng), 0.05 * N(rng), 0.03 * N(rng)));
 		const auto ref = CReferenceCloud::fromScan(simulateScan(world, a, laser, rng), params);
 		const TPose2D truth = between(a, b);
-		const TPose2D guess = compose(truth, TPose2D(0.2 * N(rng), 0.03 * N(rng), 0.02 * N(rng)));
+		const TPose2D guess =
+			compose(truth, TPose2D(0.2 * N(rng), 0.03 * N(rng), 0.02 * N(rng)));
 		const auto m = matcher.match(ref, simulateScan(world, b, laser, rng), guess);
 		if (!m) continue;
 		++matched;
 		flagged += m->unobservableDims == 1;
 		// Axis and normal of the corridor in the ref frame (the corridor runs along world x).
-		const Eigen::Vector2d along(std::cos(-a.phi), std::sin(-a.phi)), across(-along.y(), along.x());
+		const Eigen::Vector2d along(std::cos(-a.phi), std::sin(-a.phi)),
+			across(-along.y(), along.x());
 		const Eigen::Matrix2d Cxy = m->cov.topLeftCorner<2, 2>();
 		const double varAlong = along.dot(Cxy * along), varAcross = across.dot(Cxy * across);
 		wide += varAlong > 1e3 * varAcross;
@@ -254,7 +263,8 @@ TEST(ScanMatcher, robustToOutliersPartialOverlapAndGaps)
 		TLaserSimParams noisy;
 		noisy.outlierRate = 0.15;  // 15% spurious returns in both scans
 		{
-			const auto ref = CReferenceCloud::fromScan(simulateScan(world, a, noisy, rng), params);
+			const auto ref =
+				CReferenceCloud::fromScan(simulateScan(world, a, noisy, rng), params);
 			record(out, matcher.match(ref, simulateScan(world, b, noisy, rng), guess), truth);
 		}
 		TLaserSimParams laser;
@@ -263,10 +273,13 @@ TEST(ScanMatcher, robustToOutliersPartialOverlapAndGaps)
 		{
 			TScan2D leftHalf = scanA;  // the ref keeps only its right half: ~50% overlap
 			removeBearingSector(leftHalf, 0, M_PI);
-			record(half, matcher.match(CReferenceCloud::fromScan(leftHalf, params), scanB, guess), truth);
+			record(half,
+				   matcher.match(CReferenceCloud::fromScan(leftHalf, params), scanB, guess),
+				   truth);
 		}
 		removeBearingSector(scanB, -35 * kDeg, 35 * kDeg);  // a 70 deg run of no-returns
-		record(gap, matcher.match(CReferenceCloud::fromScan(scanA, params), scanB, guess), truth);
+		record(gap, matcher.match(CReferenceCloud::fromScan(scanA, params), scanB, guess),
+			   truth);
 	}
 	out.print("15% outliers");
 	half.print("50% overlap");
@@ -300,30 +313,36 @@ TEST(ScanMatcher, saysNoMatchInsteadOfReturningTheGuess)
 		noOverlapAccepted += wrongM.has_value();
 		if (wrongM && std::getenv("LRGC_DEBUG_TRIALS"))
 			std::cout << "  no-overlap accepted: inliers " << wrongM->inlierFraction << " free "
-					  << wrongM->freeSpaceViolation << " unobs " << wrongM->unobservableDims << " rms "
-					  << wrongM->rmsResidual << "\n";
+					  << wrongM->freeSpaceViolation << " unobs " << wrongM->unobservableDims
+					  << " rms " << wrongM->rmsResidual << "\n";
 		// The right scan, but a guess 1.5-3 m and 20-40 deg away from the truth.
-		std::uniform_real_distribution<double> ud(1.5, 3), ua(20 * kDeg, 40 * kDeg), us(-M_PI, M_PI);
+		std::uniform_real_distribution<double> ud(1.5, 3), ua(20 * kDeg, 40 * kDeg),
+			us(-M_PI, M_PI);
 		const double d = ud(rng), dir = us(rng), dphi = (t % 2 ? 1 : -1) * ua(rng);
 		const TPose2D truth = between(a, b);
-		const TPose2D guess(truth.x + d * std::cos(dir), truth.y + d * std::sin(dir), truth.phi + dphi);
+		const TPose2D guess(truth.x + d * std::cos(dir), truth.y + d * std::sin(dir),
+							truth.phi + dphi);
 		const auto m = matcher.match(ref, simulateScan(room, b, laser, rng), guess);
 		if (!m) continue;
 		++farAccepted;
 		const Eigen::Vector3d e = poseError(m->scanInRef, truth);
 		farWrong += e.dot(m->cov.inverse() * e) > 16.27;  // chi2(3) at 99.9%
 		if (std::getenv("LRGC_DEBUG_TRIALS"))
-			std::cout << "  far accepted: err " << e.transpose() << " nees " << e.dot(m->cov.inverse() * e)
-					  << " inliers " << m->inlierFraction << " free " << m->freeSpaceViolation << "\n";
+			std::cout << "  far accepted: err " << e.transpose() << " nees "
+					  << e.dot(m->cov.inverse() * e) << " inliers " << m->inlierFraction
+					  << " free " << m->freeSpaceViolation << "\n";
 	}
-	std::cout << "no overlap accepted " << noOverlapAccepted << "/" << trials << ", far guess accepted "
-			  << farAccepted << " (wrong " << farWrong << ")\n";
+	std::cout << "no overlap accepted " << noOverlapAccepted << "/" << trials
+			  << ", far guess accepted " << farAccepted << " (wrong " << farWrong << ")\n";
 	EXPECT_EQ(noOverlapAccepted, 0);
 	EXPECT_LE(farWrong, 2);
 	EXPECT_LE(farAccepted, trials / 2);  // mostly an honest "no"
 	// Empty inputs.
-	EXPECT_FALSE(matcher.match(CReferenceCloud(), simulateScan(room, TPose2D(5, 3, 0), laser, rng), {}));
-	EXPECT_FALSE(matcher.match(CReferenceCloud::fromScan(simulateScan(room, TPose2D(5, 3, 0), laser, rng), params), TScan2D{}, {}));
+	EXPECT_FALSE(
+		matcher.match(CReferenceCloud(), simulateScan(room, TPose2D(5, 3, 0), laser, rng), {}));
+	EXPECT_FALSE(matcher.match(
+		CReferenceCloud::fromScan(simulateScan(room, TPose2D(5, 3, 0), laser, rng), params),
+		TScan2D{}, {}));
 }
 
 TEST(ScanMatcher, matchWideRecoversLargeHeadingErrors)
@@ -350,17 +369,24 @@ TEST(ScanMatcher, matchWideRecoversLargeHeadingErrors)
 		// The starts are independent: run in any order (here last to first, as a parallel
 		// run may finish them), the result is the same.
 		size_t startsRun = 0;
-		const auto reversed = matcher.matchWide(
-			ref, scan, guess, 90 * kDeg, [&](size_t n, const std::function<void(size_t)>& fn) {
-				for (size_t i = n; i-- > 0;) fn(i), ++startsRun;
-			});
+		const auto reversed =
+			matcher.matchWide(ref, scan, guess, 90 * kDeg,
+							  [&](size_t n, const std::function<void(size_t)>& fn)
+							  {
+								  for (size_t i = n; i-- > 0;) fn(i), ++startsRun;
+							  });
 		EXPECT_EQ(startsRun, 25U);  // 90 deg / 7.5 deg each side, and the guess
 		ASSERT_EQ(m.has_value(), reversed.has_value());
-		if (m) { EXPECT_EQ(poseError(m->scanInRef, reversed->scanInRef).norm(), 0.0); }
+		if (m)
+		{
+			EXPECT_EQ(poseError(m->scanInRef, reversed->scanInRef).norm(), 0.0);
+		}
 		if (!m) continue;
 		const Eigen::Vector3d e = poseError(m->scanInRef, truth);
-		if (e.head<2>().norm() < 0.01 && std::abs(e.z()) < 0.3 * kDeg) ++recovered;
-		else ++wrong;
+		if (e.head<2>().norm() < 0.01 && std::abs(e.z()) < 0.3 * kDeg)
+			++recovered;
+		else
+			++wrong;
 	}
 	std::cout << "matchWide: recovered " << recovered << "/" << trials << ", wrong " << wrong
 			  << "; plain match recovered " << localOk << "\n";
@@ -404,16 +430,20 @@ TEST(ScanMatcher, matchWideDoesNotOverruleARightGuessInAnAliasedGallery)
 		if (const auto m = matcher.matchWide(ref, scan, guess, 90 * kDeg))
 		{
 			const Eigen::Vector3d e = poseError(m->scanInRef, truth);
-			if (e.head<2>().norm() < 0.05 && std::abs(e.z()) < 0.5 * kDeg) ++keptAtTruth;
-			else ++wrongAtTruth;
+			if (e.head<2>().norm() < 0.05 && std::abs(e.z()) < 0.5 * kDeg)
+				++keptAtTruth;
+			else
+				++wrongAtTruth;
 		}
 		TPose2D bad = guess;
 		bad.phi = mrpt::math::wrapToPi(truth.phi + (t % 2 ? -1 : 1) * ua(rng));
 		if (const auto m = matcher.matchWide(ref, scan, bad, 90 * kDeg))
 		{
 			const Eigen::Vector3d e = poseError(m->scanInRef, truth);
-			if (e.head<2>().norm() < 0.05 && std::abs(e.z()) < 0.5 * kDeg) ++recovered;
-			else ++wrongGlitch;
+			if (e.head<2>().norm() < 0.05 && std::abs(e.z()) < 0.5 * kDeg)
+				++recovered;
+			else
+				++wrongGlitch;
 		}
 	}
 	std::cout << "gallery matchWide, right guess: kept " << keptAtTruth << "/" << trials

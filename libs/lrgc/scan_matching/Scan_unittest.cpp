@@ -62,7 +62,8 @@ TEST(ScanDeskew, aTurningScanLandsOnTheWallsOfTheMiddleBeamsPose)
 	// 2 rad/s over a 26.7 ms sweep: the last beam is 3.1 deg ahead of the first.
 	const double w = 2.0, tau = 0.0267;
 	const auto obs = turningScan(w, tau);
-	const TScan2D deskewed = scanFromObservation(obs, nullptr, mrpt::math::TPose2D(0, 0, w * tau));
+	const TScan2D deskewed =
+		scanFromObservation(obs, nullptr, mrpt::math::TPose2D(0, 0, w * tau));
 	ASSERT_EQ(deskewed.points.size(), 361u);
 	EXPECT_LT(worstOffWalls(deskewed), 1e-4);  // float ranges: ~1e-6 relative
 	// Without de-skewing the beams are off by up to w tau / 2 = 0.77 deg: several cm off the

@@ -29,9 +29,9 @@ std::string trimmed(const std::string& s)
 
 bool sameName(const std::string& a, const std::string& b)
 {
-	return a.size() == b.size() &&
-		std::equal(a.begin(), a.end(), b.begin(), [](unsigned char x, unsigned char y)
-				   { return std::tolower(x) == std::tolower(y); });
+	return a.size() == b.size() && std::equal(a.begin(), a.end(), b.begin(),
+											  [](unsigned char x, unsigned char y)
+											  { return std::tolower(x) == std::tolower(y); });
 }
 // A UTF-8 byte order mark (some editors write one) is no part of the first line; MRPT's
 // parser skips it too.
@@ -52,10 +52,11 @@ void rejectKeysBeforeTheFirstSection(const std::string& path)
 		if (line.empty() || line[0] == '#' || line[0] == ';' || line.rfind("//", 0) == 0)
 			continue;
 		if (line[0] == '[') return;
-		throw CSetupError(path + ":" + std::to_string(n) + ": '" + line.substr(0, 60) +
-						  "' comes before the first [section], so no section reads it; move it "
-						  "under its section (lrgc-slam --write-default-config FILE writes every "
-						  "section and key)");
+		throw CSetupError(
+			path + ":" + std::to_string(n) + ": '" + line.substr(0, 60) +
+			"' comes before the first [section], so no section reads it; move it "
+			"under its section (lrgc-slam --write-default-config FILE writes every "
+			"section and key)");
 	}
 }
 
@@ -65,12 +66,14 @@ std::optional<std::pair<size_t, std::string>> parserLineOf(const std::string& me
 	const std::string prefix = "Line ";
 	if (message.rfind(prefix, 0) != 0) return std::nullopt;
 	size_t end = prefix.size();
-	while (end < message.size() && std::isdigit(static_cast<unsigned char>(message[end]))) ++end;
+	while (end < message.size() && std::isdigit(static_cast<unsigned char>(message[end])))
+		++end;
 	if (end == prefix.size() || end + 1 >= message.size() || message[end] != ':')
 		return std::nullopt;
 	size_t line = 0;
 	const char* digits = message.data() + prefix.size();
-	if (std::from_chars(digits, message.data() + end, line).ec != std::errc()) return std::nullopt;
+	if (std::from_chars(digits, message.data() + end, line).ec != std::errc())
+		return std::nullopt;
 	return std::make_pair(line, trimmed(message.substr(end + 1)));
 }
 }  // namespace
@@ -147,9 +150,9 @@ TAppConfig loadAppConfig(const std::string& path)
 	rejectKeysBeforeTheFirstSection(path);
 	try
 	{
-		// Inside the try: MRPT's parser throws on a malformed "${..}" / "$env{..}" / "$eval{..}"
-		// (found by fuzz/fuzz_ini), which is a bad .ini like any other (exit 2), not an error
-		// of the input log.
+		// Inside the try: MRPT's parser throws on a malformed "${..}" / "$env{..}" /
+		// "$eval{..}" (found by fuzz/fuzz_ini), which is a bad .ini like any other (exit 2),
+		// not an error of the input log.
 		const mrpt::config::CConfigFile ini(path);
 		rejectUnknownSections(ini, allowed);
 		cfg.warnings = cfg.lrgc.loadReportingRenames(ini, {});
@@ -172,10 +175,11 @@ TAppConfig loadAppConfig(const std::string& path)
 		else if (const auto place = paramPlaceOf(message))
 			if (const auto line = lineOfKey(path, place->section, place->key))
 				where += ":" + std::to_string(*line);
-		throw CSetupError(where + ": " + message +
-							  "; lrgc-slam --write-default-config FILE writes every section and "
-							  "key with its unit and meaning",
-						  errorDetails(e));
+		throw CSetupError(
+			where + ": " + message +
+				"; lrgc-slam --write-default-config FILE writes every section and "
+				"key with its unit and meaning",
+			errorDetails(e));
 	}
 	return cfg;
 }
@@ -235,11 +239,14 @@ std::string appConfigSections(const TAppConfig& cfg)
 namespace
 {
 // Every section and key of the app, as saveToConfigFile() writes them.
-std::string allKeysText() { return appConfigSections(TAppConfig{}); }
+std::string allKeysText()
+{
+	return appConfigSections(TAppConfig{});
+}
 
 // The lines of an .ini text that set a key of `keep` (and the headers of their sections).
-std::string onlyKeys(
-	const std::string& text, const std::vector<std::pair<std::string, std::string>>& keep)
+std::string onlyKeys(const std::string& text,
+					 const std::vector<std::pair<std::string, std::string>>& keep)
 {
 	const std::set<std::pair<std::string, std::string>> wanted(keep.begin(), keep.end());
 	std::string out, section;
@@ -250,8 +257,8 @@ std::string onlyKeys(
 		if (!t.empty() && t[0] == '[')
 		{
 			section = trimmed(t.substr(1, t.find(']') - 1));
-			const bool used = std::any_of(
-				keep.begin(), keep.end(), [&](const auto& k) { return k.first == section; });
+			const bool used = std::any_of(keep.begin(), keep.end(),
+										  [&](const auto& k) { return k.first == section; });
 			if (used) out += (out.empty() ? "" : "\n") + line + "\n";
 			continue;
 		}
@@ -271,7 +278,7 @@ std::string defaultAppConfigText()
 		   "keeps its\n"
 		   "# default: `lrgc-slam --write-default-config FILE --expert` writes all of them\n"
 		   "# (share/lrgc/lrgc-expert.ini); doc/parameters.md says why each has its value.\n" +
-		onlyKeys(allKeysText(), userKeys());
+		   onlyKeys(allKeysText(), userKeys());
 }
 
 std::string expertAppConfigText()
@@ -281,7 +288,7 @@ std::string expertAppConfigText()
 		   "# Units are in the key names (_m, _s, _deg, ...) and comments; doc/parameters.md "
 		   "says why\n"
 		   "# each has its value. A user's few are in share/lrgc/lrgc-default.ini.\n" +
-		allKeysText();
+		   allKeysText();
 }
 
 }  // namespace lrgc::apps

@@ -20,7 +20,7 @@ struct TAppConfig
 {
 	TLRGCParams lrgc;
 	TLogReaderOptions reader;
-	TLiveMappingParams live;  //!< only used by --live
+	TLiveMappingParams live;           //!< only used by --live
 	TLocalizationParams localization;  //!< [Localization]: --initial-map, --localize
 	/** One line per key of the .ini read under an old name ("[MapBuilder] keyframe_distance
 	 * is now keyframe_distance_m; ..."), for the app to report as warnings. */

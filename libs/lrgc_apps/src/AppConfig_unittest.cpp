@@ -27,18 +27,18 @@ std::string saved(const lrgc::apps::TAppConfig& cfg)
 // defaults, and one warning per key written under its old name, the app's sections included.
 TEST(AppConfig, AnOldFullIniGivesTheDefaultsAndAWarningPerOldKey)
 {
-	const auto cfg = lrgc::apps::loadAppConfig(
-		std::string(LRGC_SOURCE_DIR) + "/tests/data/lrgc-default-7c31216.ini");
+	const auto cfg = lrgc::apps::loadAppConfig(std::string(LRGC_SOURCE_DIR) +
+											   "/tests/data/lrgc-default-7c31216.ini");
 	EXPECT_EQ(saved(cfg), saved(lrgc::apps::TAppConfig()));
-	EXPECT_EQ(cfg.warnings.size(), lrgc::TLRGCParams::renamedKeys().size() +
-									   lrgc::apps::appRenamedKeys().size());
+	EXPECT_EQ(cfg.warnings.size(),
+			  lrgc::TLRGCParams::renamedKeys().size() + lrgc::apps::appRenamedKeys().size());
 	EXPECT_NE(std::find(cfg.warnings.begin(), cfg.warnings.end(),
 						"[Localization] min_inliers is now min_inlier_fraction; read as such "
 						"(lrgc-slam --write-default-config FILE writes the current names)"),
 			  cfg.warnings.end());
-	EXPECT_TRUE(lrgc::apps::loadAppConfig(std::string(LRGC_SOURCE_DIR) +
-										  "/share/lrgc/lrgc-default.ini")
-					.warnings.empty());
+	EXPECT_TRUE(
+		lrgc::apps::loadAppConfig(std::string(LRGC_SOURCE_DIR) + "/share/lrgc/lrgc-default.ini")
+			.warnings.empty());
 }
 
 // What --write-default-config hands a user is at most 40 keys, every one a key the loaders
@@ -62,10 +62,14 @@ TEST(AppConfig, TheUserFileHasAtMost40KnownKeysAndTheExpertFileAll)
 	EXPECT_EQ(briefKeys, user.size());
 	for (const auto& [section, key] : user)
 		EXPECT_TRUE(expert.keyExists(section, key)) << section << " " << key;
-	std::istringstream text(lrgc::apps::defaultAppConfigText());
-	for (std::string line; std::getline(text, line);)
+	std::istringstream briefText(lrgc::apps::defaultAppConfigText());
+	for (std::string line; std::getline(briefText, line);)
+	{
 		if (line.find('=') != std::string::npos)
+		{
 			EXPECT_NE(line.find(" // "), std::string::npos) << line << ": no one-line meaning";
+		}
+	}
 	// Both texts load (no unknown key, no old name) and give the defaults.
 	const auto loaded = [](const std::string& text)
 	{
@@ -73,7 +77,8 @@ TEST(AppConfig, TheUserFileHasAtMost40KnownKeysAndTheExpertFileAll)
 		std::ofstream(path) << text;
 		return lrgc::apps::loadAppConfig(path);
 	};
-	for (const auto& text : {lrgc::apps::defaultAppConfigText(), lrgc::apps::expertAppConfigText()})
+	for (const auto& text :
+		 {lrgc::apps::defaultAppConfigText(), lrgc::apps::expertAppConfigText()})
 	{
 		const auto cfg = loaded(text);
 		EXPECT_TRUE(cfg.warnings.empty());
@@ -85,7 +90,8 @@ TEST(AppConfig, TheUserFileHasAtMost40KnownKeysAndTheExpertFileAll)
 TEST(AppConfig, ParametersDocListsEveryKey)
 {
 	std::ifstream in(std::string(LRGC_SOURCE_DIR) + "/doc/parameters.md");
-	const std::string doc((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+	const std::string doc((std::istreambuf_iterator<char>(in)),
+						  std::istreambuf_iterator<char>());
 	ASSERT_FALSE(doc.empty());
 	const mrpt::config::CConfigFileMemory expert(lrgc::apps::expertAppConfigText());
 	std::vector<std::string> sections;
@@ -132,7 +138,8 @@ TEST(AppConfig, AKeyBeforeTheFirstSectionIsAnErrorNamingItsLine)
 					   "[section]"),
 			  std::string::npos)
 		<< msg;
-	EXPECT_EQ(configError("comments.ini", "; a\n// b\n\n[MapBuilder]\nloop_closing = no\n"), "");
+	EXPECT_EQ(configError("comments.ini", "; a\n// b\n\n[MapBuilder]\nloop_closing = no\n"),
+			  "");
 }
 
 // Issue 30: a UTF-8 byte order mark (some editors write one) is no part of the first line:
@@ -143,7 +150,8 @@ TEST(AppConfig, AUtf8ByteOrderMarkIsAccepted)
 	const std::string path = std::string(LRGC_BINARY_DIR) + "/bom.ini";
 	std::ofstream(path, std::ios::binary) << bom << "[MapBuilder]\nkeyframe_distance_m = 0.4\n";
 	EXPECT_EQ(lrgc::apps::loadAppConfig(path).lrgc.builder.keyframe_distance_m, 0.4);
-	const std::string msg = configError("bom-bad.ini", bom + "[MapBuilder]\nkeyframe_distance_m = abc\n");
+	const std::string msg =
+		configError("bom-bad.ini", bom + "[MapBuilder]\nkeyframe_distance_m = abc\n");
 	EXPECT_NE(msg.find("bom-bad.ini:2: Invalid value for [MapBuilder] keyframe_distance_m"),
 			  std::string::npos)
 		<< msg;

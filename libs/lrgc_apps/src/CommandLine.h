@@ -7,7 +7,8 @@
  *   lrgc-slam --input FILE --initial-map MAP --out DIR     (continue MAP: DIR or .simplemap)
  *   lrgc-slam --input FILE --localize MAP --out DIR        (localise on MAP, no mapping)
  *   lrgc-slam --write-default-config FILE.ini [--expert] [--force]
- *   lrgc-slam ICP-SLAM.ini [RAWLOG] [--config FILE.ini]      (icp-slam's command line: IcpSlamIni.h)
+ *   lrgc-slam ICP-SLAM.ini [RAWLOG] [--config FILE.ini]      (icp-slam's command line:
+ * IcpSlamIni.h)
  *   --input and --live runs [--laser LABEL]: the laser to map (others are counted, ignored)
  *   any of them [--verbose]: on an error, MRPT's details (source location, call stack) too
  */
@@ -23,18 +24,18 @@ namespace lrgc::apps
 {
 struct TSlamCommandLine
 {
-	std::string input;  //!< log file (rawlog or CARMEN)
-	std::string live;  //!< rawlog-grabber .ini of the live sensors (instead of --input)
+	std::string input;   //!< log file (rawlog or CARMEN)
+	std::string live;    //!< rawlog-grabber .ini of the live sensors (instead of --input)
 	std::string config;  //!< optional .ini with lrgc parameters
 	std::string outDir;
-	std::string saveRawlog;  //!< convert the input into this MRPT rawlog
+	std::string saveRawlog;          //!< convert the input into this MRPT rawlog
 	std::string writeDefaultConfig;  //!< write the default .ini and exit
 	// --- continuing and localising on a saved map (issue 14) ---
 	/** An earlier output folder or a .simplemap(.gz): the run continues that map. */
 	std::string initialMap;
 	/** An earlier output folder or a .simplemap(.gz): localise on it, never change it. */
 	std::string localize;
-	bool force = false;  //!< --write-default-config may replace an existing file
+	bool force = false;   //!< --write-default-config may replace an existing file
 	bool expert = false;  //!< --write-default-config writes every key, not the user's few
 	bool quiet = false;
 	bool verbose = false;  //!< errors with their details (source location, call stack)
@@ -45,14 +46,14 @@ struct TSlamCommandLine
 	std::string laser;  //!< --laser LABEL: overrides [MapBuilder] laser_label
 
 	// --- icp-slam's command line (IcpSlamIni.h) ---
-	std::string icpSlamIni;  //!< first positional argument: an icp-slam .ini
+	std::string icpSlamIni;     //!< first positional argument: an icp-slam .ini
 	std::string icpSlamRawlog;  //!< second positional argument: overrides its rawlog_file
 };
 
 /** A usage error: the message says what is wrong; the caller prints usage and exits 2. */
 class CUsageError : public std::runtime_error
 {
-   public:
+public:
 	using std::runtime_error::runtime_error;
 };
 

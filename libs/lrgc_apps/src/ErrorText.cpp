@@ -29,7 +29,8 @@ std::string withoutLocation(const std::string& msg)
 	int depth = 0;
 	for (size_t i = open + 2; i < msg.size(); ++i)
 	{
-		if (msg[i] == '[') ++depth;
+		if (msg[i] == '[')
+			++depth;
 		else if (msg[i] == ']' && --depth == 0)
 			return msg.substr(std::min(msg.size(), msg.find_first_not_of(' ', i + 1)));
 	}
@@ -44,8 +45,10 @@ std::string oneLineText(const std::string& text)
 	// message. Nested exceptions repeat the block. Kept: every line of message text.
 	// A nested exception's text may follow other text on its line ("outer: " + e.what()).
 	std::string t = text;
-	for (const std::string banner : {"==== MRPT exception ====", "==== non-MRPT exception ===="})
-		for (size_t p; (p = t.find(banner)) != std::string::npos;) t.replace(p, banner.size(), "\n");
+	for (const std::string banner :
+		 {"==== MRPT exception ====", "==== non-MRPT exception ===="})
+		for (size_t p; (p = t.find(banner)) != std::string::npos;)
+			t.replace(p, banner.size(), "\n");
 	std::vector<std::string> parts;
 	std::istringstream in(t);
 	for (std::string line; std::getline(in, line);)
@@ -66,8 +69,7 @@ std::string oneLineText(const std::string& text)
 			parts.push_back(line);
 	}
 	std::string out;
-	for (const auto& p : parts)
-		out += (out.empty() ? "" : out.back() == ':' ? " " : "; ") + p;
+	for (const auto& p : parts) out += (out.empty() ? "" : out.back() == ':' ? " " : "; ") + p;
 	if (out.empty())
 	{
 		out = text;
@@ -83,6 +85,9 @@ std::string oneLineError(const std::exception& e)
 	return oneLineText(e.what());
 }
 
-std::string errorDetails(const std::exception& e) { return mrpt::exception_to_str(e); }
+std::string errorDetails(const std::exception& e)
+{
+	return mrpt::exception_to_str(e);
+}
 
 }  // namespace lrgc::apps

@@ -34,8 +34,9 @@ using lrgc::apps::oneLineText;
 
 TEST(ErrorText, MrptExceptionWithoutBannerLocationAndBacktrace)
 {
-	EXPECT_EQ(oneLineOf([] { THROW_EXCEPTION_FMT("Unknown key '%s' in section [%s]", "k", "S"); }),
-			  "Unknown key 'k' in section [S]");
+	EXPECT_EQ(
+		oneLineOf([] { THROW_EXCEPTION_FMT("Unknown key '%s' in section [%s]", "k", "S"); }),
+		"Unknown key 'k' in section [S]");
 	EXPECT_EQ(oneLineOf([] { throwFromTemplate(1.0); }),
 			  "Invalid value for [MapBuilder] keyframe_distance_m: must be > 0");
 	EXPECT_EQ(oneLineOf([] { ASSERT_EQUAL_(1, 2); }).find('\n'), std::string::npos);
@@ -53,16 +54,18 @@ TEST(ErrorText, NonMrptExceptionIsItsMessage)
 
 TEST(ErrorText, NestedExceptionKeepsEveryMessage)
 {
-	const std::string s = oneLineOf([] {
-		try
+	const std::string s = oneLineOf(
+		[]
 		{
-			THROW_EXCEPTION("inner problem: port busy");
-		}
-		catch (const std::exception& e)
-		{
-			THROW_EXCEPTION(std::string("outer: cannot start (LASER): ") + e.what());
-		}
-	});
+			try
+			{
+				THROW_EXCEPTION("inner problem: port busy");
+			}
+			catch (const std::exception& e)
+			{
+				THROW_EXCEPTION(std::string("outer: cannot start (LASER): ") + e.what());
+			}
+		});
 	EXPECT_NE(s.find("outer: cannot start (LASER)"), std::string::npos) << s;
 	EXPECT_NE(s.find("inner problem: port busy"), std::string::npos) << s;
 	EXPECT_EQ(s.find("===="), std::string::npos) << s;

@@ -22,9 +22,9 @@ const char* const kSection = "MappingApplication";
 
 bool sameName(const std::string& a, const std::string& b)
 {
-	return a.size() == b.size() &&
-		std::equal(a.begin(), a.end(), b.begin(), [](unsigned char x, unsigned char y)
-				   { return std::tolower(x) == std::tolower(y); });
+	return a.size() == b.size() && std::equal(a.begin(), a.end(), b.begin(),
+											  [](unsigned char x, unsigned char y)
+											  { return std::tolower(x) == std::tolower(y); });
 }
 
 std::string where(const std::string& path, const std::string& key)
@@ -83,12 +83,14 @@ TIcpSlamRun readIcpSlamIni(const std::string& path, const std::string& rawlogOve
 	{
 		throw CSetupError(path + ": " + oneLineError(e), errorDetails(e));
 	}
-	run.rawlog = rawlogOverride.empty() ? requiredPath(*ini, path, "rawlog_file") : rawlogOverride;
+	run.rawlog =
+		rawlogOverride.empty() ? requiredPath(*ini, path, "rawlog_file") : rawlogOverride;
 	run.outDir = requiredPath(*ini, path, "logOutput_dir");
 	const std::string offset = ini->read_string(kSection, "rawlog_offset", "0");
 	if (offset.empty() || offset.find_first_not_of("0123456789") != std::string::npos)
-		throw CSetupError(where(path, "rawlog_offset") + ": [MappingApplication] rawlog_offset '" +
-						  offset + "' is not a whole number >= 0 (rawlog objects to skip)");
+		throw CSetupError(where(path, "rawlog_offset") +
+						  ": [MappingApplication] rawlog_offset '" + offset +
+						  "' is not a whole number >= 0 (rawlog objects to skip)");
 	run.rawlogOffset = std::stoul(offset);
 
 	std::vector<std::string> sections;
@@ -119,7 +121,8 @@ std::string ignoredIcpSlamSettings(const std::string& path, const TIcpSlamRun& r
 		std::string& list = name.front() == '[' ? sections : keys;
 		list += (list.empty() ? "" : " ") + name;
 	}
-	std::string line = "'" + path + "': icp-slam settings lrgc does not use, ignored (it maps with "
+	std::string line = "'" + path +
+					   "': icp-slam settings lrgc does not use, ignored (it maps with "
 					   "its own parameters: --config FILE.ini):";
 	if (!sections.empty()) line += " sections " + sections;
 	if (!keys.empty())

@@ -6,18 +6,17 @@
  * in icp-slam), rawlog_offset and logOutput_dir (paths as icp-slam takes them: relative to
  * the current folder). rawlog_offset counts as icp-slam does: a log entry is mapped once the
  * serialised objects read so far, its own included, number rawlog_offset or more (an action
- * collection and its sensory frame are two objects, a lone observation one). The map is made with lrgc's parameters (the defaults, or --config's);
- * icp-slam's own settings ([ICP], the metric map sections, [MappingApplication]'s other keys)
- * have no meaning for lrgc and are reported once as ignored, not refused. logOutput_dir gets
- * lrgc's outputs and, beside them, icp-slam's names:
- *   _finalmap_.simplemap    the keyframes (the same CSimpleMap as map.simplemap.gz)
- *   log_estimated_path.txt  `step x y phi` [m, m, rad], one line per log entry, step = the
- *                           entry's index (0-based, as lrgc reads the log), the pose of the
- *                           last scan mapped at or before it (final, optimised poses; entries
- *                           before the first mapped scan have none and no line).
- * Differences from icp-slam: the poses are the final ones, not the online estimate; a leading
- * sensory frame without an action is entry 0 (icp-slam skips it, so its steps are one less);
- * the existing files of logOutput_dir are kept (icp-slam deletes them). */
+ * collection and its sensory frame are two objects, a lone observation one). The map is made
+ * with lrgc's parameters (the defaults, or --config's); icp-slam's own settings ([ICP], the
+ * metric map sections, [MappingApplication]'s other keys) have no meaning for lrgc and are
+ * reported once as ignored, not refused. logOutput_dir gets lrgc's outputs and, beside them,
+ * icp-slam's names: _finalmap_.simplemap    the keyframes (the same CSimpleMap as
+ * map.simplemap.gz) log_estimated_path.txt  `step x y phi` [m, m, rad], one line per log entry,
+ * step = the entry's index (0-based, as lrgc reads the log), the pose of the last scan mapped
+ * at or before it (final, optimised poses; entries before the first mapped scan have none and
+ * no line). Differences from icp-slam: the poses are the final ones, not the online estimate; a
+ * leading sensory frame without an action is entry 0 (icp-slam skips it, so its steps are one
+ * less); the existing files of logOutput_dir are kept (icp-slam deletes them). */
 #pragma once
 
 #include <lrgc/map_builder/Trajectory.h>
@@ -29,9 +28,9 @@ namespace lrgc::apps
 {
 struct TIcpSlamRun
 {
-	std::string rawlog;  //!< [MappingApplication] rawlog_file, or the RAWLOG argument
+	std::string rawlog;       //!< [MappingApplication] rawlog_file, or the RAWLOG argument
 	size_t rawlogOffset = 0;  //!< rawlog objects to read before mapping (as icp-slam)
-	std::string outDir;  //!< [MappingApplication] logOutput_dir
+	std::string outDir;       //!< [MappingApplication] logOutput_dir
 	/** "[ICP]", "[MappingApplication] LOG_FREQUENCY", ...: what lrgc does not use. */
 	std::vector<std::string> ignored;
 };

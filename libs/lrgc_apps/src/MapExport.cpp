@@ -30,9 +30,9 @@ void writeArchiveGz(const T& object, const std::string& path)
 // (MRPT's COccupancyGridMap2D::getCell() returns the complement, p(free).)
 uint8_t rosPixel(float pOccupied)
 {
-	if (pOccupied > 0.65f) return 0;  // occupied: black
+	if (pOccupied > 0.65f) return 0;     // occupied: black
 	if (pOccupied < 0.196f) return 254;  // free: white
-	return 205;  // unknown: grey
+	return 205;                          // unknown: grey
 }
 }  // namespace
 
@@ -51,7 +51,8 @@ void writeGridPng(const mrpt::maps::COccupancyGridMap2D& grid, const std::string
 	std::vector<uchar> png;
 	if (!cv::imencode(".png", img.asCvMatRef(), png))
 		THROW_EXCEPTION_FMT("cannot encode the map image for '%s'", path.c_str());
-	writeTextFileAtomically(path, std::string_view(reinterpret_cast<const char*>(png.data()), png.size()));
+	writeTextFileAtomically(
+		path, std::string_view(reinterpret_cast<const char*>(png.data()), png.size()));
 }
 
 void writeRosMap(const mrpt::maps::COccupancyGridMap2D& grid, const std::string& stemPath)
@@ -91,10 +92,9 @@ void writeTrajectoryTum(const TTrajectory& trajectory, const std::string& path)
 	{
 		// Yaw-only rotation as a unit quaternion: (0, 0, sin(phi/2), cos(phi/2)).
 		const double half = 0.5 * p.robotInMap.phi;
-		std::snprintf(
-			line, sizeof(line), "%.6f %.6f %.6f 0 0 0 %.9f %.9f\n",
-			mrpt::Clock::toDouble(p.timestamp), p.robotInMap.x, p.robotInMap.y, std::sin(half),
-			std::cos(half));
+		std::snprintf(line, sizeof(line), "%.6f %.6f %.6f 0 0 0 %.9f %.9f\n",
+					  mrpt::Clock::toDouble(p.timestamp), p.robotInMap.x, p.robotInMap.y,
+					  std::sin(half), std::cos(half));
 		out += line;
 	}
 	writeTextFileAtomically(path, out);

@@ -12,7 +12,7 @@ namespace lrgc::apps
 {
 namespace
 {
-constexpr double kStartSpreadXY = 0.5;  // [m] half width of the initial particle box
+constexpr double kStartSpreadXY = 0.5;     // [m] half width of the initial particle box
 constexpr double kStartSpreadYawDeg = 10;  // [deg] half width of its heading interval
 
 std::string absolutePath(const std::string& path)
@@ -63,45 +63,51 @@ std::string pfLocalizationIni(const std::string& outDir, const std::string& rawl
 	const double yawDeg = startPose.phi * 180 / M_PI;
 	return "# pf-localization (MRPT) on the map of this folder, written by lrgc-slam. Run it,\n"
 		   "# headless, from any folder:\n"
-		   "#   pf-localization " + dir + "/pf-localization.ini </dev/null\n"
-		   "# Its estimates are the \"PDF estimation\" lines it prints at each step. The map's\n"
+		   "#   pf-localization " +
+		   dir +
+		   "/pf-localization.ini </dev/null\n"
+		   "# Its estimates are the \"PDF estimation\" lines it prints at each step. The "
+		   "map's\n"
 		   "# origin is the first mapped scan's pose: the particles start around the first\n"
 		   "# pose of trajectory.tum.\n\n" +
-		kFilterSections +
-		"\n[LocalizationExperiment]\n"
-		"use_3D_poses = false\n"
-		"map_file = " + map + "\n" + rawlogLines +
-		"# A prefix: pf-localization writes PREFIX_000_0002000/ (emptied first) and\n"
-		"# PREFIX_SUMMARY.txt, beside lrgc-slam's files, which it does not touch.\n"
-		"logOutput_dir = " + dir + "/pf-localization-log\n"
-		"3DSceneFrequency = -1\n"
-		"SHOW_PROGRESS_3D_REAL_TIME = false\n"
-		"experimentRepetitions = 1\n"
-		"particles_count = 2000\n"
-		"# 1: uniform in the box below (0 would keep only the box's free cells).\n"
-		"init_PDF_mode = 1\n" +
-		mrpt::format("init_PDF_min_x = %.6f\ninit_PDF_max_x = %.6f\n",
-					 startPose.x - kStartSpreadXY, startPose.x + kStartSpreadXY) +
-		mrpt::format("init_PDF_min_y = %.6f\ninit_PDF_max_y = %.6f\n",
-					 startPose.y - kStartSpreadXY, startPose.y + kStartSpreadXY) +
-		mrpt::format("init_PDF_min_yaw_deg = %.6f\ninit_PDF_max_yaw_deg = %.6f\n",
-					 yawDeg - kStartSpreadYawDeg, yawDeg + kStartSpreadYawDeg) +
-		"\n[MetricMap]\n"
-		"occupancyGrid_count = 1\n"
-		"likelihoodMapSelection = -1\n"
-		"\n[MetricMap_occupancyGrid_00_creationOpts]\n" +
-		mrpt::format("resolution = %.6f\n", resolution) +
-		"\n[MetricMap_occupancyGrid_00_insertOpts]\n"
-		"maxDistanceInsertion = 15\n"
-		"\n[MetricMap_occupancyGrid_00_likelihoodOpts]\n"
-		"likelihoodMethod = 4\n"
-		"LF_decimation = 5\n"
-		"LF_stdHit = 0.20\n"
-		"LF_maxCorrsDistance = 0.30\n"
-		"LF_zHit = 0.95\n"
-		"LF_zRandom = 0.05\n"
-		"LF_maxRange = 80\n"
-		"LF_alternateAverageMethod = 0\n";
+		   kFilterSections +
+		   "\n[LocalizationExperiment]\n"
+		   "use_3D_poses = false\n"
+		   "map_file = " +
+		   map + "\n" + rawlogLines +
+		   "# A prefix: pf-localization writes PREFIX_000_0002000/ (emptied first) and\n"
+		   "# PREFIX_SUMMARY.txt, beside lrgc-slam's files, which it does not touch.\n"
+		   "logOutput_dir = " +
+		   dir +
+		   "/pf-localization-log\n"
+		   "3DSceneFrequency = -1\n"
+		   "SHOW_PROGRESS_3D_REAL_TIME = false\n"
+		   "experimentRepetitions = 1\n"
+		   "particles_count = 2000\n"
+		   "# 1: uniform in the box below (0 would keep only the box's free cells).\n"
+		   "init_PDF_mode = 1\n" +
+		   mrpt::format("init_PDF_min_x = %.6f\ninit_PDF_max_x = %.6f\n",
+						startPose.x - kStartSpreadXY, startPose.x + kStartSpreadXY) +
+		   mrpt::format("init_PDF_min_y = %.6f\ninit_PDF_max_y = %.6f\n",
+						startPose.y - kStartSpreadXY, startPose.y + kStartSpreadXY) +
+		   mrpt::format("init_PDF_min_yaw_deg = %.6f\ninit_PDF_max_yaw_deg = %.6f\n",
+						yawDeg - kStartSpreadYawDeg, yawDeg + kStartSpreadYawDeg) +
+		   "\n[MetricMap]\n"
+		   "occupancyGrid_count = 1\n"
+		   "likelihoodMapSelection = -1\n"
+		   "\n[MetricMap_occupancyGrid_00_creationOpts]\n" +
+		   mrpt::format("resolution = %.6f\n", resolution) +
+		   "\n[MetricMap_occupancyGrid_00_insertOpts]\n"
+		   "maxDistanceInsertion = 15\n"
+		   "\n[MetricMap_occupancyGrid_00_likelihoodOpts]\n"
+		   "likelihoodMethod = 4\n"
+		   "LF_decimation = 5\n"
+		   "LF_stdHit = 0.20\n"
+		   "LF_maxCorrsDistance = 0.30\n"
+		   "LF_zHit = 0.95\n"
+		   "LF_zRandom = 0.05\n"
+		   "LF_maxRange = 80\n"
+		   "LF_alternateAverageMethod = 0\n";
 }
 
 std::string observations2mapIni(double resolution, double maxRange)
@@ -113,9 +119,9 @@ std::string observations2mapIni(double resolution, double maxRange)
 		   "[MappingApplication]\n"
 		   "occupancyGrid_count = 1\n"
 		   "\n[MappingApplication_occupancyGrid_00_creationOpts]\n" +
-		mrpt::format("resolution = %.6f\n", resolution) +
-		"\n[MappingApplication_occupancyGrid_00_insertOpts]\n" +
-		mrpt::format("maxDistanceInsertion = %.6f\n", maxRange);
+		   mrpt::format("resolution = %.6f\n", resolution) +
+		   "\n[MappingApplication_occupancyGrid_00_insertOpts]\n" +
+		   mrpt::format("maxDistanceInsertion = %.6f\n", maxRange);
 }
 
 void writeMrptClientFiles(const TRunOutputsSnapshot& s, const std::string& outDir)

@@ -26,8 +26,8 @@ TEST(MrptClientFiles, PfLocalizationBoxIsAroundTheStartPose)
 	EXPECT_FALSE(ini.read_bool(s, "SHOW_PROGRESS_3D_REAL_TIME", true));
 	// A prefix of pf-localization's own folder (which it empties): never the output folder.
 	EXPECT_EQ(ini.read_string(s, "logOutput_dir", ""), "/data/out/pf-localization-log");
-	EXPECT_DOUBLE_EQ(ini.read_double("MetricMap_occupancyGrid_00_creationOpts", "resolution", 0),
-					 0.05);
+	EXPECT_DOUBLE_EQ(
+		ini.read_double("MetricMap_occupancyGrid_00_creationOpts", "resolution", 0), 0.05);
 }
 
 TEST(MrptClientFiles, WithoutARawlogTheFileSaysHowToMakeOne)

@@ -8,7 +8,9 @@ namespace lrgc::apps
 {
 bool samePath(const std::string& a, const std::string& b)
 {
-	struct stat sa{}, sb{};
+	struct stat sa
+	{
+	}, sb{};
 	if (::stat(a.c_str(), &sa) == 0 && ::stat(b.c_str(), &sb) == 0)
 		return sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
 	namespace fs = std::filesystem;
@@ -26,7 +28,8 @@ std::string outputOverInput(const std::vector<TNamedPath>& outputs,
 			if (!out.path.empty() && !in.path.empty() && samePath(out.path, in.path))
 				return out.option + " '" + out.path + "' is " + in.option + " '" + in.path +
 					   "' (the same file): an output is never written over an input; name "
-					   "another " + out.option;
+					   "another " +
+					   out.option;
 	return {};
 }
 
@@ -40,9 +43,10 @@ namespace lrgc::apps
 namespace
 {
 // Every name lrgc-slam writes into --out, in any mode (offline, --localize, --live).
-const char* const kSlamOutputNames[] = {
-	"map.gridmap.gz", "map.png",	"map.pgm",	  "map.yaml",  "map.simplemap.gz", "trajectory.tum",
-	"graph.graph",	  "graph.lrgc", "timing.csv", "stats.json", "capture.rawlog",  "live.json"};
+const char* const kSlamOutputNames[] = {"map.gridmap.gz", "map.png",          "map.pgm",
+										"map.yaml",       "map.simplemap.gz", "trajectory.tum",
+										"graph.graph",    "graph.lrgc",       "timing.csv",
+										"stats.json",     "capture.rawlog",   "live.json"};
 
 // A saved map is read from the file itself, or from a folder's two files.
 void addSavedMap(std::vector<TNamedPath>& inputs, const std::string& option,
@@ -87,9 +91,11 @@ std::string mapFolder(const std::string& map)
 
 std::string slamOutputOverInput(const TSlamCommandLine& cl)
 {
-	if (!cl.localize.empty() && !cl.outDir.empty() && samePath(cl.outDir, mapFolder(cl.localize)))
+	if (!cl.localize.empty() && !cl.outDir.empty() &&
+		samePath(cl.outDir, mapFolder(cl.localize)))
 		return "--out '" + cl.outDir + "' is the folder of --localize '" + cl.localize +
-			   "': --localize never writes into the map's folder (an output is never written over an "
+			   "': --localize never writes into the map's folder (an output is never written "
+			   "over an "
 			   "input); name another --out";
 	std::vector<TNamedPath> inputs = {
 		{"--input", cl.input}, {"--config", cl.config}, {"--live", cl.live}};

@@ -14,16 +14,18 @@ std::string clockText(double seconds)
 	if (!std::isfinite(seconds) || seconds < 0) return "--:--";
 	const long s = std::lround(seconds);
 	char buf[32];
-	if (s >= 3600) std::snprintf(buf, sizeof(buf), "%ld:%02ld:%02ld", s / 3600, s / 60 % 60, s % 60);
-	else std::snprintf(buf, sizeof(buf), "%02ld:%02ld", s / 60, s % 60);
+	if (s >= 3600)
+		std::snprintf(buf, sizeof(buf), "%ld:%02ld:%02ld", s / 3600, s / 60 % 60, s % 60);
+	else
+		std::snprintf(buf, sizeof(buf), "%02ld:%02ld", s / 60, s % 60);
 	return buf;
 }
 }  // namespace
 
 CProgress::CProgress(std::FILE* out, bool quiet, double lineIntervalSeconds)
-	: CProgress(
-		  out, quiet ? Mode::Quiet : (::isatty(::fileno(out)) ? Mode::Terminal : Mode::Lines),
-		  lineIntervalSeconds)
+	: CProgress(out,
+				quiet ? Mode::Quiet : (::isatty(::fileno(out)) ? Mode::Terminal : Mode::Lines),
+				lineIntervalSeconds)
 {
 }
 
@@ -47,15 +49,15 @@ std::string CProgress::format(double fraction, size_t scans, const std::string& 
 		const int filled = static_cast<int>(std::lround(fraction * width));
 		std::string bar(filled, '#');
 		bar.resize(width, '.');
-		std::snprintf(
-			buf, sizeof(buf), "\r[%s] %5.1f%%  %zu scans  %.0f scans/s  %s left  %s", bar.c_str(),
-			100 * fraction, scans, rate, clockText(left).c_str(), extra.c_str());
+		std::snprintf(buf, sizeof(buf), "\r[%s] %5.1f%%  %zu scans  %.0f scans/s  %s left  %s",
+					  bar.c_str(), 100 * fraction, scans, rate, clockText(left).c_str(),
+					  extra.c_str());
 	}
 	else
-		std::snprintf(
-			buf, sizeof(buf), "progress: %.1f%% %zu scans %.0f scans/s elapsed %s left %s %s\n",
-			100 * fraction, scans, rate, clockText(elapsed).c_str(), clockText(left).c_str(),
-			extra.c_str());
+		std::snprintf(buf, sizeof(buf),
+					  "progress: %.1f%% %zu scans %.0f scans/s elapsed %s left %s %s\n",
+					  100 * fraction, scans, rate, clockText(elapsed).c_str(),
+					  clockText(left).c_str(), extra.c_str());
 	return buf;
 }
 

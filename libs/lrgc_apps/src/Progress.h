@@ -11,8 +11,13 @@ namespace lrgc::apps
 {
 class CProgress
 {
-   public:
-	enum class Mode { Terminal, Lines, Quiet };
+public:
+	enum class Mode
+	{
+		Terminal,
+		Lines,
+		Quiet
+	};
 	/** Mode from the stream: Terminal if it is a tty, Lines otherwise; Quiet if quiet. */
 	CProgress(std::FILE* out, bool quiet, double lineIntervalSeconds = 10.0);
 	CProgress(std::FILE* out, Mode mode, double lineIntervalSeconds);
@@ -24,7 +29,7 @@ class CProgress
 	void finish(double fraction, size_t scans, const std::string& extra = {});
 	Mode mode() const { return m_mode; }
 
-   private:
+private:
 	std::string format(double fraction, size_t scans, const std::string& extra) const;
 	std::FILE* m_out;
 	Mode m_mode;

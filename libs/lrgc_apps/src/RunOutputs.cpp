@@ -28,14 +28,16 @@ std::string jsonString(const std::string& s)
 	std::string out = "\"";
 	for (const char ch : s)
 	{
-		if (ch == '"' || ch == '\\') out += '\\', out += ch;
+		if (ch == '"' || ch == '\\')
+			out += '\\', out += ch;
 		else if (static_cast<unsigned char>(ch) < 0x20)
 		{
 			char buf[8];
 			std::snprintf(buf, sizeof(buf), "\\u%04x", ch);
 			out += buf;
 		}
-		else out += ch;
+		else
+			out += ch;
 	}
 	return out + "\"";
 }
@@ -61,12 +63,12 @@ std::string loopCountsJson(const TMapBuilderStats& s)
 	const size_t rematchOrReuse =
 		s.loopClosureLinks - std::min(s.loopClosureLinks, s.loopClosures + s.revisitLinks);
 	return "  \"links\": {\"odometry\": " + std::to_string(s.odometryLinks) +
-		", \"scan_match\": " + std::to_string(s.scanMatchLinks) +
-		", \"loop\": " + std::to_string(s.loopClosureLinks) + "},\n" +
-		"  \"loop_links\": {\"closure\": " + std::to_string(s.loopClosures) +
-		", \"revisit\": " + std::to_string(s.revisitLinks) +
-		", \"rematch_or_reuse\": " + std::to_string(rematchOrReuse) + "},\n" +
-		"  \"loop_closures\": " + std::to_string(s.loopClosures) + ",\n";
+		   ", \"scan_match\": " + std::to_string(s.scanMatchLinks) +
+		   ", \"loop\": " + std::to_string(s.loopClosureLinks) + "},\n" +
+		   "  \"loop_links\": {\"closure\": " + std::to_string(s.loopClosures) +
+		   ", \"revisit\": " + std::to_string(s.revisitLinks) +
+		   ", \"rematch_or_reuse\": " + std::to_string(rematchOrReuse) + "},\n" +
+		   "  \"loop_closures\": " + std::to_string(s.loopClosures) + ",\n";
 }
 
 std::string timingCsv(const TRunSummary& run)
@@ -75,7 +77,8 @@ std::string timingCsv(const TRunSummary& run)
 	char line[96];
 	for (size_t i = 0; i < run.latencyMs.size(); ++i)
 	{
-		std::snprintf(line, sizeof(line), "%zu,%.6f,%.4f\n", i, run.latencyStamp[i], run.latencyMs[i]);
+		std::snprintf(line, sizeof(line), "%zu,%.6f,%.4f\n", i, run.latencyStamp[i],
+					  run.latencyMs[i]);
 		out += line;
 	}
 	return out;
@@ -140,21 +143,24 @@ std::string loopClosingJson(const TMapBuilderStats& s, const TLoopCloserStats& l
 	  << ", \"gate_propagations\": " << lcs.gatePropagations
 	  << ", \"gate_reuses\": " << lcs.gateReuses
 	  << ", \"closure_ms\": {\"count\": " << closureMs.size()
-	  << ", \"median\": " << closure.median_ms << ", \"max\": " << closure.max_ms << "}"
+	  << ", \"median\": " << closure.median_ms << ", \"max\": " << closure.max_ms
+	  << "}"
 	  // Searches run on a worker thread; the mapping thread waits for a result only when it
 	  // is due (result_delay_keyframes keyframes later) and not done yet.
 	  << ", \"result_waits\": " << s.loopResultWaits
 	  << ", \"result_wait_s\": " << s.loopResultWaitSeconds
 	  << ", \"result_wait_max_ms\": " << 1e3 * s.loopResultWaitMaxSeconds
-	  << ", \"result_delay_max_keyframes\": " << s.loopResultDelayMax
+	  << ", \"result_delay_max_keyframes\": "
+	  << s.loopResultDelayMax
 	  // The worker's modelled work (LoopWork.h) and the searches it skipped to keep to
 	  // [LoopCloser] worker_budget_ms per keyframe.
-	  << ", \"modelled_work_s\": " << 1e-3 * lcs.work.referenceMs()
-	  << ", \"searches_shed\": " << lcs.searchesShed
+	  << ", \"modelled_work_s\": " << 1e-3 * lcs.work.referenceMs() << ", \"searches_shed\": "
+	  << lcs.searchesShed
 	  // CPU time of loop closing per step (the worker thread's, whatever else runs).
-	  << ", \"cpu_s\": {\"gate\": " << lcs.gateCpuSeconds << ", \"correlate\": "
-	  << lcs.correlateCpuSeconds << ", \"match\": " << lcs.matchCpuSeconds
-	  << ", \"close\": " << lcs.closeCpuSeconds << "}},\n";
+	  << ", \"cpu_s\": {\"gate\": " << lcs.gateCpuSeconds
+	  << ", \"correlate\": " << lcs.correlateCpuSeconds
+	  << ", \"match\": " << lcs.matchCpuSeconds << ", \"close\": " << lcs.closeCpuSeconds
+	  << "}},\n";
 	return j.str();
 }
 
@@ -163,10 +169,10 @@ std::string initialMapJson(const TRunSummary& run)
 {
 	if (run.initialMap.empty()) return {};
 	return "  \"initial_map\": {\"path\": " + jsonString(run.initialMap) +
-		", \"keyframes\": " + std::to_string(run.initialMapKeyframes) +
-		", \"start_found_after_scans\": " + std::to_string(run.startScans) +
-		", \"start_attempts\": " + std::to_string(run.startAttempts) +
-		", \"start_search_s\": " + std::to_string(run.startSeconds) + "},\n";
+		   ", \"keyframes\": " + std::to_string(run.initialMapKeyframes) +
+		   ", \"start_found_after_scans\": " + std::to_string(run.startScans) +
+		   ", \"start_attempts\": " + std::to_string(run.startAttempts) +
+		   ", \"start_search_s\": " + std::to_string(run.startSeconds) + "},\n";
 }
 }  // namespace
 
@@ -200,8 +206,7 @@ std::string statsJson(const TRunOutputsSnapshot& snapshot)
 	  << ", \"estimated\": " << (s.sweepTimeEstimated ? "true" : "false")
 	  << ", \"pairs\": " << s.sweepSamples << "},\n"
 	  << laserJson(snapshot.lasers) << loopClosingJson(s, snapshot.loopStats)
-	  << initialMapJson(run)
-	  << "  \"warnings\": " << run.warnings << ",\n"
+	  << initialMapJson(run) << "  \"warnings\": " << run.warnings << ",\n"
 	  << "  \"data_duration_s\": " << run.dataDurationSeconds << ",\n"
 	  << "  \"wall_time_s\": " << run.wallSeconds << ",\n"
 	  << "  \"cpu_time_s\": " << run.cpuSeconds << ",\n"
@@ -259,7 +264,8 @@ void checkOutputFile(const std::string& option, const std::string& path)
 	const int fd = ::mkstemp(probe.data());
 	if (fd < 0)
 		throw CSetupError(named + ": cannot write into '" + dir.string() + "' (" +
-						  std::strerror(errno) + "); name a file in a folder you may write into");
+						  std::strerror(errno) +
+						  "); name a file in a folder you may write into");
 	::close(fd);
 	::unlink(probe.c_str());
 }
@@ -278,9 +284,8 @@ void finishRunSummary(TRunSummary& run, const CRunClock& clock, size_t warnings)
 	run.peakRssMiB = CRunClock::peakRssMiB();
 }
 
-void writeRunOutputs(
-	const TRunOutputsSnapshot& s, const mrpt::maps::COccupancyGridMap2D& grid,
-	const std::string& outDir)
+void writeRunOutputs(const TRunOutputsSnapshot& s, const mrpt::maps::COccupancyGridMap2D& grid,
+					 const std::string& outDir)
 {
 	namespace fs = std::filesystem;
 	fs::create_directories(outDir);
@@ -308,8 +313,8 @@ void writeRunOutputs(
 	writeTextFileAtomically(path("stats.json"), statsJson(s));
 }
 
-void writeRunOutputs(
-	const CMetricMapBuilderLRGC& builder, const std::string& outDir, const TRunSummary& run)
+void writeRunOutputs(const CMetricMapBuilderLRGC& builder, const std::string& outDir,
+					 const TRunSummary& run)
 {
 	const TRunOutputsSnapshot s = snapshotRunOutputs(builder, run);
 	const auto grid = s.stats.scans == 0 ? mrpt::maps::COccupancyGridMap2D::Create()

@@ -19,14 +19,19 @@ double processCpuSeconds()
 }
 }  // namespace
 
-CRunClock::CRunClock() : m_wall0(std::chrono::steady_clock::now()), m_cpu0(processCpuSeconds()) {}
+CRunClock::CRunClock() : m_wall0(std::chrono::steady_clock::now()), m_cpu0(processCpuSeconds())
+{
+}
 
 double CRunClock::wallSeconds() const
 {
 	return std::chrono::duration<double>(std::chrono::steady_clock::now() - m_wall0).count();
 }
 
-double CRunClock::cpuSeconds() const { return processCpuSeconds() - m_cpu0; }
+double CRunClock::cpuSeconds() const
+{
+	return processCpuSeconds() - m_cpu0;
+}
 
 double CRunClock::peakRssMiB()
 {
@@ -40,7 +45,8 @@ TLatencySummary summarizeLatencies(std::vector<double> v)
 	TLatencySummary s;
 	if (v.empty()) return s;
 	std::sort(v.begin(), v.end());
-	auto rank = [&](double p) {
+	auto rank = [&](double p)
+	{
 		const size_t k = static_cast<size_t>(std::ceil(p * v.size()));
 		return v[std::clamp<size_t>(k, 1, v.size()) - 1];
 	};

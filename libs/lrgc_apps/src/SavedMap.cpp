@@ -17,9 +17,9 @@ TSavedMap loadSavedMap(const std::string& path, const std::string& option)
 	TSavedMap out;
 	out.path = path;
 	if (!fs::exists(path, ec))
-		throw std::runtime_error(
-			option + " '" + path + "': no such file or folder; name an lrgc output folder or "
-								   "a .simplemap(.gz) file");
+		throw std::runtime_error(option + " '" + path +
+								 "': no such file or folder; name an lrgc output folder or "
+								 "a .simplemap(.gz) file");
 	if (!fs::is_directory(path, ec))
 	{
 		out.keyframes = readSimplemapFile(path, option);
@@ -27,9 +27,8 @@ TSavedMap loadSavedMap(const std::string& path, const std::string& option)
 	}
 	const std::string simplemap = (fs::path(path) / kSimplemapFile).string();
 	if (!fs::exists(simplemap, ec))
-		throw std::runtime_error(
-			option + " '" + path + "': the folder has no " + kSimplemapFile +
-			" (is it an lrgc output folder?)");
+		throw std::runtime_error(option + " '" + path + "': the folder has no " +
+								 kSimplemapFile + " (is it an lrgc output folder?)");
 	out.keyframes = readSimplemapFile(simplemap, option);
 	const std::string graphFile = (fs::path(path) / kPoseGraphFile).string();
 	if (!fs::exists(graphFile, ec)) return out;  // an older output folder: keyframes only
@@ -44,11 +43,10 @@ TSavedMap loadSavedMap(const std::string& path, const std::string& option)
 		throw std::runtime_error(option + ": " + oneLineError(e));
 	}
 	if (out.graph->graph.numNodes() != out.keyframes.size())
-		throw std::runtime_error(
-			option + " '" + path + "': " + kPoseGraphFile + " has " +
-			std::to_string(out.graph->graph.numNodes()) + " nodes but " + kSimplemapFile +
-			" " + std::to_string(out.keyframes.size()) +
-			" keyframes: the files are of different runs");
+		throw std::runtime_error(option + " '" + path + "': " + kPoseGraphFile + " has " +
+								 std::to_string(out.graph->graph.numNodes()) + " nodes but " +
+								 kSimplemapFile + " " + std::to_string(out.keyframes.size()) +
+								 " keyframes: the files are of different runs");
 	return out;
 }
 
@@ -59,8 +57,8 @@ void initializeFromSavedMap(CMetricMapBuilderLRGC& builder, const TSavedMap& map
 	else
 		builder.initialize(map.keyframes);
 	if (builder.graph().numNodes() == 0)
-		throw std::runtime_error(
-			"'" + map.path + "': no keyframe of the map has a usable 2D laser scan");
+		throw std::runtime_error("'" + map.path +
+								 "': no keyframe of the map has a usable 2D laser scan");
 }
 
 }  // namespace lrgc::apps

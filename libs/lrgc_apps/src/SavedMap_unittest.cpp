@@ -30,7 +30,8 @@ std::string simplemapBytes()
 		auto scan = mrpt::obs::CObservation2DRangeScan::Create();
 		scan->aperture = static_cast<float>(M_PI);
 		scan->resizeScan(181);
-		for (size_t i = 0; i < 181; ++i) scan->setScanRange(i, 3.0f), scan->setScanRangeValidity(i, true);
+		for (size_t i = 0; i < 181; ++i)
+			scan->setScanRange(i, 3.0f), scan->setScanRangeValidity(i, true);
 		auto sf = mrpt::obs::CSensoryFrame::Create();
 		sf->insert(scan);
 		auto pose = mrpt::poses::CPose3DPDFGaussian::Create();
@@ -40,7 +41,8 @@ std::string simplemapBytes()
 	mrpt::io::CMemoryStream mem;
 	auto arch = mrpt::serialization::archiveFrom(mem);
 	arch << map;
-	return std::string(static_cast<const char*>(mem.getRawBufferData()), mem.getTotalBytesCount());
+	return std::string(static_cast<const char*>(mem.getRawBufferData()),
+					   mem.getTotalBytesCount());
 }
 
 // Peak resident set of this process [MiB] (VmHWM).
@@ -86,7 +88,8 @@ TEST(SavedMap, CorruptedSizeIsRefusedWithoutAllocatingIt)
 	{
 		const std::string what = e.what();
 		EXPECT_NE(what.find("--localize '" + file + "': not a readable MRPT CSimpleMap"),
-				  std::string::npos) << what;
+				  std::string::npos)
+			<< what;
 		EXPECT_EQ(what.find('\n'), std::string::npos) << what;
 	}
 	EXPECT_LT(peakRssMiB() - before, 300.0) << "the claimed 1.5 GB was allocated here";

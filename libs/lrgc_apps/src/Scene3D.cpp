@@ -70,8 +70,8 @@ void writeScene3D(const mrpt::maps::COccupancyGridMap2D& grid, const TTrajectory
 	const mrpt::opengl::COpenGLScene scene = makeScene3D(grid, trajectory, graph);
 	// Gzip as MRPT's CFileGZOutputStream writes it (SceneViewer3D reads either), every write
 	// checked: a full disk never publishes a cut scene.
-	writeArchiveAtomically(
-		path, TFileCompression::Gzip, [&](mrpt::serialization::CArchive& a) { a << scene; });
+	writeArchiveAtomically(path, TFileCompression::Gzip,
+						   [&](mrpt::serialization::CArchive& a) { a << scene; });
 }
 
 }  // namespace lrgc::apps

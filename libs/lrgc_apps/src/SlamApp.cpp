@@ -26,8 +26,9 @@ void writeDefaultConfig(const std::string& path, bool force, bool expert)
 		throw CSetupError(option + " is a directory; name a file, e.g. '" +
 						  (fs::path(path) / "lrgc.ini").string() + "'");
 	if (fs::exists(path, ec) && !force)
-		throw CSetupError(option + ": the file exists; add --force to replace it, or name "
-								   "another file");
+		throw CSetupError(option +
+						  ": the file exists; add --force to replace it, or name "
+						  "another file");
 	const fs::path folder = fs::path(path).parent_path();
 	if (!folder.empty() && !fs::is_directory(folder, ec))
 		throw CSetupError(option + ": '" + folder.string() +
@@ -38,9 +39,9 @@ void writeDefaultConfig(const std::string& path, bool force, bool expert)
 	}
 	catch (const std::exception& e)
 	{
-		throw CSetupError(option + ": " + oneLineError(e) +
-							  "; name a file in a folder you may write into",
-						  errorDetails(e));
+		throw CSetupError(
+			option + ": " + oneLineError(e) + "; name a file in a folder you may write into",
+			errorDetails(e));
 	}
 }
 
@@ -72,8 +73,16 @@ int CSlamApp::run(const std::vector<std::string>& args)
 	try
 	{
 		cl = parseSlamCommandLine(args);
-		if (cl.help) { std::fputs(slamUsage().c_str(), stdout); return kExitOk; }
-		if (cl.version) { std::printf("lrgc-slam %s\n", LRGC_VERSION); return kExitOk; }
+		if (cl.help)
+		{
+			std::fputs(slamUsage().c_str(), stdout);
+			return kExitOk;
+		}
+		if (cl.version)
+		{
+			std::printf("lrgc-slam %s\n", LRGC_VERSION);
+			return kExitOk;
+		}
 		if (!cl.writeDefaultConfig.empty())
 		{
 			writeDefaultConfig(cl.writeDefaultConfig, cl.force, cl.expert);
@@ -117,10 +126,11 @@ int CSlamApp::run(const std::vector<std::string>& args)
 void CSlamApp::takeIcpSlamIni(TSlamCommandLine& cl)
 {
 	if (!isIcpSlamIni(cl.icpSlamIni))
-		throw CUsageError("unknown argument '" + cl.icpSlamIni +
-						  "': not an option, nor an icp-slam .ini (a file with a "
-						  "[MappingApplication] section); to map a log: lrgc-slam --input FILE --out "
-						  "DIR (lrgc-slam --help lists the options)");
+		throw CUsageError(
+			"unknown argument '" + cl.icpSlamIni +
+			"': not an option, nor an icp-slam .ini (a file with a "
+			"[MappingApplication] section); to map a log: lrgc-slam --input FILE --out "
+			"DIR (lrgc-slam --help lists the options)");
 	const TIcpSlamRun icp = readIcpSlamIni(cl.icpSlamIni, cl.icpSlamRawlog);
 	cl.input = icp.rawlog;
 	cl.outDir = icp.outDir;

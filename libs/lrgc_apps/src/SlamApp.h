@@ -5,9 +5,10 @@
  * from (a malformed line, a skipped scan) is reported and skipped; one it cannot (a
  * truncated or corrupt rawlog) ends the run with the maps built so far saved and a non-zero
  * exit status. SIGINT/SIGTERM stop the run the same way, with exit status 130: they are taken
- * by a CStopSignalWatcher, as in a live run, never by a handler (which METIS would reset). A log with no scan to map (no 2D
- * laser scan, or none usable) ends with exit status 1, a line saying what the log holds, and
- * stats.json only: no empty map. A bad --out is refused before the log is opened.
+ * by a CStopSignalWatcher, as in a live run, never by a handler (which METIS would reset). A
+ * log with no scan to map (no 2D laser scan, or none usable) ends with exit status 1, a line
+ * saying what the log holds, and stats.json only: no empty map. A bad --out is refused before
+ * the log is opened.
  *
  * Live (--live SENSORS.ini): runs the live runner given at construction. It lives in the
  * separate library lrgc_live (live/LiveSlam.h, runLiveSlam), so that only programs
@@ -51,7 +52,7 @@ enum ExitStatus : int
 
 class CSlamApp
 {
-   public:
+public:
 	/** Runs `lrgc-slam --live` and returns the exit status; may throw CUsageError. */
 	using TLiveRunner = std::function<int(const TSlamCommandLine&, std::FILE* err)>;
 
@@ -65,7 +66,7 @@ class CSlamApp
 	/** Runs lrgc-slam with argv without argv[0]; returns the exit status. Never throws. */
 	int run(const std::vector<std::string>& args);
 
-   private:
+private:
 	int runOffline(const TSlamCommandLine& cl);
 	/** Feeds the log to the builder; returns kExitOk at its end, kExitInputError (run.status
 	 * says why) or kExitInterrupted. */
@@ -81,7 +82,8 @@ class CSlamApp
 	 * first scans, CStartFinder), starts the builder's session there and maps the scans read
 	 * meanwhile. kExitOk, or kExitInputError (run.status says why: no start found, ...). */
 	int startInInitialMap(const TSavedMap& map, const TAppConfig& cfg, CLogReader& reader,
-						  CMetricMapBuilderLRGC& builder, CProgress& progress, TRunSummary& run, const CStopSignalWatcher& signals);
+						  CMetricMapBuilderLRGC& builder, CProgress& progress, TRunSummary& run,
+						  const CStopSignalWatcher& signals);
 	/** --localize: tracks the log on the map (CLocalizer); writes trajectory.tum, timing.csv
 	 * and stats.json. */
 	int runLocalize(const TSlamCommandLine& cl);
@@ -99,7 +101,7 @@ class CSlamApp
 	std::FILE* m_err;
 	TLiveRunner m_live;
 	// --- icp-slam's command line (IcpSlamIni.h) ---
-	bool m_icpSlam = false;  //!< also write icp-slam's output files
+	bool m_icpSlam = false;    //!< also write icp-slam's output files
 	size_t m_skipObjects = 0;  //!< [MappingApplication] rawlog_offset
 	size_t m_objectsRead = 0;  //!< rawlog objects read so far, as icp-slam counts them
 	std::vector<size_t> m_scansAfterEntry;  //!< scans mapped after each log entry

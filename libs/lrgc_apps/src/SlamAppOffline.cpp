@@ -46,11 +46,13 @@ std::string nothingToMap(const CLogReader& reader, const CMetricMapBuilderLRGC& 
 		return "nothing to map: " + file +
 			   " holds no 2D laser scan (CObservation2DRangeScan); it holds " +
 			   describeContents(r.contents);
-	if (const auto& lasers = builder.lasers(); lasers.chosen() && !lasers.ignoredScans().empty())
+	if (const auto& lasers = builder.lasers();
+		lasers.chosen() && !lasers.ignoredScans().empty())
 	{
 		std::string others;
 		for (const auto& [label, n] : lasers.ignoredScans())
-			others += (others.empty() ? "" : ", ") + label + mrpt::format(" (%zu scan%s)", n, n == 1 ? "" : "s");
+			others += (others.empty() ? "" : ", ") + label +
+					  mrpt::format(" (%zu scan%s)", n, n == 1 ? "" : "s");
 		return "nothing to map: " + file + " has no scan of laser '" + lasers.label() +
 			   "' (--laser, [MapBuilder] laser_label); its lasers: " + others;
 	}
@@ -104,8 +106,7 @@ int CSlamApp::runOffline(const TSlamCommandLine& cl)
 	CMetricMapBuilderLRGC builder(cfg.lrgc);
 	builder.logging_enable_console_output = false;  // warnings are reported below
 	std::optional<TSavedMap> initialMap;
-	if (!cl.initialMap.empty())
-		try
+	if (!cl.initialMap.empty()) try
 		{
 			initialMap = loadSavedMap(cl.initialMap, "--initial-map");
 			initializeFromSavedMap(builder, *initialMap);
@@ -122,9 +123,9 @@ int CSlamApp::runOffline(const TSlamCommandLine& cl)
 	run.format = reader->format() == LogFormat::Carmen ? "carmen" : "rawlog";
 	run.configIni = runConfigText(cfg, cl.input);
 	run.mrptRawlog = reader->format() == LogFormat::MrptRawlog ? cl.input : cl.saveRawlog;
-	int exitCode = initialMap
-		? startInInitialMap(*initialMap, cfg, *reader, builder, progress, run, signals)
-		: kExitOk;
+	int exitCode = initialMap ? startInInitialMap(*initialMap, cfg, *reader, builder, progress,
+												  run, signals)
+							  : kExitOk;
 	if (exitCode == kExitOk) exitCode = mapLog(*reader, builder, progress, run, signals);
 	// The reader's last words: lines skipped after the last entry (a file of malformed lines
 	// has nothing else) and the counts of the problems not listed.
@@ -135,10 +136,12 @@ int CSlamApp::runOffline(const TSlamCommandLine& cl)
 	run.finalOptimizationSeconds =
 		std::chrono::duration<double>(std::chrono::steady_clock::now() - tFinal).count();
 	reportWarnings(builder.takeWarnings());
-	if (exitCode == kExitOk) progress.finish(1.0, builder.stats().scans);
+	if (exitCode == kExitOk)
+		progress.finish(1.0, builder.stats().scans);
 	else
-		progress.finish(reader->fractionRead(), builder.stats().scans,
-						exitCode == kExitInterrupted ? "interrupted" : "stopped by an input error");
+		progress.finish(
+			reader->fractionRead(), builder.stats().scans,
+			exitCode == kExitInterrupted ? "interrupted" : "stopped by an input error");
 	run.malformedLines = reader->stats().skippedLines;
 	run.logContents = reader->stats().contents;
 	if (builder.stats().scans == 0 && exitCode == kExitOk)
@@ -174,7 +177,8 @@ int CSlamApp::mapLog(CLogReader& reader, CMetricMapBuilderLRGC& builder, CProgre
 		++run.logEntries;
 		// rawlog_offset as icp-slam counts it: serialised objects read so far (an action
 		// collection and its sensory frame are two); 0 unless ICP-SLAM.ini gives one.
-		m_objectsRead += entry->observation || !entry->actions || entry->actions->size() == 0 ? 1 : 2;
+		m_objectsRead +=
+			entry->observation || !entry->actions || entry->actions->size() == 0 ? 1 : 2;
 		if (m_objectsRead >= m_skipObjects && mapEntry(builder, *entry, run) != kExitOk)
 			return kExitInputError;
 		if (m_icpSlam) m_scansAfterEntry.push_back(builder.stats().scans);
@@ -223,7 +227,8 @@ void CSlamApp::reportEnd(const TSlamCommandLine& cl, const CMetricMapBuilderLRGC
 			   (std::filesystem::path(cl.outDir) / "stats.json").string() + ")");
 		return;
 	}
-	if (exitCode != kExitOk) report("lrgc-slam: " + run.status + " (maps of what was read are saved)");
+	if (exitCode != kExitOk)
+		report("lrgc-slam: " + run.status + " (maps of what was read are saved)");
 	if (!cl.quiet || exitCode != kExitOk)
 		report(mrpt::format(
 			"lrgc-slam: %zu scans, %zu keyframes, %zu loop closures (%zu loop links), %.1f s "

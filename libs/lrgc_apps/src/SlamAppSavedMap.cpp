@@ -87,7 +87,8 @@ int CSlamApp::startInInitialMap(const TSavedMap& map, const TAppConfig& cfg, CLo
 			noStartMessage(map.path, run.startScans, run.startAttempts, finder.lastRejection());
 		return kExitInputError;
 	}
-	const TPose2D start = compose(found->probeInMap, finder.probe().trajectory().front().robotInMap);
+	const TPose2D start =
+		compose(found->probeInMap, finder.probe().trajectory().front().robotInMap);
 	report(mrpt::format(
 		"lrgc-slam: the log starts at (%.2f m, %.2f m, %.1f deg) in the map: found after %zu "
 		"scans, %zu attempts, %.1f s (score %.2f, ambiguity %.2f, patch of %zu keyframes)",
@@ -106,9 +107,12 @@ std::string jsonQuote(const std::string& s)
 {
 	std::string out = "\"";
 	for (const char ch : s)
-		if (ch == '"' || ch == '\\') out += '\\', out += ch;
-		else if (static_cast<unsigned char>(ch) < 0x20) out += mrpt::format("\\u%04x", ch);
-		else out += ch;
+		if (ch == '"' || ch == '\\')
+			out += '\\', out += ch;
+		else if (static_cast<unsigned char>(ch) < 0x20)
+			out += mrpt::format("\\u%04x", ch);
+		else
+			out += ch;
 	return out + "\"";
 }
 
@@ -152,9 +156,8 @@ namespace
 {
 // --localize's outputs in cl.outDir (never the map's folder: checked before the run): the
 // trajectory and the per-scan latencies once a scan was localised, the configuration, stats.
-void writeLocalizationOutputs(
-	const CLocalizer& localizer, const TRunSummary& run, const TAppConfig& cfg,
-	const TSlamCommandLine& cl)
+void writeLocalizationOutputs(const CLocalizer& localizer, const TRunSummary& run,
+							  const TAppConfig& cfg, const TSlamCommandLine& cl)
 {
 	namespace fs = std::filesystem;
 	fs::create_directories(cl.outDir);
@@ -168,7 +171,8 @@ void writeLocalizationOutputs(
 		writeTextFileAtomically(path("timing.csv"), csv);
 	}
 	writeTextFileAtomically(path(kRunConfigFile), runConfigText(cfg, cl.input));
-	writeTextFileAtomically(path("stats.json"), localizationStatsJson(localizer, run, cl.localize));
+	writeTextFileAtomically(path("stats.json"),
+							localizationStatsJson(localizer, run, cl.localize));
 }
 }  // namespace
 
@@ -187,8 +191,8 @@ int CSlamApp::runLocalize(const TSlamCommandLine& cl)
 		CMetricMapBuilderLRGC restored(cfg.lrgc);  // the map's keyframes, as a builder has them
 		restored.logging_enable_console_output = false;
 		initializeFromSavedMap(restored, map);
-		localizer = std::make_unique<CLocalizer>(
-			restored.graph(), restored.keyframes(), cfg.lrgc, cfg.localization);
+		localizer = std::make_unique<CLocalizer>(restored.graph(), restored.keyframes(),
+												 cfg.lrgc, cfg.localization);
 		localizer->logging_enable_console_output = false;
 	}
 	catch (const std::exception& e)

@@ -13,7 +13,10 @@ namespace
 {
 std::atomic<int> g_brokenPipes{0};  // SIGPIPEs taken since the watcher was made
 
-extern "C" void countBrokenPipe(int) { g_brokenPipes.fetch_add(1); }
+extern "C" void countBrokenPipe(int)
+{
+	g_brokenPipes.fetch_add(1);
+}
 }  // namespace
 
 CStopSignalWatcher::CStopSignalWatcher()
@@ -24,7 +27,9 @@ CStopSignalWatcher::CStopSignalWatcher()
 	sigaddset(&m_set, SIGHUP);
 	pthread_sigmask(SIG_BLOCK, &m_set, &m_oldMask);
 	g_brokenPipes = 0;
-	struct sigaction pipe{};
+	struct sigaction pipe
+	{
+	};
 	pipe.sa_handler = countBrokenPipe;
 	pipe.sa_flags = SA_RESTART;
 	sigemptyset(&pipe.sa_mask);

@@ -44,7 +44,9 @@ public:
 
 private:
 	sigset_t m_set{}, m_oldMask{};
-	struct sigaction m_oldPipeAction{};
+	struct sigaction m_oldPipeAction
+	{
+	};
 	std::atomic<int> m_signals{0};
 	std::atomic<bool> m_quit{false};
 	std::thread m_thread;

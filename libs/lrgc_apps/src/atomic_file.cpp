@@ -26,7 +26,7 @@ namespace fs = std::filesystem;
 fs::path temporaryFor(const fs::path& dest)
 {
 	return dest.parent_path() /
-		(".tmp." + std::to_string(::getpid()) + "." + dest.filename().string());
+		   (".tmp." + std::to_string(::getpid()) + "." + dest.filename().string());
 }
 
 [[noreturn]] void throwWriteError(const std::string& shownPath, const char* step, int err)
@@ -77,7 +77,8 @@ public:
 		m_buffer.resize(kBufferBytes);
 		// windowBits 15 + 16: a gzip header and trailer around the deflate stream; level 1 and
 		// memLevel 8 as gzopen(path, "wb1") (what CFileGZOutputStream does).
-		if (m_gzip && ::deflateInit2(&m_z, 1, Z_DEFLATED, 15 + 16, 8, Z_DEFAULT_STRATEGY) != Z_OK)
+		if (m_gzip &&
+			::deflateInit2(&m_z, 1, Z_DEFLATED, 15 + 16, 8, Z_DEFAULT_STRATEGY) != Z_OK)
 			THROW_EXCEPTION_FMT("cannot write '%s': zlib deflateInit2 failed", m_shown.c_str());
 	}
 	~CCheckedFile() override
@@ -88,10 +89,7 @@ public:
 	CCheckedFile(const CCheckedFile&) = delete;
 	CCheckedFile& operator=(const CCheckedFile&) = delete;
 
-	size_t Read(void*, size_t) override
-	{
-		THROW_EXCEPTION("CCheckedFile is an output stream");
-	}
+	size_t Read(void*, size_t) override { THROW_EXCEPTION("CCheckedFile is an output stream"); }
 	size_t Write(const void* data, size_t count) override
 	{
 		if (m_gzip)
@@ -150,7 +148,8 @@ private:
 				THROW_EXCEPTION_FMT("cannot write '%s': zlib deflate failed", m_shown.c_str());
 			m_used = m_buffer.size() - m_z.avail_out;
 			if (m_used == m_buffer.size()) flushBuffer();
-			if (flush == Z_FINISH ? r == Z_STREAM_END : (m_z.avail_in == 0 && m_z.avail_out > 0))
+			if (flush == Z_FINISH ? r == Z_STREAM_END
+								  : (m_z.avail_in == 0 && m_z.avail_out > 0))
 				return;
 		}
 	}
@@ -181,8 +180,8 @@ private:
 };
 }  // namespace
 
-void writeFileAtomically(
-	const std::string& path, const std::function<void(const std::string& tmpPath)>& writer)
+void writeFileAtomically(const std::string& path,
+						 const std::function<void(const std::string& tmpPath)>& writer)
 {
 	const fs::path dest(path);
 	const fs::path tmp = temporaryFor(dest);
@@ -227,9 +226,9 @@ void writeArchiveAtomically(const std::string& path, TFileCompression compressio
 
 void writeTextFileAtomically(const std::string& path, std::string_view contents)
 {
-	writeArchiveAtomically(path, TFileCompression::None, [&](mrpt::serialization::CArchive& a) {
-		a.WriteBuffer(contents.data(), contents.size());
-	});
+	writeArchiveAtomically(path, TFileCompression::None,
+						   [&](mrpt::serialization::CArchive& a)
+						   { a.WriteBuffer(contents.data(), contents.size()); });
 }
 
 }  // namespace lrgc::apps

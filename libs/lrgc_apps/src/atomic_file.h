@@ -25,8 +25,8 @@ namespace lrgc::apps
 /** Calls `writer(tmpPath)`, which must create and close tmpPath, then fsyncs and renames it
  * to `path`. On any exception the temporary file is removed and the exception rethrown.
  * The writer must check its own writes: prefer the two functions below, which do. */
-void writeFileAtomically(
-	const std::string& path, const std::function<void(const std::string& tmpPath)>& writer);
+void writeFileAtomically(const std::string& path,
+						 const std::function<void(const std::string& tmpPath)>& writer);
 
 /** Atomically writes `contents` to `path`, every write, the fsync and the close checked. */
 void writeTextFileAtomically(const std::string& path, std::string_view contents);

@@ -18,8 +18,8 @@ std::string jsonString(const std::string& s);
 
 struct TRunSummary
 {
-	std::string input;  //!< input log path
-	std::string format;  //!< "rawlog" or "carmen"
+	std::string input;                //!< input log path
+	std::string format;               //!< "rawlog" or "carmen"
 	std::string status = "complete";  //!< or "input error: ...", "nothing to map: ...", ...
 	std::string configIni;  //!< config.ini's text (RunConfigFile.h); empty: not written
 	/** An MRPT rawlog of the input, for pf-localization.ini (MrptClientFiles.h): the input
@@ -32,14 +32,14 @@ struct TRunSummary
 	double dataDurationSeconds = 0;  //!< last minus first scan timestamp
 	double wallSeconds = 0, cpuSeconds = 0, peakRssMiB = 0;
 	double finalOptimizationSeconds = 0;
-	std::vector<double> latencyMs;  //!< per scan, in processing order
+	std::vector<double> latencyMs;     //!< per scan, in processing order
 	std::vector<double> latencyStamp;  //!< the scan's timestamp [s]
 	// --initial-map: the map continued and how the log's start was found in it.
 	std::string initialMap;  //!< empty: a new map
 	size_t initialMapKeyframes = 0;
-	size_t startScans = 0;  //!< scans read before the start was found
+	size_t startScans = 0;     //!< scans read before the start was found
 	size_t startAttempts = 0;  //!< global correlations tried
-	double startSeconds = 0;  //!< their time [s]
+	double startSeconds = 0;   //!< their time [s]
 };
 
 class CRunClock;
@@ -70,7 +70,7 @@ struct TRunOutputsSnapshot
 	TRunSummary run;
 	TMapBuilderStats stats;
 	TLoopCloserStats loopStats;
-	CLaserSelector lasers;  //!< the mapped laser's label and counts
+	CLaserSelector lasers;                //!< the mapped laser's label and counts
 	TPoseGraphOptimizerParams optimizer;  //!< the weights graph.graph is exported with
 	TTrajectory trajectory;
 	CPoseGraph graph;
@@ -84,13 +84,12 @@ TRunOutputsSnapshot snapshotRunOutputs(const CMetricMapBuilderLRGC& builder, TRu
 
 /** Writes every output of `s` into `outDir`, the maps from `grid` (the grid of
  * s.gridKeyframes; unused when no scan was mapped: then stats.json alone). */
-void writeRunOutputs(
-	const TRunOutputsSnapshot& s, const mrpt::maps::COccupancyGridMap2D& grid,
-	const std::string& outDir);
+void writeRunOutputs(const TRunOutputsSnapshot& s, const mrpt::maps::COccupancyGridMap2D& grid,
+					 const std::string& outDir);
 
 /** The same, from the builder itself (its grid: CMetricMapBuilderLRGC::buildOccupancyGrid). */
-void writeRunOutputs(
-	const CMetricMapBuilderLRGC& builder, const std::string& outDir, const TRunSummary& run);
+void writeRunOutputs(const CMetricMapBuilderLRGC& builder, const std::string& outDir,
+					 const TRunSummary& run);
 
 /** stats.json text (exposed for tests). */
 std::string statsJson(const TRunOutputsSnapshot& s);

@@ -15,7 +15,7 @@ struct TLatencySummary
 
 class CRunClock
 {
-   public:
+public:
 	CRunClock();
 	double wallSeconds() const;
 	/** CPU time (user + system) of this process since the clock was made [s]. */
@@ -23,7 +23,7 @@ class CRunClock
 	/** Peak resident set size of this process so far [MiB] (getrusage ru_maxrss). */
 	static double peakRssMiB();
 
-   private:
+private:
 	std::chrono::steady_clock::time_point m_wall0;
 	double m_cpu0;
 };

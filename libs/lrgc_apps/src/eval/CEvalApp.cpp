@@ -357,9 +357,10 @@ int CEvalApp::run(const std::vector<std::string>& args, std::ostream& out, std::
 		err << "lrgc-eval: " << e.what() << "; lrgc-eval --help lists the options\n";
 		return 2;
 	}
-	if (const std::string clash = outputOverInput(
-			{{"--json", o.jsonOut}},
-			{{"--trajectory", o.trajectory}, {"--relations", o.relations}, {"--ground-truth", o.groundTruth}});
+	if (const std::string clash =
+			outputOverInput({{"--json", o.jsonOut}}, {{"--trajectory", o.trajectory},
+													  {"--relations", o.relations},
+													  {"--ground-truth", o.groundTruth}});
 		!clash.empty())
 	{
 		err << "lrgc-eval: " << clash << "\n";

@@ -140,8 +140,9 @@ TEST_F(EvalApp, UsageErrors)
 	const auto r = runEval({"--trajectory", tum, "--relations", rel, "--bogus"});
 	EXPECT_EQ(r.code, 2);
 	// One line, as lrgc-slam's, not the whole usage text.
-	EXPECT_EQ(r.err, "lrgc-eval: unknown argument '--bogus'; lrgc-eval --help lists the "
-					 "options\n");
+	EXPECT_EQ(r.err,
+			  "lrgc-eval: unknown argument '--bogus'; lrgc-eval --help lists the "
+			  "options\n");
 	EXPECT_EQ(runEval({"--trajectory", tum, "--relations", rel, "--time-tolerance", "x"}).code,
 			  2);
 }

@@ -182,7 +182,8 @@ std::string CPlotApp::usage()
 		   "                 [--timing timing.csv] [--title TEXT] [--loop-min-gap N] --out "
 		   "plot.png\n"
 		   "       lrgc-plot --help | --version\n"
-		   "--graph graph.lrgc draws its loop links (type LoopClosure: stats.json's links.loop);\n"
+		   "--graph graph.lrgc draws its loop links (type LoopClosure: stats.json's "
+		   "links.loop);\n"
 		   "--graph graph.graph has no link types: edges spanning more than --loop-min-gap\n"
 		   "(15) keyframes are drawn as loop links.\n";
 }
@@ -229,10 +230,12 @@ TPlotSummary CPlotApp::render(const TPlotOptions& o)
 {
 	TPlotSummary sum;
 	const TRosMapInfo info = loadRosMapYaml(o.mapYaml);
-	if (const std::string clash = outputOverInput(
-			{{"--out", o.out}}, {{"--map", o.mapYaml}, {"--map's image", info.imagePath},
-								 {"--trajectory", o.trajectory}, {"--graph", o.graph},
-								 {"--timing", o.timing}});
+	if (const std::string clash =
+			outputOverInput({{"--out", o.out}}, {{"--map", o.mapYaml},
+												 {"--map's image", info.imagePath},
+												 {"--trajectory", o.trajectory},
+												 {"--graph", o.graph},
+												 {"--timing", o.timing}});
 		!clash.empty())
 		throw std::invalid_argument(clash);
 	const CTrajectory2D traj = CTrajectory2D::loadFromFile(o.trajectory);
@@ -296,9 +299,9 @@ int CPlotApp::run(const std::vector<std::string>& args, std::ostream& out, std::
 	try
 	{
 		const TPlotSummary s = render(o);
-		out << mrpt::format(
-			"wrote %s (%dx%d): %zu poses, %zu loop links, %zu timed scans\n",
-			o.out.c_str(), s.width, s.height, s.trajectoryPoses, s.loopLinks, s.timedScans);
+		out << mrpt::format("wrote %s (%dx%d): %zu poses, %zu loop links, %zu timed scans\n",
+							o.out.c_str(), s.width, s.height, s.trajectoryPoses, s.loopLinks,
+							s.timedScans);
 		return 0;
 	}
 	catch (const std::exception& e)

@@ -21,9 +21,10 @@ namespace lrgc::apps::eval
 struct TPlotOptions
 {
 	std::string mapYaml, trajectory, graph, timing, out, title;
-	std::size_t loopMinGap = 15;  //!< edges with a larger id gap are loop-closure links (window K)
-	int width = 1200;             //!< [pixels] of the output image
-	int maxMapHeight = 1000;      //!< [pixels] of the map panel at most
+	std::size_t loopMinGap =
+		15;                   //!< edges with a larger id gap are loop-closure links (window K)
+	int width = 1200;         //!< [pixels] of the output image
+	int maxMapHeight = 1000;  //!< [pixels] of the map panel at most
 };
 
 /** What was drawn, and where: world point (x, y) [m] lands on output pixel

@@ -100,11 +100,20 @@ TEST(PlotInputs, TypedGraphGivesTheLoopLinksByType)
 	const std::string info = " 1 0 0 1 0 1 ";
 	writeFile(dir + "/graph.lrgc",
 			  "LRGC_POSE_GRAPH 1\nNODE 0 0 0 0\nNODE 1 1 0 0\nNODE 2 2 0 0\nNODE 3 3 0 0\n"
-			  "LINK 0 1 1 0 0" + info + "Odometry 1\n"
-			  "LINK 0 3 3 0 0" + info + "ScanMatch 1\n"
-			  "LINK 1 2 1 0 0" + info + "LoopClosure 1\n"
-			  "LINK 0 2 2 0 0" + info + "LoopClosure 0\n"
-			  "LINK 3 0 -3 0 0" + info + "LoopClosure 1\n");
+			  "LINK 0 1 1 0 0" +
+				  info +
+				  "Odometry 1\n"
+				  "LINK 0 3 3 0 0" +
+				  info +
+				  "ScanMatch 1\n"
+				  "LINK 1 2 1 0 0" +
+				  info +
+				  "LoopClosure 1\n"
+				  "LINK 0 2 2 0 0" +
+				  info +
+				  "LoopClosure 0\n"
+				  "LINK 3 0 -3 0 0" +
+				  info + "LoopClosure 1\n");
 	const auto g = loadGraphFile(dir + "/graph.lrgc");
 	EXPECT_EQ(g.vertices.size(), 4u);
 	EXPECT_DOUBLE_EQ(g.vertices.at(3).x, 3);

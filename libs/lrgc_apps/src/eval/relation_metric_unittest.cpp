@@ -210,8 +210,11 @@ TEST(RelationMetric, LoadsTheBenchmarkRelationFiles)
 // 9.9 s and 5.1 s count (over 2, not over 5); those 10 s and 30 s apart do not.
 TEST(RelationMetric, ShortRelationsHeadingTail)
 {
-	const auto tr = trajectory({{0, {0, 0, 0}}, {9.9, {1, 0, 3 * kDeg}}, {10, {2, 0, 3 * kDeg}},
-								{15, {3, 0, 6 * kDeg}}, {30, {4, 0, 3 * kDeg}}});
+	const auto tr = trajectory({{0, {0, 0, 0}},
+								{9.9, {1, 0, 3 * kDeg}},
+								{10, {2, 0, 3 * kDeg}},
+								{15, {3, 0, 6 * kDeg}},
+								{30, {4, 0, 3 * kDeg}}});
 	const std::vector<TRelation> rels = {
 		{0, 9.9, {1, 0, 0}}, {0, 10, {2, 0, 0}}, {0, 30, {4, 0, 0}}, {9.9, 15, {2, 0, 0}}};
 	const auto ev = evaluateRelations(tr, rels);

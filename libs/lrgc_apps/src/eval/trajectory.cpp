@@ -27,7 +27,10 @@ std::string readTextFile(const std::string& path)
 	return ss.str();
 }
 
-std::string userMessage(const std::exception& e) { return oneLineError(e); }
+std::string userMessage(const std::exception& e)
+{
+	return oneLineError(e);
+}
 
 bool isBlankOrComment(const std::string& line)
 {

@@ -116,8 +116,9 @@ public:
 			fail(std::to_string(rest - 2) + " unexpected field(s) after logger_timestamp");
 		else if (double v = 0; rest == 1 && parseDouble(m_tokens[m_index], v))
 			// A hostname alone is accepted; a number there is a field too many before it.
-			fail("1 unexpected number after the timestamp (a reading too many, the fields "
-				 "after the readings shifted?)");
+			fail(
+				"1 unexpected number after the timestamp (a reading too many, the fields "
+				"after the readings shifted?)");
 		else if (rest == 2)
 		{
 			++m_index;  // hostname

@@ -174,9 +174,8 @@ namespace
 /* The scan's ranges from a CARMEN line's readings [m]: r >= maxRange - 5 mm (or +inf) and
  * r == 0 are no-returns (invalid, counted in `noReturns`); NaN and r < 0 are invalid and
  * returned as the count of bad readings, the first at `firstBad`. */
-size_t setRanges(
-	CObservation2DRangeScan& scan, const std::vector<double>& ranges, double maxRange,
-	size_t& noReturns, size_t& firstBad)
+size_t setRanges(CObservation2DRangeScan& scan, const std::vector<double>& ranges,
+				 double maxRange, size_t& noReturns, size_t& firstBad)
 {
 	const double noReturnFrom = maxRange - kNoReturnTolerance;
 	size_t bad = 0;
@@ -232,7 +231,8 @@ void CCarmenReader::addLaser(const TCarmenLaser& laser, const std::string& place
 	}
 
 	// Beam fan in the laser frame: beam i at start + i * step [rad], counter-clockwise.
-	double start = -M_PI / 2, step = M_PI / double(n - 1), maxRange = m_options.carmen_max_range_m;
+	double start = -M_PI / 2, step = M_PI / double(n - 1),
+		   maxRange = m_options.carmen_max_range_m;
 	if (laser.hasOwnGeometry)
 	{
 		start = laser.startAngle;
@@ -258,7 +258,8 @@ void CCarmenReader::addLaser(const TCarmenLaser& laser, const std::string& place
 	scan->resizeScan(n);
 
 	size_t firstBad = 0;
-	const size_t bad = setRanges(*scan, laser.ranges, maxRange, m_stats.noReturnRanges, firstBad);
+	const size_t bad =
+		setRanges(*scan, laser.ranges, maxRange, m_stats.noReturnRanges, firstBad);
 	if (bad > 0)
 	{
 		m_stats.invalidRanges += bad;

@@ -427,7 +427,8 @@ TEST(CarmenReader, MultiMemberAndZeroPaddedGzipReadWhole)
 	lrgc::test::writeGzFile(dir + "/b.gz", second);
 	const std::string a = lrgc::test::readFileBytes(dir + "/a.gz");
 	const std::string b = lrgc::test::readFileBytes(dir + "/b.gz");
-	const auto readAs = [&](const std::string& name, const std::string& bytes) {
+	const auto readAs = [&](const std::string& name, const std::string& bytes)
+	{
 		lrgc::test::writeFileBytes(dir + "/" + name, bytes);
 		return readWholeLog(dir + "/" + name);
 	};

@@ -70,8 +70,10 @@ std::optional<uint64_t> inflatedLengthOfMembers(const std::string& path)
 		z.avail_out = static_cast<uInt>(out.size());
 		const int r = ::inflate(&z, Z_NO_FLUSH);
 		total += out.size() - z.avail_out;
-		if (r == Z_STREAM_END) inMember = false;
-		else if (r != Z_OK && r != Z_BUF_ERROR) ok = false;
+		if (r == Z_STREAM_END)
+			inMember = false;
+		else if (r != Z_OK && r != Z_BUF_ERROR)
+			ok = false;
 	}
 	::inflateEnd(&z);
 	if (!ok || inMember) return std::nullopt;
@@ -95,10 +97,11 @@ CLogInputFile::CLogInputFile(const std::string& path) : m_path(path)
 	if (fs::is_directory(path, ec)) throw CLogReadError(path, "", "cannot open: a directory");
 	// Before any open(2): opening a FIFO for reading blocks until a writer comes.
 	if (!fs::is_regular_file(path, ec))
-		throw CLogReadError(path, "",
-							"not a regular file (a FIFO, a pipe or a device?): logs are read "
-							"from files, whose size gives the progress and whose gzip trailer is "
-							"checked; save the stream to a file first");
+		throw CLogReadError(
+			path, "",
+			"not a regular file (a FIFO, a pipe or a device?): logs are read "
+			"from files, whose size gives the progress and whose gzip trailer is "
+			"checked; save the stream to a file first");
 	std::ifstream raw(path, std::ios::binary);
 	if (!raw) throw CLogReadError(path, "", "cannot open for reading (permissions?)");
 	m_fileSize = fs::file_size(path, ec);

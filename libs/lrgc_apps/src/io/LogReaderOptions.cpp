@@ -24,8 +24,10 @@ void TLogReaderOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& 
 void TLogReaderOptions::saveToConfigFile(mrpt::config::CConfigFileBase& target,
 										 const std::string& section) const
 {
-	writeDegrees(target, section, "carmen_180_beams_fov_deg", carmen_180_beams_fov, "First to last beam of a 180-beam CARMEN FLASER/RLASER [deg]: 180 or 179");
-	writeValue(target, section, "carmen_max_range_m", carmen_max_range_m, "CARMEN FLASER/RLASER readings >= this (less 5 mm) are no-returns [m]");
+	writeDegrees(target, section, "carmen_180_beams_fov_deg", carmen_180_beams_fov,
+				 "First to last beam of a 180-beam CARMEN FLASER/RLASER [deg]: 180 or 179");
+	writeValue(target, section, "carmen_max_range_m", carmen_max_range_m,
+			   "CARMEN FLASER/RLASER readings >= this (less 5 mm) are no-returns [m]");
 }
 
 }  // namespace lrgc::apps

@@ -17,9 +17,8 @@ LinkType linkTypeFromName(const std::string& name, const std::string& where)
 {
 	for (const LinkType t : {LinkType::Odometry, LinkType::ScanMatch, LinkType::LoopClosure})
 		if (name == toString(t)) return t;
-	THROW_EXCEPTION_FMT(
-		"%s: unknown link type '%s' (Odometry, ScanMatch or LoopClosure)", where.c_str(),
-		name.c_str());
+	THROW_EXCEPTION_FMT("%s: unknown link type '%s' (Odometry, ScanMatch or LoopClosure)",
+						where.c_str(), name.c_str());
 }
 // "END <nodes> <links>": the counts the writer wrote, checked against those read.
 void checkEnd(std::istringstream& s, const CPoseGraph& graph, const std::string& at)
@@ -28,9 +27,8 @@ void checkEnd(std::istringstream& s, const CPoseGraph& graph, const std::string&
 	if (!(s >> nodes >> links) || !(s >> std::ws).eof())
 		THROW_EXCEPTION_FMT("%s: bad END line (END nodes links)", at.c_str());
 	if (nodes != graph.numNodes() || links != graph.numLinks())
-		THROW_EXCEPTION_FMT(
-			"%s: END says %zu nodes and %zu links, the file has %zu and %zu", at.c_str(), nodes,
-			links, graph.numNodes(), graph.numLinks());
+		THROW_EXCEPTION_FMT("%s: END says %zu nodes and %zu links, the file has %zu and %zu",
+							at.c_str(), nodes, links, graph.numNodes(), graph.numLinks());
 }
 }  // namespace
 
@@ -51,9 +49,9 @@ std::string poseGraphToText(const CPoseGraph& graph, const std::string& laserLab
 		const TLink& l = graph.link(id);
 		const Eigen::Matrix3d& I = l.information;
 		out += mrpt::format(
-			"LINK %zu %zu %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %s %d\n", l.from,
-			l.to, l.toInFrom.x, l.toInFrom.y, l.toInFrom.phi, I(0, 0), I(0, 1), I(0, 2), I(1, 1),
-			I(1, 2), I(2, 2), toString(l.type), graph.isLinkEnabled(id) ? 1 : 0);
+			"LINK %zu %zu %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %s %d\n",
+			l.from, l.to, l.toInFrom.x, l.toInFrom.y, l.toInFrom.phi, I(0, 0), I(0, 1), I(0, 2),
+			I(1, 1), I(1, 2), I(2, 2), toString(l.type), graph.isLinkEnabled(id) ? 1 : 0);
 	}
 	return out + mrpt::format("END %zu %zu\n", graph.numNodes(), graph.numLinks());
 }
@@ -68,8 +66,8 @@ void readNode(std::istringstream& s, CPoseGraph& graph, const std::string& at)
 	if (!(s >> i >> p.x >> p.y >> p.phi) || !(s >> std::ws).eof())
 		THROW_EXCEPTION_FMT("%s: bad NODE line (NODE i x y phi)", at.c_str());
 	if (i != graph.numNodes())
-		THROW_EXCEPTION_FMT(
-			"%s: NODE %zu out of order (expected %zu)", at.c_str(), i, graph.numNodes());
+		THROW_EXCEPTION_FMT("%s: NODE %zu out of order (expected %zu)", at.c_str(), i,
+							graph.numNodes());
 	graph.addNode(p);
 }
 
@@ -81,8 +79,8 @@ void readLink(std::istringstream& s, CPoseGraph& graph, const std::string& at)
 	double I[6];
 	std::string type;
 	int enabled = -1;
-	if (!(s >> l.from >> l.to >> l.toInFrom.x >> l.toInFrom.y >> l.toInFrom.phi >> I[0] >> I[1] >>
-		  I[2] >> I[3] >> I[4] >> I[5] >> type >> enabled) ||
+	if (!(s >> l.from >> l.to >> l.toInFrom.x >> l.toInFrom.y >> l.toInFrom.phi >> I[0] >>
+		  I[1] >> I[2] >> I[3] >> I[4] >> I[5] >> type >> enabled) ||
 		!(enabled == 0 || enabled == 1) || !(s >> std::ws).eof())
 		THROW_EXCEPTION_FMT(
 			"%s: bad LINK line (LINK from to x y phi I00 I01 I02 I11 I12 I22 type enabled)",
@@ -120,12 +118,12 @@ TSavedPoseGraph poseGraphFromText(std::istream& in, const std::string& where)
 		if (version == 0)
 		{
 			if (record != kMagic || !(s >> version) || version < 1 || version > kVersion)
-				THROW_EXCEPTION_FMT(
-					"%s: not an lrgc pose graph (expected '%s %d' first)", at.c_str(), kMagic,
-					kVersion);
+				THROW_EXCEPTION_FMT("%s: not an lrgc pose graph (expected '%s %d' first)",
+									at.c_str(), kMagic, kVersion);
 			continue;
 		}
-		if (ended) THROW_EXCEPTION_FMT("%s: '%s' after the END line", at.c_str(), record.c_str());
+		if (ended)
+			THROW_EXCEPTION_FMT("%s: '%s' after the END line", at.c_str(), record.c_str());
 		if (record == "END" && version >= 2)
 		{
 			checkEnd(s, saved.graph, at);
@@ -149,7 +147,8 @@ TSavedPoseGraph poseGraphFromText(std::istream& in, const std::string& where)
 		}
 		THROW_EXCEPTION_FMT("%s: unknown record '%s'", at.c_str(), record.c_str());
 	}
-	if (version == 0) THROW_EXCEPTION_FMT("%s: empty file, not an lrgc pose graph", where.c_str());
+	if (version == 0)
+		THROW_EXCEPTION_FMT("%s: empty file, not an lrgc pose graph", where.c_str());
 	// Without the END line a file cut at a line boundary would load as a smaller graph.
 	if (version >= 2 && !ended)
 		THROW_EXCEPTION_FMT(

@@ -18,11 +18,17 @@ CPoseGraph randomGraph(uint32_t seed)
 	for (size_t i = 1; i < 20; ++i)
 	{
 		Eigen::Matrix3d A = Eigen::Matrix3d::Random();
-		g.addLink({i - 1, i, {u(rng), u(rng), u(rng) / 3}, A * A.transpose() + Eigen::Matrix3d::Identity(),
+		g.addLink({i - 1,
+				   i,
+				   {u(rng), u(rng), u(rng) / 3},
+				   A * A.transpose() + Eigen::Matrix3d::Identity(),
 				   i % 3 == 0 ? LinkType::ScanMatch : LinkType::Odometry});
 	}
-	g.addLink({2, 17, {0.1, -0.2, 0.3}, 1e4 * Eigen::Matrix3d::Identity(), LinkType::LoopClosure});
-	g.setLinkEnabled(g.addLink({5, 12, {1.0 / 3, 0, 0}, Eigen::Matrix3d::Identity(), LinkType::LoopClosure}), false);
+	g.addLink(
+		{2, 17, {0.1, -0.2, 0.3}, 1e4 * Eigen::Matrix3d::Identity(), LinkType::LoopClosure});
+	g.setLinkEnabled(
+		g.addLink({5, 12, {1.0 / 3, 0, 0}, Eigen::Matrix3d::Identity(), LinkType::LoopClosure}),
+		false);
 	return g;
 }
 
@@ -64,7 +70,8 @@ TEST(PoseGraphText, roundTripIsBitExactWithTypesAndDisabledLinks)
 TEST(PoseGraphText, badInputIsAnErrorNamingTheLine)
 {
 	const std::string head = "LRGC_POSE_GRAPH 1\nNODE 0 0 0 0\nNODE 1 1 0 0\n";
-	const auto fails = [&](const std::string& text, const std::string& what) {
+	const auto fails = [&](const std::string& text, const std::string& what)
+	{
 		try
 		{
 			parse(text);
@@ -83,7 +90,9 @@ TEST(PoseGraphText, badInputIsAnErrorNamingTheLine)
 	fails(head + "LINK 0 5 1 0 0 1 0 0 1 0 1 Odometry 1\n", "out of range");
 	fails(head + "LINK 0 1 1 0 0 -1 0 0 1 0 1 Odometry 1\n", "not positive definite");
 	fails(head + "EDGE_SE2 0 1 1 0 0\n", "unknown record 'EDGE_SE2'");
-	EXPECT_EQ(parse(head + "# comment\n\nLINK 0 1 1 0 0 1 0 0 1 0 1 Odometry 1\n").graph.numLinks(), 1U);
+	EXPECT_EQ(
+		parse(head + "# comment\n\nLINK 0 1 1 0 0 1 0 0 1 0 1 Odometry 1\n").graph.numLinks(),
+		1U);
 }
 
 // Issue 30: a graph.lrgc cut at a line boundary loaded silently as a smaller graph.
@@ -92,7 +101,8 @@ TEST(PoseGraphText, fileCutAtALineBoundaryIsAnError)
 	const std::string head = "LRGC_POSE_GRAPH 2\nNODE 0 0 0 0\nNODE 1 1 0 0\n";
 	const std::string link = "LINK 0 1 1 0 0 1 0 0 1 0 1 Odometry 1\n";
 	EXPECT_EQ(parse(head + link + "END 2 1\n").graph.numLinks(), 1U);
-	const auto fails = [&](const std::string& text, const std::string& what) {
+	const auto fails = [&](const std::string& text, const std::string& what)
+	{
 		try
 		{
 			parse(text);

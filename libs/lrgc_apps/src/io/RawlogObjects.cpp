@@ -187,7 +187,8 @@ std::atomic<long long> g_childHeapBytes{0};
 
 void onChildMalloc(const volatile void*, size_t size)
 {
-	if (g_childHeapBytes.fetch_add(static_cast<long long>(size)) + static_cast<long long>(size) >
+	if (g_childHeapBytes.fetch_add(static_cast<long long>(size)) +
+			static_cast<long long>(size) >
 		kSanitizedChildHeapBudget)
 		::_exit(kChildOutOfMemoryExit);
 }
@@ -203,11 +204,12 @@ void onChildFree(const volatile void* p)
 // The child is the reader's disposable stand-in: it dies by a fault of MRPT's deserializer
 // itself, whatever handler the host program installed (a crash reporter, a sanitizer), so
 // that the reader can name the signal; it ignores the stop signals a terminal or a service
-// manager sends to the whole process group (Ctrl-C, a closed terminal, `timeout`, systemd: the reader decides
-// when to stop, and kills it; had the child died of it, the reader would have reported the
-// object it was on as corrupt); it dies of SIGPIPE at its next report once the reader is gone
-// (not PR_SET_PDEATHSIG, which fires when the thread that forked ends, not the process); and
-// it speaks only through the pipe (MRPT's messages on an object are the reader's to print).
+// manager sends to the whole process group (Ctrl-C, a closed terminal, `timeout`, systemd: the
+// reader decides when to stop, and kills it; had the child died of it, the reader would have
+// reported the object it was on as corrupt); it dies of SIGPIPE at its next report once the
+// reader is gone (not PR_SET_PDEATHSIG, which fires when the thread that forked ends, not the
+// process); and it speaks only through the pipe (MRPT's messages on an object are the reader's
+// to print).
 void becomeQuietDisposableChild()
 {
 	for (const int sig : {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT, SIGPIPE})

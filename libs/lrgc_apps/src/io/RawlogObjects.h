@@ -19,9 +19,10 @@
  * at fork time), the reader goes on unguarded and warns. The child ignores SIGINT and SIGTERM
  * (a Ctrl-C reaches the whole process group: the reader, not the child, decides to stop, and
  * kills it), dies of SIGPIPE at its next report once the reader is gone, restores the
- * default action of the fatal signals (so it dies of MRPT's fault itself, whatever handlers the host installed) and
- * writes only to the pipe. In a sanitizer build (fuzz/), where RLIMIT_AS cannot bound the
- * heap, it counts its allocations instead (against 64 MiB: the fuzzers' inputs are small).
+ * default action of the fatal signals (so it dies of MRPT's fault itself, whatever handlers the
+ * host installed) and writes only to the pipe. In a sanitizer build (fuzz/), where RLIMIT_AS
+ * cannot bound the heap, it counts its allocations instead (against 64 MiB: the fuzzers' inputs
+ * are small).
  */
 #pragma once
 

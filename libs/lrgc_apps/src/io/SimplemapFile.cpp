@@ -18,7 +18,8 @@ mrpt::maps::CSimpleMap readSimplemapFile(const std::string& file, const std::str
 	mrpt::obs::registerAllClasses_mrpt_obs();
 	mrpt::maps::registerAllClasses_mrpt_maps();
 	mrpt::poses::registerAllClasses_mrpt_poses();  // the keyframes' pose PDFs
-	const auto unreadable = [&](const std::string& why) {
+	const auto unreadable = [&](const std::string& why)
+	{
 		return std::runtime_error(option + " '" + file + "': not a readable MRPT CSimpleMap (" +
 								  why + ")");
 	};
@@ -30,11 +31,13 @@ mrpt::maps::CSimpleMap readSimplemapFile(const std::string& file, const std::str
 		CDeserializationGuard guard(file);
 		TObjectRead r = guard.checkNextObject(0);
 		if (r.result != TObjectRead::Result::Failed) r = readArchiveObject(in, archive);
-		if (r.result == TObjectRead::Result::Failed) throw unreadable(r.problem + " at " + r.place);
+		if (r.result == TObjectRead::Result::Failed)
+			throw unreadable(r.problem + " at " + r.place);
 		if (r.result == TObjectRead::Result::End) throw unreadable("the file holds no object");
 		map = std::dynamic_pointer_cast<mrpt::maps::CSimpleMap>(r.object);
 		if (!map)
-			throw unreadable(std::string("it holds a ") + r.object->GetRuntimeClass()->className);
+			throw unreadable(std::string("it holds a ") +
+							 r.object->GetRuntimeClass()->className);
 	}
 	catch (const CLogReadError& e)
 	{

@@ -40,11 +40,10 @@ std::string liveJson(const TLiveJsonState& st)
 	  << "  \"sensors_ini\": " << jsonString(st.sensorsIni) << ",\n"
 	  << "  \"capture\": {\"file\": \"capture.rawlog\", \"objects\": " << st.captureObjects
 	  << ", \"bytes\": " << st.captureBytes << "},\n"
-	  << "  \"received\": {\"objects\": " << st.pushed
-	  << ", \"scans\": " << st.scansPushed << "},\n"
+	  << "  \"received\": {\"objects\": " << st.pushed << ", \"scans\": " << st.scansPushed
+	  << "},\n"
 	  << "  \"mapping\": {\"objects_taken\": " << m.items << ", \"scans_taken\": " << m.scans
-	  << ", \"scans_mapped\": " << m.scansMapped
-	  << ", \"skipped_to_keep_up\": " << st.skipped
+	  << ", \"scans_mapped\": " << m.scansMapped << ", \"skipped_to_keep_up\": " << st.skipped
 	  << ", \"odometry\": " << m.odometry << ", \"other_observations\": " << m.otherObservations
 	  << ", \"not_observations\": " << m.notObservations << ", \"saves\": " << st.saves
 	  << mrpt::format(
@@ -64,6 +63,5 @@ std::string liveJson(const TLiveJsonState& st)
 	j << "\n  ]\n}\n";
 	return j.str();
 }
-
 
 }  // namespace lrgc::apps

@@ -94,9 +94,8 @@ std::string statusLine(const CLiveQueues& queues, const CLiveMapper& mapper,
 class CLiveSession
 {
 public:
-	CLiveSession(
-		const TLiveSlamSetup& setup, const TSensorRig& rig, std::FILE* err,
-		TPeriodicSaveHook saveHook)
+	CLiveSession(const TLiveSlamSetup& setup, const TSensorRig& rig, std::FILE* err,
+				 TPeriodicSaveHook saveHook)
 		: m_setup(setup),
 		  m_saveHook(std::move(saveHook)),
 		  m_params(setup.config.live),
@@ -174,9 +173,9 @@ public:
 			m_fatal.set("capture: " + oneLineError(e));
 		}
 		const std::string silent = noSensorStarted();
-		const std::string status = m_fatal.isSet() ? "error: " + m_fatal.why()
-			: silent.empty()					   ? "stopped on request"
-												   : silent;
+		const std::string status = m_fatal.isSet()  ? "error: " + m_fatal.why()
+								   : silent.empty() ? "stopped on request"
+													: silent;
 		int exitCode = m_fatal.isSet() || !silent.empty() ? kExitInputError : kExitOk;
 		try
 		{
@@ -215,12 +214,13 @@ private:
 		{
 			const TSensorCounters c = s->counters();
 			if (c.starts > 0) return {};
-			// "live: [LASER] CLMS100Eth cannot start: ...; retrying in 8 s" -> "[LASER] ... ..."
+			// "live: [LASER] CLMS100Eth cannot start: ...; retrying in 8 s" -> "[LASER] ...
+			// ..."
 			const std::string& p = c.lastProblem;
 			const size_t from = std::min(p.find('['), p.size());
 			problems += (problems.empty() ? "" : "; ") +
-				(p.empty() ? "[" + s->sensor().section + "] never started"
-						   : p.substr(from, p.rfind("; ") - from));
+						(p.empty() ? "[" + s->sensor().section + "] never started"
+								   : p.substr(from, p.rfind("; ") - from));
 		}
 		return "no sensor delivered data (" + problems + ")";
 	}
@@ -262,8 +262,8 @@ private:
 	bool periodicSave()
 	{
 		if (!m_saver.idle()) return false;
-		auto outputs =
-			std::make_shared<const TRunOutputsSnapshot>(m_mapper.snapshot("running (periodic save)"));
+		auto outputs = std::make_shared<const TRunOutputsSnapshot>(
+			m_mapper.snapshot("running (periodic save)"));
 		auto live = std::make_shared<const TLiveJsonState>(liveState("running"));
 		return m_saver.trySubmit(
 			[this, outputs, live]
@@ -290,7 +290,8 @@ private:
 	}
 
 	/** Writes a save: every output (the grid brought up to date incrementally: the saver's
-	 * CIncrementalGrid), then live.json. On the saver thread, or on this one once it is idle. */
+	 * CIncrementalGrid), then live.json. On the saver thread, or on this one once it is idle.
+	 */
 	void writeSave(const TRunOutputsSnapshot& outputs, TLiveJsonState live)
 	{
 		const TGridSettings& gs = outputs.gridSettings;
@@ -305,14 +306,14 @@ private:
 
 	TLiveJsonState liveState(const std::string& status) const
 	{
-		return lrgc::apps::liveState(
-			status, m_setup.sensorsIni, m_capture, m_queues, m_mapper, m_sensors);
+		return lrgc::apps::liveState(status, m_setup.sensorsIni, m_capture, m_queues, m_mapper,
+									 m_sensors);
 	}
 
 	void writeLiveJson(const TLiveJsonState& st)
 	{
-		writeTextFileAtomically(
-			(std::filesystem::path(m_setup.outDir) / "live.json").string(), liveJson(st));
+		writeTextFileAtomically((std::filesystem::path(m_setup.outDir) / "live.json").string(),
+								liveJson(st));
 	}
 
 	void writeLiveJson(const std::string& status)

@@ -171,8 +171,10 @@ TEST_F(LiveSlamTest, NoSensorDeliveringIsReportedAndExitsNonZero)
 	size_t size = 0;
 	std::FILE* err = open_memstream(&buf, &size);
 	const auto t0 = std::chrono::steady_clock::now();
-	const int rc = CLiveSlam(m_setup, err).run(
-		[&] { return std::chrono::steady_clock::now() - t0 > std::chrono::seconds(1); });
+	const int rc =
+		CLiveSlam(m_setup, err)
+			.run([&]
+				 { return std::chrono::steady_clock::now() - t0 > std::chrono::seconds(1); });
 	std::fclose(err);
 	m_console.assign(buf, size);
 	std::free(buf);

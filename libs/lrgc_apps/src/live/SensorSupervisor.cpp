@@ -189,7 +189,7 @@ mrpt::hwdrivers::CGenericSensor::Ptr CSensorSupervisor::startDriver()
 }
 
 void CSensorSupervisor::noteDataFlowing(const mrpt::hwdrivers::CGenericSensor& driver,
-									   TClock::time_point now)
+										TClock::time_point now)
 {
 	m_flowing = true;
 	m_backoff = m_params.retry_initial_s;
@@ -271,10 +271,11 @@ std::optional<std::string> CSensorSupervisor::runDriver(mrpt::hwdrivers::CGeneri
 				detail += mrpt::format(", %zu observation(s) without data", rejectedSinceValid);
 			if (!m_outageSince) m_outageSince = lastValid;
 			if (!m_flowing)  // the grace period after initialize() is over
-				return mrpt::format("cannot start: no valid data within %.1f s of its start (%s)",
-									m_params.sensor_timeout_s, detail.c_str());
-			return mrpt::format("sent no valid data for %.1f s: %s",
-								m_params.sensor_timeout_s, detail.c_str());
+				return mrpt::format(
+					"cannot start: no valid data within %.1f s of its start (%s)",
+					m_params.sensor_timeout_s, detail.c_str());
+			return mrpt::format("sent no valid data for %.1f s: %s", m_params.sensor_timeout_s,
+								detail.c_str());
 		}
 		waitUntil(t0 + period);
 	}
