@@ -3,7 +3,7 @@
  * Invariants: it throws nothing but std::exception; a graph it accepts has every link between
  * two of its nodes and a positive-definite information matrix (addLink's checks), and written
  * back (poseGraphToText) it reads back to the same counts. */
-#include <lrgc/pose_graph/PoseGraphText.h>
+#include <lrgc_apps/io/PoseGraphText.h>
 
 #include <sstream>
 #include <string>
