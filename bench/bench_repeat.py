@@ -10,6 +10,7 @@ Peak RSS is of the whole run.
 Python standard library only.
 """
 
+import math
 import os
 import subprocess
 import sys
@@ -61,12 +62,20 @@ def keyframe_rows(graph_lrgc, trajectory_tum):
     out, k = [], 0
     for x, y in nodes:
         key = ["%.6f" % float(x), "%.6f" % float(y)]
-        while k < len(rows) and rows[k] != key:
-            k += 1
-        if k == len(rows):
-            return None
-        out.append(k)
-        k += 1
+        j = k
+        while j < len(rows) and rows[j] != key:
+            j += 1
+        if j == len(rows):
+            # A keyframe whose scan the end of the run settled onto its neighbours' odometry
+            # chain (stats.json scans_settled) is no longer at its node's pose: the nearest of
+            # the next rows, within 1 m.
+            near = [(math.hypot(float(r[0]) - float(x), float(r[1]) - float(y)), i)
+                    for i, r in enumerate(rows[k:k + 50], start=k)]
+            if not near or min(near)[0] > 1.0:
+                return None
+            j = min(near)[1]
+        out.append(j)
+        k = j + 1
     return out
 
 
