@@ -15,6 +15,7 @@
 #include <mrpt/maps/CSimpleMap.h>
 #include <mrpt/obs/CObservationOdometry.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <functional>
@@ -224,6 +225,11 @@ TEST(LoopClosingWorker, aModelledWorkerDelaysCostlyResultsAndShedsSearchesWhatev
 	EXPECT_GT(normal.stats.loopResultDelayMax, p.loop.result_delay_keyframes);
 	EXPECT_GT(normal.loop.searchesShed, 0U);
 	EXPECT_EQ(normal.loop.searchesShed, slow.loop.searchesShed);
+	// Where: one keyframe per search shed, in order, the same whatever the worker's speed.
+	EXPECT_EQ(normal.loop.shedKeyframes.size(), normal.loop.searchesShed);
+	EXPECT_TRUE(
+		std::is_sorted(normal.loop.shedKeyframes.begin(), normal.loop.shedKeyframes.end()));
+	EXPECT_EQ(normal.loop.shedKeyframes, slow.loop.shedKeyframes);
 	expectSameTrajectory(normal.trajectory, slow.trajectory, "slowed worker");
 	expectSameTrajectory(normal.trajectory, inlineRun.trajectory, "no worker thread");
 	EXPECT_EQ(normal.stats.loopClosureLinks, slow.stats.loopClosureLinks);

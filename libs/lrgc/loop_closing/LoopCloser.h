@@ -57,8 +57,12 @@ public:
 	std::optional<TLoopClosure> process(CPoseGraph& graph, const TScanRefs& scans);
 
 	const TLoopCloserStats& stats() const { return m_stats; }
-	/** Counts a search skipped by the caller (CLoopClosingWorker's backlog). */
-	void countShed() { ++m_stats.searchesShed; }
+	/** Counts a search for `keyframe` skipped by the caller (CLoopClosingWorker's backlog). */
+	void countShed(size_t keyframe)
+	{
+		++m_stats.searchesShed;
+		m_stats.shedKeyframes.push_back(keyframe);
+	}
 	/** Adds the caller's own work (CLoopClosingWorker's updates of its graph) to stats(). */
 	void countWork(const TLoopWork& w) { m_stats.work += w; }
 	/** Called after each step of process() (gate, correlation, match, each solve), with

@@ -36,6 +36,9 @@ struct TLoopCloserStats
 	/** Searches the worker skipped because its modelled schedule ran more than
 	 * [LoopCloser] max_backlog_keyframes keyframes behind (CLoopClosingWorker). */
 	size_t searchesShed = 0;
+	/** Where: the keyframe (graph node) of each search shed, in order (issue 28: a place
+	 * whose search was shed may be a loop not closed). */
+	std::vector<size_t> shedKeyframes;
 };
 
 }  // namespace lrgc

@@ -239,7 +239,7 @@ TLoopJobResult CLoopClosingWorker::execute(TLoopJob& job)
 	r.newest = job.newest;
 	r.clock = job.clock;
 	if (m_budgetMs > 0 && start - double(job.clock) > double(m_maxBacklog))
-		m_closer.countShed();
+		m_closer.countShed(job.newest);
 	else
 		r.closure = m_closer.process(m_replica, m_scans);
 	m_closer.setProgressCallback({});

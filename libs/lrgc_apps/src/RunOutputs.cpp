@@ -109,6 +109,15 @@ std::string statsJson(const CMetricMapBuilderLRGC& builder, const TRunSummary& r
 
 namespace
 {
+// [a, b, c] of whole numbers.
+std::string jsonList(const std::vector<size_t>& values)
+{
+	std::string out = "[";
+	for (size_t i = 0; i < values.size(); ++i)
+		out += (i ? ", " : "") + std::to_string(values[i]);
+	return out + "]";
+}
+
 // The mapped laser ([MapBuilder] laser_label / --laser, else the first seen) and the scans of
 // the other lasers, ignored, per sensor label.
 std::string laserJson(const CLaserSelector& lasers)
@@ -156,6 +165,9 @@ std::string loopClosingJson(const TMapBuilderStats& s, const TLoopCloserStats& l
 	  // [LoopCloser] worker_budget_ms per keyframe.
 	  << ", \"modelled_work_s\": " << 1e-3 * lcs.work.referenceMs() << ", \"searches_shed\": "
 	  << lcs.searchesShed
+	  // ... and where: the keyframe of each search shed.
+	  << ", \"searches_shed_at_keyframes\": "
+	  << jsonList(lcs.shedKeyframes)
 	  // CPU time of loop closing per step (the worker thread's, whatever else runs).
 	  << ", \"cpu_s\": {\"gate\": " << lcs.gateCpuSeconds
 	  << ", \"correlate\": " << lcs.correlateCpuSeconds
