@@ -8,6 +8,7 @@
  */
 #include <gtest/gtest.h>
 #include <lrgc/common/se2.h>
+#include <lrgc_apps/eval/trajectory_error.h>
 
 #include <algorithm>
 #include <cstdio>
@@ -20,34 +21,17 @@ using mrpt::math::TPose2D;
 
 namespace
 {
-/** Per-scan position errors [m] after the least-squares rigid alignment (2D Umeyama without
- * scale) of the estimate's positions onto the truth's. */
+/** Per-scan position errors [m] after the least-squares rigid alignment of the estimate's
+ * positions onto the truth's (lrgc-eval's bestFitRigid2D, as its ATE). */
 std::vector<double> alignedErrors(const lrgc::TTrajectory& est,
 								  const std::vector<TPose2D>& truth)
 {
-	const size_t n = truth.size();
-	Eigen::Vector2d me = Eigen::Vector2d::Zero(), mt = Eigen::Vector2d::Zero();
-	for (size_t k = 0; k < n; ++k)
-		me += Eigen::Vector2d(est[k].robotInMap.x, est[k].robotInMap.y),
-			mt += Eigen::Vector2d(truth[k].x, truth[k].y);
-	me /= double(n), mt /= double(n);
-	double sxx = 0, sxy = 0;  // sum of e . t and e x t over centred points
-	for (size_t k = 0; k < n; ++k)
-	{
-		const Eigen::Vector2d e =
-			Eigen::Vector2d(est[k].robotInMap.x, est[k].robotInMap.y) - me;
-		const Eigen::Vector2d t = Eigen::Vector2d(truth[k].x, truth[k].y) - mt;
-		sxx += e.dot(t), sxy += e.x() * t.y() - e.y() * t.x();
-	}
-	const double th = std::atan2(sxy, sxx), c = std::cos(th), s = std::sin(th);
-	std::vector<double> err(n);
-	for (size_t k = 0; k < n; ++k)
-	{
-		const Eigen::Vector2d e =
-			Eigen::Vector2d(est[k].robotInMap.x, est[k].robotInMap.y) - me;
-		const Eigen::Vector2d r(c * e.x() - s * e.y(), s * e.x() + c * e.y());
-		err[k] = (r + mt - Eigen::Vector2d(truth[k].x, truth[k].y)).norm();
-	}
+	std::vector<TPose2D> poses;
+	for (const auto& s : est) poses.push_back(s.robotInMap);
+	const TPose2D T = lrgc::apps::eval::bestFitRigid2D(poses, truth);
+	std::vector<double> err(truth.size());
+	for (size_t k = 0; k < truth.size(); ++k)
+		err[k] = lrgc::translationNorm(lrgc::between(truth[k], lrgc::compose(T, poses[k])));
 	return err;
 }
 

@@ -104,13 +104,6 @@ double gateInnovationChi2(const TRelativeUncertainty& iFromJ, const TPose2D& z,
 }
 }  // namespace
 
-struct CLoopCloser::TCandidates
-{
-	std::vector<size_t> nodes;                   //!< gated old nodes
-	std::vector<TRelativeUncertainty> relative;  //!< per node: (newest <- node), covariance
-	double sigmaXY = 0, sigmaTheta = 0;          //!< largest position / heading std among them
-};
-
 CLoopCloser::CLoopCloser(const TLoopCloserParams& p, const TPatchCorrelatorParams& correlator,
 						 const TScanMatcherParams& matcher,
 						 const TPoseGraphOptimizerParams& optimizer)
@@ -201,35 +194,6 @@ auto CLoopCloser::timedGate(const CPoseGraph& graph, size_t newest)
 	return candidates;
 }
 
-// The search window and the patch size from the uncertainty (paper 2.4): +- window_sigmas
-// sigma, capped; the patch grows linearly with sigma, so a large loop is closed only on strong
-// evidence.
-auto CLoopCloser::searchWindow(const TCandidates& c, size_t newest) const -> TSearchWindow
-{
-	TSearchWindow w;
-	w.xy = std::clamp(m_params.window_sigmas * c.sigmaXY,
-					  2 * m_correlator.params().resolution_m, m_params.max_window_xy_m);
-	w.theta = std::clamp(m_params.window_sigmas * c.sigmaTheta, mrpt::DEG2RAD(2.0),
-						 m_params.max_window_phi);
-	w.patchSize =
-		std::min<size_t>(m_params.old_map_exclusion_keyframes,
-						 m_params.patch_min_keyframes +
-							 static_cast<size_t>(m_params.patch_keyframes_per_m * c.sigmaXY));
-	w.patchFirst = newest + 1 - std::min(w.patchSize, newest + 1);
-	return w;
-}
-
-// A patch grown with the uncertainty overlaps the last attempt's almost entirely: while it is
-// large, correlate only every attempt_stride * (patch - patch_min) checks.
-bool CLoopCloser::attemptDue(const TSearchWindow& w)
-{
-	if (double(++m_checksSinceAttempt) <=
-		m_params.attempt_stride * double(w.patchSize - m_params.patch_min_keyframes))
-		return false;
-	m_checksSinceAttempt = 0;
-	return true;
-}
-
 // Step 2: the patch (in the newest keyframe's frame) against the old map (map frame), through
 // the paper's three filters (score, ambiguity, variance).
 std::optional<TCorrelationResult> CLoopCloser::correlatePatch(const CPoseGraph& graph,
@@ -256,73 +220,6 @@ std::optional<TCorrelationResult> CLoopCloser::correlatePatch(const CPoseGraph& 
 	++m_stats.rejectedByFilters;
 	m_lastRejection = verdict.message();
 	return std::nullopt;
-}
-
-// The patch: the points of keyframes patchFirst..newest within patch_max_range_m, in the newest
-// keyframe's frame. The old map: the candidates' points the patch can reach from inside the
-// window [map frame]. A window wider than the old map can be (max_window_xy_m lifted) gains
-// nothing: beyond the farthest old point plus the patch radius and the blur's reach (p(m) > 0
-// up to 3.53 sigma; 4 sigma and two cells of margin), no patch point meets the map, so
-// w.xy shrinks to that.
-auto CLoopCloser::patchAndOldMap(const CPoseGraph& graph, const TScanRefs& scans,
-								 const TCandidates& c, TSearchWindow& w) const -> TPatchAndMap
-{
-	const size_t newest = graph.numNodes() - 1;
-	const TPose2D newestInMap = graph.pose(newest);
-	TPatchAndMap pm;
-	double patchRadius = 0;
-	for (size_t k = w.patchFirst; k <= newest; ++k)
-	{
-		const CPointTransform kInNewest(between(newestInMap, graph.pose(k)));
-		for (const auto& p : scans[k]->points)
-		{
-			const Eigen::Vector2d q = kInNewest(p);
-			const double range = q.norm();
-			if (range > m_params.patch_max_range_m) continue;
-			pm.patch.push_back(q);
-			patchRadius = std::max(patchRadius, range);
-		}
-	}
-	const Eigen::Vector2d centre(newestInMap.x, newestInMap.y);
-	const double blur = m_correlator.params().blur_sigma_m;
-	const double reach = w.xy + patchRadius + 3 * blur;
-	for (const size_t j : c.nodes)
-	{
-		const CPointTransform toMap(graph.pose(j));
-		for (const auto& p : scans[j]->points)
-			if (Eigen::Vector2d q = toMap(p); (q - centre).squaredNorm() <= reach * reach)
-				pm.oldMap.push_back(q);
-	}
-	if (pm.oldMap.empty()) return pm;
-	double farthest = 0;
-	for (const auto& q : pm.oldMap) farthest = std::max(farthest, (q - centre).norm());
-	w.xy = std::min(w.xy,
-					farthest + patchRadius + 4 * blur + 2 * m_correlator.params().resolution_m);
-	return pm;
-}
-
-// The correlation, its work counted as the search goes (the worker's published progress):
-// headings x patch cells once known, then poses scored x patch cells.
-std::optional<TCorrelationResult> CLoopCloser::countedCorrelation(
-	const CCorrelationGrid& grid, const std::vector<Eigen::Vector2d>& patch,
-	const TPose2D& newestInMap, const TSearchWindow& w)
-{
-	TCorrelationEffort effort;
-	double counted = 0;  // poses scored x cells counted so far
-	bool prepared = false;
-	effort.onProgress = [this, &counted, &prepared](const TCorrelationEffort& e)
-	{
-		if (!std::exchange(prepared, true))
-			m_stats.work.correlationAngleCells += double(e.headings) * double(e.patchCells);
-		const double poseCells = double(e.posesScored) * double(e.patchCells);
-		m_stats.work.correlationPoseCells += poseCells - counted;
-		counted = poseCells;
-		progress();
-	};
-	const auto corr = m_correlator.correlate(grid, patch, newestInMap, w.xy, w.theta, &effort);
-	m_stats.work.correlationPoseCells +=
-		double(effort.posesScored) * double(effort.patchCells) - counted;
-	return corr;
 }
 
 // Step 3: the correlation's pose seeds a scan match of the newest keyframe against the old

@@ -72,7 +72,13 @@ public:
 	const std::string& lastRejection() const { return m_lastRejection; }
 
 private:
-	struct TCandidates;
+	/** Step 1's result: the old nodes that could overlap the newest. */
+	struct TCandidates
+	{
+		std::vector<size_t> nodes;                   //!< gated old nodes
+		std::vector<TRelativeUncertainty> relative;  //!< per node: (newest <- node), covariance
+		double sigmaXY = 0, sigmaTheta = 0;  //!< largest position / heading std among them
+	};
 	/** Step 2's search: half window [m, rad] and the patch (keyframes patchFirst..newest). */
 	struct TSearchWindow
 	{
