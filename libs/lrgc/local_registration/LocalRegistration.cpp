@@ -22,7 +22,7 @@ namespace
  * search (registerScan). Odometry that is right turns by at most a few degrees per step
  * beyond its model; on the benchmark logs 0 to 11 matches per log contradict it by more. */
 const double kSecondOpinionTurn = mrpt::DEG2RAD(10.0);
-/** [m] ... or shifts it by more than this (0.25 m steps: 2 to 4 matches per log beyond it). */
+/** [m] ... or shifts it by more than this (0 to 2 matches per benchmark log beyond it). */
 constexpr double kSecondOpinionShift = 0.3;
 }  // namespace
 
