@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """A CARMEN log driven N times over: a robot that keeps driving the same building.
 
-    bench/repeat_log.py LOG.clf[.gz] N OUT.clf[.gz] [--relations R.relations OUT_PREFIX]
+    bench/repeat_log.py LOG.clf[.gz] N OUT.clf[.gz] [--restart-odometry]
+                        [--relations R.relations OUT_PREFIX]
 
 Pass p (0-based) is the log again with every timestamp shifted by p * (duration + 1 s) and
 its odometry re-based so that it continues from where pass p-1's odometry ended:
@@ -10,6 +11,10 @@ with E_{p-1} the last odometry pose of pass p-1 (pass 0 is the log itself) and O
 first. The robot is taken to start each pass where the log starts; the log's own offset
 between its end and its start (Intel: 0.28 m, 0.3 deg by the loop-closed trajectory) is what
 the odometry gets wrong at each seam, as a real robot's would.
+
+With --restart-odometry the odometry is not re-based: every pass reads O'_p(t) = O(t), so at
+each seam it jumps back from the log's last odometry pose to its first (Intel: by 62 m and
+146 deg), as a robot's odometry does when it is rebooted where the log starts.
 
 With --relations, the log's relations (`t1 t2 x y z roll pitch yaw`, Kuemmerle et al. 2009)
 are written once per pass, times shifted as the log's: OUT_PREFIX.pass<p+1>.relations, so each
@@ -20,6 +25,7 @@ Lines handled: ODOM (x y theta), FLASER/RLASER (laser pose and robot pose), each
 any other message type is refused with its line number, since its poses or times would be
 left behind.
 """
+import argparse
 import gzip
 import math
 import sys
@@ -69,17 +75,25 @@ def write_relations(relations, n_passes, period, prefix):
                 f.write(" ".join([f"{t1:.6f}", f"{t2:.6f}"] + row[2:]) + "\n")
 
 
+def parse_args(argv):
+    ap = argparse.ArgumentParser(prog="bench/repeat_log.py",
+                                 description="A CARMEN log driven N times over.")
+    ap.add_argument("log", help="LOG.clf[.gz]")
+    ap.add_argument("passes", type=int, help="N, the number of passes (>= 1)")
+    ap.add_argument("out", help="OUT.clf[.gz]")
+    ap.add_argument("--restart-odometry", action="store_true",
+                    help="each pass's odometry starts again at the log's first pose")
+    ap.add_argument("--relations", nargs=2, metavar=("R.relations", "OUT_PREFIX"),
+                    help="write the relations once per pass: OUT_PREFIX.pass<p>.relations")
+    a = ap.parse_args(argv[1:])
+    if a.passes < 1:
+        sys.exit(f"repeat_log: N = {a.passes} must be >= 1")
+    return a
+
+
 def main(argv):
-    relations = None
-    if len(argv) == 7 and argv[4] == "--relations":
-        relations, prefix = argv[5], argv[6]
-        argv = argv[:4]
-    if len(argv) != 4:
-        sys.exit("usage: bench/repeat_log.py LOG.clf[.gz] N OUT.clf[.gz] "
-                 "[--relations R.relations OUT_PREFIX]")
-    src, n_passes, out = argv[1], int(argv[2]), argv[3]
-    if n_passes < 1:
-        sys.exit(f"repeat_log: N = {n_passes} must be >= 1")
+    a = parse_args(argv)
+    src, n_passes, out = a.log, a.passes, a.out
     with open_text(src, "r") as f:
         lines = f.read().splitlines()
     times, first_odom, last_odom = [], None, None
@@ -98,8 +112,8 @@ def main(argv):
     if not times:
         sys.exit(f"repeat_log: {src}: no ODOM, FLASER or RLASER line")
     period = max(times) - min(times) + 1.0
-    if relations:
-        write_relations(relations, n_passes, period, prefix)
+    if a.relations:
+        write_relations(a.relations[0], n_passes, period, a.relations[1])
     start_inv = inverse(first_odom)
     with open_text(out, "w") as f:
         end = first_odom  # pass 0 starts where the log does
@@ -118,7 +132,7 @@ def main(argv):
                 for i in stamps:
                     fields[i] = f"{float(fields[i]) + p * period:.6f}"
                 f.write(" ".join(fields) + "\n")
-            end = compose(base, last_odom)
+            end = first_odom if a.restart_odometry else compose(base, last_odom)
 
 
 if __name__ == "__main__":
