@@ -230,9 +230,11 @@ TRegistration CLocalRegistration::registerScan(const CPoseGraph& graph,
 	m_lastPatchMatch.reset();
 	// K depends on the prior (window_size with odometry, laser_only_window_size without): a
 	// change of prior resizes the window, dropping its oldest keyframes if it shrinks.
-	if (m_withOdometry != prediction.fromOdometry)
+	// (An odometry jump is one step without the odometry, not a robot without it.)
+	if (const bool withOdometry = prediction.fromOdometry || prediction.odometryJump;
+		m_withOdometry != withOdometry)
 	{
-		m_withOdometry = prediction.fromOdometry;
+		m_withOdometry = withOdometry;
 		if (m_window.size() > windowSize())
 		{
 			while (m_window.size() > windowSize()) m_window.pop_front();
@@ -249,13 +251,15 @@ TRegistration CLocalRegistration::registerScan(const CPoseGraph& graph,
 	{ return disagreementChi2(guess, m.scanInRef, priorCov + m.cov); };
 	std::optional<TScanMatch> match = m_matcher.match(cloud, scan, guess);
 	const bool disagrees = match && disagreement(*match) > m_params.glitch_gate_chi2;
-	// A pause in the scans or a large predicted turn, and the plain match failed or
-	// contradicts the prior: the odometry may lag or jump, so the wide search decides and
+	// A pause in the scans, a large predicted turn or an odometry jump (the prior is then the
+	// constant-velocity one), and the plain match failed or contradicts the prior: the
+	// odometry may lag or jump, so the wide search decides and
 	// may overrule the prior, but only with evidence an aliased scene cannot fake (matchWide:
 	// a clear majority of the scan matched, a clear lead over every other heading and over
 	// the prior's own optimum). A doubtful case keeps the prior, not a contradicting match.
 	const bool suspect = std::abs(prediction.motion.phi) > m_params.glitch_min_turn ||
-						 prediction.stepSeconds > m_params.glitch_min_gap_s;
+						 prediction.stepSeconds > m_params.glitch_min_gap_s ||
+						 prediction.odometryJump;
 	// Nothing made the odometry suspect, yet the match turns the robot by more than
 	// kSecondOpinionTurn against it, or shifts it by more than kSecondOpinionShift: people or a
 	// repetitive scene (a hall's pillar rows) can pull a plain match into another basin, and

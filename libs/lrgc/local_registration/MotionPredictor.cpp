@@ -43,10 +43,16 @@ TMotionPrediction CMotionPredictor::predict(mrpt::Clock::time_point t) const
 		pred.stepSeconds = std::max(0.0, mrpt::system::timeDifference(*m_lastScanTime, t));
 	if (m_params.use_odometry && m_odomNow && m_odomAtScan)
 	{
-		pred.motion = between(*m_odomAtScan, *m_odomNow);
-		pred.cov = odometryCov(pred.motion);
-		pred.fromOdometry = true;
-		return pred;
+		const mrpt::math::TPose2D step = between(*m_odomAtScan, *m_odomNow);
+		if (!isJump(step, pred.stepSeconds))
+		{
+			pred.motion = step;
+			pred.cov = odometryCov(pred.motion);
+			pred.fromOdometry = true;
+			return pred;
+		}
+		pred.odometryJump = true;  // the odometry's frame changed: constant velocity below
+		pred.odometryStep = step;
 	}
 	// Constant velocity: the last step's motion over its interval, times this interval, on a
 	// regular clock (bridges dropped scans, up to 5 of the last interval); one step per scan
@@ -61,6 +67,12 @@ TMotionPrediction CMotionPredictor::predict(mrpt::Clock::time_point t) const
 	pred.motion = {ratio * m_lastMotion.x, ratio * m_lastMotion.y, ratio * m_lastMotion.phi};
 	pred.cov = constantVelocityCov();
 	return pred;
+}
+
+bool CMotionPredictor::isJump(const mrpt::math::TPose2D& step, double dt) const
+{
+	return translationNorm(step) > kJumpShift + kJumpSpeed * dt ||
+		   std::abs(step.phi) > kJumpTurn + kJumpTurnRate * dt;
 }
 
 Eigen::Matrix3d CMotionPredictor::constantVelocityCov() const

@@ -134,3 +134,58 @@ TEST(MotionPredictor, odometryNoiseOfALongBlindStretchGrowsWithTheSquareRootOfDi
 	EXPECT_NEAR(distanceStd(16.0).y(), 0.2, 1e-12);
 	EXPECT_NEAR(distanceStd(16.0).y() / distanceStd(4.0).y(), 2.0, 1e-12);
 }
+
+namespace
+{
+/** A predictor with odometry that committed scans every 0.2 s driving 0.1 m per step, the
+ * odometry then reading `step` more `dt` seconds after the last scan. */
+lrgc::TMotionPrediction afterOdometryStep(const TPose2D& step, double dt)
+{
+	CMotionPredictor predictor;
+	TPose2D odom(5.0, -3.0, 1.0);
+	for (int k = 0; k < 10; ++k)
+	{
+		odom = compose(odom, TPose2D(0.1, 0, 0));
+		predictor.addOdometryAbsolute(odom);
+		predictor.commitScan(at(0.2 * k), TPose2D(0.1, 0, 0));
+	}
+	predictor.addOdometryAbsolute(compose(odom, step));
+	return predictor.predict(at(1.8 + dt));
+}
+}  // namespace
+
+// A reboot of the base restarts its odometry at (0, 0, 0): a step of metres or of more than
+// the glitch search's 90 deg in one scan interval is the odometry's frame changing, not
+// motion. The step is then predicted by constant velocity, and flagged.
+TEST(MotionPredictor, anOdometryJumpIsPredictedByConstantVelocity)
+{
+	for (const TPose2D& jump : {TPose2D(-6.0, 1.0, 0.2), TPose2D(0.3, 0.1, mrpt::DEG2RAD(150)),
+								TPose2D(2.3, 0, 0)})
+	{
+		const auto p = afterOdometryStep(jump, 0.1);  // beyond 2 m + 2 m/s * 0.1 s = 2.2 m
+		EXPECT_TRUE(p.odometryJump) << jump.asString();
+		EXPECT_FALSE(p.fromOdometry);
+		EXPECT_NEAR(p.motion.x, 0.1 * 0.5, 1e-9);  // the last step, over half its interval
+		EXPECT_NEAR(p.odometryStep.x, jump.x, 1e-9);
+		EXPECT_NEAR(p.odometryStep.phi, jump.phi, 1e-9);
+	}
+}
+
+// What a robot can drive is odometry: the benchmark logs' largest steps (0.95 m, 61 deg), a
+// glitch turning 85 deg (the registration's wide search handles it), and 5 m after a 5 s
+// pause in the scans.
+TEST(MotionPredictor, largeButPossibleStepsAreOdometry)
+{
+	for (const auto& [step, dt] :
+		 {std::pair{TPose2D(0.95, 0, mrpt::DEG2RAD(7.6)), 0.21},
+		  std::pair{TPose2D(0.38, 0, mrpt::DEG2RAD(61)), 0.16},
+		  std::pair{TPose2D(0.1, 0, mrpt::DEG2RAD(-85)), 0.0},
+		  std::pair{TPose2D(5.0, 0.5, mrpt::DEG2RAD(90)), 5.0},
+		  std::pair{TPose2D(2.1, 0, 0), 0.1}})
+	{
+		const auto p = afterOdometryStep(step, dt);
+		EXPECT_FALSE(p.odometryJump) << step.asString() << " in " << dt << " s";
+		EXPECT_TRUE(p.fromOdometry);
+		EXPECT_NEAR(p.motion.x, step.x, 1e-9);
+	}
+}

@@ -133,6 +133,16 @@ void CMetricMapBuilderLRGC::recordRegistration(const mrpt::obs::CObservation2DRa
 			mrpt::Clock::toDouble(laser.timestamp), translationNorm(prediction.motion),
 			mrpt::RAD2DEG(prediction.motion.phi)));
 	}
+	if (prediction.odometryJump)
+	{
+		++m_stats.odometryJumps;
+		warn(mrpt::format(
+			"odometry jump at t=%.6f: a step of %.2f m, %.1f deg in %.2f s (a reset of the "
+			"odometry?); the scan was placed %s, without it",
+			mrpt::Clock::toDouble(laser.timestamp), translationNorm(prediction.odometryStep),
+			mrpt::RAD2DEG(prediction.odometryStep.phi), prediction.stepSeconds,
+			reg.matched ? "by its scan match" : "by constant velocity (no scan match)"));
+	}
 	m_stats.sweepTime = m_sweep->sweepTime();
 	m_stats.sweepTimeEstimated = m_sweep->summary().estimated;
 	m_stats.sweepSamples = m_sweep->summary().samples;

@@ -70,6 +70,9 @@ struct TMapBuilderStats
 	size_t scansSettled = 0;
 	size_t odometryRejected = 0;  //!< scans whose match disagreed with odometry beyond the gate
 	size_t glitchesRecovered = 0;  //!< of those, recovered by the wide rotational search
+	/** Odometry steps beyond any motion of the robot (a reset, a reboot, a re-based frame:
+	 * CMotionPredictor), the scan's pose predicted without them. */
+	size_t odometryJumps = 0;
 	size_t odometryLinks = 0, scanMatchLinks = 0, loopClosureLinks = 0;
 	size_t loopClosures = 0;  //!< accepted loop-closure events
 	size_t revisitLinks = 0;  //!< links added by the end-of-run revisit sweep (CRevisitLinker)

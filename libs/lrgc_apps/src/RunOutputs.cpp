@@ -211,6 +211,7 @@ std::string statsJson(const TRunOutputsSnapshot& snapshot)
 	  << "  \"scans_settled\": " << s.scansSettled << ",\n"
 	  << "  \"odometry_rejected\": " << s.odometryRejected << ",\n"
 	  << "  \"odometry_glitches_recovered\": " << s.glitchesRecovered << ",\n"
+	  << "  \"odometry_jumps\": " << s.odometryJumps << ",\n"
 	  << loopCountsJson(s)
 	  // The de-skewing's laser sweep time at the end of the run [s]: [MapBuilder]
 	  // scan_sweep_time_s, or estimated online from this many scan pairs (CSweepEstimator).
