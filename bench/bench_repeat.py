@@ -1,8 +1,9 @@
 """Intel driven four times over, for bench/run (issue 12): does each pass cost as much as the
 first, and does memory grow with the area mapped or with the time driven?
 
-The log is made by bench/repeat_log.py (timestamps shifted, odometry continued). lrgc-slam maps
-it once, with the defaults; per pass, from timing.csv: the mapping time (sum of the per-scan
+The log is made by bench/repeat_log.py (timestamps shifted, odometry continued; or, with
+restart_odometry, restarting at the log's first pose on every pass, as after a reboot of the
+base: issue 29). lrgc-slam maps it once, with the defaults; per pass, from timing.csv: the mapping time (sum of the per-scan
 latencies, loop-closing waits included, [s]), the p99 and max latency [ms]; and the
 keyframes each pass added (graph.lrgc's NODE lines, found in trajectory.tum by their poses).
 Peak RSS is of the whole run.
@@ -28,8 +29,10 @@ def relations_prefix(out_path):
     return os.path.splitext(out_path)[0]
 
 
-def make_log(log_path, passes, out_path, relations=None):
+def make_log(log_path, passes, out_path, relations=None, restart_odometry=False):
     cmd = [sys.executable, os.path.join(HERE, "repeat_log.py"), log_path, str(passes), out_path]
+    if restart_odometry:
+        cmd.append("--restart-odometry")
     if relations:
         cmd += ["--relations", relations, relations_prefix(out_path)]
     subprocess.run(cmd, check=True)
@@ -79,11 +82,13 @@ def keyframe_rows(graph_lrgc, trajectory_tum):
     return out
 
 
-def run(tools, log_path, workdir, timeout_s, passes=4, config=None, relations=None):
-    """Returns (rows, run result, notes). relations: the log's, for each pass's error."""
+def run(tools, log_path, workdir, timeout_s, passes=4, config=None, relations=None,
+        restart_odometry=False):
+    """Returns (rows, run result, notes). relations: the log's, for each pass's error;
+    restart_odometry: each pass's odometry starts again at the log's first pose."""
     os.makedirs(workdir, exist_ok=True)
     repeated = os.path.join(workdir, "intel-x%d.clf.gz" % passes)
-    make_log(log_path, passes, repeated, relations)
+    make_log(log_path, passes, repeated, relations, restart_odometry)
     r = bench_runs.run_lrgc_slam(tools, repeated, os.path.join(workdir, "lrgc-slam"), timeout_s,
                                  config)
     if not r.ok:

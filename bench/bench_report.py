@@ -213,9 +213,9 @@ def markdown_table(header, rows):
 
 def document(real, synthetic, plots, machine, commit, total_s, data_dir, notes, repeat=None,
              generalisation=None, config=None):
-    """The whole doc/benchmarks.md. `repeat`: (header, rows, summary line) of Intel driven
-    several times over (bench_repeat.py), or None. `generalisation`: generalisation_row()s;
-    `config`: the .ini every lrgc-slam run used (None: the built-in defaults)."""
+    """The whole doc/benchmarks.md. `repeat`: (title, what the run is, header, rows, summary
+    line) of each run of Intel driven several times over (bench_repeat.py), or None.
+    `generalisation`: generalisation_row()s; `config`: the .ini every lrgc-slam run used (None: the built-in defaults)."""
     out = ["# Benchmarks", "",
            "Written by `bench/run` (do not edit by hand): every system on every log, in one run, "
            "one process after the other.", "",
@@ -256,14 +256,12 @@ def document(real, synthetic, plots, machine, commit, total_s, data_dir, notes, 
                 "ATE: absolute trajectory error after the best-fit SE(2) alignment (rmse, and "
                 "mean ± std); RPE: relative pose error between consecutive ground-truth poses.",
                 "", markdown_table(SYN_HEADER, synthetic), ""]
-    if repeat:
-        header, rows, summary = repeat
-        out += ["## Intel driven four times over", "",
-                "`bench/repeat_log.py` makes Intel four times over (timestamps shifted, odometry "
-                "continued: a robot that keeps driving the same building); lrgc-slam maps it in "
-                "one run with the defaults. Per pass: mapping time = sum of the per-scan "
-                "latencies of timing.csv (loop-closing waits included), the keyframes the "
-                "pass added (graph.lrgc), and the relation error of its scans (the log's "
+    for title, what, header, rows, summary in repeat or []:
+        out += ["## " + title, "",
+                "`bench/repeat_log.py` makes Intel four times over (" + what + "); lrgc-slam "
+                "maps it in one run with the defaults. Per pass: mapping time = sum of the "
+                "per-scan latencies of timing.csv (loop-closing waits included), the keyframes "
+                "the pass added (graph.lrgc), and the relation error of its scans (the log's "
                 "relations shifted to the pass, scored on the whole run's final trajectory). "
                 + summary, "", markdown_table(header, rows), ""]
     if notes:
