@@ -53,21 +53,23 @@ struct TSparseCase
 void mapSparseVariant(const TSparseCase& c)
 {
 	const std::string log = sharedDatasetPath(std::string(c.name) + "/" + c.name + ".clf.gz");
-	const std::string rel = sharedDatasetPath(std::string(c.name) + "/" + c.name + ".relations");
+	const std::string rel =
+		sharedDatasetPath(std::string(c.name) + "/" + c.name + ".relations");
 	LRGC_SKIP_IF_MISSING(log);
 	LRGC_SKIP_IF_MISSING(rel);
 	if (!onPath("python3")) GTEST_SKIP() << "python3 not on PATH (bench/make-sparse-log)";
 	const std::string dir = makeTempDir(std::string("sparse_") + c.name);
-	const auto made = runProcess(std::string(LRGC_SOURCE_DIR) + "/bench/make-sparse-log",
-								 {log, dir + "/sparse.clf.gz", "--relations", rel,
-								  dir + "/sparse.relations"});
+	const auto made = runProcess(
+		std::string(LRGC_SOURCE_DIR) + "/bench/make-sparse-log",
+		{log, dir + "/sparse.clf.gz", "--relations", rel, dir + "/sparse.relations"});
 	ASSERT_EQ(made.exitCode, 0) << made.output;
-	const auto r = runProcess(binaryPath("lrgc-slam"),
-							  {"--input", dir + "/sparse.clf.gz", "--out", dir + "/out", "--quiet"});
+	const auto r = runProcess(binaryPath("lrgc-slam"), {"--input", dir + "/sparse.clf.gz",
+														"--out", dir + "/out", "--quiet"});
 	ASSERT_EQ(r.exitCode, 0) << r.output;
 
 	const auto trajectory = eval::CTrajectory2D::loadFromFile(dir + "/out/trajectory.tum");
-	const auto ev = eval::evaluateRelations(trajectory, eval::loadRelations(dir + "/sparse.relations"));
+	const auto ev =
+		eval::evaluateRelations(trajectory, eval::loadRelations(dir + "/sparse.relations"));
 	const std::string stats = readTextFile(dir + "/out/stats.json");
 	const long loops = jsonInt(stats, "loop_closures");
 	std::cout << c.name << " sparse: " << made.output << "  relation error " << ev.trans_m.mean
@@ -84,7 +86,19 @@ void mapSparseVariant(const TSparseCase& c)
 }
 }  // namespace
 
-TEST(SparseScans, Intel) { mapSparseVariant({"intel", 0.0229}); }
-TEST(SparseScans, Aces) { mapSparseVariant({"aces", 0.0510}); }
-TEST(SparseScans, MitCsail) { mapSparseVariant({"mit-csail", 0.0390}); }
-TEST(SparseScans, MitKillian) { mapSparseVariant({"mit-killian", 0.0406}); }
+TEST(SparseScans, Intel)
+{
+	mapSparseVariant({"intel", 0.0229});
+}
+TEST(SparseScans, Aces)
+{
+	mapSparseVariant({"aces", 0.0510});
+}
+TEST(SparseScans, MitCsail)
+{
+	mapSparseVariant({"mit-csail", 0.0390});
+}
+TEST(SparseScans, MitKillian)
+{
+	mapSparseVariant({"mit-killian", 0.0406});
+}
