@@ -283,6 +283,15 @@ TRegistration CLocalRegistration::registerScan(const CPoseGraph& graph,
 	else if (disagrees && translationNorm(prediction.motion) < 1e-3 &&
 			 std::abs(prediction.motion.phi) < 1e-3)
 		match.reset();
+	// A suspect step whose plain match agrees with the prior: the prior itself may be what is
+	// wrong (sparse scans on MIT-CSAIL: odometry that stalled reads -2.6 deg where the robot
+	// turned -27), and a match started there settles in the basin nearest to it. The wide
+	// search may overrule it, with the same evidence as above.
+	else if (suspect && match && m_params.wide_search_angle > 0)
+	{
+		if (auto wide = overrulingWideMatch(cloud, scan, guess, *match))
+			match = std::move(wide), reg.wideSearch = true;
+	}
 	if (!match) return reg;
 
 	reg.matched = true;
@@ -294,6 +303,28 @@ TRegistration CLocalRegistration::registerScan(const CPoseGraph& graph,
 	reg.scanInMap = compose(newestInMap, match->scanInRef);
 	reg.cov = rotateCovariance(match->cov, newestInMap.phi);  // newest keyframe's axes -> map's
 	return reg;
+}
+
+std::optional<TScanMatch> CLocalRegistration::overrulingWideMatch(const CReferenceCloud& cloud,
+																  const TScan2D& scan,
+																  const TPose2D& guess,
+																  const TScanMatch& plain)
+{
+	// matchWide's winner must explain wide_ambiguity_margin more of the scan than the local
+	// optimum from the guess, which is this plain match: a match that leaves less than that
+	// unexplained cannot be overruled, and the search is skipped (the common case).
+	if (m_matcher.explainedFraction(cloud, scan, plain.scanInRef) >
+		1 - m_matcherParams.wide_ambiguity_margin)
+		return std::nullopt;
+	auto wide = m_matcher.matchWide(cloud, scan, guess, m_params.wide_search_angle,
+									[this](size_t n, const std::function<void(size_t)>& fn)
+									{ parallelFor(n, fn); });
+	if (!wide) return std::nullopt;
+	// The plain match's own basin (matchWide's test of distinct hypotheses: 0.2 m, 3 deg):
+	// nothing to overrule.
+	const TPose2D d = between(plain.scanInRef, wide->scanInRef);
+	if (translationNorm(d) <= 0.2 && std::abs(d.phi) <= mrpt::DEG2RAD(3.0)) return std::nullopt;
+	return wide;
 }
 
 size_t CLocalRegistration::linkAndOptimize(CPoseGraph& graph, const TKeyframes& keyframes,

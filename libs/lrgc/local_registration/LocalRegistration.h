@@ -163,6 +163,12 @@ private:
 		const std::vector<mrpt::math::TPose2D>& guesses);
 	/** fn(i) for every i in [0, n), by this thread and the helper together (TParallelFor). */
 	void parallelFor(size_t n, const std::function<void(size_t)>& fn);
+	/** The wide search's second opinion on a suspect step's plain match that agrees with the
+	 * prior: its winner if it overrules the match (a distinct pose), else nullopt. */
+	std::optional<TScanMatch> overrulingWideMatch(const CReferenceCloud& cloud,
+												  const TScan2D& scan,
+												  const mrpt::math::TPose2D& guess,
+												  const TScanMatch& plain);
 
 	TLocalRegistrationParams m_params;
 	TScanMatcherParams m_matcherParams;

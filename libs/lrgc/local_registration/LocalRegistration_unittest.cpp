@@ -424,3 +424,67 @@ TEST(LocalRegistration, helperThreadLeavesEveryResultBitForBit)
 	EXPECT_EQ(moved, 12U);
 	EXPECT_GT(graph.numLinks(), 3 * graph.numNodes());  // pairwise links were made
 }
+
+TEST(LocalRegistration, suspectStepsPlainMatchInTheWrongBasinIsOverruledByTheWideSearch)
+{
+	// Sparse scans (issue 28): keyframes 1 m apart along an open hall's pillar rows, a scan
+	// 1 m past the newest after a 1.5 s pause (a suspect step), its prior 20 deg off with a
+	// loose covariance (odometry that stalled). From there the plain match settles 1.3 m off
+	// along the pillar rows, agreeing with that prior; it leaves half the scan unexplained.
+	const CSyntheticWorld world = lrgc::test::makeOpenHallWorld(3);
+	const auto tr = lrgc::test::makeTrajectory({{5, 5}, {40, 5}}, 1.0, {}, 21);
+	TStageParams p;
+	std::mt19937 rng(4);
+	CPoseGraph graph;
+	TKeyframes keyframes;
+	std::vector<TScan2D> scans;
+	for (size_t k = 0; k < 6; ++k)
+	{
+		TKeyframe kf;
+		kf.scan = lrgc::test::simulateScan(world, tr.truePoses[k], {}, rng);
+		kf.scanIndex = k;
+		scans.push_back(kf.scan);
+		keyframes.push_back(std::move(kf));
+		graph.addNode(tr.truePoses[k]);
+	}
+	const TPose2D scanTruth = tr.truePoses[6];
+	const TScan2D scan = lrgc::test::simulateScan(world, scanTruth, {}, rng);
+	const TPose2D prior = compose(scanTruth, TPose2D(0.1, 0.05, -20 * M_PI / 180));
+	lrgc::TMotionPrediction step;
+	step.motion = TPose2D(1.0, 0, 0.1);
+	step.cov = Eigen::Vector3d(2.0 * 2.0, 2.0 * 2.0, std::pow(25 * M_PI / 180, 2)).asDiagonal();
+	step.fromOdometry = true;
+
+	// The plain match alone, against the window's patch (newest keyframe's frame).
+	std::vector<TPose2D> inNewest;
+	for (size_t k = 0; k < 6; ++k) inNewest.push_back(between(graph.pose(5), graph.pose(k)));
+	const CReferenceCloud patch = CReferenceCloud::fromScans(scans, inNewest, p.matcher);
+	TScanMatcherParams local = p.matcher;
+	local.max_free_space_violation = p.local.max_free_space_violation;
+	const CScanMatcher matcher(local);
+	const auto plain = matcher.match(patch, scan, between(graph.pose(5), prior));
+	ASSERT_TRUE(plain);
+	EXPECT_GT(positionError(scanTruth, compose(graph.pose(5), plain->scanInRef)), 0.9);
+	EXPECT_LT(matcher.explainedFraction(patch, scan, plain->scanInRef),
+			  1 - p.matcher.wide_ambiguity_margin);
+
+	for (const double seconds : {1.5, 0.2})
+	{
+		CLocalRegistration reg(p.local, p.matcher, p.optimizer);
+		for (size_t i = 0; i < 6; ++i) reg.enterKeyframe(i, false, graph);
+		step.stepSeconds = seconds;
+		const TRegistration r = reg.registerScan(graph, keyframes, scan, prior, step);
+		ASSERT_TRUE(r.matched);
+		if (seconds > p.local.glitch_min_gap_s)
+		{  // suspect: the wide search's second opinion overrules the plain match
+			EXPECT_TRUE(r.wideSearch);
+			EXPECT_LT(positionError(scanTruth, r.scanInMap), kTolXY);
+			EXPECT_LT(headingError(scanTruth, r.scanInMap), kTolPhi);
+		}
+		else
+		{  // nothing suspect: the plain match stands (no wide search on every step)
+			EXPECT_FALSE(r.wideSearch);
+			EXPECT_GT(positionError(scanTruth, r.scanInMap), 0.9);
+		}
+	}
+}

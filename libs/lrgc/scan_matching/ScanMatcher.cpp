@@ -233,8 +233,8 @@ constexpr size_t kWideSearchSample = 120;
 /** Share of the points `pts` (scan frame) lying within `tol` [m] of a reference anchor at
  * pose x (ref <- scan). matchWide compares hypotheses by it: a match's own inlier fraction
  * counts residuals within a few of *its* residual scales, which a wrong fit inflates. */
-double explainedFraction(const CReferenceCloud& ref, const std::vector<Eigen::Vector2d>& pts,
-						 const mrpt::math::TPose2D& x, double tol)
+double explainedFractionOf(const CReferenceCloud& ref, const std::vector<Eigen::Vector2d>& pts,
+						   const mrpt::math::TPose2D& x, double tol)
 {
 	if (pts.empty()) return 0;
 	const CPointTransform toRef(x);
@@ -243,6 +243,12 @@ double explainedFraction(const CReferenceCloud& ref, const std::vector<Eigen::Ve
 	return static_cast<double>(n) / pts.size();
 }
 }  // namespace
+
+double CScanMatcher::explainedFraction(const CReferenceCloud& ref, const TScan2D& scan,
+									   const mrpt::math::TPose2D& scanInRef) const
+{
+	return explainedFractionOf(ref, scan.points, scanInRef, m_params.max_rms_residual_m);
+}
 
 std::optional<TScanMatch> CScanMatcher::matchWide(const CReferenceCloud& ref,
 												  const TScan2D& scan,
@@ -276,7 +282,7 @@ std::optional<TScanMatch> CScanMatcher::matchWide(const CReferenceCloud& ref,
 		g.phi = mrpt::math::wrapToPi(guess.phi +
 									 (static_cast<int>(i) - n) * m_params.wide_search_step);
 		if (auto m = matchPoints(ref, sub, g, 2 * m_params.max_correspondence_dist_m, false))
-			starts[i] = {explainedFraction(ref, sub, m->scanInRef, tol), m->scanInRef};
+			starts[i] = {explainedFractionOf(ref, sub, m->scanInRef, tol), m->scanInRef};
 	};
 	if (parallel)
 		parallel(starts.size(), explore);
@@ -301,8 +307,8 @@ std::optional<TScanMatch> CScanMatcher::matchWide(const CReferenceCloud& ref,
 	if (const auto atGuess =
 			matchPoints(ref, scan.points, guess, m_params.max_correspondence_dist_m, false);
 		atGuess && distinct(won->scanInRef, atGuess->scanInRef) &&
-		explainedFraction(ref, scan.points, won->scanInRef, tol) -
-				explainedFraction(ref, scan.points, atGuess->scanInRef, tol) <
+		explainedFractionOf(ref, scan.points, won->scanInRef, tol) -
+				explainedFractionOf(ref, scan.points, atGuess->scanInRef, tol) <
 			margin)
 		return std::nullopt;
 	return won;

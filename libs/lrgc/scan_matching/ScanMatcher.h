@@ -83,6 +83,11 @@ public:
 										double searchAngle_rad,
 										const TParallelFor& parallel = {}) const;
 
+	/** Share of the scan's points within max_rms_residual_m of a reference anchor at
+	 * scanInRef: the score matchWide ranks its hypotheses by (test (3) above). */
+	double explainedFraction(const CReferenceCloud& ref, const TScan2D& scan,
+							 const mrpt::math::TPose2D& scanInRef) const;
+
 private:
 	std::optional<TScanMatch> matchPoints(const CReferenceCloud& ref,
 										  const std::vector<Eigen::Vector2d>& pts,
