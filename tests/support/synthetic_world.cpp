@@ -102,8 +102,10 @@ std::optional<TBeamHit> railingHit(const TSegment& seg, const Eigen::Vector2d& o
 	const double sinTheta = std::max(std::abs(cross2(d, u)), 1e-3);
 	const double reach = std::min(rho / sinTheta, 50 * seg.postSpacing);
 	const long last = static_cast<long>(std::floor(len / seg.postSpacing));
-	const long k0 = std::max(0L, static_cast<long>(std::ceil((s * len - reach) / seg.postSpacing)));
-	const long k1 = std::min(last, static_cast<long>(std::floor((s * len + reach) / seg.postSpacing)));
+	const long k0 =
+		std::max(0L, static_cast<long>(std::ceil((s * len - reach) / seg.postSpacing)));
+	const long k1 =
+		std::min(last, static_cast<long>(std::floor((s * len + reach) / seg.postSpacing)));
 	std::optional<TBeamHit> best;
 	for (long k = k0; k <= k1; ++k)
 	{

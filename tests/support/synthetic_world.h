@@ -38,7 +38,7 @@ struct TSegment
 {
 	Eigen::Vector2d a, b;  //!< end points [m], world frame
 	TSurface surface = TSurface::Solid;
-	double glassReturn = 1;  //!< Glass: share of the beams the pane returns
+	double glassReturn = 1;                    //!< Glass: share of the beams the pane returns
 	double postSpacing = 0, postDiameter = 0;  //!< Railing: centre to centre, width [m]
 };
 
