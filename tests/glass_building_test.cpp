@@ -73,11 +73,13 @@ lrgc::apps::eval::TRelationEvaluation shortRelations(const lrgc::TTrajectory& es
 {
 	namespace ev = lrgc::apps::eval;
 	std::vector<ev::TTimedPose2D> poses;
-	for (const auto& s : est) poses.push_back({mrpt::Clock::toDouble(s.timestamp), s.robotInMap});
+	for (const auto& s : est)
+		poses.push_back({mrpt::Clock::toDouble(s.timestamp), s.robotInMap});
 	std::vector<ev::TRelation> rel;
 	for (size_t k = 0; k < truth.size(); k += 5)
 		for (const double dt : {1.0, 5.0, 9.8})
-			if (const size_t j = std::max<size_t>(1, size_t(dt / kPeriod)); k + j < truth.size())
+			if (const size_t j = std::max<size_t>(1, size_t(dt / kPeriod));
+				k + j < truth.size())
 				rel.push_back({mrpt::Clock::toDouble(syntheticStepTime(k, kPeriod)),
 							   mrpt::Clock::toDouble(syntheticStepTime(k + j, kPeriod)),
 							   lrgc::between(truth[k], truth[k + j])});
