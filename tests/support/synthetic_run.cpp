@@ -147,6 +147,7 @@ TLoopLinkAudit auditLoopLinks(const lrgc::CMetricMapBuilderLRGC& builder,
 			continue;
 		}
 		++(ok ? a.enabledTrue : a.enabledFalse);
+		if (ok) a.enabledTrueLinks.emplace_back(l.from, l.to);
 		a.worstEnabledXY = std::max(a.worstEnabledXY, dxy);
 		a.worstEnabledPhi = std::max(a.worstEnabledPhi, dphi);
 		a.worstEnabledChi2 = std::max(a.worstEnabledChi2, chi2);

@@ -20,6 +20,7 @@
 #include <mrpt/obs/CObservation2DRangeScan.h>
 
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "synthetic_world.h"
@@ -85,6 +86,7 @@ struct TLoopLinkAudit
 	double worstEnabledXY = 0, worstEnabledPhi = 0;  //!< [m], [rad] disagreement with truth
 	double worstEnabledChi2 = 0;                     //!< d^T Omega d of the enabled links
 	std::string firstEnabledFalse;  //!< "from -> to: ..." for the failure message
+	std::vector<std::pair<size_t, size_t>> enabledTrueLinks;  //!< (from, to) keyframes
 };
 TLoopLinkAudit auditLoopLinks(const lrgc::CMetricMapBuilderLRGC& builder,
 							  const std::vector<mrpt::math::TPose2D>& truth, double maxXY,

@@ -6,6 +6,7 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -65,14 +66,83 @@ TBox CSyntheticWorld::bounds() const
 	return b;
 }
 
+void CSyntheticWorld::addGlass(const Eigen::Vector2d& a, const Eigen::Vector2d& b,
+							   double returnRate)
+{
+	ASSERT_(returnRate >= 0 && returnRate <= 1);
+	m_segments.push_back({a, b, TSurface::Glass, returnRate, 0, 0});
+}
+
+void CSyntheticWorld::addRailing(const Eigen::Vector2d& a, const Eigen::Vector2d& b,
+								 double spacing, double diameter)
+{
+	ASSERT_(spacing > diameter && diameter > 0);
+	m_segments.push_back({a, b, TSurface::Railing, 1, spacing, diameter});
+}
+
+bool CSyntheticWorld::hasSeeThrough() const
+{
+	return std::any_of(m_segments.begin(), m_segments.end(),
+					   [](const TSegment& s) { return s.surface != TSurface::Solid; });
+}
+
+namespace
+{
+/** The first post of railing `seg` that the ray o + t d (|d| = 1) meets, given where the ray
+ * crosses the railing's line (s in [0, 1] along it). Posts are discs of radius rho at
+ * a + k * spacing * u; one at along-offset delta from the crossing is delta * sin(theta) from
+ * the ray (theta: ray to railing), so only |delta| < rho / sin(theta) can be hit; a hit one
+ * is met at t = (c - o).d - sqrt(rho^2 - perp^2). */
+std::optional<TBeamHit> railingHit(const TSegment& seg, const Eigen::Vector2d& o,
+								   const Eigen::Vector2d& d, double s)
+{
+	const Eigen::Vector2d e = seg.b - seg.a;
+	const double len = e.norm(), rho = seg.postDiameter / 2;
+	const Eigen::Vector2d u = e / len;
+	const double sinTheta = std::max(std::abs(cross2(d, u)), 1e-3);
+	const double reach = std::min(rho / sinTheta, 50 * seg.postSpacing);
+	const long last = static_cast<long>(std::floor(len / seg.postSpacing));
+	const long k0 =
+		std::max(0L, static_cast<long>(std::ceil((s * len - reach) / seg.postSpacing)));
+	const long k1 =
+		std::min(last, static_cast<long>(std::floor((s * len + reach) / seg.postSpacing)));
+	std::optional<TBeamHit> best;
+	for (long k = k0; k <= k1; ++k)
+	{
+		const Eigen::Vector2d c = seg.a + double(k) * seg.postSpacing * u;
+		const double perp = cross2(d, c - o), tc = (c - o).dot(d);
+		if (std::abs(perp) >= rho) continue;
+		const double t = tc - std::sqrt(rho * rho - perp * perp);
+		if (t <= 1e-9 || (best && t >= best->range)) continue;
+		const Eigen::Vector2d normal = (o + t * d - c) / rho;
+		best = TBeamHit{t, std::abs(normal.dot(d))};
+	}
+	return best;
+}
+}  // namespace
+
 std::optional<double> CSyntheticWorld::castRay(const Eigen::Vector2d& o, double angle,
 											   double maxRange) const
 {
+	const auto hit = castBeam(o, angle, maxRange, 0.0);
+	if (!hit) return std::nullopt;
+	return hit->range;
+}
+
+std::optional<TBeamHit> CSyntheticWorld::castBeam(const Eigen::Vector2d& o, double angle,
+												  double maxRange, double glassDraw) const
+{
 	// Ray o + t d (t > 0) against segment a + s e (0 <= s <= 1):
 	// t = cross(a - o, e) / cross(d, e), s = cross(a - o, d) / cross(d, e).
+	// Crossings are visited nearest first; a solid one ends the ray, glass and railings may
+	// let it through.
 	const Eigen::Vector2d d(std::cos(angle), std::sin(angle));
-	double best = maxRange;
-	bool hit = false;
+	struct TCrossing
+	{
+		double t, s;
+		const TSegment* seg;
+	};
+	std::vector<TCrossing> crossings;
 	for (const auto& seg : m_segments)
 	{
 		const Eigen::Vector2d e = seg.b - seg.a;
@@ -80,10 +150,24 @@ std::optional<double> CSyntheticWorld::castRay(const Eigen::Vector2d& o, double 
 		if (std::abs(den) < 1e-12) continue;
 		const Eigen::Vector2d w = seg.a - o;
 		const double t = cross2(w, e) / den, s = cross2(w, d) / den;
-		if (t > 1e-9 && t < best && s >= 0 && s <= 1) best = t, hit = true;
+		if (t > 1e-9 && t < maxRange && s >= 0 && s <= 1) crossings.push_back({t, s, &seg});
 	}
-	if (!hit) return std::nullopt;
-	return best;
+	std::sort(crossings.begin(), crossings.end(),
+			  [](const TCrossing& x, const TCrossing& y) { return x.t < y.t; });
+	for (const auto& c : crossings)
+	{
+		const TSegment& seg = *c.seg;
+		if (seg.surface == TSurface::Glass && glassDraw >= seg.glassReturn) continue;
+		if (seg.surface == TSurface::Railing)
+		{
+			const auto post = railingHit(seg, o, d, c.s);
+			if (post && post->range < maxRange) return post;
+			continue;
+		}
+		const Eigen::Vector2d e = (seg.b - seg.a).normalized();
+		return TBeamHit{c.t, std::abs(cross2(d, e))};
+	}
+	return std::nullopt;
 }
 
 double CSyntheticWorld::distanceToNearest(const Eigen::Vector2d& p) const
@@ -99,6 +183,31 @@ double CSyntheticWorld::distanceToNearest(const Eigen::Vector2d& p) const
 	return best;
 }
 
+namespace
+{
+/** The range [m] one beam reads, with the mixed-return effects of `laser` (see
+ * TLaserSimParams): draws are (glass, mixed pixel?, where between, max-range dropout). */
+std::optional<double> mixedReturn(const CSyntheticWorld& world, const Eigen::Vector2d& origin,
+								  double angle, const TLaserSimParams& laser,
+								  const std::array<double, 4>& draw)
+{
+	const auto hit = world.castBeam(origin, angle, laser.maxRange, draw[0]);
+	if (!hit) return std::nullopt;
+	const double dropout =
+		laser.maxRangeDropRate * (hit->range / laser.maxRange + 1 - hit->cosIncidence);
+	if (draw[3] < dropout) return std::nullopt;
+	if (draw[1] >= laser.mixedPixelRate) return hit->range;
+	// The spot's two edges, with the beam's own glass draw.
+	const double half = laser.footprint_deg * M_PI / 360;
+	const auto left = world.castBeam(origin, angle - half, laser.maxRange, draw[0]);
+	const auto right = world.castBeam(origin, angle + half, laser.maxRange, draw[0]);
+	if (!left || !right || std::abs(left->range - right->range) <= 0.1) return hit->range;
+	const double nearR = std::min(left->range, right->range);
+	const double farR = std::max(left->range, right->range);
+	return nearR + draw[2] * (farR - nearR);
+}
+}  // namespace
+
 lrgc::TScan2D simulateScan(const CSyntheticWorld& world,
 						   const mrpt::math::TPose2D& robotInWorld,
 						   const TLaserSimParams& laser, std::mt19937& rng)
@@ -109,15 +218,21 @@ lrgc::TScan2D simulateScan(const CSyntheticWorld& world,
 	const auto sensorInWorld = lrgc::compose(robotInWorld, laser.sensorInRobot);
 	const Eigen::Vector2d origin(sensorInWorld.x, sensorInWorld.y);
 	const double fov = laser.fov_deg * M_PI / 180;
+	const bool mixed =
+		world.hasSeeThrough() || laser.mixedPixelRate > 0 || laser.maxRangeDropRate > 0;
 	std::normal_distribution<double> noise(0.0, laser.rangeNoiseStd);
 	std::uniform_real_distribution<double> u01(0.0, 1.0);
 	for (int i = 0; i < laser.beams; ++i)
 	{
 		const double a = -fov / 2 + fov * i / (laser.beams - 1);  // sensor frame [rad]
-		const auto r0 = world.castRay(origin, sensorInWorld.phi + a, laser.maxRange);
 		// Draw every random number for every beam, so that changing one rate does not
 		// reshuffle the noise of the other beams.
 		const double n = noise(rng), uOut = u01(rng), uOutR = u01(rng), uDrop = u01(rng);
+		std::array<double, 4> draw{0, 1, 0, 1};
+		if (mixed)
+			for (auto& x : draw) x = u01(rng);
+		const auto r0 = mixed ? mixedReturn(world, origin, sensorInWorld.phi + a, laser, draw)
+							  : world.castRay(origin, sensorInWorld.phi + a, laser.maxRange);
 		if (!r0 || uDrop < laser.dropRate) continue;
 		double r = *r0 + n;
 		if (uOut < laser.outlierRate) r = laser.minRange + uOutR * (*r0 - laser.minRange);
@@ -299,6 +414,71 @@ CSyntheticWorld makeAlcoveGalleryWorld(double L, double W, double pitch)
 		}
 		w.addSegment({x, y}, {L, y});
 	}
+	return w;
+}
+
+namespace
+{
+/** Panes from a to b between solid mullions (0.1 m square) every `pitch` [m]. */
+void addGlassFront(CSyntheticWorld& w, const Eigen::Vector2d& a, const Eigen::Vector2d& b,
+				   double pitch, double glassReturn)
+{
+	const double len = (b - a).norm();
+	const Eigen::Vector2d u = (b - a) / len;
+	constexpr double kHalf = 0.05;  // mullion half width [m]
+	for (double s = 0; s < len - 1e-9; s += pitch)
+	{
+		const double e = std::min(s + pitch, len);
+		w.addBox(a + s * u, kHalf, kHalf);
+		w.addGlass(a + (s + kHalf) * u, a + (e - kHalf) * u, glassReturn);
+	}
+	w.addBox(b, kHalf, kHalf);
+}
+}  // namespace
+
+CSyntheticWorld makeGlassBuildingWorld(uint32_t seed, double glassReturn)
+{
+	CSyntheticWorld w;
+	std::mt19937 rng(seed);
+	std::uniform_real_distribution<double> u(0, 1);
+	// South wall with five 3 m wide, 1.5 m deep niches at seeded places.
+	double x = 0;
+	for (int i = 0; i < 5; ++i)
+	{
+		const double s = 6 + 18 * i + 9 * u(rng);
+		w.addSegment({x, 0}, {s, 0});
+		w.addSegment({s, 0}, {s, -1.5});
+		w.addSegment({s, -1.5}, {s + 3, -1.5});
+		w.addSegment({s + 3, -1.5}, {s + 3, 0});
+		x = s + 3;
+	}
+	w.addSegment({x, 0}, {100, 0});
+	w.addSegment({100, 0}, {100, 60});
+	w.addSegment({100, 60}, {0, 60});
+	w.addSegment({0, 60}, {0, 0});
+	// Offices along the north: a glass front, partitions every 8 m, a desk in each.
+	addGlassFront(w, {12, 50}, {92, 50}, 4, glassReturn);
+	for (double px = 12; px <= 92; px += 8)
+	{
+		w.addSegment({px, 50}, {px, 60});
+		if (px < 92) w.addBox({px + 2 + 4 * u(rng), 55 + 2 * u(rng)}, 0.8, 0.4, u(rng));
+	}
+	// The courtyard block: glass south and north, a railing east, a wall west; planters.
+	addGlassFront(w, {34, 22}, {66, 22}, 4, glassReturn);
+	addGlassFront(w, {66, 38}, {34, 38}, 4, glassReturn);
+	w.addRailing({66, 22}, {66, 38}, 0.12, 0.05);
+	w.addSegment({34, 22}, {34, 38});
+	for (int i = 0; i < 4; ++i)
+		w.addBox({38 + 6 * i + 3 * u(rng), 26 + 8 * u(rng)}, 0.6, 0.6, u(rng));
+	w.addCircle({58, 30}, 1.0, 12);
+	// West hall: a railing along the stairwell void, stairs (boxes) inside it.
+	w.addRailing({10, 8}, {10, 48}, 0.12, 0.05);
+	for (int i = 0; i < 3; ++i) w.addBox({4, 14 + 10 * i + 6 * u(rng)}, 1.5, 0.8);
+	// Pillars: a row along the south hall, and one in each of the west and east halls.
+	for (double px = 15; px < 90; px += 10) w.addBox({px + 2 * u(rng), 6}, 0.3, 0.3);
+	w.addCircle({16, 30}, 0.3, 12);
+	w.addCircle({72, 30 + 6 * (u(rng) - 0.5)}, 0.3, 12);
+	w.addCircle({86, 28 + 6 * u(rng)}, 0.4, 12);
 	return w;
 }
 

@@ -26,9 +26,28 @@
 
 namespace lrgc::test
 {
+/** What a segment is made of, for the laser (see CSyntheticWorld::castBeam). */
+enum class TSurface
+{
+	Solid,   //!< returns every beam that reaches it
+	Glass,   //!< a pane: returns a beam with probability glassReturn, else lets it through
+	Railing  //!< a row of thin round posts along the segment: the beams between them go on
+};
+
 struct TSegment
 {
 	Eigen::Vector2d a, b;  //!< end points [m], world frame
+	TSurface surface = TSurface::Solid;
+	double glassReturn = 1;                    //!< Glass: share of the beams the pane returns
+	double postSpacing = 0, postDiameter = 0;  //!< Railing: centre to centre, width [m]
+};
+
+/** A beam's first return: its range [m] and |cos| of the angle between the beam and the
+ * surface's normal (1: head on, 0: grazing). */
+struct TBeamHit
+{
+	double range = 0;
+	double cosIncidence = 1;
 };
 
 /** Axis-aligned box [m]: used for bounds and sampling regions. */
@@ -48,6 +67,13 @@ public:
 	void addBox(const Eigen::Vector2d& centre, double hx, double hy, double angle = 0);
 	/** Regular n-gon approximating a circle (pillar, bin) of radius [m]. */
 	void addCircle(const Eigen::Vector2d& centre, double radius, int sides = 16);
+	/** A glass pane from a to b that returns `returnRate` of the beams reaching it and lets
+	 * the others through to whatever lies behind (the far wall, or nothing). */
+	void addGlass(const Eigen::Vector2d& a, const Eigen::Vector2d& b, double returnRate);
+	/** A railing from a to b: round posts of `diameter` [m] every `spacing` [m] (one at a),
+	 * nothing between them at the laser's height. */
+	void addRailing(const Eigen::Vector2d& a, const Eigen::Vector2d& b, double spacing,
+					double diameter);
 	/** Appends all segments of another world shifted by `offset` [m]. */
 	void addWorld(const CSyntheticWorld& other, const Eigen::Vector2d& offset);
 
@@ -56,9 +82,16 @@ public:
 	TBox bounds() const;
 
 	/** Distance [m] from `origin` to the first segment hit along the ray of direction `angle`
-	 * [rad, world frame], or nullopt if nothing is hit within maxRange. */
+	 * [rad, world frame], or nullopt if nothing is hit within maxRange. Glass stops the ray;
+	 * a railing stops it where it meets a post. */
 	std::optional<double> castRay(const Eigen::Vector2d& origin, double angle,
 								  double maxRange) const;
+	/** castRay for one laser beam: a pane returns it if glassDraw (uniform in [0, 1), one
+	 * draw per beam) is below the pane's glassReturn, else the beam passes through. */
+	std::optional<TBeamHit> castBeam(const Eigen::Vector2d& origin, double angle,
+									 double maxRange, double glassDraw) const;
+	/** True if any segment is glass or a railing (beams that go through to the far side). */
+	bool hasSeeThrough() const;
 	/** Euclidean distance [m] from p to the nearest segment (infinity if empty). */
 	double distanceToNearest(const Eigen::Vector2d& p) const;
 
@@ -78,10 +111,21 @@ struct TLaserSimParams
 	double outlierRate = 0;
 	double dropRate = 0;     //!< probability that a beam returns nothing (absent)
 	double minRange = 0.05;  //!< [m] smallest valid range
+	/** Max-range dropouts: a beam that hits a surface at range r with incidence cos c reads
+	 * the maximum (a no-return, absent) with probability maxRangeDropRate * (r / maxRange +
+	 * 1 - c): dark, far and grazing surfaces return too little light. */
+	double maxRangeDropRate = 0;
+	/** Mixed pixels: the beam's spot is footprint_deg wide; where its two edges hit surfaces
+	 * more than 0.1 m apart in range (an edge, a post, a pane's far side), the reading is,
+	 * with probability mixedPixelRate, uniform between the near and the far range. */
+	double mixedPixelRate = 0;
+	double footprint_deg = 0.5;
 	mrpt::math::TPose2D sensorInRobot{0, 0, 0};  //!< (robot <- sensor)
 };
 
-/** Ray-casts a scan from robotInWorld. Random draws come from rng (noise, outliers, drops). */
+/** Ray-casts a scan from robotInWorld. Random draws come from rng (noise, outliers, drops;
+ * glass, mixed pixels and max-range dropouts only where the world or the laser has them, so
+ * that a world without them sees the same noise as before they existed). */
 lrgc::TScan2D simulateScan(const CSyntheticWorld& world,
 						   const mrpt::math::TPose2D& robotInWorld,
 						   const TLaserSimParams& laser, std::mt19937& rng);
@@ -126,6 +170,17 @@ CSyntheticWorld makeOpenHallWorld(uint32_t seed, double L = 60, double W = 30, i
  * alcoves (`pitch` [m] apart, 2 m wide, 1.5 m deep) facing each other, and closed ends: from
  * inside with a laser shorter than L/2 every place looks like the one `pitch` metres on. */
 CSyntheticWorld makeAlcoveGalleryWorld(double L = 80, double W = 8, double pitch = 4);
+
+/** A 100 x 60 m building, corners (0,0)-(100,60), of mixed returns for a long laser (issue 28,
+ * the 80 m SICK's log): a glass-walled courtyard block (34,22)-(66,38) in the middle, whose
+ * south and north faces are panes (`glassReturn` of the beams come back, the rest go on to
+ * the courtyard and the hall beyond) between 0.1 m mullions every 4 m, whose east face is a
+ * railing (0.05 m posts every 0.12 m) and whose west face is a wall; glass-fronted offices
+ * along the north (front y = 50, partitions every 8 m, a desk in each); a railing at x = 10
+ * along a stairwell void in the west hall (the outer wall 10 m behind it); niches in the
+ * south wall and pillars at seeded places. A loop of 2.4 m clearance runs through the halls
+ * around the block: (22,12) - (78,12) - (78,45) - (22,45). */
+CSyntheticWorld makeGlassBuildingWorld(uint32_t seed, double glassReturn = 0.35);
 
 /** People walking through the scene: `count` circles of radius 0.25 m at seeded places in
  * `region`, each walking at a seeded 0.5-1.5 m/s in a straight line and bouncing off the

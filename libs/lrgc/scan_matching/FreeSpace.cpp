@@ -94,6 +94,13 @@ void CFreeSpaceViews::add(const TScan2D& scan, const mrpt::math::TPose2D& scanIn
 	m_views.push_back({scanInRef, CRangeImage(scan.points)});
 }
 
+bool CFreeSpaceViews::seenThrough(const Eigen::Vector2d& p, double margin) const
+{
+	for (const auto& v : m_views)
+		if (v.image.inFreeSpace(transformPoint(inverse(v.scanInRef), p), margin)) return true;
+	return false;
+}
+
 double CFreeSpaceViews::scanViolation(const TScan2D& scan, const mrpt::math::TPose2D& scanInRef,
 									  double margin) const
 {

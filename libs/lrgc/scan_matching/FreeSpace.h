@@ -50,6 +50,11 @@ public:
 	double scanViolation(const TScan2D& scan, const mrpt::math::TPose2D& scanInRef,
 						 double margin) const;
 
+	/** True if p (reference frame [m]) lies more than margin [m] in the free space of some
+	 * view: a surface the reference's own beams passed through (glass, a railing, a mixed
+	 * pixel, someone who walked on). */
+	bool seenThrough(const Eigen::Vector2d& p, double margin) const;
+
 private:
 	struct TView
 	{

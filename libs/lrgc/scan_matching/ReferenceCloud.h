@@ -123,7 +123,8 @@ public:
 	 *    neighbour in scan order within 0.3 m does too (walls, not isolated spurious returns);
 	 *    over all scan points; needs a reference built from scans (else 0);
 	 *  - ref -> scan: LINE anchors lying in front of the scan's own returns, over the LINE
-	 *    anchors inside the scan's observed rays.
+	 *    anchors inside the scan's observed rays; an anchor that lies in the free space of one
+	 *    of the reference's own views (a porous surface: glass, a railing) never counts.
 	 * Returns the larger. A wrong alignment moves walls into space the other side saw empty. */
 	double freeSpaceViolation(const TScan2D& scan, const mrpt::math::TPose2D& scanInRef,
 							  double margin) const;

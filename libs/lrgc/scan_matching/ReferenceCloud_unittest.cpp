@@ -212,3 +212,40 @@ TEST(ReferenceCloud, cropAroundAScanKeepsEveryAnchorTheScanCanReach)
 	}
 	EXPECT_GT(compared, query.points.size() / 2);
 }
+
+// A pane 4 m ahead that returns 30 % of the beams (one a degree), a wall 10 m ahead behind it,
+// a reference of six scans. A scan that happened to see through the pane on every beam is
+// aligned right: the reference's own scans saw through most of the pane too, so it is porous
+// and little violation is left (the pane's bins none of the six saw through). Where every
+// reference scan saw the surface (a solid wall), a scan seeing past it still violates.
+TEST(ReferenceCloud, aPorousSurfaceTheReferenceSawThroughIsNoViolation)
+{
+	auto world = [](int pane)  // 0: none, 1: glass, 2: solid
+	{
+		CSyntheticWorld w;
+		if (pane == 1) w.addGlass({4, -3}, {4, 3}, 0.3);
+		if (pane == 2) w.addSegment({4, -3}, {4, 3});
+		w.addSegment({10, -8}, {10, 8});
+		return w;
+	};
+	TLaserSimParams laser;
+	laser.beams = 181;
+	std::mt19937 rng(3);
+	const TPose2D origin(0, 0, 0);
+	const TScanMatcherParams p;
+	const auto pastThePane = simulateScan(world(0), origin, laser, rng);
+	for (const int pane : {1, 2})
+	{
+		const CSyntheticWorld w = world(pane);
+		std::vector<TScan2D> scans;
+		for (int k = 0; k < 6; ++k) scans.push_back(simulateScan(w, origin, laser, rng));
+		const auto ref =
+			CReferenceCloud::fromScans(scans, std::vector<TPose2D>(scans.size(), origin), p);
+		const double v = ref.freeSpaceViolation(pastThePane, origin, 0.1);
+		if (pane == 1)
+			EXPECT_LT(v, 0.15)
+				<< "the reference saw through the pane itself (0.40 counting it)";
+		else
+			EXPECT_GT(v, 0.2) << "a wall every reference scan saw cannot be seen through";
+	}
+}

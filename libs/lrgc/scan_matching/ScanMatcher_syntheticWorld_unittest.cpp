@@ -96,3 +96,90 @@ TEST(SyntheticWorld, trajectoryAndOdometry)
 				  lrgc::between(exact.truePoses.back(), exact.odometryPoses.back())),
 			  1e-9);
 }
+
+namespace
+{
+/** Share of the scan's points nearer than r [m] from the sensor. */
+double shareNearer(const lrgc::TScan2D& s, double r)
+{
+	size_t n = 0;
+	for (const auto& p : s.points) n += p.norm() < r;
+	return s.points.empty() ? 0.0 : double(n) / double(s.points.size());
+}
+}  // namespace
+
+TEST(SyntheticWorld, glassReturnsItsShareOfTheBeamsAndTheFarWallTheRest)
+{
+	CSyntheticWorld w;
+	w.addGlass({4, -20}, {4, 20}, 0.3);
+	w.addSegment({12, -40}, {12, 40});
+	EXPECT_NEAR(*w.castRay({0, 0}, 0, 30), 4.0, 1e-12) << "castRay stops at glass";
+	EXPECT_NEAR(w.castBeam({0, 0}, 0, 30, 0.1)->range, 4.0, 1e-12);
+	EXPECT_NEAR(w.castBeam({0, 0}, 0, 30, 0.5)->range, 12.0, 1e-12) << "draw above 0.3";
+	TLaserSimParams laser;
+	laser.fov_deg = 90;
+	laser.beams = 1801;
+	std::mt19937 rng(1);
+	const auto scan = simulateScan(w, {0, 0, 0}, laser, rng);
+	EXPECT_EQ(scan.points.size(), 1801U);
+	EXPECT_NEAR(shareNearer(scan, 6), 0.3, 0.04);
+	std::mt19937 same(1);
+	EXPECT_EQ(simulateScan(w, {0, 0, 0}, laser, same).points, scan.points) << "seeded";
+}
+
+TEST(SyntheticWorld, railingPostsReturnSomeBeamsAndTheFarSideBetween)
+{
+	CSyntheticWorld w;
+	w.addRailing({3, -10}, {3, 10}, 0.12, 0.04);
+	w.addSegment({9, -30}, {9, 30});
+	// Head on: a post at y = 0 (post k = 10000 / 12 is not whole: the first post is at -10).
+	EXPECT_NEAR(*w.castRay({0, -10}, 0, 30), 3 - 0.02, 1e-9) << "the post's near side";
+	EXPECT_NEAR(*w.castRay({0, -9.94}, 0, 30), 9, 1e-9) << "between two posts";
+	TLaserSimParams laser;
+	laser.fov_deg = 60;
+	laser.beams = 601;
+	laser.rangeNoiseStd = 0;
+	std::mt19937 rng(1);
+	const double near = shareNearer(simulateScan(w, {0, 0, 0}, laser, rng), 5);
+	EXPECT_GT(near, 0.2) << "posts of 0.04 m every 0.12 m cover a third of the line";
+	EXPECT_LT(near, 0.6);
+}
+
+TEST(SyntheticWorld, mixedPixelsLieBetweenTheEdgeAndTheBackground)
+{
+	CSyntheticWorld w;
+	w.addSegment({3, 0}, {3, 5});  // an edge at bearing 0, the background 6 m behind
+	w.addSegment({9, -10}, {9, 10});
+	TLaserSimParams laser;
+	laser.fov_deg = 20;
+	laser.beams = 201;
+	laser.rangeNoiseStd = 0;
+	laser.mixedPixelRate = 1;
+	laser.footprint_deg = 1;
+	std::mt19937 rng(2);
+	const auto scan = simulateScan(w, {0, 0, 0}, laser, rng);
+	size_t between = 0;
+	for (const auto& p : scan.points) between += p.x() > 3.05 && p.x() < 8.95;
+	// Beams within half the spot (0.5 deg) of the edge: about 10 of 201.
+	EXPECT_GE(between, 6U);
+	EXPECT_LE(between, 12U);
+}
+
+TEST(SyntheticWorld, maxRangeDropoutsRiseWithRangeAndGrazing)
+{
+	CSyntheticWorld nearWall, farWall;
+	nearWall.addSegment({2, -50}, {2, 50});
+	farWall.addSegment({60, -500}, {60, 500});
+	TLaserSimParams laser;
+	laser.fov_deg = 40;
+	laser.beams = 2001;
+	laser.maxRange = 80;
+	laser.maxRangeDropRate = 0.4;
+	std::mt19937 rng(4);
+	const size_t n0 = simulateScan(nearWall, {0, 0, 0}, laser, rng).points.size();
+	const size_t n1 = simulateScan(farWall, {0, 0, 0}, laser, rng).points.size();
+	// Drop probability 0.4 (r / 80 + 1 - cos): about 2 % at 2 m, 33 % at 60 m.
+	EXPECT_GT(n0, 1900U);
+	EXPECT_LT(n1, 1500U);
+	EXPECT_GT(n1, 1200U);
+}

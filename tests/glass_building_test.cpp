@@ -1,0 +1,173 @@
+/* Registration and loop closing through mixed returns (issue 28 item 2): full SLAM in a
+ * 100 x 60 m building of glass and railings (makeGlassBuildingWorld) seen by an 80 m laser
+ * of 181 beams over 180 deg whose start angle cycles through four values (as the long-range
+ * SICK's ROBOTLASER lines), with the simulator's mixed returns: panes that let 80 % of the
+ * beams through to the far side, railings whose posts return some beams and the far side the
+ * others, mixed pixels wherever a beam's spot straddles an edge, max-range dropouts on far
+ * and grazing surfaces. Scans are as sparse as that log's (one per 0.7 s, 0.4 m and up to
+ * 34 deg apart) and the odometry twice as noisy as the default model. Two laps around the
+ * courtyard block and on, so that every place of the second lap is a revisit.
+ *
+ * Figures, from exact ground truth:
+ *  - the heading's tail of local registration: the share of relations under 10 s apart (about
+ *    1, 5 and 9.8 s, from every fifth scan) off by more than 2 deg, by lrgc-eval's relation
+ *    metric;
+ *  - loop recall: the second visit's path cut into 10 m places (keyframes within 2 m of one
+ *    at least 60 s older); a place is closed if one of its keyframes ends a true loop link
+ *    kept in the final graph;
+ *  - false closures: loop links kept in the final graph that disagree with the truth.
+ */
+#include <gtest/gtest.h>
+#include <lrgc/common/se2.h>
+#include <lrgc_apps/eval/relation_metric.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <set>
+
+#include "synthetic_run.h"
+
+using namespace lrgc::test;
+using lrgc::CMetricMapBuilderLRGC;
+using mrpt::math::TPose2D;
+
+namespace
+{
+constexpr double kPeriod = 0.7;        // [s] between scans
+constexpr double kRevisitGap_s = 60;   // [s] a revisit is at least this much later
+constexpr double kRevisitNear_m = 2;   // [m] and this close to the earlier visit
+constexpr double kPlaceLength_m = 10;  // [m] of path per place
+
+TTrajectory twoLaps(uint32_t seed)
+{
+	const std::vector<Eigen::Vector2d> lap{{78, 12}, {78, 45}, {22, 45}, {22, 12}};
+	std::vector<Eigen::Vector2d> wp{{22, 12}};
+	for (int i = 0; i < 2; ++i) wp.insert(wp.end(), lap.begin(), lap.end());
+	wp.emplace_back(50, 12);
+	TOdometryNoise noise;
+	noise.a1 *= 2, noise.a2 *= 2, noise.a3 *= 2, noise.a4 *= 2;
+	return makeTrajectory(wp, 0.4, noise, seed, 0.6);
+}
+
+TSyntheticRunOptions longRangeLaser(uint32_t seed)
+{
+	TSyntheticRunOptions opt;
+	opt.scanPeriod = kPeriod;
+	opt.laser.beams = 181;
+	opt.laser.maxRange = 80;
+	opt.laser.rangeNoiseStd = 0.01;
+	opt.laser.dropRate = 0.02;
+	opt.laser.outlierRate = 0.005;
+	opt.laser.maxRangeDropRate = 0.15;
+	opt.laser.mixedPixelRate = 1;
+	opt.beamOffsetStep = mrpt::DEG2RAD(0.25);
+	opt.beamOffsetCycle = 4;
+	opt.laserSeed = seed;
+	return opt;
+}
+
+/** lrgc-eval's relation metric over relations from every fifth scan to the scans about 1, 5
+ * and 9.8 s later (at least the next), the truth exact. */
+lrgc::apps::eval::TRelationEvaluation shortRelations(const lrgc::TTrajectory& est,
+													 const std::vector<TPose2D>& truth)
+{
+	namespace ev = lrgc::apps::eval;
+	std::vector<ev::TTimedPose2D> poses;
+	for (const auto& s : est)
+		poses.push_back({mrpt::Clock::toDouble(s.timestamp), s.robotInMap});
+	std::vector<ev::TRelation> rel;
+	for (size_t k = 0; k < truth.size(); k += 5)
+		for (const double dt : {1.0, 5.0, 9.8})
+			if (const size_t j = std::max<size_t>(1, size_t(dt / kPeriod));
+				k + j < truth.size())
+				rel.push_back({mrpt::Clock::toDouble(syntheticStepTime(k, kPeriod)),
+							   mrpt::Clock::toDouble(syntheticStepTime(k + j, kPeriod)),
+							   lrgc::between(truth[k], truth[k + j])});
+	return ev::evaluateRelations(ev::CTrajectory2D(poses), rel);
+}
+
+struct TRecall
+{
+	size_t places = 0, closed = 0;
+	double recall() const { return places ? double(closed) / double(places) : 0.0; }
+};
+
+/** Loop recall over the revisited places (see the top of the file). */
+TRecall loopRecall(const CMetricMapBuilderLRGC& builder, const std::vector<TPose2D>& truth,
+				   const TLoopLinkAudit& links)
+{
+	const auto& kfs = builder.keyframes();
+	const auto time = [&](size_t i) { return kPeriod * double(kfs[i].scanIndex); };
+	const auto where = [&](size_t i)
+	{
+		const TPose2D& p = truth.at(kfs[i].scanIndex);
+		return Eigen::Vector2d(p.x, p.y);
+	};
+	std::set<size_t> closedKf;  // the newer end of each true loop link
+	for (const auto& [a, b] : links.enabledTrueLinks)
+		if (std::abs(time(a) - time(b)) >= kRevisitGap_s) closedKf.insert(std::max(a, b));
+	TRecall r;
+	double placeStart = -1, travelled = 0;
+	bool placeClosed = false;
+	for (size_t i = 0; i < kfs.size(); ++i)
+	{
+		if (i > 0) travelled += (where(i) - where(i - 1)).norm();
+		bool revisit = false;
+		for (size_t j = 0; j < i && !revisit; ++j)
+			revisit = time(i) - time(j) >= kRevisitGap_s &&
+					  (where(i) - where(j)).norm() < kRevisitNear_m;
+		if (!revisit) continue;
+		if (placeStart < 0 || travelled - placeStart >= kPlaceLength_m)
+		{
+			r.closed += placeClosed ? 1 : 0;
+			++r.places, placeStart = travelled, placeClosed = false;
+		}
+		placeClosed = placeClosed || closedKf.count(i) > 0;
+	}
+	r.closed += placeClosed ? 1 : 0;
+	return r;
+}
+}  // namespace
+
+TEST(GlassBuilding, registrationAndLoopsSurviveMixedReturns)
+{
+	const CSyntheticWorld world = makeGlassBuildingWorld(5, 0.2);
+	const TTrajectory tr = twoLaps(61);
+	ASSERT_GT(minClearance(world, tr.truePoses), 0.5);
+	CMetricMapBuilderLRGC builder;
+	builder.setMinLoggingLevel(mrpt::system::LVL_ERROR);
+	feedBuilder(builder, world, tr, longRangeLaser(3));
+
+	const auto rel = shortRelations(builder.trajectory(), tr.truePoses);
+	const TLoopLinkAudit links = auditLoopLinks(builder, tr.truePoses, 0.3, mrpt::DEG2RAD(5.0));
+	const TRecall recall = loopRecall(builder, tr.truePoses, links);
+	const auto& st = builder.stats();
+	const auto& ls = builder.loopCloserStats();
+	std::printf(
+		"[ glass building ] %zu scans (%zu unmatched), %zu keyframes; relations < 10 s: %zu, "
+		"%zu over 2 deg (%.2f %%), %zu over 5 deg; loop recall %zu / %zu places; loop links "
+		"kept %zu true, %zu false; %zu closures, %zu revisit links; searches %zu, rejected "
+		"%zu by the filters, %zu by the match, %zu by the back-end, %zu shed\n",
+		st.scans, st.unmatchedScans, st.keyframes, rel.shortCount, rel.shortOver2deg,
+		100 * rel.shortOver2degShare(), rel.shortOver5deg, recall.closed, recall.places,
+		links.enabledTrue, links.enabledFalse, st.loopClosures, st.revisitLinks, ls.attempts,
+		ls.rejectedByFilters, ls.rejectedByMatch, ls.rejectedByBackEnd, ls.searchesShed);
+	RecordProperty("short_relations", std::to_string(rel.shortCount));
+	RecordProperty("short_over_2deg_share", std::to_string(rel.shortOver2degShare()));
+	RecordProperty("short_over_5deg", std::to_string(rel.shortOver5deg));
+	RecordProperty("loop_recall", std::to_string(recall.recall()));
+	RecordProperty("revisit_places", std::to_string(recall.places));
+	RecordProperty("false_closures", std::to_string(links.enabledFalse));
+	RecordProperty("unmatched_scans", std::to_string(st.unmatchedScans));
+
+	EXPECT_GT(recall.places, 15U) << "the second lap must revisit the first";
+	EXPECT_EQ(links.enabledFalse, 0U) << links.firstEnabledFalse;
+	// Issue 28's bars are < 1 % over 2 deg and recall >= 90 %; not reached yet. Before the
+	// free-space test let porous surfaces be (main at 639db6f): 59 scans unmatched, 31 / 589
+	// over 2 deg (5.3 %), 10 over 5 deg, recall 12 / 21. After: 28 unmatched, 22 / 589
+	// (3.7 %), 5 over 5 deg, recall 13 / 21. What is left is the inlier RMS gate
+	// ([ScanMatcher] max_rms_residual_m): far points' distances to the sparse far reference
+	// count in it in full (doc/generalisation.md).
+	EXPECT_LT(rel.shortOver2degShare(), 0.045);
+	EXPECT_GE(recall.recall(), 0.6);
+}
