@@ -1,6 +1,7 @@
 #include <lrgc/localization/GlobalLocalizer.h>
 
 #include <lrgc/common/se2.h>
+#include <lrgc/loop_closing/LoopWork.h>
 
 #include <mrpt/core/exceptions.h>
 
@@ -47,16 +48,54 @@ CGlobalLocalizer::CGlobalLocalizer(const CPoseGraph& map, const TKeyframes& keyf
 			16384 * p.resolution_m);
 	}
 	const Eigen::Vector2d c = 0.5 * (lo + hi);
-	m_centre = mrpt::math::TPose2D(c.x(), c.y(), 0);
-	m_halfWindowXY = 0.5 * (hi - lo).maxCoeff() + kWindowMargin;
+	m_whole.centre = mrpt::math::TPose2D(c.x(), c.y(), 0);
+	m_whole.halfXY = 0.5 * (hi - lo).maxCoeff() + kWindowMargin;
+	m_whole.halfTheta = M_PI;
 }
 
-TGlobalLocation CGlobalLocalizer::locate(const std::vector<Eigen::Vector2d>& patchPoints) const
+TSearchArea CGlobalLocalizer::clipped(const TSearchArea& area) const
+{
+	// A square window that holds the whole map's square searches the whole map's positions.
+	TSearchArea out = area;
+	out.halfTheta = std::min(area.halfTheta, M_PI);
+	const double reach = std::max(std::abs(area.centre.x - m_whole.centre.x),
+								  std::abs(area.centre.y - m_whole.centre.y)) +
+						 m_whole.halfXY;
+	if (area.halfXY >= reach)
+	{
+		out.centre.x = m_whole.centre.x, out.centre.y = m_whole.centre.y;
+		out.halfXY = m_whole.halfXY;
+	}
+	return out;
+}
+
+// Work counted as TLoopWork counts a loop search's correlation (LoopWork.h).
+static double modelledCorrelationMs(const TCorrelationEffort& e)
+{
+	TLoopWork w;
+	w.correlations = 1;
+	w.correlationAngleCells = double(e.headings) * double(e.patchCells);
+	w.correlationPoseCells = double(e.posesScored) * double(e.patchCells);
+	return w.referenceMs();
+}
+
+TGlobalLocation CGlobalLocalizer::locate(const std::vector<Eigen::Vector2d>& patchPoints,
+										 const TSearchArea& area,
+										 const TWorkProgress& progress) const
 {
 	const auto t0 = std::chrono::steady_clock::now();
 	TGlobalLocation out;
-	out.correlation =
-		m_correlator.correlate(m_grid, patchPoints, m_centre, m_halfWindowXY, M_PI);
+	TCorrelationEffort effort;
+	double published = 0;
+	if (progress)
+		effort.onProgress = [&](const TCorrelationEffort& e)
+		{
+			published = std::max(published, modelledCorrelationMs(e));
+			progress(published);
+		};
+	out.correlation = m_correlator.correlate(m_grid, patchPoints, area.centre, area.halfXY,
+											 area.halfTheta, &effort);
+	out.modelledMs = std::max(published, modelledCorrelationMs(effort));
 	out.verdict = out.correlation ? out.correlation->checkFilters(m_correlator.params())
 								  : TCorrelationVerdict{TCorrelationVerdict::Reason::LowScore,
 														0, m_correlator.params().min_score};

@@ -18,6 +18,8 @@
 #include <lrgc/scan_matching/Keyframe.h>
 #include <lrgc/pose_graph/PoseGraph.h>
 
+#include <cmath>
+#include <functional>
 #include <optional>
 #include <vector>
 
@@ -30,7 +32,18 @@ struct TGlobalLocation
 	std::optional<TCorrelationResult> correlation;
 	TCorrelationVerdict verdict;  //!< of the three filters
 	double seconds = 0;           //!< time of the attempt [s]
+	/** Its modelled time on the reference machine [ms] (TLoopWork's correlation model: a
+	 * count of headings x patch cells and poses scored x patch cells, not a clock). */
+	double modelledMs = 0;
 	bool accepted() const { return correlation && verdict.accepted(); }
+};
+
+/** Where to look: headings within +-halfTheta of centre.phi, positions within +-halfXY. */
+struct TSearchArea
+{
+	mrpt::math::TPose2D centre{0, 0, 0};  //!< (map <- patch) at the window's centre
+	double halfXY = 0;                    //!< [m]
+	double halfTheta = M_PI;              //!< [rad]; pi: every heading
 };
 
 class CGlobalLocalizer
@@ -44,16 +57,30 @@ public:
 	CGlobalLocalizer(const CPoseGraph& map, const TKeyframes& keyframes,
 					 const TPatchCorrelatorParams& p);
 
+	/** Called as a search goes on with its modelled work so far [ms] (a lower bound of the
+	 * final TGlobalLocation::modelledMs). */
+	using TWorkProgress = std::function<void(double modelledMs)>;
+
+	/** The whole map: the keyframe poses' bounding box + kWindowMargin, every heading. */
+	const TSearchArea& wholeMap() const { return m_whole; }
+	/** `area` reduced to the whole map's (a window reaching past it searches nothing more). */
+	TSearchArea clipped(const TSearchArea& area) const;
+
 	/** Correlates `patchPoints` (patch frame [m]) against the whole map. */
-	TGlobalLocation locate(const std::vector<Eigen::Vector2d>& patchPoints) const;
+	TGlobalLocation locate(const std::vector<Eigen::Vector2d>& patchPoints) const
+	{
+		return locate(patchPoints, m_whole);
+	}
+	/** ... against the map within `area`. */
+	TGlobalLocation locate(const std::vector<Eigen::Vector2d>& patchPoints,
+						   const TSearchArea& area, const TWorkProgress& progress = {}) const;
 
 	const CPatchCorrelator& correlator() const { return m_correlator; }
 
 private:
 	CPatchCorrelator m_correlator;
 	CCorrelationGrid m_grid;
-	mrpt::math::TPose2D m_centre;  //!< centre of the search window (heading 0)
-	double m_halfWindowXY = 0;     //!< [m]
+	TSearchArea m_whole;  //!< the whole map's window (centre heading 0)
 };
 
 }  // namespace lrgc

@@ -17,6 +17,8 @@ void TLocalizationParams::loadFromConfigFile(const mrpt::config::CConfigFileBase
 	min_inlier_fraction = readDouble(c, s, "min_inlier_fraction", min_inlier_fraction);
 	gate_chi2 = readDouble(c, s, "gate_chi2", gate_chi2);
 	lost_after = readCount(c, s, "lost_after", lost_after);
+	kidnap_after = readCount(c, s, "kidnap_after", kidnap_after);
+	search_budget_ms_per_s = readDouble(c, s, "search_budget_ms_per_s", search_budget_ms_per_s);
 	requireParam(patch_keyframes >= 1, s, "patch_keyframes", "must be >= 1");
 	requireParam(patch_max_range_m > 0, s, "patch_max_range_m", "must be > 0 m");
 	requireParam(track_radius_m > 0, s, "track_radius_m", "must be > 0 m");
@@ -25,6 +27,8 @@ void TLocalizationParams::loadFromConfigFile(const mrpt::config::CConfigFileBase
 				 "must be in [0, 1]");
 	requireParam(gate_chi2 > 0, s, "gate_chi2", "must be > 0");
 	requireParam(lost_after >= 1, s, "lost_after", "must be >= 1");
+	requireParam(kidnap_after >= 1, s, "kidnap_after", "must be >= 1");
+	requireParam(search_budget_ms_per_s > 0, s, "search_budget_ms_per_s", "must be > 0 ms/s");
 }
 
 void TLocalizationParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
@@ -47,6 +51,12 @@ void TLocalizationParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
 	writeValue(
 		c, s, "lost_after", uint64_t(lost_after),
 		"--localize: this many poor matches in a row: lost, relocalise by global correlation");
+	writeValue(c, s, "kidnap_after", uint64_t(kidnap_after),
+			   "--localize: this many scans in a row contradicting the map where the robot "
+			   "is thought to be: kidnapped, relocalise on the whole map");
+	writeValue(c, s, "search_budget_ms_per_s", search_budget_ms_per_s,
+			   "[ms/s] --localize: modelled work per second of log of the global search "
+			   "beside tracking (its results land where such a worker finishes)");
 }
 
 }  // namespace lrgc

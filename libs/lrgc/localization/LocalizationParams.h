@@ -30,6 +30,14 @@ struct TLocalizationParams : public mrpt::config::CLoadableOptions
 	/** After this many consecutive poor or failed matches the robot is lost: global
 	 * localisation runs again (relocalisation) while odometry carries the pose. */
 	size_t lost_after = 25;
+	/** --localize: after this many scans in a row that contradict the map at the predicted
+	 * pose (CLocalizer::kContradictionFraction), the robot was carried off (kidnapped):
+	 * relocalise on the whole map. */
+	size_t kidnap_after = 5;
+	/** [ms/s] --localize: global searches run beside tracking; their results are applied
+	 * where a worker doing this much modelled work (TLoopWork's model) per second of log
+	 * would finish them, so offline runs are deterministic. 1000: one reference core. */
+	double search_budget_ms_per_s = 1000;
 
 	void loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
 							const std::string& s) override;

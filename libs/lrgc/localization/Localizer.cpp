@@ -9,19 +9,36 @@
 #include <mrpt/obs/CObservationOdometry.h>
 
 #include <algorithm>
+#include <cmath>
 
 namespace lrgc
 {
 using mrpt::math::TPose2D;
+using Kind = TLocalizationEvent::Kind;
+
+const char* TLocalizationEvent::name() const
+{
+	switch (kind)
+	{
+		case Kind::Started: return "started";
+		case Kind::Lost: return "lost";
+		case Kind::Kidnapped: return "kidnapped";
+		case Kind::Relocalized: return "relocalized";
+		case Kind::RecoveredByTracking: return "recovered_by_tracking";
+	}
+	return "?";
+}
 
 CLocalizer::CLocalizer(const CPoseGraph& map, const TKeyframes& keyframes,
-					   const TLRGCParams& params, const TLocalizationParams& localization)
+					   const TLRGCParams& params, const TLocalizationParams& localization,
+					   bool backgroundSearch)
 	: m_map(map),
 	  m_keyframes(keyframes),
 	  m_params(params),
 	  m_lp(localization),
 	  m_global(map, keyframes, params.correlator),
-	  m_predictor(std::make_unique<CMotionPredictor>(params.motion))
+	  m_predictor(std::make_unique<CMotionPredictor>(params.motion)),
+	  m_worker(m_global, localization.search_budget_ms_per_s, backgroundSearch)
 {
 	setLoggerName("CLocalizer");
 	// As local registration: people walk through the new scans, so the map may look emptier
@@ -37,16 +54,15 @@ CLocalizer::~CLocalizer() = default;
 const TLocalizerStats& CLocalizer::stats() const
 {
 	m_stats.localizedScans = m_trajectory.size();
-	m_stats.globalAttempts = m_finderAttemptsBefore + (m_finder ? m_finder->attempts() : 0);
-	m_stats.globalSeconds = m_finderSecondsBefore + (m_finder ? m_finder->secondsSpent() : 0);
-	if (m_finder && !m_finder->lastRejection().empty())
-		m_stats.lastRejection = m_finder->lastRejection();
+	m_stats.replayWaitSeconds = m_worker.waitedSeconds();
+	m_stats.replayWaitMaxSeconds = m_worker.longestWaitSeconds();
 	return m_stats;
 }
 
 void CLocalizer::processObservation(const mrpt::obs::CObservation::Ptr& obs)
 {
 	ASSERT_(obs);
+	m_lastWait = 0;
 	if (auto odo = std::dynamic_pointer_cast<mrpt::obs::CObservationOdometry>(obs))
 	{
 		m_predictor->addOdometryAbsolute(odo->odometry.asTPose());
@@ -64,6 +80,7 @@ void CLocalizer::processObservation(const mrpt::obs::CObservation::Ptr& obs)
 void CLocalizer::processActionObservation(mrpt::obs::CActionCollection& action,
 										  mrpt::obs::CSensoryFrame& observations)
 {
+	m_lastWait = 0;
 	if (auto odo = action.getBestMovementEstimation(); odo && odo->poseChange)
 		m_predictor->addOdometryIncrement(odo->poseChange->getMeanVal().asTPose());
 	mrpt::obs::CObservation2DRangeScan::Ptr laser;
@@ -89,55 +106,149 @@ void CLocalizer::processScan(const mrpt::obs::CObservation2DRangeScan::Ptr& obse
 	++m_stats.scans;
 	const auto t = laser->timestamp;
 	m_lastScanTime = t;
-	if (!m_stats.started)
+	// The log's clock for the search schedule: never backwards (logs have backward stamps).
+	m_logClock = std::max(m_logClock, mrpt::Clock::toDouble(t));
+	if (m_stats.started)
+		trackAndWatch(scan, t);  // 2. and 3.: never waits for a search
+	else
 	{
 		// 1. Start: the finder's probe has this scan; no map pose yet.
 		m_predictor->commitScan(t, TPose2D(0, 0, 0));
-		if (const auto found = m_finder->tryLocate())
-		{
-			adoptFinderPoses(*found);
-			m_stats.started = true;
-			MRPT_LOG_INFO_FMT("start found after %zu scans (score %.2f, ambiguity %.2f)",
-							  m_stats.scans, found->score, found->ambiguity);
-		}
-		else
-			++m_stats.scansBeforeStart;
-		return;
+		++m_stats.scansBeforeStart;
 	}
-	// 2. Tracking.
-	if (track(scan, t))
+	const double waitedBefore = m_worker.waitedSeconds();
+	serviceSearch(m_logClock);
+	m_lastWait = m_worker.waitedSeconds() - waitedBefore;
+}
+
+void CLocalizer::trackAndWatch(const TScan2D& scan, mrpt::Clock::time_point t)
+{
+	bool contradicted = false;
+	const double stamp = mrpt::Clock::toDouble(t);
+	if (track(scan, t, contradicted))
 	{
-		m_poorInARow = 0;
+		m_poorInARow = m_contradictedInARow = 0;
 		if (m_finder)  // lost, but the map matches again
 		{
 			++m_stats.recoveredByTracking;
-			m_finderAttemptsBefore += m_finder->attempts();
-			m_finderSecondsBefore += m_finder->secondsSpent();
-			m_finder.reset();
+			record(Kind::RecoveredByTracking, stamp);
+			dropSearch();
 		}
 		return;
 	}
-	// 3. Lost: relocalise.
-	if (!m_finder)
+	++m_poorInARow;
+	m_contradictedInARow = contradicted ? m_contradictedInARow + 1 : 0;
+	// 3. Lost: relocalise near the carried pose; kidnapped: on the whole map.
+	if (m_contradictedInARow >= m_lp.kidnap_after && !(m_finder && m_searchWholeMap))
 	{
-		if (++m_poorInARow < m_lp.lost_after) return;
-		++m_stats.lostEvents;
-		MRPT_LOG_WARN_FMT("lost at t=%.3f after %zu poor matches: relocalising",
-						  mrpt::Clock::toDouble(t), m_poorInARow);
-		m_finder = std::make_unique<CStartFinder>(m_global, m_params, m_lp);
-		m_finderFirstIndex = m_trajectory.size();  // the probe starts with the next scan
-		return;
+		++m_stats.kidnapEvents;
+		MRPT_LOG_WARN_FMT("kidnapped at t=%.3f: %zu scans in a row contradict the map: "
+						  "relocalising on the whole map",
+						  stamp, m_contradictedInARow);
+		record(Kind::Kidnapped, stamp);
+		startSearch(true, stamp);
 	}
-	if (const auto found = m_finder->tryLocate())
+	else if (!m_finder && m_poorInARow >= m_lp.lost_after)
 	{
-		adoptFinderPoses(*found);
-		++m_stats.relocalizations;
-		m_poorInARow = 0;
+		++m_stats.lostEvents;
+		MRPT_LOG_WARN_FMT("lost at t=%.3f after %zu poor matches: relocalising", stamp,
+						  m_poorInARow);
+		record(Kind::Lost, stamp);
+		startSearch(false, stamp);
 	}
 }
 
-// The finder's scans get their map poses: appended at the start, replacing the odometry-
-// carried ones (same timestamps) after a relocalisation.
+// A new probe from the next scan on; a search of the previous probe still in the worker is
+// left to finish and its result dropped.
+void CLocalizer::startSearch(bool wholeMap, double /*stamp*/)
+{
+	dropSearch();
+	m_finder = std::make_unique<CStartFinder>(m_global, m_params, m_lp);
+	m_finderFirstIndex = m_trajectory.size();  // the probe starts with the next scan
+	m_searchWholeMap = wholeMap;
+	m_failedAttempts = 0;
+}
+
+void CLocalizer::dropSearch()
+{
+	m_finder.reset();
+	++m_generation;
+}
+
+void CLocalizer::serviceSearch(double stamp)
+{
+	if (auto location = m_worker.takeIfDue(stamp))
+		applySearchResult(*location, stamp);
+	if (!m_finder || m_worker.busy()) return;
+	auto request = m_finder->nextPatch();
+	if (!request) return;
+	const TSearchArea area = searchArea();
+	TGlobalSearchJob job;
+	job.patch = request->points;
+	job.area = area;
+	job.submittedAt = stamp;
+	m_inFlight = std::move(*request);
+	m_inFlightGeneration = m_generation;
+	m_inFlightWindow = area.halfXY;
+	m_worker.submit(std::move(job));
+}
+
+// Where the next attempt looks (see the file comment); the patch pose is its newest
+// keyframe's, carried by tracking as the scan just processed.
+TSearchArea CLocalizer::searchArea() const
+{
+	if (!m_stats.started || m_searchWholeMap) return m_global.wholeMap();
+	TSearchArea a;
+	a.centre = m_pose;
+	a.halfXY =
+		std::max(kMinSearchHalfXY, 3 * std::sqrt(std::max(m_driftCov(0, 0), m_driftCov(1, 1))));
+	a.halfTheta = std::max(kMinSearchHalfTheta, 3 * std::sqrt(m_driftCov(2, 2)));
+	return m_global.clipped(a);
+}
+
+void CLocalizer::applySearchResult(const TGlobalLocation& location, double stamp)
+{
+	++m_stats.globalAttempts;
+	m_stats.globalSeconds += location.seconds;
+	m_stats.globalModelledSeconds += location.modelledMs * 1e-3;
+	const TPatchRequest request = std::move(*m_inFlight);
+	m_inFlight.reset();
+	if (m_inFlightGeneration != m_generation || !m_finder) return;  // its probe is gone
+	const auto found = m_finder->conclude(request, location);
+	if (!found)
+	{
+		m_stats.lastRejection = m_finder->lastRejection();
+		++m_failedAttempts;
+		return;
+	}
+	const bool starting = !m_stats.started;
+	const TPose2D before = m_pose;
+	adoptFinderPoses(*found);
+	if (starting)
+	{
+		m_stats.started = true;
+		m_stats.scansBeforeStart = m_stats.scans - 1;  // this scan has its pose
+		MRPT_LOG_INFO_FMT("start found after %zu scans (score %.2f, ambiguity %.2f)",
+						  m_stats.scans, found->score, found->ambiguity);
+		record(Kind::Started, stamp, 0, m_inFlightWindow);
+		return;
+	}
+	++m_stats.relocalizations;
+	m_poorInARow = m_contradictedInARow = 0;
+	const double jump = translationNorm(between(before, m_pose));
+	MRPT_LOG_WARN_FMT("relocalised at t=%.3f: the pose moved %.2f m", stamp, jump);
+	record(Kind::Relocalized, stamp, jump, m_inFlightWindow);
+}
+
+void CLocalizer::record(Kind kind, double stamp, double jump, double window)
+{
+	TLocalizationEvent e;
+	e.kind = kind, e.stamp = stamp, e.pose = m_pose, e.jump_m = jump, e.window_m = window;
+	m_stats.events.push_back(e);
+}
+
+// The finder's scans get their map poses: appended at the start, replacing the tracked ones
+// (same timestamps) after a relocalisation.
 void CLocalizer::adoptFinderPoses(const TStartFound& found)
 {
 	const TTrajectory probe = m_finder->probe().trajectory();
@@ -158,18 +269,17 @@ void CLocalizer::adoptFinderPoses(const TStartFound& found)
 	m_driftCov = found.cov;
 	m_refNodes.clear();
 	m_recent.clear();  // placed where the robot was thought to be
-	m_finderAttemptsBefore += m_finder->attempts();
-	m_finderSecondsBefore += m_finder->secondsSpent();
-	m_finder.reset();
+	dropSearch();
 }
 
-bool CLocalizer::track(const TScan2D& scan, mrpt::Clock::time_point t)
+bool CLocalizer::track(const TScan2D& scan, mrpt::Clock::time_point t, bool& contradicted)
 {
 	const TMotionPrediction pred = m_predictor->predict(t);
 	const TPose2D prior = compose(m_pose, pred.motion);
 	const Eigen::Matrix3d priorCov = m_driftCov + rotateCovariance(pred.cov, m_pose.phi);
 	TPose2D pose = prior;
 	bool good = false;
+	contradicted = false;
 	if (referenceNear(prior))
 	{
 		const TPose2D guess = between(m_refInMap, prior);
@@ -182,6 +292,11 @@ bool CLocalizer::track(const TScan2D& scan, mrpt::Clock::time_point t)
 							 rotateCovariance(priorCov, -m_refInMap.phi) + m->cov +
 								 m_params.loop.link_noise.floorCovariance()) <= m_lp.gate_chi2;
 		if (good) pose = compose(m_refInMap, m->scanInRef);
+		// Contradicted: no match, and the scan at the prior puts walls where the map's
+		// beams passed (a wrong place, not a room the map saw only from its door).
+		contradicted = !(m && m->inlierFraction >= m_lp.min_inlier_fraction) &&
+					   m_ref.freeSpaceViolation(scan, guess, kContradictionMargin) >=
+						   kContradictionFraction;
 	}
 	if (!good)
 		if (const auto local = matchRecent(scan, prior)) pose = *local, ++m_stats.recentMatches;

@@ -15,14 +15,21 @@
  *     moved cupboard) the pose stays locally consistent instead of following raw odometry,
  *     and the map takes over again when it matches. Only if both fail the prediction is kept.
  *  3. Lost: after lost_after poor matches in a row, global localisation runs again on the
- *     scans from then on (a new CStartFinder) while odometry carries the pose; when it
+ *     scans from then on (a new CStartFinder) while tracking carries the pose; when it
  *     succeeds (a relocalisation), the scans since the loss get their located poses. A good
- *     tracking match before that ends the loss.
+ *     tracking match before that ends the loss. Where to look: within 3 sigma of the
+ *     carried pose (its drift covariance, at least kMinSearchHalfXY and kMinSearchHalfTheta),
+ *     the window doubling with each failed attempt, and the whole map at once if the robot
+ *     was kidnapped: kidnap_after scans in a row that contradict the map where the robot is
+ *     thought to be (kContradictionFraction: walls where the map saw free space).
+ * Global correlations never run on the tracking thread (CGlobalSearchWorker): the start and
+ * every relocalisation are searched beside it and applied at a scan fixed by the log.
  * The map is never changed. Frames: poses (map <- robot) [m, rad].
  */
 #pragma once
 
 #include <lrgc/localization/GlobalLocalizer.h>
+#include <lrgc/localization/GlobalSearchWorker.h>
 #include <lrgc/localization/LocalizationParams.h>
 #include <lrgc/localization/StartFinder.h>
 #include <lrgc/map_builder/MapBuilderParams.h>
@@ -44,6 +51,26 @@ namespace lrgc
 {
 class CMotionPredictor;
 
+/** Something a navigation stack needs to hear of, at a scan of the log. */
+struct TLocalizationEvent
+{
+	enum class Kind
+	{
+		Started,              //!< the start was found
+		Lost,                 //!< lost_after poor matches in a row
+		Kidnapped,            //!< kidnap_after scans in a row contradicting the map
+		Relocalized,          //!< lost, then placed by global localisation
+		RecoveredByTracking,  //!< lost, then a good tracking match came first
+	};
+	Kind kind = Kind::Lost;
+	double stamp = 0;                      //!< of the scan [s]
+	mrpt::math::TPose2D pose{0, 0, 0};     //!< of that scan (map <- robot), after the event
+	double jump_m = 0;    //!< Relocalized: how far the pose moved [m]
+	double window_m = 0;  //!< Started, Relocalized: half width of the search window [m]
+	/** "started", "lost", "kidnapped", "relocalized", "recovered_by_tracking". */
+	const char* name() const;
+};
+
 struct TLocalizerStats
 {
 	size_t scans = 0;                         //!< laser scans of the laser used
@@ -52,10 +79,16 @@ struct TLocalizerStats
 	size_t goodMatches = 0, poorMatches = 0;  //!< tracking against the map, once started
 	size_t recentMatches = 0;        //!< of the poor ones, placed by the log's recent scans
 	size_t lostEvents = 0;           //!< lost_after poor matches in a row
+	size_t kidnapEvents = 0;         //!< kidnap_after scans in a row contradicting the map
 	size_t relocalizations = 0;      //!< lost, then found again by global localisation
 	size_t recoveredByTracking = 0;  //!< lost, then a good tracking match came first
 	size_t globalAttempts = 0;       //!< global correlations (start and relocalisations)
-	double globalSeconds = 0;        //!< their total time [s]
+	double globalSeconds = 0;        //!< their total time [s], on the search thread
+	double globalModelledSeconds = 0;  //!< their modelled time (TGlobalLocation) [s]
+	/** Time the tracking thread waited for the search thread to keep up with the modelled
+	 * one (replaying a log faster than it was recorded) [s], in all and the longest. */
+	double replayWaitSeconds = 0, replayWaitMaxSeconds = 0;
+	std::vector<TLocalizationEvent> events;
 	bool started = false;            //!< the start was found
 	std::string lastRejection;       //!< of the last failed global attempt
 };
@@ -63,9 +96,20 @@ struct TLocalizerStats
 class CLocalizer : public mrpt::system::COutputLogger
 {
 public:
-	/** The map: node i of `map` at its pose with keyframes[i]'s scan (copied). */
+	/** [m], [rad] Smallest half window of a relocalisation search (a carried pose whose
+	 * covariance says it is right within centimetres, yet tracking fails, is wrong by more). */
+	static constexpr double kMinSearchHalfXY = 1.0, kMinSearchHalfTheta = 0.35;
+	/** A scan contradicts the map when it does not match it and, at the predicted pose, at
+	 * least this fraction of its points (or of the map's) lie more than kContradictionMargin
+	 * [m] inside space the other side's beams crossed (CReferenceCloud::freeSpaceViolation).
+	 * Measured on Intel's second half: 0.38-0.51 for 10 scans after a 25 m kidnap; rooms the
+	 * map saw only from their doors 0-0.03. */
+	static constexpr double kContradictionFraction = 0.3, kContradictionMargin = 0.2;
+
+	/** The map: node i of `map` at its pose with keyframes[i]'s scan (copied).
+	 * `backgroundSearch` off: global searches run on the caller's thread (same results). */
 	CLocalizer(const CPoseGraph& map, const TKeyframes& keyframes, const TLRGCParams& params,
-			   const TLocalizationParams& localization);
+			   const TLocalizationParams& localization, bool backgroundSearch = true);
 	~CLocalizer() override;
 
 	/** Odometry (CObservationOdometry) or a 2D laser scan; other kinds are ignored. */
@@ -78,14 +122,27 @@ public:
 	const TLocalizerStats& stats() const;
 	/** Timestamp of the last scan processed (default-constructed before the first). */
 	mrpt::Clock::time_point lastScanTimestamp() const { return m_lastScanTime; }
+	/** Replay wait (see TLocalizerStats) during the last processed entry [s]. */
+	double lastReplayWaitSeconds() const { return m_lastWait; }
 	/** The laser used (first seen). */
 	const std::string& laserLabel() const { return m_laserLabel; }
 
 private:
 	void processScan(const mrpt::obs::CObservation2DRangeScan::Ptr& laser);
-	void feedFinder(const mrpt::obs::CObservation2DRangeScan::Ptr& laser);
+	/** Tracking one scan, then the loss bookkeeping. */
+	void trackAndWatch(const TScan2D& scan, mrpt::Clock::time_point t);
+	void startSearch(bool wholeMap, double stamp);
+	void dropSearch();
+	/** Applies the search result due at `stamp`, then submits the next attempt if due. */
+	void serviceSearch(double stamp);
+	void applySearchResult(const TGlobalLocation& location, double stamp);
+	TSearchArea searchArea() const;
 	void adoptFinderPoses(const TStartFound& found);
-	bool track(const TScan2D& scan, mrpt::Clock::time_point t);
+	void record(TLocalizationEvent::Kind kind, double stamp, double jump = 0,
+				double window = 0);
+	/** Matches the scan (map, else recent scans); true if the map match is good.
+	 * `contradicted`: see kContradictionFraction. */
+	bool track(const TScan2D& scan, mrpt::Clock::time_point t, bool& contradicted);
 	/** The reference cloud of the map keyframes near `pose`; false if there are none. */
 	bool referenceNear(const mrpt::math::TPose2D& pose);
 	/** The prior matched against the recent scans; nullopt if that fails too. */
@@ -103,12 +160,21 @@ private:
 	/** Searching for the start or relocalising: the probe, fed the scans since then. */
 	std::unique_ptr<CStartFinder> m_finder;
 	size_t m_finderFirstIndex = 0;  //!< index in m_trajectory of the finder's first scan
+	bool m_searchWholeMap = true;   //!< the finder's attempts search the whole map
+	size_t m_failedAttempts = 0;    //!< of the finder (the window doubles with each)
+	CGlobalSearchWorker m_worker;
+	/** The attempt in the worker: its patch, its finder's generation and window. */
+	std::optional<TPatchRequest> m_inFlight;
+	size_t m_inFlightGeneration = 0, m_generation = 0;
+	double m_inFlightWindow = 0;
+	double m_lastWait = 0;
 
 	TTrajectory m_trajectory;
 	mrpt::math::TPose2D m_pose{0, 0, 0};  //!< of the last scan
 	Eigen::Matrix3d m_driftCov =
 		Eigen::Matrix3d::Zero();  //!< since the last good match, map axes
 	size_t m_poorInARow = 0;
+	size_t m_contradictedInARow = 0;  //!< scans contradicting the map (track())
 	std::vector<size_t> m_refNodes;  //!< keyframes of the current reference cloud
 	CReferenceCloud m_ref;
 	mrpt::math::TPose2D m_refInMap{0, 0, 0};
@@ -116,9 +182,8 @@ private:
 	std::deque<std::pair<TScan2D, mrpt::math::TPose2D>> m_recent;
 	std::string m_laserLabel;
 	mrpt::Clock::time_point m_lastScanTime{};
+	double m_logClock = -1e300;  //!< latest scan stamp so far [s] (the search schedule's clock)
 	mutable TLocalizerStats m_stats;
-	double m_finderSecondsBefore = 0;  //!< correlation time of finders already finished
-	size_t m_finderAttemptsBefore = 0;
 };
 
 }  // namespace lrgc

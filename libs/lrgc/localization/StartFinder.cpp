@@ -18,6 +18,13 @@ CStartFinder::CStartFinder(const CGlobalLocalizer& localizer, const TLRGCParams&
 
 std::optional<TStartFound> CStartFinder::tryLocate()
 {
+	const auto request = nextPatch();
+	if (!request) return std::nullopt;
+	return conclude(*request, m_localizer.locate(request->points));
+}
+
+std::optional<TPatchRequest> CStartFinder::nextPatch()
+{
 	const CPoseGraph& g = m_probe->graph();
 	const size_t n = g.numNodes();
 	if (n < m_nextAttemptAt) return std::nullopt;
@@ -26,17 +33,23 @@ std::optional<TStartFound> CStartFinder::tryLocate()
 
 	// The patch: the newest min(n, P) probe keyframes in the newest one's frame.
 	const size_t newest = n - 1, first = n - std::min(n, P);
-	const mrpt::math::TPose2D newestInProbe = g.pose(newest);
-	std::vector<Eigen::Vector2d> patch;
+	TPatchRequest request;
+	request.newestInProbe = g.pose(newest);
+	request.keyframes = newest + 1 - first;
 	for (size_t k = first; k <= newest; ++k)
 	{
-		const CPointTransform kInNewest(between(newestInProbe, g.pose(k)));
+		const CPointTransform kInNewest(between(request.newestInProbe, g.pose(k)));
 		for (const auto& p : m_probe->keyframes()[k].scan.points)
 			if (const Eigen::Vector2d q = kInNewest(p); q.norm() <= m_params.patch_max_range_m)
-				patch.push_back(q);
+				request.points.push_back(q);
 	}
+	return request;
+}
+
+std::optional<TStartFound> CStartFinder::conclude(const TPatchRequest& request,
+												  const TGlobalLocation& loc)
+{
 	++m_attempts;
-	const TGlobalLocation loc = m_localizer.locate(patch);
 	m_seconds += loc.seconds;
 	if (!loc.accepted())
 	{
@@ -45,11 +58,11 @@ std::optional<TStartFound> CStartFinder::tryLocate()
 	}
 	m_lastRejection.clear();
 	TStartFound found;
-	found.probeInMap = compose(loc.correlation->patchInMap, inverse(newestInProbe));
+	found.probeInMap = compose(loc.correlation->patchInMap, inverse(request.newestInProbe));
 	found.cov = loc.correlation->cov;
 	found.score = loc.correlation->score;
 	found.ambiguity = loc.correlation->ambiguity;
-	found.patchKeyframes = newest + 1 - first;
+	found.patchKeyframes = request.keyframes;
 	return found;
 }
 

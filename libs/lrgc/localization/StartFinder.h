@@ -29,6 +29,14 @@ struct TStartFound
 	size_t patchKeyframes = 0;        //!< keyframes in the accepted patch
 };
 
+/** The patch of one attempt: the newest probe keyframes' points in the newest one's frame. */
+struct TPatchRequest
+{
+	std::vector<Eigen::Vector2d> points;          //!< [m], (probe keyframe `newest`) frame
+	mrpt::math::TPose2D newestInProbe{0, 0, 0};   //!< (probe frame <- newest keyframe)
+	size_t keyframes = 0;                         //!< in the patch
+};
+
 class CStartFinder
 {
 public:
@@ -41,8 +49,14 @@ public:
 	CMetricMapBuilderLRGC& probe() { return *m_probe; }
 	const CMetricMapBuilderLRGC& probe() const { return *m_probe; }
 
-	/** Tries global localisation if an attempt is due (see the file comment). */
+	/** Tries global localisation on the whole map if an attempt is due (see the file
+	 * comment): nextPatch() and conclude() in one, waiting for the correlation. */
 	std::optional<TStartFound> tryLocate();
+	/** The patch of the attempt due now, or nullopt if none is (the schedule moves on). */
+	std::optional<TPatchRequest> nextPatch();
+	/** The outcome of the attempt on `request` (counted): the start if it passed. */
+	std::optional<TStartFound> conclude(const TPatchRequest& request,
+										const TGlobalLocation& location);
 
 	size_t attempts() const { return m_attempts; }
 	double secondsSpent() const { return m_seconds; }  //!< in correlation [s]

@@ -116,6 +116,22 @@ std::string jsonQuote(const std::string& s)
 	return out + "\"";
 }
 
+// One line per event: what a navigation stack is told (lost, kidnapped, relocalised, ...).
+std::string eventsJson(const std::vector<TLocalizationEvent>& events)
+{
+	std::string j = "[";
+	for (size_t i = 0; i < events.size(); ++i)
+	{
+		const auto& e = events[i];
+		j += mrpt::format(
+			"%s\n    {\"event\": \"%s\", \"stamp\": %.6f, \"pose\": [%.4f, %.4f, %.2f], "
+			"\"jump_m\": %.3f, \"search_half_window_m\": %.2f}",
+			i ? "," : "", e.name(), e.stamp, e.pose.x, e.pose.y, mrpt::RAD2DEG(e.pose.phi),
+			e.jump_m, e.window_m);
+	}
+	return j + (events.empty() ? "]" : "\n  ]");
+}
+
 std::string localizationStatsJson(const CLocalizer& loc, const TRunSummary& run,
 								  const std::string& map)
 {
@@ -136,10 +152,15 @@ std::string localizationStatsJson(const CLocalizer& loc, const TRunSummary& run,
 	  << "  \"poor_matches\": " << s.poorMatches << ",\n"
 	  << "  \"placed_by_recent_scans\": " << s.recentMatches << ",\n"
 	  << "  \"lost\": " << s.lostEvents << ",\n"
+	  << "  \"kidnapped\": " << s.kidnapEvents << ",\n"
 	  << "  \"relocalizations\": " << s.relocalizations << ",\n"
 	  << "  \"recovered_by_tracking\": " << s.recoveredByTracking << ",\n"
 	  << "  \"global_localization\": {\"attempts\": " << s.globalAttempts
-	  << ", \"total_s\": " << s.globalSeconds << "},\n"
+	  << ", \"total_s\": " << s.globalSeconds
+	  << ", \"modelled_s\": " << s.globalModelledSeconds
+	  << ", \"replay_wait_s\": " << s.replayWaitSeconds
+	  << ", \"replay_wait_max_ms\": " << 1e3 * s.replayWaitMaxSeconds << "},\n"
+	  << "  \"events\": " << eventsJson(s.events) << ",\n"
 	  << "  \"warnings\": " << run.warnings << ",\n"
 	  << "  \"data_duration_s\": " << run.dataDurationSeconds << ",\n"
 	  << "  \"wall_time_s\": " << run.wallSeconds << ",\n"
@@ -157,7 +178,8 @@ namespace
 // --localize's outputs in cl.outDir (never the map's folder: checked before the run): the
 // trajectory and the per-scan latencies once a scan was localised, the configuration, stats.
 void writeLocalizationOutputs(const CLocalizer& localizer, const TRunSummary& run,
-							  const TAppConfig& cfg, const TSlamCommandLine& cl)
+							  const std::vector<double>& replayWaitMs, const TAppConfig& cfg,
+							  const TSlamCommandLine& cl)
 {
 	namespace fs = std::filesystem;
 	fs::create_directories(cl.outDir);
@@ -165,14 +187,28 @@ void writeLocalizationOutputs(const CLocalizer& localizer, const TRunSummary& ru
 	if (!localizer.trajectory().empty())
 	{
 		writeTrajectoryTum(localizer.trajectory(), path("trajectory.tum"));
-		std::string csv = "scan_index,timestamp,latency_ms\n";
+		std::string csv = "scan_index,timestamp,latency_ms,replay_wait_ms\n";
 		for (size_t i = 0; i < run.latencyMs.size(); ++i)
-			csv += mrpt::format("%zu,%.6f,%.4f\n", i, run.latencyStamp[i], run.latencyMs[i]);
+			csv += mrpt::format("%zu,%.6f,%.4f,%.4f\n", i, run.latencyStamp[i],
+								run.latencyMs[i], replayWaitMs[i]);
 		writeTextFileAtomically(path("timing.csv"), csv);
 	}
 	writeTextFileAtomically(path(kRunConfigFile), runConfigText(cfg, cl.input));
 	writeTextFileAtomically(path("stats.json"),
 							localizationStatsJson(localizer, run, cl.localize));
+}
+}  // namespace
+
+namespace
+{
+std::string eventLine(const TLocalizationEvent& e)
+{
+	std::string line = mrpt::format("lrgc-slam: t=%.3f %s at (%.2f m, %.2f m, %.1f deg)",
+									e.stamp, e.name(), e.pose.x, e.pose.y,
+									mrpt::RAD2DEG(e.pose.phi));
+	if (e.kind == TLocalizationEvent::Kind::Relocalized)
+		line += mrpt::format(": the pose moved %.2f m", e.jump_m);
+	return line;
 }
 }  // namespace
 
@@ -204,6 +240,7 @@ int CSlamApp::runLocalize(const TSlamCommandLine& cl)
 	CRunClock clock;
 	TRunSummary run;
 	run.input = cl.input;
+	std::vector<double> replayWaitMs;  // per scan, as run.latencyMs
 	int exitCode = kExitOk;
 	while (!signals.stopRequested())
 	{
@@ -221,15 +258,24 @@ int CSlamApp::runLocalize(const TSlamCommandLine& cl)
 		if (!entry) break;
 		++run.logEntries;
 		const size_t scansBefore = localizer->stats().scans;
+		const size_t eventsBefore = localizer->stats().events.size();
 		const auto t0 = std::chrono::steady_clock::now();
 		feedEntry(*localizer, *entry);
 		if (localizer->stats().scans > scansBefore && entry)
 		{
+			// The scan's latency: its processing, without the replay's wait for the modelled
+			// search worker (CGlobalSearchWorker), which is listed apart.
+			const double waitMs = 1e3 * localizer->lastReplayWaitSeconds();
 			run.latencyMs.push_back(
 				std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
-					.count());
+					.count() -
+				waitMs);
+			replayWaitMs.push_back(waitMs);
 			run.latencyStamp.push_back(mrpt::Clock::toDouble(localizer->lastScanTimestamp()));
 		}
+		const auto& events = localizer->stats().events;  // what a navigation stack hears
+		for (size_t i = eventsBefore; i < events.size() && !cl.quiet; ++i)
+			report(eventLine(events[i]));
 		reportWarnings(reader->takeWarnings());
 		const auto& s = localizer->stats();
 		progress.update(reader->fractionRead(), s.scans,
@@ -245,7 +291,7 @@ int CSlamApp::runLocalize(const TSlamCommandLine& cl)
 	}
 	progress.finish(exitCode == kExitOk ? 1.0 : reader->fractionRead(), s.scans);
 	finishRunSummary(run, clock, m_warningsTotal);
-	writeLocalizationOutputs(*localizer, run, cfg, cl);
+	writeLocalizationOutputs(*localizer, run, replayWaitMs, cfg, cl);
 	if (exitCode != kExitOk) report("lrgc-slam: " + run.status);
 	if (!cl.quiet || exitCode != kExitOk)
 		report(mrpt::format(
