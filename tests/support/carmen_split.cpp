@@ -1,9 +1,13 @@
 #include "carmen_split.h"
 
 #include <mrpt/core/exceptions.h>
+#include <mrpt/core/format.h>
 #include <mrpt/io/CFileGZInputStream.h>
 
+#include <cmath>
 #include <fstream>
+#include <iterator>
+#include <sstream>
 #include <vector>
 
 namespace lrgc::test
@@ -35,6 +39,79 @@ TSplitCounts splitCarmenLog(const std::string& log, const std::string& firstOut,
 	if (!a || !b)
 		THROW_EXCEPTION_FMT("cannot write '%s' or '%s'", firstOut.c_str(), secondOut.c_str());
 	return {header.size(), half, data.size() - half};
+}
+
+namespace
+{
+struct TPose
+{
+	double x = 0, y = 0, phi = 0;
+};
+TPose compose(const TPose& a, const TPose& b)
+{
+	const double c = std::cos(a.phi), s = std::sin(a.phi);
+	return {a.x + c * b.x - s * b.y, a.y + s * b.x + c * b.y,
+			std::remainder(a.phi + b.phi, 2 * M_PI)};
+}
+TPose inverse(const TPose& p)
+{
+	const double c = std::cos(p.phi), s = std::sin(p.phi);
+	return {-(c * p.x + s * p.y), -(-s * p.x + c * p.y), -p.phi};
+}
+// Index of the odometry pose's x among a data line's fields: ODOM x y theta ...; FLASER n
+// r_1..r_n laser_x laser_y laser_theta odom_x odom_y odom_theta ipc_t host logger_t.
+size_t odometryField(const std::vector<std::string>& f)
+{
+	if (f[0] == "ODOM") return 1;
+	if (f[0] == "FLASER") return 2 + std::stoul(f[1]) + 3;
+	THROW_EXCEPTION_FMT("cutCarmenLog: unexpected line kind '%s'", f[0].c_str());
+}
+}  // namespace
+
+double cutCarmenLog(const std::string& log, const std::string& out, double from, double to)
+{
+	std::ifstream in(log);
+	if (!in) THROW_EXCEPTION_FMT("cannot open '%s'", log.c_str());
+	std::ostringstream text;
+	bool before = false, after = false;
+	TPose lastBefore, moved;  // moved = (odometry at from) (+) (odometry at to)^-1
+	double shift = 0;
+	for (std::string line; std::getline(in, line);)
+	{
+		std::istringstream words(line);
+		std::vector<std::string> f{std::istream_iterator<std::string>(words), {}};
+		if (f.empty() || f[0][0] == '#' || f[0] == "PARAM")
+		{
+			text << line << '\n';
+			continue;
+		}
+		const size_t o = odometryField(f);
+		const double stamp = std::stod(f[f.size() - 3]);
+		const TPose odo{std::stod(f[o]), std::stod(f[o + 1]), std::stod(f[o + 2])};
+		if (stamp < from)
+		{
+			before = true, lastBefore = odo, text << line << '\n';
+			continue;
+		}
+		if (stamp < to) continue;
+		if (!after) after = true, shift = stamp - from, moved = compose(lastBefore, inverse(odo));
+		for (const size_t k : f[0] == "ODOM" ? std::vector<size_t>{o} : std::vector{o - 3, o})
+		{
+			const TPose p = compose(moved, {std::stod(f[k]), std::stod(f[k + 1]), std::stod(f[k + 2])});
+			f[k] = std::to_string(p.x), f[k + 1] = std::to_string(p.y), f[k + 2] = std::to_string(p.phi);
+		}
+		for (const size_t k : {f.size() - 3, f.size() - 1})
+			f[k] = mrpt::format("%.6f", std::stod(f[k]) - shift);
+		for (size_t k = 0; k < f.size(); ++k) text << (k ? " " : "") << f[k];
+		text << '\n';
+	}
+	if (!before || !after)
+		THROW_EXCEPTION_FMT("cutCarmenLog: '%s' has no data on both sides of [%.3f, %.3f)",
+							log.c_str(), from, to);
+	std::ofstream o(out);
+	o << text.str();
+	if (!o) THROW_EXCEPTION_FMT("cannot write '%s'", out.c_str());
+	return shift;
 }
 
 }  // namespace lrgc::test

@@ -1,7 +1,12 @@
 /* Splits a CARMEN log (.clf, plain or gzip) in two halves by file lines, for tests that map
  * the first half and continue or localise with the second: header lines ('#' comments and
  * PARAM lines) go into both halves, the other lines (ODOM, FLASER, ...) are divided at the
- * middle, in file order. */
+ * middle, in file order.
+ * cutCarmenLog() makes a kidnapped robot of a log: the lines stamped within [from, to) are
+ * left out, so the laser jumps to where the robot was at `to`, while the odometry (ODOM
+ * poses, FLASER's laser and odometry poses) is moved to go on from where it was at `from`
+ * and the stamps after the cut are moved back by the cut's length: the robot is carried off
+ * in an instant without its odometry noticing. */
 #pragma once
 
 #include <cstddef>
@@ -18,5 +23,10 @@ struct TSplitCounts
  * cannot be read or holds no data line. */
 TSplitCounts splitCarmenLog(const std::string& log, const std::string& firstOut,
 							const std::string& secondOut);
+
+/** Writes `log` (plain CARMEN text) to `out` without its data lines stamped (ipc timestamp)
+ * in [from, to), as described above; returns the shift subtracted from later stamps [s].
+ * Throws if the file cannot be read or written or nothing lies on both sides of the cut. */
+double cutCarmenLog(const std::string& log, const std::string& out, double from, double to);
 
 }  // namespace lrgc::test

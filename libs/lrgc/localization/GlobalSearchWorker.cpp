@@ -46,6 +46,7 @@ void CGlobalSearchWorker::submit(TGlobalSearchJob job)
 	m_submittedAt = job.submittedAt;
 	if (!m_thread.joinable())
 	{
+		++m_onCaller;
 		try
 		{
 			m_result = run(job);

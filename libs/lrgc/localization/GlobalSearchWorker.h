@@ -60,6 +60,8 @@ public:
 	/** Time takeIfDue() waited for the real worker to catch up with the modelled one [s]. */
 	double waitedSeconds() const { return m_waited; }
 	double longestWaitSeconds() const { return m_longestWait; }
+	/** Searches run on the caller's thread (inside submit(): `background` off). */
+	size_t searchesOnCallerThread() const { return m_onCaller; }
 
 private:
 	double dueAt(double modelledMs) const { return m_submittedAt + modelledMs / m_budget; }
@@ -71,6 +73,7 @@ private:
 	bool m_busy = false;
 	double m_submittedAt = 0;
 	double m_waited = 0, m_longestWait = 0;
+	size_t m_onCaller = 0;
 
 	std::mutex m_mutex;  // guards what follows
 	std::condition_variable m_cv;

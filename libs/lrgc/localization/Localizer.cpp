@@ -56,6 +56,7 @@ const TLocalizerStats& CLocalizer::stats() const
 	m_stats.localizedScans = m_trajectory.size();
 	m_stats.replayWaitSeconds = m_worker.waitedSeconds();
 	m_stats.replayWaitMaxSeconds = m_worker.longestWaitSeconds();
+	m_stats.searchesOnTrackingThread = m_worker.searchesOnCallerThread();
 	return m_stats;
 }
 
@@ -106,6 +107,7 @@ void CLocalizer::processScan(const mrpt::obs::CObservation2DRangeScan::Ptr& obse
 	++m_stats.scans;
 	const auto t = laser->timestamp;
 	m_lastScanTime = t;
+	if (m_worker.busy()) ++m_stats.scansDuringSearches;
 	// The log's clock for the search schedule: never backwards (logs have backward stamps).
 	m_logClock = std::max(m_logClock, mrpt::Clock::toDouble(t));
 	if (m_stats.started)
@@ -165,6 +167,10 @@ void CLocalizer::startSearch(bool wholeMap, double /*stamp*/)
 	dropSearch();
 	m_finder = std::make_unique<CStartFinder>(m_global, m_params, m_lp);
 	m_finderFirstIndex = m_trajectory.size();  // the probe starts with the next scan
+	// Kidnapped: the scans since the first contradicting the map were wrong too.
+	m_searchFirstIndex = wholeMap ? m_trajectory.size() - std::min(m_trajectory.size(),
+																  m_contradictedInARow)
+								  : m_finderFirstIndex;
 	m_searchWholeMap = wholeMap;
 	m_failedAttempts = 0;
 }
@@ -257,13 +263,23 @@ void CLocalizer::adoptFinderPoses(const TStartFound& found)
 			m_trajectory.push_back({p.timestamp, compose(found.probeInMap, p.robotInMap)});
 	else
 	{
-		size_t k = m_finderFirstIndex;
+		// The scans between the first that contradicted the map and the probe's first were
+		// placed relative to the wrong place: they follow the probe's first scan, by the
+		// motion tracking gave them (X_k <- X'_f (+) (X_f^-1 (+) X_k)).
+		const size_t f = m_finderFirstIndex;
+		const TPose2D trackedFirst = f < m_trajectory.size() ? m_trajectory[f].robotInMap : m_pose;
+		size_t k = f;
 		for (const auto& p : probe)
 		{
 			while (k < m_trajectory.size() && m_trajectory[k].timestamp != p.timestamp) ++k;
 			if (k == m_trajectory.size()) break;
 			m_trajectory[k].robotInMap = compose(found.probeInMap, p.robotInMap);
 		}
+		if (f < m_trajectory.size())
+			for (size_t i = std::min(m_searchFirstIndex, f); i < f; ++i)
+				m_trajectory[i].robotInMap =
+					compose(m_trajectory[f].robotInMap,
+							between(trackedFirst, m_trajectory[i].robotInMap));
 	}
 	if (!probe.empty()) m_pose = compose(found.probeInMap, probe.back().robotInMap);
 	m_driftCov = found.cov;

@@ -88,6 +88,9 @@ struct TLocalizerStats
 	/** Time the tracking thread waited for the search thread to keep up with the modelled
 	 * one (replaying a log faster than it was recorded) [s], in all and the longest. */
 	double replayWaitSeconds = 0, replayWaitMaxSeconds = 0;
+	/** Scans processed while a global search was in hand, and searches the tracking thread
+	 * ran itself (0 unless built with backgroundSearch off). */
+	size_t scansDuringSearches = 0, searchesOnTrackingThread = 0;
 	std::vector<TLocalizationEvent> events;
 	bool started = false;            //!< the start was found
 	std::string lastRejection;       //!< of the last failed global attempt
@@ -160,6 +163,7 @@ private:
 	/** Searching for the start or relocalising: the probe, fed the scans since then. */
 	std::unique_ptr<CStartFinder> m_finder;
 	size_t m_finderFirstIndex = 0;  //!< index in m_trajectory of the finder's first scan
+	size_t m_searchFirstIndex = 0;  //!< ... of the first scan a relocalisation corrects
 	bool m_searchWholeMap = true;   //!< the finder's attempts search the whole map
 	size_t m_failedAttempts = 0;    //!< of the finder (the window doubles with each)
 	CGlobalSearchWorker m_worker;

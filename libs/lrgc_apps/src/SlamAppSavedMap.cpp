@@ -159,7 +159,9 @@ std::string localizationStatsJson(const CLocalizer& loc, const TRunSummary& run,
 	  << ", \"total_s\": " << s.globalSeconds
 	  << ", \"modelled_s\": " << s.globalModelledSeconds
 	  << ", \"replay_wait_s\": " << s.replayWaitSeconds
-	  << ", \"replay_wait_max_ms\": " << 1e3 * s.replayWaitMaxSeconds << "},\n"
+	  << ", \"replay_wait_max_ms\": " << 1e3 * s.replayWaitMaxSeconds
+	  << ", \"on_tracking_thread\": " << s.searchesOnTrackingThread
+	  << ", \"scans_during_searches\": " << s.scansDuringSearches << "},\n"
 	  << "  \"events\": " << eventsJson(s.events) << ",\n"
 	  << "  \"warnings\": " << run.warnings << ",\n"
 	  << "  \"data_duration_s\": " << run.dataDurationSeconds << ",\n"
