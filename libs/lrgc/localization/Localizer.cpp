@@ -285,6 +285,7 @@ void CLocalizer::adoptFinderPoses(const TStartFound& found)
 	m_driftCov = found.cov;
 	m_refNodes.clear();
 	m_recent.clear();  // placed where the robot was thought to be
+	m_recentCloud.reset();
 	dropSearch();
 }
 
@@ -325,16 +326,19 @@ bool CLocalizer::track(const TScan2D& scan, mrpt::Clock::time_point t, bool& con
 	return good;
 }
 
-std::optional<TPose2D> CLocalizer::matchRecent(const TScan2D& scan, const TPose2D& prior) const
+std::optional<TPose2D> CLocalizer::matchRecent(const TScan2D& scan, const TPose2D& prior)
 {
 	if (m_recent.empty()) return std::nullopt;
 	const TPose2D refInMap = m_recent.back().second;
-	std::vector<TScan2D> scans;
-	std::vector<TPose2D> inRef;
-	for (const auto& [s, p] : m_recent)
-		scans.push_back(s), inRef.push_back(between(refInMap, p));
-	const auto m = m_matcher.match(CReferenceCloud::fromScans(scans, inRef, m_matcher.params()),
-								   scan, between(refInMap, prior));
+	if (!m_recentCloud)  // built once per change of m_recent
+	{
+		std::vector<TScan2D> scans;
+		std::vector<TPose2D> inRef;
+		for (const auto& [s, p] : m_recent)
+			scans.push_back(s), inRef.push_back(between(refInMap, p));
+		m_recentCloud = CReferenceCloud::fromScans(scans, inRef, m_matcher.params());
+	}
+	const auto m = m_matcher.match(*m_recentCloud, scan, between(refInMap, prior));
 	if (!m || m->inlierFraction < m_params.local.min_link_inlier_fraction) return std::nullopt;
 	return compose(refInMap, m->scanInRef);
 }
@@ -350,6 +354,7 @@ void CLocalizer::keepRecent(const TScan2D& scan, const TPose2D& pose)
 	}
 	m_recent.emplace_back(scan, pose);
 	if (m_recent.size() > m_params.local.window_size) m_recent.pop_front();
+	m_recentCloud.reset();
 }
 
 bool CLocalizer::referenceNear(const TPose2D& pose)

@@ -150,7 +150,7 @@ private:
 	bool referenceNear(const mrpt::math::TPose2D& pose);
 	/** The prior matched against the recent scans; nullopt if that fails too. */
 	std::optional<mrpt::math::TPose2D> matchRecent(const TScan2D& scan,
-												   const mrpt::math::TPose2D& prior) const;
+												   const mrpt::math::TPose2D& prior);
 	void keepRecent(const TScan2D& scan, const mrpt::math::TPose2D& pose);
 
 	CPoseGraph m_map;
@@ -184,6 +184,7 @@ private:
 	mrpt::math::TPose2D m_refInMap{0, 0, 0};
 	/** The log's own recent scans with their map poses, for matchRecent(). */
 	std::deque<std::pair<TScan2D, mrpt::math::TPose2D>> m_recent;
+	std::optional<CReferenceCloud> m_recentCloud;  //!< of m_recent, in its newest's frame
 	std::string m_laserLabel;
 	mrpt::Clock::time_point m_lastScanTime{};
 	double m_logClock = -1e300;  //!< latest scan stamp so far [s] (the search schedule's clock)
