@@ -165,14 +165,16 @@ void CLocalizer::trackAndWatch(const TScan2D& scan, mrpt::Clock::time_point t)
 void CLocalizer::startSearch(bool wholeMap, double /*stamp*/)
 {
 	dropSearch();
-	m_finder = std::make_unique<CStartFinder>(m_global, m_params, m_lp);
+	// Kidnapped: small patches on the whole map, their attempts backing off (see the header).
+	TLocalizationParams lp = m_lp;
+	if (wholeMap) lp.patch_keyframes = std::min(lp.patch_keyframes, kKidnapPatchKeyframes);
+	m_finder = std::make_unique<CStartFinder>(m_global, m_params, lp, wholeMap);
 	m_finderFirstIndex = m_trajectory.size();  // the probe starts with the next scan
 	// Kidnapped: the scans since the first contradicting the map were wrong too.
 	m_searchFirstIndex = wholeMap ? m_trajectory.size() - std::min(m_trajectory.size(),
 																  m_contradictedInARow)
 								  : m_finderFirstIndex;
 	m_searchWholeMap = wholeMap;
-	m_failedAttempts = 0;
 }
 
 void CLocalizer::dropSearch()
@@ -224,7 +226,6 @@ void CLocalizer::applySearchResult(const TGlobalLocation& location, double stamp
 	if (!found)
 	{
 		m_stats.lastRejection = m_finder->lastRejection();
-		++m_failedAttempts;
 		return;
 	}
 	const bool starting = !m_stats.started;

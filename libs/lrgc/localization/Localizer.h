@@ -19,9 +19,9 @@
  *     succeeds (a relocalisation), the scans since the loss get their located poses. A good
  *     tracking match before that ends the loss. Where to look: within 3 sigma of the
  *     carried pose (its drift covariance, at least kMinSearchHalfXY and kMinSearchHalfTheta),
- *     the window doubling with each failed attempt, and the whole map at once if the robot
- *     was kidnapped: kidnap_after scans in a row that contradict the map where the robot is
- *     thought to be (kContradictionFraction: walls where the map saw free space).
+ *     and the whole map at once if the robot was kidnapped: kidnap_after scans in a row that
+ *     contradict the map where the robot is thought to be (kContradictionFraction: walls
+ *     where the map saw free space), with patches of at most kKidnapPatchKeyframes.
  * Global correlations never run on the tracking thread (CGlobalSearchWorker): the start and
  * every relocalisation are searched beside it and applied at a scan fixed by the log.
  * The map is never changed. Frames: poses (map <- robot) [m, rad].
@@ -108,6 +108,11 @@ public:
 	 * Measured on Intel's second half: 0.38-0.51 for 10 scans after a 25 m kidnap; rooms the
 	 * map saw only from their doors 0-0.03. */
 	static constexpr double kContradictionFraction = 0.3, kContradictionMargin = 0.2;
+	/** Largest patch of a kidnap's whole-map search [keyframes]; past it the attempts back
+	 * off (CStartFinder). Intel: a 25 m kidnap was found with 1 keyframe; whole-map attempts
+	 * with 16-32 keyframes cost 6-10 s each, and where they kept failing (a stretch the first
+	 * half's map barely covers) they cost 40 s of modelled work. */
+	static constexpr size_t kKidnapPatchKeyframes = 8;
 
 	/** The map: node i of `map` at its pose with keyframes[i]'s scan (copied).
 	 * `backgroundSearch` off: global searches run on the caller's thread (same results). */
@@ -165,7 +170,6 @@ private:
 	size_t m_finderFirstIndex = 0;  //!< index in m_trajectory of the finder's first scan
 	size_t m_searchFirstIndex = 0;  //!< ... of the first scan a relocalisation corrects
 	bool m_searchWholeMap = true;   //!< the finder's attempts search the whole map
-	size_t m_failedAttempts = 0;    //!< of the finder (the window doubles with each)
 	CGlobalSearchWorker m_worker;
 	/** The attempt in the worker: its patch, its finder's generation and window. */
 	std::optional<TPatchRequest> m_inFlight;

@@ -7,8 +7,11 @@
 namespace lrgc
 {
 CStartFinder::CStartFinder(const CGlobalLocalizer& localizer, const TLRGCParams& params,
-						   const TLocalizationParams& localization)
-	: m_localizer(localizer), m_params(localization)
+						   const TLocalizationParams& localization, bool backoff)
+	: m_localizer(localizer),
+	  m_params(localization),
+	  m_backoff(backoff),
+	  m_spacing(std::max<size_t>(1, localization.patch_keyframes / 4))
 {
 	TLRGCParams probeParams = params;
 	probeParams.builder.loop_closing = false;  // a few metres of log: local registration
@@ -29,7 +32,13 @@ std::optional<TPatchRequest> CStartFinder::nextPatch()
 	const size_t n = g.numNodes();
 	if (n < m_nextAttemptAt) return std::nullopt;
 	const size_t P = m_params.patch_keyframes;
-	m_nextAttemptAt = n < P ? std::min(2 * n, P) : n + std::max<size_t>(1, P / 4);
+	if (n < P)
+		m_nextAttemptAt = std::min(2 * n, P);
+	else
+	{
+		m_nextAttemptAt = n + m_spacing;
+		if (m_backoff) m_spacing *= 2;
+	}
 
 	// The patch: the newest min(n, P) probe keyframes in the newest one's frame.
 	const size_t newest = n - 1, first = n - std::min(n, P);

@@ -6,8 +6,10 @@
  * within patch_max_range_m) when the probe holds 1, 2, 4, ... keyframes, up to
  * patch_keyframes, then every quarter of patch_keyframes with the newest patch_keyframes:
  * one scan is enough in a distinctive place, a corridor needs the robot to drive on until its
- * patch is unambiguous. The first patch passing the filters gives (map <- probe frame), and so
- * the map pose of every scan the probe saw. */
+ * patch is unambiguous. With `backoff` the spacing of the attempts with the full patch doubles
+ * after each (a search that keeps failing costs less and less per metre driven). The first
+ * patch passing the filters gives (map <- probe frame), and so the map pose of every scan the
+ * probe saw. */
 #pragma once
 
 #include <lrgc/localization/GlobalLocalizer.h>
@@ -42,7 +44,7 @@ class CStartFinder
 public:
 	/** `params`: the pipeline's parameters (the probe uses them with loop closing off). */
 	CStartFinder(const CGlobalLocalizer& localizer, const TLRGCParams& params,
-				 const TLocalizationParams& localization);
+				 const TLocalizationParams& localization, bool backoff = false);
 
 	/** The probe: feed it the new log's entries (processObservation or
 	 * processActionObservation), then call tryLocate(). */
@@ -68,6 +70,8 @@ private:
 	TLocalizationParams m_params;
 	std::unique_ptr<CMetricMapBuilderLRGC> m_probe;
 	size_t m_nextAttemptAt = 1;  //!< probe keyframes at the next attempt
+	bool m_backoff = false;
+	size_t m_spacing = 1;  //!< [keyframes] between attempts with the full patch
 	size_t m_attempts = 0;
 	double m_seconds = 0;
 	std::string m_lastRejection;
