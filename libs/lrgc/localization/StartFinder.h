@@ -6,8 +6,8 @@
  * within patch_max_range_m) when the probe holds 1, 2, 4, ... keyframes, up to
  * patch_keyframes, then every quarter of patch_keyframes with the newest patch_keyframes:
  * one scan is enough in a distinctive place, a corridor needs the robot to drive on until its
- * patch is unambiguous. With `backoff` the spacing of the attempts with the full patch doubles
- * after each (a search that keeps failing costs less and less per metre driven). The first
+ * patch is unambiguous. With `backoff` the attempts with the full patch are spaced by
+ * patch_keyframes new keyframes, then twice, four times as many ... (a search that keeps failing costs less and less per metre driven). The first
  * patch passing the filters gives (map <- probe frame), and so the map pose of every scan the
  * probe saw. */
 #pragma once
