@@ -170,10 +170,6 @@ void CLocalizer::startSearch(bool wholeMap, double /*stamp*/)
 	if (wholeMap) lp.patch_keyframes = std::min(lp.patch_keyframes, kKidnapPatchKeyframes);
 	m_finder = std::make_unique<CStartFinder>(m_global, m_params, lp, wholeMap);
 	m_finderFirstIndex = m_trajectory.size();  // the probe starts with the next scan
-	// Kidnapped: the scans since the first contradicting the map were wrong too.
-	m_searchFirstIndex = wholeMap ? m_trajectory.size() - std::min(m_trajectory.size(),
-																  m_contradictedInARow)
-								  : m_finderFirstIndex;
 	m_searchWholeMap = wholeMap;
 }
 
@@ -264,23 +260,13 @@ void CLocalizer::adoptFinderPoses(const TStartFound& found)
 			m_trajectory.push_back({p.timestamp, compose(found.probeInMap, p.robotInMap)});
 	else
 	{
-		// The scans between the first that contradicted the map and the probe's first were
-		// placed relative to the wrong place: they follow the probe's first scan, by the
-		// motion tracking gave them (X_k <- X'_f (+) (X_f^-1 (+) X_k)).
-		const size_t f = m_finderFirstIndex;
-		const TPose2D trackedFirst = f < m_trajectory.size() ? m_trajectory[f].robotInMap : m_pose;
-		size_t k = f;
+		size_t k = m_finderFirstIndex;
 		for (const auto& p : probe)
 		{
 			while (k < m_trajectory.size() && m_trajectory[k].timestamp != p.timestamp) ++k;
 			if (k == m_trajectory.size()) break;
 			m_trajectory[k].robotInMap = compose(found.probeInMap, p.robotInMap);
 		}
-		if (f < m_trajectory.size())
-			for (size_t i = std::min(m_searchFirstIndex, f); i < f; ++i)
-				m_trajectory[i].robotInMap =
-					compose(m_trajectory[f].robotInMap,
-							between(trackedFirst, m_trajectory[i].robotInMap));
 	}
 	if (!probe.empty()) m_pose = compose(found.probeInMap, probe.back().robotInMap);
 	m_driftCov = found.cov;

@@ -168,7 +168,6 @@ private:
 	/** Searching for the start or relocalising: the probe, fed the scans since then. */
 	std::unique_ptr<CStartFinder> m_finder;
 	size_t m_finderFirstIndex = 0;  //!< index in m_trajectory of the finder's first scan
-	size_t m_searchFirstIndex = 0;  //!< ... of the first scan a relocalisation corrects
 	bool m_searchWholeMap = true;   //!< the finder's attempts search the whole map
 	CGlobalSearchWorker m_worker;
 	/** The attempt in the worker: its patch, its finder's generation and window. */
