@@ -19,6 +19,7 @@ void TLocalizationParams::loadFromConfigFile(const mrpt::config::CConfigFileBase
 	lost_after = readCount(c, s, "lost_after", lost_after);
 	kidnap_after = readCount(c, s, "kidnap_after", kidnap_after);
 	search_budget_ms_per_s = readDouble(c, s, "search_budget_ms_per_s", search_budget_ms_per_s);
+	search_resolution_m = readDouble(c, s, "search_resolution_m", search_resolution_m);
 	requireParam(patch_keyframes >= 1, s, "patch_keyframes", "must be >= 1");
 	requireParam(patch_max_range_m > 0, s, "patch_max_range_m", "must be > 0 m");
 	requireParam(track_radius_m > 0, s, "track_radius_m", "must be > 0 m");
@@ -29,6 +30,7 @@ void TLocalizationParams::loadFromConfigFile(const mrpt::config::CConfigFileBase
 	requireParam(lost_after >= 1, s, "lost_after", "must be >= 1");
 	requireParam(kidnap_after >= 1, s, "kidnap_after", "must be >= 1");
 	requireParam(search_budget_ms_per_s > 0, s, "search_budget_ms_per_s", "must be > 0 ms/s");
+	requireParam(search_resolution_m > 0, s, "search_resolution_m", "must be > 0 m");
 }
 
 void TLocalizationParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
@@ -57,6 +59,9 @@ void TLocalizationParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
 	writeValue(c, s, "search_budget_ms_per_s", search_budget_ms_per_s,
 			   "[ms/s] --localize: modelled work per second of log of the global search "
 			   "beside tracking (its results land where such a worker finishes)");
+	writeValue(c, s, "search_resolution_m", search_resolution_m,
+			   "[m] --localize: cell of the global searches' correlation grid (tracking "
+			   "refines what they find)");
 }
 
 }  // namespace lrgc

@@ -38,6 +38,11 @@ struct TLocalizationParams : public mrpt::config::CLoadableOptions
 	 * where a worker doing this much modelled work (TLoopWork's model) per second of log
 	 * would finish them, so offline runs are deterministic. 1000: one reference core. */
 	double search_budget_ms_per_s = 1000;
+	/** [m] --localize: cell of the global searches' correlation grid (the [PatchCorrelator]
+	 * grid at this resolution). A found pose needs only to land where tracking's scan match
+	 * converges, and the next scan is matched against the map: Intel's second half scores
+	 * the same at 0.10 m as at 0.05 m (0.0229 m) for a quarter of the search work. */
+	double search_resolution_m = 0.10;
 
 	void loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
 							const std::string& s) override;

@@ -29,6 +29,15 @@ const char* TLocalizationEvent::name() const
 	return "?";
 }
 
+// The global searches' correlator: [PatchCorrelator] at [Localization] search_resolution_m.
+static TPatchCorrelatorParams searchCorrelator(TPatchCorrelatorParams p,
+											   const TLocalizationParams& localization)
+{
+	p.resolution_m = localization.search_resolution_m;
+	p.validate();
+	return p;
+}
+
 CLocalizer::CLocalizer(const CPoseGraph& map, const TKeyframes& keyframes,
 					   const TLRGCParams& params, const TLocalizationParams& localization,
 					   bool backgroundSearch)
@@ -36,7 +45,7 @@ CLocalizer::CLocalizer(const CPoseGraph& map, const TKeyframes& keyframes,
 	  m_keyframes(keyframes),
 	  m_params(params),
 	  m_lp(localization),
-	  m_global(map, keyframes, params.correlator),
+	  m_global(map, keyframes, searchCorrelator(params.correlator, localization)),
 	  m_predictor(std::make_unique<CMotionPredictor>(params.motion)),
 	  m_worker(m_global, localization.search_budget_ms_per_s, backgroundSearch)
 {
