@@ -157,7 +157,7 @@ void CLocalizer::trackAndWatch(const TScan2D& scan, mrpt::Clock::time_point t)
 						  "relocalising on the whole map",
 						  stamp, m_contradictedInARow);
 		record(Kind::Kidnapped, stamp);
-		startSearch(true, stamp);
+		startSearch(true);
 	}
 	else if (!m_finder && m_poorInARow >= m_lp.lost_after)
 	{
@@ -165,13 +165,13 @@ void CLocalizer::trackAndWatch(const TScan2D& scan, mrpt::Clock::time_point t)
 		MRPT_LOG_WARN_FMT("lost at t=%.3f after %zu poor matches: relocalising", stamp,
 						  m_poorInARow);
 		record(Kind::Lost, stamp);
-		startSearch(false, stamp);
+		startSearch(false);
 	}
 }
 
 // A new probe from the next scan on; a search of the previous probe still in the worker is
 // left to finish and its result dropped.
-void CLocalizer::startSearch(bool wholeMap, double /*stamp*/)
+void CLocalizer::startSearch(bool wholeMap)
 {
 	dropSearch();
 	// Kidnapped: small patches on the whole map, their attempts backing off (see the header).
@@ -195,7 +195,7 @@ void CLocalizer::serviceSearch(double stamp)
 	if (!m_finder || m_worker.busy()) return;
 	auto request = m_finder->nextPatch();
 	if (!request) return;
-	const TSearchArea area = searchArea();
+	const TSearchArea area = searchArea(request->newestInProbe);
 	TGlobalSearchJob job;
 	job.patch = request->points;
 	job.area = area;
@@ -206,13 +206,15 @@ void CLocalizer::serviceSearch(double stamp)
 	m_worker.submit(std::move(job));
 }
 
-// Where the next attempt looks (see the file comment); the patch pose is its newest
-// keyframe's, carried by tracking as the scan just processed.
-TSearchArea CLocalizer::searchArea() const
+// Where the next attempt looks (see the file comment). The patch is in the frame of the probe's
+// keyframe `newestInProbe`; tracking carried the scan just processed (the probe's last) to
+// m_pose, so that keyframe is at m_pose (+) (last^-1 (+) newest) in the map.
+TSearchArea CLocalizer::searchArea(const TPose2D& newestInProbe) const
 {
 	if (!m_stats.started || m_searchWholeMap) return m_global.wholeMap();
+	const TPose2D lastInProbe = m_finder->probe().trajectory().back().robotInMap;
 	TSearchArea a;
-	a.centre = m_pose;
+	a.centre = compose(m_pose, between(lastInProbe, newestInProbe));
 	a.halfXY =
 		std::max(kMinSearchHalfXY, 3 * std::sqrt(std::max(m_driftCov(0, 0), m_driftCov(1, 1))));
 	a.halfTheta = std::max(kMinSearchHalfTheta, 3 * std::sqrt(m_driftCov(2, 2)));

@@ -139,12 +139,12 @@ private:
 	void processScan(const mrpt::obs::CObservation2DRangeScan::Ptr& laser);
 	/** Tracking one scan, then the loss bookkeeping. */
 	void trackAndWatch(const TScan2D& scan, mrpt::Clock::time_point t);
-	void startSearch(bool wholeMap, double stamp);
+	void startSearch(bool wholeMap);
 	void dropSearch();
 	/** Applies the search result due at `stamp`, then submits the next attempt if due. */
 	void serviceSearch(double stamp);
 	void applySearchResult(const TGlobalLocation& location, double stamp);
-	TSearchArea searchArea() const;
+	TSearchArea searchArea(const mrpt::math::TPose2D& newestInProbe) const;
 	void adoptFinderPoses(const TStartFound& found);
 	void record(TLocalizationEvent::Kind kind, double stamp, double jump = 0,
 				double window = 0);
