@@ -152,9 +152,9 @@ TEST(IntelSplit, kidnappedRobotIsRelocalisedAndReported)
 	const double t0 = firstStamp(h.second), from = t0 + 633.2, to = t0 + 775.2;
 	const std::string kidnapped = h.dir + "/intel-second-kidnapped.clf";
 	const double shift = cutCarmenLog(h.second, kidnapped, from, to);
-	const auto r = runProcess(binaryPath("lrgc-slam"), {"--input", kidnapped, "--localize",
-														h.dir + "/first", "--out",
-														h.dir + "/kidnapped"});
+	const auto r = runProcess(
+		binaryPath("lrgc-slam"),
+		{"--input", kidnapped, "--localize", h.dir + "/first", "--out", h.dir + "/kidnapped"});
 	ASSERT_EQ(r.exitCode, 0) << r.output;
 	// Reported: the events in stats.json and a message, the pose moved by the jump.
 	const std::string stats = readTextFile(h.dir + "/kidnapped/stats.json");
@@ -174,7 +174,8 @@ TEST(IntelSplit, kidnappedRobotIsRelocalisedAndReported)
 	ASSERT_GE(relocalizedAt, kidnapAt) << stats;
 	RecordProperty("kidnap_detected_after_s", std::to_string(kidnapAt - from));
 	RecordProperty("relocalized_after_s", std::to_string(relocalizedAt - from));
-	EXPECT_LE(relocalizedAt - from, 5.0) << "relocalised " << relocalizedAt - from << " s after";
+	EXPECT_LE(relocalizedAt - from, 5.0)
+		<< "relocalised " << relocalizedAt - from << " s after";
 	EXPECT_NEAR(jump, 25, 2);
 	EXPECT_NE(r.output.find("relocalized at"), std::string::npos) << r.output;
 	// Accurate: the relations, on the original log's clock, but those touching the scans

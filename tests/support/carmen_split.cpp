@@ -94,11 +94,14 @@ double cutCarmenLog(const std::string& log, const std::string& out, double from,
 			continue;
 		}
 		if (stamp < to) continue;
-		if (!after) after = true, shift = stamp - from, moved = compose(lastBefore, inverse(odo));
+		if (!after)
+			after = true, shift = stamp - from, moved = compose(lastBefore, inverse(odo));
 		for (const size_t k : f[0] == "ODOM" ? std::vector<size_t>{o} : std::vector{o - 3, o})
 		{
-			const TPose p = compose(moved, {std::stod(f[k]), std::stod(f[k + 1]), std::stod(f[k + 2])});
-			f[k] = std::to_string(p.x), f[k + 1] = std::to_string(p.y), f[k + 2] = std::to_string(p.phi);
+			const TPose p =
+				compose(moved, {std::stod(f[k]), std::stod(f[k + 1]), std::stod(f[k + 2])});
+			f[k] = std::to_string(p.x), f[k + 1] = std::to_string(p.y),
+			f[k + 2] = std::to_string(p.phi);
 		}
 		for (const size_t k : {f.size() - 3, f.size() - 1})
 			f[k] = mrpt::format("%.6f", std::stod(f[k]) - shift);

@@ -77,9 +77,9 @@ private:
 
 	std::mutex m_mutex;  // guards what follows
 	std::condition_variable m_cv;
-	std::optional<TGlobalSearchJob> m_job;      //!< handed over, not yet started
-	double m_progressMs = 0;                    //!< modelled work so far of the search running
-	std::optional<TGlobalLocation> m_result;    //!< of the last search, not yet taken
+	std::optional<TGlobalSearchJob> m_job;    //!< handed over, not yet started
+	double m_progressMs = 0;                  //!< modelled work so far of the search running
+	std::optional<TGlobalLocation> m_result;  //!< of the last search, not yet taken
 	std::exception_ptr m_error;
 	bool m_stop = false;
 	std::thread m_thread;  // last: started once the rest is constructed

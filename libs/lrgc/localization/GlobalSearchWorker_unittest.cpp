@@ -38,8 +38,8 @@ TRoomMap roomMap()
 		kf.scan = test::simulateScan(world, p, laser, rng);
 		m.keyframes.push_back(std::move(kf));
 	}
-	m.truth = TPose2D(0.5 * (b.min.x() + b.max.x()) + 0.4, 0.5 * (b.min.y() + b.max.y()) - 0.3,
-					  0.6);
+	m.truth =
+		TPose2D(0.5 * (b.min.x() + b.max.x()) + 0.4, 0.5 * (b.min.y() + b.max.y()) - 0.3, 0.6);
 	m.patch = test::simulateScan(world, m.truth, laser, rng).points;
 	return m;
 }

@@ -20,11 +20,16 @@ const char* TLocalizationEvent::name() const
 {
 	switch (kind)
 	{
-		case Kind::Started: return "started";
-		case Kind::Lost: return "lost";
-		case Kind::Kidnapped: return "kidnapped";
-		case Kind::Relocalized: return "relocalized";
-		case Kind::RecoveredByTracking: return "recovered_by_tracking";
+		case Kind::Started:
+			return "started";
+		case Kind::Lost:
+			return "lost";
+		case Kind::Kidnapped:
+			return "kidnapped";
+		case Kind::Relocalized:
+			return "relocalized";
+		case Kind::RecoveredByTracking:
+			return "recovered_by_tracking";
 	}
 	return "?";
 }
@@ -153,9 +158,10 @@ void CLocalizer::trackAndWatch(const TScan2D& scan, mrpt::Clock::time_point t)
 	if (m_contradictedInARow >= m_lp.kidnap_after && !(m_finder && m_searchWholeMap))
 	{
 		++m_stats.kidnapEvents;
-		MRPT_LOG_WARN_FMT("kidnapped at t=%.3f: %zu scans in a row contradict the map: "
-						  "relocalising on the whole map",
-						  stamp, m_contradictedInARow);
+		MRPT_LOG_WARN_FMT(
+			"kidnapped at t=%.3f: %zu scans in a row contradict the map: "
+			"relocalising on the whole map",
+			stamp, m_contradictedInARow);
 		record(Kind::Kidnapped, stamp);
 		startSearch(true);
 	}
@@ -190,8 +196,7 @@ void CLocalizer::dropSearch()
 
 void CLocalizer::serviceSearch(double stamp)
 {
-	if (auto location = m_worker.takeIfDue(stamp))
-		applySearchResult(*location, stamp);
+	if (auto location = m_worker.takeIfDue(stamp)) applySearchResult(*location, stamp);
 	if (!m_finder || m_worker.busy()) return;
 	auto request = m_finder->nextPatch();
 	if (!request) return;

@@ -63,9 +63,9 @@ struct TLocalizationEvent
 		RecoveredByTracking,  //!< lost, then a good tracking match came first
 	};
 	Kind kind = Kind::Lost;
-	double stamp = 0;                      //!< of the scan [s]
-	mrpt::math::TPose2D pose{0, 0, 0};     //!< of that scan (map <- robot), after the event
-	double jump_m = 0;    //!< Relocalized: how far the pose moved [m]
+	double stamp = 0;                   //!< of the scan [s]
+	mrpt::math::TPose2D pose{0, 0, 0};  //!< of that scan (map <- robot), after the event
+	double jump_m = 0;                  //!< Relocalized: how far the pose moved [m]
 	double window_m = 0;  //!< Started, Relocalized: half width of the search window [m]
 	/** "started", "lost", "kidnapped", "relocalized", "recovered_by_tracking". */
 	const char* name() const;
@@ -77,13 +77,13 @@ struct TLocalizerStats
 	size_t localizedScans = 0;                //!< scans with a map pose (the trajectory)
 	size_t scansBeforeStart = 0;              //!< scans taken before the start was found
 	size_t goodMatches = 0, poorMatches = 0;  //!< tracking against the map, once started
-	size_t recentMatches = 0;        //!< of the poor ones, placed by the log's recent scans
-	size_t lostEvents = 0;           //!< lost_after poor matches in a row
-	size_t kidnapEvents = 0;         //!< kidnap_after scans in a row contradicting the map
-	size_t relocalizations = 0;      //!< lost, then found again by global localisation
-	size_t recoveredByTracking = 0;  //!< lost, then a good tracking match came first
-	size_t globalAttempts = 0;       //!< global correlations (start and relocalisations)
-	double globalSeconds = 0;        //!< their total time [s], on the search thread
+	size_t recentMatches = 0;          //!< of the poor ones, placed by the log's recent scans
+	size_t lostEvents = 0;             //!< lost_after poor matches in a row
+	size_t kidnapEvents = 0;           //!< kidnap_after scans in a row contradicting the map
+	size_t relocalizations = 0;        //!< lost, then found again by global localisation
+	size_t recoveredByTracking = 0;    //!< lost, then a good tracking match came first
+	size_t globalAttempts = 0;         //!< global correlations (start and relocalisations)
+	double globalSeconds = 0;          //!< their total time [s], on the search thread
 	double globalModelledSeconds = 0;  //!< their modelled time (TGlobalLocation) [s]
 	/** Time the tracking thread waited for the search thread to keep up with the modelled
 	 * one (replaying a log faster than it was recorded) [s], in all and the longest. */
@@ -92,8 +92,8 @@ struct TLocalizerStats
 	 * ran itself (0 unless built with backgroundSearch off). */
 	size_t scansDuringSearches = 0, searchesOnTrackingThread = 0;
 	std::vector<TLocalizationEvent> events;
-	bool started = false;            //!< the start was found
-	std::string lastRejection;       //!< of the last failed global attempt
+	bool started = false;       //!< the start was found
+	std::string lastRejection;  //!< of the last failed global attempt
 };
 
 class CLocalizer : public mrpt::system::COutputLogger
@@ -182,7 +182,7 @@ private:
 		Eigen::Matrix3d::Zero();  //!< since the last good match, map axes
 	size_t m_poorInARow = 0;
 	size_t m_contradictedInARow = 0;  //!< scans contradicting the map (track())
-	std::vector<size_t> m_refNodes;  //!< keyframes of the current reference cloud
+	std::vector<size_t> m_refNodes;   //!< keyframes of the current reference cloud
 	CReferenceCloud m_ref;
 	mrpt::math::TPose2D m_refInMap{0, 0, 0};
 	/** The log's own recent scans with their map poses, for matchRecent(). */

@@ -11,8 +11,8 @@ CStartFinder::CStartFinder(const CGlobalLocalizer& localizer, const TLRGCParams&
 	: m_localizer(localizer),
 	  m_params(localization),
 	  m_backoff(backoff),
-	  m_spacing(std::max<size_t>(1, backoff ? localization.patch_keyframes
-											: localization.patch_keyframes / 4))
+	  m_spacing(std::max<size_t>(
+		  1, backoff ? localization.patch_keyframes : localization.patch_keyframes / 4))
 {
 	TLRGCParams probeParams = params;
 	probeParams.builder.loop_closing = false;  // a few metres of log: local registration

@@ -7,9 +7,9 @@
  * patch_keyframes, then every quarter of patch_keyframes with the newest patch_keyframes:
  * one scan is enough in a distinctive place, a corridor needs the robot to drive on until its
  * patch is unambiguous. With `backoff` the attempts with the full patch are spaced by
- * patch_keyframes new keyframes, then twice, four times as many ... (a search that keeps failing costs less and less per metre driven). The first
- * patch passing the filters gives (map <- probe frame), and so the map pose of every scan the
- * probe saw. */
+ * patch_keyframes new keyframes, then twice, four times as many ... (a search that keeps
+ * failing costs less and less per metre driven). The first patch passing the filters gives (map
+ * <- probe frame), and so the map pose of every scan the probe saw. */
 #pragma once
 
 #include <lrgc/localization/GlobalLocalizer.h>
@@ -34,9 +34,9 @@ struct TStartFound
 /** The patch of one attempt: the newest probe keyframes' points in the newest one's frame. */
 struct TPatchRequest
 {
-	std::vector<Eigen::Vector2d> points;          //!< [m], (probe keyframe `newest`) frame
-	mrpt::math::TPose2D newestInProbe{0, 0, 0};   //!< (probe frame <- newest keyframe)
-	size_t keyframes = 0;                         //!< in the patch
+	std::vector<Eigen::Vector2d> points;         //!< [m], (probe keyframe `newest`) frame
+	mrpt::math::TPose2D newestInProbe{0, 0, 0};  //!< (probe frame <- newest keyframe)
+	size_t keyframes = 0;                        //!< in the patch
 };
 
 class CStartFinder

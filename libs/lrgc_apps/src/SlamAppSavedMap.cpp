@@ -156,8 +156,7 @@ std::string localizationStatsJson(const CLocalizer& loc, const TRunSummary& run,
 	  << "  \"relocalizations\": " << s.relocalizations << ",\n"
 	  << "  \"recovered_by_tracking\": " << s.recoveredByTracking << ",\n"
 	  << "  \"global_localization\": {\"attempts\": " << s.globalAttempts
-	  << ", \"total_s\": " << s.globalSeconds
-	  << ", \"modelled_s\": " << s.globalModelledSeconds
+	  << ", \"total_s\": " << s.globalSeconds << ", \"modelled_s\": " << s.globalModelledSeconds
 	  << ", \"replay_wait_s\": " << s.replayWaitSeconds
 	  << ", \"replay_wait_max_ms\": " << 1e3 * s.replayWaitMaxSeconds
 	  << ", \"on_tracking_thread\": " << s.searchesOnTrackingThread
@@ -205,9 +204,9 @@ namespace
 {
 std::string eventLine(const TLocalizationEvent& e)
 {
-	std::string line = mrpt::format("lrgc-slam: t=%.3f %s at (%.2f m, %.2f m, %.1f deg)",
-									e.stamp, e.name(), e.pose.x, e.pose.y,
-									mrpt::RAD2DEG(e.pose.phi));
+	std::string line =
+		mrpt::format("lrgc-slam: t=%.3f %s at (%.2f m, %.2f m, %.1f deg)", e.stamp, e.name(),
+					 e.pose.x, e.pose.y, mrpt::RAD2DEG(e.pose.phi));
 	if (e.kind == TLocalizationEvent::Kind::Relocalized)
 		line += mrpt::format(": the pose moved %.2f m", e.jump_m);
 	return line;
