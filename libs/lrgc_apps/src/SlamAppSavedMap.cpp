@@ -20,7 +20,9 @@
 #include <lrgc/map_builder/CMetricMapBuilderLRGC.h>
 #include <mrpt/obs/CActionCollection.h>
 
+#include <algorithm>
 #include <chrono>
+#include <ctime>
 #include <filesystem>
 #include <sstream>
 
@@ -28,6 +30,22 @@ namespace lrgc::apps
 {
 namespace
 {
+/** CPU time of the calling thread [ms] (POSIX): a scan's own work, without the time the
+ * machine gave other processes meanwhile. */
+double threadCpuMs()
+{
+	timespec t{};
+	clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+	return 1e3 * double(t.tv_sec) + 1e-6 * double(t.tv_nsec);
+}
+
+/** Per localised scan, as TRunSummary::latencyMs: the replay's wait for the search worker
+ * (not in latencyMs) and the tracking thread's CPU time [ms]. */
+struct TScanCosts
+{
+	std::vector<double> replayWaitMs, cpuMs;
+};
+
 std::string noStartMessage(const std::string& map, size_t scans, size_t attempts,
 						   const std::string& lastRejection)
 {
@@ -133,8 +151,10 @@ std::string eventsJson(const std::vector<TLocalizationEvent>& events)
 }
 
 std::string localizationStatsJson(const CLocalizer& loc, const TRunSummary& run,
-								  const std::string& map)
+								  const TScanCosts& costs, const std::string& map)
 {
+	const double cpuMax =
+		costs.cpuMs.empty() ? 0 : *std::max_element(costs.cpuMs.begin(), costs.cpuMs.end());
 	const TLocalizerStats& s = loc.stats();
 	const TLatencySummary lat = summarizeLatencies(run.latencyMs);
 	std::ostringstream j;
@@ -168,7 +188,8 @@ std::string localizationStatsJson(const CLocalizer& loc, const TRunSummary& run,
 	  << "  \"cpu_time_s\": " << run.cpuSeconds << ",\n"
 	  << "  \"peak_rss_mb\": " << run.peakRssMiB << ",\n"
 	  << "  \"latency_ms\": {\"median\": " << lat.median_ms << ", \"p99\": " << lat.p99_ms
-	  << ", \"max\": " << lat.max_ms << ", \"mean\": " << lat.mean_ms << "}\n"
+	  << ", \"max\": " << lat.max_ms << ", \"mean\": " << lat.mean_ms
+	  << ", \"cpu_max\": " << cpuMax << "}\n"
 	  << "}\n";
 	return j.str();
 }
@@ -179,7 +200,7 @@ namespace
 // --localize's outputs in cl.outDir (never the map's folder: checked before the run): the
 // trajectory and the per-scan latencies once a scan was localised, the configuration, stats.
 void writeLocalizationOutputs(const CLocalizer& localizer, const TRunSummary& run,
-							  const std::vector<double>& replayWaitMs, const TAppConfig& cfg,
+							  const TScanCosts& costs, const TAppConfig& cfg,
 							  const TSlamCommandLine& cl)
 {
 	namespace fs = std::filesystem;
@@ -188,15 +209,15 @@ void writeLocalizationOutputs(const CLocalizer& localizer, const TRunSummary& ru
 	if (!localizer.trajectory().empty())
 	{
 		writeTrajectoryTum(localizer.trajectory(), path("trajectory.tum"));
-		std::string csv = "scan_index,timestamp,latency_ms,replay_wait_ms\n";
+		std::string csv = "scan_index,timestamp,latency_ms,replay_wait_ms,cpu_ms\n";
 		for (size_t i = 0; i < run.latencyMs.size(); ++i)
-			csv += mrpt::format("%zu,%.6f,%.4f,%.4f\n", i, run.latencyStamp[i],
-								run.latencyMs[i], replayWaitMs[i]);
+			csv += mrpt::format("%zu,%.6f,%.4f,%.4f,%.4f\n", i, run.latencyStamp[i],
+								run.latencyMs[i], costs.replayWaitMs[i], costs.cpuMs[i]);
 		writeTextFileAtomically(path("timing.csv"), csv);
 	}
 	writeTextFileAtomically(path(kRunConfigFile), runConfigText(cfg, cl.input));
 	writeTextFileAtomically(path("stats.json"),
-							localizationStatsJson(localizer, run, cl.localize));
+							localizationStatsJson(localizer, run, costs, cl.localize));
 }
 }  // namespace
 
@@ -241,7 +262,7 @@ int CSlamApp::runLocalize(const TSlamCommandLine& cl)
 	CRunClock clock;
 	TRunSummary run;
 	run.input = cl.input;
-	std::vector<double> replayWaitMs;  // per scan, as run.latencyMs
+	std::vector<double> replayWaitMs, cpuMs;  // per scan, as run.latencyMs
 	int exitCode = kExitOk;
 	while (!signals.stopRequested())
 	{
@@ -261,6 +282,7 @@ int CSlamApp::runLocalize(const TSlamCommandLine& cl)
 		const size_t scansBefore = localizer->stats().scans;
 		const size_t eventsBefore = localizer->stats().events.size();
 		const auto t0 = std::chrono::steady_clock::now();
+		const double cpu0 = threadCpuMs();
 		feedEntry(*localizer, *entry);
 		if (localizer->stats().scans > scansBefore && entry)
 		{
@@ -272,6 +294,7 @@ int CSlamApp::runLocalize(const TSlamCommandLine& cl)
 					.count() -
 				waitMs);
 			replayWaitMs.push_back(waitMs);
+			cpuMs.push_back(threadCpuMs() - cpu0);
 			run.latencyStamp.push_back(mrpt::Clock::toDouble(localizer->lastScanTimestamp()));
 		}
 		const auto& events = localizer->stats().events;  // what a navigation stack hears
@@ -292,7 +315,7 @@ int CSlamApp::runLocalize(const TSlamCommandLine& cl)
 	}
 	progress.finish(exitCode == kExitOk ? 1.0 : reader->fractionRead(), s.scans);
 	finishRunSummary(run, clock, m_warningsTotal);
-	writeLocalizationOutputs(*localizer, run, replayWaitMs, cfg, cl);
+	writeLocalizationOutputs(*localizer, run, {replayWaitMs, cpuMs}, cfg, cl);
 	if (exitCode != kExitOk) report("lrgc-slam: " + run.status);
 	if (!cl.quiet || exitCode != kExitOk)
 		report(mrpt::format(

@@ -133,6 +133,12 @@ TEST(PlotInputs, TimingCsv)
 	EXPECT_EQ(t[1].scanIndex, 1u);
 	EXPECT_DOUBLE_EQ(t[0].timestamp, 100.5);
 	EXPECT_DOUBLE_EQ(t[0].latency_ms, 3.25);
+	// --localize's timing.csv: two more columns.
+	writeFile(dir + "/l.csv",
+			  "scan_index,timestamp,latency_ms,replay_wait_ms,cpu_ms\n"
+			  "0,100.5,3.25,0,3.1\n");
+	ASSERT_EQ(loadTimingCsv(dir + "/l.csv").size(), 1u);
+	EXPECT_DOUBLE_EQ(loadTimingCsv(dir + "/l.csv")[0].latency_ms, 3.25);
 	writeFile(dir + "/bad.csv", "scan_index,timestamp,latency_ms\n0,100.5,3.25\n1,100.7\n");
 	EXPECT_NE(errorOf([&] { loadTimingCsv(dir + "/bad.csv"); }).find("bad.csv:3: expected"),
 			  std::string::npos);

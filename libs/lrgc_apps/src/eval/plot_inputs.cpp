@@ -174,7 +174,8 @@ std::vector<TScanTiming> loadTimingCsv(const std::string& path)
 						std::string fields = line;
 						std::replace(fields.begin(), fields.end(), ',', ' ');
 						const auto v = parseNumberLine(fields, path, lineNo);
-						if (v.size() != 3 || v[0] < 0)
+						// --localize's timing.csv has more columns after these three.
+						if (v.size() < 3 || v[0] < 0)
 							THROW_EXCEPTION_FMT(
 								"%s:%zu: expected scan_index,timestamp,latency_ms",
 								path.c_str(), lineNo);

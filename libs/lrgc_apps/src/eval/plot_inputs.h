@@ -59,7 +59,8 @@ struct TScanTiming
 	double latency_ms = 0;  //!< [ms]
 };
 
-/** Reads timing.csv (header line, then `scan_index,timestamp,latency_ms`). */
+/** Reads timing.csv (header line, then `scan_index,timestamp,latency_ms`, and in a
+ * --localize run's `replay_wait_ms,cpu_ms` after them, not read). */
 std::vector<TScanTiming> loadTimingCsv(const std::string& path);
 
 }  // namespace lrgc::apps::eval
