@@ -101,9 +101,19 @@ def latency_ratio(ours_ms, icp_ms):
 def relation_cells(run):
     rel = (run.eval or {}).get("relations")
     if not rel:
-        return ["–", "–", "–"]
+        return ["–", "–", "–", "–"]
     used = "%d/%d" % (rel["used"], rel["total"])
-    return [pm(rel["translational_m"], "%.3f"), pm(rel["rotational_deg"], "%.2f"), used]
+    return [pm(rel["translational_m"], "%.3f"), pm(rel["rotational_deg"], "%.2f"), used,
+            short_relation_cell(run)]
+
+
+def short_relation_cell(run):
+    """Relations under 10 s apart off by more than 2 deg (issue 28: the heading's tail)."""
+    short = (run.eval or {}).get("short_relations")
+    if not short or not short.get("count"):
+        return "–"
+    return "%d/%d (%.1f %%)" % (short["rotational_over_2_deg"], short["count"],
+                                100.0 * short["rotational_over_2_deg"] / short["count"])
 
 
 def ate_cells(run):
@@ -127,7 +137,8 @@ def system_cells(run):
 
 REAL_HEADER = ["log", "system", "scans", "data [s]", "wall [s]", "CPU [s]", "real-time ×",
                "peak RSS [MB]", "latency med / p99 / max [ms]", "loops",
-               "rel. error [m]", "rel. error [deg]", "relations used"]
+               "rel. error [m]", "rel. error [deg]", "relations used",
+               "10 s relations off > 2°"]
 SYN_HEADER = REAL_HEADER[:10] + ["ATE rmse [m]", "ATE [m]", "RPE 1 step [m]"]
 
 
@@ -145,10 +156,10 @@ def real_rows(log_name, runs, published):
         rows.append([log_name, "Cartographer (published)", "–", fmt(pub.get("data_s"), "%.0f"),
                      fmt(pub.get("wall_s"), "%.0f"), "–",
                      ratio(pub.get("data_s"), pub.get("wall_s"), "%.1f"), "–", "–", "–",
-                     err[0], err[1] if len(err) > 1 else "–", "–"])
+                     err[0], err[1] if len(err) > 1 else "–", "–", "–"])
     if pub and pub.get("scan_matching"):
         rows.append([log_name, "scan matching only (published)", "–", "–", "–", "–", "–", "–",
-                     "–", "–", pub["scan_matching"], "–", "–"])
+                     "–", "–", pub["scan_matching"], "–", "–", "–"])
     by = {r.system: r for r in runs}
     ours, icp = by.get("lrgc-slam"), by.get("icp-slam")
     if ours and icp and ours.ok and icp.ok:
@@ -161,7 +172,7 @@ def real_rows(log_name, runs, published):
                      " / ".join(latency_ratio(a, b) for a, b in zip(lo, li)) if lo and li else "–",
                      "",
                      ratio(mean_of(ours, "translational_m"), mean_of(icp, "translational_m")),
-                     ratio(mean_of(ours, "rotational_deg"), mean_of(icp, "rotational_deg")), ""])
+                     ratio(mean_of(ours, "rotational_deg"), mean_of(icp, "rotational_deg")), "", ""])
     return rows
 
 

@@ -235,6 +235,33 @@ TEST(LoopClosingWorker, aModelledWorkerDelaysCostlyResultsAndShedsSearchesWhatev
 	EXPECT_EQ(normal.stats.loopClosureLinks, slow.stats.loopClosureLinks);
 }
 
+// Issue 28: while the modelled worker is behind, searches are thinned out, never stopped: a
+// search runs every patch_min_keyframes keyframes, so every keyframe whose search was shed lies
+// in the patch of the next search that ran (a patch is at least patch_min_keyframes long), and
+// no place goes unsearched. Before, every search was shed until the worker caught up: runs of
+// up to 138 keyframes on MIT Killian.
+TEST(LoopClosingWorker, searchesShedWhileBehindLieInTheNextSearchsPatch)
+{
+	TLRGCParams p;
+	p.loop.worker_budget_ms = 0.2;
+	p.loop.max_backlog_keyframes = 6;
+	const TRun run = mapRing(p, std::chrono::milliseconds(0));
+	const auto& shed = run.loop.shedKeyframes;
+	ASSERT_GT(shed.size(), 0U) << "the worker must fall behind for this test";
+	size_t longest = 1, current = 1;
+	for (size_t i = 1; i < shed.size(); ++i)
+	{
+		current = shed[i] == shed[i - 1] + 1 ? current + 1
+				  : shed[i] == shed[i - 1]   ? current
+											 : 1;
+		longest = std::max(longest, current);
+	}
+	::testing::Test::RecordProperty("searches_shed", std::to_string(shed.size()));
+	::testing::Test::RecordProperty("longest_run_shed", std::to_string(longest));
+	EXPECT_LT(longest, p.loop.patch_min_keyframes)
+		<< "consecutive keyframes shed: a place no search's patch covered";
+}
+
 TEST(LoopWork, theModelIsLinearInTheCounts)
 {
 	lrgc::TLoopWork a, b;

@@ -81,8 +81,10 @@ struct TLoopCloserParams : public mrpt::config::CLoadableOptions
 	 * still a function of the log alone. 0: every result at k + result_delay_keyframes. */
 	double worker_budget_ms = 5;
 	/** [keyframes] When the modelled worker is more than this behind the newest keyframe, a
-	 * job only brings the worker's graph up to date and skips its search (the next keyframes
-	 * look again): the worker's work stays bounded by worker_budget_ms per keyframe. Only
+	 * job only brings the worker's graph up to date and skips its search, unless the last
+	 * search ran patch_min_keyframes keyframes ago: searches are thinned, never stopped, and
+	 * a keyframe shed lies in the patch of the next search (its place is searched). The
+	 * worker's work stays bounded by worker_budget_ms per keyframe. Only
 	 * with worker_budget_ms > 0. Live runs (apply_when_ready) use neither: results are
 	 * taken when ready and no search is skipped. 150: with 15-keyframe windows, 300 let
 	 * Intel driven four times over add 2190 keyframes in every pass (no reuse); 150 adds

@@ -36,8 +36,9 @@ struct TLoopCloserStats
 	/** Searches the worker skipped because its modelled schedule ran more than
 	 * [LoopCloser] max_backlog_keyframes keyframes behind (CLoopClosingWorker). */
 	size_t searchesShed = 0;
-	/** Where: the keyframe (graph node) of each search shed, in order (issue 28: a place
-	 * whose search was shed may be a loop not closed). */
+	/** Where: the keyframe (graph node) of each search shed, in order. Each lies within
+	 * patch_min_keyframes before a search that ran, so in its patch (issue 28: no place goes
+	 * unsearched). */
 	std::vector<size_t> shedKeyframes;
 };
 

@@ -22,6 +22,7 @@ CLoopClosingWorker::CLoopClosingWorker(const TLoopCloserParams& p,
 	  // worker, given the robot's time, has done long ago.
 	  m_budgetMs(p.apply_when_ready ? 0.0 : p.worker_budget_ms),
 	  m_maxBacklog(p.max_backlog_keyframes),
+	  m_searchSpacing(p.patch_min_keyframes),
 	  m_closer(p, correlator, matcher, optimizer)
 {
 	// Results taken whenever ready (a live run): the mapping thread never waits for this
@@ -238,10 +239,14 @@ TLoopJobResult CLoopClosingWorker::execute(TLoopJob& job)
 	TLoopJobResult r;
 	r.newest = job.newest;
 	r.clock = job.clock;
-	if (m_budgetMs > 0 && start - double(job.clock) > double(m_maxBacklog))
+	if (m_budgetMs > 0 && start - double(job.clock) > double(m_maxBacklog) &&
+		job.newest < m_lastSearched + m_searchSpacing)
 		m_closer.countShed(job.newest);
 	else
+	{
 		r.closure = m_closer.process(m_replica, m_scans);
+		m_lastSearched = job.newest;
+	}
 	m_closer.setProgressCallback({});
 	double finish = start;
 	r.dueAt = dueKeyframe(job.clock, start, workSoFar(), &finish);

@@ -30,10 +30,13 @@
  * keyframe clock when it handed the job over (keyframes taken, new or reused: on known ground
  * the robot reuses keyframes and adds no node, and results must still land) and W_j the job's
  * modelled work [ms]. A job that would start more than max_backlog_keyframes keyframes behind
- * skips its search. While a job runs, the worker publishes the due keyframe its work so far
- * implies (a lower bound), so the mapping thread waits only when the real worker is slower than
- * the modelled one. With `background` off a job runs inside submit() on the caller's thread:
- * the same results, for debugging and tests.
+ * skips its search, unless the last search ran patch_min_keyframes keyframes before it or
+ * more: while behind, searches are thinned out, never stopped, and every keyframe skipped lies
+ * in the patch of a search that ran (a patch is at least patch_min_keyframes long), so no
+ * place goes unsearched (issue 28). While a job runs, the worker publishes the due keyframe its
+ * work so far implies (a lower bound), so the mapping thread waits only when the real worker is
+ * slower than the modelled one. With `background` off a job runs inside submit() on the
+ * caller's thread: the same results, for debugging and tests.
  */
 #pragma once
 
@@ -136,6 +139,8 @@ private:
 	const size_t m_resultDelay;
 	const double m_budgetMs;  //!< worker_budget_ms (0: results at k + result_delay_keyframes)
 	const size_t m_maxBacklog;
+	const size_t m_searchSpacing;  //!< patch_min_keyframes: the thinned searches' spacing
+	size_t m_lastSearched = 0;     //!< newest node of the last job that searched
 	CLoopCloser m_closer;
 	CPoseGraph m_replica;  //!< the mapping thread's graph as of the last job, corrected
 	TScanRefs m_scans;     //!< per replica node
