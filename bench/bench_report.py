@@ -109,7 +109,7 @@ def relation_cells(run):
 
 def short_relation_cell(run):
     """Relations under 10 s apart off by more than 2 deg (issue 28: the heading's tail)."""
-    short = (run.eval or {}).get("short_relations")
+    short = ((run.eval or {}).get("relations") or {}).get("short_relations")
     if not short or not short.get("count"):
         return "–"
     return "%d/%d (%.1f %%)" % (short["rotational_over_2_deg"], short["count"],
