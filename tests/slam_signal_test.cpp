@@ -67,6 +67,34 @@ void writeRepeatedSena(const std::string& path, int laps)
 		}
 }
 
+// SENA seen in a mirror: every scan's readings in reverse order (y -> -y), no odometry. A
+// building shaped like no part of SENA's, so that global localisation on SENA's map rejects
+// every attempt and goes on trying with ever larger patches.
+void writeMirroredSena(const std::string& path)
+{
+	const auto reader = lrgc::apps::openLog(senaRawlogPath());
+	mrpt::io::CFileGZOutputStream file(path);
+	auto out = mrpt::serialization::archiveFrom(file);
+	while (auto e = reader->next())
+	{
+		auto frame = mrpt::obs::CSensoryFrame::Create();
+		for (const auto& obs : *e->observations)
+		{
+			auto scan = std::dynamic_pointer_cast<mrpt::obs::CObservation2DRangeScan>(obs);
+			if (!scan) continue;
+			auto mirrored = mrpt::obs::CObservation2DRangeScan::Create(*scan);
+			const size_t n = scan->getScanSize();
+			for (size_t i = 0; i < n; ++i)
+			{
+				mirrored->setScanRange(i, scan->getScanRange(n - 1 - i));
+				mirrored->setScanRangeValidity(i, scan->getScanRangeValidity(n - 1 - i));
+			}
+			frame->insert(mirrored);
+		}
+		out << mrpt::obs::CActionCollection() << *frame;
+	}
+}
+
 // Runs lrgc-slam on the long log, waits for its first progress line (mid-run), sends `sig`
 // `count` times, and returns the child once it has exited.
 struct TStoppedRun
@@ -231,4 +259,44 @@ TEST(SlamSignals, CtrlCToTheProcessGroupIsAStopNotACorruptObject)
 	EXPECT_EQ(*r.status, 130) << r.output;
 	EXPECT_EQ(r.output.find("corrupt"), std::string::npos) << r.output;
 	EXPECT_NE(r.output.find("interrupted"), std::string::npos) << r.output;
+}
+
+// The first signal cuts short the computation in hand (issue 30): here global localisation on
+// a saved map, made slow by a fine pose grid ([PatchCorrelator] resolution_m = 0.02 m,
+// angular_step_deg = 0.05, min_score = 0.05: on this machine an attempt with the patch of
+// 4 to 32 keyframes takes 5 to 30 s, against 0.5 s by default). The log (SENA mirrored) is
+// nowhere in the map, so attempts go on. Before the fix the stop flag was read between log
+// entries only: the run exited once the attempt in hand ended (4 to 30 s after the signal);
+// now the correlation reads it every 4096 bound evaluations.
+TEST(SlamSignals, SigintDuringALongGlobalLocalisationSavesAtOnce)
+{
+	LRGC_SKIP_IF_MISSING(senaRawlogPath());
+	const std::string dir = makeTempDir("sig_localize_" + std::to_string(::getpid()));
+	const auto mapped = runProcess(binaryPath("lrgc-slam"),
+								   {"--input", senaRawlogPath(), "--out", dir + "/map", "-q"});
+	ASSERT_EQ(mapped.exitCode, 0) << mapped.output;
+	writeMirroredSena(dir + "/mirrored.rawlog");
+	writeTextFile(dir + "/slow.ini",
+				  "[PatchCorrelator]\nresolution_m = 0.02\nangular_step_deg = 0.05\n"
+				  "min_score = 0.05\n");
+	CChildProcess app(binaryPath("lrgc-slam"),
+					  {"--input", dir + "/mirrored.rawlog", "--localize", dir + "/map", "--out",
+					   dir + "/out", "--config", dir + "/slow.ini"},
+					  dir + "/console.txt");
+	// The first progress line comes 10 s in, after an attempt; a second later the next one
+	// (a few scans on) is under way.
+	ASSERT_TRUE(app.waitForOutput("progress: ", 600)) << app.output();
+	std::this_thread::sleep_for(std::chrono::seconds(1));
+	const auto t0 = std::chrono::steady_clock::now();
+	app.signal(SIGINT);
+	const auto status = app.waitExit(600);
+	const double seconds =
+		std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+	ASSERT_TRUE(status.has_value()) << app.output();
+	EXPECT_EQ(*status, 130) << app.output();
+	// Reading the flag costs nothing; the bound leaves room for a loaded machine.
+	EXPECT_LT(seconds, 3.0) << "the attempt in hand ran on after the signal\n" << app.output();
+	const std::string stats = readTextFile(dir + "/out/stats.json");
+	EXPECT_NE(stats.find("\"status\": \"interrupted\""), std::string::npos) << stats;
+	fs::remove(dir + "/mirrored.rawlog");  // 4.6 MB
 }

@@ -57,6 +57,7 @@ TGlobalLocation CGlobalLocalizer::locate(const std::vector<Eigen::Vector2d>& pat
 	TGlobalLocation out;
 	out.correlation =
 		m_correlator.correlate(m_grid, patchPoints, m_centre, m_halfWindowXY, M_PI);
+	out.stopped = !out.correlation && m_correlator.stopToken().stopRequested();
 	out.verdict = out.correlation ? out.correlation->checkFilters(m_correlator.params())
 								  : TCorrelationVerdict{TCorrelationVerdict::Reason::LowScore,
 														0, m_correlator.params().min_score};

@@ -30,6 +30,7 @@ struct TGlobalLocation
 	std::optional<TCorrelationResult> correlation;
 	TCorrelationVerdict verdict;  //!< of the three filters
 	double seconds = 0;           //!< time of the attempt [s]
+	bool stopped = false;  //!< ended early by a stop request (setStopToken): nothing found
 	bool accepted() const { return correlation && verdict.accepted(); }
 };
 
@@ -43,6 +44,9 @@ public:
 	/** The map: node i of `map` at its pose with keyframes[i]'s scan. Throws if empty. */
 	CGlobalLocalizer(const CPoseGraph& map, const TKeyframes& keyframes,
 					 const TPatchCorrelatorParams& p);
+
+	/** locate() ends early, finding nothing, once `stop` is stopped. */
+	void setStopToken(const CStopToken& stop) { m_correlator.setStopToken(stop); }
 
 	/** Correlates `patchPoints` (patch frame [m]) against the whole map. */
 	TGlobalLocation locate(const std::vector<Eigen::Vector2d>& patchPoints) const;

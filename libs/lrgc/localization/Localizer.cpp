@@ -34,6 +34,14 @@ CLocalizer::CLocalizer(const CPoseGraph& map, const TKeyframes& keyframes,
 
 CLocalizer::~CLocalizer() = default;
 
+void CLocalizer::setStopToken(const CStopToken& stop)
+{
+	m_stop = stop;
+	m_global.setStopToken(stop);
+	m_matcher.setStopToken(stop);
+	if (m_finder) m_finder->setStopToken(stop);
+}
+
 const TLocalizerStats& CLocalizer::stats() const
 {
 	m_stats.localizedScans = m_trajectory.size();
@@ -125,6 +133,7 @@ void CLocalizer::processScan(const mrpt::obs::CObservation2DRangeScan::Ptr& obse
 		MRPT_LOG_WARN_FMT("lost at t=%.3f after %zu poor matches: relocalising",
 						  mrpt::Clock::toDouble(t), m_poorInARow);
 		m_finder = std::make_unique<CStartFinder>(m_global, m_params, m_lp);
+		m_finder->setStopToken(m_stop);
 		m_finderFirstIndex = m_trajectory.size();  // the probe starts with the next scan
 		return;
 	}

@@ -41,6 +41,10 @@ public:
 	CMetricMapBuilderLRGC& probe() { return *m_probe; }
 	const CMetricMapBuilderLRGC& probe() const { return *m_probe; }
 
+	/** The probe's wide search honours `stop` (the localiser's correlation has its own:
+	 * CGlobalLocalizer::setStopToken). */
+	void setStopToken(const CStopToken& stop) { m_probe->setStopToken(stop); }
+
 	/** Tries global localisation if an attempt is due (see the file comment). */
 	std::optional<TStartFound> tryLocate();
 

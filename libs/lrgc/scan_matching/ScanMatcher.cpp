@@ -272,6 +272,7 @@ std::optional<TScanMatch> CScanMatcher::matchWide(const CReferenceCloud& ref,
 	std::vector<std::optional<std::pair<double, mrpt::math::TPose2D>>> starts(2 * n + 1);
 	const std::function<void(size_t)> explore = [&](size_t i)
 	{
+		if (m_stop.stopRequested()) return;
 		mrpt::math::TPose2D g = guess;
 		g.phi = mrpt::math::wrapToPi(guess.phi +
 									 (static_cast<int>(i) - n) * m_params.wide_search_step);
@@ -282,6 +283,7 @@ std::optional<TScanMatch> CScanMatcher::matchWide(const CReferenceCloud& ref,
 		parallel(starts.size(), explore);
 	else
 		for (size_t i = 0; i < starts.size(); ++i) explore(i);
+	if (m_stop.stopRequested()) return std::nullopt;  // some starts were not explored
 	std::vector<std::pair<double, mrpt::math::TPose2D>> found;  // (score, ref <- scan)
 	for (const auto& s : starts)
 		if (s) found.push_back(*s);

@@ -105,6 +105,7 @@ int CSlamApp::runOffline(const TSlamCommandLine& cl)
 
 	CMetricMapBuilderLRGC builder(cfg.lrgc);
 	builder.logging_enable_console_output = false;  // warnings are reported below
+	builder.setStopToken(signals.token());  // the first signal cuts short what is in hand
 	std::optional<TSavedMap> initialMap;
 	if (!cl.initialMap.empty()) try
 		{

@@ -49,8 +49,10 @@ int CSlamApp::startInInitialMap(const TSavedMap& map, const TAppConfig& cfg, CLo
 		"log in it",
 		map.path.c_str(), builder.graph().numNodes(), builder.graph().numLinks(),
 		map.graph ? "the saved graph" : "linked anew from the keyframes' poses"));
-	const CGlobalLocalizer global(builder.graph(), builder.keyframes(), cfg.lrgc.correlator);
+	CGlobalLocalizer global(builder.graph(), builder.keyframes(), cfg.lrgc.correlator);
+	global.setStopToken(signals.token());
 	CStartFinder finder(global, cfg.lrgc, cfg.localization);
+	finder.setStopToken(signals.token());
 	std::vector<TLogEntry> read;  // replayed into the builder once the start is known
 	std::optional<TStartFound> found;
 	while (!found && !signals.stopRequested())
@@ -96,7 +98,10 @@ int CSlamApp::startInInitialMap(const TSavedMap& map, const TAppConfig& cfg, CLo
 		run.startSeconds, found->score, found->ambiguity, found->patchKeyframes));
 	builder.startSessionAt(start, found->cov);
 	for (auto& entry : read)
-		if (mapEntry(builder, entry, run) != kExitOk) return kExitInputError;
+		if (signals.stopRequested())
+			break;  // mapLog says "interrupted"
+		else if (mapEntry(builder, entry, run) != kExitOk)
+			return kExitInputError;
 	reportWarnings(builder.takeWarnings());
 	return kExitOk;
 }
@@ -194,6 +199,7 @@ int CSlamApp::runLocalize(const TSlamCommandLine& cl)
 		localizer = std::make_unique<CLocalizer>(restored.graph(), restored.keyframes(),
 												 cfg.lrgc, cfg.localization);
 		localizer->logging_enable_console_output = false;
+		localizer->setStopToken(signals.token());
 	}
 	catch (const std::exception& e)
 	{

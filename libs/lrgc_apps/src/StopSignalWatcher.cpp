@@ -40,7 +40,12 @@ CStopSignalWatcher::CStopSignalWatcher()
 			const timespec poll = {0, 200 * 1000 * 1000};  // to notice m_quit
 			while (!m_quit)
 			{
-				if (sigtimedwait(&m_set, nullptr, &poll) < 0) continue;  // time-out or EINTR
+				if (sigtimedwait(&m_set, nullptr, &poll) < 0)
+				{  // time-out or EINTR; a broken pipe is seen here
+					if (g_brokenPipes.load() > 0) m_source.requestStop();
+					continue;
+				}
+				m_source.requestStop();
 				if (m_signals.fetch_add(1) >= 1) ::_exit(kExitInterrupted);
 			}
 		});
