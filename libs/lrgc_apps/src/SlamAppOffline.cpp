@@ -110,6 +110,7 @@ int CSlamApp::runOffline(const TSlamCommandLine& cl)
 	if (!cl.initialMap.empty()) try
 		{
 			initialMap = loadSavedMap(cl.initialMap, "--initial-map");
+			for (const auto& w : initialMap->warnings) report("warning: " + w);
 			initializeFromSavedMap(builder, *initialMap);
 		}
 		catch (const std::exception& e)

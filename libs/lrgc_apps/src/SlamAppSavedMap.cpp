@@ -193,6 +193,7 @@ int CSlamApp::runLocalize(const TSlamCommandLine& cl)
 	{
 		reader = openLog(cl.input, cfg.reader);
 		const TSavedMap map = loadSavedMap(cl.localize, "--localize");
+		for (const auto& w : map.warnings) report("warning: " + w);
 		CMetricMapBuilderLRGC restored(cfg.lrgc);  // the map's keyframes, as a builder has them
 		restored.logging_enable_console_output = false;
 		initializeFromSavedMap(restored, map);
