@@ -9,7 +9,8 @@
  * 143, and a SIGTERM arriving during an ordering is taken by METIS). So the watcher blocks both
  * signals in the calling thread, and thereby in every thread created afterwards, and takes
  * them in its own thread with sigtimedwait(): handlers, whoever installs them, never run. The
- * first signal asks the run to stop; the second calls _exit(130) at once (everything on disk
+ * first signal asks the run to stop; the second (0.25 s or more after the first: `timeout`
+ * delivers its one signal twice, to the child and to its group) calls _exit(130) at once (everything on disk
  * is whole by then: see CCaptureWriter and writeFileAtomically; a temporary file being written
  * may stay behind). Create it before any other thread of the run. A signal that comes after
  * the watcher's last look, before its destructor unblocks the signals again, is taken (and
