@@ -325,3 +325,29 @@ TEST(SlamSignals, OneSignalDeliveredTwiceByTimeoutStillSavesTheMaps)
 	EXPECT_EQ(*status, 130) << app.output();
 	expectPartialMapSaved(dir + "/out");
 }
+
+// The scan matcher reads the stop too (issue 30, found trying our own cases): with
+// [ScanMatcher] max_iterations = 1e9 a match that does not converge runs for hours (the run
+// was still in SENA's first 50 scans 11 minutes on); the first signal now ends it, the scan
+// is kept unmatched and the maps are saved. Before, the first signal did nothing and the
+// second exited with nothing written.
+TEST(SlamSignals, SigintDuringANonConvergingScanMatchSavesAtOnce)
+{
+	LRGC_SKIP_IF_MISSING(senaRawlogPath());
+	const std::string dir = makeTempDir("sig_match_" + std::to_string(::getpid()));
+	writeTextFile(dir + "/endless.ini", "[ScanMatcher]\nmax_iterations = 1000000000\n");
+	CChildProcess app(binaryPath("lrgc-slam"),
+					  {"--input", senaRawlogPath(), "--out", dir + "/out", "--config",
+					   dir + "/endless.ini"},
+					  dir + "/console.txt");
+	std::this_thread::sleep_for(std::chrono::seconds(10));  // by then in an endless match
+	const auto t0 = std::chrono::steady_clock::now();
+	app.signal(SIGINT);
+	const auto status = app.waitExit(30);
+	const double seconds =
+		std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+	ASSERT_TRUE(status.has_value()) << "no exit 30 s after the signal\n" << app.output();
+	EXPECT_EQ(*status, 130) << app.output();
+	EXPECT_LT(seconds, 5.0) << app.output();
+	expectPartialMapSaved(dir + "/out");
+}

@@ -57,7 +57,7 @@ TEST(PatchCorrelatorParams, UnknownKeyAndBadValueAreErrors)
 		}
 	}
 	for (const char* bad : {"min_ambiguity = 0.9", "min_score = 1.5", "resolution_m = 0",
-							"max_std_xy_m = 0", "cluster_score_scale = 0"})
+							"resolution_m = 0.001", "max_std_xy_m = 0", "cluster_score_scale = 0"})
 	{
 		mrpt::config::CConfigFileMemory mem(std::string("[PatchCorrelator]\n") + bad + "\n");
 		TPatchCorrelatorParams p;

@@ -146,8 +146,9 @@ public:
 	void finish();
 
 	/** A way to stop the long computations (StopToken.h), from any thread: once `stop` is
-	 * stopped, a loop search in hand or queued ends early and adds nothing, the wide
-	 * rotational search finds nothing, and finish() ends its revisit sweep and final
+	 * stopped, a loop search in hand or queued ends early and adds nothing, the scan
+	 * matches of the scan in hand (local registration, its wide rotational search, keyframe
+	 * reuse) end early and match nothing, and finish() ends its revisit sweep and final
 	 * optimisation at their next step, so that what was mapped can be saved at once (the
 	 * estimate as the loop closures left it). Kept across initialize(); from the mapping
 	 * thread, before or between scans. */

@@ -71,6 +71,7 @@ void CMetricMapBuilderLRGC::resetState()
 		m_loops = std::make_unique<CLoopClosing>(m_params.loop, m_params.correlator,
 												 m_params.matcher, m_params.optimizer);
 	m_local->setStopToken(m_stop);
+	m_reuse->setStopToken(m_stop);
 	if (m_loops) m_loops->setStopToken(m_stop);
 	if (m_loops && m_loopSearchExtraDelay.count() > 0)
 		TLoopClosingTestAccess::setExtraDelay(*m_loops, m_loopSearchExtraDelay);

@@ -3,6 +3,7 @@
  * and continuing a saved map: CMetricMapBuilderLRGC_continue.cpp. */
 #include <lrgc/map_builder/CMetricMapBuilderLRGC.h>
 #include <lrgc/map_builder/IsolatedScans.h>
+#include <lrgc/map_builder/KeyframeReuse.h>
 #include <lrgc/local_registration/LocalRegistration.h>
 #include <lrgc/local_registration/MotionPredictor.h>
 #include <lrgc/loop_closing/LoopClosing.h>
@@ -88,6 +89,7 @@ void CMetricMapBuilderLRGC::setStopToken(const CStopToken& stop)
 	const auto lock = lockMap();
 	m_stop = stop;
 	m_local->setStopToken(stop);
+	m_reuse->setStopToken(stop);
 	if (m_loops) m_loops->setStopToken(stop);
 }
 

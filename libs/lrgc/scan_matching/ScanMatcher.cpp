@@ -167,6 +167,7 @@ std::optional<TScanMatch> CScanMatcher::matchPoints(const CReferenceCloud& ref,
 	int it = 0;
 	while (!converged && ++it <= P.max_iterations)
 	{
+		if (m_stop.stopRequested()) return std::nullopt;  // not converged: no match
 		associate(ref, pts, x, gate, frozen, corr);
 		if (corr.size() < 3) return std::nullopt;
 		const double scale = robustScale(corr, P.min_residual_std_m, tmp);

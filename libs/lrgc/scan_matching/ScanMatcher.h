@@ -63,7 +63,8 @@ public:
 	/** Validates p (throws on bad values). */
 	explicit CScanMatcher(const TScanMatcherParams& p = {});
 	const TScanMatcherParams& params() const { return m_params; }
-	/** matchWide() explores no further start once `stop` is stopped, and finds nothing. */
+	/** Once `stop` is stopped, match() and matchWide() end before their next iteration or
+	 * start and find nothing. */
 	void setStopToken(const CStopToken& stop) { m_stop = stop; }
 
 	/** Local match from guessScanInRef (ref <- scan). nullopt: too few inliers, no convergence,
