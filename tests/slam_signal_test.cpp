@@ -336,10 +336,10 @@ TEST(SlamSignals, SigintDuringANonConvergingScanMatchSavesAtOnce)
 	LRGC_SKIP_IF_MISSING(senaRawlogPath());
 	const std::string dir = makeTempDir("sig_match_" + std::to_string(::getpid()));
 	writeTextFile(dir + "/endless.ini", "[ScanMatcher]\nmax_iterations = 1000000000\n");
-	CChildProcess app(binaryPath("lrgc-slam"),
-					  {"--input", senaRawlogPath(), "--out", dir + "/out", "--config",
-					   dir + "/endless.ini"},
-					  dir + "/console.txt");
+	CChildProcess app(
+		binaryPath("lrgc-slam"),
+		{"--input", senaRawlogPath(), "--out", dir + "/out", "--config", dir + "/endless.ini"},
+		dir + "/console.txt");
 	std::this_thread::sleep_for(std::chrono::seconds(10));  // by then in an endless match
 	const auto t0 = std::chrono::steady_clock::now();
 	app.signal(SIGINT);

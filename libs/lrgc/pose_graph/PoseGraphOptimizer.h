@@ -53,7 +53,7 @@ struct TOptimizationReport
 	/** A stop was requested (setStopToken) before the solve ended: the poses written back
 	 * are its last accepted iterate (the input poses if it stopped before the first). */
 	bool stopped = false;
-	double seconds = 0;      //!< wall time of the call [s]
+	double seconds = 0;                     //!< wall time of the call [s]
 	size_t numFreeNodes = 0, numLinks = 0;  //!< size of the solved problem
 	/** LoopClosure link ids whose final DCS scale s < reject_scale (information scaled by
 	 * s^2 < reject_scale^2): the links the back-end treats as false. Ascending. */

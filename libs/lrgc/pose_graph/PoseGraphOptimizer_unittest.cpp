@@ -147,7 +147,11 @@ TEST(PoseGraphOptimizer, StopRequestEndsTheSolveBeforeItsNextIteration)
 	const CStopSource source;
 	opt.setStopToken(source.token());
 	int iterations = 0;  // the stop comes during the second iteration
-	opt.setIterationCallback([&] { if (++iterations == 2) source.requestStop(); });
+	opt.setIterationCallback(
+		[&]
+		{
+			if (++iterations == 2) source.requestStop();
+		});
 	CPoseGraph cut = bentSquare();
 	const TOptimizationReport rep = opt.optimize(cut, 0);
 	EXPECT_TRUE(rep.stopped);

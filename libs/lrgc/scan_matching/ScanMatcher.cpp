@@ -284,7 +284,7 @@ std::optional<TScanMatch> CScanMatcher::matchWide(const CReferenceCloud& ref,
 		parallel(starts.size(), explore);
 	else
 		for (size_t i = 0; i < starts.size(); ++i) explore(i);
-	if (m_stop.stopRequested()) return std::nullopt;  // some starts were not explored
+	if (m_stop.stopRequested()) return std::nullopt;            // some starts were not explored
 	std::vector<std::pair<double, mrpt::math::TPose2D>> found;  // (score, ref <- scan)
 	for (const auto& s : starts)
 		if (s) found.push_back(*s);

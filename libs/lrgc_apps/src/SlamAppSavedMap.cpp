@@ -179,6 +179,18 @@ void writeLocalizationOutputs(const CLocalizer& localizer, const TRunSummary& ru
 	writeTextFileAtomically(path("stats.json"),
 							localizationStatsJson(localizer, run, cl.localize));
 }
+
+// A localiser on the saved map: its keyframes and graph as a map builder restores them.
+std::unique_ptr<CLocalizer> localizerOn(const TSavedMap& map, const TAppConfig& cfg)
+{
+	CMetricMapBuilderLRGC restored(cfg.lrgc);
+	restored.logging_enable_console_output = false;
+	initializeFromSavedMap(restored, map);
+	auto localizer = std::make_unique<CLocalizer>(restored.graph(), restored.keyframes(),
+												  cfg.lrgc, cfg.localization);
+	localizer->logging_enable_console_output = false;
+	return localizer;
+}
 }  // namespace
 
 int CSlamApp::runLocalize(const TSlamCommandLine& cl)
@@ -194,12 +206,7 @@ int CSlamApp::runLocalize(const TSlamCommandLine& cl)
 		reader = openLog(cl.input, cfg.reader);
 		const TSavedMap map = loadSavedMap(cl.localize, "--localize");
 		for (const auto& w : map.warnings) report("warning: " + w);
-		CMetricMapBuilderLRGC restored(cfg.lrgc);  // the map's keyframes, as a builder has them
-		restored.logging_enable_console_output = false;
-		initializeFromSavedMap(restored, map);
-		localizer = std::make_unique<CLocalizer>(restored.graph(), restored.keyframes(),
-												 cfg.lrgc, cfg.localization);
-		localizer->logging_enable_console_output = false;
+		localizer = localizerOn(map, cfg);
 		localizer->setStopToken(signals.token());
 	}
 	catch (const std::exception& e)

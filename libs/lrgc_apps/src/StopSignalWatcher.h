@@ -10,14 +10,14 @@
  * signals in the calling thread, and thereby in every thread created afterwards, and takes
  * them in its own thread with sigtimedwait(): handlers, whoever installs them, never run. The
  * first signal asks the run to stop; the second (0.25 s or more after the first: `timeout`
- * delivers its one signal twice, to the child and to its group) calls _exit(130) at once (everything on disk
- * is whole by then: see CCaptureWriter and writeFileAtomically; a temporary file being written
- * may stay behind). Create it before any other thread of the run. A signal that comes after
- * the watcher's last look, before its destructor unblocks the signals again, is taken (and
- * counted) by the destructor, not left pending to kill the process once unblocked.
- * The first signal also stops token(): the map builder, the localiser and global localisation
- * end the computation in hand early (a loop search, an optimisation, a correlation), so that
- * what was mapped is saved promptly however large the map.
+ * delivers its one signal twice, to the child and to its group) calls _exit(130) at once
+ * (everything on disk is whole by then: see CCaptureWriter and writeFileAtomically; a temporary
+ * file being written may stay behind). Create it before any other thread of the run. A signal
+ * that comes after the watcher's last look, before its destructor unblocks the signals again,
+ * is taken (and counted) by the destructor, not left pending to kill the process once
+ * unblocked. The first signal also stops token(): the map builder, the localiser and global
+ * localisation end the computation in hand early (a loop search, an optimisation, a
+ * correlation), so that what was mapped is saved promptly however large the map.
  *
  * SIGHUP is taken as SIGINT and SIGTERM are. SIGPIPE cannot be: the kernel sends it to the
  * thread whose write failed, where a blocked one would stay pending, unseen by the watcher.

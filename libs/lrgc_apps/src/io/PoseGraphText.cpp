@@ -73,9 +73,10 @@ void readNode(std::istringstream& s, CPoseGraph& graph, const std::string& at)
 	// (and the grids built from the map could not index it).
 	constexpr double kFarthest = 1e7;
 	if (!(std::abs(p.x) <= kFarthest && std::abs(p.y) <= kFarthest && std::isfinite(p.phi)))
-		THROW_EXCEPTION_FMT("%s: NODE %zu at (%g, %g, %g): not finite or farther than %g m "
-							"from the map's origin",
-							at.c_str(), i, p.x, p.y, p.phi, kFarthest);
+		THROW_EXCEPTION_FMT(
+			"%s: NODE %zu at (%g, %g, %g): not finite or farther than %g m "
+			"from the map's origin",
+			at.c_str(), i, p.x, p.y, p.phi, kFarthest);
 	graph.addNode(p);
 }
 

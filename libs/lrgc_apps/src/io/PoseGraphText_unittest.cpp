@@ -139,22 +139,24 @@ TEST(PoseGraphText, fileCutAtALineBoundaryIsAnError)
 // file of any version cut inside a line (no newline at its end) is refused.
 TEST(PoseGraphText, versionOneWarnsAndACutLineIsAnError)
 {
-	const std::string v1 = "LRGC_POSE_GRAPH 1\nNODE 0 0 0 0\nNODE 1 1 0 0\n"
-						   "LINK 0 1 1 0 0 1 0 0 1 0 1 Odometry 1\n";
+	const std::string v1 =
+		"LRGC_POSE_GRAPH 1\nNODE 0 0 0 0\nNODE 1 1 0 0\n"
+		"LINK 0 1 1 0 0 1 0 0 1 0 1 Odometry 1\n";
 	const auto whole = parse(v1);
 	EXPECT_EQ(whole.graph.numLinks(), 1U);
-	EXPECT_NE(whole.warning.find("g.lrgc:4: a version 1 graph (no END line): whether it was "
-								 "cut after this line (2 nodes, 1 links read) cannot be checked"),
-			  std::string::npos)
+	EXPECT_NE(
+		whole.warning.find("g.lrgc:4: a version 1 graph (no END line): whether it was "
+						   "cut after this line (2 nodes, 1 links read) cannot be checked"),
+		std::string::npos)
 		<< whole.warning;
 	const auto cut = parse(v1.substr(0, v1.find("LINK")));
 	EXPECT_EQ(cut.graph.numLinks(), 0U);
-	EXPECT_NE(cut.warning.find("g.lrgc:3: a version 1 graph"), std::string::npos) << cut.warning;
+	EXPECT_NE(cut.warning.find("g.lrgc:3: a version 1 graph"), std::string::npos)
+		<< cut.warning;
 	EXPECT_EQ(parse("LRGC_POSE_GRAPH 2\nNODE 0 0 0 0\nEND 1 0\n").warning, "")
 		<< "version 2 has the END line";
-	for (const std::string& text :
-		 {v1.substr(0, v1.size() - 1), v1.substr(0, v1.size() - 9),
-		  std::string("LRGC_POSE_GRAPH 2\nNODE 0 0 0 0\nEND 1 0")})
+	for (const std::string& text : {v1.substr(0, v1.size() - 1), v1.substr(0, v1.size() - 9),
+									std::string("LRGC_POSE_GRAPH 2\nNODE 0 0 0 0\nEND 1 0")})
 		try
 		{
 			parse(text);
