@@ -239,8 +239,10 @@ TEST(SlamSignals, SigtermMidRunSavesTheMapsAndExits130)
 TEST(SlamSignals, RepeatedSigtermsStillExit130)
 {
 	LRGC_SKIP_IF_MISSING(senaRawlogPath());
-	// Three at once: the first asks to stop, the second exits at once with 130, not 143 (the
-	// death by SIGTERM that a handler reset by METIS to the default action would give).
+	// Three at once: one stop request (signals within 0.25 s of the first are one), the run
+	// saves and exits 130, not 143 (the death by SIGTERM that a handler reset by METIS to the
+	// default action would give). A later second signal exits at once with 130: the live test
+	// LiveSickLms1xx.SecondSignalExitsAtOnceLeavingCaptureAndSavedMaps.
 	const TStoppedRun r = runAndStop("sig_term3", SIGTERM, 3);
 	ASSERT_TRUE(r.status.has_value()) << "no progress line, or no exit:\n" << r.output;
 	EXPECT_EQ(*r.status, 130) << r.output;
