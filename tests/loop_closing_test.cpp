@@ -136,3 +136,44 @@ TEST(LoopClosing, onKnownGroundEverySecondKeyframeIsChecked)
 	EXPECT_EQ(second.links.enabledFalse, 0U) << second.links.firstEnabledFalse;
 	EXPECT_LT(second.error.finalXY, 0.25 * off.error.finalXY);
 }
+
+// Issue 30: a stop requested before the end of the run (lrgc-slam's first Ctrl-C) makes
+// finish() skip its long work: no revisit sweep, no whole-graph solve. The keyframes end where
+// a run without the final optimisation leaves them (the loop results due applied), while the
+// same run without the stop adds revisit links and moves them, so the check has teeth. Loop
+// closing on the mapping thread: every search is done when the run ends, whatever the timing.
+TEST(LoopClosing, aStopBeforeFinishSkipsTheEndOfRunWork)
+{
+	const auto world = makeRingCorridorWorld(W, H, 2.0, 5, 4);
+	const TTrajectory tr = slippingRing(1.15);
+	TSyntheticRunOptions opt;
+	opt.laser.maxRange = 6;
+	opt.finish = false;
+	// The keyframes after finish(), and its revisit links.
+	const auto finished = [&](bool stop, bool finalOptimization)
+	{
+		TLRGCParams p;
+		p.builder.loop_closing = true;
+		p.builder.final_optimization = finalOptimization;
+		p.loop.background = false;
+		CMetricMapBuilderLRGC builder(p);
+		const lrgc::CStopSource source;
+		builder.setStopToken(source.token());
+		feedBuilder(builder, world, tr, opt);
+		if (stop) source.requestStop();
+		builder.finish();
+		return std::pair{builder.graph().poses(), builder.stats().revisitLinks};
+	};
+	const auto [asMapped, none] = finished(false, false);
+	const auto [whole, revisits] = finished(false, true);
+	ASSERT_GT(revisits, 0U);
+	double moved = 0;
+	for (size_t i = 0; i < whole.size(); ++i)
+		moved = std::max(moved, lrgc::translationNorm(lrgc::between(asMapped[i], whole[i])));
+	ASSERT_GT(moved, 1e-3) << "the final solve moves the keyframes";
+	const auto [stopped, stoppedRevisits] = finished(true, true);
+	EXPECT_EQ(stoppedRevisits, 0U);
+	ASSERT_EQ(stopped.size(), asMapped.size());
+	for (size_t i = 0; i < stopped.size(); ++i) EXPECT_EQ(stopped[i], asMapped[i]) << i;
+	(void)none;
+}

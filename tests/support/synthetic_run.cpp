@@ -82,7 +82,7 @@ void feedBuilder(lrgc::CMetricMapBuilderLRGC& builder, const CSyntheticWorld& wo
 				: simulateScan(world, p, laser, rng);
 		builder.processObservation(laserObservationFromScan(scan, laser, t));
 	}
-	builder.finish();
+	if (opt.finish) builder.finish();
 }
 
 TTrajectoryError trajectoryError(const std::vector<TPose2D>& estimate,

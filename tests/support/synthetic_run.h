@@ -46,13 +46,14 @@ struct TSyntheticRunOptions
 	 * a log's changing start angle rotates the beam fan. */
 	double beamOffsetStep = 0;
 	int beamOffsetCycle = 1;
+	bool finish = true;  //!< false: feedBuilder leaves builder.finish() to the caller
 };
 
 /** Timestamp of step k of a synthetic run. */
 mrpt::Clock::time_point syntheticStepTime(size_t k, double scanPeriod);
 
 /** Feeds every step of `tr` to the builder (odometry from tr.odometryPoses, scans ray-cast at
- * tr.truePoses) and calls finish(). */
+ * tr.truePoses) and calls finish() (unless opt.finish is false). */
 void feedBuilder(lrgc::CMetricMapBuilderLRGC& builder, const CSyntheticWorld& world,
 				 const TTrajectory& tr, const TSyntheticRunOptions& opt);
 

@@ -102,6 +102,9 @@ public:
 	size_t linkAndOptimize(CPoseGraph& graph, const TKeyframes& keyframes,
 						   const TLink& odometryLink);
 
+	/** The wide rotational search (CScanMatcher::matchWide) honours `stop`. */
+	void setStopToken(const CStopToken& stop) { m_matcher.setStopToken(stop); }
+
 	/** Poses changed outside the window (loop closure): rebuild the patch on next use. */
 	void invalidate() { m_cloudNewest.reset(); }
 

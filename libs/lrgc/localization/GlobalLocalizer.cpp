@@ -41,7 +41,7 @@ CGlobalLocalizer::CGlobalLocalizer(const CPoseGraph& map, const TKeyframes& keyf
 		const Eigen::Vector2d cells = (phi - plo) / p.resolution_m;
 		if (!(cells.x() * cells.y() > 2.5e8)) throw;
 		THROW_EXCEPTION_FMT(
-			"the map's scans span %.0f x %.0f m: too large to search whole for the log's start "
+			"the map's scans span %.4g x %.4g m: too large to search whole for the log's start "
 			"at [PatchCorrelator] resolution_m = %g (a grid of at most about %.0f x %.0f m); a "
 			"coarser resolution (--config) covers more",
 			phi.x() - plo.x(), phi.y() - plo.y(), p.resolution_m, 16384 * p.resolution_m,
@@ -96,6 +96,7 @@ TGlobalLocation CGlobalLocalizer::locate(const std::vector<Eigen::Vector2d>& pat
 	out.correlation = m_correlator.correlate(m_grid, patchPoints, area.centre, area.halfXY,
 											 area.halfTheta, &effort);
 	out.modelledMs = std::max(published, modelledCorrelationMs(effort));
+	out.stopped = !out.correlation && m_correlator.stopToken().stopRequested();
 	out.verdict = out.correlation ? out.correlation->checkFilters(m_correlator.params())
 								  : TCorrelationVerdict{TCorrelationVerdict::Reason::LowScore,
 														0, m_correlator.params().min_score};

@@ -35,6 +35,7 @@ struct TGlobalLocation
 	/** Its modelled time on the reference machine [ms] (TLoopWork's correlation model: a
 	 * count of headings x patch cells and poses scored x patch cells, not a clock). */
 	double modelledMs = 0;
+	bool stopped = false;  //!< ended early by a stop request (setStopToken): nothing found
 	bool accepted() const { return correlation && verdict.accepted(); }
 };
 
@@ -65,6 +66,8 @@ public:
 	const TSearchArea& wholeMap() const { return m_whole; }
 	/** `area` reduced to the whole map's (a window reaching past it searches nothing more). */
 	TSearchArea clipped(const TSearchArea& area) const;
+	/** locate() ends early, finding nothing, once `stop` is stopped. */
+	void setStopToken(const CStopToken& stop) { m_correlator.setStopToken(stop); }
 
 	/** Correlates `patchPoints` (patch frame [m]) against the whole map. */
 	TGlobalLocation locate(const std::vector<Eigen::Vector2d>& patchPoints) const

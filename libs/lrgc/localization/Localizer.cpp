@@ -65,6 +65,14 @@ CLocalizer::CLocalizer(const CPoseGraph& map, const TKeyframes& keyframes,
 
 CLocalizer::~CLocalizer() = default;
 
+void CLocalizer::setStopToken(const CStopToken& stop)
+{
+	m_stop = stop;
+	m_global.setStopToken(stop);
+	m_matcher.setStopToken(stop);
+	if (m_finder) m_finder->setStopToken(stop);
+}
+
 const TLocalizerStats& CLocalizer::stats() const
 {
 	m_stats.localizedScans = m_trajectory.size();
@@ -184,6 +192,7 @@ void CLocalizer::startSearch(bool wholeMap)
 	TLocalizationParams lp = m_lp;
 	if (wholeMap) lp.patch_keyframes = std::min(lp.patch_keyframes, kKidnapPatchKeyframes);
 	m_finder = std::make_unique<CStartFinder>(m_global, m_params, lp, wholeMap);
+	m_finder->setStopToken(m_stop);
 	m_finderFirstIndex = m_trajectory.size();  // the probe starts with the next scan
 	m_searchWholeMap = wholeMap;
 }

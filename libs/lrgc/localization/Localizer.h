@@ -125,6 +125,10 @@ public:
 	void processActionObservation(mrpt::obs::CActionCollection& action,
 								  mrpt::obs::CSensoryFrame& observations);
 
+	/** Global localisation (the start, relocalisations) and the wide rotational search end
+	 * early, finding nothing, once `stop` is stopped (StopToken.h). */
+	void setStopToken(const CStopToken& stop);
+
 	/** One pose per localised scan, in the order of the scans. */
 	const TTrajectory& trajectory() const { return m_trajectory; }
 	const TLocalizerStats& stats() const;
@@ -164,6 +168,7 @@ private:
 	TLocalizationParams m_lp;
 	CGlobalLocalizer m_global;
 	CScanMatcher m_matcher;
+	CStopToken m_stop;
 	std::unique_ptr<CMotionPredictor> m_predictor;
 	/** Searching for the start or relocalising: the probe, fed the scans since then. */
 	std::unique_ptr<CStartFinder> m_finder;

@@ -63,7 +63,7 @@ std::optional<TStartFound> CStartFinder::conclude(const TPatchRequest& request,
 	m_seconds += loc.seconds;
 	if (!loc.accepted())
 	{
-		m_lastRejection = loc.verdict.message();
+		m_lastRejection = loc.stopped ? "stopped" : loc.verdict.message();
 		return std::nullopt;
 	}
 	m_lastRejection.clear();

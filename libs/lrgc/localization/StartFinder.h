@@ -51,6 +51,10 @@ public:
 	CMetricMapBuilderLRGC& probe() { return *m_probe; }
 	const CMetricMapBuilderLRGC& probe() const { return *m_probe; }
 
+	/** The probe's wide search honours `stop` (the localiser's correlation has its own:
+	 * CGlobalLocalizer::setStopToken). */
+	void setStopToken(const CStopToken& stop) { m_probe->setStopToken(stop); }
+
 	/** Tries global localisation on the whole map if an attempt is due (see the file
 	 * comment): nextPatch() and conclude() in one, waiting for the correlation. */
 	std::optional<TStartFound> tryLocate();

@@ -115,6 +115,21 @@ CLoopCloser::CLoopCloser(const TLoopCloserParams& p, const TPatchCorrelatorParam
 {
 }
 
+void CLoopCloser::setStopToken(const CStopToken& stop)
+{
+	m_stop = stop;
+	m_correlator.setStopToken(stop);
+	m_matcher.setStopToken(stop);
+	m_optimizer.setStopToken(stop);
+}
+
+bool CLoopCloser::stopped()
+{
+	if (!m_stop.stopRequested()) return false;
+	m_lastRejection = "stopped";
+	return true;
+}
+
 // Step 1: old poses that could overlap the newest one, by Mahalanobis distance of their
 // position relative to it, the offset first shortened by the overlap radius:
 //   t' = t (1 - r / |t|)_+ ,  d^2 = t'^T C_xy^-1 t'  <=  gate_sigma^2.
@@ -152,17 +167,17 @@ auto CLoopCloser::gate(const CPoseGraph& graph, size_t newest) -> std::optional<
 std::optional<TLoopClosure> CLoopCloser::process(CPoseGraph& graph, const TScanRefs& scans)
 {
 	m_lastRejection.clear();
-	if (!checkDue()) return std::nullopt;
+	if (!checkDue() || stopped()) return std::nullopt;
 	const size_t newest = graph.numNodes() - 1;
 	const auto candidates = timedGate(graph, newest);
-	if (!candidates) return std::nullopt;
+	if (!candidates || stopped()) return std::nullopt;
 	const auto t0 = std::chrono::steady_clock::now();
 	TSearchWindow window = searchWindow(*candidates, newest);
 	if (!attemptDue(window)) return std::nullopt;
 	const auto corr = correlatePatch(graph, scans, *candidates, window);
-	if (!corr) return std::nullopt;
+	if (!corr || stopped()) return std::nullopt;
 	const auto match = matchLoopLink(graph, scans, *candidates, corr->patchInMap);
-	if (!match) return std::nullopt;
+	if (!match || stopped()) return std::nullopt;
 	auto lc = closeLoop(graph, scans, *candidates, window, *match);
 	if (!lc) return std::nullopt;
 	lc->score = corr->score;
@@ -332,6 +347,12 @@ std::optional<TLoopClosure> CLoopCloser::closeLoop(CPoseGraph& graph, const TSca
 		CCpuTimer closeTimer(m_stats.closeCpuSeconds);
 		const auto report = optimize(graph, vettedLinks);
 		++m_stats.optimizations;
+		if (report.stopped && stopped())
+		{  // the graph as it was: the poses unmoved (optimize), the links off
+			graph.setLinkEnabled(lc.linkId, false);
+			if (heldId) graph.setLinkEnabled(*heldId, false);
+			return std::nullopt;
+		}
 		const auto downweighted = [&](size_t id)
 		{
 			return std::binary_search(report.downweightedLinks.begin(),
@@ -370,8 +391,11 @@ TOptimizationReport CLoopCloser::optimize(CPoseGraph& graph, const std::vector<s
 			m_stats.work.solveIterationElements += elements;
 			progress();
 		});
+	const std::vector<TPose2D> before = graph.poses();  // n poses: little beside a solve
 	const TOptimizationReport r = m_optimizer.optimize(graph, 0, vetted);
 	m_optimizer.setIterationCallback({});
+	if (r.stopped)
+		for (size_t i = 0; i < before.size(); ++i) graph.setPose(i, before[i]);
 	return r;
 }
 
@@ -382,7 +406,7 @@ size_t CLoopCloser::rematch(CPoseGraph& graph, const TScanRefs& scans, const TCa
 							size_t patchFirst, size_t newest)
 {
 	size_t added = 0;
-	for (size_t k = patchFirst; k < newest; k += kRematchStride)
+	for (size_t k = patchFirst; k < newest && !m_stop.stopRequested(); k += kRematchStride)
 	{
 		const auto [index, distance] = nearestCandidate(graph, c.nodes, graph.pose(k));
 		if (distance > m_params.overlap_radius_m) continue;

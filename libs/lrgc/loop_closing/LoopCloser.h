@@ -68,6 +68,10 @@ public:
 	/** Called after each step of process() (gate, correlation, match, each solve), with
 	 * stats().work updated: the worker publishes how far its job has got. */
 	void setProgressCallback(std::function<void()> f) { m_onProgress = std::move(f); }
+	/** Once `stop` is stopped, process() ends at its next step, its correlation or its
+	 * solve (which then leaves the poses as they were) and finds no closure: a loop link it
+	 * added is disabled again (lastRejection() says "stopped"). */
+	void setStopToken(const CStopToken& stop);
 	/** Why the last attempt was rejected (empty if accepted or not attempted). */
 	const std::string& lastRejection() const { return m_lastRejection; }
 
@@ -117,6 +121,8 @@ private:
 	CReferenceCloud oldScansNear(const CPoseGraph& graph, const TScanRefs& scans,
 								 const TCandidates& c, size_t oldNode,
 								 const mrpt::math::TPose2D& corrected);
+	/** True (and the rejection named) once a stop is requested. */
+	bool stopped();
 	bool confirmed(CPoseGraph& graph, const TCandidates& c, const TSearchWindow& w,
 				   const TLoopMatch& m, std::optional<size_t>& heldId,
 				   std::vector<size_t>& vettedLinks);
@@ -140,8 +146,10 @@ private:
 	CPoseGraphOptimizer m_optimizer;
 	TLoopCloserStats m_stats;
 	std::function<void()> m_onProgress;
+	CStopToken m_stop;
 	std::string m_lastRejection;
-	/** A whole-graph solve, its effort counted in stats().work. */
+	/** A whole-graph solve, its effort counted in stats().work; one a stop cut short leaves
+	 * the poses as they were (report.stopped). */
 	TOptimizationReport optimize(CPoseGraph& graph, const std::vector<size_t>& vetted = {});
 	void progress() const
 	{

@@ -93,6 +93,7 @@ void CLoopClosing::handOver(CPoseGraph& graph, const TKeyframes& keyframes)
 	collectNewLinks(graph);
 	job.links = std::exchange(m_linksToSend, {});
 	job.resultsApplied = m_resultsApplied;
+	job.stop = m_stop;
 	m_worker->submit(std::move(job));
 }
 

@@ -15,6 +15,7 @@
  */
 #pragma once
 
+#include <lrgc/common/StopToken.h>
 #include <lrgc/loop_closing/LoopCloserParams.h>
 #include <lrgc/loop_closing/LoopCloserStats.h>
 #include <lrgc/loop_closing/LoopClosure.h>
@@ -73,6 +74,11 @@ public:
 	/** End of the run: waits for every search handed over and applies its result. */
 	TLoopUpdate drain(CPoseGraph& graph, size_t anchor, mrpt::math::TPose2D& robotInMap);
 
+	/** The searches handed over from now on honour `stop` (CLoopCloser::setStopToken): once
+	 * it is stopped, the one in hand ends early and adds nothing, and the later ones add
+	 * nothing, so drain() returns promptly. */
+	void setStopToken(const CStopToken& stop) { m_stop = stop; }
+
 	TLoopCloserStats stats() const;  //!< the worker's counters (any thread)
 	const TLoopScheduleStats& schedule() const { return m_schedule; }
 
@@ -100,6 +106,7 @@ private:
 	 * driving known ground reuses keyframes and adds none, but its results must land). */
 	size_t m_keyframeClock = 0;
 	TLoopScheduleStats m_schedule;
+	CStopToken m_stop;
 };
 
 }  // namespace lrgc

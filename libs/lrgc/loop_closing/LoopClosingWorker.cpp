@@ -232,6 +232,7 @@ TLoopJobResult CLoopClosingWorker::execute(TLoopJob& job)
 		return w += update;
 	};
 	publishProgress(dueKeyframe(job.clock, start, workSoFar(), nullptr));
+	m_closer.setStopToken(job.stop);
 	m_closer.setProgressCallback(
 		[&] { publishProgress(dueKeyframe(job.clock, start, workSoFar(), nullptr)); });
 

@@ -71,6 +71,9 @@ struct TLoopJob
 	/** The mapping thread's keyframe clock when handing it over: keyframes taken so far, new
 	 * or reused (the schedule's time unit). */
 	size_t clock = 0;
+	/** The loop closer's stop token for this job (CLoopCloser::setStopToken): a job stopped
+	 * part-way adds nothing. */
+	CStopToken stop;
 };
 
 /** What a job did to the replica, for the mapping thread to apply to its graph. */

@@ -325,6 +325,7 @@ std::optional<TCorrelationResult> CPatchCorrelator::run(
 	if (pts.empty()) return std::nullopt;
 	TPoseGridProblem pb;
 	preparePoseGrid(grid, pts, m_params.angular_step, halfWindowXY, halfWindowTheta, spec, pb);
+	pb.stop = m_stop;
 	effort->headings = size_t(pb.numAngles), effort->patchCells = pts.size();
 	// Progress: posesScored grows by the search's steps, then takes each search's count.
 	if (effort->onProgress)
@@ -348,7 +349,7 @@ std::optional<TCorrelationResult> CPatchCorrelator::run(
 		static_cast<int64_t>(std::ceil(m_params.min_score * double(full) - 1e-9));
 	const detail::TSearchHit best = search(floor1, detail::TExclusionZone{}, false);
 	effort->posesScored = best.evaluations;
-	if (!best.found) return std::nullopt;
+	if (!best.found || best.stopped) return std::nullopt;
 	TCorrelationResult res;
 	res.patchInMap = spec.pose(best.a, best.i, best.j);
 	res.score = double(best.score) / double(full);
@@ -364,6 +365,7 @@ std::optional<TCorrelationResult> CPatchCorrelator::run(
 						 std::ceil(double(best.score) / m_params.min_ambiguity - 1e-9));
 	const detail::TSearchHit rival =
 		search(floor2, bestCluster(m_params, spec, pb.numAngles, best), true);
+	if (rival.stopped) return std::nullopt;  // a rival not found is no evidence then
 	res.ambiguity = std::numeric_limits<double>::infinity();
 	if (rival.found)
 	{

@@ -21,6 +21,7 @@
  */
 #pragma once
 
+#include <lrgc/common/StopToken.h>
 #include <lrgc/loop_closing/CorrelationGrid.h>
 #include <lrgc/loop_closing/PatchCorrelatorParams.h>
 #include <mrpt/math/TPose2D.h>
@@ -104,6 +105,9 @@ public:
 	explicit CPatchCorrelator(const TPatchCorrelatorParams& params = {});
 
 	const TPatchCorrelatorParams& params() const { return m_params; }
+	/** Searches end early once `stop` is stopped and then find nothing (std::nullopt). */
+	void setStopToken(const CStopToken& stop) { m_stop = stop; }
+	const CStopToken& stopToken() const { return m_stop; }
 
 	/** The old-map grid with this correlator's resolution and blur; `margin` [m] around the
 	 * points' bounding box (at least 3 sigma keeps the blur of edge walls). */
@@ -137,6 +141,7 @@ private:
 										  TCorrelationEffort* effort) const;
 
 	TPatchCorrelatorParams m_params;
+	CStopToken m_stop;
 };
 
 }  // namespace lrgc

@@ -57,8 +57,11 @@ void TPatchCorrelatorParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
 
 void TPatchCorrelatorParams::validate(const std::string& s) const
 {
-	requireParam(resolution_m > 0 && resolution_m <= 1, s, "resolution_m",
-				 "must be in (0, 1] m");
+	// Below 1 cm (finer than a 2D laser's range noise, which blur_sigma_m models) the grids
+	// outgrow memory: 0.001 m made every loop search's old map a 12714 x 22108-cell grid on
+	// SENA (2.3 GB), the run then failing at its end (issue 30).
+	requireParam(resolution_m >= 0.01 && resolution_m <= 1, s, "resolution_m",
+				 "must be in [0.01, 1] m");
 	requireParam(blur_sigma_m >= 0 && blur_sigma_m <= 2, s, "blur_sigma_m",
 				 "must be in [0, 2] m");
 	requireParam(angular_step >= 0 && angular_step <= DEG2RAD(10.0), s, "angular_step_deg",

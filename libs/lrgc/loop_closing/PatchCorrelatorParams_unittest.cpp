@@ -56,8 +56,9 @@ TEST(PatchCorrelatorParams, UnknownKeyAndBadValueAreErrors)
 			EXPECT_NE(std::string(e.what()).find("min_score"), std::string::npos) << e.what();
 		}
 	}
-	for (const char* bad : {"min_ambiguity = 0.9", "min_score = 1.5", "resolution_m = 0",
-							"max_std_xy_m = 0", "cluster_score_scale = 0"})
+	for (const char* bad :
+		 {"min_ambiguity = 0.9", "min_score = 1.5", "resolution_m = 0", "resolution_m = 0.001",
+		  "max_std_xy_m = 0", "cluster_score_scale = 0"})
 	{
 		mrpt::config::CConfigFileMemory mem(std::string("[PatchCorrelator]\n") + bad + "\n");
 		TPatchCorrelatorParams p;

@@ -19,6 +19,8 @@
 
 using lrgc::CCorrelationGrid;
 using lrgc::CPatchCorrelator;
+using lrgc::CStopSource;
+using lrgc::TCorrelationEffort;
 using lrgc::TCorrelationResult;
 using lrgc::TPatchCorrelatorParams;
 using mrpt::math::TPose2D;
@@ -176,6 +178,30 @@ TEST(PatchCorrelator, BranchAndBoundEqualsExhaustiveAndRecoversThePose)
 	}
 	// A cluttered room seen by 8 scans is a distinctive match: nearly all pass the filters.
 	EXPECT_GE(accepted, 22);
+}
+
+// Issue 30: a search stopped part-way finds nothing (its best so far is not the answer, and a
+// rival not yet found is no evidence of no rival), in branch and bound and exhaustively.
+TEST(PatchCorrelator, StoppedSearchFindsNothing)
+{
+	std::mt19937 rng(7);
+	CPatchCorrelator corr;
+	const World w = randomWorld(rng, 12, 10);
+	const CCorrelationGrid map = corr.makeGrid(rasterise(w), 0.5);
+	const TPose2D truth(6, 6, 0.3);
+	const Points patch = makePatch(w, truth, 8, rng);
+	ASSERT_TRUE(corr.correlate(map, patch, truth, 2.0, M_PI).has_value());
+	const CStopSource source;
+	corr.setStopToken(source.token());
+	TCorrelationEffort effort;  // the stop comes after 4096 bound evaluations
+	effort.onProgress = [&](const TCorrelationEffort& e)
+	{
+		if (e.posesScored >= 4096) source.requestStop();
+	};
+	EXPECT_FALSE(corr.correlate(map, patch, truth, 2.0, M_PI, &effort).has_value());
+	EXPECT_TRUE(source.stopRequested());
+	EXPECT_LT(effort.posesScored, 3 * 4096u);
+	EXPECT_FALSE(corr.correlateExhaustive(map, patch, truth, 0.5, 0.1).has_value());
 }
 
 // The bound of a node spanning several headings (branch and bound over the full circle) is at

@@ -67,7 +67,8 @@ size_t CRevisitLinker::linkRevisits(CPoseGraph& graph, const TKeyframes& keyfram
 			.asDiagonal();
 
 	size_t added = 0;
-	for (size_t k = m_params.min_index_gap + 1; k < n; k += m_params.stride)
+	for (size_t k = m_params.min_index_gap + 1; k < n && !m_stop.stopRequested();
+		 k += m_params.stride)
 	{
 		const TPose2D pk = graph.pose(k);
 		// The nearest old keyframe within the radius and the heading limit.

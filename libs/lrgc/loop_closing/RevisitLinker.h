@@ -19,6 +19,7 @@
  */
 #pragma once
 
+#include <lrgc/common/StopToken.h>
 #include <lrgc/loop_closing/RevisitLinkerParams.h>
 #include <lrgc/scan_matching/Keyframe.h>
 #include <lrgc/pose_graph/LinkNoise.h>
@@ -35,14 +36,17 @@ public:
 	CRevisitLinker(const TRevisitLinkerParams& p, const TScanMatcherParams& matcher,
 				   const TLinkNoise& linkNoise);
 
-	/** Adds the revisit links to `graph` (no optimisation); returns how many. */
+	/** Adds the revisit links to `graph` (no optimisation); returns how many. Once `stop`
+	 * (setStopToken) is stopped, the sweep ends: the links added until then stay. */
 	size_t linkRevisits(CPoseGraph& graph, const TKeyframes& keyframes) const;
+	void setStopToken(const CStopToken& stop) { m_stop = stop; }
 
 private:
 	TRevisitLinkerParams m_params;
 	TScanMatcherParams m_matcherParams;
 	TLinkNoise m_linkNoise;
 	CScanMatcher m_matcher;
+	CStopToken m_stop;
 };
 
 }  // namespace lrgc

@@ -91,6 +91,20 @@ TEST(RevisitLinker, linksTheRevisitedLegAtTheTrueRelativePoses)
 	EXPECT_EQ(linker.linkRevisits(run.graph, run.keyframes), 0U);
 }
 
+// Issue 30: the end-of-run sweep ends once a stop is requested; the links made until then stay.
+TEST(RevisitLinker, aStopEndsTheSweep)
+{
+	TRevisitRun run;
+	const TStageParams defaults;
+	CRevisitLinker linker(testParams(), defaults.matcher, defaults.loop.link_noise);
+	const CStopSource source;
+	linker.setStopToken(source.token());
+	source.requestStop();
+	const size_t linksBefore = run.graph.numLinks();
+	EXPECT_EQ(linker.linkRevisits(run.graph, run.keyframes), 0U);
+	EXPECT_EQ(run.graph.numLinks(), linksBefore);
+}
+
 TEST(RevisitLinker, recentKeyframesAreNotRevisits)
 {
 	TRevisitRun run;

@@ -145,6 +145,7 @@ public:
 		hit.a = m_best.a, hit.i = m_best.i, hit.j = m_best.j;
 		hit.score = m_best.score;
 		hit.evaluations = m_evaluations;
+		hit.stopped = m_stopped;
 		return hit;
 	}
 
@@ -193,8 +194,11 @@ private:
 		if (blockExcluded(a0, a1, i0, i1, j0, j1)) return;
 		const int64_t idx = m_pb.linearIndex(a0, i0, j0);  // the block's smallest index
 		if (m_best.required(idx) > int64_t(255) * m_pb.numPoints) return;
-		if (++m_evaluations % TPoseGridProblem::kProgressEvaluations == 0 && m_pb.onEvaluations)
-			m_pb.onEvaluations();
+		if (++m_evaluations % TPoseGridProblem::kProgressEvaluations == 0)
+		{
+			if (m_pb.onEvaluations) m_pb.onEvaluations();
+			if (m_pb.stop.stopRequested()) m_done = m_stopped = true;
+		}
 		const int64_t req = m_best.required(idx);
 		const int64_t b = blockBound(m_pb, a0, a1, h, i0, j0, req);
 		if (b >= 0) out.push_back({a0, a1, h, i0, j0, b, idx});
@@ -255,6 +259,7 @@ private:
 	const TExclusionZone& m_zone;
 	bool m_firstHit = false;  // stop at the first pose reaching the floor
 	bool m_done = false;
+	bool m_stopped = false;  // ended by pb.stop
 	Best m_best{};
 	size_t m_evaluations = 0;
 };
@@ -312,7 +317,14 @@ TSearchHit searchExhaustive(const TPoseGridProblem& pb, int64_t floorScore,
 	Best best{};
 	best.score = floorScore;
 	size_t evaluations = 0;
+	TSearchHit hit;
 	for (int a = 0; a < pb.numAngles; ++a)
+	{
+		if (pb.stop.stopRequested())
+		{
+			hit.stopped = true;
+			break;
+		}
 		for (int i = -W; i <= W; ++i)
 			for (int j = -W; j <= W; ++j)
 			{
@@ -322,7 +334,7 @@ TSearchHit searchExhaustive(const TPoseGridProblem& pb, int64_t floorScore,
 				const int64_t idx = pb.linearIndex(a, i, j);
 				if (best.beatable(s, idx)) best = {s, idx, a, i, j};
 			}
-	TSearchHit hit;
+	}
 	hit.found = best.index != kNoIndex;
 	hit.a = best.a, hit.i = best.i, hit.j = best.j;
 	hit.score = best.score;

@@ -9,6 +9,7 @@
  */
 #pragma once
 
+#include <lrgc/common/StopToken.h>
 #include <lrgc/loop_closing/CorrelationGrid.h>
 
 #include <cstdint>
@@ -38,6 +39,9 @@ struct TPoseGridProblem
 	 * (progress for the loop-closing worker's schedule). */
 	std::function<void()> onEvaluations;
 	static constexpr size_t kProgressEvaluations = 4096;
+	/** Read as often (by the exhaustive search once per heading): once it is stopped, the
+	 * search ends with TSearchHit::stopped. */
+	CStopToken stop;
 
 	int side() const { return 2 * halfCells + 1; }
 	int64_t linearIndex(int a, int i, int j) const
@@ -73,6 +77,7 @@ struct TSearchHit
 	int a = 0, i = 0, j = 0;
 	int64_t score = 0;       //!< S in [0, 255 N]
 	size_t evaluations = 0;  //!< scores + bounds computed
+	bool stopped = false;    //!< ended by a stop request: the hit is not the search's answer
 };
 
 /** S(a, i, j) at pyramid level h (h = 0: the exact score). */

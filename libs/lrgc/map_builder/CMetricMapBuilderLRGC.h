@@ -24,6 +24,7 @@
  */
 #pragma once
 
+#include <lrgc/common/StopToken.h>
 #include <lrgc/loop_closing/LoopCloserStats.h>
 #include <lrgc/map_builder/IncrementalGrid.h>
 #include <lrgc/map_builder/LaserSelector.h>
@@ -147,6 +148,15 @@ public:
 	/** End of the run: final optimisation of the whole graph (paper 2.4, last paragraph). */
 	void finish();
 
+	/** A way to stop the long computations (StopToken.h), from any thread: once `stop` is
+	 * stopped, a loop search in hand or queued ends early and adds nothing, the scan
+	 * matches of the scan in hand (local registration, its wide rotational search, keyframe
+	 * reuse) end early and match nothing, and finish() ends its revisit sweep and final
+	 * optimisation at their next step, so that what was mapped can be saved at once (the
+	 * estimate as the loop closures left it). Kept across initialize(); from the mapping
+	 * thread, before or between scans. */
+	void setStopToken(const CStopToken& stop);
+
 	// --- results ---
 	TTrajectory trajectory() const;  //!< one pose per scan, at its timestamp, file order
 	/** Timestamp of the last scan placed (default-constructed before the first). O(1). */
@@ -244,6 +254,7 @@ private:
 	void enterNewestKeyframes();
 
 	TLRGCParams m_params;
+	CStopToken m_stop;
 	std::unique_ptr<CMotionPredictor> m_predictor;
 	std::unique_ptr<CSweepEstimator> m_sweep;
 	std::unique_ptr<CLocalRegistration> m_local;

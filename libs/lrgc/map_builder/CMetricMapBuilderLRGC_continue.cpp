@@ -70,6 +70,9 @@ void CMetricMapBuilderLRGC::resetState()
 	if (m_params.builder.loop_closing)
 		m_loops = std::make_unique<CLoopClosing>(m_params.loop, m_params.correlator,
 												 m_params.matcher, m_params.optimizer);
+	m_local->setStopToken(m_stop);
+	m_reuse->setStopToken(m_stop);
+	if (m_loops) m_loops->setStopToken(m_stop);
 	if (m_loops && m_loopSearchExtraDelay.count() > 0)
 		TLoopClosingTestAccess::setExtraDelay(*m_loops, m_loopSearchExtraDelay);
 	m_graph = CPoseGraph();

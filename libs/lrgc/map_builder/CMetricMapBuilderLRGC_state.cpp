@@ -3,6 +3,7 @@
  * and continuing a saved map: CMetricMapBuilderLRGC_continue.cpp. */
 #include <lrgc/map_builder/CMetricMapBuilderLRGC.h>
 #include <lrgc/map_builder/IsolatedScans.h>
+#include <lrgc/map_builder/KeyframeReuse.h>
 #include <lrgc/local_registration/LocalRegistration.h>
 #include <lrgc/local_registration/MotionPredictor.h>
 #include <lrgc/loop_closing/LoopClosing.h>
@@ -63,22 +64,33 @@ void CMetricMapBuilderLRGC::finish()
 	if (!m_params.builder.final_optimization || m_graph.numNodes() < 2) return;
 	if (m_loops && m_params.revisits.enabled)
 	{
-		const CRevisitLinker linker(m_params.revisits, m_params.matcher,
-									m_params.loop.link_noise);
+		CRevisitLinker linker(m_params.revisits, m_params.matcher, m_params.loop.link_noise);
+		linker.setStopToken(m_stop);
 		const size_t added = linker.linkRevisits(m_graph, m_keyframes);
 		m_stats.loopClosureLinks += added;
 		m_stats.revisitLinks = added;
 		MRPT_LOG_INFO_FMT("end of run: %zu revisit links re-matched", added);
 	}
-	const auto report = CPoseGraphOptimizer(m_params.optimizer).optimize(m_graph, 0);
-	MRPT_LOG_INFO_FMT("final optimisation: %zu nodes, %d iterations, chi2 %.3g -> %.3g",
+	CPoseGraphOptimizer optimizer(m_params.optimizer);
+	optimizer.setStopToken(m_stop);
+	const auto report = optimizer.optimize(m_graph, 0);
+	MRPT_LOG_INFO_FMT("final optimisation: %zu nodes, %d iterations, chi2 %.3g -> %.3g%s",
 					  m_graph.numNodes(), report.iterations, report.initialChi2,
-					  report.finalChi2);
+					  report.finalChi2, report.stopped ? " (stopped)" : "");
 	settleIsolatedScans();
 	m_lastScanInMap = m_scans.empty() ? m_lastScanInMap
 									  : compose(m_graph.pose(m_scans.back().node),
 												m_scans.back().robotInNode);
 	m_metricMapDirty = true;
+}
+
+void CMetricMapBuilderLRGC::setStopToken(const CStopToken& stop)
+{
+	const auto lock = lockMap();
+	m_stop = stop;
+	m_local->setStopToken(stop);
+	m_reuse->setStopToken(stop);
+	if (m_loops) m_loops->setStopToken(stop);
 }
 
 void CMetricMapBuilderLRGC::settleIsolatedScans()

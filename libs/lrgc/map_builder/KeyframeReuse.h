@@ -62,6 +62,8 @@ public:
 	 * a result lands up to [LoopCloser] max_backlog_keyframes keyframes after its search, and
 	 * the keyframes since are carried along by its correction. */
 	void noteLoopLink(size_t node);
+	/** Its scan matches end early, matching nothing, once `stop` is stopped. */
+	void setStopToken(const CStopToken& stop) { m_matcher.setStopToken(stop); }
 
 	/** The existing keyframe to anchor `scan` at instead of making it a new keyframe, if one
 	 * covers `scanInMap` and may be trusted. anchor: the keyframe the robot is at (not a

@@ -226,14 +226,23 @@ struct TPass
 {
 	int iterations = 0;
 	bool converged = false;
+	bool stopped = false;  //!< a stop was requested: prob.x is the last accepted iterate
+};
+
+/** Where LM reports its iterations and learns of a stop request. */
+struct TLoopHooks
+{
+	const std::function<void()>& onIteration;
+	const CStopToken& stop;
 };
 
 /** LM on the problem's robust cost with kernel `k`, from prob.x, updating it. Stops when
- * the relative cost decrease < relTol, the step < stepTol, or after max_iterations. */
+ * the relative cost decrease < relTol, the step < stepTol, after max_iterations, or before
+ * an iteration once a stop is requested. */
 TPass levenbergMarquardt(detail::TProblem& prob, const detail::TCostKernel& k,
 						 const TPoseGraphOptimizerParams& p, double relTol, int max_iterations,
 						 CCholmodSolver& solver, detail::TNormalEquations& ne,
-						 const std::function<void()>& onIteration)
+						 const TLoopHooks& hooks)
 {
 	TPass pass;
 	pass.converged = prob.varNode.empty();
@@ -243,8 +252,9 @@ TPass levenbergMarquardt(detail::TProblem& prob, const detail::TCostKernel& k,
 	std::vector<TPose2D> trial;
 	while (!pass.converged && pass.iterations < max_iterations)
 	{
+		if (hooks.stop.stopRequested()) return pass.stopped = true, pass;
 		++pass.iterations;
-		if (onIteration) onIteration();
+		if (hooks.onIteration) hooks.onIteration();
 		prob.linearize(k, ne);
 		if (ne.rhs.cwiseAbs().maxCoeff() < 1e-12) return pass.converged = true, pass;
 		bool accepted = false;
@@ -386,10 +396,11 @@ TOptimizationReport CPoseGraphOptimizer::solve(detail::TProblem& prob,
 		const int budget = m_params.max_iterations - rep.iterations;
 		const TPass pass = levenbergMarquardt(
 			prob, k, m_params, last ? m_params.relative_cost_tolerance : 1e-3,
-			last ? budget : std::min(5, budget), m_impl->solver, ne, m_onIteration);
+			last ? budget : std::min(5, budget), m_impl->solver, ne, {m_onIteration, m_stop});
 		rep.iterations += pass.iterations;
 		rep.converged = last && pass.converged;
-		if (last || rep.iterations >= m_params.max_iterations) break;
+		rep.stopped = pass.stopped;
+		if (last || pass.stopped || rep.iterations >= m_params.max_iterations) break;
 		k.divisor *= 4;
 	}
 	k.divisor = 1e300;  // report against the target Phi

@@ -25,6 +25,7 @@
  */
 #pragma once
 
+#include <lrgc/common/StopToken.h>
 #include <lrgc/pose_graph/PoseGraphOptimizerParams.h>
 #include <mrpt/config/CLoadableOptions.h>
 
@@ -49,7 +50,10 @@ struct TOptimizationReport
 	double initialChi2 = 0, finalChi2 = 0;  //!< sum of unweighted chi2 over the solved links
 	double initialCost = 0, finalCost = 0;  //!< the robust objective actually minimised
 	bool converged = false;  //!< a tolerance was met (false: stopped by max_iterations)
-	double seconds = 0;      //!< wall time of the call [s]
+	/** A stop was requested (setStopToken) before the solve ended: the poses written back
+	 * are its last accepted iterate (the input poses if it stopped before the first). */
+	bool stopped = false;
+	double seconds = 0;                     //!< wall time of the call [s]
 	size_t numFreeNodes = 0, numLinks = 0;  //!< size of the solved problem
 	/** LoopClosure link ids whose final DCS scale s < reject_scale (information scaled by
 	 * s^2 < reject_scale^2): the links the back-end treats as false. Ascending. */
@@ -68,6 +72,8 @@ public:
 	/** Called at the start of every LM iteration (linearisation) of every solve: progress
 	 * for a caller on another thread (CLoopClosingWorker's schedule). */
 	void setIterationCallback(std::function<void()> f) { m_onIteration = std::move(f); }
+	/** Solves end before their next iteration once `stop` is stopped (report.stopped). */
+	void setStopToken(const CStopToken& stop) { m_stop = stop; }
 
 	/** Optimises every node joined to `anchor` through enabled links; `anchor` stays fixed,
 	 * nodes not joined to it are left untouched. Writes the poses back into `g`.
@@ -91,6 +97,7 @@ private:
 	struct Impl;  // CHOLMOD workspace and the cached symbolic factorisation
 	TPoseGraphOptimizerParams m_params;
 	std::function<void()> m_onIteration;
+	CStopToken m_stop;
 	std::unique_ptr<Impl> m_impl;
 };
 

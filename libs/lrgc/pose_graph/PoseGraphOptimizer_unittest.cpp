@@ -125,6 +125,49 @@ TEST(PoseGraphOptimizer, SquareLoopConvergesToGroundTruth)
 	}
 }
 
+// Issue 30: a stop request ends a solve before its next iteration, the poses at the last
+// accepted iterate (as they were if no iteration ran), report.stopped set.
+TEST(PoseGraphOptimizer, StopRequestEndsTheSolveBeforeItsNextIteration)
+{
+	const auto bentSquare = []
+	{
+		CPoseGraph g;
+		const Eigen::Matrix3d info = Eigen::Vector3d(100, 100, 400).asDiagonal();
+		for (int i = 0; i < 8; ++i) g.addNode({0.3 * i, 0.1 * i * i, 0.2 * i});
+		for (size_t i = 0; i < 8; ++i)
+			g.addLink({i, (i + 1) % 8, TPose2D(1, 0, M_PI / 4), info, LinkType::Odometry});
+		return g;
+	};
+	CPoseGraphOptimizer opt;
+	CPoseGraph whole = bentSquare();
+	const TOptimizationReport full = opt.optimize(whole, 0);
+	ASSERT_GT(full.iterations, 2);
+	EXPECT_FALSE(full.stopped);
+
+	const CStopSource source;
+	opt.setStopToken(source.token());
+	int iterations = 0;  // the stop comes during the second iteration
+	opt.setIterationCallback(
+		[&]
+		{
+			if (++iterations == 2) source.requestStop();
+		});
+	CPoseGraph cut = bentSquare();
+	const TOptimizationReport rep = opt.optimize(cut, 0);
+	EXPECT_TRUE(rep.stopped);
+	EXPECT_FALSE(rep.converged);
+	EXPECT_EQ(rep.iterations, 2);
+	EXPECT_LT(rep.finalChi2, rep.initialChi2);  // two accepted steps were kept
+	EXPECT_GT(rep.finalChi2, full.finalChi2);
+
+	CPoseGraph untouched = bentSquare();
+	const TOptimizationReport none = opt.optimize(untouched, 0);  // stopped already
+	EXPECT_TRUE(none.stopped);
+	EXPECT_EQ(none.iterations, 0);
+	for (size_t i = 0; i < untouched.numNodes(); ++i)
+		EXPECT_EQ(untouched.pose(i), bentSquare().pose(i)) << i;
+}
+
 TEST(PoseGraphOptimizer, ManhattanGraphOf3000PosesRecoversGroundTruth)
 {
 	const auto sim = simulateManhattanPoseGraph(3000, 25, 0.05, 0.01, 11);

@@ -167,6 +167,7 @@ std::optional<TScanMatch> CScanMatcher::matchPoints(const CReferenceCloud& ref,
 	int it = 0;
 	while (!converged && ++it <= P.max_iterations)
 	{
+		if (m_stop.stopRequested()) return std::nullopt;  // not converged: no match
 		associate(ref, pts, x, gate, frozen, corr);
 		if (corr.size() < 3) return std::nullopt;
 		const double scale = robustScale(corr, P.min_residual_std_m, tmp);
@@ -278,6 +279,7 @@ std::optional<TScanMatch> CScanMatcher::matchWide(const CReferenceCloud& ref,
 	std::vector<std::optional<std::pair<double, mrpt::math::TPose2D>>> starts(2 * n + 1);
 	const std::function<void(size_t)> explore = [&](size_t i)
 	{
+		if (m_stop.stopRequested()) return;
 		mrpt::math::TPose2D g = guess;
 		g.phi = mrpt::math::wrapToPi(guess.phi +
 									 (static_cast<int>(i) - n) * m_params.wide_search_step);
@@ -288,6 +290,7 @@ std::optional<TScanMatch> CScanMatcher::matchWide(const CReferenceCloud& ref,
 		parallel(starts.size(), explore);
 	else
 		for (size_t i = 0; i < starts.size(); ++i) explore(i);
+	if (m_stop.stopRequested()) return std::nullopt;            // some starts were not explored
 	std::vector<std::pair<double, mrpt::math::TPose2D>> found;  // (score, ref <- scan)
 	for (const auto& s : starts)
 		if (s) found.push_back(*s);

@@ -21,6 +21,7 @@
  */
 #pragma once
 
+#include <lrgc/common/StopToken.h>
 #include <lrgc/scan_matching/ScanMatcherParams.h>
 #include <lrgc/scan_matching/ReferenceCloud.h>
 #include <lrgc/scan_matching/Scan.h>
@@ -62,6 +63,9 @@ public:
 	/** Validates p (throws on bad values). */
 	explicit CScanMatcher(const TScanMatcherParams& p = {});
 	const TScanMatcherParams& params() const { return m_params; }
+	/** Once `stop` is stopped, match() and matchWide() end before their next iteration or
+	 * start and find nothing. */
+	void setStopToken(const CStopToken& stop) { m_stop = stop; }
 
 	/** Local match from guessScanInRef (ref <- scan). nullopt: too few inliers, no convergence,
 	 * RMS too large, or geometry degenerate in more than one direction. Never the guess. */
@@ -95,6 +99,7 @@ private:
 										  bool check = true) const;
 
 	TScanMatcherParams m_params;
+	CStopToken m_stop;
 };
 
 }  // namespace lrgc

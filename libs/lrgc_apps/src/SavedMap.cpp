@@ -47,6 +47,7 @@ TSavedMap loadSavedMap(const std::string& path, const std::string& option)
 								 std::to_string(out.graph->graph.numNodes()) + " nodes but " +
 								 kSimplemapFile + " " + std::to_string(out.keyframes.size()) +
 								 " keyframes: the files are of different runs");
+	if (!out.graph->warning.empty()) out.warnings.push_back(option + ": " + out.graph->warning);
 	return out;
 }
 

@@ -75,6 +75,9 @@ private:
 	void reportEnd(const TSlamCommandLine& cl, const CMetricMapBuilderLRGC& builder,
 				   const TRunSummary& run, int exitCode);
 	int convertOnly(const TSlamCommandLine& cl);
+	/** builder.finish(); a failure there is kExitInputError (run.status says why), the map
+	 * as mapped still to be saved. Returns the run's exit code. */
+	int finishMap(CMetricMapBuilderLRGC& builder, TRunSummary& run, int exitCode);
 	/** One log entry into the builder, its latency recorded; kExitOk or kExitInputError. */
 	int mapEntry(CMetricMapBuilderLRGC& builder, TLogEntry& entry, TRunSummary& run);
 	// --- continuing and localising on a saved map (SlamAppSavedMap.cpp) ---

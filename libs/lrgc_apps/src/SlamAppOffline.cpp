@@ -105,10 +105,12 @@ int CSlamApp::runOffline(const TSlamCommandLine& cl)
 
 	CMetricMapBuilderLRGC builder(cfg.lrgc);
 	builder.logging_enable_console_output = false;  // warnings are reported below
+	builder.setStopToken(signals.token());  // the first signal cuts short what is in hand
 	std::optional<TSavedMap> initialMap;
 	if (!cl.initialMap.empty()) try
 		{
 			initialMap = loadSavedMap(cl.initialMap, "--initial-map");
+			for (const auto& w : initialMap->warnings) report("warning: " + w);
 			initializeFromSavedMap(builder, *initialMap);
 		}
 		catch (const std::exception& e)
@@ -131,10 +133,7 @@ int CSlamApp::runOffline(const TSlamCommandLine& cl)
 	// has nothing else) and the counts of the problems not listed.
 	reportWarnings(reader->takeWarnings());
 
-	const auto tFinal = std::chrono::steady_clock::now();
-	builder.finish();
-	run.finalOptimizationSeconds =
-		std::chrono::duration<double>(std::chrono::steady_clock::now() - tFinal).count();
+	exitCode = finishMap(builder, run, exitCode);
 	reportWarnings(builder.takeWarnings());
 	if (exitCode == kExitOk)
 		progress.finish(1.0, builder.stats().scans);
@@ -154,6 +153,29 @@ int CSlamApp::runOffline(const TSlamCommandLine& cl)
 	if (m_icpSlam && builder.stats().scans > 0)
 		writeIcpSlamOutputs(cl.outDir, builder.trajectory(), m_scansAfterEntry);
 	reportEnd(cl, builder, run, exitCode);
+	return exitCode;
+}
+
+// The end of the run (CMetricMapBuilderLRGC::finish: the loop results still due, the revisit
+// sweep, the final optimisation). If it fails (a loop search that could not run, such as a
+// correlation grid beyond its cell budget, rethrown by the worker) the map as mapped is still
+// whole: it is saved, and the run fails with the reason (the first one, if it failed before).
+int CSlamApp::finishMap(CMetricMapBuilderLRGC& builder, TRunSummary& run, int exitCode)
+{
+	const auto t0 = std::chrono::steady_clock::now();
+	try
+	{
+		builder.finish();
+	}
+	catch (const std::exception& e)
+	{
+		if (exitCode == kExitOk || exitCode == kExitInterrupted)
+			run.status = "error at the end of the run: " + oneLineError(e);
+		if (m_verbose) report("details:\n" + errorDetails(e));
+		exitCode = kExitInputError;
+	}
+	run.finalOptimizationSeconds =
+		std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 	return exitCode;
 }
 

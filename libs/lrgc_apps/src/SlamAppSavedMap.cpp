@@ -67,8 +67,10 @@ int CSlamApp::startInInitialMap(const TSavedMap& map, const TAppConfig& cfg, CLo
 		"log in it",
 		map.path.c_str(), builder.graph().numNodes(), builder.graph().numLinks(),
 		map.graph ? "the saved graph" : "linked anew from the keyframes' poses"));
-	const CGlobalLocalizer global(builder.graph(), builder.keyframes(), cfg.lrgc.correlator);
+	CGlobalLocalizer global(builder.graph(), builder.keyframes(), cfg.lrgc.correlator);
+	global.setStopToken(signals.token());
 	CStartFinder finder(global, cfg.lrgc, cfg.localization);
+	finder.setStopToken(signals.token());
 	std::vector<TLogEntry> read;  // replayed into the builder once the start is known
 	std::optional<TStartFound> found;
 	while (!found && !signals.stopRequested())
@@ -114,7 +116,10 @@ int CSlamApp::startInInitialMap(const TSavedMap& map, const TAppConfig& cfg, CLo
 		run.startSeconds, found->score, found->ambiguity, found->patchKeyframes));
 	builder.startSessionAt(start, found->cov);
 	for (auto& entry : read)
-		if (mapEntry(builder, entry, run) != kExitOk) return kExitInputError;
+		if (signals.stopRequested())
+			break;  // mapLog says "interrupted"
+		else if (mapEntry(builder, entry, run) != kExitOk)
+			return kExitInputError;
 	reportWarnings(builder.takeWarnings());
 	return kExitOk;
 }
@@ -232,6 +237,18 @@ std::string eventLine(const TLocalizationEvent& e)
 		line += mrpt::format(": the pose moved %.2f m", e.jump_m);
 	return line;
 }
+
+// A localiser on the saved map: its keyframes and graph as a map builder restores them.
+std::unique_ptr<CLocalizer> localizerOn(const TSavedMap& map, const TAppConfig& cfg)
+{
+	CMetricMapBuilderLRGC restored(cfg.lrgc);
+	restored.logging_enable_console_output = false;
+	initializeFromSavedMap(restored, map);
+	auto localizer = std::make_unique<CLocalizer>(restored.graph(), restored.keyframes(),
+												  cfg.lrgc, cfg.localization);
+	localizer->logging_enable_console_output = false;
+	return localizer;
+}
 }  // namespace
 
 int CSlamApp::runLocalize(const TSlamCommandLine& cl)
@@ -246,12 +263,9 @@ int CSlamApp::runLocalize(const TSlamCommandLine& cl)
 	{
 		reader = openLog(cl.input, cfg.reader);
 		const TSavedMap map = loadSavedMap(cl.localize, "--localize");
-		CMetricMapBuilderLRGC restored(cfg.lrgc);  // the map's keyframes, as a builder has them
-		restored.logging_enable_console_output = false;
-		initializeFromSavedMap(restored, map);
-		localizer = std::make_unique<CLocalizer>(restored.graph(), restored.keyframes(),
-												 cfg.lrgc, cfg.localization);
-		localizer->logging_enable_console_output = false;
+		for (const auto& w : map.warnings) report("warning: " + w);
+		localizer = localizerOn(map, cfg);
+		localizer->setStopToken(signals.token());
 	}
 	catch (const std::exception& e)
 	{

@@ -5,6 +5,7 @@
 #include <pthread.h>
 #include <unistd.h>
 
+#include <chrono>
 #include <ctime>
 
 namespace lrgc::apps
@@ -12,6 +13,13 @@ namespace lrgc::apps
 namespace
 {
 std::atomic<int> g_brokenPipes{0};  // SIGPIPEs taken since the watcher was made
+
+/** [s] A signal this soon after the first is the same request delivered twice, not a second
+ * Ctrl-C: coreutils' `timeout -s INT` sends its signal to the child and then to the child's
+ * process group, so lrgc-slam took two SIGINTs microseconds apart and exited at once with
+ * nothing written (when the two did not merge while pending). A person's second Ctrl-C comes
+ * hundreds of milliseconds after the first. */
+constexpr double kSameRequestSeconds = 0.25;
 
 extern "C" void countBrokenPipe(int)
 {
@@ -38,10 +46,21 @@ CStopSignalWatcher::CStopSignalWatcher()
 		[this]
 		{
 			const timespec poll = {0, 200 * 1000 * 1000};  // to notice m_quit
+			std::chrono::steady_clock::time_point first;
 			while (!m_quit)
 			{
-				if (sigtimedwait(&m_set, nullptr, &poll) < 0) continue;  // time-out or EINTR
-				if (m_signals.fetch_add(1) >= 1) ::_exit(kExitInterrupted);
+				if (sigtimedwait(&m_set, nullptr, &poll) < 0)
+				{  // time-out or EINTR; a broken pipe is seen here
+					if (g_brokenPipes.load() > 0) m_source.requestStop();
+					continue;
+				}
+				const auto now = std::chrono::steady_clock::now();
+				m_source.requestStop();
+				if (m_signals.fetch_add(1) == 0)
+					first = now;
+				else if (std::chrono::duration<double>(now - first).count() >=
+						 kSameRequestSeconds)
+					::_exit(kExitInterrupted);
 			}
 		});
 }

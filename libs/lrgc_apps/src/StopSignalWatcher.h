@@ -9,11 +9,15 @@
  * 143, and a SIGTERM arriving during an ordering is taken by METIS). So the watcher blocks both
  * signals in the calling thread, and thereby in every thread created afterwards, and takes
  * them in its own thread with sigtimedwait(): handlers, whoever installs them, never run. The
- * first signal asks the run to stop; the second calls _exit(130) at once (everything on disk
- * is whole by then: see CCaptureWriter and writeFileAtomically; a temporary file being written
- * may stay behind). Create it before any other thread of the run. A signal that comes after
- * the watcher's last look, before its destructor unblocks the signals again, is taken (and
- * counted) by the destructor, not left pending to kill the process once unblocked.
+ * first signal asks the run to stop; the second (0.25 s or more after the first: `timeout`
+ * delivers its one signal twice, to the child and to its group) calls _exit(130) at once
+ * (everything on disk is whole by then: see CCaptureWriter and writeFileAtomically; a temporary
+ * file being written may stay behind). Create it before any other thread of the run. A signal
+ * that comes after the watcher's last look, before its destructor unblocks the signals again,
+ * is taken (and counted) by the destructor, not left pending to kill the process once
+ * unblocked. The first signal also stops token(): the map builder, the localiser and global
+ * localisation end the computation in hand early (a loop search, an optimisation, a
+ * correlation), so that what was mapped is saved promptly however large the map.
  *
  * SIGHUP is taken as SIGINT and SIGTERM are. SIGPIPE cannot be: the kernel sends it to the
  * thread whose write failed, where a blocked one would stay pending, unseen by the watcher.
@@ -24,6 +28,7 @@
  */
 #pragma once
 
+#include <lrgc/common/StopToken.h>
 #include <signal.h>
 
 #include <atomic>
@@ -41,6 +46,9 @@ public:
 	CStopSignalWatcher& operator=(const CStopSignalWatcher&) = delete;
 
 	bool stopRequested() const;
+	/** Stopped by the first signal (a broken pipe: within the watcher's 0.2 s poll), for the
+	 * library's long computations (CMetricMapBuilderLRGC::setStopToken, ...). */
+	CStopToken token() const { return m_source.token(); }
 
 private:
 	sigset_t m_set{}, m_oldMask{};
@@ -49,6 +57,7 @@ private:
 	};
 	std::atomic<int> m_signals{0};
 	std::atomic<bool> m_quit{false};
+	CStopSource m_source;
 	std::thread m_thread;
 };
 

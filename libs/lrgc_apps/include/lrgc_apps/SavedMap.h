@@ -13,6 +13,7 @@
 
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace lrgc::apps
 {
@@ -25,6 +26,7 @@ struct TSavedMap
 	std::string path;
 	mrpt::maps::CSimpleMap keyframes;
 	std::optional<TSavedPoseGraph> graph;  //!< from graph.lrgc, if the folder has one
+	std::vector<std::string> warnings;     //!< for the user (graph->warning)
 };
 
 /** Loads `path` (a folder or a simplemap file); `option` names the command-line option in

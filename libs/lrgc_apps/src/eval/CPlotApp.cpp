@@ -267,6 +267,7 @@ TPlotSummary CPlotApp::render(const TPlotOptions& o)
 	sum.trajectoryPoses = traj.size();
 	sum.loopLinks = loops.size();
 	sum.timedScans = timing.size();
+	sum.warning = graph.warning;
 	sum.mapPanelTop = headerH;
 	sum.mapPanelHeight = map.rows;
 	sum.mapOriginRow += headerH;
@@ -299,6 +300,7 @@ int CPlotApp::run(const std::vector<std::string>& args, std::ostream& out, std::
 	try
 	{
 		const TPlotSummary s = render(o);
+		if (!s.warning.empty()) err << "lrgc-plot: warning: " << s.warning << "\n";
 		out << mrpt::format("wrote %s (%dx%d): %zu poses, %zu loop links, %zu timed scans\n",
 							o.out.c_str(), s.width, s.height, s.trajectoryPoses, s.loopLinks,
 							s.timedScans);

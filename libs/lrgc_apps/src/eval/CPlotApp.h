@@ -37,6 +37,7 @@ struct TPlotSummary
 	double pixelsPerMetre = 0;
 	double mapOriginCol = 0, mapOriginRow = 0;
 	int mapPanelTop = 0, mapPanelHeight = 0;  //!< rows of the map panel in the PNG
+	std::string warning;                      //!< about an input (TGraphFile::warning)
 };
 
 class CPlotApp

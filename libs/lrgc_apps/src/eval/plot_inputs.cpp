@@ -91,8 +91,10 @@ namespace
 TGraphFile typedGraph(const std::string& text, const std::string& path)
 {
 	std::istringstream in(text);
-	const CPoseGraph pg = poseGraphFromText(in, path).graph;
+	const TSavedPoseGraph saved = poseGraphFromText(in, path);
+	const CPoseGraph& pg = saved.graph;
 	TGraphFile g;
+	g.warning = saved.warning;
 	g.loopLinks.emplace();
 	for (std::size_t i = 0; i < pg.numNodes(); ++i) g.vertices[i] = pg.pose(i);
 	for (std::size_t id = 0; id < pg.numLinks(); ++id)

@@ -37,6 +37,7 @@ struct TGraphFile
 	/** graph.lrgc only: its enabled links of type LoopClosure, the "loop links" that
 	 * stats.json counts as links.loop. Empty optional for a graph.graph (no link types). */
 	std::optional<std::vector<std::pair<std::size_t, std::size_t>>> loopLinks;
+	std::string warning;  //!< graph.lrgc only: TSavedPoseGraph::warning
 };
 
 /** Reads an lrgc graph.lrgc (first record LRGC_POSE_GRAPH: nodes, typed links; disabled

@@ -4,6 +4,7 @@
 #include <mrpt/core/exceptions.h>
 #include <mrpt/core/format.h>
 
+#include <cmath>
 #include <sstream>
 
 namespace lrgc
@@ -68,6 +69,14 @@ void readNode(std::istringstream& s, CPoseGraph& graph, const std::string& at)
 	if (i != graph.numNodes())
 		THROW_EXCEPTION_FMT("%s: NODE %zu out of order (expected %zu)", at.c_str(), i,
 							graph.numNodes());
+	// A map spans metres to kilometres; beyond this [m] the number is corrupt, not a place
+	// (and the grids built from the map could not index it).
+	constexpr double kFarthest = 1e7;
+	if (!(std::abs(p.x) <= kFarthest && std::abs(p.y) <= kFarthest && std::isfinite(p.phi)))
+		THROW_EXCEPTION_FMT(
+			"%s: NODE %zu at (%g, %g, %g): not finite or farther than %g m "
+			"from the map's origin",
+			at.c_str(), i, p.x, p.y, p.phi, kFarthest);
 	graph.addNode(p);
 }
 
@@ -110,6 +119,10 @@ TSavedPoseGraph poseGraphFromText(std::istream& in, const std::string& where)
 	{
 		++lineNo;
 		const std::string at = where + ":" + std::to_string(lineNo);
+		// The writer ends every line: a last line without its newline was cut, perhaps in a
+		// number ("NODE 7 1.25" of "NODE 7 1.2503"), which would still parse.
+		if (in.eof())
+			THROW_EXCEPTION_FMT("%s: cut short in this line (no end of line)", at.c_str());
 		if (line.empty() || line[0] == '#') continue;
 		std::istringstream s(line);
 		s.imbue(std::locale::classic());
@@ -153,6 +166,12 @@ TSavedPoseGraph poseGraphFromText(std::istream& in, const std::string& where)
 	if (version >= 2 && !ended)
 		THROW_EXCEPTION_FMT(
 			"%s: cut short after line %zu (%zu nodes, %zu links read; no END line)",
+			where.c_str(), lineNo, saved.graph.numNodes(), saved.graph.numLinks());
+	// Version 1 has no END line to tell: loaded, with a warning that says so.
+	if (version == 1)
+		saved.warning = mrpt::format(
+			"%s:%zu: a version 1 graph (no END line): whether it was cut after this line (%zu "
+			"nodes, %zu links read) cannot be checked; a map saved by this lrgc-slam can",
 			where.c_str(), lineNo, saved.graph.numNodes(), saved.graph.numLinks());
 	return saved;
 }

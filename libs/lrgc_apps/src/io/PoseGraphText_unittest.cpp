@@ -90,6 +90,10 @@ TEST(PoseGraphText, badInputIsAnErrorNamingTheLine)
 	fails(head + "LINK 0 5 1 0 0 1 0 0 1 0 1 Odometry 1\n", "out of range");
 	fails(head + "LINK 0 1 1 0 0 -1 0 0 1 0 1 Odometry 1\n", "not positive definite");
 	fails(head + "EDGE_SE2 0 1 1 0 0\n", "unknown record 'EDGE_SE2'");
+	// Issue 30: a node 1e300 m away was taken, and the map then refused for its extent with
+	// a 300-digit number.
+	fails("LRGC_POSE_GRAPH 2\nNODE 0 1e300 0 0\n",
+		  "g.lrgc:2: NODE 0 at (1e+300, 0, 0): not finite or farther than 1e+07 m");
 	EXPECT_EQ(
 		parse(head + "# comment\n\nLINK 0 1 1 0 0 1 0 0 1 0 1 Odometry 1\n").graph.numLinks(),
 		1U);
@@ -128,4 +132,40 @@ TEST(PoseGraphText, fileCutAtALineBoundaryIsAnError)
 	const size_t magicEnd = text.find('\n', text.find("LRGC_POSE_GRAPH")) + 1;
 	for (size_t cut = magicEnd; cut < text.size(); cut = text.find('\n', cut) + 1)
 		fails(text.substr(0, cut), "cut short");
+}
+
+// Issue 30: a version 1 file (no END line) cut at a line boundary loaded silently. Whether it
+// was cut cannot be told, so it loads with a warning naming the file and its last line; a
+// file of any version cut inside a line (no newline at its end) is refused.
+TEST(PoseGraphText, versionOneWarnsAndACutLineIsAnError)
+{
+	const std::string v1 =
+		"LRGC_POSE_GRAPH 1\nNODE 0 0 0 0\nNODE 1 1 0 0\n"
+		"LINK 0 1 1 0 0 1 0 0 1 0 1 Odometry 1\n";
+	const auto whole = parse(v1);
+	EXPECT_EQ(whole.graph.numLinks(), 1U);
+	EXPECT_NE(
+		whole.warning.find("g.lrgc:4: a version 1 graph (no END line): whether it was "
+						   "cut after this line (2 nodes, 1 links read) cannot be checked"),
+		std::string::npos)
+		<< whole.warning;
+	const auto cut = parse(v1.substr(0, v1.find("LINK")));
+	EXPECT_EQ(cut.graph.numLinks(), 0U);
+	EXPECT_NE(cut.warning.find("g.lrgc:3: a version 1 graph"), std::string::npos)
+		<< cut.warning;
+	EXPECT_EQ(parse("LRGC_POSE_GRAPH 2\nNODE 0 0 0 0\nEND 1 0\n").warning, "")
+		<< "version 2 has the END line";
+	for (const std::string& text : {v1.substr(0, v1.size() - 1), v1.substr(0, v1.size() - 9),
+									std::string("LRGC_POSE_GRAPH 2\nNODE 0 0 0 0\nEND 1 0")})
+		try
+		{
+			parse(text);
+			ADD_FAILURE() << "accepted a file cut inside its last line: " << text;
+		}
+		catch (const std::exception& e)
+		{
+			EXPECT_NE(std::string(e.what()).find("cut short in this line (no end of line)"),
+					  std::string::npos)
+				<< e.what();
+		}
 }

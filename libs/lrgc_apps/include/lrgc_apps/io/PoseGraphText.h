@@ -28,13 +28,17 @@ struct TSavedPoseGraph
 {
 	CPoseGraph graph;
 	std::string laserLabel;  //!< empty if the file names none
+	/** One line for the user when the file cannot be checked whole (a version 1 file, which
+	 * has no END line), else empty. */
+	std::string warning;
 };
 
 std::string poseGraphToText(const CPoseGraph& graph, const std::string& laserLabel = {});
 
 /** Parses the text written by poseGraphToText(); throws naming `where` and the line number
- * on anything else (unknown record, bad number, node out of order, invalid link; in a
- * version 2 file, no END line or counts other than its own: a file cut at a line boundary). */
+ * on anything else (unknown record, bad number, node out of order, invalid link, a last line
+ * without its newline; in a version 2 file, no END line or counts other than its own: a file
+ * cut at a line boundary). A version 1 file loads with a `warning`. */
 TSavedPoseGraph poseGraphFromText(std::istream& in, const std::string& where);
 
 }  // namespace lrgc
