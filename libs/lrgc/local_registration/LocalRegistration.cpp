@@ -220,6 +220,19 @@ std::vector<std::optional<TScanMatch>> CLocalRegistration::matchAll(
 	return results;
 }
 
+// K depends on the prior (window_size with odometry, laser_only_window_size without): a change
+// of prior resizes the window, dropping its oldest keyframes if it shrinks. (An odometry jump
+// is one step without the odometry, not a robot without it.)
+void CLocalRegistration::resizeWindowFor(const TMotionPrediction& prediction)
+{
+	const bool withOdometry = prediction.fromOdometry || prediction.odometryJump;
+	if (m_withOdometry == withOdometry) return;
+	m_withOdometry = withOdometry;
+	if (m_window.size() <= windowSize()) return;
+	while (m_window.size() > windowSize()) m_window.pop_front();
+	m_cloudNewest.reset();
+}
+
 TRegistration CLocalRegistration::registerScan(const CPoseGraph& graph,
 											   const TKeyframes& keyframes, const TScan2D& scan,
 											   const mrpt::math::TPose2D& priorInMap,
@@ -228,19 +241,7 @@ TRegistration CLocalRegistration::registerScan(const CPoseGraph& graph,
 	const Eigen::Matrix3d& priorCov = prediction.cov;
 	TRegistration reg{priorInMap, priorCov, false, false};
 	m_lastPatchMatch.reset();
-	// K depends on the prior (window_size with odometry, laser_only_window_size without): a
-	// change of prior resizes the window, dropping its oldest keyframes if it shrinks.
-	// (An odometry jump is one step without the odometry, not a robot without it.)
-	if (const bool withOdometry = prediction.fromOdometry || prediction.odometryJump;
-		m_withOdometry != withOdometry)
-	{
-		m_withOdometry = withOdometry;
-		if (m_window.size() > windowSize())
-		{
-			while (m_window.size() > windowSize()) m_window.pop_front();
-			m_cloudNewest.reset();
-		}
-	}
+	resizeWindowFor(prediction);
 	if (m_window.empty()) return reg;  // no keyframe of this session yet
 	const CReferenceCloud& cloud = windowCloud(graph, keyframes);
 	const TPose2D newestInMap = graph.pose(*m_cloudNewest);

@@ -129,6 +129,8 @@ private:
 	{
 		return m_withOdometry ? m_params.window_size : m_params.laser_only_window_size;
 	}
+	/** K for this scan's prior; the window shrinks to it if needed. */
+	void resizeWindowFor(const TMotionPrediction& prediction);
 	bool m_withOdometry = true;  //!< the last registered scan's prior came from odometry
 	using TCloudPtr = std::shared_ptr<const CReferenceCloud>;
 	/** The patch for the next scans, built from the window as it was after a keyframe's

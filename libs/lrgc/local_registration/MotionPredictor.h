@@ -102,7 +102,8 @@ private:
 	static constexpr size_t kClockSteps = 50;
 	/** Odometry jump thresholds (file comment): [m], [m/s], [rad], [rad/s]. */
 	static constexpr double kJumpShift = 2.0, kJumpSpeed = 2.0;
-	static constexpr double kJumpTurn = mrpt::DEG2RAD(100.0), kJumpTurnRate = mrpt::DEG2RAD(90.0);
+	static constexpr double kJumpTurn = mrpt::DEG2RAD(100.0),
+							kJumpTurnRate = mrpt::DEG2RAD(90.0);
 	bool isJump(const mrpt::math::TPose2D& step, double dt) const;
 	static constexpr double kJitterFraction = 0.3;
 };

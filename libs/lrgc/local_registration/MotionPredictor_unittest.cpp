@@ -159,8 +159,8 @@ lrgc::TMotionPrediction afterOdometryStep(const TPose2D& step, double dt)
 // motion. The step is then predicted by constant velocity, and flagged.
 TEST(MotionPredictor, anOdometryJumpIsPredictedByConstantVelocity)
 {
-	for (const TPose2D& jump : {TPose2D(-6.0, 1.0, 0.2), TPose2D(0.3, 0.1, mrpt::DEG2RAD(150)),
-								TPose2D(2.3, 0, 0)})
+	for (const TPose2D& jump :
+		 {TPose2D(-6.0, 1.0, 0.2), TPose2D(0.3, 0.1, mrpt::DEG2RAD(150)), TPose2D(2.3, 0, 0)})
 	{
 		const auto p = afterOdometryStep(jump, 0.1);  // beyond 2 m + 2 m/s * 0.1 s = 2.2 m
 		EXPECT_TRUE(p.odometryJump) << jump.asString();
@@ -176,12 +176,11 @@ TEST(MotionPredictor, anOdometryJumpIsPredictedByConstantVelocity)
 // pause in the scans.
 TEST(MotionPredictor, largeButPossibleStepsAreOdometry)
 {
-	for (const auto& [step, dt] :
-		 {std::pair{TPose2D(0.95, 0, mrpt::DEG2RAD(7.6)), 0.21},
-		  std::pair{TPose2D(0.38, 0, mrpt::DEG2RAD(61)), 0.16},
-		  std::pair{TPose2D(0.1, 0, mrpt::DEG2RAD(-85)), 0.0},
-		  std::pair{TPose2D(5.0, 0.5, mrpt::DEG2RAD(90)), 5.0},
-		  std::pair{TPose2D(2.1, 0, 0), 0.1}})
+	for (const auto& [step, dt] : {std::pair{TPose2D(0.95, 0, mrpt::DEG2RAD(7.6)), 0.21},
+								   std::pair{TPose2D(0.38, 0, mrpt::DEG2RAD(61)), 0.16},
+								   std::pair{TPose2D(0.1, 0, mrpt::DEG2RAD(-85)), 0.0},
+								   std::pair{TPose2D(5.0, 0.5, mrpt::DEG2RAD(90)), 5.0},
+								   std::pair{TPose2D(2.1, 0, 0), 0.1}})
 	{
 		const auto p = afterOdometryStep(step, dt);
 		EXPECT_FALSE(p.odometryJump) << step.asString() << " in " << dt << " s";

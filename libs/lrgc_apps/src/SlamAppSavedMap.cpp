@@ -249,6 +249,27 @@ std::unique_ptr<CLocalizer> localizerOn(const TSavedMap& map, const TAppConfig& 
 	localizer->logging_enable_console_output = false;
 	return localizer;
 }
+
+// One log entry fed to the localiser. For a scan: its latency (its processing, without the
+// replay's wait for the modelled search worker, CGlobalSearchWorker, which is listed apart),
+// that wait and the thread's CPU time [ms].
+void feedTimed(CLocalizer& localizer, TLogEntry& entry, TRunSummary& run,
+			   std::vector<double>& replayWaitMs, std::vector<double>& cpuMs)
+{
+	const size_t scansBefore = localizer.stats().scans;
+	const auto t0 = std::chrono::steady_clock::now();
+	const double cpu0 = threadCpuMs();
+	feedEntry(localizer, entry);
+	if (localizer.stats().scans == scansBefore) return;
+	const double waitMs = 1e3 * localizer.lastReplayWaitSeconds();
+	run.latencyMs.push_back(
+		std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
+			.count() -
+		waitMs);
+	replayWaitMs.push_back(waitMs);
+	cpuMs.push_back(threadCpuMs() - cpu0);
+	run.latencyStamp.push_back(mrpt::Clock::toDouble(localizer.lastScanTimestamp()));
+}
 }  // namespace
 
 int CSlamApp::runLocalize(const TSlamCommandLine& cl)
@@ -293,24 +314,8 @@ int CSlamApp::runLocalize(const TSlamCommandLine& cl)
 		}
 		if (!entry) break;
 		++run.logEntries;
-		const size_t scansBefore = localizer->stats().scans;
 		const size_t eventsBefore = localizer->stats().events.size();
-		const auto t0 = std::chrono::steady_clock::now();
-		const double cpu0 = threadCpuMs();
-		feedEntry(*localizer, *entry);
-		if (localizer->stats().scans > scansBefore && entry)
-		{
-			// The scan's latency: its processing, without the replay's wait for the modelled
-			// search worker (CGlobalSearchWorker), which is listed apart.
-			const double waitMs = 1e3 * localizer->lastReplayWaitSeconds();
-			run.latencyMs.push_back(
-				std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
-					.count() -
-				waitMs);
-			replayWaitMs.push_back(waitMs);
-			cpuMs.push_back(threadCpuMs() - cpu0);
-			run.latencyStamp.push_back(mrpt::Clock::toDouble(localizer->lastScanTimestamp()));
-		}
+		feedTimed(*localizer, *entry, run, replayWaitMs, cpuMs);
 		const auto& events = localizer->stats().events;  // what a navigation stack hears
 		for (size_t i = eventsBefore; i < events.size() && !cl.quiet; ++i)
 			report(eventLine(events[i]));
