@@ -70,13 +70,15 @@ def keyframe_rows(graph_lrgc, trajectory_tum):
             j += 1
         if j == len(rows):
             # A keyframe whose scan the end of the run settled onto its neighbours' odometry
-            # chain (stats.json scans_settled) is no longer at its node's pose: the nearest of
-            # the next rows, within 1 m.
-            near = [(math.hypot(float(r[0]) - float(x), float(r[1]) - float(y)), i)
-                    for i, r in enumerate(rows[k:k + 50], start=k)]
-            if not near or min(near)[0] > 1.0:
+            # chain (stats.json scans_settled) is no longer exactly at its node's pose (a few
+            # cm off): the first of the next rows within 0.1 m. Not a fixed number of rows:
+            # where keyframes are reused (a second pass), thousands of scans pass between two
+            # new keyframes.
+            j = next((i for i in range(k, len(rows))
+                      if math.hypot(float(rows[i][0]) - float(x),
+                                    float(rows[i][1]) - float(y)) <= 0.1), None)
+            if j is None:
                 return None
-            j = min(near)[1]
         out.append(j)
         k = j + 1
     return out
