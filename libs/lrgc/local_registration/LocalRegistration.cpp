@@ -321,10 +321,9 @@ std::optional<TScanMatch> CLocalRegistration::overrulingWideMatch(const CReferen
 									[this](size_t n, const std::function<void(size_t)>& fn)
 									{ parallelFor(n, fn); });
 	if (!wide) return std::nullopt;
-	// The plain match's own basin (matchWide's test of distinct hypotheses: 0.2 m, 3 deg):
-	// nothing to overrule.
-	const TPose2D d = between(plain.scanInRef, wide->scanInRef);
-	if (translationNorm(d) <= 0.2 && std::abs(d.phi) <= mrpt::DEG2RAD(3.0)) return std::nullopt;
+	// The plain match's own basin: nothing to overrule.
+	if (!CScanMatcher::distinctHypotheses(plain.scanInRef, wide->scanInRef))
+		return std::nullopt;
 	return wide;
 }
 

@@ -245,6 +245,13 @@ double explainedFractionOf(const CReferenceCloud& ref, const std::vector<Eigen::
 }
 }  // namespace
 
+bool CScanMatcher::distinctHypotheses(const mrpt::math::TPose2D& a,
+									  const mrpt::math::TPose2D& b)
+{
+	const auto d = between(a, b);
+	return translationNorm(d) > 0.2 || std::abs(d.phi) > 3 * M_PI / 180;
+}
+
 double CScanMatcher::explainedFraction(const CReferenceCloud& ref, const TScan2D& scan,
 									   const mrpt::math::TPose2D& scanInRef) const
 {
@@ -262,12 +269,7 @@ std::optional<TScanMatch> CScanMatcher::matchWide(const CReferenceCloud& ref,
 	// Every hypothesis is scored alike: the share of points within the largest inlier RMS a
 	// match may have (max_rms_residual_m [m]) of the reference.
 	const double tol = m_params.max_rms_residual_m;
-	// Distinct hypotheses: farther apart than 0.2 m or 3 deg.
-	auto distinct = [](const mrpt::math::TPose2D& a, const mrpt::math::TPose2D& b)
-	{
-		const auto d = between(a, b);
-		return translationNorm(d) > 0.2 || std::abs(d.phi) > 3 * M_PI / 180;
-	};
+	const auto distinct = &CScanMatcher::distinctHypotheses;
 	// Explore with at most ~kWideSearchSample evenly spread points and a doubled gate, every
 	// converged start counting as a hypothesis whether match() would accept it or not (an
 	// aliased twin that fails the free-space test is still a twin).

@@ -87,6 +87,10 @@ public:
 										double searchAngle_rad,
 										const TParallelFor& parallel = {}) const;
 
+	/** Whether two poses are distinct hypotheses for matchWide (farther apart than 0.2 m or
+	 * 3 deg), not one basin. */
+	static bool distinctHypotheses(const mrpt::math::TPose2D& a, const mrpt::math::TPose2D& b);
+
 	/** Share of the scan's points within max_rms_residual_m of a reference anchor at
 	 * scanInRef: the score matchWide ranks its hypotheses by (test (3) above). */
 	double explainedFraction(const CReferenceCloud& ref, const TScan2D& scan,
