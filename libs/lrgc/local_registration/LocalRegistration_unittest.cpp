@@ -1,73 +1,24 @@
 /* CLocalRegistration on a known graph: keyframes ray-cast from known poses in the synthetic
  * room world, noisy odometry priors, and the window solve of Lu & Milios over the last K
  * poses (paper 2.2). Checked: the window converges to the truth, only the last K poses move,
- * older ones are left bit for bit; registerScan finds a scan's pose from a rough prior, and
- * an odometry glitch (a prior turned 70 deg wrongly) only by the wide rotational search. */
+ * older ones are left bit for bit; the patch link, reused keyframes and the helper thread.
+ * A scan's registration from its prior: LocalRegistration_registerScan_unittest.cpp. */
 #include <gtest/gtest.h>
 #include <lrgc/local_registration/LocalRegistration.h>
 #include <lrgc/local_registration/MotionPredictor.h>
-#include <lrgc/pose_graph/PoseGraphOptimizerParams.h>
-#include <lrgc/scan_matching/ScanMatcherParams.h>
 #include <lrgc/common/se2.h>
 
 #include <cmath>
 #include <random>
 
-#include "synthetic_world.h"
+#include "LocalRegistration_unittest.h"
 
 using namespace lrgc;
-using lrgc::test::CSyntheticWorld;
+using namespace lrgc::test;
 using mrpt::math::TPose2D;
 
 namespace
 {
-/** The stage's own parameters at their defaults (those of a default [LocalRegistration],
- * [ScanMatcher] and [PoseGraphOptimizer] section), without the map builder's TLRGCParams. */
-struct TStageParams
-{
-	TLocalRegistrationParams local;
-	TScanMatcherParams matcher;
-	TPoseGraphOptimizerParams optimizer;
-};
-
-constexpr double kTolXY = 0.03;               // [m]
-constexpr double kTolPhi = 0.5 * M_PI / 180;  // [rad]
-
-double positionError(const TPose2D& a, const TPose2D& b)
-{
-	return translationNorm(between(a, b));
-}
-double headingError(const TPose2D& a, const TPose2D& b)
-{
-	return std::abs(between(a, b).phi);
-}
-
-/** Keyframes every 0.3 m along a loop in the room world, scans ray-cast at the true poses,
- * odometry increments with about 5 cm / 3 deg of noise per step. */
-struct TKnownRun
-{
-	CSyntheticWorld world = lrgc::test::makeRoomWorld(5, 4);
-	lrgc::test::TTrajectory tr;
-	TKeyframes keyframes;
-
-	TKnownRun()
-	{
-		lrgc::test::TOdometryNoise noise;
-		noise.a1 = 0.15, noise.a2 = 0.15, noise.a3 = 0.15, noise.a4 = 0.05;
-		tr = lrgc::test::makeTrajectory(
-			{{1.5, 3.5}, {5.5, 3.5}, {5.5, 5.8}, {1.2, 5.8}, {1.2, 3.0}, {4.5, 3.0}}, 0.3,
-			noise, 21);
-		std::mt19937 rng(4);
-		for (size_t k = 0; k < tr.truePoses.size(); ++k)
-		{
-			TKeyframe kf;
-			kf.scan = lrgc::test::simulateScan(world, tr.truePoses[k], {}, rng);
-			kf.scanIndex = k;
-			keyframes.push_back(std::move(kf));
-		}
-	}
-};
-
 /** Keyframes 0..n-1 of `run` at their true poses, chained by tight scan-match links, entered
  * into `local`'s window in order. */
 void enterTrueWindow(const TKnownRun& run, size_t n, CLocalRegistration& local,
@@ -173,81 +124,6 @@ TEST(LocalRegistration, windowConvergesToTruthAndOnlyTheLastKPosesMove)
 		const TPose2D t = i < n0 ? truth[i] : extraTruth;
 		EXPECT_LT(positionError(t, graph.pose(i)), kTolXY) << "window node " << i;
 		EXPECT_LT(headingError(t, graph.pose(i)), kTolPhi) << "window node " << i;
-	}
-}
-
-TEST(LocalRegistration, registerScanFromARoughPriorAndAGlitchOnlyByTheWideSearch)
-{
-	const TKnownRun run;
-	const auto& truth = run.tr.truePoses;
-	TStageParams p;
-	// A window of the first 6 keyframes at their true poses.
-	CPoseGraph graph;
-	TKeyframes keyframes;
-	for (size_t i = 0; i < 6; ++i)
-		graph.addNode(truth[i]), keyframes.push_back(run.keyframes[i]);
-	const auto enterWindow = [&graph](CLocalRegistration& local)
-	{
-		for (size_t i = 0; i < 6; ++i) local.enterKeyframe(i, false, graph);
-	};
-	// The scan 15 cm past the newest keyframe.
-	const TPose2D scanTruth = compose(truth[5], TPose2D(0.15, 0, 0));
-	std::mt19937 rng(5);
-	const TScan2D scan = lrgc::test::simulateScan(run.world, scanTruth, {}, rng);
-	const Eigen::Matrix3d priorCov =
-		Eigen::Vector3d(0.1 * 0.1, 0.1 * 0.1, std::pow(5 * M_PI / 180, 2)).asDiagonal();
-	// The odometry prediction of one 0.2 s step that turns `turn` [rad].
-	const auto step = [&](double turn)
-	{
-		lrgc::TMotionPrediction m;
-		m.motion = TPose2D(0.15, 0, turn);
-		m.cov = priorCov;
-		m.fromOdometry = true;
-		m.stepSeconds = 0.2;
-		return m;
-	};
-
-	{  // A prior 12 cm / 4 deg off, consistent with its covariance.
-		CLocalRegistration local(p.local, p.matcher, p.optimizer);
-		enterWindow(local);
-		const TPose2D prior = compose(scanTruth, TPose2D(0.08, -0.09, 0.07));
-		const TRegistration reg = local.registerScan(graph, keyframes, scan, prior, step(0.0));
-		ASSERT_TRUE(reg.matched);
-		EXPECT_FALSE(reg.odometryRejected);
-		EXPECT_FALSE(reg.wideSearch);
-		EXPECT_LT(positionError(scanTruth, reg.scanInMap), 0.02);
-		EXPECT_LT(headingError(scanTruth, reg.scanInMap), 0.3 * M_PI / 180);
-	}
-	// An odometry glitch: the step claims a 70 deg turn that did not happen.
-	const TPose2D glitchPrior = compose(scanTruth, TPose2D(0, 0, 70 * M_PI / 180));
-	{  // The prior is suspect (its step turns more than glitch_min_turn): wide search.
-		CLocalRegistration local(p.local, p.matcher, p.optimizer);
-		enterWindow(local);
-		const TRegistration reg =
-			local.registerScan(graph, keyframes, scan, glitchPrior, step(70 * M_PI / 180));
-		ASSERT_TRUE(reg.matched);
-		EXPECT_TRUE(reg.wideSearch);
-		EXPECT_TRUE(reg.odometryRejected);
-		EXPECT_LT(positionError(scanTruth, reg.scanInMap), 0.02);
-		EXPECT_LT(headingError(scanTruth, reg.scanInMap), 0.3 * M_PI / 180);
-	}
-	{  // The same prior, but its step looks harmless: the first failure keeps the prior.
-		CLocalRegistration local(p.local, p.matcher, p.optimizer);
-		enterWindow(local);
-		const TRegistration reg =
-			local.registerScan(graph, keyframes, scan, glitchPrior, step(0.0));
-		EXPECT_FALSE(reg.matched);
-		EXPECT_FALSE(reg.wideSearch);
-		EXPECT_EQ(reg.scanInMap, glitchPrior);
-	}
-	{  // Without a wide search the glitch cannot be recovered at all.
-		TStageParams narrow = p;
-		narrow.local.wide_search_angle = 0;
-		CLocalRegistration local(narrow.local, narrow.matcher, narrow.optimizer);
-		enterWindow(local);
-		const TRegistration reg =
-			local.registerScan(graph, keyframes, scan, glitchPrior, step(70 * M_PI / 180));
-		EXPECT_FALSE(reg.matched);
 	}
 }
 
@@ -423,68 +299,4 @@ TEST(LocalRegistration, helperThreadLeavesEveryResultBitForBit)
 	}
 	EXPECT_EQ(moved, 12U);
 	EXPECT_GT(graph.numLinks(), 3 * graph.numNodes());  // pairwise links were made
-}
-
-TEST(LocalRegistration, suspectStepsPlainMatchInTheWrongBasinIsOverruledByTheWideSearch)
-{
-	// Sparse scans (issue 28): keyframes 1 m apart along an open hall's pillar rows, a scan
-	// 1 m past the newest after a 1.5 s pause (a suspect step), its prior 20 deg off with a
-	// loose covariance (odometry that stalled). From there the plain match settles 1.3 m off
-	// along the pillar rows, agreeing with that prior; it leaves half the scan unexplained.
-	const CSyntheticWorld world = lrgc::test::makeOpenHallWorld(3);
-	const auto tr = lrgc::test::makeTrajectory({{5, 5}, {40, 5}}, 1.0, {}, 21);
-	TStageParams p;
-	std::mt19937 rng(4);
-	CPoseGraph graph;
-	TKeyframes keyframes;
-	std::vector<TScan2D> scans;
-	for (size_t k = 0; k < 6; ++k)
-	{
-		TKeyframe kf;
-		kf.scan = lrgc::test::simulateScan(world, tr.truePoses[k], {}, rng);
-		kf.scanIndex = k;
-		scans.push_back(kf.scan);
-		keyframes.push_back(std::move(kf));
-		graph.addNode(tr.truePoses[k]);
-	}
-	const TPose2D scanTruth = tr.truePoses[6];
-	const TScan2D scan = lrgc::test::simulateScan(world, scanTruth, {}, rng);
-	const TPose2D prior = compose(scanTruth, TPose2D(0.1, 0.05, -20 * M_PI / 180));
-	lrgc::TMotionPrediction step;
-	step.motion = TPose2D(1.0, 0, 0.1);
-	step.cov = Eigen::Vector3d(2.0 * 2.0, 2.0 * 2.0, std::pow(25 * M_PI / 180, 2)).asDiagonal();
-	step.fromOdometry = true;
-
-	// The plain match alone, against the window's patch (newest keyframe's frame).
-	std::vector<TPose2D> inNewest;
-	for (size_t k = 0; k < 6; ++k) inNewest.push_back(between(graph.pose(5), graph.pose(k)));
-	const CReferenceCloud patch = CReferenceCloud::fromScans(scans, inNewest, p.matcher);
-	TScanMatcherParams local = p.matcher;
-	local.max_free_space_violation = p.local.max_free_space_violation;
-	const CScanMatcher matcher(local);
-	const auto plain = matcher.match(patch, scan, between(graph.pose(5), prior));
-	ASSERT_TRUE(plain);
-	EXPECT_GT(positionError(scanTruth, compose(graph.pose(5), plain->scanInRef)), 0.9);
-	EXPECT_LT(matcher.explainedFraction(patch, scan, plain->scanInRef),
-			  1 - p.matcher.wide_ambiguity_margin);
-
-	for (const double seconds : {1.5, 0.2})
-	{
-		CLocalRegistration reg(p.local, p.matcher, p.optimizer);
-		for (size_t i = 0; i < 6; ++i) reg.enterKeyframe(i, false, graph);
-		step.stepSeconds = seconds;
-		const TRegistration r = reg.registerScan(graph, keyframes, scan, prior, step);
-		ASSERT_TRUE(r.matched);
-		if (seconds > p.local.glitch_min_gap_s)
-		{  // suspect: the wide search's second opinion overrules the plain match
-			EXPECT_TRUE(r.wideSearch);
-			EXPECT_LT(positionError(scanTruth, r.scanInMap), kTolXY);
-			EXPECT_LT(headingError(scanTruth, r.scanInMap), kTolPhi);
-		}
-		else
-		{  // nothing suspect: the plain match stands (no wide search on every step)
-			EXPECT_FALSE(r.wideSearch);
-			EXPECT_GT(positionError(scanTruth, r.scanInMap), 0.9);
-		}
-	}
 }
