@@ -172,7 +172,7 @@ std::optional<TLoopClosure> CLoopCloser::process(CPoseGraph& graph, const TScanR
 	const auto candidates = timedGate(graph, newest);
 	if (!candidates || stopped()) return std::nullopt;
 	const auto t0 = std::chrono::steady_clock::now();
-	TSearchWindow window = searchWindow(*candidates, newest);
+	TSearchWindow window = searchWindow(graph, *candidates);
 	if (!attemptDue(window)) return std::nullopt;
 	const auto corr = correlatePatch(graph, scans, *candidates, window);
 	if (!corr || stopped()) return std::nullopt;

@@ -57,6 +57,10 @@ public:
 	std::optional<TLoopClosure> process(CPoseGraph& graph, const TScanRefs& scans);
 
 	const TLoopCloserStats& stats() const { return m_stats; }
+	/** How many of the newest nodes lie within `travel` [m] of path back from the newest one
+	 * (path: the straight steps between consecutive nodes, map frame); at least 1. Caps the
+	 * patch ([LoopCloser] patch_max_travel_m). */
+	static size_t keyframesWithinTravel(const CPoseGraph& graph, double travel);
 	/** Counts a search for `keyframe` skipped by the caller (CLoopClosingWorker's backlog). */
 	void countShed(size_t keyframe)
 	{
@@ -105,7 +109,7 @@ private:
 	// The steps of process(), in order.
 	bool checkDue();
 	std::optional<TCandidates> timedGate(const CPoseGraph& graph, size_t newest);
-	TSearchWindow searchWindow(const TCandidates& c, size_t newest) const;
+	TSearchWindow searchWindow(const CPoseGraph& graph, const TCandidates& c) const;
 	bool attemptDue(const TSearchWindow& w);
 	std::optional<TCorrelationResult> correlatePatch(const CPoseGraph& graph,
 													 const TScanRefs& scans,
