@@ -17,7 +17,7 @@ CPieceJoiner::CPieceJoiner(const CPoseGraph& map, const TKeyframes& keyframes,
 }
 
 std::optional<TPieceJoin> CPieceJoiner::service(const CMetricMapBuilderLRGC& builder,
-												 double now)
+												double now)
 {
 	const std::optional<size_t> first = builder.pieceFirstNode();
 	ASSERTMSG_(first, "CPieceJoiner::service: the builder maps no piece apart");

@@ -31,7 +31,7 @@ namespace lrgc
 struct TPieceJoin
 {
 	size_t node = 0;
-	mrpt::math::TPose2D nodeInMap{0, 0, 0};  //!< (map <- keyframe node)
+	mrpt::math::TPose2D nodeInMap{0, 0, 0};         //!< (map <- keyframe node)
 	Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();  //!< of nodeInMap [m^2, rad^2], map axes
 	double score = 0, ambiguity = 0;                //!< of the accepted correlation
 	size_t patchKeyframes = 0;                      //!< keyframes in the accepted patch

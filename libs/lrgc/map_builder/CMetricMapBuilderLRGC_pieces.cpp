@@ -71,10 +71,10 @@ TPose2D CMetricMapBuilderLRGC::joinPiece(size_t node, const TPose2D& nodeInMap,
 	const TPose2D nodeInPiece = m_graph.pose(node);
 	const TMapLink j = linkToMap(node, nodeInMap, cov, first);
 	if (!j.problem.empty())
-		warn(mrpt::format("piece joined at (%.2f, %.2f, %.1f deg): %s; linked by the global "
-						  "correlation alone",
-						  nodeInMap.x, nodeInMap.y, mrpt::RAD2DEG(nodeInMap.phi),
-						  j.problem.c_str()));
+		warn(mrpt::format(
+			"piece joined at (%.2f, %.2f, %.1f deg): %s; linked by the global "
+			"correlation alone",
+			nodeInMap.x, nodeInMap.y, mrpt::RAD2DEG(nodeInMap.phi), j.problem.c_str()));
 	const TPose2D pieceInMap = compose(j.nodeInMap, inverse(nodeInPiece));
 	for (size_t i = first; i < n; ++i) m_graph.setPose(i, compose(pieceInMap, m_graph.pose(i)));
 	m_lastScanInMap = compose(pieceInMap, m_lastScanInMap);
@@ -86,9 +86,10 @@ TPose2D CMetricMapBuilderLRGC::joinPiece(size_t node, const TPose2D& nodeInMap,
 	m_pieceFirst.reset();
 	m_local->invalidate();
 	m_metricMapDirty = true;
-	MRPT_LOG_INFO_FMT("piece of keyframes %zu..%zu joined to the map at keyframe %zu, linked "
-					  "to map keyframe %zu",
-					  first, n - 1, node, j.link.from);
+	MRPT_LOG_INFO_FMT(
+		"piece of keyframes %zu..%zu joined to the map at keyframe %zu, linked "
+		"to map keyframe %zu",
+		first, n - 1, node, j.link.from);
 	return pieceInMap;
 }
 
