@@ -229,9 +229,11 @@ TEST(SavedMap, aLogMappedAsAPieceIsJoinedWhereCorrelationFindsIt)
 	{
 		feed(b, obsB[k]);
 		if (k == 0)  // the piece's frame: its first scan at its odometry pose
+		{
 			EXPECT_NEAR(lrgc::translationNorm(
 							lrgc::between(trB.odometryPoses[0], b.trajectory()[0].robotInMap)),
 						0, 1e-9);
+		}
 		if (!b.pieceFirstNode()) continue;
 		if (const auto j = joiner.service(b, mrpt::Clock::toDouble(b.lastScanTimestamp())))
 			b.joinPiece(j->node, j->nodeInMap, j->cov), joinedAt = k;
