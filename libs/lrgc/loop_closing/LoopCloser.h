@@ -76,6 +76,8 @@ public:
 	 * solve (which then leaves the poses as they were) and finds no closure: a loop link it
 	 * added is disabled again (lastRejection() says "stopped"). */
 	void setStopToken(const CStopToken& stop);
+	/** Nodes below `n` are held fixed by every solve (a saved map continued frozen). */
+	void setFrozenNodes(size_t n) { m_frozen = n; }
 	/** Why the last attempt was rejected (empty if accepted or not attempted). */
 	const std::string& lastRejection() const { return m_lastRejection; }
 
@@ -148,6 +150,7 @@ private:
 	CPatchCorrelator m_correlator;
 	CScanMatcher m_matcher;
 	CPoseGraphOptimizer m_optimizer;
+	size_t m_frozen = 0;  //!< setFrozenNodes()
 	TLoopCloserStats m_stats;
 	std::function<void()> m_onProgress;
 	CStopToken m_stop;

@@ -125,16 +125,16 @@ int CSlamApp::runOffline(const TSlamCommandLine& cl)
 	run.format = reader->format() == LogFormat::Carmen ? "carmen" : "rawlog";
 	run.configIni = runConfigText(cfg, cl.input);
 	run.mrptRawlog = reader->format() == LogFormat::MrptRawlog ? cl.input : cl.saveRawlog;
-	int exitCode = initialMap ? startInInitialMap(*initialMap, cfg, *reader, builder, progress,
-												  run, signals)
-							  : kExitOk;
-	if (exitCode == kExitOk) exitCode = mapLog(*reader, builder, progress, run, signals);
+	int exitCode = initialMap ? continueInitialMap(*initialMap, cfg, *reader, builder, progress,
+												   run, signals)
+							  : mapLog(*reader, builder, progress, run, signals);
 	// The reader's last words: lines skipped after the last entry (a file of malformed lines
 	// has nothing else) and the counts of the problems not listed.
 	reportWarnings(reader->takeWarnings());
 
 	exitCode = finishMap(builder, run, exitCode);
 	reportWarnings(builder.takeWarnings());
+	if (initialMap) reportPiece(builder, run);
 	if (exitCode == kExitOk)
 		progress.finish(1.0, builder.stats().scans);
 	else
@@ -180,7 +180,8 @@ int CSlamApp::finishMap(CMetricMapBuilderLRGC& builder, TRunSummary& run, int ex
 }
 
 int CSlamApp::mapLog(CLogReader& reader, CMetricMapBuilderLRGC& builder, CProgress& progress,
-					 TRunSummary& run, const CStopSignalWatcher& signals)
+					 TRunSummary& run, const CStopSignalWatcher& signals,
+					 const TEntryHook& afterEntry)
 {
 	while (!signals.stopRequested())
 	{
@@ -203,6 +204,8 @@ int CSlamApp::mapLog(CLogReader& reader, CMetricMapBuilderLRGC& builder, CProgre
 			entry->observation || !entry->actions || entry->actions->size() == 0 ? 1 : 2;
 		if (m_objectsRead >= m_skipObjects && mapEntry(builder, *entry, run) != kExitOk)
 			return kExitInputError;
+		if (afterEntry)
+			if (const int code = afterEntry(); code != kExitOk) return code;
 		if (m_icpSlam) m_scansAfterEntry.push_back(builder.stats().scans);
 		reportWarnings(reader.takeWarnings());
 		reportWarnings(builder.takeWarnings());
