@@ -150,12 +150,14 @@ void publish(const std::string& stream, uint64_t bytes, const std::string& tail,
 		{
 			const int in = ::open(stream.c_str(), O_RDONLY | O_CLOEXEC);
 			if (in < 0)
-				THROW_EXCEPTION_FMT("cannot read '%s': %s", stream.c_str(), std::strerror(errno));
+				THROW_EXCEPTION_FMT("cannot read '%s': %s", stream.c_str(),
+									std::strerror(errno));
 			const int out = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
 			if (out < 0)
 			{
 				::close(in);
-				THROW_EXCEPTION_FMT("cannot create '%s': %s", tmp.c_str(), std::strerror(errno));
+				THROW_EXCEPTION_FMT("cannot create '%s': %s", tmp.c_str(),
+									std::strerror(errno));
 			}
 			std::vector<char> chunk(1 << 16);
 			uint64_t left = bytes;
@@ -163,7 +165,8 @@ void publish(const std::string& stream, uint64_t bytes, const std::string& tail,
 			{
 				while (left > 0)
 				{
-					const ssize_t n = ::read(in, chunk.data(), std::min<uint64_t>(left, chunk.size()));
+					const ssize_t n =
+						::read(in, chunk.data(), std::min<uint64_t>(left, chunk.size()));
 					if (n < 0 && errno == EINTR) continue;
 					if (n <= 0)
 						THROW_EXCEPTION_FMT("'%s' ends %llu bytes short", stream.c_str(),
@@ -180,7 +183,8 @@ void publish(const std::string& stream, uint64_t bytes, const std::string& tail,
 			}
 			::close(in);
 			if (::close(out) != 0)
-				THROW_EXCEPTION_FMT("cannot write '%s': %s", path.c_str(), std::strerror(errno));
+				THROW_EXCEPTION_FMT("cannot write '%s': %s", path.c_str(),
+									std::strerror(errno));
 		});
 }
 }  // namespace
@@ -191,7 +195,8 @@ void writeLocalizationSave(const TLocalizationSave& s)
 	const auto path = [&](const char* name) { return (fs::path(s.outDir) / name).string(); };
 	if (s.localized)
 	{
-		publish(s.trajectoryStream, s.trajectoryBytes, s.trajectoryTail, path("trajectory.tum"));
+		publish(s.trajectoryStream, s.trajectoryBytes, s.trajectoryTail,
+				path("trajectory.tum"));
 		publish(s.timingStream, s.timingBytes, {}, path("timing.csv"));
 	}
 	writeTextFileAtomically(path(kRunConfigFile), s.configIni);
@@ -233,12 +238,13 @@ CLocalizationRecorder::CLocalizationRecorder(const std::string& outDir) : m_outD
 	fs::create_directories(outDir);
 	for (auto* s : {&m_trajectory, &m_timing})
 	{
-		s->path = (fs::path(outDir) / (s == &m_trajectory ? ".trajectory.tum.stream"
-														   : ".timing.csv.stream"))
+		s->path = (fs::path(outDir) /
+				   (s == &m_trajectory ? ".trajectory.tum.stream" : ".timing.csv.stream"))
 					  .string();
 		s->file = std::fopen(s->path.c_str(), "wb");
 		if (!s->file)
-			THROW_EXCEPTION_FMT("cannot create '%s': %s", s->path.c_str(), std::strerror(errno));
+			THROW_EXCEPTION_FMT("cannot create '%s': %s", s->path.c_str(),
+								std::strerror(errno));
 	}
 	append(m_timing, "scan_index,timestamp,latency_ms,replay_wait_ms,cpu_ms\n");
 }

@@ -59,14 +59,15 @@ struct TScanTiming
 	double latencyMs = 0, replayWaitMs = 0, cpuMs = 0;
 };
 
-/** What a save writes, taken on the localising thread, written on any (writeLocalizationSave). */
+/** What a save writes, taken on the localising thread, written on any (writeLocalizationSave).
+ */
 struct TLocalizationSave
 {
 	std::string outDir, configIni, statsJson;
 	bool localized = false;  //!< a scan has a map pose: trajectory.tum and timing.csv written
-	std::string trajectoryStream, timingStream;  //!< the stream files
+	std::string trajectoryStream, timingStream;     //!< the stream files
 	uint64_t trajectoryBytes = 0, timingBytes = 0;  //!< their lengths at the snapshot
-	std::string trajectoryTail;  //!< TUM rows of the poses still open
+	std::string trajectoryTail;                     //!< TUM rows of the poses still open
 };
 
 /** Writes every output of `save`, each atomically. */

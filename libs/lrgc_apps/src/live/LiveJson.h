@@ -2,7 +2,7 @@
  * copied on the mapping thread (liveState) so that the saver thread can write it (liveJson). */
 #pragma once
 
-#include "live/LiveMapper.h"
+#include "live/LiveProcessor.h"
 #include "live/SensorSupervisor.h"
 
 #include <cstdint>
@@ -32,7 +32,7 @@ struct TLiveJsonState
 /** A copy of what live.json reports, taken now. */
 TLiveJsonState liveState(const std::string& status, const std::string& sensorsIni,
 						 const CCaptureWriter& capture, const CLiveQueues& queues,
-						 const CLiveMapper& mapper, const TSupervisors& sensors);
+						 const CLiveProcessor& processor, const TSupervisors& sensors);
 
 /** live.json's text. */
 std::string liveJson(const TLiveJsonState& state);
