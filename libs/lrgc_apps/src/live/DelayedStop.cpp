@@ -16,8 +16,8 @@ CDelayedStop::CDelayedStop(CStopToken trigger, double graceSeconds)
 			while (!m_quit)
 			{
 				if (!seen && trigger.stopRequested()) seen = clock::now();
-				if (seen && std::chrono::duration<double>(clock::now() - *seen).count() >=
-								graceSeconds)
+				if (seen &&
+					std::chrono::duration<double>(clock::now() - *seen).count() >= graceSeconds)
 				{
 					m_source.requestStop();
 					return;

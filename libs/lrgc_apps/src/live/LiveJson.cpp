@@ -25,7 +25,7 @@ TLiveJsonState liveState(const std::string& status, const std::string& sensorsIn
 	st.scansPushed = queues.scansPushed();
 	st.counts = processor.counts();
 	st.skipped = processor.policy().skippedTotal();
-	st.queueLatencyMs = processor.queueLatencyMs();
+	st.queueLatency = processor.queueLatency().summary();
 	for (const auto& s : sensors) st.sensors.emplace_back(s->sensor(), s->counters());
 	return st;
 }
@@ -33,7 +33,7 @@ TLiveJsonState liveState(const std::string& status, const std::string& sensorsIn
 std::string liveJson(const TLiveJsonState& st)
 {
 	const TLiveMapperCounts& m = st.counts;
-	const TLatencySummary lat = summarizeLatencies(st.queueLatencyMs);
+	const TLatencySummary& lat = st.queueLatency;
 	std::ostringstream j;
 	j << "{\n"
 	  << "  \"status\": " << jsonString(st.status) << ",\n"

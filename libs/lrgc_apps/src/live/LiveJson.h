@@ -24,8 +24,8 @@ struct TLiveJsonState
 	uint64_t captureObjects = 0, captureBytes = 0, pushed = 0, scansPushed = 0;
 	TLiveMapperCounts counts;
 	size_t skipped = 0;
-	size_t saves = 0;  //!< saves written, this one included
-	std::vector<double> queueLatencyMs;
+	size_t saves = 0;              //!< saves written, this one included
+	TLatencySummary queueLatency;  //!< [ms]
 	std::vector<std::pair<TSensorSection, TSensorCounters>> sensors;
 };
 

@@ -37,10 +37,10 @@ void CLiveLocalizer::processScan(const mrpt::obs::CObservation2DRangeScan::Ptr& 
 	{
 		TScanTiming t;
 		t.replayWaitMs = 1e3 * m_localizer->lastReplayWaitSeconds();
-		t.latencyMs = std::chrono::duration<double, std::milli>(
-						  std::chrono::steady_clock::now() - t0)
-						  .count() -
-					  t.replayWaitMs;
+		t.latencyMs =
+			std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
+				.count() -
+			t.replayWaitMs;
 		t.cpuMs = threadCpuMs() - cpu0;
 		t.stamp = mrpt::Clock::toDouble(scan->timestamp);
 		m_recorder.addScan(t, *m_localizer);

@@ -6,6 +6,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <string>
 
 namespace lrgc::apps
 {
@@ -64,14 +65,23 @@ void CLiveProcessor::process(const TLiveItem& item, size_t scansBehind)
 		if (wasBehind && !m_policy.behind())
 			message(mrpt::format("live: %s caught up (%zu scans skipped while behind)",
 								 m_activity, m_policy.skippedThisEpisode()));
+		if (use && m_counts.scansMapped == 0 && m_counts.odometry == 0)
+			message(
+				mrpt::format("live: no odometry before the first scan: each scan's pose "
+							 "is predicted by the constant-velocity model ([MotionPredictor] "
+							 "cv_sigma_*) and corrected by scan matching (%s)",
+							 m_activity == std::string("mapping")
+								 ? "local registration"
+								 : "against the map, else the recent scans"),
+				false);
 		if (use)
 		{
 			processScan(asOfflineReaderWould(
 				std::dynamic_pointer_cast<mrpt::obs::CObservation2DRangeScan>(item.object)));
 			++m_counts.scansMapped;
-			m_queueLatencyMs.push_back(std::chrono::duration<double, std::milli>(
-										   std::chrono::steady_clock::now() - item.arrived)
-										   .count());
+			m_queueLatency.add(std::chrono::duration<double, std::milli>(
+								   std::chrono::steady_clock::now() - item.arrived)
+								   .count());
 		}
 	}
 	else if (auto obs = std::dynamic_pointer_cast<mrpt::obs::CObservation>(item.object))

@@ -14,6 +14,7 @@
 
 #include <lrgc/common/StopToken.h>
 #include "AppConfig.h"
+#include "LatencyHistogram.h"
 #include "live/KeepUpPolicy.h"
 #include "live/LiveConsole.h"
 #include "live/LiveQueues.h"
@@ -65,8 +66,8 @@ public:
 
 	const TLiveMapperCounts& counts() const { return m_counts; }
 	const CKeepUpPolicy& policy() const { return m_policy; }
-	/** Queue latency (arrival to processed) of processed scans [ms]. */
-	const std::vector<double>& queueLatencyMs() const { return m_queueLatencyMs; }
+	/** Queue latency (arrival to processed) of processed scans [ms], in fixed memory. */
+	const CLatencyHistogram& queueLatency() const { return m_queueLatency; }
 	size_t warnings() const { return m_warningsTotal; }
 
 protected:
@@ -87,7 +88,7 @@ private:
 	CKeepUpPolicy m_policy;
 	size_t m_maxBacklog;
 	TLiveMapperCounts m_counts;
-	std::vector<double> m_queueLatencyMs;
+	CLatencyHistogram m_queueLatency;
 	size_t m_warningsShown = 0, m_warningsTotal = 0;
 };
 
