@@ -45,7 +45,10 @@ namespace
 using TRows = std::vector<std::vector<double>>;
 
 /** Heading [rad] of a TUM row (yaw-only quaternion). */
-double yawOf(const std::vector<double>& row) { return 2 * std::atan2(row[6], row[7]); }
+double yawOf(const std::vector<double>& row)
+{
+	return 2 * std::atan2(row[6], row[7]);
+}
 
 /** Position [m] and heading [rad] errors of `live` (rows of the scans served from the
  * emulator's scan `first` on) against the truth (offline SENA: emulator scan i = row i + 1).
@@ -62,7 +65,8 @@ std::vector<std::pair<double, double>> poseErrors(const TRows& live, const TRows
 		{
 			double best = 1e9;
 			for (size_t i = 0; i < truth.size(); ++i)
-				if (const double d = std::hypot(live[k][1] - truth[i][1], live[k][2] - truth[i][2]);
+				if (const double d =
+						std::hypot(live[k][1] - truth[i][1], live[k][2] - truth[i][2]);
 					d < best)
 					best = d, t = i;
 		}
@@ -134,8 +138,8 @@ protected:
 		m_rec = lms1xxScansFromRawlog(senaRawlogPath());
 		ASSERT_GT(m_rec.scans.size(), 200u);
 		m_dir = makeTempDir("live_saved_map_" + std::to_string(::getpid()));
-		const auto r = runProcess(binaryPath("lrgc-slam"),
-								  {"--input", senaRawlogPath(), "--out", m_dir + "/sena", "-q"});
+		const auto r = runProcess(binaryPath("lrgc-slam"), {"--input", senaRawlogPath(),
+															"--out", m_dir + "/sena", "-q"});
 		ASSERT_EQ(r.exitCode, 0) << r.output;
 		m_truth = readTum(m_dir + "/sena/trajectory.tum");
 		ASSERT_EQ(m_truth.size(), m_rec.scans.size() + 1);
@@ -166,8 +170,7 @@ TEST_F(LiveSickSavedMap, LocalisesLiveScansOnASavedMap)
 	const std::string stats = readTextFile(d.out + "/stats.json");
 	EXPECT_NE(stats.find("\"mode\": \"localize\""), std::string::npos) << stats;
 	EXPECT_NE(stats.find("\"status\": \"stopped on request\""), std::string::npos) << stats;
-	const long received =
-		jsonInt(readTextFile(d.out + "/live.json"), "scans", "\"received\"");
+	const long received = jsonInt(readTextFile(d.out + "/live.json"), "scans", "\"received\"");
 	const long scans = jsonInt(stats, "scans"), localized = jsonInt(stats, "localized_scans");
 	EXPECT_GE(received, static_cast<long>(0.9 * emu.scansServed()));
 	EXPECT_EQ(scans, received);
@@ -193,8 +196,8 @@ TEST_F(LiveSickSavedMap, LocalisesLiveScansOnASavedMap)
 TEST_F(LiveSickSavedMap, ContinuesASavedMapWithLiveScans)
 {
 	writeSenaPrefix(m_dir + "/prefix.rawlog", m_rec.scans.size() * 6 / 10);
-	auto r = runProcess(binaryPath("lrgc-slam"),
-						{"--input", m_dir + "/prefix.rawlog", "--out", m_dir + "/prefix", "-q"});
+	auto r = runProcess(binaryPath("lrgc-slam"), {"--input", m_dir + "/prefix.rawlog", "--out",
+												  m_dir + "/prefix", "-q"});
 	ASSERT_EQ(r.exitCode, 0) << r.output;
 	const long oldKeyframes = jsonInt(readTextFile(m_dir + "/prefix/stats.json"), "keyframes");
 	const size_t first = m_rec.scans.size() * 4 / 10;
@@ -218,8 +221,7 @@ TEST_F(LiveSickSavedMap, ContinuesASavedMapWithLiveScans)
 	EXPECT_EQ(static_cast<long>(graph.nodes.size()), keyframes);
 	const TRows live = readTum(d.out + "/trajectory.tum");
 	ASSERT_EQ(static_cast<long>(live.size()), scans);
-	const long received =
-		jsonInt(readTextFile(d.out + "/live.json"), "scans", "\"received\"");
+	const long received = jsonInt(readTextFile(d.out + "/live.json"), "scans", "\"received\"");
 	expectOnTheTruth(poseErrors(live, m_truth, first, static_cast<size_t>(received)));
 	GTEST_LOG_(INFO) << "keyframes " << oldKeyframes << " -> " << keyframes;
 }

@@ -14,7 +14,8 @@
 namespace lrgc::test
 {
 TLiveRunDirs prepareLiveRun(const std::string& name, const CLms1xxEmulator& emu,
-							const mrpt::poses::CPose3D& sensorPose, const std::string& extraKeys)
+							const mrpt::poses::CPose3D& sensorPose,
+							const std::string& extraKeys)
 {
 	TLiveRunDirs d;
 	d.dir = makeTempDir(name + "_" + std::to_string(::getpid()));
