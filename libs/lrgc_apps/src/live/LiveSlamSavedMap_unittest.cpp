@@ -80,8 +80,8 @@ protected:
 	std::string offline(const std::string& outDir, std::vector<std::string> args)
 	{
 		const std::string replay = outDir + "-offline";
-		args.insert(args.end(), {"--input", outDir + "/capture.rawlog", "--out", replay,
-								 "--quiet"});
+		args.insert(args.end(),
+					{"--input", outDir + "/capture.rawlog", "--out", replay, "--quiet"});
 		std::FILE* devnull = std::fopen("/dev/null", "w");
 		EXPECT_EQ(CSlamApp(devnull).run(args), kExitOk);
 		std::fclose(devnull);
@@ -119,7 +119,8 @@ TEST_F(LiveSlamSavedMapTest, LocalisesOnTheMapAsOfflineDoes)
 // new ones), and the result is the offline --initial-map run's on the capture, exactly.
 TEST_F(LiveSlamSavedMapTest, ContinuesTheMapAsOfflineDoes)
 {
-	const long before = jsonInt(lrgc::test::readTextFile(m_dir + "/map/stats.json"), "keyframes");
+	const long before =
+		jsonInt(lrgc::test::readTextFile(m_dir + "/map/stats.json"), "keyframes");
 	m_setup.initialMap = loadSavedMap(m_dir + "/map", "--initial-map");
 	const std::string out = m_dir + "/cont";
 	ASSERT_EQ(run(out), kExitOk) << m_console;
