@@ -28,13 +28,12 @@
 #include <cmath>
 #include <csignal>
 #include <filesystem>
-#include <fstream>
-#include <regex>
 #include <sstream>
 #include <thread>
 
 #include "app_runner.h"
 #include "child_process.h"
+#include "live_sick_run.h"
 #include "lms1xx_emulator.h"
 #include "test_data.h"
 
@@ -43,63 +42,7 @@ using namespace lrgc::test;
 
 namespace
 {
-constexpr double kStartupBound = 150;  // [s] upper bound for the driver's ~15 s start-up
-
-struct TLiveRunDirs
-{
-	std::string dir, sensors, config, out;
-};
-
-TLiveRunDirs prepare(const std::string& name, const CLms1xxEmulator& emu,
-					 const mrpt::poses::CPose3D& sensorPose, const std::string& liveKeys)
-{
-	TLiveRunDirs d;
-	d.dir = makeTempDir(name + "_" + std::to_string(::getpid()));
-	d.sensors = d.dir + "/sensors.ini";
-	d.config = d.dir + "/lrgc.ini";
-	d.out = d.dir + "/out";
-	std::ostringstream s;
-	s << "# rawlog-grabber style: [global] plus one section per sensor\n"
-	  << "[global]\nrawlog_prefix = ./dataset\ntime_between_launches = 300\n"
-	  << "SF_max_time_span = 0.005\nuse_sensoryframes = 0\n\n"
-	  << "[LASER]\ndriver = CLMS100Eth\nprocess_rate = 50\nsensorLabel = LMS1XX\n"
-	  << "ip_address = 127.0.0.1\nTCP_port = " << emu.port() << "\n"
-	  << "pose_x = " << sensorPose.x() << "\npose_y = " << sensorPose.y()
-	  << "\npose_z = " << sensorPose.z() << "\npose_yaw = " << mrpt::RAD2DEG(sensorPose.yaw())
-	  << "\npose_pitch = 0\npose_roll = 0\n";
-	writeTextFile(d.sensors, s.str());
-	writeTextFile(d.config,
-				  "[LiveMapping]\nstatus_interval_s = 0.5\nsensor_timeout_s = 2\n"
-				  "retry_initial_s = 0.5\nretry_max_s = 2\n" +
-					  liveKeys);
-	return d;
-}
-
-/** Value of an integer JSON key (first occurrence after `after`). */
-long jsonInt(const std::string& json, const std::string& key, const std::string& after = {})
-{
-	const size_t from = after.empty() ? 0 : json.find(after);
-	const std::regex re("\"" + key + "\": (-?[0-9]+)");
-	std::smatch m;
-	const std::string tail = json.substr(from == std::string::npos ? 0 : from);
-	if (!std::regex_search(tail, m, re)) return -1;
-	return std::stol(m[1]);
-}
-
-std::vector<std::vector<double>> readTum(const std::string& path)
-{
-	std::vector<std::vector<double>> rows;
-	std::ifstream f(path);
-	for (std::string line; std::getline(f, line);)
-	{
-		if (line.empty() || line[0] == '#') continue;
-		std::istringstream in(line);
-		std::vector<double> v;
-		for (double x; in >> x;) v.push_back(x);
-		rows.push_back(v);
-	}
-	return rows;
-}
+constexpr double kStartupBound = kLiveStartupBound;
 
 /** Every object of a rawlog, read to the end; throws on a truncated or corrupt object. */
 size_t countCapturedScans(const std::string& path, size_t* raysMismatch)
@@ -232,7 +175,7 @@ protected:
 TEST_F(LiveSickLms1xx, LiveMapEqualsOfflineMapOfTheCapture)
 {
 	CLms1xxEmulator emu(m_rec.scans);
-	const auto d = prepare(
+	const auto d = prepareLiveRun(
 		"live_every_scan", emu, m_rec.sensorPose,
 		"max_backlog_scans = 0\nsave_interval_s = 3\nloop_results_when_ready = false\n");
 	CChildProcess app(binaryPath("lrgc-slam"),
@@ -290,8 +233,8 @@ TEST_F(LiveSickLms1xx, SurvivesDroppedConnectionAndSigtermMidRun)
 	opt.dropAfterScans = 40;
 	opt.garbageBeforeDrop = 5;
 	CLms1xxEmulator emu(m_rec.scans, opt);
-	const auto d = prepare("live_drop", emu, m_rec.sensorPose,
-						   "max_backlog_scans = 0\nloop_results_when_ready = false\n");
+	const auto d = prepareLiveRun("live_drop", emu, m_rec.sensorPose,
+								  "max_backlog_scans = 0\nloop_results_when_ready = false\n");
 	CChildProcess app(binaryPath("lrgc-slam"),
 					  {"--live", d.sensors, "--config", d.config, "--out", d.out},
 					  d.dir + "/live.log");
@@ -334,7 +277,8 @@ TEST_F(LiveSickLms1xx, SecondSignalExitsAtOnceLeavingCaptureAndSavedMaps)
 	TLms1xxEmulatorOptions opt;
 	opt.dropAfterScans = 30;
 	CLms1xxEmulator emu(m_rec.scans, opt);
-	const auto d = prepare("live_two_signals", emu, m_rec.sensorPose, "save_interval_s = 1\n");
+	const auto d =
+		prepareLiveRun("live_two_signals", emu, m_rec.sensorPose, "save_interval_s = 1\n");
 	CChildProcess app(binaryPath("lrgc-slam"),
 					  {"--live", d.sensors, "--config", d.config, "--out", d.out},
 					  d.dir + "/live.log");

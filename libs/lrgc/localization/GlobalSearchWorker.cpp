@@ -69,6 +69,7 @@ std::optional<TGlobalLocation> CGlobalSearchWorker::takeIfDue(double now)
 {
 	if (!m_busy) return std::nullopt;
 	std::unique_lock lock(m_mutex);
+	if (m_whenReady && !m_result && !m_error) return std::nullopt;
 	// Decided: the search is over, or its work so far already puts it past `now`.
 	const auto decided = [&]
 	{ return m_result || m_error || (!m_job && dueAt(m_progressMs) > now); };
@@ -85,7 +86,7 @@ std::optional<TGlobalLocation> CGlobalSearchWorker::takeIfDue(double now)
 		m_busy = false;
 		std::rethrow_exception(std::exchange(m_error, nullptr));
 	}
-	if (!m_result || dueAt(m_result->modelledMs) > now) return std::nullopt;
+	if (!m_result || (!m_whenReady && dueAt(m_result->modelledMs) > now)) return std::nullopt;
 	m_busy = false;
 	auto out = std::move(m_result);
 	m_result.reset();

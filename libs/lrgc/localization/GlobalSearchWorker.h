@@ -57,6 +57,10 @@ public:
 	 * none is. Rethrows what the search threw. */
 	std::optional<TGlobalLocation> takeIfDue(double now);
 
+	/** Live use: takeIfDue() hands the result over as soon as the search has ended and never
+	 * waits (the schedule then depends on the machine, as a live run's does anyway). */
+	void setTakeWhenReady(bool whenReady) { m_whenReady = whenReady; }
+
 	/** Time takeIfDue() waited for the real worker to catch up with the modelled one [s]. */
 	double waitedSeconds() const { return m_waited; }
 	double longestWaitSeconds() const { return m_longestWait; }
@@ -71,6 +75,7 @@ private:
 	const CGlobalLocalizer& m_localizer;
 	const double m_budget;  //!< [ms of modelled work per s of log]
 	bool m_busy = false;
+	bool m_whenReady = false;  //!< setTakeWhenReady()
 	double m_submittedAt = 0;
 	double m_waited = 0, m_longestWait = 0;
 	size_t m_onCaller = 0;

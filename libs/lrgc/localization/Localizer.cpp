@@ -75,11 +75,22 @@ void CLocalizer::setStopToken(const CStopToken& stop)
 
 const TLocalizerStats& CLocalizer::stats() const
 {
-	m_stats.localizedScans = m_trajectory.size();
+	m_stats.localizedScans = m_posesTaken + m_trajectory.size();
 	m_stats.replayWaitSeconds = m_worker.waitedSeconds();
 	m_stats.replayWaitMaxSeconds = m_worker.longestWaitSeconds();
 	m_stats.searchesOnTrackingThread = m_worker.searchesOnCallerThread();
 	return m_stats;
+}
+
+TTrajectory CLocalizer::takeSettledPoses()
+{
+	const size_t settled =
+		m_finder && m_stats.started ? m_finderFirstIndex : m_trajectory.size();
+	TTrajectory out(m_trajectory.begin(), m_trajectory.begin() + settled);
+	m_trajectory.erase(m_trajectory.begin(), m_trajectory.begin() + settled);
+	m_finderFirstIndex -= std::min(m_finderFirstIndex, settled);
+	m_posesTaken += settled;
+	return out;
 }
 
 void CLocalizer::processObservation(const mrpt::obs::CObservation::Ptr& obs)

@@ -129,8 +129,18 @@ public:
 	 * early, finding nothing, once `stop` is stopped (StopToken.h). */
 	void setStopToken(const CStopToken& stop);
 
-	/** One pose per localised scan, in the order of the scans. */
+	/** Live use: a global search's result is applied at the first scan after it ended, never
+	 * waiting for the search (CGlobalSearchWorker::setTakeWhenReady); off by default, so
+	 * that a log replays the same on any machine. */
+	void setResultsWhenReady(bool whenReady) { m_worker.setTakeWhenReady(whenReady); }
+
+	/** One pose per localised scan, in the order of the scans, but for those already moved
+	 * out by takeSettledPoses(). */
 	const TTrajectory& trajectory() const { return m_trajectory; }
+	/** Moves out the poses no later scan can change (all of them, but while a relocalisation
+	 * search runs, those since it began: a success rewrites them). A caller that writes them
+	 * out as it goes keeps the localiser's memory flat however long it runs. */
+	TTrajectory takeSettledPoses();
 	const TLocalizerStats& stats() const;
 	/** Timestamp of the last scan processed (default-constructed before the first). */
 	mrpt::Clock::time_point lastScanTimestamp() const { return m_lastScanTime; }
@@ -181,7 +191,8 @@ private:
 	double m_inFlightWindow = 0;
 	double m_lastWait = 0;
 
-	TTrajectory m_trajectory;
+	TTrajectory m_trajectory;             //!< poses not yet taken by takeSettledPoses()
+	size_t m_posesTaken = 0;              //!< by takeSettledPoses()
 	mrpt::math::TPose2D m_pose{0, 0, 0};  //!< of the last scan
 	Eigen::Matrix3d m_driftCov =
 		Eigen::Matrix3d::Zero();  //!< since the last good match, map axes

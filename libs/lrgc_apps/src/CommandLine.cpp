@@ -34,8 +34,8 @@ void checkSavedMapOptions(const TSlamCommandLine& cl)
 			"--initial-map and --localize exclude each other (continue a map, or localise on "
 			"it without changing it)");
 	const std::string opt = cl.initialMap.empty() ? "--localize" : "--initial-map";
-	if (!cl.live.empty()) throw CUsageError(opt + " is for --input, not --live");
-	if (cl.input.empty()) throw CUsageError(opt + " needs --input FILE" + kSeeHelp);
+	if (cl.input.empty() && cl.live.empty())
+		throw CUsageError(opt + " needs --input FILE or --live SENSORS.ini" + kSeeHelp);
 	if (cl.outDir.empty()) throw CUsageError(opt + " needs --out DIR" + kSeeHelp);
 }
 // lrgc-slam ICP-SLAM.ini [RAWLOG]: the .ini names the input and the output folder.
@@ -164,6 +164,7 @@ std::string slamUsage()
 		   "[--quiet]\n"
 		   "  lrgc-slam --input FILE --initial-map MAP --out DIR   continue a saved map\n"
 		   "  lrgc-slam --input FILE --localize MAP --out DIR      localise on a saved map\n"
+		   "  lrgc-slam --live SENSORS.ini --initial-map MAP | --localize MAP --out DIR\n"
 		   "  lrgc-slam --write-default-config FILE.ini [--expert] [--force]\n"
 		   "  lrgc-slam ICP-SLAM.ini [RAWLOG] [--config FILE.ini]  icp-slam's command line\n"
 		   "  lrgc-slam --help | --version\n"
@@ -190,8 +191,8 @@ std::string slamUsage()
 		   "LASER, RLASER is REAR_LASER) and ignore the others; default [MapBuilder]\n"
 		   "laser_label, empty: the first laser seen (a second one is warned about).\n"
 		   "MAP: an earlier output DIR (its graph.lrgc and map.simplemap.gz: the whole graph)\n"
-		   "or any MRPT .simplemap(.gz), e.g. icp-slam's. The start of FILE in MAP is found "
-		   "by\n"
+		   "or any MRPT .simplemap(.gz), e.g. icp-slam's. The start of FILE (or of the live\n"
+		   "scans) in MAP is found by\n"
 		   "global correlation. --initial-map: DIR gets the whole map (old + new), its\n"
 		   "trajectory.tum FILE's scans. --localize: MAP is not changed; DIR gets\n"
 		   "trajectory.tum, timing.csv and stats.json (relocalisations, latency).\n"

@@ -29,8 +29,9 @@ struct TLiveMappingParams : public mrpt::config::CLoadableOptions
 	double retry_initial_s = 0.5;  //!< [s] first back-off before restarting a sensor
 	double retry_max_s = 30;       //!< [s] longest back-off
 	/** Apply a loop search's result as soon as the worker has it, so the robot never waits
-	 * (TLoopCloserParams::apply_when_ready for this run); false: at the fixed keyframe as
-	 * offline runs do, so that mapping the capture offline gives the same map. */
+	 * (TLoopCloserParams::apply_when_ready for this run), and with --localize a global
+	 * search's (CLocalizer::setResultsWhenReady); false: at the fixed keyframe or scan as
+	 * offline runs do, so that the capture run offline gives the same map or poses. */
 	bool loop_results_when_ready = true;
 
 	/** Reads the keys of `section`; unknown keys and invalid values throw. */

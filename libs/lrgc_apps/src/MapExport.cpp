@@ -85,6 +85,11 @@ void writeSimplemap(const mrpt::maps::CSimpleMap& map, const std::string& path)
 
 void writeTrajectoryTum(const TTrajectory& trajectory, const std::string& path)
 {
+	writeTextFileAtomically(path, trajectoryTumText(trajectory));
+}
+
+std::string trajectoryTumText(const TTrajectory& trajectory)
+{
 	std::string out;
 	out.reserve(trajectory.size() * 80);
 	char line[160];
@@ -97,7 +102,7 @@ void writeTrajectoryTum(const TTrajectory& trajectory, const std::string& path)
 					  std::sin(half), std::cos(half));
 		out += line;
 	}
-	writeTextFileAtomically(path, out);
+	return out;
 }
 
 void writeGraph(const mrpt::graphs::CNetworkOfPoses2DInf& graph, const std::string& path)

@@ -27,12 +27,14 @@
 namespace lrgc
 {
 class CMetricMapBuilderLRGC;
+class CLocalizer;
 class CPieceJoiner;
 struct TPieceJoin;
 }  // namespace lrgc
 
 namespace lrgc::apps
 {
+class CLocalizationRecorder;
 class CLogReader;
 class CProgress;
 class CStopSignalWatcher;
@@ -101,6 +103,12 @@ private:
 	/** --localize: tracks the log on the map (CLocalizer); writes trajectory.tum, timing.csv
 	 * and stats.json. */
 	int runLocalize(const TSlamCommandLine& cl);
+	/** Feeds the log to the localiser until its end (kExitOk), an input error
+	 * (kExitInputError, run.status says why) or a stop request (kExitOk: the caller sees it).
+	 */
+	int localizeLog(CLogReader& reader, CLocalizer& localizer, CLocalizationRecorder& recorder,
+					CProgress& progress, TRunSummary& run, const CStopSignalWatcher& signals,
+					bool quiet);
 	void report(const std::string& line);
 	/** "lrgc-slam: <line>"; with --verbose, the details after it. */
 	void reportError(const std::string& line, const std::string& details = {});

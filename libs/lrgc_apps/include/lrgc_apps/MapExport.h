@@ -29,6 +29,8 @@ void writeGridPng(const mrpt::maps::COccupancyGridMap2D& grid, const std::string
 /** Writes `<stem>.pgm` and `<stem>.yaml` (the yaml names the pgm by its file name). */
 void writeRosMap(const mrpt::maps::COccupancyGridMap2D& grid, const std::string& stemPath);
 void writeSimplemap(const mrpt::maps::CSimpleMap& map, const std::string& path);
+/** TUM rows (stamp x y z qx qy qz qw) of the poses, one a line. */
+std::string trajectoryTumText(const TTrajectory& trajectory);
 void writeTrajectoryTum(const TTrajectory& trajectory, const std::string& path);
 void writeGraph(const mrpt::graphs::CNetworkOfPoses2DInf& graph, const std::string& path);
 

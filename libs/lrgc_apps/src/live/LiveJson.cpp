@@ -14,7 +14,7 @@ namespace lrgc::apps
 {
 TLiveJsonState liveState(const std::string& status, const std::string& sensorsIni,
 						 const CCaptureWriter& capture, const CLiveQueues& queues,
-						 const CLiveMapper& mapper, const TSupervisors& sensors)
+						 const CLiveProcessor& processor, const TSupervisors& sensors)
 {
 	TLiveJsonState st;
 	st.status = status;
@@ -23,9 +23,9 @@ TLiveJsonState liveState(const std::string& status, const std::string& sensorsIn
 	st.captureBytes = capture.bytes();
 	st.pushed = queues.pushed();
 	st.scansPushed = queues.scansPushed();
-	st.counts = mapper.counts();
-	st.skipped = mapper.policy().skippedTotal();
-	st.queueLatencyMs = mapper.queueLatencyMs();
+	st.counts = processor.counts();
+	st.skipped = processor.policy().skippedTotal();
+	st.queueLatency = processor.queueLatency().summary();
 	for (const auto& s : sensors) st.sensors.emplace_back(s->sensor(), s->counters());
 	return st;
 }
@@ -33,7 +33,7 @@ TLiveJsonState liveState(const std::string& status, const std::string& sensorsIn
 std::string liveJson(const TLiveJsonState& st)
 {
 	const TLiveMapperCounts& m = st.counts;
-	const TLatencySummary lat = summarizeLatencies(st.queueLatencyMs);
+	const TLatencySummary& lat = st.queueLatency;
 	std::ostringstream j;
 	j << "{\n"
 	  << "  \"status\": " << jsonString(st.status) << ",\n"

@@ -2,7 +2,7 @@
  * copied on the mapping thread (liveState) so that the saver thread can write it (liveJson). */
 #pragma once
 
-#include "live/LiveMapper.h"
+#include "live/LiveProcessor.h"
 #include "live/SensorSupervisor.h"
 
 #include <cstdint>
@@ -24,15 +24,15 @@ struct TLiveJsonState
 	uint64_t captureObjects = 0, captureBytes = 0, pushed = 0, scansPushed = 0;
 	TLiveMapperCounts counts;
 	size_t skipped = 0;
-	size_t saves = 0;  //!< saves written, this one included
-	std::vector<double> queueLatencyMs;
+	size_t saves = 0;              //!< saves written, this one included
+	TLatencySummary queueLatency;  //!< [ms]
 	std::vector<std::pair<TSensorSection, TSensorCounters>> sensors;
 };
 
 /** A copy of what live.json reports, taken now. */
 TLiveJsonState liveState(const std::string& status, const std::string& sensorsIni,
 						 const CCaptureWriter& capture, const CLiveQueues& queues,
-						 const CLiveMapper& mapper, const TSupervisors& sensors);
+						 const CLiveProcessor& processor, const TSupervisors& sensors);
 
 /** live.json's text. */
 std::string liveJson(const TLiveJsonState& state);

@@ -1,76 +1,78 @@
 /* CLiveMapper: the mapping side of a live run. It owns the same map builder as an offline run
  * (CMetricMapBuilderLRGC, fed with processObservation() exactly as an observations-only rawlog
- * is fed offline), applies the keep-up policy to laser scans, and takes the snapshots of
- * every output that the live saver writes (CLiveSaver), periodically and at the end.
+ * is fed offline) and takes the snapshots of every output that the live saver writes
+ * (CLiveSaver), periodically and at the end.
  *
- * Same map as a replay. A scan is prepared for the builder as the offline rawlog reader
- * prepares it (NaN, infinite or negative ranges marked invalid; scans with fewer than 2 rays
- * never reach the mapper, see CSensorSupervisor), on a copy so that the capture keeps what the
- * driver sent. So when no scan was skipped, `lrgc-slam --input DIR/capture.rawlog` feeds the
- * builder the same observations in the same order and gives the same trajectory and maps.
+ * Same map as a replay. Scans are prepared as the offline reader prepares them
+ * (CLiveProcessor), so when no scan was skipped and no stop cut a computation short,
+ * `lrgc-slam --input DIR/capture.rawlog` feeds the builder the same observations in the same
+ * order and gives the same trajectory and maps.
+ *
+ * --initial-map: the builder starts with the saved map, and the live scans' start in it is
+ * found as offline (CSlamApp::startInInitialMap): the first scans go to a CStartFinder's probe
+ * and are kept; each new probe keyframe may bring a global correlation (on this thread: the
+ * sensors' observations wait in the queue meanwhile, none is lost); once it passes, the
+ * session starts there and the kept observations are mapped.
  */
 #pragma once
 
+#include <lrgc/localization/GlobalLocalizer.h>
+#include <lrgc/localization/StartFinder.h>
 #include <lrgc/map_builder/CMetricMapBuilderLRGC.h>
-#include "AppConfig.h"
+#include <lrgc/map_builder/IncrementalGrid.h>
 #include <lrgc_apps/RunOutputs.h>
 #include <lrgc_apps/RunStats.h>
-#include "live/KeepUpPolicy.h"
-#include "live/LiveConsole.h"
-#include "live/LiveQueues.h"
+#include "live/LiveProcessor.h"
 
+#include <memory>
 #include <string>
 #include <vector>
 
 namespace lrgc::apps
 {
-struct TLiveMapperCounts
-{
-	size_t items = 0;              //!< objects taken from the queue
-	size_t scans = 0;              //!< laser scans taken
-	size_t scansMapped = 0;        //!< laser scans given to the builder
-	size_t odometry = 0;           //!< odometry observations given to the builder
-	size_t otherObservations = 0;  //!< other observations given to it (it ignores them)
-	size_t notObservations = 0;    //!< captured objects that are not observations (not mapped)
-};
+struct TSavedMap;
 
-class CLiveMapper
+class CLiveMapper final : public CLiveProcessor
 {
 public:
+	/** `initialMap`: continue it (see the file comment), or nullptr for a new map. */
 	CLiveMapper(const TAppConfig& config, std::string outDir, std::string sensorsIni,
-				CLiveConsole& console);
+				CLiveConsole& console, const TSavedMap* initialMap = nullptr);
+	~CLiveMapper() override;
 
-	/** Maps (or, by the keep-up policy, skips) one item; `scansBehind` laser scans wait after
-	 * it. Throws if the builder fails. */
-	void process(const TLiveItem& item, size_t scansBehind);
-	/** Every output as of now, with `status` in stats.json (writeRunOutputs); after finish()
-	 * for the final save. On the mapping thread: it copies poses and counters, shares scans. */
+	void finish() override;
+	std::string failure() const override;
+	bool anyScan() const override { return m_builder.stats().scans > 0; }
+	std::function<std::string()> saveJob(const std::string& status) override;
+	std::string statusText(size_t queueDepth) const override;
+	std::string summaryText() const override;
+	void setStopToken(const CStopToken& stop) override;
+
+	/** Every output as of now, with `status` in stats.json (writeRunOutputs). */
 	TRunOutputsSnapshot snapshot(const std::string& status) const;
-	/** Final optimisation of the whole graph (as at the end of an offline run). */
-	void finish();
-
 	const CMetricMapBuilderLRGC& builder() const { return m_builder; }
 	const std::string& outDir() const { return m_outDir; }
-	const TLiveMapperCounts& counts() const { return m_counts; }
-	const CKeepUpPolicy& policy() const { return m_policy; }
-	/** Queue latency (arrival to mapped) of mapped scans [ms]. */
-	const std::vector<double>& queueLatencyMs() const { return m_queueLatencyMs; }
-	size_t warnings() const { return m_warningsTotal; }
 
 private:
-	void mapScan(const TLiveItem& item);
-	void reportWarnings();
+	void processScan(const mrpt::obs::CObservation2DRangeScan::Ptr& scan) override;
+	void processOther(const mrpt::obs::CObservation::Ptr& obs) override;
+	std::vector<std::string> takeWarnings() override { return m_builder.takeWarnings(); }
+	void mapScan(const mrpt::obs::CObservation2DRangeScan::Ptr& scan);
+	/** --initial-map, start not yet found: the observation to the probe; tries to locate. */
+	void seekStart(const mrpt::obs::CObservation::Ptr& obs);
+	/** Writes a save's outputs (the grid brought up to date incrementally). */
+	void writeSave(const TRunOutputsSnapshot& outputs);
 
 	CMetricMapBuilderLRGC m_builder;
 	std::string m_outDir;
-	CLiveConsole& m_console;
-	CKeepUpPolicy m_policy;
-	size_t m_maxBacklog;
-	TLiveMapperCounts m_counts;
 	TRunSummary m_run;
 	CRunClock m_clock;
-	std::vector<double> m_queueLatencyMs;
-	size_t m_warningsShown = 0, m_warningsTotal = 0;
+	CStopToken m_stop;
+	// --initial-map, until the start is found:
+	std::unique_ptr<CGlobalLocalizer> m_global;
+	std::unique_ptr<CStartFinder> m_finder;
+	std::vector<mrpt::obs::CObservation::Ptr> m_kept;  //!< mapped once the start is found
+	std::unique_ptr<CIncrementalGrid> m_grid;  //!< the saves' grid (saver thread, then final)
 };
 
 }  // namespace lrgc::apps

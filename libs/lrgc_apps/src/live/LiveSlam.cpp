@@ -4,8 +4,10 @@
 #include "SlamApp.h"
 #include "atomic_file.h"
 #include "live/CaptureWriter.h"
+#include "live/DelayedStop.h"
 #include "live/LiveConsole.h"
 #include "live/LiveJson.h"
+#include "live/LiveLocalizer.h"
 #include "live/LiveMapper.h"
 #include "live/LiveQueues.h"
 #include "live/LiveSaver.h"
@@ -28,6 +30,10 @@ namespace
 {
 using namespace std::chrono_literals;
 using TSensors = std::vector<std::unique_ptr<CSensorSupervisor>>;
+
+/** [s] After the first signal, the computations still running are cut (DelayedStop.h). An
+ * ordinary stop (the queue drained, mapping having kept up) takes well under a second. */
+constexpr double kCutGraceSeconds = 3;
 
 /** The first fatal error of the run (capture or mapping), set from any thread. */
 class CFatal
@@ -77,17 +83,31 @@ void captureLoop(CLiveQueues& queues, CCaptureWriter& capture, CFatal& fatal)
 	}
 }
 
-std::string statusLine(const CLiveQueues& queues, const CLiveMapper& mapper,
+std::string statusLine(const CLiveQueues& queues, const CLiveProcessor& processor,
 					   const TSensors& sensors)
 {
-	std::string line = mrpt::format(
-		"live: received %llu scans, mapped %zu, queue %zu, loop closures %zu, skipped "
-		"%zu |",
-		static_cast<unsigned long long>(queues.scansPushed()), mapper.counts().scansMapped,
-		queues.mappingDepth(), mapper.builder().stats().loopClosures,
-		mapper.policy().skippedTotal());
+	std::string line = mrpt::format("live: received %llu scans, %s, skipped %zu |",
+									static_cast<unsigned long long>(queues.scansPushed()),
+									processor.statusText(queues.mappingDepth()).c_str(),
+									processor.policy().skippedTotal());
 	for (const auto& s : sensors) line += " " + s->sensor().section + " " + s->counters().state;
 	return line;
+}
+
+/** What the run does with the observations: maps (perhaps continuing a saved map) or
+ * localises on a saved map. */
+std::unique_ptr<CLiveProcessor> processorFor(const TLiveSlamSetup& setup, CLiveConsole& console,
+											 const CStopToken& cut)
+{
+	std::unique_ptr<CLiveProcessor> p;
+	if (setup.localizeMap)
+		p = std::make_unique<CLiveLocalizer>(setup.config, *setup.localizeMap, setup.outDir,
+											 setup.sensorsIni, console);
+	else
+		p = std::make_unique<CLiveMapper>(setup.config, setup.outDir, setup.sensorsIni, console,
+										  setup.initialMap ? &*setup.initialMap : nullptr);
+	p->setStopToken(cut);
+	return p;
 }
 
 /** One live run: its threads and the stop sequence. */
@@ -102,7 +122,8 @@ public:
 		  m_capture(captureFileOf(setup.outDir)),
 		  m_ini(setup.sensorsIni),
 		  m_console(err, setup.quiet, m_params.status_interval_s),
-		  m_mapper(setup.config, setup.outDir, setup.sensorsIni, m_console)
+		  m_cut(setup.cut, kCutGraceSeconds),
+		  m_processor(processorFor(setup, m_console, m_cut.token()))
 	{
 		for (const auto& note : rig.notes) m_console.message("live: " + note, false);
 		m_writer = std::thread([this] { captureLoop(m_queues, m_capture, m_fatal); });
@@ -146,16 +167,16 @@ public:
 			const std::optional<TLiveItem> item = m_queues.takeForMapping(100ms, &behind);
 			if (!item && closing) break;
 			if (item) mapItem(*item, behind);
-			m_scansMapped = m_mapper.counts().scansMapped;
-			m_console.status(statusLine(m_queues, m_mapper, m_sensors));
+			m_scansMapped = m_processor->counts().scansMapped;
+			m_console.status(statusLine(m_queues, *m_processor, m_sensors));
 			const auto now = std::chrono::steady_clock::now();
 			if (!closing && m_params.save_interval_s > 0 &&
 				std::chrono::duration<double>(now - lastSave).count() >=
 					m_params.save_interval_s &&
-				m_mapper.builder().stats().scans > 0 && periodicSave())
+				m_processor->anyScan() && periodicSave())
 				lastSave = now;
 		}
-		m_console.status(statusLine(m_queues, m_mapper, m_sensors), true);
+		m_console.status(statusLine(m_queues, *m_processor, m_sensors), true);
 		m_console.endStatus();
 	}
 
@@ -172,15 +193,16 @@ public:
 		{
 			m_fatal.set("capture: " + oneLineError(e));
 		}
-		const std::string silent = noSensorStarted();
+		std::string silent = noSensorStarted();
+		if (silent.empty()) silent = m_processor->failure();  // e.g. no start found
 		const std::string status = m_fatal.isSet()  ? "error: " + m_fatal.why()
 								   : silent.empty() ? "stopped on request"
 													: silent;
 		int exitCode = m_fatal.isSet() || !silent.empty() ? kExitInputError : kExitOk;
 		try
 		{
-			if (!m_mappingFailed) m_mapper.finish();
-			writeSave(m_mapper.snapshot(status), liveState(status));
+			if (!m_mappingFailed) m_processor->finish();
+			writeSave(m_processor->saveJob(status), liveState(status));
 		}
 		catch (const std::exception& e)
 		{
@@ -247,7 +269,7 @@ private:
 		if (m_mappingFailed) return;  // drained without mapping: the capture gets it all
 		try
 		{
-			m_mapper.process(item, behind);
+			m_processor->process(item, behind);
 		}
 		catch (const std::exception& e)
 		{
@@ -262,25 +284,22 @@ private:
 	bool periodicSave()
 	{
 		if (!m_saver.idle()) return false;
-		auto outputs = std::make_shared<const TRunOutputsSnapshot>(
-			m_mapper.snapshot("running (periodic save)"));
+		auto job = m_processor->saveJob("running (periodic save)");
 		auto live = std::make_shared<const TLiveJsonState>(liveState("running"));
 		return m_saver.trySubmit(
-			[this, outputs, live]
+			[this, job, live]
 			{
 				const auto t0 = std::chrono::steady_clock::now();
 				try
 				{
 					if (m_saveHook) m_saveHook([this] { return m_scansMapped.load(); });
 					m_capture.sync();
-					writeSave(*outputs, *live);
-					m_console.message(
-						mrpt::format(
-							"live: maps saved (%zu scans, %zu keyframes) in %.2f s",
-							outputs->stats.scans, outputs->stats.keyframes,
-							std::chrono::duration<double>(std::chrono::steady_clock::now() - t0)
-								.count()),
-						false);
+					const std::string what = writeSave(job, *live);
+					m_console.message(mrpt::format("live: %s in %.2f s", what.c_str(),
+												   std::chrono::duration<double>(
+													   std::chrono::steady_clock::now() - t0)
+													   .count()),
+									  false);
 				}
 				catch (const std::exception& e)
 				{
@@ -289,25 +308,20 @@ private:
 			});
 	}
 
-	/** Writes a save: every output (the grid brought up to date incrementally: the saver's
-	 * CIncrementalGrid), then live.json. On the saver thread, or on this one once it is idle.
-	 */
-	void writeSave(const TRunOutputsSnapshot& outputs, TLiveJsonState live)
+	/** Writes a save: every output (the processor's job), then live.json; returns what was
+	 * saved. On the saver thread, or on this one once it is idle. */
+	std::string writeSave(const std::function<std::string()>& job, TLiveJsonState live)
 	{
-		const TGridSettings& gs = outputs.gridSettings;
-		if (!m_grid || m_grid->settings().resolution != gs.resolution ||
-			m_grid->settings().settleKeyframes != gs.settleKeyframes)
-			m_grid = std::make_unique<CIncrementalGrid>(gs);
-		if (outputs.stats.scans > 0) m_grid->update(outputs.gridKeyframes);
-		writeRunOutputs(outputs, *m_grid->grid(), m_setup.outDir);
+		const std::string what = job();
 		live.saves = ++m_saves;
 		writeLiveJson(live);
+		return what;
 	}
 
 	TLiveJsonState liveState(const std::string& status) const
 	{
-		return lrgc::apps::liveState(status, m_setup.sensorsIni, m_capture, m_queues, m_mapper,
-									 m_sensors);
+		return lrgc::apps::liveState(status, m_setup.sensorsIni, m_capture, m_queues,
+									 *m_processor, m_sensors);
 	}
 
 	void writeLiveJson(const TLiveJsonState& st)
@@ -325,21 +339,17 @@ private:
 
 	void summary(const std::string& status)
 	{
-		const auto& st = m_mapper.builder().stats();
 		if (m_fatal.isSet())
 			m_console.message("lrgc-slam: " + status + " (what was mapped is saved)", true);
-		else if (status.rfind("no sensor", 0) == 0)
+		else if (status != "stopped on request")
 			m_console.message("lrgc-slam: " + status, true);
 		m_console.message(
-			mrpt::format(
-				"lrgc-slam: live run %s: %llu scans received (%llu objects captured), %zu "
-				"mapped, %zu skipped to keep up, %zu keyframes, %zu loop closures (%zu loop "
-				"links); outputs in %s",
-				m_fatal.isSet() ? "failed" : "stopped",
-				static_cast<unsigned long long>(m_queues.scansPushed()),
-				static_cast<unsigned long long>(m_capture.objects()),
-				m_mapper.counts().scansMapped, m_mapper.policy().skippedTotal(), st.keyframes,
-				st.loopClosures, st.loopClosureLinks, m_setup.outDir.c_str()),
+			mrpt::format("lrgc-slam: live run %s: %llu scans received (%llu objects captured), "
+						 "%s; outputs in %s",
+						 m_fatal.isSet() ? "failed" : "stopped",
+						 static_cast<unsigned long long>(m_queues.scansPushed()),
+						 static_cast<unsigned long long>(m_capture.objects()),
+						 m_processor->summaryText().c_str(), m_setup.outDir.c_str()),
 			m_fatal.isSet());
 	}
 
@@ -350,13 +360,13 @@ private:
 	const mrpt::config::CConfigFile m_ini;  //!< read by the sensor threads
 	CLiveConsole m_console;
 	CLiveQueues m_queues;
-	CLiveMapper m_mapper;
+	CDelayedStop m_cut;  //!< setup.cut, kCutGraceSeconds later
+	std::unique_ptr<CLiveProcessor> m_processor;
 	CFatal m_fatal;
 	bool m_mappingFailed = false;
 	std::thread m_writer;
 	std::atomic<size_t> m_scansMapped{0};  //!< for the tests' save hook
 	size_t m_saves = 0;  //!< saves written (by the saver thread, then by finish())
-	std::unique_ptr<CIncrementalGrid> m_grid;  //!< the saves' grid (saver thread)
 	CLiveSaver m_saver;  //!< after what its jobs use: stopped (and its job done) before them
 	TSensors m_sensors;  //!< last: destroyed (stopped and joined) first
 };
@@ -393,7 +403,14 @@ int runLiveSlam(const TSlamCommandLine& cl, std::FILE* err)
 		std::fprintf(err, "warning: %s\n", w.c_str());
 	setup.outDir = cl.outDir;
 	setup.quiet = cl.quiet;
+	if (!cl.initialMap.empty()) setup.initialMap = loadSavedMap(cl.initialMap, "--initial-map");
+	if (!cl.localize.empty()) setup.localizeMap = loadSavedMap(cl.localize, "--localize");
+	for (const auto* map : {&setup.initialMap, &setup.localizeMap})
+		if (*map)
+			for (const auto& w : (*map)->warnings)
+				std::fprintf(err, "warning: %s\n", w.c_str());
 	const CStopSignalWatcher signals;  // before the run's threads, which inherit its mask
+	setup.cut = signals.token();
 	return CLiveSlam(std::move(setup), err).run([&] { return signals.stopRequested(); });
 }
 

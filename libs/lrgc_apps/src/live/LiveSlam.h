@@ -26,9 +26,13 @@
 
 #include "AppConfig.h"
 #include "CommandLine.h"
+#include "lrgc_apps/SavedMap.h"
+
+#include <lrgc/common/StopToken.h>
 
 #include <cstdio>
 #include <functional>
+#include <optional>
 #include <string>
 
 namespace lrgc::apps
@@ -39,6 +43,14 @@ struct TLiveSlamSetup
 	TAppConfig config;       //!< lrgc parameters, [LiveMapping] included
 	std::string outDir;
 	bool quiet = false;
+	/** --initial-map (continue it) or --localize (localise on it): at most one is set. */
+	std::optional<TSavedMap> initialMap, localizeMap;
+	/** Stopped by the first signal. Three seconds later, if the stop is not over, the
+	 * computation in hand (a loop search, an optimisation, a scan match, a global search) and
+	 * those of the scans still queued end early, as in an offline run (DelayedStop.h); a
+	 * map's end of run (revisit sweep, final optimisation) then runs whole (a second signal
+	 * exits at once). */
+	CStopToken cut;
 };
 
 /** Called at the start of every periodic save (tests only: LiveSlamTestAccess.h). */
