@@ -64,6 +64,9 @@ struct TMapBuilderStats
 	/** Times a scan due to become a keyframe was anchored at an existing one instead
 	 * (CKeyframeReuse: ground the map already has). */
 	size_t keyframesReused = 0;
+	/** Keyframes of an older session (a continued map) that show a scan of this session
+	 * since it reused them (the grid and the saved map show the place as it is now). */
+	size_t keyframesRenewed = 0;
 	size_t skippedScans = 0;    //!< too few valid returns
 	size_t unmatchedScans = 0;  //!< no acceptable local match: the prediction was kept
 	/** Scans whose pose was off their neighbours' odometry chain at the end of the run and
@@ -207,7 +210,7 @@ private:
 				   const mrpt::obs::CSensoryFrame::Ptr& observations, TScan2D&& scan,
 				   const TRegistration& reg, size_t scanIndex);
 	void enterReusedKeyframe(const TReusedKeyframe& reused, const TRegistration& reg,
-							 mrpt::Clock::time_point stamp);
+							 const mrpt::obs::CObservation2DRangeScan::Ptr& laser);
 	void enterNewKeyframe(const mrpt::obs::CObservation2DRangeScan::Ptr& laser,
 						  const mrpt::obs::CSensoryFrame::Ptr& observations, TScan2D&& scan,
 						  const TRegistration& reg, size_t scanIndex);
@@ -252,6 +255,8 @@ private:
 	void linkChainAndRevisits();
 	void linkSessionStart(size_t node);
 	void enterNewestKeyframes();
+	void showNewerScan(size_t node, const mrpt::obs::CObservation2DRangeScan::Ptr& laser,
+					   const mrpt::math::TPose2D& robotInNode);
 
 	TLRGCParams m_params;
 	CStopToken m_stop;
@@ -285,6 +290,9 @@ private:
 	/** The current scan's predicted step and its source, for its TScanRecord. */
 	mrpt::math::TPose2D m_scanStep{0, 0, 0};
 	bool m_scanStepFromOdometry = false;
+	/** The session being mapped (TKeyframe::session): 0 in a plain run, 1 once a saved map is
+	 * continued. */
+	size_t m_session = 0;
 
 	std::vector<std::string> m_warnings;
 	mutable std::unique_ptr<mrpt::maps::CMultiMetricMap> m_metricMap;
