@@ -116,8 +116,9 @@ struct TTwoSessions
 		mrpt::maps::CSimpleMap saved;
 		b.getCurrentlyBuiltMap(saved);
 		for (size_t i = 0; i < saved.size(); ++i)
-			savedFromSession2 += mrpt::Clock::toDouble((*std::get<1>(saved.get(i))->begin())->timestamp) >=
-								 opt2.firstStepTime;
+			savedFromSession2 +=
+				mrpt::Clock::toDouble((*std::get<1>(saved.get(i))->begin())->timestamp) >=
+				opt2.firstStepTime;
 
 		CMetricMapBuilderLRGC c;
 		c.logging_enable_console_output = false;
@@ -157,17 +158,18 @@ TEST(ChangedWorld, theSecondSessionShowsTheObjectsWhereTheyNowStand)
 	RecordProperty("new_occupied_pct", std::to_string(100 * s.continued.added.occupiedShare()));
 	RecordProperty("new_occupied_alone_pct",
 				   std::to_string(100 * s.alone.added.occupiedShare()));
-	// The removed objects are gone from the map (main at c74e207: 0 %; the hall,
-	// where they lingered, 12.9 %).
+	// The removed objects are gone from the map (main at c74e207 too: session 2 drives the
+	// other way round, makes its own keyframes, and they overrule; where it reuses session
+	// 1's keyframes they linger: the next test).
 	EXPECT_LE(s.continued.removed.occupiedShare(), 0.03);
-	// The new objects are drawn as completely as in a fresh map of session 2, within a cell:
-	// the continued map is in session 1's frame and carries its error (about 1 cm), so cell
-	// for cell it shows fewer of them than a fresh map does in its own frame (measured 75 %
-	// against 88 %; main at c74e207: 61 %), though within a cell all (427 of 428, 425 of
-	// 425).
+	// The new objects are drawn as completely as in a fresh map of session 2. Cell for cell
+	// the continued map (in session 1's frame, carrying its error of about 1 cm) shows fewer
+	// of their cells than a fresh map in its own frame does: measured 75 % against 88 % (main
+	// at c74e207: 61 %, the old keyframes' free space overlaying them); within a cell, 427 of
+	// 428 against 425 of 425 (main: 424).
+	EXPECT_GE(s.continued.added.occupiedShare(), 0.8 * s.alone.added.occupiedShare());
 	EXPECT_GE(s.continued.addedWithinACell.occupiedShare(),
 			  0.98 * s.alone.addedWithinACell.occupiedShare());
-	EXPECT_GT(s.continued.added.occupiedShare(), 0.7);
 	// Session 2's own scans are placed as well as when mapped alone (relation error,
 	// measured 1.82 against 1.60 mm; the rule does not move them: main's are the same).
 	EXPECT_LT(s.continued.error, s.alone.error + 0.0005);
@@ -189,7 +191,12 @@ TEST(ChangedWorld, keyframesReusedBySession2ShowItsScans)
 	EXPECT_GT(r.stats.keyframesRenewed, 100U);
 	// What is saved shows session 2 too: the renewed and the new keyframes hold its scans.
 	EXPECT_EQ(s.savedFromSession2, r.keyframes - s.first.keyframes + r.stats.keyframesRenewed);
+	// Measured: removed 0 %, new 257 of 428 (411 within a cell) against 254 of 421 (407)
+	// alone; main at c74e207: 33 of 408 removed cells still occupied (8 %), new 69 of 428
+	// (241 within a cell).
 	EXPECT_LE(r.removed.occupiedShare(), 0.03);
-	EXPECT_GE(r.addedWithinACell.occupiedShare(), 0.98 * s.alone.addedWithinACell.occupiedShare());
+	EXPECT_GE(r.added.occupiedShare(), 0.9 * s.alone.added.occupiedShare());
+	EXPECT_GE(r.addedWithinACell.occupiedShare(),
+			  0.98 * s.alone.addedWithinACell.occupiedShare());
 	EXPECT_LT(r.error, s.alone.error + 0.0005);
 }
