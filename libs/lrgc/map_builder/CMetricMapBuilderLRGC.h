@@ -113,7 +113,8 @@ public:
 	 * pose where the match fails), and the places the map revisits by the revisit linker's
 	 * loop links, so loop closures keep the old map's loops. `x0` sets the pose of the next
 	 * scan (default: the last keyframe of `initialMap`, or the origin); see also
-	 * startSessionAt(). The old keyframes are not scans of this run (trajectory()). */
+	 * startSessionAt(). The old keyframes are not scans of this run (trajectory()); where
+	 * this run sees the world changed, its view wins (TKeyframe::session). */
 	void initialize(const mrpt::maps::CSimpleMap& initialMap = mrpt::maps::CSimpleMap(),
 					const mrpt::poses::CPosePDF* x0 = nullptr) override;
 	/** Continues a map saved by lrgc exactly: the keyframes of `keyframes` (entry i = node i)

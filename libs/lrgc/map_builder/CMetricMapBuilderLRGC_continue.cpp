@@ -13,6 +13,9 @@
  * match against the old keyframes around it, and the local registration window restarts
  * there. From then on the normal loop closer finds the loops between the session and the old
  * map.
+ * A continued map's keyframes are session 0 and this run's session 1 (TKeyframe::session):
+ * where the world changed since, the newer session's view wins, in the grid (CIncrementalGrid)
+ * and in the keyframes it reuses (showNewerScan).
  */
 #include <lrgc/map_builder/CMetricMapBuilderLRGC.h>
 #include <lrgc/scan_matching/ScanGeometry.h>
