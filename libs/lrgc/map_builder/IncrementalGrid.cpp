@@ -83,7 +83,9 @@ void CIncrementalGrid::overlay(mrpt::maps::COccupancyGridMap2D& older,
 			const auto l = cells[cx + cy * nx];
 			if (l == 0) continue;  // unknown to the newer session: the older value stays
 			const int ox = older.x2idx(newer.idx2x(cx)), oy = older.y2idx(newer.idx2y(cy));
-			older.getRow(oy)[ox] = l;
+			auto* row = older.getRow(oy);
+			ASSERT_(row != nullptr && ox >= 0 && ox < static_cast<int>(older.getSizeX()));
+			row[ox] = l;
 		}
 }
 
