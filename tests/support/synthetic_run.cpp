@@ -49,9 +49,9 @@ mrpt::obs::CObservation2DRangeScan::Ptr laserObservationFromScan(const lrgc::TSc
 	return obs;
 }
 
-mrpt::Clock::time_point syntheticStepTime(size_t k, double scanPeriod)
+mrpt::Clock::time_point syntheticStepTime(size_t k, double scanPeriod, double t0)
 {
-	return mrpt::Clock::fromDouble(1.6e9 + scanPeriod * double(k));
+	return mrpt::Clock::fromDouble(t0 + scanPeriod * double(k));
 }
 
 void feedBuilder(lrgc::CMetricMapBuilderLRGC& builder, const CSyntheticWorld& world,
@@ -61,7 +61,7 @@ void feedBuilder(lrgc::CMetricMapBuilderLRGC& builder, const CSyntheticWorld& wo
 	std::mt19937 rng(opt.laserSeed);
 	for (size_t k = 0; k < tr.truePoses.size(); ++k)
 	{
-		const auto t = syntheticStepTime(k, opt.scanPeriod);
+		const auto t = syntheticStepTime(k, opt.scanPeriod, opt.firstStepTime);
 		if (opt.odometry)
 		{
 			auto odo = mrpt::obs::CObservationOdometry::Create();

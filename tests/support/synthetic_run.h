@@ -46,11 +46,12 @@ struct TSyntheticRunOptions
 	 * a log's changing start angle rotates the beam fan. */
 	double beamOffsetStep = 0;
 	int beamOffsetCycle = 1;
-	bool finish = true;  //!< false: feedBuilder leaves builder.finish() to the caller
+	bool finish = true;            //!< false: feedBuilder leaves builder.finish() to the caller
+	double firstStepTime = 1.6e9;  //!< [s] timestamp of step 0 (a later session: later)
 };
 
-/** Timestamp of step k of a synthetic run. */
-mrpt::Clock::time_point syntheticStepTime(size_t k, double scanPeriod);
+/** Timestamp of step k of a synthetic run whose step 0 is at t0 [s]. */
+mrpt::Clock::time_point syntheticStepTime(size_t k, double scanPeriod, double t0 = 1.6e9);
 
 /** Feeds every step of `tr` to the builder (odometry from tr.odometryPoses, scans ray-cast at
  * tr.truePoses) and calls finish() (unless opt.finish is false). */

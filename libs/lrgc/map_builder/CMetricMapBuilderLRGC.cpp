@@ -169,16 +169,17 @@ void CMetricMapBuilderLRGC::placeScan(const mrpt::obs::CObservation2DRangeScan::
 					 ? std::nullopt
 					 : m_reuse->reusableKeyframe(m_graph, m_keyframes, scan, reg.scanInMap,
 												 reg.cov, anchor(), m_local->window()))
-		enterReusedKeyframe(*reused, reg, laser->timestamp);
+		enterReusedKeyframe(*reused, reg, laser);
 	else
 		enterNewKeyframe(laser, observations, std::move(scan), reg, scanIndex);
 }
 
 // The robot's anchor moves to an existing keyframe, linked to the previous anchor by this
-// scan (linkReused); the loop results due are applied (no search: the keyframe is not new).
-void CMetricMapBuilderLRGC::enterReusedKeyframe(const TReusedKeyframe& reused,
-												const TRegistration& reg,
-												mrpt::Clock::time_point stamp)
+// scan (linkReused); a keyframe of an older session shows this scan from now on
+// (showNewerScan); the loop results due are applied (no search: the keyframe is not new).
+void CMetricMapBuilderLRGC::enterReusedKeyframe(
+	const TReusedKeyframe& reused, const TRegistration& reg,
+	const mrpt::obs::CObservation2DRangeScan::Ptr& laser)
 {
 	++m_stats.keyframesReused;
 	linkReused(reused, reg);
@@ -186,7 +187,8 @@ void CMetricMapBuilderLRGC::enterReusedKeyframe(const TReusedKeyframe& reused,
 	const TPose2D inNode = between(m_graph.pose(reused.node), reg.scanInMap);
 	m_motionSinceKeyframe = inNode;  // the odometry link of a later keyframe starts here
 	m_anchorOffset = inNode;
-	recordScan(stamp, reused.node, inNode);
+	if (m_keyframes[reused.node].session < m_session) showNewerScan(reused.node, laser, inNode);
+	recordScan(laser->timestamp, reused.node, inNode);
 	closeLoops(false);
 }
 
@@ -329,7 +331,7 @@ size_t CMetricMapBuilderLRGC::addKeyframe(const mrpt::obs::CObservation2DRangeSc
 {
 	const size_t node = m_graph.addNode(scanInMap);
 	ASSERT_EQUAL_(node, m_keyframes.size());
-	m_keyframes.push_back({std::move(scan), observations, laser, scanIndex});
+	m_keyframes.push_back({std::move(scan), observations, laser, scanIndex, m_session});
 	++m_stats.keyframes;
 	return node;
 }

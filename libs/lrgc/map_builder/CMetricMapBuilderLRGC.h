@@ -65,6 +65,9 @@ struct TMapBuilderStats
 	/** Times a scan due to become a keyframe was anchored at an existing one instead
 	 * (CKeyframeReuse: ground the map already has). */
 	size_t keyframesReused = 0;
+	/** Keyframes of an older session (a continued map) that show a scan of this session
+	 * since it reused them (the grid and the saved map show the place as it is now). */
+	size_t keyframesRenewed = 0;
 	size_t skippedScans = 0;    //!< too few valid returns
 	size_t unmatchedScans = 0;  //!< no acceptable local match: the prediction was kept
 	/** Scans whose pose was off their neighbours' odometry chain at the end of the run and
@@ -111,7 +114,8 @@ public:
 	 * pose where the match fails), and the places the map revisits by the revisit linker's
 	 * loop links, so loop closures keep the old map's loops. `x0` sets the pose of the next
 	 * scan (default: the last keyframe of `initialMap`, or the origin); see also
-	 * startSessionAt(). The old keyframes are not scans of this run (trajectory()). */
+	 * startSessionAt(). The old keyframes are not scans of this run (trajectory()); where
+	 * this run sees the world changed, its view wins (TKeyframe::session). */
 	void initialize(const mrpt::maps::CSimpleMap& initialMap = mrpt::maps::CSimpleMap(),
 					const mrpt::poses::CPosePDF* x0 = nullptr) override;
 	/** Continues a map saved by lrgc exactly: the keyframes of `keyframes` (entry i = node i)
@@ -227,7 +231,7 @@ private:
 				   const mrpt::obs::CSensoryFrame::Ptr& observations, TScan2D&& scan,
 				   const TRegistration& reg, size_t scanIndex);
 	void enterReusedKeyframe(const TReusedKeyframe& reused, const TRegistration& reg,
-							 mrpt::Clock::time_point stamp);
+							 const mrpt::obs::CObservation2DRangeScan::Ptr& laser);
 	void enterNewKeyframe(const mrpt::obs::CObservation2DRangeScan::Ptr& laser,
 						  const mrpt::obs::CSensoryFrame::Ptr& observations, TScan2D&& scan,
 						  const TRegistration& reg, size_t scanIndex);
@@ -283,6 +287,8 @@ private:
 	TMapLink linkToMap(size_t node, const mrpt::math::TPose2D& guess,
 					   const Eigen::Matrix3d& cov, size_t mapEnd) const;
 	void enterNewestKeyframes();
+	void showNewerScan(size_t node, const mrpt::obs::CObservation2DRangeScan::Ptr& laser,
+					   const mrpt::math::TPose2D& robotInNode);
 
 	TLRGCParams m_params;
 	CStopToken m_stop;
@@ -321,6 +327,9 @@ private:
 	/** The current scan's predicted step and its source, for its TScanRecord. */
 	mrpt::math::TPose2D m_scanStep{0, 0, 0};
 	bool m_scanStepFromOdometry = false;
+	/** The session being mapped (TKeyframe::session): 0 in a plain run, 1 once a saved map is
+	 * continued. */
+	size_t m_session = 0;
 
 	std::vector<std::string> m_warnings;
 	mutable std::unique_ptr<mrpt::maps::CMultiMetricMap> m_metricMap;

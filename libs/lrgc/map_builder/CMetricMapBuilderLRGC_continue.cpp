@@ -13,6 +13,9 @@
  * match against the old keyframes around it, and the local registration window restarts
  * there. From then on the normal loop closer finds the loops between the session and the old
  * map.
+ * A continued map's keyframes are session 0 and this run's session 1 (TKeyframe::session):
+ * where the world changed since, the newer session's view wins, in the grid (CIncrementalGrid)
+ * and in the keyframes it reuses (showNewerScan).
  */
 #include <lrgc/map_builder/CMetricMapBuilderLRGC.h>
 #include <lrgc/scan_matching/ScanGeometry.h>
@@ -90,6 +93,7 @@ void CMetricMapBuilderLRGC::resetState()
 	m_motionSinceKeyframe = TPose2D(0, 0, 0);
 	m_anchorOffset = TPose2D(0, 0, 0);
 	m_odometryTrustedSinceKeyframe = true;
+	m_session = 0;
 	m_metricMapDirty = true;
 }
 
@@ -187,6 +191,7 @@ void CMetricMapBuilderLRGC::initialize(const mrpt::maps::CSimpleMap& initialMap,
 	const auto lock = lockMap();
 	resetState();
 	adoptKeyframes(initialMap, {}, false);
+	m_session = m_keyframes.empty() ? 0 : 1;  // the map's keyframes are session 0
 	linkChainAndRevisits();
 	enterNewestKeyframes();
 	if (m_graph.numNodes() > 0) m_lastScanInMap = m_graph.pose(m_graph.numNodes() - 1);
@@ -210,7 +215,8 @@ void CMetricMapBuilderLRGC::initialize(const mrpt::maps::CSimpleMap& keyframes,
 	const auto lock = lockMap();
 	resetState();
 	adoptKeyframes(keyframes, laserLabel, true);
-	m_graph = graph;  // the poses and links exactly as saved
+	m_session = m_keyframes.empty() ? 0 : 1;  // the map's keyframes are session 0
+	m_graph = graph;                          // the poses and links exactly as saved
 	enterNewestKeyframes();
 	if (m_graph.numNodes() > 0)
 	{
@@ -238,6 +244,7 @@ void CMetricMapBuilderLRGC::startSessionAt(const TPose2D& scanInMap, const Eigen
 	m_nextScanPrior = scanInMap;
 	m_lastScanInMap = scanInMap;  // so the first step's motion is not a jump from the old end
 	m_sessionStartCov = cov;
+	for (const TKeyframe& k : m_keyframes) m_session = std::max(m_session, k.session + 1);
 	m_motionSinceKeyframe = TPose2D(0, 0, 0);
 	m_anchorOffset = TPose2D(0, 0, 0);
 	m_odometryTrustedSinceKeyframe = true;
@@ -323,6 +330,34 @@ CMetricMapBuilderLRGC::TMapLink CMetricMapBuilderLRGC::linkToMap(size_t node,
 					 100 * m->inlierFraction, translationNorm(between(guess, m->scanInRef)),
 					 mrpt::RAD2DEG(between(guess, m->scanInRef).phi));
 	return out;
+}
+
+// A keyframe of an older session that a scan of this session reuses shows that scan from then
+// on, in the grid and in the saved map: where the world changed since (furniture moved, a
+// door closed) the map shows the place as it is now, as newer scans replace older ones of the
+// same place in the dynamic pose graph of Walcott-Bryant et al. (2012). The scan's laser is
+// copied with its sensor pose re-expressed in the keyframe's frame,
+//     (node <- sensor) = (node <- robot at the scan) (+) (robot <- sensor),
+// so that it reads as the keyframe's own scan from the keyframe's pose. Once per keyframe and
+// session, no new node: the map does not grow. The keyframe's points for matching
+// (TKeyframe::scan) stay as they were, so this run's trajectory is the same with or without
+// the rule (and the loop-closing worker may read them meanwhile); a session that loads the
+// saved map matches against the newer scan.
+void CMetricMapBuilderLRGC::showNewerScan(size_t node,
+										  const mrpt::obs::CObservation2DRangeScan::Ptr& laser,
+										  const TPose2D& robotInNode)
+{
+	auto shown = std::make_shared<mrpt::obs::CObservation2DRangeScan>(*laser);
+	shown->sensorPose =
+		mrpt::poses::CPose3D(robotInNode.x, robotInNode.y, 0, robotInNode.phi, 0, 0) +
+		laser->sensorPose;
+	auto frame = mrpt::obs::CSensoryFrame::Create();
+	frame->insert(shown);
+	TKeyframe& k = m_keyframes[node];
+	k.laser = shown;
+	k.observations = frame;
+	k.session = m_session;
+	++m_stats.keyframesRenewed;
 }
 
 }  // namespace lrgc

@@ -36,7 +36,7 @@ TGridKeyframes CMetricMapBuilderLRGC::gridKeyframesLocked() const
 {
 	TGridKeyframes out(m_keyframes.size());
 	for (size_t i = 0; i < m_keyframes.size(); ++i)
-		out[i] = {m_graph.pose(i), m_keyframes[i].laser};
+		out[i] = {m_graph.pose(i), m_keyframes[i].laser, m_keyframes[i].session};
 	return out;
 }
 

@@ -19,8 +19,19 @@
  * (tested against it). Exact comparison rather than a tolerance: a tolerance would keep scans
  * at poses that are no longer the estimate, and the grid would then differ from a fresh build.
  *
- * The keyframes' lasers must not change once given (a keyframe's scan never does): a laser is
- * recognised by its address. Not thread-safe: one owner (the builder under its map lock, or
+ * A map continued over several sessions (TKeyframe::session) shows each cell as the newest
+ * session that saw it: the keyframes of each session are folded into a grid of their own (as
+ * above), and a cell known to a newer session's grid (log-odds not 0: a ray ended in it or
+ * crossed it) takes that grid's value, whatever older sessions said:
+ *     l(cell) = l_s(cell),  s = the newest session with l_s(cell) != 0  (else unknown).
+ * So furniture moved or a door closed since an older session shows where it now stands, as
+ * in a fresh map of the newer session, and cells the newer session did not see keep the older
+ * map. With more than one session, every update() that changes something builds all the
+ * sessions' grids again (Rebuilt); a plain run is one session, and its grid the fold above.
+ *
+ * A keyframe's laser must not change once given: a keyframe that shows a newer scan gets a
+ * new laser object (CMetricMapBuilderLRGC::showNewerScan). A laser is recognised by its
+ * address. Not thread-safe: one owner (the builder under its map lock, or
  * the live saver thread with its own instance).
  */
 #pragma once
@@ -38,6 +49,7 @@ struct TGridKeyframe
 {
 	mrpt::math::TPose2D robotInMap;
 	mrpt::obs::CObservation2DRangeScan::Ptr laser;  //!< immutable once a keyframe's
+	size_t session = 0;  //!< the mapping session that took `laser` (TKeyframe::session)
 };
 using TGridKeyframes = std::vector<TGridKeyframe>;
 
@@ -72,13 +84,20 @@ public:
 	/** Counts of each kind of update() since construction. */
 	size_t count(Update kind) const { return m_counts[static_cast<size_t>(kind)]; }
 
-	/** The grid built from scratch, every keyframe in order: what update() must equal. */
+	/** The grid built from scratch, every keyframe in order (each session's keyframes in a
+	 * grid of their own, newer sessions over older ones): what update() must equal. */
 	static mrpt::maps::COccupancyGridMap2D::Ptr buildFromScratch(
 		const TGridKeyframes& keyframes, const TGridSettings& settings);
 
 private:
 	static void reset(mrpt::maps::COccupancyGridMap2D& grid, const TGridSettings& settings);
 	static void insert(mrpt::maps::COccupancyGridMap2D& grid, const TGridKeyframe& k);
+	/** The fold of the keyframes of one session, in keyframe order. */
+	static void insertSession(mrpt::maps::COccupancyGridMap2D& grid,
+							  const TGridKeyframes& keyframes, size_t session);
+	/** Every cell that `newer` knows takes its value in `older` (grown to cover it). */
+	static void overlay(mrpt::maps::COccupancyGridMap2D& older,
+						const mrpt::maps::COccupancyGridMap2D& newer);
 	/** Inserts keyframes [m_baseCount, end) into the base. */
 	void advanceBase(const TGridKeyframes& keyframes, size_t end);
 
@@ -86,6 +105,7 @@ private:
 	mrpt::maps::COccupancyGridMap2D::Ptr m_base, m_result;
 	size_t m_baseCount = 0;     //!< keyframes in the base: 0..m_baseCount-1
 	TGridKeyframes m_inserted;  //!< what the result holds, as inserted
+	bool m_layered = false;     //!< the result holds several sessions (no base)
 	size_t m_counts[4] = {0, 0, 0, 0};
 };
 

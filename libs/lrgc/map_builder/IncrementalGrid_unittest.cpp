@@ -145,3 +145,44 @@ TEST(IncrementalGrid, OnlyNewKeyframesAreInsertedWhenNothingMoved)
 	EXPECT_EQ(differingCells(*grid.grid(), freshGrid(kfs, settings)), 0u);
 	EXPECT_EQ(grid.grid().get(), objectBefore);
 }
+
+TEST(IncrementalGrid, ANewerSessionShowsTheCellsItSawAsItSawThem)
+{
+	// Session 0 sees a box at (6, 3.5); by session 1 it is gone and another stands at
+	// (4, 5.5). Session 1 only looks east from x = 2, so the west wall is session 0's alone.
+	auto before = lrgc::test::makeRoomWorld(7, 0), after = before;
+	before.addBox({6, 3.5}, 0.3, 0.3);
+	after.addBox({4, 5.5}, 0.3, 0.3);
+	lrgc::TGridSettings settings;
+	CIncrementalGrid grid(settings);
+	TGridKeyframes kfs;
+	for (int i = 0; i < 12; ++i)
+	{
+		const mrpt::math::TPose2D pose(2 + 0.3 * (i % 4), 2 + 0.2 * i, M_PI / 3 * i);
+		kfs.push_back({pose, scanOf(before, pose), 0});
+	}
+	grid.update(kfs);
+	auto occupied = [&](double x, double y) { return grid.grid()->getPos(x, y) < 0.5f; };
+	EXPECT_TRUE(occupied(5.71, 3.5));
+	EXPECT_FALSE(occupied(3.71, 5.5));
+	EXPECT_TRUE(occupied(0.01, 3.5));
+	const auto object = grid.grid().get();
+	for (int i = 0; i < 6; ++i)
+	{
+		const mrpt::math::TPose2D pose(2, 1.5 + 0.5 * i, 0.2 * (i - 3));
+		kfs.push_back({pose, scanOf(after, pose), 1});
+		EXPECT_EQ(grid.update(kfs), Update::Rebuilt);
+	}
+	EXPECT_FALSE(occupied(5.71, 3.5)) << "the box session 1 saw gone is still in the map";
+	EXPECT_TRUE(occupied(3.71, 5.5)) << "the box session 1 saw is not in the map";
+	EXPECT_TRUE(occupied(0.01, 3.5)) << "what only session 0 saw must stay";
+	EXPECT_EQ(grid.update(kfs), Update::Unchanged);
+	EXPECT_EQ(grid.grid().get(), object) << "the grid object must stay the same";
+	EXPECT_EQ(differingCells(*grid.grid(), *CIncrementalGrid::buildFromScratch(kfs, settings)),
+			  0u);
+	// Back to one session (the newer keyframes dropped): the plain fold again.
+	kfs.resize(12);
+	grid.update(kfs);
+	EXPECT_EQ(differingCells(*grid.grid(), freshGrid(kfs, settings)), 0u);
+	EXPECT_TRUE(occupied(5.71, 3.5));
+}

@@ -19,6 +19,11 @@ struct TKeyframe
 	mrpt::obs::CSensoryFrame::Ptr observations;
 	mrpt::obs::CObservation2DRangeScan::Ptr laser;
 	size_t scanIndex = 0;  //!< index of the scan in the run (0-based)
+	/** The mapping session whose scan `laser` is: 0 for a map's own run and for the keyframes
+	 * of a map it continues, 1 for the session that continues it (CMetricMapBuilderLRGC::
+	 * startSessionAt, initialize from a saved map). The grid shows each cell as the newest
+	 * session that saw it (CIncrementalGrid). */
+	size_t session = 0;
 };
 /** A deque: appending keeps every earlier keyframe where it is, so the loop-closing worker
  * can read old scans (through TScanRefs) while the mapping thread appends new keyframes. */

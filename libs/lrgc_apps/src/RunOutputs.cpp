@@ -209,6 +209,7 @@ std::string statsJson(const TRunOutputsSnapshot& snapshot)
 	  << "  \"scans\": " << s.scans << ",\n"
 	  << "  \"keyframes\": " << s.keyframes << ",\n"
 	  << "  \"keyframes_reused\": " << s.keyframesReused << ",\n"
+	  << "  \"keyframes_renewed\": " << s.keyframesRenewed << ",\n"
 	  << "  \"skipped_scans\": " << s.skippedScans << ",\n"
 	  << "  \"unmatched_scans\": " << s.unmatchedScans << ",\n"
 	  << "  \"scans_settled\": " << s.scansSettled << ",\n"
