@@ -13,8 +13,10 @@ namespace lrgc
 {
 struct TRevisitLinkerParams : public mrpt::config::CLoadableOptions
 {
-	bool enabled = true;    //!< run the sweep at the end of the run (loop closing on)
-	double radius_m = 1.0;  //!< [m] old keyframes this close to k are candidates
+	bool enabled = true;  //!< run the sweep at the end of the run (loop closing on)
+	/** [m] old keyframes this close to k are candidates (1 m missed a lap driven 1 m beside
+	 * the first; 3 m linked scans of another place: doc/parameters.md). */
+	double radius_m = 2.0;
 	double max_phi = mrpt::DEG2RAD(45.0);  //!< [rad] (key max_phi_deg)
 	size_t min_index_gap = 40;             //!< j < k - min_index_gap (not the local window)
 	size_t stride = 2;                     //!< every stride-th keyframe is tried

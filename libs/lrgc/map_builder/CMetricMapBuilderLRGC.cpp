@@ -112,6 +112,7 @@ void CMetricMapBuilderLRGC::followRobot(const mrpt::obs::CObservation2DRangeScan
 		m_odometryTrustedSinceKeyframe = false;
 	m_motionSinceKeyframe = compose(m_motionSinceKeyframe, prediction.motion);
 	m_scanStep = prediction.motion;
+	m_scanStepCov = prediction.cov;
 	m_scanStepFromOdometry = prediction.fromOdometry;
 	const TPose2D step = between(m_lastScanInMap, reg.scanInMap);
 	m_predictor->commitScan(laser.timestamp, step);
@@ -225,7 +226,8 @@ void CMetricMapBuilderLRGC::enterNewKeyframe(
 void CMetricMapBuilderLRGC::recordScan(mrpt::Clock::time_point stamp, size_t node,
 									   const TPose2D& robotInNode, bool keyframe)
 {
-	m_scans.push_back({stamp, node, robotInNode, m_scanStep, m_scanStepFromOdometry, keyframe});
+	m_scans.push_back({stamp, node, robotInNode, m_scanStep, m_scanStepCov, m_lastScanCov,
+					   m_scanStepFromOdometry, keyframe});
 }
 
 // Steps 4-5 at a keyframe taken (CLoopClosing): the loop results due are applied, and a new

@@ -212,6 +212,8 @@ private:
 		/** The predicted step into this scan, (previous scan <- this scan), and whether it
 		 * came from odometry (settleIsolatedScans). */
 		mrpt::math::TPose2D step{0, 0, 0};
+		Eigen::Matrix3d stepCov = Eigen::Matrix3d::Identity();      //!< of `step` (its model)
+		Eigen::Matrix3d registrationCov = Eigen::Matrix3d::Zero();  //!< TRegistration::cov
 		bool stepFromOdometry = false;
 		bool keyframe = false;  //!< the scan is its node's own (a new keyframe)
 	};
@@ -242,7 +244,8 @@ private:
 	void recordScan(mrpt::Clock::time_point stamp, size_t node,
 					const mrpt::math::TPose2D& robotInNode, bool keyframe = false);
 	/** End of the run: scans left off by an isolated registration follow the odometry between
-	 * their neighbours (IsolatedScans.h). */
+	 * their neighbours (IsolatedScans.h), then every scan that is not a keyframe is placed
+	 * between its keyframes by its registration and the odometry (ScanSmoothing.h). */
 	void settleIsolatedScans();
 	/** Takes in what applying loop results did (links, closures, moved poses). */
 	void recordLoopUpdate(const TLoopUpdate& u);
@@ -324,8 +327,9 @@ private:
 	 * keyframe, the registered offset for a reused one. Keyframe distances count from it. */
 	mrpt::math::TPose2D m_anchorOffset{0, 0, 0};
 	bool m_odometryTrustedSinceKeyframe = true;
-	/** The current scan's predicted step and its source, for its TScanRecord. */
+	/** The current scan's predicted step, its covariance and source, for its TScanRecord. */
 	mrpt::math::TPose2D m_scanStep{0, 0, 0};
+	Eigen::Matrix3d m_scanStepCov = Eigen::Matrix3d::Identity();
 	bool m_scanStepFromOdometry = false;
 	/** The session being mapped (TKeyframe::session): 0 in a plain run, 1 once a saved map is
 	 * continued. */

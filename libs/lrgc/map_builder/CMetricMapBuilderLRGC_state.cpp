@@ -4,6 +4,7 @@
 #include <lrgc/map_builder/CMetricMapBuilderLRGC.h>
 #include <lrgc/map_builder/IsolatedScans.h>
 #include <lrgc/map_builder/KeyframeReuse.h>
+#include <lrgc/map_builder/ScanSmoothing.h>
 #include <lrgc/local_registration/LocalRegistration.h>
 #include <lrgc/local_registration/MotionPredictor.h>
 #include <lrgc/loop_closing/LoopClosing.h>
@@ -103,12 +104,16 @@ void CMetricMapBuilderLRGC::settleIsolatedScans()
 	std::vector<TScanStep> steps;
 	steps.reserve(m_scans.size());
 	for (const auto& s : m_scans)
-		steps.push_back({compose(m_graph.pose(s.node), s.robotInNode), s.step,
-						 s.stepFromOdometry, s.keyframe});
+		steps.push_back({compose(m_graph.pose(s.node), s.robotInNode), s.step, s.stepCov,
+						 s.registrationCov, s.stepFromOdometry, s.keyframe});
 	const auto settled = lrgc::settleIsolatedScans(steps);
-	for (const auto& [i, pose] : settled)
-		m_scans[i].robotInNode = between(m_graph.pose(m_scans[i].node), pose);
+	for (const auto& [i, pose] : settled) steps[i].pose = pose;
 	m_stats.scansSettled = settled.size();
+	// Then every scan between its keyframes (ScanSmoothing.h); keyframes' scans keep theirs.
+	for (const auto& [i, pose] : smoothScans(steps, odometryNoiseScale(steps)))
+		steps[i].pose = pose;
+	for (size_t i = 0; i < m_scans.size(); ++i)
+		m_scans[i].robotInNode = between(m_graph.pose(m_scans[i].node), steps[i].pose);
 }
 
 TTrajectory CMetricMapBuilderLRGC::trajectory() const

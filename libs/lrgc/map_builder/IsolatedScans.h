@@ -20,6 +20,7 @@
 
 #include <mrpt/math/TPose2D.h>
 
+#include <Eigen/Core>
 #include <cstddef>
 #include <vector>
 
@@ -30,6 +31,11 @@ struct TScanStep
 {
 	mrpt::math::TPose2D pose;          //!< final pose [map frame]
 	mrpt::math::TPose2D odometryStep;  //!< (previous scan <- this scan) from odometry
+	/** Modelled covariance of odometryStep (x [m], y [m], phi [rad]; previous scan's axes):
+	 * ScanSmoothing.h. */
+	Eigen::Matrix3d stepCov = Eigen::Matrix3d::Identity();
+	/** Covariance of the registered pose relative to its keyframe window (map axes). */
+	Eigen::Matrix3d poseCov = Eigen::Matrix3d::Zero();
 	bool fromOdometry = false;  //!< odometryStep is odometry (not a constant-velocity guess)
 	bool keyframe = false;  //!< a graph node (its node keeps its pose; the scan's is settled)
 };
