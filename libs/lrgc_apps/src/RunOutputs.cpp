@@ -6,6 +6,7 @@
 #include "lrgc_apps/RunStats.h"
 #include "lrgc_apps/SavedMap.h"
 #include "Scene3D.h"
+#include "TaskGroup.h"
 #include "atomic_file.h"
 
 #include <lrgc/pose_graph/GraphExport.h>
@@ -297,42 +298,82 @@ void finishRunSummary(TRunSummary& run, const CRunClock& clock, size_t warnings)
 	run.peakRssMiB = CRunClock::peakRssMiB();
 }
 
+namespace
+{
+std::string outputPath(const std::string& outDir, const char* name)
+{
+	return (std::filesystem::path(outDir) / name).string();
+}
+
+// The outputs made from the snapshot alone (trajectory, graphs, keyframes, the MRPT programs'
+// .ini files), each started on `tasks`.
+void startSnapshotOutputs(const TRunOutputsSnapshot& s, const std::string& outDir,
+						  CTaskGroup& tasks)
+{
+	const auto path = [&](const char* name) { return outputPath(outDir, name); };
+	tasks.run([&s, p = path("trajectory.tum")] { writeTrajectoryTum(s.trajectory, p); });
+	// One edge per node pair with the weights of our final optimisation, so that MRPT's
+	// graph-slam (which keeps one edge per pair) finds our poses (GraphExport.h).
+	tasks.run([&s, p = path("graph.graph")]
+			  { writeGraph(toMrptLeastSquares(s.graph, s.optimizer), p); });
+	// The whole graph (link types, disabled links), for --initial-map: SavedMap.h.
+	tasks.run([&s, p = path(kPoseGraphFile)]
+			  { writeTextFileAtomically(p, poseGraphToText(s.graph, s.lasers.label())); });
+	tasks.run([&s, p = path("map.simplemap.gz")] { writeSimplemap(s.keyframes, p); });
+	tasks.run([&s, &outDir] { writeMrptClientFiles(s, outDir); });  // pf-localization.ini, ...
+}
+
+// The outputs drawn from the occupancy grid, each started on `tasks`.
+void startGridOutputs(const TRunOutputsSnapshot& s, const mrpt::maps::COccupancyGridMap2D& grid,
+					  const std::string& outDir, CTaskGroup& tasks)
+{
+	const auto path = [&](const char* name) { return outputPath(outDir, name); };
+	tasks.run([&grid, p = path("map.gridmap.gz")] { writeGridmap(grid, p); });
+	tasks.run([&grid, p = path("map.png")] { writeGridPng(grid, p); });
+	tasks.run([&grid, p = path("map")] { writeRosMap(grid, p); });
+	tasks.run([&grid, &s, p = path("map.3Dscene")]  // for SceneViewer3D
+			  { writeScene3D(grid, s.trajectory, s.graph, p); });
+}
+
+// config.ini, then (a run that mapped scans) the files of the snapshot and of the grid, all
+// at once, the grid made by `grid` meanwhile on this thread; the measured files last, once
+// every other file is written: timing.csv, then stats.json (a run that mapped no scan:
+// stats.json alone).
+void writeAll(const TRunOutputsSnapshot& s, const std::string& outDir,
+			  const std::function<const mrpt::maps::COccupancyGridMap2D&()>& grid)
+{
+	std::filesystem::create_directories(outDir);
+	if (!s.run.configIni.empty())
+		writeTextFileAtomically(outputPath(outDir, "config.ini"), s.run.configIni);
+	if (s.stats.scans > 0)
+	{
+		CTaskGroup tasks;
+		startSnapshotOutputs(s, outDir, tasks);
+		startGridOutputs(s, grid(), outDir, tasks);
+		tasks.wait();
+		writeTextFileAtomically(outputPath(outDir, "timing.csv"), timingCsv(s.run));
+	}
+	writeTextFileAtomically(outputPath(outDir, "stats.json"), statsJson(s));
+}
+}  // namespace
+
 void writeRunOutputs(const TRunOutputsSnapshot& s, const mrpt::maps::COccupancyGridMap2D& grid,
 					 const std::string& outDir)
 {
-	namespace fs = std::filesystem;
-	fs::create_directories(outDir);
-	const auto path = [&](const char* name) { return (fs::path(outDir) / name).string(); };
-	if (!s.run.configIni.empty()) writeTextFileAtomically(path("config.ini"), s.run.configIni);
-	if (s.stats.scans == 0)
-	{
-		writeTextFileAtomically(path("stats.json"), statsJson(s));
-		return;
-	}
-
-	writeTrajectoryTum(s.trajectory, path("trajectory.tum"));
-	// One edge per node pair with the weights of our final optimisation, so that MRPT's
-	// graph-slam (which keeps one edge per pair) finds our poses (GraphExport.h).
-	writeGraph(toMrptLeastSquares(s.graph, s.optimizer), path("graph.graph"));
-	// The whole graph (link types, disabled links), for --initial-map: SavedMap.h.
-	writeTextFileAtomically(path(kPoseGraphFile), poseGraphToText(s.graph, s.lasers.label()));
-	writeSimplemap(s.keyframes, path("map.simplemap.gz"));
-	writeGridmap(grid, path("map.gridmap.gz"));
-	writeGridPng(grid, path("map.png"));
-	writeRosMap(grid, path("map"));
-	writeMrptClientFiles(s, outDir);  // pf-localization.ini, observations2map.ini
-	writeScene3D(grid, s.trajectory, s.graph, path("map.3Dscene"));  // for SceneViewer3D
-	writeTextFileAtomically(path("timing.csv"), timingCsv(s.run));
-	writeTextFileAtomically(path("stats.json"), statsJson(s));
+	writeAll(s, outDir, [&]() -> const mrpt::maps::COccupancyGridMap2D& { return grid; });
 }
 
 void writeRunOutputs(const CMetricMapBuilderLRGC& builder, const std::string& outDir,
 					 const TRunSummary& run)
 {
 	const TRunOutputsSnapshot s = snapshotRunOutputs(builder, run);
-	const auto grid = s.stats.scans == 0 ? mrpt::maps::COccupancyGridMap2D::Create()
-										 : builder.buildOccupancyGrid();
-	writeRunOutputs(s, *grid, outDir);
+	mrpt::maps::COccupancyGridMap2D::Ptr grid;
+	writeAll(s, outDir,
+			 [&]() -> const mrpt::maps::COccupancyGridMap2D&
+			 {
+				 grid = builder.buildOccupancyGrid();
+				 return *grid;
+			 });
 }
 
 }  // namespace lrgc::apps
