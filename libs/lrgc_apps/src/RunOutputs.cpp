@@ -177,6 +177,49 @@ std::string loopClosingJson(const TMapBuilderStats& s, const TLoopCloserStats& l
 	return j.str();
 }
 
+// "stages": where the process's CPU time went (TStageTimes), each stage's share of it, and
+// the wall of each stage. The mapping stage's CPU is split by thread: the mapping thread's
+// reading of the input, its local registration (what the builder does with a scan besides
+// placing it) and its placement (keyframes, window links and solve, loop results applied);
+// the loop-closing worker thread; the rest of the other threads, the window helper of the
+// local registration (patch and keyframe clouds, pairwise matches), counts with the
+// placement as "keyframe_patch". "other": the mapping thread's bookkeeping between entries.
+// The CPU figures add up to "process_cpu_s". Empty unless the run timed its stages.
+std::string stagesJson(const TRunSummary& run, size_t scans)
+{
+	const TStageTimes& t = run.stages;
+	if (!t.started()) return {};
+	const double otherThreads = t.mapping.cpu - t.mappingThreadCpu;
+	const double helper = otherThreads - t.loopWorkerCpu;
+	const std::vector<std::pair<const char*, double>> cpu = {
+		{"start_up", t.startUp.cpu},
+		{"input", t.inputCpu},
+		{"local_registration", t.feedCpu - t.placementCpu},
+		{"keyframe_patch", t.placementCpu + helper},
+		{"loop_closing_worker", t.loopWorkerCpu},
+		{"final_optimization", t.finalOptimization.cpu},
+		{"outputs", t.outputs.cpu},
+		{"other", t.mappingThreadCpu - t.inputCpu - t.feedCpu}};
+	double total = 0;
+	for (const auto& [name, sec] : cpu) total += sec;
+	std::ostringstream j;
+	j.precision(6);
+	j << std::fixed << "  \"stages\": {\"cpu_s\": {";
+	for (size_t i = 0; i < cpu.size(); ++i)
+		j << (i ? ", " : "") << "\"" << cpu[i].first << "\": " << cpu[i].second;
+	j << "}, \"cpu_share\": {";
+	for (size_t i = 0; i < cpu.size(); ++i)
+		j << (i ? ", " : "") << "\"" << cpu[i].first
+		  << "\": " << (total > 0 ? cpu[i].second / total : 0.0);
+	j << "}, \"wall_s\": {\"start_up\": " << t.startUp.wall
+	  << ", \"mapping\": " << t.mapping.wall
+	  << ", \"final_optimization\": " << t.finalOptimization.wall
+	  << ", \"outputs\": " << t.outputs.wall << "}, \"process_cpu_s\": " << total
+	  << ", \"mapping_cpu_ms_per_scan\": "
+	  << (scans ? 1e3 * t.mapping.cpu / double(scans) : 0.0) << "},\n";
+	return j.str();
+}
+
 // The saved map this run continued (--initial-map / --localize), if any.
 std::string initialMapJson(const TRunSummary& run)
 {
@@ -228,8 +271,9 @@ std::string statsJson(const TRunOutputsSnapshot& snapshot)
 	  << (run.wallSeconds > 0 ? run.dataDurationSeconds / run.wallSeconds : 0) << ",\n"
 	  << "  \"final_optimization_s\": " << run.finalOptimizationSeconds << ",\n"
 	  << "  \"peak_rss_mb\": " << run.peakRssMiB << ",\n"
-	  << "  \"latency_ms\": {\"median\": " << lat.median_ms << ", \"p99\": " << lat.p99_ms
-	  << ", \"max\": " << lat.max_ms << ", \"mean\": " << lat.mean_ms << "}\n"
+	  << stagesJson(run, s.scans) << "  \"latency_ms\": {\"median\": " << lat.median_ms
+	  << ", \"p99\": " << lat.p99_ms << ", \"max\": " << lat.max_ms
+	  << ", \"mean\": " << lat.mean_ms << "}\n"
 	  << "}\n";
 	return j.str();
 }
@@ -339,7 +383,7 @@ void startGridOutputs(const TRunOutputsSnapshot& s, const mrpt::maps::COccupancy
 // at once, the grid made by `grid` meanwhile on this thread; the measured files last, once
 // every other file is written: timing.csv, then stats.json (a run that mapped no scan:
 // stats.json alone).
-void writeAll(const TRunOutputsSnapshot& s, const std::string& outDir,
+void writeAll(TRunOutputsSnapshot& s, const std::string& outDir,
 			  const std::function<const mrpt::maps::COccupancyGridMap2D&()>& grid)
 {
 	std::filesystem::create_directories(outDir);
@@ -353,6 +397,7 @@ void writeAll(const TRunOutputsSnapshot& s, const std::string& outDir,
 		tasks.wait();
 		writeTextFileAtomically(outputPath(outDir, "timing.csv"), timingCsv(s.run));
 	}
+	if (s.run.stages.started()) s.run.stages.outputs = s.run.stages.lap();
 	writeTextFileAtomically(outputPath(outDir, "stats.json"), statsJson(s));
 }
 }  // namespace
@@ -360,13 +405,14 @@ void writeAll(const TRunOutputsSnapshot& s, const std::string& outDir,
 void writeRunOutputs(const TRunOutputsSnapshot& s, const mrpt::maps::COccupancyGridMap2D& grid,
 					 const std::string& outDir)
 {
-	writeAll(s, outDir, [&]() -> const mrpt::maps::COccupancyGridMap2D& { return grid; });
+	TRunOutputsSnapshot copy = s;  // stats.json gets the outputs' time
+	writeAll(copy, outDir, [&]() -> const mrpt::maps::COccupancyGridMap2D& { return grid; });
 }
 
 void writeRunOutputs(const CMetricMapBuilderLRGC& builder, const std::string& outDir,
 					 const TRunSummary& run)
 {
-	const TRunOutputsSnapshot s = snapshotRunOutputs(builder, run);
+	TRunOutputsSnapshot s = snapshotRunOutputs(builder, run);
 	mrpt::maps::COccupancyGridMap2D::Ptr grid;
 	writeAll(s, outDir,
 			 [&]() -> const mrpt::maps::COccupancyGridMap2D&
