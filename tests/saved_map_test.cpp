@@ -1,10 +1,13 @@
 /* Continuing a saved map and localising on it (issue 14), in synthetic worlds with ground
  * truth: the whole graph comes back exactly; a plain CSimpleMap keeps its loops; a log that
  * starts at an unknown place in the old map is located by global correlation and continues
- * the map; a localisation-only run tracks the robot and relocalises after a kidnap. */
+ * the map; a log mapped as a piece of its own from its first scan is joined to the map where
+ * correlation finds it, the map held as it was; a localisation-only run tracks the robot and
+ * relocalises after a kidnap. */
 #include <gtest/gtest.h>
 #include <lrgc/common/se2.h>
 #include <lrgc/localization/Localizer.h>
+#include <lrgc/localization/PieceJoiner.h>
 #include <lrgc/localization/StartFinder.h>
 #include <lrgc_apps/io/PoseGraphText.h>
 #include <mrpt/maps/CSimpleMap.h>
@@ -202,6 +205,58 @@ TEST(SavedMap, aLogStartingAnywhereInTheMapIsLocatedAndContinuesIt)
 	EXPECT_LT(errors[errors.size() / 2], 0.02);
 	// B's loops to the old map closed: new loop links beyond the old map's own.
 	EXPECT_GT(countLinks(b.graph(), LinkType::LoopClosure), oldLoopLinks + 5);
+}
+
+TEST(SavedMap, aLogMappedAsAPieceIsJoinedWhereCorrelationFindsIt)
+{
+	const TMapA a;
+	mrpt::maps::CSimpleMap keyframes;
+	a.builder.getCurrentlyBuiltMap(keyframes);
+	std::istringstream text(lrgc::poseGraphToText(a.builder.graph(), a.builder.laserLabel()));
+	const auto saved = lrgc::poseGraphFromText(text, "graph.lrgc");
+	const TTrajectory trB = makeTrajectory({{8.0, 5.2}, {2.0, 5.2}, {2.0, 2.0}, {8.0, 2.0}},
+										   0.1, TOdometryNoise{}, 9);
+	const auto obsB = steps(a.world, trB, 2e9, 3);
+
+	CMetricMapBuilderLRGC b;
+	b.initialize(keyframes, saved.graph, saved.laserLabel);
+	b.freezeMap();
+	const size_t oldNodes = b.graph().numNodes();
+	lrgc::CPieceJoiner joiner(b.graph(), b.keyframes(), b.params().correlator, {}, false);
+	b.startPiece();
+	std::optional<size_t> joinedAt;
+	for (size_t k = 0; k < obsB.size(); ++k)
+	{
+		feed(b, obsB[k]);
+		if (k == 0)  // the piece's frame: its first scan at its odometry pose
+		{
+			EXPECT_NEAR(lrgc::translationNorm(
+							lrgc::between(trB.odometryPoses[0], b.trajectory()[0].robotInMap)),
+						0, 1e-9);
+		}
+		if (!b.pieceFirstNode()) continue;
+		if (const auto j = joiner.service(b, mrpt::Clock::toDouble(b.lastScanTimestamp())))
+			b.joinPiece(j->node, j->nodeInMap, j->cov), joinedAt = k;
+	}
+	b.finish();
+	ASSERT_TRUE(joinedAt) << "last rejection: " << joiner.lastRejection();
+	EXPECT_LT(*joinedAt, 60U);
+	EXPECT_FALSE(b.pieceFirstNode());
+	for (size_t i = 0; i < oldNodes; ++i)  // frozen: the saved map as it was
+		EXPECT_EQ(b.graph().pose(i).x, saved.graph.pose(i).x);
+	// Every scan, those mapped before the join too, in the map's frame, as good as log B
+	// mapped on its own (see the test above).
+	ASSERT_EQ(b.trajectory().size(), trB.truePoses.size());
+	const auto [rms, mx] = errorInMap(b.trajectory(), trB.truePoses, a.tr.truePoses.front());
+	CMetricMapBuilderLRGC alone;
+	for (const auto& s : obsB) feed(alone, s);
+	alone.finish();
+	const auto [rmsAlone, mxAlone] =
+		errorInMap(alone.trajectory(), trB.truePoses, trB.truePoses.front());
+	RecordProperty("rms_m", std::to_string(rms));
+	RecordProperty("rms_alone_m", std::to_string(rmsAlone));
+	EXPECT_LT(rms, rmsAlone + 0.01);
+	EXPECT_LT(mx, mxAlone + 0.05);
 }
 
 TEST(SavedMap, localisationTracksTheRobotAndRelocalisesAfterAKidnap)

@@ -12,14 +12,24 @@
 
 namespace lrgc::test
 {
-TSplitCounts splitCarmenLog(const std::string& log, const std::string& firstOut,
-							const std::string& secondOut)
+namespace
+{
+// The whole text of a plain or gzip file.
+std::string readLogText(const std::string& log)
 {
 	mrpt::io::CFileGZInputStream in;
 	if (!in.open(log)) THROW_EXCEPTION_FMT("cannot open '%s'", log.c_str());
 	std::string text;
 	char buf[1 << 16];
 	for (size_t n; (n = in.Read(buf, sizeof(buf))) > 0;) text.append(buf, n);
+	return text;
+}
+}  // namespace
+
+TSplitCounts splitCarmenLog(const std::string& log, const std::string& firstOut,
+							const std::string& secondOut)
+{
+	const std::string text = readLogText(log);
 	std::vector<std::string> header, data;
 	for (size_t pos = 0; pos < text.size();)
 	{
@@ -115,6 +125,47 @@ double cutCarmenLog(const std::string& log, const std::string& out, double from,
 	o << text.str();
 	if (!o) THROW_EXCEPTION_FMT("cannot write '%s'", out.c_str());
 	return shift;
+}
+
+size_t cutCarmenScans(const std::string& log, const std::string& out, size_t first, size_t end,
+					  const TOdometryMove& move)
+{
+	std::istringstream in(readLogText(log));
+	std::ostringstream text;
+	size_t scan = 0, written = 0;
+	const TPose m{move.x, move.y, move.phi};
+	for (std::string line; std::getline(in, line);)
+	{
+		std::istringstream words(line);
+		std::vector<std::string> f{std::istream_iterator<std::string>(words), {}};
+		if (f.empty() || f[0][0] == '#' || f[0] == "PARAM")
+		{
+			text << line << '\n';
+			continue;
+		}
+		const size_t o = odometryField(f);
+		const bool isScan = f[0] == "FLASER";
+		const bool inRange = scan >= first && scan < end;
+		scan += isScan;
+		if (!inRange) continue;
+		written += isScan;
+		for (const size_t k : isScan ? std::vector{o - 3, o} : std::vector<size_t>{o})
+		{
+			const TPose p =
+				compose(m, {std::stod(f[k]), std::stod(f[k + 1]), std::stod(f[k + 2])});
+			f[k] = mrpt::format("%.6f", p.x), f[k + 1] = mrpt::format("%.6f", p.y),
+			f[k + 2] = mrpt::format("%.6f", p.phi);
+		}
+		for (size_t k = 0; k < f.size(); ++k) text << (k ? " " : "") << f[k];
+		text << '\n';
+	}
+	if (written == 0)
+		THROW_EXCEPTION_FMT("cutCarmenScans: '%s' has no scan in [%zu, %zu)", log.c_str(),
+							first, end);
+	std::ofstream o(out);
+	o << text.str();
+	if (!o) THROW_EXCEPTION_FMT("cannot write '%s'", out.c_str());
+	return written;
 }
 
 }  // namespace lrgc::test

@@ -110,11 +110,12 @@ public:
 
 	/** A new session (a log continuing a saved map elsewhere in it) starts at node `first`:
 	 * the window holds only nodes >= first, so the session's scans are registered against
-	 * its own keyframes, not against the old map's last ones. */
-	void setWindowStart(size_t first)
+	 * its own keyframes, not against the old map's last ones. With `holdFirst` node `first`
+	 * is held fixed as node 0 is (the first of a piece mapped in its own frame). */
+	void setWindowStart(size_t first, bool holdFirst = false)
 	{
 		m_window.clear();
-		m_firstFree = first;
+		m_firstFree = holdFirst ? first + 1 : first;
 		m_cloudNewest.reset();
 		m_keyframeClouds.clear();
 	}

@@ -79,6 +79,8 @@ public:
 	void commitScan(mrpt::Clock::time_point t, const mrpt::math::TPose2D& estimatedMotion);
 
 	bool hasOdometry() const { return m_odomNow.has_value(); }
+	/** The latest odometry pose (odom <- robot), nullopt before any odometry. */
+	const std::optional<mrpt::math::TPose2D>& odometryNow() const { return m_odomNow; }
 	/** Covariance of an odometry motion d by the proportional noise model above. */
 	Eigen::Matrix3d odometryCov(const mrpt::math::TPose2D& d) const;
 	/** Covariance of one constant-velocity step. */

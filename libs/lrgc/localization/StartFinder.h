@@ -39,6 +39,28 @@ struct TPatchRequest
 	size_t keyframes = 0;                        //!< in the patch
 };
 
+/** The patch of keyframes first..newest of `graph` (`keyframes[i]`: node i's scan): their
+ * points within maxRange [m] of keyframe `newest`, in its frame. */
+TPatchRequest patchOfKeyframes(const CPoseGraph& graph, const TKeyframes& keyframes,
+							   size_t first, size_t newest, double maxRange);
+
+/** When an attempt is due as a new log's keyframes come (see the file comment): at 1, 2, 4,
+ * ... keyframes up to patch_keyframes P, then every `spacing` new keyframes (P / 4; with
+ * `backoff`, P, then twice, four times as many ...). */
+class CPatchSchedule
+{
+public:
+	CPatchSchedule(size_t patchKeyframes, bool backoff);
+	/** An attempt is due with `n` keyframes (the schedule then moves on). */
+	bool due(size_t n);
+
+private:
+	size_t m_patch;
+	size_t m_nextAttemptAt = 1;  //!< keyframes at the next attempt
+	bool m_backoff = false;
+	size_t m_spacing = 1;  //!< [keyframes] between attempts with the full patch
+};
+
 class CStartFinder
 {
 public:
@@ -73,9 +95,7 @@ private:
 	const CGlobalLocalizer& m_localizer;
 	TLocalizationParams m_params;
 	std::unique_ptr<CMetricMapBuilderLRGC> m_probe;
-	size_t m_nextAttemptAt = 1;  //!< probe keyframes at the next attempt
-	bool m_backoff = false;
-	size_t m_spacing = 1;  //!< [keyframes] between attempts with the full patch
+	CPatchSchedule m_schedule;
 	size_t m_attempts = 0;
 	double m_seconds = 0;
 	std::string m_lastRejection;

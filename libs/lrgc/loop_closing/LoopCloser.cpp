@@ -148,7 +148,7 @@ std::optional<TLoopClosure> CLoopCloser::process(CPoseGraph& graph, const TScanR
 	const auto candidates = timedGate(graph, newest);
 	if (!candidates || stopped()) return std::nullopt;
 	const auto t0 = std::chrono::steady_clock::now();
-	TSearchWindow window = searchWindow(*candidates, newest);
+	TSearchWindow window = searchWindow(graph, *candidates);
 	if (!attemptDue(window)) return std::nullopt;
 	const auto corr = correlatePatch(graph, scans, *candidates, window);
 	if (!corr || stopped()) return std::nullopt;
@@ -368,7 +368,10 @@ TOptimizationReport CLoopCloser::optimize(CPoseGraph& graph, const std::vector<s
 			progress();
 		});
 	const std::vector<TPose2D> before = graph.poses();  // n poses: little beside a solve
-	const TOptimizationReport r = m_optimizer.optimize(graph, 0, vetted);
+	// Node 0 held fixed; in a piece not yet joined to the map (a session mapped in its own
+	// frame, CMetricMapBuilderLRGC::startPiece) the piece's first node, which is 0 otherwise.
+	const size_t fixed = graph.lowestJoinedNode(graph.numNodes() - 1);
+	const TOptimizationReport r = m_optimizer.optimize(graph, fixed, vetted, m_frozen);
 	m_optimizer.setIterationCallback({});
 	if (r.stopped)
 		for (size_t i = 0; i < before.size(); ++i) graph.setPose(i, before[i]);

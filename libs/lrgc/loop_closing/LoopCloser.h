@@ -57,6 +57,10 @@ public:
 	std::optional<TLoopClosure> process(CPoseGraph& graph, const TScanRefs& scans);
 
 	const TLoopCloserStats& stats() const { return m_stats; }
+	/** How many of the newest nodes lie within `travel` [m] of path back from the newest one
+	 * (path: the straight steps between consecutive nodes, map frame); at least 1. Caps the
+	 * patch ([LoopCloser] patch_max_travel_m). */
+	static size_t keyframesWithinTravel(const CPoseGraph& graph, double travel);
 	/** Counts a search for `keyframe` skipped by the caller (CLoopClosingWorker's backlog). */
 	void countShed(size_t keyframe)
 	{
@@ -72,6 +76,8 @@ public:
 	 * solve (which then leaves the poses as they were) and finds no closure: a loop link it
 	 * added is disabled again (lastRejection() says "stopped"). */
 	void setStopToken(const CStopToken& stop);
+	/** Nodes below `n` are held fixed by every solve (a saved map continued frozen). */
+	void setFrozenNodes(size_t n) { m_frozen = n; }
 	/** Why the last attempt was rejected (empty if accepted or not attempted). */
 	const std::string& lastRejection() const { return m_lastRejection; }
 
@@ -105,7 +111,7 @@ private:
 	// The steps of process(), in order.
 	bool checkDue();
 	std::optional<TCandidates> timedGate(const CPoseGraph& graph, size_t newest);
-	TSearchWindow searchWindow(const TCandidates& c, size_t newest) const;
+	TSearchWindow searchWindow(const CPoseGraph& graph, const TCandidates& c) const;
 	bool attemptDue(const TSearchWindow& w);
 	std::optional<TCorrelationResult> correlatePatch(const CPoseGraph& graph,
 													 const TScanRefs& scans,
@@ -144,6 +150,7 @@ private:
 	CPatchCorrelator m_correlator;
 	CScanMatcher m_matcher;
 	CPoseGraphOptimizer m_optimizer;
+	size_t m_frozen = 0;  //!< setFrozenNodes()
 	TLoopCloserStats m_stats;
 	std::function<void()> m_onProgress;
 	CStopToken m_stop;

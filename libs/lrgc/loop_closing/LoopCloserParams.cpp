@@ -13,6 +13,8 @@ void TLoopCloserParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& 
 		readCount(c, s, "old_map_exclusion_keyframes", old_map_exclusion_keyframes);
 	patch_min_keyframes = readCount(c, s, "patch_min_keyframes", patch_min_keyframes);
 	patch_keyframes_per_m = readDouble(c, s, "patch_keyframes_per_m", patch_keyframes_per_m);
+	patch_max_travel_m = readDouble(c, s, "patch_max_travel_m", patch_max_travel_m);
+	requireParam(patch_max_travel_m >= 0, s, "patch_max_travel_m", "must be >= 0");
 	gate_sigma = readDouble(c, s, "gate_sigma", gate_sigma);
 	overlap_radius_m = readDouble(c, s, "overlap_radius_m", overlap_radius_m);
 	window_sigmas = readDouble(c, s, "window_sigmas", window_sigmas);
@@ -67,6 +69,9 @@ void TLoopCloserParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
 	writeValue(
 		c, s, "patch_keyframes_per_m", patch_keyframes_per_m,
 		"[1/m] Patch growth per metre of position std (capped at old_map_exclusion_keyframes)");
+	writeValue(
+		c, s, "patch_max_travel_m", patch_max_travel_m,
+		"[m] A patch spans at most this much path (at least patch_min_keyframes); 0: no cap");
 	writeValue(c, s, "gate_sigma", gate_sigma,
 			   "Mahalanobis gate on old poses' position relative to the current one");
 	writeValue(c, s, "overlap_radius_m", overlap_radius_m,

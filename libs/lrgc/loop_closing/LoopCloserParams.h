@@ -18,10 +18,15 @@ struct TLoopCloserParams : public mrpt::config::CLoadableOptions
 		40;                            //!< m: newest keyframes left out of the old map (m > K)
 	size_t patch_min_keyframes = 10;   //!< patch size at zero uncertainty
 	double patch_keyframes_per_m = 8;  //!< patch growth per metre of position std [1/m]
-	double gate_sigma = 3.0;           //!< Mahalanobis gate on the candidates' position [-]
-	double overlap_radius_m = 3.0;     //!< [m] poses this close can see the same walls
-	double window_sigmas = 3.0;        //!< search half-window in standard deviations [-]
-	double max_window_xy_m = 15.0;     //!< [m] cap of the translational search half-window
+	/** [m] A patch spans at most this much of the robot's path (but at least
+	 * patch_min_keyframes keyframes); 0: no cap. Dense logs' keyframes lie 0.3-0.5 m apart,
+	 * so their patches (10-40 keyframes: 3-20 m) rarely reach it; sparse scans' lie 1 m
+	 * apart. */
+	double patch_max_travel_m = 24;
+	double gate_sigma = 3.0;        //!< Mahalanobis gate on the candidates' position [-]
+	double overlap_radius_m = 3.0;  //!< [m] poses this close can see the same walls
+	double window_sigmas = 3.0;     //!< search half-window in standard deviations [-]
+	double max_window_xy_m = 15.0;  //!< [m] cap of the translational search half-window
 	double max_window_phi = mrpt::DEG2RAD(30.0);  //!< [rad] (key max_window_phi_deg)
 	/** [m] When the gate's largest position std exceeds this, an accepted match is only held:
 	 * its link is added when a later match, from a patch that shares no keyframe with it,

@@ -14,9 +14,13 @@ using mrpt::math::TPose2D;
 
 // The search window and the patch size from the uncertainty (paper 2.4): +- window_sigmas
 // sigma, capped; the patch grows linearly with sigma, so a large loop is closed only on strong
-// evidence.
-auto CLoopCloser::searchWindow(const TCandidates& c, size_t newest) const -> TSearchWindow
+// evidence, but spans at most patch_max_travel_m of the robot's path (never fewer than
+// patch_min_keyframes keyframes): where keyframes lie a metre apart (sparse scans) a patch of
+// 40 keyframes would be 40 m of corridor, matched once in 15 checks.
+auto CLoopCloser::searchWindow(const CPoseGraph& graph, const TCandidates& c) const
+	-> TSearchWindow
 {
+	const size_t newest = graph.numNodes() - 1;
 	TSearchWindow w;
 	w.xy = std::clamp(m_params.window_sigmas * c.sigmaXY,
 					  2 * m_correlator.params().resolution_m, m_params.max_window_xy_m);
@@ -26,8 +30,28 @@ auto CLoopCloser::searchWindow(const TCandidates& c, size_t newest) const -> TSe
 		std::min<size_t>(m_params.old_map_exclusion_keyframes,
 						 m_params.patch_min_keyframes +
 							 static_cast<size_t>(m_params.patch_keyframes_per_m * c.sigmaXY));
+	if (m_params.patch_max_travel_m > 0)
+		w.patchSize = std::max(
+			m_params.patch_min_keyframes,
+			std::min(w.patchSize, keyframesWithinTravel(graph, m_params.patch_max_travel_m)));
 	w.patchFirst = newest + 1 - std::min(w.patchSize, newest + 1);
 	return w;
+}
+
+// How many of the newest keyframes lie within `travel` [m] of path (the sum of the straight
+// steps between consecutive keyframes, map frame) back from the newest; at least 1.
+size_t CLoopCloser::keyframesWithinTravel(const CPoseGraph& graph, double travel)
+{
+	size_t k = graph.numNodes() - 1;
+	double path = 0;
+	while (k > 0)
+	{
+		const TPose2D a = graph.pose(k), b = graph.pose(k - 1);
+		path += std::hypot(a.x - b.x, a.y - b.y);
+		if (path > travel) break;
+		--k;
+	}
+	return graph.numNodes() - k;
 }
 
 // A patch grown with the uncertainty overlaps the last attempt's almost entirely: while it is

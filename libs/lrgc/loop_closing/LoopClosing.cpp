@@ -94,6 +94,7 @@ void CLoopClosing::handOver(CPoseGraph& graph, const TKeyframes& keyframes)
 	job.links = std::exchange(m_linksToSend, {});
 	job.resultsApplied = m_resultsApplied;
 	job.stop = m_stop;
+	job.frozenNodes = m_frozen;
 	m_worker->submit(std::move(job));
 }
 

@@ -78,6 +78,8 @@ public:
 	 * it is stopped, the one in hand ends early and adds nothing, and the later ones add
 	 * nothing, so drain() returns promptly. */
 	void setStopToken(const CStopToken& stop) { m_stop = stop; }
+	/** The searches handed over from now on hold nodes below `n` fixed in their solves. */
+	void setFrozenNodes(size_t n) { m_frozen = n; }
 
 	TLoopCloserStats stats() const;  //!< the worker's counters (any thread)
 	const TLoopScheduleStats& schedule() const { return m_schedule; }
@@ -107,6 +109,7 @@ private:
 	size_t m_keyframeClock = 0;
 	TLoopScheduleStats m_schedule;
 	CStopToken m_stop;
+	size_t m_frozen = 0;
 };
 
 }  // namespace lrgc

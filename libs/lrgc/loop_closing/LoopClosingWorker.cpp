@@ -240,6 +240,7 @@ TLoopJobResult CLoopClosingWorker::execute(TLoopJob& job)
 	};
 	publishProgress(dueKeyframe(job.clock, start, workSoFar(), nullptr));
 	m_closer.setStopToken(job.stop);
+	m_closer.setFrozenNodes(job.frozenNodes);
 	m_closer.setProgressCallback(
 		[&] { publishProgress(dueKeyframe(job.clock, start, workSoFar(), nullptr)); });
 

@@ -74,6 +74,7 @@ struct TLoopJob
 	/** The loop closer's stop token for this job (CLoopCloser::setStopToken): a job stopped
 	 * part-way adds nothing. */
 	CStopToken stop;
+	size_t frozenNodes = 0;  //!< nodes below it are held fixed (CLoopCloser::setFrozenNodes)
 };
 
 /** What a job did to the replica, for the mapping thread to apply to its graph. */

@@ -82,7 +82,8 @@ size_t CRevisitLinker::linkRevisits(CPoseGraph& graph, const TKeyframes& keyfram
 				if (it == cells.end()) continue;
 				for (const size_t j : it->second)
 				{
-					if (j + m_params.min_index_gap >= k) continue;
+					if (j + m_params.min_index_gap >= k || (j < m_split) != (k < m_split))
+						continue;
 					const TPose2D pj = graph.pose(j);
 					const double d = std::hypot(pj.x - pk.x, pj.y - pk.y);
 					if (d < bestD &&

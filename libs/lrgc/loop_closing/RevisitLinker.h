@@ -40,6 +40,9 @@ public:
 	 * (setStopToken) is stopped, the sweep ends: the links added until then stay. */
 	size_t linkRevisits(CPoseGraph& graph, const TKeyframes& keyframes) const;
 	void setStopToken(const CStopToken& stop) { m_stop = stop; }
+	/** Nodes below `split` and nodes from it on are in frames of their own (a session mapped
+	 * as a piece not joined to the map): no pair across it is linked. 0: one frame. */
+	void setSplit(size_t split) { m_split = split; }
 
 private:
 	TRevisitLinkerParams m_params;
@@ -47,6 +50,7 @@ private:
 	TLinkNoise m_linkNoise;
 	CScanMatcher m_matcher;
 	CStopToken m_stop;
+	size_t m_split = 0;
 };
 
 }  // namespace lrgc

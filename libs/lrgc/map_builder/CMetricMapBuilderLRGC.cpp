@@ -91,6 +91,11 @@ std::optional<TScan2D> CMetricMapBuilderLRGC::convertScan(
 TRegistration CMetricMapBuilderLRGC::registerLocally(const TScan2D& scan,
 													 const TMotionPrediction& prediction)
 {
+	if (m_pieceStartPending)  // a piece's first scan: at its odometry pose (startPiece)
+	{
+		m_lastScanInMap = m_predictor->odometryNow().value_or(TPose2D(0, 0, 0));
+		m_nextScanPrior = m_lastScanInMap;
+	}
 	const TPose2D priorInMap = m_nextScanPrior   ? *m_nextScanPrior
 							   : m_scans.empty() ? TPose2D(0, 0, 0)
 												 : compose(m_lastScanInMap, prediction.motion);
@@ -157,7 +162,8 @@ void CMetricMapBuilderLRGC::placeScan(const mrpt::obs::CObservation2DRangeScan::
 									  TScan2D&& scan, const TRegistration& reg,
 									  size_t scanIndex)
 {
-	const bool atStart = m_graph.numNodes() == 0 || m_sessionStartCov.has_value();
+	const bool atStart =
+		m_graph.numNodes() == 0 || m_sessionStartCov.has_value() || m_pieceStartPending;
 	if (!atStart && !isNewKeyframe(reg.scanInMap))
 		recordScan(laser->timestamp, anchor(), between(m_graph.pose(anchor()), reg.scanInMap));
 	else if (const auto reused =
@@ -198,7 +204,9 @@ void CMetricMapBuilderLRGC::enterNewKeyframe(
 	const size_t node =
 		addKeyframe(laser, observations, std::move(scan), reg.scanInMap, scanIndex);
 	m_local->enterKeyframe(node, false, m_graph);
-	if (m_sessionStartCov)
+	if (m_pieceStartPending)
+		m_pieceStartPending = false;  // a piece's first keyframe: linked to nothing
+	else if (m_sessionStartCov)
 		linkSessionStart(node);  // to the old map, by a scan match
 	else if (previous)
 	{

@@ -40,6 +40,7 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <string>
 
 namespace lrgc
 {
@@ -129,6 +130,25 @@ public:
 	 * match against the old keyframes around it (by `cov` if that fails), and the local
 	 * registration window restarts there instead of joining the old map's last keyframe. */
 	void startSessionAt(const mrpt::math::TPose2D& scanInMap, const Eigen::Matrix3d& cov);
+	/** The next scan starts a piece of its own (a session whose place in the map is not
+	 * known, CMetricMapBuilderLRGC_pieces.cpp): a keyframe at its odometry pose (the identity
+	 * without odometry) linked to nothing, and the piece is mapped in that frame, local
+	 * registration and loop closing within it, until joinPiece() places it in the map. */
+	void startPiece();
+	/** The map's keyframes now in the graph are held where they are from now on: the loop
+	 * closures and the final optimisation move only the keyframes added later (the saved
+	 * map's poses, and so its users' frame and its trajectory, stay as they were; as a
+	 * frozen trajectory in Cartographer). */
+	void freezeMap();
+	/** The piece's first keyframe while it is not joined to the map; nullopt otherwise. */
+	std::optional<size_t> pieceFirstNode() const { return m_pieceFirst; }
+	/** Joins the piece to the map: its keyframe `node` lies at `nodeInMap` (global
+	 * correlation, covariance `cov` [m^2, rad^2], map axes). The loop results in hand are
+	 * applied first; a scan match of `node` against the map's keyframes around it refines the
+	 * place; the whole piece (keyframes, scans, the robot) moves into the map's frame, and a
+	 * loop link ties `node` to the nearest map keyframe. Returns the (map <- piece) applied. */
+	mrpt::math::TPose2D joinPiece(size_t node, const mrpt::math::TPose2D& nodeInMap,
+								  const Eigen::Matrix3d& cov);
 	/** The laser the map is built from (first seen, or restored). */
 	const std::string& laserLabel() const { return m_lasers.label(); }
 	mrpt::poses::CPose3DPDF::Ptr getCurrentPoseEstimation() const override;
@@ -256,6 +276,17 @@ private:
 						bool all);
 	void linkChainAndRevisits();
 	void linkSessionStart(size_t node);
+	/** A loop link from the nearest of the keyframes 0..mapEnd-1 to `node`, whose map pose is
+	 * guessed at `guess` with covariance `cov` (map axes): by a scan match against the map's
+	 * keyframes around it where the match confirms the guess, else by the guess. */
+	struct TMapLink
+	{
+		TLink link;
+		mrpt::math::TPose2D nodeInMap;  //!< where the link puts `node`
+		std::string problem;            //!< why the match was not used; empty if it was
+	};
+	TMapLink linkToMap(size_t node, const mrpt::math::TPose2D& guess,
+					   const Eigen::Matrix3d& cov, size_t mapEnd) const;
 	void enterNewestKeyframes();
 
 	TLRGCParams m_params;
@@ -279,6 +310,11 @@ private:
 	std::optional<mrpt::math::TPose2D> m_nextScanPrior;  //!< from initialize(x0)
 	/** Set by startSessionAt(): the next scan starts a session; the covariance of its pose. */
 	std::optional<Eigen::Matrix3d> m_sessionStartCov;
+	/** startPiece(): the first keyframe of the piece not yet joined; the next scan starts it.
+	 */
+	std::optional<size_t> m_pieceFirst;
+	bool m_pieceStartPending = false;
+	size_t m_frozenNodes = 0;  //!< freezeMap(): nodes below it are held fixed
 	/** Motion since the anchor keyframe (composed per-scan steps; from a reused keyframe, the
 	 * registered offset first) and whether it came from trustworthy odometry: this becomes
 	 * the odometry link of the next keyframe. */

@@ -84,6 +84,9 @@ void CMetricMapBuilderLRGC::resetState()
 	m_lastScanCov.setZero();
 	m_nextScanPrior.reset();
 	m_sessionStartCov.reset();
+	m_pieceFirst.reset();
+	m_pieceStartPending = false;
+	m_frozenNodes = 0;
 	m_motionSinceKeyframe = TPose2D(0, 0, 0);
 	m_anchorOffset = TPose2D(0, 0, 0);
 	m_odometryTrustedSinceKeyframe = true;
@@ -241,29 +244,52 @@ void CMetricMapBuilderLRGC::startSessionAt(const TPose2D& scanInMap, const Eigen
 }
 
 // The first keyframe of a session: linked to the nearest old keyframe by a scan match against
-// the old keyframes within overlap_radius_m (in the nearest one's frame), placed where the
-// match puts it; without an agreeing match, by the start pose with the localisation's
-// covariance.
+// the old keyframes within overlap_radius_m (linkToMap), placed where the match puts it;
+// without an agreeing match, by the start pose with the localisation's covariance.
 void CMetricMapBuilderLRGC::linkSessionStart(size_t node)
 {
 	const Eigen::Matrix3d cov = *m_sessionStartCov;
 	m_sessionStartCov.reset();
 	const TPose2D start = m_graph.pose(node);
+	const TMapLink j = linkToMap(node, start, cov, node);
+	if (j.problem.empty())
+		m_graph.setPose(node, j.nodeInMap);
+	else
+		warn(mrpt::format(
+			"session start at (%.2f, %.2f, %.1f deg): %s; linked by the global localisation "
+			"alone",
+			start.x, start.y, mrpt::RAD2DEG(start.phi), j.problem.c_str()));
+	m_graph.addLink(j.link);
+	m_reuse->noteLoopLink(node);
+	++m_stats.loopClosureLinks;
+	m_local->invalidate();
+	MRPT_LOG_INFO_FMT("session starts at keyframe %zu, linked to old keyframe %zu", node,
+					  j.link.from);
+}
+
+// The map's keyframes within overlap_radius_m of the guess, in the nearest one's frame, are
+// the reference of a scan match of `node`'s scan from the guess.
+CMetricMapBuilderLRGC::TMapLink CMetricMapBuilderLRGC::linkToMap(size_t node,
+																 const TPose2D& guessInMap,
+																 const Eigen::Matrix3d& cov,
+																 size_t mapEnd) const
+{
 	size_t nearest = 0;
 	double best = std::numeric_limits<double>::infinity();
-	for (size_t j = 0; j < node; ++j)
-		if (const double d = translationNorm(between(m_graph.pose(j), start)); d < best)
+	for (size_t j = 0; j < mapEnd; ++j)
+		if (const double d = translationNorm(between(m_graph.pose(j), guessInMap)); d < best)
 			best = d, nearest = j;
 	const TPose2D nearestInMap = m_graph.pose(nearest);
 	std::vector<TScan2D> scans;
 	std::vector<TPose2D> scansInNearest;
-	for (size_t j = 0; j < node; ++j)
-		if (translationNorm(between(m_graph.pose(j), start)) <= m_params.loop.overlap_radius_m)
+	for (size_t j = 0; j < mapEnd; ++j)
+		if (translationNorm(between(m_graph.pose(j), guessInMap)) <=
+			m_params.loop.overlap_radius_m)
 		{
 			scans.push_back(m_keyframes[j].scan);
 			scansInNearest.push_back(between(nearestInMap, m_graph.pose(j)));
 		}
-	const TPose2D guess = between(nearestInMap, start);
+	const TPose2D guess = between(nearestInMap, guessInMap);
 	const Eigen::Matrix3d covInNearest = rotateCovariance(cov, -nearestInMap.phi);
 	// People and doors moved since the old scans: the free-space limit of local registration
 	// (as CLocalizer), not the strict one of loop closing.
@@ -273,8 +299,10 @@ void CMetricMapBuilderLRGC::linkSessionStart(size_t node)
 	if (!scans.empty())
 		m = CScanMatcher(mp).match(CReferenceCloud::fromScans(scans, scansInNearest, mp),
 								   m_keyframes[node].scan, guess);
-	TLink link{nearest, node, guess, linkInformation(covInNearest, m_params.loop.link_noise),
-			   LinkType::LoopClosure};
+	TMapLink out{{nearest, node, guess, linkInformation(covInNearest, m_params.loop.link_noise),
+				  LinkType::LoopClosure},
+				 guessInMap,
+				 {}};
 	// The old scans were taken at another time: their agreement with a new scan is limited by
 	// the loop links' noise floor, as is the correlation's with the match.
 	if (m && m->inlierFraction >= m_params.local.min_link_inlier_fraction &&
@@ -282,28 +310,19 @@ void CMetricMapBuilderLRGC::linkSessionStart(size_t node)
 						 covInNearest + m->cov + m_params.loop.link_noise.floorCovariance()) <=
 			kAgreeChi2)
 	{
-		link.toInFrom = m->scanInRef;
-		link.information = linkInformation(m->cov, m_params.loop.link_noise);
-		m_graph.setPose(node, compose(nearestInMap, m->scanInRef));
+		out.link.toInFrom = m->scanInRef;
+		out.link.information = linkInformation(m->cov, m_params.loop.link_noise);
+		out.nodeInMap = compose(nearestInMap, m->scanInRef);
 	}
 	else
-		warn(mrpt::format(
-			"session start at (%.2f, %.2f, %.1f deg): %s; linked by the global localisation "
-			"alone",
-			start.x, start.y, mrpt::RAD2DEG(start.phi),
+		out.problem =
 			!m ? "no scan match with the old map around it"
 			   : mrpt::format(
 					 "its scan match with the old map (%.0f %% inliers, %.2f m, %.1f deg off) "
 					 "does not confirm it",
 					 100 * m->inlierFraction, translationNorm(between(guess, m->scanInRef)),
-					 mrpt::RAD2DEG(between(guess, m->scanInRef).phi))
-					 .c_str()));
-	m_graph.addLink(link);
-	m_reuse->noteLoopLink(node);
-	++m_stats.loopClosureLinks;
-	m_local->invalidate();
-	MRPT_LOG_INFO_FMT("session starts at keyframe %zu, linked to old keyframe %zu", node,
-					  nearest);
+					 mrpt::RAD2DEG(between(guess, m->scanInRef).phi));
+	return out;
 }
 
 }  // namespace lrgc

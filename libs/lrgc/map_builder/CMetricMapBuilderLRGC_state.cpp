@@ -66,6 +66,7 @@ void CMetricMapBuilderLRGC::finish()
 	{
 		CRevisitLinker linker(m_params.revisits, m_params.matcher, m_params.loop.link_noise);
 		linker.setStopToken(m_stop);
+		linker.setSplit(m_pieceFirst.value_or(0));  // no links across two frames
 		const size_t added = linker.linkRevisits(m_graph, m_keyframes);
 		m_stats.loopClosureLinks += added;
 		m_stats.revisitLinks = added;
@@ -73,10 +74,14 @@ void CMetricMapBuilderLRGC::finish()
 	}
 	CPoseGraphOptimizer optimizer(m_params.optimizer);
 	optimizer.setStopToken(m_stop);
-	const auto report = optimizer.optimize(m_graph, 0);
+	const auto report = optimizer.optimize(m_graph, 0, {}, m_frozenNodes);
 	MRPT_LOG_INFO_FMT("final optimisation: %zu nodes, %d iterations, chi2 %.3g -> %.3g%s",
 					  m_graph.numNodes(), report.iterations, report.initialChi2,
 					  report.finalChi2, report.stopped ? " (stopped)" : "");
+	// A piece not joined to the map (startPiece) is optimised in its own frame, its first
+	// node fixed as node 0 is the map's.
+	if (m_pieceFirst && *m_pieceFirst + 1 < m_graph.numNodes())
+		optimizer.optimize(m_graph, *m_pieceFirst);
 	settleIsolatedScans();
 	m_lastScanInMap = m_scans.empty() ? m_lastScanInMap
 									  : compose(m_graph.pose(m_scans.back().node),

@@ -39,7 +39,7 @@ std::optional<TReusedKeyframe> CKeyframeReuse::reusableKeyframe(
 	// max(d / keyframe_distance_m, |dphi| / keyframe_angle) < 1.
 	std::optional<size_t> best;
 	double bestNorm = 1.0;
-	for (size_t c = 0; c <= newest; ++c)
+	for (size_t c = m_firstCandidate; c <= newest; ++c)
 	{
 		if (c == anchor) continue;  // (also in the window: skipped below)
 		const TPose2D& p = graph.pose(c);

@@ -62,6 +62,9 @@ public:
 	 * a result lands up to [LoopCloser] max_backlog_keyframes keyframes after its search, and
 	 * the keyframes since are carried along by its correction. */
 	void noteLoopLink(size_t node);
+	/** Keyframes below `first` are no candidates: they belong to a map the robot is not yet
+	 * placed in (a session mapped as a piece of its own, in its own frame); 0: all are. */
+	void setFirstCandidate(size_t first) { m_firstCandidate = first; }
 	/** Its scan matches end early, matching nothing, once `stop` is stopped. */
 	void setStopToken(const CStopToken& stop) { m_matcher.setStopToken(stop); }
 
@@ -80,6 +83,7 @@ private:
 	CScanMatcher m_matcher;
 	TLinkNoise m_floor;
 	std::optional<size_t> m_lastLinked;  //!< newest node with a loop link
+	size_t m_firstCandidate = 0;
 };
 
 }  // namespace lrgc

@@ -109,6 +109,27 @@ void CPoseGraph::setPose(size_t node, const mrpt::math::TPose2D& nodeInMap)
 	m_lowestMoved = std::min(m_lowestMoved, node);
 }
 
+size_t CPoseGraph::lowestJoinedNode(size_t node) const
+{
+	checkNode(node, "lowestJoinedNode");
+	std::vector<uint8_t> seen(m_poses.size(), 0);
+	std::vector<size_t> queue{node};
+	seen[node] = 1;
+	size_t lowest = node;
+	for (size_t q = 0; q < queue.size() && lowest > 0; ++q)
+		for (const size_t id : m_adjacency[queue[q]])
+		{
+			if (!m_enabled[id]) continue;
+			const size_t other =
+				m_links[id].from == queue[q] ? m_links[id].to : m_links[id].from;
+			if (seen[other]) continue;
+			seen[other] = 1;
+			lowest = std::min(lowest, other);
+			queue.push_back(other);
+		}
+	return lowest;
+}
+
 size_t CPoseGraph::takeLowestMovedNode()
 {
 	return std::min(std::exchange(m_lowestMoved, SIZE_MAX), m_poses.size());

@@ -69,6 +69,10 @@ public:
 	const std::vector<TLink>& links() const { return m_links; }
 	/** Ids of the links (enabled or not) with `node` as one end, in insertion order. */
 	const std::vector<size_t>& linksOf(size_t node) const;
+	/** The lowest node index joined to `node` through enabled links (breadth-first, ended as
+	 * soon as node 0 is reached): 0 in a graph of one piece; the first node of a piece not yet
+	 * joined to the map (a session mapped in its own frame) otherwise. O(n + m) at most. */
+	size_t lowestJoinedNode(size_t node) const;
 
 	/** Nodes as VERTEX_SE2, enabled links as EDGE_SE2 with their information; root = node 0.
 	 * Node ids are the indices. Write it with saveToTextFile(). The link type is not kept. */

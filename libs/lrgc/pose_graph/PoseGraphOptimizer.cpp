@@ -409,15 +409,16 @@ TOptimizationReport CPoseGraphOptimizer::solve(detail::TProblem& prob,
 	return rep;
 }
 
-TOptimizationReport CPoseGraphOptimizer::optimize(
-	CPoseGraph& g, size_t anchor, const std::vector<size_t>& vettedLoopLinks) const
+TOptimizationReport CPoseGraphOptimizer::optimize(CPoseGraph& g, size_t anchor,
+												  const std::vector<size_t>& vettedLoopLinks,
+												  size_t frozenBelow) const
 {
 	const auto t0 = std::chrono::steady_clock::now();
 	if (anchor >= g.numNodes())
 		THROW_EXCEPTION_FMT(
 			"CPoseGraphOptimizer::optimize: anchor %zu out of range (graph has %zu nodes)",
 			anchor, g.numNodes());
-	detail::TProblem prob = detail::TProblem::wholeGraph(g, anchor);
+	detail::TProblem prob = detail::TProblem::wholeGraph(g, anchor, frozenBelow);
 	TOptimizationReport rep = solve(prob, vettedLoopLinks);
 	prob.writeBack(g);
 	rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

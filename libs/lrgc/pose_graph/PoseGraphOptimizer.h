@@ -79,9 +79,11 @@ public:
 	 * nodes not joined to it are left untouched. Writes the poses back into `g`.
 	 * `vettedLoopLinks`: ids of LoopClosure links that their caller has already found
 	 * consistent with the graph's uncertainty (CLoopCloser's gate covariance); they start
-	 * graduated without the back-end's own innovation test (see scheduleLoopLinks). */
+	 * graduated without the back-end's own innovation test (see scheduleLoopLinks).
+	 * Nodes below `frozenBelow` are held fixed too (a saved map continued as it was). */
 	TOptimizationReport optimize(CPoseGraph& g, size_t anchor = 0,
-								 const std::vector<size_t>& vettedLoopLinks = {}) const;
+								 const std::vector<size_t>& vettedLoopLinks = {},
+								 size_t frozenBelow = 0) const;
 
 	/** Optimises only `freeNodes` (e.g. the local registration window of the last K poses);
 	 * every other node reached by their enabled links is held fixed. Uses per-node adjacency

@@ -29,7 +29,7 @@ void TProblem::addLink(const CPoseGraph& g, size_t id, int vi, int vj)
 	links.push_back(pl);
 }
 
-TProblem TProblem::wholeGraph(const CPoseGraph& g, size_t anchor)
+TProblem TProblem::wholeGraph(const CPoseGraph& g, size_t anchor, size_t frozenBelow)
 {
 	// Breadth-first search from the anchor over enabled links: its connected component.
 	const size_t n = g.numNodes();
@@ -47,7 +47,7 @@ TProblem TProblem::wholeGraph(const CPoseGraph& g, size_t anchor)
 	TProblem p;
 	std::vector<int> varOf(n, -1);
 	for (size_t i = 0; i < n; ++i)
-		if (reached[i] && i != anchor)
+		if (reached[i] && i != anchor && i >= frozenBelow)
 		{
 			varOf[i] = static_cast<int>(p.varNode.size());
 			p.varNode.push_back(i);

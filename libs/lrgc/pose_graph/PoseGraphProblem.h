@@ -58,7 +58,7 @@ class TProblem
 {
 public:
 	/** Every node joined to `anchor` by enabled links is free except `anchor`. O(n + m). */
-	static TProblem wholeGraph(const CPoseGraph& g, size_t anchor);
+	static TProblem wholeGraph(const CPoseGraph& g, size_t anchor, size_t frozenBelow = 0);
 	/** `freeNodes` free, everything else fixed; touches only their adjacency lists. */
 	static TProblem subset(const CPoseGraph& g, const std::vector<size_t>& freeNodes);
 

@@ -102,6 +102,27 @@ TEST(PoseGraph, LowestMovedNodeIsTrackedBetweenCalls)
 	EXPECT_EQ(g.takeLowestMovedNode(), 4U);
 }
 
+// A map and a piece not yet joined to it (a session mapped in its own frame): the lowest node
+// joined to a node is the first of its part; a disabled link joins nothing.
+TEST(PoseGraph, LowestJoinedNodeIsTheFirstOfItsPart)
+{
+	CPoseGraph g;
+	for (int i = 0; i < 6; ++i) g.addNode({double(i), 0, 0});
+	const auto link = [&](size_t a, size_t b) {
+		return g.addLink({a, b, {1, 0, 0}, Eigen::Matrix3d::Identity(), LinkType::Odometry});
+	};
+	link(0, 1), link(1, 2);  // the map
+	link(3, 4), link(4, 5);  // the piece, from node 3
+	EXPECT_EQ(g.lowestJoinedNode(2), 0U);
+	EXPECT_EQ(g.lowestJoinedNode(5), 3U);
+	EXPECT_EQ(g.lowestJoinedNode(3), 3U);
+	const size_t join = link(1, 4);  // joined
+	EXPECT_EQ(g.lowestJoinedNode(5), 0U);
+	g.setLinkEnabled(join, false);
+	EXPECT_EQ(g.lowestJoinedNode(5), 3U);
+	EXPECT_THROW(g.lowestJoinedNode(6), std::exception);
+}
+
 TEST(PoseGraph, PoseAnglesAreWrapped)
 {
 	CPoseGraph g;

@@ -226,9 +226,12 @@ std::string initialMapJson(const TRunSummary& run)
 	if (run.initialMap.empty()) return {};
 	return "  \"initial_map\": {\"path\": " + jsonString(run.initialMap) +
 		   ", \"keyframes\": " + std::to_string(run.initialMapKeyframes) +
+		   ", \"joined\": " + (run.joined ? "true" : "false") +
 		   ", \"start_found_after_scans\": " + std::to_string(run.startScans) +
 		   ", \"start_attempts\": " + std::to_string(run.startAttempts) +
-		   ", \"start_search_s\": " + std::to_string(run.startSeconds) + "},\n";
+		   ", \"start_search_s\": " + std::to_string(run.startSeconds) +
+		   ", \"replay_wait_s\": " + std::to_string(run.joinReplayWaitSeconds) +
+		   ", \"frame\": " + jsonString(run.frame) + "},\n";
 }
 }  // namespace
 

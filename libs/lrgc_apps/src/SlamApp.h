@@ -27,7 +27,9 @@
 namespace lrgc
 {
 class CMetricMapBuilderLRGC;
-}
+class CPieceJoiner;
+struct TPieceJoin;
+}  // namespace lrgc
 
 namespace lrgc::apps
 {
@@ -68,10 +70,13 @@ public:
 
 private:
 	int runOffline(const TSlamCommandLine& cl);
+	/** Called after each log entry mapped: kExitOk to go on, else the run's exit code. */
+	using TEntryHook = std::function<int()>;
 	/** Feeds the log to the builder; returns kExitOk at its end, kExitInputError (run.status
 	 * says why) or kExitInterrupted. */
 	int mapLog(CLogReader& reader, CMetricMapBuilderLRGC& builder, CProgress& progress,
-			   TRunSummary& run, const CStopSignalWatcher& signals);
+			   TRunSummary& run, const CStopSignalWatcher& signals,
+			   const TEntryHook& afterEntry = {});
 	void reportEnd(const TSlamCommandLine& cl, const CMetricMapBuilderLRGC& builder,
 				   const TRunSummary& run, int exitCode);
 	int convertOnly(const TSlamCommandLine& cl);
@@ -81,12 +86,18 @@ private:
 	/** One log entry into the builder, its latency recorded; kExitOk or kExitInputError. */
 	int mapEntry(CMetricMapBuilderLRGC& builder, TLogEntry& entry, TRunSummary& run);
 	// --- continuing and localising on a saved map (SlamAppSavedMap.cpp) ---
-	/** --initial-map: finds where the log starts in the map (global correlation of its
-	 * first scans, CStartFinder), starts the builder's session there and maps the scans read
-	 * meanwhile. kExitOk, or kExitInputError (run.status says why: no start found, ...). */
-	int startInInitialMap(const TSavedMap& map, const TAppConfig& cfg, CLogReader& reader,
-						  CMetricMapBuilderLRGC& builder, CProgress& progress, TRunSummary& run,
-						  const CStopSignalWatcher& signals);
+	/** --initial-map: maps the log from its first scan as a piece of its own beside the
+	 * map, and joins it to the map where global correlation finds it (CPieceJoiner), all
+	 * while mapping; a piece never joined is kept in its own frame (run.frame says which).
+	 * Returns mapLog()'s exit code. */
+	int continueInitialMap(const TSavedMap& map, const TAppConfig& cfg, CLogReader& reader,
+						   CMetricMapBuilderLRGC& builder, CProgress& progress,
+						   TRunSummary& run, const CStopSignalWatcher& signals);
+	/** The piece was joined: run's figures, and the message of where the log starts. */
+	void reportJoin(const TPieceJoin& join, const CPieceJoiner& joiner,
+					const CMetricMapBuilderLRGC& builder, TRunSummary& run);
+	/** After finishMap(): a piece never joined is kept, its frame stated (run.frame). */
+	void reportPiece(const CMetricMapBuilderLRGC& builder, TRunSummary& run);
 	/** --localize: tracks the log on the map (CLocalizer); writes trajectory.tum, timing.csv
 	 * and stats.json. */
 	int runLocalize(const TSlamCommandLine& cl);

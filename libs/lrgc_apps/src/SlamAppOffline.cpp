@@ -139,10 +139,9 @@ int CSlamApp::runOffline(const TSlamCommandLine& cl)
 	run.mrptRawlog = reader->format() == LogFormat::MrptRawlog ? cl.input : cl.saveRawlog;
 	run.stages.startMapping();
 	const double mappingThreadCpu0 = threadCpuSeconds();
-	int exitCode = initialMap ? startInInitialMap(*initialMap, cfg, *reader, builder, progress,
-												  run, signals)
-							  : kExitOk;
-	if (exitCode == kExitOk) exitCode = mapLog(*reader, builder, progress, run, signals);
+	int exitCode = initialMap ? continueInitialMap(*initialMap, cfg, *reader, builder, progress,
+												   run, signals)
+							  : mapLog(*reader, builder, progress, run, signals);
 	endMappingStage(run, builder, mappingThreadCpu0);
 	// The reader's last words: lines skipped after the last entry (a file of malformed lines
 	// has nothing else) and the counts of the problems not listed.
@@ -150,6 +149,7 @@ int CSlamApp::runOffline(const TSlamCommandLine& cl)
 
 	exitCode = finishMap(builder, run, exitCode);
 	reportWarnings(builder.takeWarnings());
+	if (initialMap) reportPiece(builder, run);
 	if (exitCode == kExitOk)
 		progress.finish(1.0, builder.stats().scans);
 	else
@@ -196,7 +196,8 @@ int CSlamApp::finishMap(CMetricMapBuilderLRGC& builder, TRunSummary& run, int ex
 }
 
 int CSlamApp::mapLog(CLogReader& reader, CMetricMapBuilderLRGC& builder, CProgress& progress,
-					 TRunSummary& run, const CStopSignalWatcher& signals)
+					 TRunSummary& run, const CStopSignalWatcher& signals,
+					 const TEntryHook& afterEntry)
 {
 	while (!signals.stopRequested())
 	{
@@ -223,6 +224,8 @@ int CSlamApp::mapLog(CLogReader& reader, CMetricMapBuilderLRGC& builder, CProgre
 		if (m_objectsRead >= m_skipObjects && mapEntry(builder, *entry, run) != kExitOk)
 			return kExitInputError;
 		run.stages.feedCpu += threadCpuSeconds() - feedCpu0;
+		if (afterEntry)
+			if (const int code = afterEntry(); code != kExitOk) return code;
 		if (m_icpSlam) m_scansAfterEntry.push_back(builder.stats().scans);
 		reportWarnings(reader.takeWarnings());
 		reportWarnings(builder.takeWarnings());

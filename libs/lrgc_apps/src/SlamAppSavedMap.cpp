@@ -16,7 +16,7 @@
 
 #include <lrgc/common/se2.h>
 #include <lrgc/localization/Localizer.h>
-#include <lrgc/localization/StartFinder.h>
+#include <lrgc/localization/PieceJoiner.h>
 #include <lrgc/map_builder/CMetricMapBuilderLRGC.h>
 #include <mrpt/obs/CActionCollection.h>
 
@@ -56,72 +56,88 @@ std::string noStartMessage(const std::string& map, size_t scans, size_t attempts
 }
 }  // namespace
 
-int CSlamApp::startInInitialMap(const TSavedMap& map, const TAppConfig& cfg, CLogReader& reader,
-								CMetricMapBuilderLRGC& builder, CProgress& progress,
-								TRunSummary& run, const CStopSignalWatcher& signals)
+namespace
+{
+// The frame the poses of a piece not joined to the map are stated in (startPiece).
+std::string pieceFrame(const CMetricMapBuilderLRGC& builder)
+{
+	const auto trajectory = builder.trajectory();
+	if (trajectory.empty()) return "the log's own frame";
+	const TPose2D& first = trajectory.front().robotInMap;
+	return mrpt::format(
+		"the log's own frame (its first scan at (%.2f m, %.2f m, %.1f deg), its odometry pose)",
+		first.x, first.y, mrpt::RAD2DEG(first.phi));
+}
+}  // namespace
+
+int CSlamApp::continueInitialMap(const TSavedMap& map, const TAppConfig& cfg,
+								 CLogReader& reader, CMetricMapBuilderLRGC& builder,
+								 CProgress& progress, TRunSummary& run,
+								 const CStopSignalWatcher& signals)
 {
 	run.initialMap = map.path;
 	run.initialMapKeyframes = builder.graph().numNodes();
 	report(mrpt::format(
-		"lrgc-slam: continuing '%s': %zu keyframes, %zu links (%s); finding the start of the "
-		"log in it",
+		"lrgc-slam: continuing '%s': %zu keyframes, %zu links (%s); the log is mapped as a "
+		"piece of its own until global correlation joins it to the map",
 		map.path.c_str(), builder.graph().numNodes(), builder.graph().numLinks(),
 		map.graph ? "the saved graph" : "linked anew from the keyframes' poses"));
-	CGlobalLocalizer global(builder.graph(), builder.keyframes(), cfg.lrgc.correlator);
-	global.setStopToken(signals.token());
-	CStartFinder finder(global, cfg.lrgc, cfg.localization);
-	finder.setStopToken(signals.token());
-	std::vector<TLogEntry> read;  // replayed into the builder once the start is known
-	std::optional<TStartFound> found;
-	while (!found && !signals.stopRequested())
+	CPieceJoiner joiner(builder.graph(), builder.keyframes(), cfg.lrgc.correlator,
+						cfg.localization);
+	joiner.setStopToken(signals.token());
+	builder.freezeMap();
+	builder.startPiece();
+	const auto joinIfFound = [&]() -> int
 	{
-		std::optional<TLogEntry> entry;
+		if (!builder.pieceFirstNode()) return kExitOk;  // joined
+		std::optional<TPieceJoin> join;
 		try
 		{
-			entry = reader.next();
+			join = joiner.service(builder, mrpt::Clock::toDouble(builder.lastScanTimestamp()));
+			if (join) builder.joinPiece(join->node, join->nodeInMap, join->cov);
 		}
 		catch (const std::exception& e)
 		{
-			run.status = "input error: " + oneLineError(e);
+			run.status = "error joining the log to the map: " + oneLineError(e);
 			return kExitInputError;
 		}
-		if (!entry) break;
-		++run.logEntries;
-		feedEntry(finder.probe(), *entry);
-		read.push_back(std::move(*entry));
-		found = finder.tryLocate();
-		reportWarnings(reader.takeWarnings());
-		progress.update(reader.fractionRead(), 0, "finding the start in the initial map");
-	}
-	run.startScans = finder.probe().stats().scans;
-	run.startAttempts = finder.attempts();
-	run.startSeconds = finder.secondsSpent();
-	if (signals.stopRequested())
-	{
-		run.status = "interrupted";
-		return kExitInterrupted;
-	}
-	if (!found)
-	{
-		run.status =
-			noStartMessage(map.path, run.startScans, run.startAttempts, finder.lastRejection());
-		return kExitInputError;
-	}
-	const TPose2D start =
-		compose(found->probeInMap, finder.probe().trajectory().front().robotInMap);
+		if (join) reportJoin(*join, joiner, builder, run);
+		return kExitOk;
+	};
+	const int exitCode = mapLog(reader, builder, progress, run, signals, joinIfFound);
+	run.startAttempts = joiner.attempts();
+	run.startSeconds = joiner.secondsSpent();
+	run.joinReplayWaitSeconds = joiner.replayWaitSeconds();
+	run.lastJoinRejection = joiner.lastRejection();
+	if (!run.joined) run.startScans = builder.stats().scans;
+	return exitCode;
+}
+
+void CSlamApp::reportJoin(const TPieceJoin& join, const CPieceJoiner& joiner,
+						  const CMetricMapBuilderLRGC& builder, TRunSummary& run)
+{
+	run.joined = true;
+	run.frame = "map";
+	run.startScans = builder.stats().scans;
+	const TPose2D start = builder.trajectory().front().robotInMap;
 	report(mrpt::format(
-		"lrgc-slam: the log starts at (%.2f m, %.2f m, %.1f deg) in the map: found after %zu "
+		"lrgc-slam: the log starts at (%.2f m, %.2f m, %.1f deg) in the map: joined after %zu "
 		"scans, %zu attempts, %.1f s (score %.2f, ambiguity %.2f, patch of %zu keyframes)",
-		start.x, start.y, mrpt::RAD2DEG(start.phi), run.startScans, run.startAttempts,
-		run.startSeconds, found->score, found->ambiguity, found->patchKeyframes));
-	builder.startSessionAt(start, found->cov);
-	for (auto& entry : read)
-		if (signals.stopRequested())
-			break;  // mapLog says "interrupted"
-		else if (mapEntry(builder, entry, run) != kExitOk)
-			return kExitInputError;
-	reportWarnings(builder.takeWarnings());
-	return kExitOk;
+		start.x, start.y, mrpt::RAD2DEG(start.phi), run.startScans, joiner.attempts(),
+		joiner.secondsSpent(), join.score, join.ambiguity, join.patchKeyframes));
+}
+
+// At the end of a run continuing a map: a piece never joined is kept, and said so.
+void CSlamApp::reportPiece(const CMetricMapBuilderLRGC& builder, TRunSummary& run)
+{
+	if (run.joined || !builder.pieceFirstNode() || builder.stats().scans == 0) return;
+	run.frame = pieceFrame(builder);
+	report(mrpt::format(
+		"lrgc-slam: the log was not joined to the map '%s' (%zu global correlation attempts, "
+		"last: %s): kept, its keyframes %zu..%zu and trajectory.tum stated in %s",
+		run.initialMap.c_str(), run.startAttempts,
+		run.lastJoinRejection.empty() ? "none" : run.lastJoinRejection.c_str(),
+		*builder.pieceFirstNode(), builder.graph().numNodes() - 1, run.frame.c_str()));
 }
 
 namespace

@@ -37,12 +37,19 @@ struct TRunSummary
 	TStageTimes stages;                //!< an offline run's (started: stats.json "stages")
 	std::vector<double> latencyMs;     //!< per scan, in processing order
 	std::vector<double> latencyStamp;  //!< the scan's timestamp [s]
-	// --initial-map: the map continued and how the log's start was found in it.
+	// --initial-map: the map continued, and how the log, mapped as a piece of its own from
+	// its first scan, was joined to it (CPieceJoiner).
 	std::string initialMap;  //!< empty: a new map
 	size_t initialMapKeyframes = 0;
-	size_t startScans = 0;     //!< scans read before the start was found
-	size_t startAttempts = 0;  //!< global correlations tried
-	double startSeconds = 0;   //!< their time [s]
+	bool joined = false;               //!< the piece was joined to the map
+	size_t startScans = 0;             //!< scans mapped when the piece was joined (or in all)
+	size_t startAttempts = 0;          //!< global correlations tried
+	double startSeconds = 0;           //!< their time on the search thread [s]
+	double joinReplayWaitSeconds = 0;  //!< the mapping thread's wait for that thread [s]
+	/** The frame the log's poses are stated in: "map", or the piece's own ("the log's first
+	 * scan at its odometry pose (x, y, phi)"). */
+	std::string frame;
+	std::string lastJoinRejection;  //!< why the last correlation failed; empty if none did
 };
 
 class CRunClock;

@@ -1,0 +1,172 @@
+/* Maps of several pieces (issue 29 item 1, done-when) on the ACES log: session A, scans
+ * [0, 1474), is mapped; session B starts 42 m away from any pose of A, in its own odometry
+ * frame (its odometry moved by +37 m, -12 m, 130 deg: cutCarmenScans), and continues A's map
+ * (--initial-map). B is mapped from its first scan as a piece of its own and joined to A's
+ * map where global correlation finds it:
+ *  - B = scans [2934, end): one map; A's and B's trajectory.tum together score <= 0.0375 m
+ *    mean translational relation error (Cartographer on the whole log) over the relations
+ *    within the two sessions, >= 99 % of all relations with both ends in a session evaluated,
+ *    and those joining the two sessions are about as consistent as in one run of the log;
+ *  - B = scans [2934, 3934), which never reaches A's ground: exit 0, its map kept (saved with
+ *    A's, stats.json says it was not joined and in which frame it is stated), and its error
+ *    over its own relations no worse than 1.1 times that of the same scans mapped alone.
+ * Skips where the shared benchmark logs are absent. */
+#include <gtest/gtest.h>
+#include <lrgc_apps/eval/relation_metric.h>
+#include <lrgc_apps/eval/trajectory.h>
+
+#include <algorithm>
+#include <sstream>
+
+#include "app_runner.h"
+#include "carmen_split.h"
+#include "test_data.h"
+
+using namespace lrgc::test;
+namespace eval = lrgc::apps::eval;
+
+namespace
+{
+constexpr size_t kSessionAEnd = 1474, kSessionBStart = 2934;
+const TOdometryMove kMoveB{37.0, -12.0, 130.0 * M_PI / 180.0};
+
+struct TAcesSessionA
+{
+	std::string dir, relations;
+};
+
+TAcesSessionA sessionAMapped(const std::string& name)
+{
+	TAcesSessionA a{makeTempDir(name), sharedDatasetPath("aces/aces.relations")};
+	const std::string log = a.dir + "/aces-a.clf";
+	EXPECT_EQ(cutCarmenScans(sharedDatasetPath("aces/aces.clf.gz"), log, 0, kSessionAEnd, {}),
+			  kSessionAEnd);
+	const auto r =
+		runProcess(binaryPath("lrgc-slam"), {"--input", log, "--out", a.dir + "/a", "--quiet"});
+	EXPECT_EQ(r.exitCode, 0) << r.output;
+	return a;
+}
+
+/** The first and last stamps of a trajectory.tum [s]. */
+std::pair<double, double> span(const std::string& tum)
+{
+	std::istringstream in(readTextFile(tum));
+	double first = -1, last = -1;
+	for (std::string line; std::getline(in, line);)
+		if (!line.empty() && line[0] != '#')
+		{
+			last = std::stod(line.substr(0, line.find(' ')));
+			if (first < 0) first = last;
+		}
+	return {first, last};
+}
+
+/** Which relations to evaluate: those with both ends within one session's span, those with
+ * their ends in two sessions, or both (the metric would interpolate across a gap). */
+enum class Relations
+{
+	WithinSessions,
+	AcrossSessions,
+	All
+};
+
+/** The relation metric of the trajectories concatenated, over `which` relations. */
+eval::TRelationEvaluation evaluate(const std::vector<std::string>& tums,
+								   const std::string& relationsFile, const std::string& tmp,
+								   size_t& considered, Relations which = Relations::All)
+{
+	std::string both;
+	std::vector<std::pair<double, double>> spans;
+	for (const auto& t : tums) both += readTextFile(t), spans.push_back(span(t));
+	writeTextFile(tmp, both);
+	const auto session = [&](double t)
+	{
+		for (size_t i = 0; i < spans.size(); ++i)
+			if (t >= spans[i].first && t <= spans[i].second) return int(i);
+		return -1;
+	};
+	const auto wanted = [&](const eval::TRelation& r)
+	{
+		const int a = session(r.t1), b = session(r.t2);
+		if (a < 0 || b < 0) return false;
+		return which == Relations::All || (which == Relations::WithinSessions) == (a == b);
+	};
+	auto relations = eval::loadRelations(relationsFile);
+	relations.erase(std::remove_if(relations.begin(), relations.end(),
+								   [&](const eval::TRelation& r) { return !wanted(r); }),
+					relations.end());
+	considered = relations.size();
+	return eval::evaluateRelations(eval::CTrajectory2D::loadFromFile(tmp), relations);
+}
+}  // namespace
+
+TEST(AcesPieces, secondSessionStartingOutsideTheMapJoinsIt)
+{
+	LRGC_SKIP_IF_MISSING(sharedDatasetPath("aces/aces.clf.gz"));
+	LRGC_SKIP_IF_MISSING(sharedDatasetPath("aces/aces.relations"));
+	const TAcesSessionA a = sessionAMapped("aces_pieces_join");
+	const std::string logB = a.dir + "/aces-b.clf";
+	cutCarmenScans(sharedDatasetPath("aces/aces.clf.gz"), logB, kSessionBStart, SIZE_MAX,
+				   kMoveB);
+	const auto r = runProcess(binaryPath("lrgc-slam"), {"--input", logB, "--initial-map",
+														a.dir + "/a", "--out", a.dir + "/b"});
+	ASSERT_EQ(r.exitCode, 0) << r.output;
+	EXPECT_NE(r.output.find("the log starts at"), std::string::npos) << r.output;
+	const std::string stats = readTextFile(a.dir + "/b/stats.json");
+	EXPECT_NE(stats.find("\"joined\": true"), std::string::npos) << stats;
+	const std::vector<std::string> tums{a.dir + "/a/trajectory.tum",
+										a.dir + "/b/trajectory.tum"};
+	size_t considered = 0, within = 0, across = 0;
+	const auto ev = evaluate(tums, a.relations, a.dir + "/both.tum", considered);
+	const auto evWithin =
+		evaluate(tums, a.relations, a.dir + "/both.tum", within, Relations::WithinSessions);
+	const auto evAcross =
+		evaluate(tums, a.relations, a.dir + "/both.tum", across, Relations::AcrossSessions);
+	const double coverage = double(ev.errors.size()) / double(std::max<size_t>(considered, 1));
+	RecordProperty("mean_trans_m", std::to_string(ev.trans_m.mean));
+	RecordProperty("within_sessions_mean_trans_m", std::to_string(evWithin.trans_m.mean));
+	RecordProperty("across_sessions_mean_trans_m", std::to_string(evAcross.trans_m.mean));
+	RecordProperty("coverage", std::to_string(coverage));
+	EXPECT_GT(considered, 900U);
+	EXPECT_GT(across, 10U);
+	EXPECT_GE(coverage, 0.99);
+	// The issue's bar over the relations within the sessions (measured 0.0369 m). Over all of
+	// them, the 20 that join the sessions too, 0.0377 m: the whole log mapped in one run
+	// scores 0.0375 m on the same relations and 0.0795 m on those 20 (joined: 0.0786 m).
+	EXPECT_LE(evWithin.trans_m.mean, 0.0375);
+	EXPECT_LE(evAcross.trans_m.mean, 0.10);
+}
+
+TEST(AcesPieces, sessionThatNeverReachesTheMapIsKept)
+{
+	LRGC_SKIP_IF_MISSING(sharedDatasetPath("aces/aces.clf.gz"));
+	LRGC_SKIP_IF_MISSING(sharedDatasetPath("aces/aces.relations"));
+	const TAcesSessionA a = sessionAMapped("aces_pieces_apart");
+	const std::string logB = a.dir + "/aces-b-short.clf";
+	cutCarmenScans(sharedDatasetPath("aces/aces.clf.gz"), logB, kSessionBStart,
+				   kSessionBStart + 1000, kMoveB);
+	const auto r = runProcess(binaryPath("lrgc-slam"), {"--input", logB, "--initial-map",
+														a.dir + "/a", "--out", a.dir + "/b"});
+	ASSERT_EQ(r.exitCode, 0) << r.output;
+	EXPECT_NE(r.output.find("was not joined to the map"), std::string::npos) << r.output;
+	EXPECT_NE(r.output.find("the log's own frame"), std::string::npos) << r.output;
+	EXPECT_TRUE(fileExists(a.dir + "/b/map.simplemap.gz"));
+	EXPECT_TRUE(fileExists(a.dir + "/b/graph.lrgc"));
+	const std::string stats = readTextFile(a.dir + "/b/stats.json");
+	EXPECT_NE(stats.find("\"joined\": false"), std::string::npos) << stats;
+	EXPECT_NE(stats.find("\"frame\": \"the log's own frame"), std::string::npos) << stats;
+
+	const auto alone = runProcess(binaryPath("lrgc-slam"),
+								  {"--input", logB, "--out", a.dir + "/alone", "--quiet"});
+	ASSERT_EQ(alone.exitCode, 0) << alone.output;
+	size_t considered = 0, consideredAlone = 0;
+	const auto ev =
+		evaluate({a.dir + "/b/trajectory.tum"}, a.relations, a.dir + "/b.tum", considered);
+	const auto evAlone = evaluate({a.dir + "/alone/trajectory.tum"}, a.relations,
+								  a.dir + "/alone.tum", consideredAlone);
+	RecordProperty("mean_trans_m", std::to_string(ev.trans_m.mean));
+	RecordProperty("alone_mean_trans_m", std::to_string(evAlone.trans_m.mean));
+	EXPECT_GT(ev.errors.size(), 150U);
+	EXPECT_EQ(ev.errors.size(), evAlone.errors.size());
+	EXPECT_LE(ev.trans_m.mean, 1.1 * evAlone.trans_m.mean);
+}
