@@ -125,21 +125,39 @@ def ate_cells(run):
             pm(step["translational_m"], "%.4f") if step else "–"]
 
 
+# The stages of lrgc-slam's stats.json "stages" in the "CPU by stage" column, in order;
+# start-up, input and the mapping thread's bookkeeping ("other") share the last figure.
+STAGE_GROUPS = (("local_registration",), ("keyframe_patch",), ("loop_closing_worker",),
+                ("final_optimization",), ("outputs",), ("start_up", "input", "other"))
+
+
+def stage_cells(run):
+    """[CPU per scan [ms], CPU by stage [%]] from lrgc-slam's stats.json "stages"."""
+    st = run.stages if run.ok else None
+    if not st or "cpu_share" not in st:
+        return ["–", "–"]
+    share = st["cpu_share"]
+    parts = ["%.0f" % (100.0 * sum(share.get(k, 0.0) for k in group)) for group in STAGE_GROUPS]
+    return [fmt(st.get("mapping_cpu_ms_per_scan"), "%.2f"), " / ".join(parts)]
+
+
 def system_cells(run):
     if not run.ok:
-        return ["–"] * 8
+        return ["–"] * 10
     lat = run.latency()
     return [fmt(run.scans, "%d"), fmt(run.data_duration_s, "%.0f"), fmt(run.wall_s, "%.1f"),
             fmt(run.cpu_s, "%.1f"), fmt(run.real_time_factor(), "%.1f"),
             fmt(run.peak_rss_mb, "%.0f"),
-            "%.2f / %.1f / %.1f" % lat if lat else "–", fmt(run.loop_closures, "%d")]
+            "%.2f / %.1f / %.1f" % lat if lat else "–", fmt(run.loop_closures, "%d")] + \
+        stage_cells(run)
 
 
 REAL_HEADER = ["log", "system", "scans", "data [s]", "wall [s]", "CPU [s]", "real-time ×",
-               "peak RSS [MB]", "latency med / p99 / max [ms]", "loops",
+               "peak RSS [MB]", "latency med / p99 / max [ms]", "loops", "CPU / scan [ms]",
+               "CPU by stage LR / KF / LC / opt / out / start [%]",
                "rel. error [m]", "rel. error [deg]", "relations used",
                "10 s relations off > 2°"]
-SYN_HEADER = REAL_HEADER[:10] + ["ATE rmse [m]", "ATE [m]", "RPE 1 step [m]"]
+SYN_HEADER = REAL_HEADER[:12] + ["ATE rmse [m]", "ATE [m]", "RPE 1 step [m]"]
 
 
 def real_rows(log_name, runs, published):
@@ -155,11 +173,11 @@ def real_rows(log_name, runs, published):
         err = pub.get("error", "– / –").split(" / ")
         rows.append([log_name, "Cartographer (published)", "–", fmt(pub.get("data_s"), "%.0f"),
                      fmt(pub.get("wall_s"), "%.0f"), "–",
-                     ratio(pub.get("data_s"), pub.get("wall_s"), "%.1f"), "–", "–", "–",
-                     err[0], err[1] if len(err) > 1 else "–", "–", "–"])
+                     ratio(pub.get("data_s"), pub.get("wall_s"), "%.1f"), "–", "–", "–", "–",
+                     "–", err[0], err[1] if len(err) > 1 else "–", "–", "–"])
     if pub and pub.get("scan_matching"):
         rows.append([log_name, "scan matching only (published)", "–", "–", "–", "–", "–", "–",
-                     "–", "–", pub["scan_matching"], "–", "–", "–"])
+                     "–", "–", "–", "–", pub["scan_matching"], "–", "–", "–"])
     by = {r.system: r for r in runs}
     ours, icp = by.get("lrgc-slam"), by.get("icp-slam")
     if ours and icp and ours.ok and icp.ok:
@@ -170,7 +188,7 @@ def real_rows(log_name, runs, published):
         rows.append([log_name, "ratio lrgc-slam / icp-slam", "", "", ratio(ours.wall_s, icp.wall_s),
                      ratio(ours.cpu_s, icp.cpu_s), "", ratio(ours.peak_rss_mb, icp.peak_rss_mb),
                      " / ".join(latency_ratio(a, b) for a, b in zip(lo, li)) if lo and li else "–",
-                     "",
+                     "", "", "",
                      ratio(mean_of(ours, "translational_m"), mean_of(icp, "translational_m")),
                      ratio(mean_of(ours, "rotational_deg"), mean_of(icp, "rotational_deg")), "", ""])
     return rows
@@ -235,7 +253,17 @@ def document(real, synthetic, plots, machine, commit, total_s, data_dir, notes, 
            "- Date: " + time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()),
            "- Data: %s; whole run %.0f s" % (data_dir or "(none)", total_s), ""]
     out += ["Wall, CPU and peak RSS are of the whole process (`/usr/bin/time -v`), including start-up "
-            "and writing outputs. Real-time × = data duration / wall time. Latency is per scan: "
+            "and writing outputs. Real-time × = data duration / wall time. CPU / scan and CPU by "
+            "stage are lrgc-slam's own timers (stats.json `stages`, CPU time of the threads, so "
+            "they hold on a loaded machine): CPU / scan is the mapping stage's CPU (all threads, "
+            "reading the input included) per scan; CPU by stage is each stage's share of the "
+            "process's CPU time: LR local registration of each scan (mapping thread), KF "
+            "keyframes and the window patch (the mapping thread placing scans, loop results "
+            "applied there included, and the window's helper thread), LC the loop-closing "
+            "worker thread, opt the end of the run (loop results still due, revisit sweep, final "
+            "optimisation), out writing the outputs, start the process start-up (library "
+            "loading, MRPT's class registration, configuration, opening the input) with reading "
+            "the input and the mapping thread's bookkeeping. Latency is per scan: "
             "lrgc-slam's `timing.csv`, icp-slam's `log_times.txt` (icp-slam matches a scan only "
             "after 0.2 m or 5° of odometry, so most of its scans cost about 0 ms). The relation error is the metric "
             "of Kuemmerle et al., \"On measuring the accuracy of SLAM algorithms\", Autonomous "

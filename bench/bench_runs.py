@@ -31,6 +31,7 @@ class RunResult:
         self.data_duration_s = None
         self.latencies_ms = []
         self.loop_closures = None
+        self.stages = None  # lrgc-slam's stats.json "stages" (dict), None for other systems
         self.trajectory = None  # TUM path
         self.eval = None  # lrgc-eval JSON (dict)
         self.plot = None  # PNG path
@@ -183,6 +184,7 @@ def run_lrgc_slam(tools, log_path, workdir, timeout_s, config=None):
     r.scans = stats.get("scans")
     r.data_duration_s = stats.get("data_duration_s")
     r.loop_closures = stats.get("loop_closures")
+    r.stages = stats.get("stages")
     timing = os.path.join(outdir, "timing.csv")
     if os.path.exists(timing):
         with open(timing) as f:

@@ -12,6 +12,7 @@
 #include <mrpt/opengl/CSetOfObjects.h>
 #include <mrpt/serialization/CArchive.h>
 
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include <filesystem>
@@ -42,8 +43,19 @@ protected:
 		fs::create_directory(out("earlier"));
 		writeTextFile(out("earlier/map.png"), kNotes);
 		writeTextFile(out("map.png"), "an earlier map");
+		const double childCpu0 = childrenCpuSeconds();
 		s_result =
 			runProcess(binaryPath("lrgc-slam"), {"--input", senaRawlogPath(), "--out", s_out});
+		s_childCpu = childrenCpuSeconds() - childCpu0;
+	}
+	// User + system time of this process's children waited for so far [s] (the shell
+	// runProcess starts, lrgc-slam under it and its rawlog guard process).
+	static double childrenCpuSeconds()
+	{
+		rusage ru{};
+		::getrusage(RUSAGE_CHILDREN, &ru);
+		return ru.ru_utime.tv_sec + 1e-6 * ru.ru_utime.tv_usec + ru.ru_stime.tv_sec +
+			   1e-6 * ru.ru_stime.tv_usec;
 	}
 	void SetUp() override
 	{
@@ -57,6 +69,7 @@ protected:
 	static inline const std::string kNotes = "the user's own notes\n";
 	static inline std::string s_out;
 	static inline TProcessResult s_result;
+	static inline double s_childCpu = 0;  //!< the run's CPU time, seen from outside [s]
 };
 
 template <class T>
@@ -223,6 +236,39 @@ TEST_F(SenaRun, StatsAndTimingAreWritten)
 	for (const auto& e : fs::directory_iterator(s_out))
 		EXPECT_EQ(e.path().filename().string().rfind(".tmp.", 0), std::string::npos)
 			<< "temporary file left behind: " << e.path();
+}
+
+// stats.json "stages": every stage's CPU time, none negative, adding up to the process's CPU
+// time the run reports, and that to the run's CPU time as the operating system counted it
+// from outside (less: the guard process's second reading of the rawlog, the exit after
+// stats.json); the shares add up to 1. CPU time, not wall: it holds on a loaded machine.
+TEST_F(SenaRun, StatsStagesAddUpToTheProcessCpuTime)
+{
+	const std::string stats = readTextFile(out("stats.json"));
+	const auto number = [&](const std::string& block, const std::string& key)
+	{
+		const size_t at = stats.find("\"" + block + "\": {");
+		const size_t k = stats.find("\"" + key + "\": ", at);
+		EXPECT_TRUE(at != std::string::npos && k != std::string::npos) << block << "." << key;
+		return k == std::string::npos ? -1.0 : std::stod(stats.substr(k + key.size() + 4));
+	};
+	double cpuSum = 0, shareSum = 0;
+	for (const char* stage : {"start_up", "input", "local_registration", "keyframe_patch",
+							  "loop_closing_worker", "final_optimization", "outputs", "other"})
+	{
+		const double cpu = number("cpu_s", stage);
+		EXPECT_GE(cpu, -1e-3) << stage;
+		cpuSum += cpu;
+		shareSum += number("cpu_share", stage);
+	}
+	const double processCpu = number("stages", "process_cpu_s");
+	EXPECT_NEAR(cpuSum, processCpu, 1e-4);
+	EXPECT_NEAR(shareSum, 1.0, 1e-4);
+	EXPECT_GT(number("cpu_s", "local_registration"), 0);
+	EXPECT_GT(number("cpu_s", "loop_closing_worker"), 0);  // SENA has a loop
+	EXPECT_GT(number("stages", "mapping_cpu_ms_per_scan"), 0);
+	EXPECT_LE(processCpu, s_childCpu + 0.02);
+	EXPECT_GE(processCpu, 0.85 * s_childCpu - 0.1) << "the stages miss part of the run";
 }
 
 // map.3Dscene: MRPT's COpenGLScene (SceneViewer3D's format) loads it back, with the grid,

@@ -2,6 +2,7 @@
 
 #include <lrgc/scan_matching/ReferenceCloud.h>
 #include <lrgc/loop_closing/UncertaintyPropagation.h>
+#include <lrgc/common/CpuTime.h>
 #include <lrgc/common/params_io.h>
 #include <lrgc/common/se2.h>
 
@@ -29,31 +30,6 @@ constexpr size_t kRematchStride = 2;
  * most kAgreeXY [m] plus kAgreePerMetre of the path between the new nodes, and kAgreeTheta
  * [rad]: scan-matched loop links are good to centimetres, local chains to ~1 %. */
 constexpr double kAgreeXY = 0.3, kAgreePerMetre = 0.02, kAgreeTheta = 2.0 * M_PI / 180;
-
-/** CPU time of the calling thread [s] (POSIX CLOCK_THREAD_CPUTIME_ID): the worker's cost
- * whatever else the machine runs. */
-double threadCpuSeconds()
-{
-	timespec t{};
-	clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-	return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
-}
-
-/** Adds the thread CPU time from construction to destruction (or to stop()) to `sum` [s]. */
-class CCpuTimer
-{
-public:
-	explicit CCpuTimer(double& sum) : m_sum(&sum), m_t0(threadCpuSeconds()) {}
-	~CCpuTimer() { stop(); }
-	void stop()
-	{
-		if (m_sum) *m_sum += threadCpuSeconds() - m_t0, m_sum = nullptr;
-	}
-
-private:
-	double* m_sum;
-	double m_t0;
-};
 
 /* Held link a (oa <- na) and new link b (ob <- nb), na before nb. Via a, nb in oa's frame is
  * Z_a (+) (na <- nb) (new side, from the graph); via b it is (oa <- ob) (+) Z_b (old side).

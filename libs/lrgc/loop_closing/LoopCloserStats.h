@@ -31,6 +31,9 @@ struct TLoopCloserStats
 	 * match (reference cloud and match) and the closure (solves and re-matching). */
 	double gateCpuSeconds = 0, correlateCpuSeconds = 0, matchCpuSeconds = 0,
 		   closeCpuSeconds = 0;
+	/** CPU time of the worker thread over its whole jobs [s]: the steps above and the
+	 * replica's bookkeeping; 0 when the jobs run on the mapping thread (`background` off). */
+	double workerThreadCpuSeconds = 0;
 	/** The same work in machine-independent counts (the worker's schedule, LoopWork.h). */
 	TLoopWork work;
 	/** Searches the worker skipped because its modelled schedule ran more than

@@ -1,5 +1,7 @@
 /* CLoopClosingWorker: the replica's bookkeeping and the thread (see LoopClosingWorker.h). */
 #include <lrgc/loop_closing/LoopClosingWorker.h>
+
+#include <lrgc/common/CpuTime.h>
 #include <lrgc/loop_closing/LoopCorrection.h>
 
 #include <lrgc/common/ThreadPriority.h>
@@ -119,7 +121,9 @@ TLoopJobResult CLoopClosingWorker::take()
 TLoopCloserStats CLoopClosingWorker::stats() const
 {
 	std::lock_guard<std::mutex> lock(m_mutex);
-	return m_stats;
+	TLoopCloserStats s = m_stats;
+	s.workerThreadCpuSeconds = m_threadCpuSeconds;
+	return s;
 }
 
 void CLoopClosingWorker::threadMain()
@@ -134,6 +138,7 @@ void CLoopClosingWorker::threadMain()
 		lock.unlock();
 		std::optional<TLoopJobResult> result;
 		std::exception_ptr error;
+		const double cpu0 = threadCpuSeconds();
 		try
 		{
 			result = execute(job);
@@ -142,7 +147,9 @@ void CLoopClosingWorker::threadMain()
 		{
 			error = std::current_exception();
 		}
+		const double cpu = threadCpuSeconds() - cpu0;
 		lock.lock();
+		m_threadCpuSeconds += cpu;
 		if (result) m_results.push_back(std::move(*result));
 		if (error) m_error = error;
 		m_cv.notify_all();

@@ -168,6 +168,7 @@ private:
 	size_t m_runningJob = SIZE_MAX, m_runningDue = 0;
 	std::exception_ptr m_error;
 	TLoopCloserStats m_stats;
+	double m_threadCpuSeconds = 0;  //!< the worker thread's, over its jobs [s]
 	bool m_stop = false;
 	std::thread m_thread;  // last: started once the rest is constructed
 };

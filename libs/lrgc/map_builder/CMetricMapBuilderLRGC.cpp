@@ -1,5 +1,6 @@
 #include <lrgc/map_builder/CMetricMapBuilderLRGC.h>
 
+#include <lrgc/common/CpuTime.h>
 #include <lrgc/common/se2.h>
 #include <lrgc/local_registration/LocalRegistration.h>
 #include <lrgc/local_registration/MotionPredictor.h>
@@ -65,6 +66,7 @@ void CMetricMapBuilderLRGC::processScan(const mrpt::obs::CObservation2DRangeScan
 	const TRegistration reg = registerLocally(*scan, prediction);
 	followRobot(*laser, *scan, prediction, sweep, reg);
 	recordRegistration(*laser, prediction, reg);
+	CCpuTimer placement(m_stats.placementCpuSeconds);
 	placeScan(laser, observations, std::move(*scan), reg, m_stats.scans++);
 	m_metricMapDirty = true;
 }
@@ -235,12 +237,14 @@ void CMetricMapBuilderLRGC::recordScan(mrpt::Clock::time_point stamp, size_t nod
 void CMetricMapBuilderLRGC::closeLoops(bool newKeyframe)
 {
 	if (!m_loops) return;
+	CCpuTimer apply(m_stats.loopApplyCpuSeconds);
 	recordLoopUpdate(
 		m_loops->afterKeyframe(m_graph, m_keyframes, newKeyframe, anchor(), m_lastScanInMap));
 }
 
 void CMetricMapBuilderLRGC::takeReadyLoopResults()
 {
+	CCpuTimer apply(m_stats.loopApplyCpuSeconds);
 	recordLoopUpdate(m_loops->whenReady(m_graph, anchor(), m_lastScanInMap));
 }
 

@@ -95,6 +95,11 @@ struct TMapBuilderStats
 	double sweepTime = 0;
 	bool sweepTimeEstimated = false;
 	size_t sweepSamples = 0;
+	/** CPU time of the mapping thread [s] (CLOCK_THREAD_CPUTIME_ID) placing scans (step 3:
+	 * new keyframes with their window links and solve, reused keyframes, and the loop results
+	 * applied at them), and applying loop results (steps 4-5 on the mapping thread: at
+	 * keyframes, so within the placement, and in a live run as they become ready). */
+	double placementCpuSeconds = 0, loopApplyCpuSeconds = 0;
 };
 
 class CMetricMapBuilderLRGC : public mrpt::slam::CMetricMapBuilder

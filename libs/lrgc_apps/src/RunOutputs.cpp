@@ -6,6 +6,7 @@
 #include "lrgc_apps/RunStats.h"
 #include "lrgc_apps/SavedMap.h"
 #include "Scene3D.h"
+#include "TaskGroup.h"
 #include "atomic_file.h"
 
 #include <lrgc/pose_graph/GraphExport.h>
@@ -176,6 +177,49 @@ std::string loopClosingJson(const TMapBuilderStats& s, const TLoopCloserStats& l
 	return j.str();
 }
 
+// "stages": where the process's CPU time went (TStageTimes), each stage's share of it, and
+// the wall of each stage. The mapping stage's CPU is split by thread: the mapping thread's
+// reading of the input, its local registration (what the builder does with a scan besides
+// placing it) and its placement (keyframes, window links and solve, loop results applied);
+// the loop-closing worker thread; the rest of the other threads, the window helper of the
+// local registration (patch and keyframe clouds, pairwise matches), counts with the
+// placement as "keyframe_patch". "other": the mapping thread's bookkeeping between entries.
+// The CPU figures add up to "process_cpu_s". Empty unless the run timed its stages.
+std::string stagesJson(const TRunSummary& run, size_t scans)
+{
+	const TStageTimes& t = run.stages;
+	if (!t.started()) return {};
+	const double otherThreads = t.mapping.cpu - t.mappingThreadCpu;
+	const double helper = otherThreads - t.loopWorkerCpu;
+	const std::vector<std::pair<const char*, double>> cpu = {
+		{"start_up", t.startUp.cpu},
+		{"input", t.inputCpu},
+		{"local_registration", t.feedCpu - t.placementCpu},
+		{"keyframe_patch", t.placementCpu + helper},
+		{"loop_closing_worker", t.loopWorkerCpu},
+		{"final_optimization", t.finalOptimization.cpu},
+		{"outputs", t.outputs.cpu},
+		{"other", t.mappingThreadCpu - t.inputCpu - t.feedCpu}};
+	double total = 0;
+	for (const auto& [name, sec] : cpu) total += sec;
+	std::ostringstream j;
+	j.precision(6);
+	j << std::fixed << "  \"stages\": {\"cpu_s\": {";
+	for (size_t i = 0; i < cpu.size(); ++i)
+		j << (i ? ", " : "") << "\"" << cpu[i].first << "\": " << cpu[i].second;
+	j << "}, \"cpu_share\": {";
+	for (size_t i = 0; i < cpu.size(); ++i)
+		j << (i ? ", " : "") << "\"" << cpu[i].first
+		  << "\": " << (total > 0 ? cpu[i].second / total : 0.0);
+	j << "}, \"wall_s\": {\"start_up\": " << t.startUp.wall
+	  << ", \"mapping\": " << t.mapping.wall
+	  << ", \"final_optimization\": " << t.finalOptimization.wall
+	  << ", \"outputs\": " << t.outputs.wall << "}, \"process_cpu_s\": " << total
+	  << ", \"mapping_cpu_ms_per_scan\": "
+	  << (scans ? 1e3 * t.mapping.cpu / double(scans) : 0.0) << "},\n";
+	return j.str();
+}
+
 // The saved map this run continued (--initial-map / --localize), if any.
 std::string initialMapJson(const TRunSummary& run)
 {
@@ -231,8 +275,9 @@ std::string statsJson(const TRunOutputsSnapshot& snapshot)
 	  << (run.wallSeconds > 0 ? run.dataDurationSeconds / run.wallSeconds : 0) << ",\n"
 	  << "  \"final_optimization_s\": " << run.finalOptimizationSeconds << ",\n"
 	  << "  \"peak_rss_mb\": " << run.peakRssMiB << ",\n"
-	  << "  \"latency_ms\": {\"median\": " << lat.median_ms << ", \"p99\": " << lat.p99_ms
-	  << ", \"max\": " << lat.max_ms << ", \"mean\": " << lat.mean_ms << "}\n"
+	  << stagesJson(run, s.scans) << "  \"latency_ms\": {\"median\": " << lat.median_ms
+	  << ", \"p99\": " << lat.p99_ms << ", \"max\": " << lat.max_ms
+	  << ", \"mean\": " << lat.mean_ms << "}\n"
 	  << "}\n";
 	return j.str();
 }
@@ -301,42 +346,85 @@ void finishRunSummary(TRunSummary& run, const CRunClock& clock, size_t warnings)
 	run.peakRssMiB = CRunClock::peakRssMiB();
 }
 
+namespace
+{
+std::string outputPath(const std::string& outDir, const char* name)
+{
+	return (std::filesystem::path(outDir) / name).string();
+}
+
+// The outputs made from the snapshot alone (trajectory, graphs, keyframes, the MRPT programs'
+// .ini files), each queued on `tasks`.
+void startSnapshotOutputs(const TRunOutputsSnapshot& s, const std::string& outDir,
+						  CTaskGroup& tasks)
+{
+	const auto path = [&](const char* name) { return outputPath(outDir, name); };
+	tasks.run([&s, p = path("trajectory.tum")] { writeTrajectoryTum(s.trajectory, p); });
+	// One edge per node pair with the weights of our final optimisation, so that MRPT's
+	// graph-slam (which keeps one edge per pair) finds our poses (GraphExport.h).
+	tasks.run([&s, p = path("graph.graph")]
+			  { writeGraph(toMrptLeastSquares(s.graph, s.optimizer), p); });
+	// The whole graph (link types, disabled links), for --initial-map: SavedMap.h.
+	tasks.run([&s, p = path(kPoseGraphFile)]
+			  { writeTextFileAtomically(p, poseGraphToText(s.graph, s.lasers.label())); });
+	tasks.run([&s, p = path("map.simplemap.gz")] { writeSimplemap(s.keyframes, p); });
+	tasks.run([&s, &outDir] { writeMrptClientFiles(s, outDir); });  // pf-localization.ini, ...
+}
+
+// The outputs drawn from the occupancy grid, each queued on `tasks`.
+void startGridOutputs(const TRunOutputsSnapshot& s, const mrpt::maps::COccupancyGridMap2D& grid,
+					  const std::string& outDir, CTaskGroup& tasks)
+{
+	const auto path = [&](const char* name) { return outputPath(outDir, name); };
+	// The longest first: two threads share four jobs.
+	tasks.run([&grid, &s, p = path("map.3Dscene")]  // for SceneViewer3D
+			  { writeScene3D(grid, s.trajectory, s.graph, p); });
+	tasks.run([&grid, p = path("map.png")] { writeGridPng(grid, p); });
+	tasks.run([&grid, p = path("map.gridmap.gz")] { writeGridmap(grid, p); });
+	tasks.run([&grid, p = path("map")] { writeRosMap(grid, p); });
+}
+
+// config.ini, then (a run that mapped scans) the files of the snapshot and of the grid, all
+// at once, the grid made by `grid` meanwhile on this thread; the measured files last, once
+// every other file is written: timing.csv, then stats.json (a run that mapped no scan:
+// stats.json alone).
+void writeAll(TRunOutputsSnapshot& s, const std::string& outDir,
+			  const std::function<const mrpt::maps::COccupancyGridMap2D&()>& grid)
+{
+	std::filesystem::create_directories(outDir);
+	if (!s.run.configIni.empty())
+		writeTextFileAtomically(outputPath(outDir, "config.ini"), s.run.configIni);
+	if (s.stats.scans > 0)
+	{
+		CTaskGroup tasks;
+		startSnapshotOutputs(s, outDir, tasks);
+		startGridOutputs(s, grid(), outDir, tasks);
+		tasks.wait();
+		writeTextFileAtomically(outputPath(outDir, "timing.csv"), timingCsv(s.run));
+	}
+	if (s.run.stages.started()) s.run.stages.outputs = s.run.stages.lap();
+	writeTextFileAtomically(outputPath(outDir, "stats.json"), statsJson(s));
+}
+}  // namespace
+
 void writeRunOutputs(const TRunOutputsSnapshot& s, const mrpt::maps::COccupancyGridMap2D& grid,
 					 const std::string& outDir)
 {
-	namespace fs = std::filesystem;
-	fs::create_directories(outDir);
-	const auto path = [&](const char* name) { return (fs::path(outDir) / name).string(); };
-	if (!s.run.configIni.empty()) writeTextFileAtomically(path("config.ini"), s.run.configIni);
-	if (s.stats.scans == 0)
-	{
-		writeTextFileAtomically(path("stats.json"), statsJson(s));
-		return;
-	}
-
-	writeTrajectoryTum(s.trajectory, path("trajectory.tum"));
-	// One edge per node pair with the weights of our final optimisation, so that MRPT's
-	// graph-slam (which keeps one edge per pair) finds our poses (GraphExport.h).
-	writeGraph(toMrptLeastSquares(s.graph, s.optimizer), path("graph.graph"));
-	// The whole graph (link types, disabled links), for --initial-map: SavedMap.h.
-	writeTextFileAtomically(path(kPoseGraphFile), poseGraphToText(s.graph, s.lasers.label()));
-	writeSimplemap(s.keyframes, path("map.simplemap.gz"));
-	writeGridmap(grid, path("map.gridmap.gz"));
-	writeGridPng(grid, path("map.png"));
-	writeRosMap(grid, path("map"));
-	writeMrptClientFiles(s, outDir);  // pf-localization.ini, observations2map.ini
-	writeScene3D(grid, s.trajectory, s.graph, path("map.3Dscene"));  // for SceneViewer3D
-	writeTextFileAtomically(path("timing.csv"), timingCsv(s.run));
-	writeTextFileAtomically(path("stats.json"), statsJson(s));
+	TRunOutputsSnapshot copy = s;  // stats.json gets the outputs' time
+	writeAll(copy, outDir, [&]() -> const mrpt::maps::COccupancyGridMap2D& { return grid; });
 }
 
 void writeRunOutputs(const CMetricMapBuilderLRGC& builder, const std::string& outDir,
 					 const TRunSummary& run)
 {
-	const TRunOutputsSnapshot s = snapshotRunOutputs(builder, run);
-	const auto grid = s.stats.scans == 0 ? mrpt::maps::COccupancyGridMap2D::Create()
-										 : builder.buildOccupancyGrid();
-	writeRunOutputs(s, *grid, outDir);
+	TRunOutputsSnapshot s = snapshotRunOutputs(builder, run);
+	mrpt::maps::COccupancyGridMap2D::Ptr grid;
+	writeAll(s, outDir,
+			 [&]() -> const mrpt::maps::COccupancyGridMap2D&
+			 {
+				 grid = builder.buildOccupancyGrid();
+				 return *grid;
+			 });
 }
 
 }  // namespace lrgc::apps

@@ -11,6 +11,7 @@
 #include "StopSignalWatcher.h"
 #include "lrgc_apps/io/LogReader.h"
 
+#include <lrgc/common/CpuTime.h>
 #include <lrgc/map_builder/CMetricMapBuilderLRGC.h>
 #include <mrpt/obs/CActionCollection.h>
 
@@ -72,6 +73,17 @@ std::string nothingToMap(const CLogReader& reader, const CMetricMapBuilderLRGC& 
 		"nothing to map: none of the %zu 2D laser scans of %s could be mapped%s",
 		r.scans + r.emptyScans, file.c_str(), reasons.empty() ? "" : (reasons + ")").c_str());
 }
+// The mapping stage's figures (stats.json "stages"): its process CPU and wall, the mapping
+// thread's CPU since `threadCpu0`, and from the builder, the CPU of its placement of scans and
+// of the loop-closing worker thread so far.
+void endMappingStage(TRunSummary& run, const CMetricMapBuilderLRGC& builder, double threadCpu0)
+{
+	run.stages.mapping = run.stages.lap();
+	run.stages.mappingThreadCpu = threadCpuSeconds() - threadCpu0;
+	run.stages.placementCpu = builder.stats().placementCpuSeconds;
+	run.stages.loopWorkerCpu = builder.loopCloserStats().workerThreadCpuSeconds;
+}
+
 }  // namespace
 
 void CSlamApp::reportWarnings(const std::vector<std::string>& warnings)
@@ -125,9 +137,12 @@ int CSlamApp::runOffline(const TSlamCommandLine& cl)
 	run.format = reader->format() == LogFormat::Carmen ? "carmen" : "rawlog";
 	run.configIni = runConfigText(cfg, cl.input);
 	run.mrptRawlog = reader->format() == LogFormat::MrptRawlog ? cl.input : cl.saveRawlog;
+	run.stages.startMapping();
+	const double mappingThreadCpu0 = threadCpuSeconds();
 	int exitCode = initialMap ? continueInitialMap(*initialMap, cfg, *reader, builder, progress,
 												   run, signals)
 							  : mapLog(*reader, builder, progress, run, signals);
+	endMappingStage(run, builder, mappingThreadCpu0);
 	// The reader's last words: lines skipped after the last entry (a file of malformed lines
 	// has nothing else) and the counts of the problems not listed.
 	reportWarnings(reader->takeWarnings());
@@ -176,6 +191,7 @@ int CSlamApp::finishMap(CMetricMapBuilderLRGC& builder, TRunSummary& run, int ex
 	}
 	run.finalOptimizationSeconds =
 		std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+	run.stages.finalOptimization = run.stages.lap();
 	return exitCode;
 }
 
@@ -186,6 +202,7 @@ int CSlamApp::mapLog(CLogReader& reader, CMetricMapBuilderLRGC& builder, CProgre
 	while (!signals.stopRequested())
 	{
 		std::optional<TLogEntry> entry;
+		const double readCpu0 = threadCpuSeconds();
 		try
 		{
 			entry = reader.next();
@@ -196,6 +213,8 @@ int CSlamApp::mapLog(CLogReader& reader, CMetricMapBuilderLRGC& builder, CProgre
 			if (m_verbose) report("details:\n" + errorDetails(e));
 			return kExitInputError;
 		}
+		const double feedCpu0 = threadCpuSeconds();
+		run.stages.inputCpu += feedCpu0 - readCpu0;
 		if (!entry) break;
 		++run.logEntries;
 		// rawlog_offset as icp-slam counts it: serialised objects read so far (an action
@@ -204,6 +223,7 @@ int CSlamApp::mapLog(CLogReader& reader, CMetricMapBuilderLRGC& builder, CProgre
 			entry->observation || !entry->actions || entry->actions->size() == 0 ? 1 : 2;
 		if (m_objectsRead >= m_skipObjects && mapEntry(builder, *entry, run) != kExitOk)
 			return kExitInputError;
+		run.stages.feedCpu += threadCpuSeconds() - feedCpu0;
 		if (afterEntry)
 			if (const int code = afterEntry(); code != kExitOk) return code;
 		if (m_icpSlam) m_scansAfterEntry.push_back(builder.stats().scans);

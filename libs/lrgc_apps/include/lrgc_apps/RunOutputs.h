@@ -4,6 +4,8 @@
  * only: an empty trajectory and a blank grid would pass for a map. */
 #pragma once
 
+#include "lrgc_apps/RunStats.h"
+
 #include <lrgc/map_builder/CMetricMapBuilderLRGC.h>
 #include <mrpt/maps/CSimpleMap.h>
 
@@ -32,6 +34,7 @@ struct TRunSummary
 	double dataDurationSeconds = 0;  //!< last minus first scan timestamp
 	double wallSeconds = 0, cpuSeconds = 0, peakRssMiB = 0;
 	double finalOptimizationSeconds = 0;
+	TStageTimes stages;                //!< an offline run's (started: stats.json "stages")
 	std::vector<double> latencyMs;     //!< per scan, in processing order
 	std::vector<double> latencyStamp;  //!< the scan's timestamp [s]
 	// --initial-map: the map continued, and how the log, mapped as a piece of its own from
