@@ -354,7 +354,7 @@ std::string outputPath(const std::string& outDir, const char* name)
 }
 
 // The outputs made from the snapshot alone (trajectory, graphs, keyframes, the MRPT programs'
-// .ini files), each queued on `tasks`.
+// .ini files), each started on `tasks`.
 void startSnapshotOutputs(const TRunOutputsSnapshot& s, const std::string& outDir,
 						  CTaskGroup& tasks)
 {
@@ -371,17 +371,16 @@ void startSnapshotOutputs(const TRunOutputsSnapshot& s, const std::string& outDi
 	tasks.run([&s, &outDir] { writeMrptClientFiles(s, outDir); });  // pf-localization.ini, ...
 }
 
-// The outputs drawn from the occupancy grid, each queued on `tasks`.
+// The outputs drawn from the occupancy grid, each started on `tasks`.
 void startGridOutputs(const TRunOutputsSnapshot& s, const mrpt::maps::COccupancyGridMap2D& grid,
 					  const std::string& outDir, CTaskGroup& tasks)
 {
 	const auto path = [&](const char* name) { return outputPath(outDir, name); };
-	// The longest first: two threads share four jobs.
+	tasks.run([&grid, p = path("map.gridmap.gz")] { writeGridmap(grid, p); });
+	tasks.run([&grid, p = path("map.png")] { writeGridPng(grid, p); });
+	tasks.run([&grid, p = path("map")] { writeRosMap(grid, p); });
 	tasks.run([&grid, &s, p = path("map.3Dscene")]  // for SceneViewer3D
 			  { writeScene3D(grid, s.trajectory, s.graph, p); });
-	tasks.run([&grid, p = path("map.png")] { writeGridPng(grid, p); });
-	tasks.run([&grid, p = path("map.gridmap.gz")] { writeGridmap(grid, p); });
-	tasks.run([&grid, p = path("map")] { writeRosMap(grid, p); });
 }
 
 // config.ini, then (a run that mapped scans) the files of the snapshot and of the grid, all
