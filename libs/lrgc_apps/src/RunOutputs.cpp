@@ -6,7 +6,6 @@
 #include "lrgc_apps/RunStats.h"
 #include "lrgc_apps/SavedMap.h"
 #include "Scene3D.h"
-#include "TaskGroup.h"
 #include "atomic_file.h"
 
 #include <lrgc/pose_graph/GraphExport.h>
@@ -354,39 +353,34 @@ std::string outputPath(const std::string& outDir, const char* name)
 }
 
 // The outputs made from the snapshot alone (trajectory, graphs, keyframes, the MRPT programs'
-// .ini files), each started on `tasks`.
-void startSnapshotOutputs(const TRunOutputsSnapshot& s, const std::string& outDir,
-						  CTaskGroup& tasks)
+// .ini files).
+void writeSnapshotOutputs(const TRunOutputsSnapshot& s, const std::string& outDir)
 {
 	const auto path = [&](const char* name) { return outputPath(outDir, name); };
-	tasks.run([&s, p = path("trajectory.tum")] { writeTrajectoryTum(s.trajectory, p); });
+	writeTrajectoryTum(s.trajectory, path("trajectory.tum"));
 	// One edge per node pair with the weights of our final optimisation, so that MRPT's
 	// graph-slam (which keeps one edge per pair) finds our poses (GraphExport.h).
-	tasks.run([&s, p = path("graph.graph")]
-			  { writeGraph(toMrptLeastSquares(s.graph, s.optimizer), p); });
+	writeGraph(toMrptLeastSquares(s.graph, s.optimizer), path("graph.graph"));
 	// The whole graph (link types, disabled links), for --initial-map: SavedMap.h.
-	tasks.run([&s, p = path(kPoseGraphFile)]
-			  { writeTextFileAtomically(p, poseGraphToText(s.graph, s.lasers.label())); });
-	tasks.run([&s, p = path("map.simplemap.gz")] { writeSimplemap(s.keyframes, p); });
-	tasks.run([&s, &outDir] { writeMrptClientFiles(s, outDir); });  // pf-localization.ini, ...
+	writeTextFileAtomically(path(kPoseGraphFile), poseGraphToText(s.graph, s.lasers.label()));
+	writeSimplemap(s.keyframes, path("map.simplemap.gz"));
+	writeMrptClientFiles(s, outDir);  // pf-localization.ini, observations2map.ini
 }
 
-// The outputs drawn from the occupancy grid, each started on `tasks`.
-void startGridOutputs(const TRunOutputsSnapshot& s, const mrpt::maps::COccupancyGridMap2D& grid,
-					  const std::string& outDir, CTaskGroup& tasks)
+// The outputs drawn from the occupancy grid.
+void writeGridOutputs(const TRunOutputsSnapshot& s, const mrpt::maps::COccupancyGridMap2D& grid,
+					  const std::string& outDir)
 {
 	const auto path = [&](const char* name) { return outputPath(outDir, name); };
-	tasks.run([&grid, p = path("map.gridmap.gz")] { writeGridmap(grid, p); });
-	tasks.run([&grid, p = path("map.png")] { writeGridPng(grid, p); });
-	tasks.run([&grid, p = path("map")] { writeRosMap(grid, p); });
-	tasks.run([&grid, &s, p = path("map.3Dscene")]  // for SceneViewer3D
-			  { writeScene3D(grid, s.trajectory, s.graph, p); });
+	writeGridmap(grid, path("map.gridmap.gz"));
+	writeGridPng(grid, path("map.png"));
+	writeRosMap(grid, path("map"));
+	writeScene3D(grid, s.trajectory, s.graph, path("map.3Dscene"));  // for SceneViewer3D
 }
 
-// config.ini, then (a run that mapped scans) the files of the snapshot and of the grid, all
-// at once, the grid made by `grid` meanwhile on this thread; the measured files last, once
-// every other file is written: timing.csv, then stats.json (a run that mapped no scan:
-// stats.json alone).
+// config.ini, then (a run that mapped scans) the files of the snapshot and of the grid, the
+// grid made by `grid`; the measured files last: timing.csv, then stats.json (a run that
+// mapped no scan: stats.json alone).
 void writeAll(TRunOutputsSnapshot& s, const std::string& outDir,
 			  const std::function<const mrpt::maps::COccupancyGridMap2D&()>& grid)
 {
@@ -395,10 +389,8 @@ void writeAll(TRunOutputsSnapshot& s, const std::string& outDir,
 		writeTextFileAtomically(outputPath(outDir, "config.ini"), s.run.configIni);
 	if (s.stats.scans > 0)
 	{
-		CTaskGroup tasks;
-		startSnapshotOutputs(s, outDir, tasks);
-		startGridOutputs(s, grid(), outDir, tasks);
-		tasks.wait();
+		writeSnapshotOutputs(s, outDir);
+		writeGridOutputs(s, grid(), outDir);
 		writeTextFileAtomically(outputPath(outDir, "timing.csv"), timingCsv(s.run));
 	}
 	if (s.run.stages.started()) s.run.stages.outputs = s.run.stages.lap();
