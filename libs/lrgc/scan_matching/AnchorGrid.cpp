@@ -168,6 +168,7 @@ std::pair<int64_t, int64_t> ringRank(int64_t dx, int64_t dy)
 
 int CAnchorGrid::nearestDense(const Eigen::Vector2d& q, double maxDist, double* d2Out) const
 {
+	if (m_rowStart.empty()) return nearestByScan(q, maxDist, d2Out);  // a radiusOnly grid
 	// The ring walk of nearest() with each ring read as four runs: its bottom and top rows
 	// from the row-major table, its left and right columns (corners excluded) from the
 	// column-major one. A ring holds the same points whatever the order, so the best
@@ -249,7 +250,7 @@ int CAnchorGrid::nearest(const Eigen::Vector2d& q, double maxDist, double* d2Out
 	const int64_t qx = cellIndex(q.x(), m_cell), qy = cellIndex(q.y(), m_cell);
 	if (std::min(double(lastRing(qx, qy)), maxDist / m_cell + 1) > double(kMaxRings))
 		return nearestByScan(q, maxDist, d2Out);
-	if (!m_rowStart.empty()) return nearestDense(q, maxDist, d2Out);
+	if (isDense()) return nearestDense(q, maxDist, d2Out);
 	// Ring search: ring k holds the cells at Chebyshev distance k from q's cell. After ring k,
 	// every unvisited point is at least `lb` away (distance from q to the border of the
 	// visited block), so the search stops once the best distance is <= lb or lb >= maxDist.

@@ -30,7 +30,7 @@ public:
 	CAnchorGrid() = default;
 	/** Indexes points[i] for every i with usable[i] (sizes must match). radiusOnly: a grid
 	 * for forEachWithin alone leaves out the row-major copy that makes nearest() fast in the
-	 * dense mode (nearest() still answers, by the plain ring walk: the same result). */
+	 * dense mode (nearest() then answers by reading every point). */
 	CAnchorGrid(const std::vector<Eigen::Vector2d>& points, const std::vector<bool>& usable,
 				double cell, bool radiusOnly = false);
 
