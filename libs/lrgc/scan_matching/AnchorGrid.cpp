@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <utility>
 
 namespace lrgc
 {
@@ -14,7 +15,7 @@ constexpr uint64_t kHashMul = 0x9E3779B97F4A7C15ULL;  // Fibonacci hashing
 }
 
 CAnchorGrid::CAnchorGrid(const std::vector<Eigen::Vector2d>& points,
-						 const std::vector<bool>& usable, double cell)
+						 const std::vector<bool>& usable, double cell, bool radiusOnly)
 	: m_cell(cell)
 {
 	ASSERT_EQUAL_(points.size(), usable.size());
@@ -45,7 +46,7 @@ CAnchorGrid::CAnchorGrid(const std::vector<Eigen::Vector2d>& points,
 		m_bx0 = std::min(m_bx0, ix), m_bx1 = std::max(m_bx1, ix);
 		m_by0 = std::min(m_by0, iy), m_by1 = std::max(m_by1, iy);
 	}
-	if (buildDense(points)) return;
+	if (buildDense(points, !radiusOnly)) return;
 	size_t cells = 0;
 	for (size_t k = 0; k < nUsable; ++k)
 		cells += (k == 0 || keys[m_index[k]] != keys[m_index[k - 1]]);
@@ -89,7 +90,7 @@ void CAnchorGrid::buildBitmap(const std::vector<Eigen::Vector2d>& points)
 	}
 }
 
-bool CAnchorGrid::buildDense(const std::vector<Eigen::Vector2d>& points)
+bool CAnchorGrid::buildDense(const std::vector<Eigen::Vector2d>& points, bool rowMajor)
 {
 	const size_t n = m_index.size();
 	std::vector<int64_t> ixs(n), iys(n);
@@ -118,6 +119,8 @@ bool CAnchorGrid::buildDense(const std::vector<Eigen::Vector2d>& points)
 		index[to] = m_index[k];
 		m_pos[to] = points[m_index[k]];
 	}
+	const std::vector<uint32_t> byKey = std::exchange(m_index, std::move(index));
+	if (!rowMajor) return true;
 	// The same, row by row (cells by iy, then ix), for nearest()'s ring rows.
 	m_rowStart.assign(nCells + 1, 0);
 	for (size_t k = 0; k < n; ++k)
@@ -132,10 +135,9 @@ bool CAnchorGrid::buildDense(const std::vector<Eigen::Vector2d>& points)
 	for (size_t k = 0; k < n; ++k)
 	{
 		const uint32_t to = next[cellOf[k]]++;
-		m_rowIndex[to] = m_index[k];
-		m_rowPos[to] = points[m_index[k]];
+		m_rowIndex[to] = byKey[k];
+		m_rowPos[to] = points[byKey[k]];
 	}
-	m_index = std::move(index);
 	return true;
 }
 
@@ -166,6 +168,7 @@ std::pair<int64_t, int64_t> ringRank(int64_t dx, int64_t dy)
 
 int CAnchorGrid::nearestDense(const Eigen::Vector2d& q, double maxDist, double* d2Out) const
 {
+	if (m_rowStart.empty()) return nearestByScan(q, maxDist, d2Out);  // a radiusOnly grid
 	// The ring walk of nearest() with each ring read as four runs: its bottom and top rows
 	// from the row-major table, its left and right columns (corners excluded) from the
 	// column-major one. A ring holds the same points whatever the order, so the best

@@ -28,9 +28,11 @@ class CAnchorGrid
 {
 public:
 	CAnchorGrid() = default;
-	/** Indexes points[i] for every i with usable[i] (sizes must match). */
+	/** Indexes points[i] for every i with usable[i] (sizes must match). radiusOnly: a grid
+	 * for forEachWithin alone leaves out the row-major copy that makes nearest() fast in the
+	 * dense mode (nearest() then answers by reading every point). */
 	CAnchorGrid(const std::vector<Eigen::Vector2d>& points, const std::vector<bool>& usable,
-				double cell);
+				double cell, bool radiusOnly = false);
 
 	bool empty() const { return m_pos.empty(); }
 
@@ -117,7 +119,7 @@ private:
 	const TCell* findCell(int64_t ix, int64_t iy) const;
 	int nearestDense(const Eigen::Vector2d& q, double maxDist, double* d2Out) const;
 	/** Fills the dense table from the key-sorted m_index; false if the box is too large. */
-	bool buildDense(const std::vector<Eigen::Vector2d>& points);
+	bool buildDense(const std::vector<Eigen::Vector2d>& points, bool rowMajor);
 
 	/** False if no indexed point can be within maxDist of q (q not finite, or farther than
 	 * maxDist from the box of the indexed points' cells): the searches' early exit. */

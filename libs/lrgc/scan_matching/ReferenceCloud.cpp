@@ -59,7 +59,7 @@ CReferenceCloud::CReferenceCloud(std::vector<Eigen::Vector2d> pointsInRef,
 	for (size_t i = 0; i < reduced.size(); ++i) m_anchors[i].pos = reduced[i];
 	// Cell side of the search grid: a few reduced points per cell along a wall.
 	m_cell = std::max(0.1, 3 * p.ref_resolution_m);
-	buildGrid();
+	buildGrid(true);  // for the fits' radius queries only
 	fitLines(p, weights);
 	m_rawGrid = std::move(m_grid);  // the fits' neighbourhoods, for forEachFitTerm
 	buildGrid();                    // line anchors moved (by about the noise) onto their lines
@@ -159,20 +159,20 @@ CReferenceCloud CReferenceCloud::fromScansNear(
 						  });
 }
 
-void CReferenceCloud::buildGrid()
+void CReferenceCloud::buildGrid(bool radiusOnly)
 {
 	std::vector<Eigen::Vector2d> pos(m_anchors.size());
 	std::vector<bool> usable(m_anchors.size());
 	for (size_t i = 0; i < m_anchors.size(); ++i)
 		pos[i] = m_anchors[i].pos, usable[i] = m_anchors[i].usable;
-	m_grid = CAnchorGrid(pos, usable, m_cell);
+	m_grid = CAnchorGrid(pos, usable, m_cell, radiusOnly);
 }
 
 namespace
 {
 /** Weighted moments of the reduced points within r of x, relative to x (for numerical range):
- * W = sum w, s = sum w dx, S = sum w dx dx^T; count of points; squared distance [m^2] from x
- * to the nearest other point. */
+ * W = sum w, s = sum w dx, S = sum w dx dx^T; count of points; with kNearest, the squared
+ * distance [m^2] from x to the nearest other point (else left infinite). */
 struct TMoments
 {
 	double W = 0, sx = 0, sy = 0, sxx = 0, sxy = 0, syy = 0;
@@ -180,6 +180,7 @@ struct TMoments
 	double nearest2 = std::numeric_limits<double>::infinity();
 };
 
+template <bool kNearest>
 TMoments momentsWithin(const CAnchorGrid& grid, const std::vector<double>& w, size_t self,
 					   const Eigen::Vector2d& x, double r)
 {
@@ -192,7 +193,7 @@ TMoments momentsWithin(const CAnchorGrid& grid, const std::vector<double>& w, si
 			mo.W += wk, mo.sx += wk * dx, mo.sy += wk * dy;
 			mo.sxx += wk * dx * dx, mo.sxy += wk * dx * dy, mo.syy += wk * dy * dy;
 			++mo.count;
-			if (k != self) mo.nearest2 = std::min(mo.nearest2, dx * dx + dy * dy);
+			if (kNearest && k != self) mo.nearest2 = std::min(mo.nearest2, dx * dx + dy * dy);
 		});
 	return mo;
 }
@@ -271,7 +272,9 @@ Eigen::Vector2d CReferenceCloud::fitAnchor(size_t i, double r0, const std::vecto
 	TMoments mo;
 	for (int widen = 0; widen < 3; ++widen, r *= 2)
 	{
-		mo = momentsWithin(m_grid, w, i, x, r);
+		// Only the widest neighbourhood's nearest neighbour is used (below the loop).
+		mo = widen < 2 ? momentsWithin<false>(m_grid, w, i, x, r)
+					   : momentsWithin<true>(m_grid, w, i, x, r);
 		const auto f = lineOf(mo, x);
 		if (!f) continue;
 		TAnchor& a = m_anchors[i];

@@ -137,8 +137,8 @@ public:
 	}
 
 private:
-	/** Indexes the usable anchors at their current positions. */
-	void buildGrid();
+	/** Indexes the usable anchors at their current positions (radiusOnly: CAnchorGrid's). */
+	void buildGrid(bool radiusOnly = false);
 	void fitLines(const TScanMatcherParams& p, const std::vector<double>& weights);
 	Eigen::Vector2d fitAnchor(size_t i, double r0, const std::vector<double>& w,
 							  std::vector<double>& sigma2);

@@ -30,6 +30,11 @@ namespace lrgc::detail
 {
 namespace
 {
+/** Matrices on the observable subspace (1 to 3 dimensions), sized at run time but held
+ * without heap allocation: a match's covariance solves one per reference cluster. */
+using TMatrixUpTo3 = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 3, 3>;
+using TVectorUpTo3 = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 3, 1>;
+
 Eigen::Matrix3d scaling(double L)
 {
 	return Eigen::Vector3d(1, 1, 1 / L).asDiagonal();
@@ -38,17 +43,17 @@ Eigen::Matrix3d scaling(double L)
 /** The smallest (PSD order) upper bound of A and B in the form B^1/2 max(I, M) B^1/2 with
  * M = B^-1/2 A B^-T/2, computed on the subspace spanned by the columns of P (orthonormal). */
 Eigen::Matrix3d psdMaxOnSubspace(const Eigen::Matrix3d& A, const Eigen::Matrix3d& B,
-								 const Eigen::MatrixXd& P)
+								 const TMatrixUpTo3& P)
 {
-	const Eigen::MatrixXd Ao = P.transpose() * A * P, Bo = P.transpose() * B * P;
-	const Eigen::LLT<Eigen::MatrixXd> llt(Bo);
+	const TMatrixUpTo3 Ao = P.transpose() * A * P, Bo = P.transpose() * B * P;
+	const Eigen::LLT<TMatrixUpTo3> llt(Bo);
 	if (llt.info() != Eigen::Success) return P * Ao * P.transpose();
-	const Eigen::MatrixXd Lb = llt.matrixL();
-	const Eigen::MatrixXd Linv = Lb.inverse();
-	const Eigen::MatrixXd M = Linv * Ao * Linv.transpose();
-	const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(M);
-	const Eigen::VectorXd d = es.eigenvalues().cwiseMax(1.0);
-	const Eigen::MatrixXd Mmax =
+	const TMatrixUpTo3 Lb = llt.matrixL();
+	const TMatrixUpTo3 Linv = Lb.inverse();
+	const TMatrixUpTo3 M = Linv * Ao * Linv.transpose();
+	const Eigen::SelfAdjointEigenSolver<TMatrixUpTo3> es(M);
+	const TVectorUpTo3 d = es.eigenvalues().cwiseMax(1.0);
+	const TMatrixUpTo3 Mmax =
 		es.eigenvectors() * d.asDiagonal() * es.eigenvectors().transpose();
 	return P * (Lb * Mmax * Lb.transpose()) * P.transpose();
 }
@@ -209,11 +214,11 @@ TBread breadByCluster(const std::vector<TCorrespondence>& corr, double c, double
 
 /** Inverse of the bread on the observable subspace (basis P, scaled by S); where it is not
  * positive definite, the weighted information's, diagonal in that basis. */
-Eigen::MatrixXd observableInverse(const Eigen::MatrixXd& Ho, const TScaledInfo& I, int nObs)
+TMatrixUpTo3 observableInverse(const TMatrixUpTo3& Ho, const TScaledInfo& I, int nObs)
 {
-	const Eigen::LLT<Eigen::MatrixXd> llt(Ho);
-	if (llt.info() == Eigen::Success) return llt.solve(Eigen::MatrixXd::Identity(nObs, nObs));
-	Eigen::MatrixXd HoInv = Eigen::MatrixXd::Zero(nObs, nObs);
+	const Eigen::LLT<TMatrixUpTo3> llt(Ho);
+	if (llt.info() == Eigen::Success) return llt.solve(TMatrixUpTo3::Identity(nObs, nObs));
+	TMatrixUpTo3 HoInv = TMatrixUpTo3::Zero(nObs, nObs);
 	for (int k = 0, j = 0; k < 3; ++k)
 		if (I.observable[k]) HoInv(j, j) = 1 / I.lambda[k], ++j;
 	return HoInv;
@@ -222,18 +227,17 @@ Eigen::MatrixXd observableInverse(const Eigen::MatrixXd& Ho, const TScaledInfo& 
 /** Leave-one-cluster-out (jackknife) spread: delta_g = (H - M_g)^-1 s_g on the observable
  * subspace, eigenvalues of H - M_g floored at the unobservability threshold; returns
  * sum_g P delta_g delta_g^T P^T (the caller scales by (G - 1) / G). */
-Eigen::Matrix3d jackknifeSpread(const TBread& b, const Eigen::MatrixXd& Ho,
-								const Eigen::MatrixXd& P, const Eigen::Matrix3d& S,
-								double minInfo)
+Eigen::Matrix3d jackknifeSpread(const TBread& b, const TMatrixUpTo3& Ho, const TMatrixUpTo3& P,
+								const Eigen::Matrix3d& S, double minInfo)
 {
 	Eigen::Matrix3d Csand = Eigen::Matrix3d::Zero();
 	for (const auto& [key, cl] : b.clusters)
 	{
-		const Eigen::MatrixXd Hg = Ho - P.transpose() * (S * cl.M * S) * P;
-		const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(Hg);
-		const Eigen::VectorXd inv = es.eigenvalues().cwiseMax(minInfo).cwiseInverse();
-		const Eigen::VectorXd d = es.eigenvectors() * inv.asDiagonal() *
-								  es.eigenvectors().transpose() * (P.transpose() * (S * cl.s));
+		const TMatrixUpTo3 Hg = Ho - P.transpose() * (S * cl.M * S) * P;
+		const Eigen::SelfAdjointEigenSolver<TMatrixUpTo3> es(Hg);
+		const TVectorUpTo3 inv = es.eigenvalues().cwiseMax(minInfo).cwiseInverse();
+		const TVectorUpTo3 d = es.eigenvectors() * inv.asDiagonal() *
+							   es.eigenvectors().transpose() * (P.transpose() * (S * cl.s));
 		Csand += P * d * d.transpose() * P.transpose();
 	}
 	return Csand;
@@ -254,7 +258,7 @@ Eigen::Matrix3d poseCovariance(const CReferenceCloud& ref,
 	const Eigen::Matrix3d S = scaling(I.L);
 	int nObs = 0;
 	for (int k = 0; k < 3; ++k) nObs += I.observable[k];
-	Eigen::MatrixXd P(3, nObs);
+	TMatrixUpTo3 P(3, nObs);
 	Eigen::Matrix3d Cs = Eigen::Matrix3d::Zero();
 	for (int k = 0, j = 0; k < 3; ++k)
 	{
@@ -265,7 +269,7 @@ Eigen::Matrix3d poseCovariance(const CReferenceCloud& ref,
 	}
 	if (nObs > 0)
 	{
-		const Eigen::MatrixXd Ho = P.transpose() * (S * bread.Hpsi * S) * P;
+		const TMatrixUpTo3 Ho = P.transpose() * (S * bread.Hpsi * S) * P;
 		const Eigen::Matrix3d Hinv = P * observableInverse(Ho, I, nObs) * P.transpose();
 		const Eigen::Matrix3d Cmodel = Hinv * (S * Bmodel * S) * Hinv;
 		Eigen::Matrix3d Csand = jackknifeSpread(bread, Ho, P, S, I.minInfo);
