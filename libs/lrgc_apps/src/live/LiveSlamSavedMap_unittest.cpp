@@ -124,7 +124,7 @@ TEST_F(LiveSlamSavedMapTest, ContinuesTheMapAsOfflineDoes)
 	m_setup.initialMap = loadSavedMap(m_dir + "/map", "--initial-map");
 	const std::string out = m_dir + "/cont";
 	ASSERT_EQ(run(out), kExitOk) << m_console;
-	EXPECT_NE(m_console.find("live: the scans start at"), std::string::npos) << m_console;
+	EXPECT_NE(m_console.find("live: the log starts at"), std::string::npos) << m_console;
 	const std::string stats = lrgc::test::readTextFile(out + "/stats.json");
 	EXPECT_EQ(jsonInt(stats, "scans"), 150) << stats;
 	const long keyframes = jsonInt(stats, "keyframes");
