@@ -8,9 +8,6 @@
 
 namespace lrgc::apps
 {
-namespace
-{
-// The frame the poses of a piece not joined to the map are stated in (startPiece).
 std::string pieceFrame(const CMetricMapBuilderLRGC& builder)
 {
 	const auto trajectory = builder.trajectory();
@@ -20,7 +17,6 @@ std::string pieceFrame(const CMetricMapBuilderLRGC& builder)
 		"the log's own frame (its first scan at (%.2f m, %.2f m, %.1f deg), its odometry pose)",
 		first.x, first.y, mrpt::RAD2DEG(first.phi));
 }
-}  // namespace
 
 std::string continuingMessage(const TSavedMap& map, const CMetricMapBuilderLRGC& builder,
 							  TRunSummary& run)

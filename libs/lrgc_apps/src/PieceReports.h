@@ -29,6 +29,10 @@ std::string joinMessage(const TPieceJoin& join, const CPieceJoiner& joiner,
 void recordJoinerFigures(const CPieceJoiner& joiner, const CMetricMapBuilderLRGC& builder,
 						 TRunSummary& run);
 
+/** The frame the poses of a piece not joined to the map are stated in (startPiece): "the
+ * log's own frame (its first scan at (x m, y m, phi deg), its odometry pose)". */
+std::string pieceFrame(const CMetricMapBuilderLRGC& builder);
+
 /** After the final optimisation: a piece never joined is kept; sets run.frame and returns
  * "the log was not joined to the map 'M' (...): kept, ...", or empty if there is none. */
 std::string keptPieceMessage(const CMetricMapBuilderLRGC& builder, TRunSummary& run);

@@ -106,12 +106,16 @@ void CLiveMapper::finish()
 }
 
 // A session never joined to its initial map is kept (keptPieceMessage), as offline.
-std::string CLiveMapper::failure() const { return {}; }
+std::string CLiveMapper::failure() const
+{
+	return {};
+}
 
 TRunOutputsSnapshot CLiveMapper::snapshot(const std::string& status) const
 {
 	TRunSummary run = m_run;
 	if (m_joiner) recordJoinerFigures(*m_joiner, m_builder, run);
+	if (m_joiner && !run.joined && run.frame.empty()) run.frame = pieceFrame(m_builder);
 	run.status = status;
 	run.logEntries = counts().items;
 	finishRunSummary(run, m_clock, warnings());
@@ -141,9 +145,9 @@ void CLiveMapper::writeSave(const TRunOutputsSnapshot& outputs)
 
 std::string CLiveMapper::statusText(size_t queueDepth) const
 {
-	const std::string text = mrpt::format("mapped %zu, queue %zu, loop closures %zu",
-										  counts().scansMapped, queueDepth,
-										  m_builder.stats().loopClosures);
+	const std::string text =
+		mrpt::format("mapped %zu, queue %zu, loop closures %zu", counts().scansMapped,
+					 queueDepth, m_builder.stats().loopClosures);
 	if (!m_joiner || !m_builder.pieceFirstNode()) return text;
 	return text + mrpt::format(", mapping as a piece not yet joined (%zu attempts)",
 							   m_joiner->attempts());

@@ -71,7 +71,7 @@ private:
 	TRunSummary m_run;
 	CRunClock m_clock;
 	CStopToken m_stop;
-	std::unique_ptr<CPieceJoiner> m_joiner;  //!< --initial-map
+	std::unique_ptr<CPieceJoiner> m_joiner;    //!< --initial-map
 	std::unique_ptr<CIncrementalGrid> m_grid;  //!< the saves' grid (saver thread, then final)
 };
 
