@@ -48,6 +48,10 @@ public:
 
 	/** The search in hand ends early, finding nothing, once `stop` is stopped. */
 	void setStopToken(const CStopToken& stop) { m_global.setStopToken(stop); }
+	/** A live run: service() takes a search's result as soon as it is ready, never waiting
+	 * for it (CGlobalSearchWorker::setTakeWhenReady); off by default, so an offline run
+	 * takes it at the scan its modelled time fixes. */
+	void setResultsWhenReady(bool whenReady) { m_worker.setTakeWhenReady(whenReady); }
 
 	/** After each log entry, `now` its log time [s]: takes the search result due by then (the
 	 * join if it passed the filters), then hands the piece's next patch over if one is due

@@ -28,8 +28,6 @@ namespace lrgc
 {
 class CMetricMapBuilderLRGC;
 class CLocalizer;
-class CPieceJoiner;
-struct TPieceJoin;
 }  // namespace lrgc
 
 namespace lrgc::apps
@@ -95,9 +93,6 @@ private:
 	int continueInitialMap(const TSavedMap& map, const TAppConfig& cfg, CLogReader& reader,
 						   CMetricMapBuilderLRGC& builder, CProgress& progress,
 						   TRunSummary& run, const CStopSignalWatcher& signals);
-	/** The piece was joined: run's figures, and the message of where the log starts. */
-	void reportJoin(const TPieceJoin& join, const CPieceJoiner& joiner,
-					const CMetricMapBuilderLRGC& builder, TRunSummary& run);
 	/** After finishMap(): a piece never joined is kept, its frame stated (run.frame). */
 	void reportPiece(const CMetricMapBuilderLRGC& builder, TRunSummary& run);
 	/** --localize: tracks the log on the map (CLocalizer); writes trajectory.tum, timing.csv

@@ -4,6 +4,7 @@
 #include "AppConfig.h"
 #include "ErrorText.h"
 #include "LocalizationOutputs.h"
+#include "PieceReports.h"
 #include "lrgc_apps/MapExport.h"
 #include "Progress.h"
 #include "RunConfigFile.h"
@@ -30,32 +31,12 @@
 namespace lrgc::apps
 {
 
-namespace
-{
-// The frame the poses of a piece not joined to the map are stated in (startPiece).
-std::string pieceFrame(const CMetricMapBuilderLRGC& builder)
-{
-	const auto trajectory = builder.trajectory();
-	if (trajectory.empty()) return "the log's own frame";
-	const TPose2D& first = trajectory.front().robotInMap;
-	return mrpt::format(
-		"the log's own frame (its first scan at (%.2f m, %.2f m, %.1f deg), its odometry pose)",
-		first.x, first.y, mrpt::RAD2DEG(first.phi));
-}
-}  // namespace
-
 int CSlamApp::continueInitialMap(const TSavedMap& map, const TAppConfig& cfg,
 								 CLogReader& reader, CMetricMapBuilderLRGC& builder,
 								 CProgress& progress, TRunSummary& run,
 								 const CStopSignalWatcher& signals)
 {
-	run.initialMap = map.path;
-	run.initialMapKeyframes = builder.graph().numNodes();
-	report(mrpt::format(
-		"lrgc-slam: continuing '%s': %zu keyframes, %zu links (%s); the log is mapped as a "
-		"piece of its own until global correlation joins it to the map",
-		map.path.c_str(), builder.graph().numNodes(), builder.graph().numLinks(),
-		map.graph ? "the saved graph" : "linked anew from the keyframes' poses"));
+	report("lrgc-slam: " + continuingMessage(map, builder, run));
 	CPieceJoiner joiner(builder.graph(), builder.keyframes(), cfg.lrgc.correlator,
 						cfg.localization);
 	joiner.setStopToken(signals.token());
@@ -75,43 +56,19 @@ int CSlamApp::continueInitialMap(const TSavedMap& map, const TAppConfig& cfg,
 			run.status = "error joining the log to the map: " + oneLineError(e);
 			return kExitInputError;
 		}
-		if (join) reportJoin(*join, joiner, builder, run);
+		if (join) report("lrgc-slam: " + joinMessage(*join, joiner, builder, run));
 		return kExitOk;
 	};
 	const int exitCode = mapLog(reader, builder, progress, run, signals, joinIfFound);
-	run.startAttempts = joiner.attempts();
-	run.startSeconds = joiner.secondsSpent();
-	run.joinReplayWaitSeconds = joiner.replayWaitSeconds();
-	run.lastJoinRejection = joiner.lastRejection();
-	if (!run.joined) run.startScans = builder.stats().scans;
+	recordJoinerFigures(joiner, builder, run);
 	return exitCode;
-}
-
-void CSlamApp::reportJoin(const TPieceJoin& join, const CPieceJoiner& joiner,
-						  const CMetricMapBuilderLRGC& builder, TRunSummary& run)
-{
-	run.joined = true;
-	run.frame = "map";
-	run.startScans = builder.stats().scans;
-	const TPose2D start = builder.trajectory().front().robotInMap;
-	report(mrpt::format(
-		"lrgc-slam: the log starts at (%.2f m, %.2f m, %.1f deg) in the map: joined after %zu "
-		"scans, %zu attempts, %.1f s (score %.2f, ambiguity %.2f, patch of %zu keyframes)",
-		start.x, start.y, mrpt::RAD2DEG(start.phi), run.startScans, joiner.attempts(),
-		joiner.secondsSpent(), join.score, join.ambiguity, join.patchKeyframes));
 }
 
 // At the end of a run continuing a map: a piece never joined is kept, and said so.
 void CSlamApp::reportPiece(const CMetricMapBuilderLRGC& builder, TRunSummary& run)
 {
-	if (run.joined || !builder.pieceFirstNode() || builder.stats().scans == 0) return;
-	run.frame = pieceFrame(builder);
-	report(mrpt::format(
-		"lrgc-slam: the log was not joined to the map '%s' (%zu global correlation attempts, "
-		"last: %s): kept, its keyframes %zu..%zu and trajectory.tum stated in %s",
-		run.initialMap.c_str(), run.startAttempts,
-		run.lastJoinRejection.empty() ? "none" : run.lastJoinRejection.c_str(),
-		*builder.pieceFirstNode(), builder.graph().numNodes() - 1, run.frame.c_str()));
+	const std::string kept = keptPieceMessage(builder, run);
+	if (!kept.empty()) report("lrgc-slam: " + kept);
 }
 
 namespace

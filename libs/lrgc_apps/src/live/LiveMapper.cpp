@@ -1,12 +1,10 @@
 /* CLiveMapper (see LiveMapper.h). */
 #include "live/LiveMapper.h"
 
-#include "LocalizationOutputs.h"
+#include "PieceReports.h"
 #include "RunConfigFile.h"
 #include "lrgc_apps/SavedMap.h"
 
-#include <lrgc/common/se2.h>
-#include <mrpt/core/bits_math.h>
 #include <mrpt/core/format.h>
 
 #include <chrono>
@@ -38,16 +36,12 @@ CLiveMapper::CLiveMapper(const TAppConfig& config, std::string outDir, std::stri
 	m_run.mrptRawlog = (std::filesystem::path(m_outDir) / "capture.rawlog").string();
 	if (!initialMap) return;
 	initializeFromSavedMap(m_builder, *initialMap);
-	m_run.initialMap = initialMap->path;
-	m_run.initialMapKeyframes = m_builder.graph().numNodes();
-	m_global = std::make_unique<CGlobalLocalizer>(m_builder.graph(), m_builder.keyframes(),
-												  config.lrgc.correlator);
-	m_finder = std::make_unique<CStartFinder>(*m_global, config.lrgc, config.localization);
-	message(mrpt::format("live: continuing '%s': %zu keyframes, %zu links; finding where the "
-						 "scans start in it",
-						 initialMap->path.c_str(), m_builder.graph().numNodes(),
-						 m_builder.graph().numLinks()),
-			false);
+	message("live: " + continuingMessage(*initialMap, m_builder, m_run), false);
+	m_joiner = std::make_unique<CPieceJoiner>(m_builder.graph(), m_builder.keyframes(),
+											  config.lrgc.correlator, config.localization);
+	m_joiner->setResultsWhenReady(config.live.loop_results_when_ready);
+	m_builder.freezeMap();
+	m_builder.startPiece();
 }
 
 CLiveMapper::~CLiveMapper() = default;
@@ -56,50 +50,30 @@ void CLiveMapper::setStopToken(const CStopToken& stop)
 {
 	m_stop = stop;
 	m_builder.setStopToken(stop);
-	if (m_global) m_global->setStopToken(stop);
-	if (m_finder) m_finder->setStopToken(stop);
+	if (m_joiner) m_joiner->setStopToken(stop);
 }
 
 void CLiveMapper::processScan(const mrpt::obs::CObservation2DRangeScan::Ptr& scan)
 {
-	if (m_finder)
-		seekStart(scan);
-	else
-		mapScan(scan);
+	mapScan(scan);
+	joinIfFound();
 }
 
 void CLiveMapper::processOther(const mrpt::obs::CObservation::Ptr& obs)
 {
-	if (m_finder)
-		seekStart(obs);
-	else
-		m_builder.processObservation(obs);
+	m_builder.processObservation(obs);
+	joinIfFound();
 }
 
-void CLiveMapper::seekStart(const mrpt::obs::CObservation::Ptr& obs)
+// After each observation, as offline after each log entry, at the newest scan's time.
+void CLiveMapper::joinIfFound()
 {
-	m_finder->probe().processObservation(obs);
-	m_kept.push_back(obs);
-	const std::optional<TStartFound> found = m_finder->tryLocate();
-	if (!found) return;
-	const TPose2D start =
-		compose(found->probeInMap, m_finder->probe().trajectory().front().robotInMap);
-	m_run.startScans = m_finder->probe().stats().scans;
-	m_run.startAttempts = m_finder->attempts();
-	m_run.startSeconds = m_finder->secondsSpent();
-	message(mrpt::format("live: the scans start at (%.2f m, %.2f m, %.1f deg) in the map: "
-						 "found after %zu scans, %zu attempts, %.1f s (score %.2f)",
-						 start.x, start.y, mrpt::RAD2DEG(start.phi), m_run.startScans,
-						 m_run.startAttempts, m_run.startSeconds, found->score),
-			false);
-	m_builder.startSessionAt(start, found->cov);
-	m_finder.reset();
-	m_global.reset();
-	for (const auto& kept : std::exchange(m_kept, {}))
-		if (auto scan = std::dynamic_pointer_cast<mrpt::obs::CObservation2DRangeScan>(kept))
-			mapScan(scan);
-		else
-			m_builder.processObservation(kept);
+	if (!m_joiner || !m_builder.pieceFirstNode()) return;
+	const std::optional<TPieceJoin> join =
+		m_joiner->service(m_builder, mrpt::Clock::toDouble(m_builder.lastScanTimestamp()));
+	if (!join) return;
+	m_builder.joinPiece(join->node, join->nodeInMap, join->cov);
+	message("live: " + joinMessage(*join, *m_joiner, m_builder, m_run), false);
 }
 
 void CLiveMapper::mapScan(const mrpt::obs::CObservation2DRangeScan::Ptr& scan)
@@ -125,18 +99,23 @@ void CLiveMapper::finish()
 	m_builder.finish();
 	m_run.finalOptimizationSeconds =
 		std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+	if (!m_joiner) return;
+	recordJoinerFigures(*m_joiner, m_builder, m_run);
+	const std::string kept = keptPieceMessage(m_builder, m_run);
+	if (!kept.empty()) message("live: " + kept, false);
 }
 
+// A session never joined to its initial map is kept (keptPieceMessage), as offline.
 std::string CLiveMapper::failure() const
 {
-	if (!m_finder) return {};
-	return noStartMessage(m_run.initialMap, m_finder->probe().stats().scans,
-						  m_finder->attempts(), m_finder->lastRejection());
+	return {};
 }
 
 TRunOutputsSnapshot CLiveMapper::snapshot(const std::string& status) const
 {
 	TRunSummary run = m_run;
+	if (m_joiner) recordJoinerFigures(*m_joiner, m_builder, run);
+	if (m_joiner && !run.joined && run.frame.empty()) run.frame = pieceFrame(m_builder);
 	run.status = status;
 	run.logEntries = counts().items;
 	finishRunSummary(run, m_clock, warnings());
@@ -166,11 +145,12 @@ void CLiveMapper::writeSave(const TRunOutputsSnapshot& outputs)
 
 std::string CLiveMapper::statusText(size_t queueDepth) const
 {
-	if (m_finder)
-		return mrpt::format("finding the start in the map (%zu scans, %zu attempts), queue %zu",
-							m_finder->probe().stats().scans, m_finder->attempts(), queueDepth);
-	return mrpt::format("mapped %zu, queue %zu, loop closures %zu", counts().scansMapped,
-						queueDepth, m_builder.stats().loopClosures);
+	const std::string text =
+		mrpt::format("mapped %zu, queue %zu, loop closures %zu", counts().scansMapped,
+					 queueDepth, m_builder.stats().loopClosures);
+	if (!m_joiner || !m_builder.pieceFirstNode()) return text;
+	return text + mrpt::format(", mapping as a piece not yet joined (%zu attempts)",
+							   m_joiner->attempts());
 }
 
 std::string CLiveMapper::summaryText() const

@@ -8,16 +8,19 @@
  * `lrgc-slam --input DIR/capture.rawlog` feeds the builder the same observations in the same
  * order and gives the same trajectory and maps.
  *
- * --initial-map: the builder starts with the saved map, and the live scans' start in it is
- * found as offline (CSlamApp::startInInitialMap): the first scans go to a CStartFinder's probe
- * and are kept; each new probe keyframe may bring a global correlation (on this thread: the
- * sensors' observations wait in the queue meanwhile, none is lost); once it passes, the
- * session starts there and the kept observations are mapped.
+ * --initial-map: as offline (CSlamApp::continueInitialMap), the builder starts with the saved
+ * map frozen and maps every scan at once, from the first, as a piece of its own
+ * (CMetricMapBuilderLRGC::startPiece); after each observation a CPieceJoiner is serviced: it
+ * correlates the piece's recent patch against the saved map on its worker thread and, once a
+ * correlation passes the filters, the piece is joined to the map (joinPiece). Live, a search's
+ * result is taken as soon as it is ready ([LiveMapping] loop_results_when_ready), never making
+ * mapping wait; with that off it is taken at the scan the modelled search time fixes, as
+ * offline, so the map equals the offline app's on the capture. A session never joined is
+ * kept and saved in its own frame (stats.json: joined false, frame), as offline.
  */
 #pragma once
 
-#include <lrgc/localization/GlobalLocalizer.h>
-#include <lrgc/localization/StartFinder.h>
+#include <lrgc/localization/PieceJoiner.h>
 #include <lrgc/map_builder/CMetricMapBuilderLRGC.h>
 #include <lrgc/map_builder/IncrementalGrid.h>
 #include <lrgc_apps/RunOutputs.h>
@@ -58,8 +61,8 @@ private:
 	void processOther(const mrpt::obs::CObservation::Ptr& obs) override;
 	std::vector<std::string> takeWarnings() override { return m_builder.takeWarnings(); }
 	void mapScan(const mrpt::obs::CObservation2DRangeScan::Ptr& scan);
-	/** --initial-map, start not yet found: the observation to the probe; tries to locate. */
-	void seekStart(const mrpt::obs::CObservation::Ptr& obs);
+	/** --initial-map, the piece not yet joined: services the joiner, joins on a find. */
+	void joinIfFound();
 	/** Writes a save's outputs (the grid brought up to date incrementally). */
 	void writeSave(const TRunOutputsSnapshot& outputs);
 
@@ -68,10 +71,7 @@ private:
 	TRunSummary m_run;
 	CRunClock m_clock;
 	CStopToken m_stop;
-	// --initial-map, until the start is found:
-	std::unique_ptr<CGlobalLocalizer> m_global;
-	std::unique_ptr<CStartFinder> m_finder;
-	std::vector<mrpt::obs::CObservation::Ptr> m_kept;  //!< mapped once the start is found
+	std::unique_ptr<CPieceJoiner> m_joiner;    //!< --initial-map
 	std::unique_ptr<CIncrementalGrid> m_grid;  //!< the saves' grid (saver thread, then final)
 };
 

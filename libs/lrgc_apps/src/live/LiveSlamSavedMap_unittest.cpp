@@ -124,13 +124,48 @@ TEST_F(LiveSlamSavedMapTest, ContinuesTheMapAsOfflineDoes)
 	m_setup.initialMap = loadSavedMap(m_dir + "/map", "--initial-map");
 	const std::string out = m_dir + "/cont";
 	ASSERT_EQ(run(out), kExitOk) << m_console;
-	EXPECT_NE(m_console.find("live: the scans start at"), std::string::npos) << m_console;
+	EXPECT_NE(m_console.find("live: the log starts at"), std::string::npos) << m_console;
 	const std::string stats = lrgc::test::readTextFile(out + "/stats.json");
+	EXPECT_NE(stats.find("\"joined\": true"), std::string::npos) << stats;
+	EXPECT_NE(stats.find("\"frame\": \"map\""), std::string::npos) << stats;
 	EXPECT_EQ(jsonInt(stats, "scans"), 150) << stats;
 	const long keyframes = jsonInt(stats, "keyframes");
 	EXPECT_GE(keyframes, before);
 	EXPECT_LE(keyframes, before + before / 4) << "the same path again: keyframes reused";
 	const std::string replay = offline(out, {"--initial-map", m_dir + "/map"});
+	EXPECT_EQ(lines(out + "/trajectory.tum"), lines(replay + "/trajectory.tum"));
+	EXPECT_EQ(lrgc::test::readTextFile(out + "/graph.graph"),
+			  lrgc::test::readTextFile(replay + "/graph.graph"));
+}
+
+// --initial-map where no correlation can pass (max_std_xy_m 0.1 mm, far below any estimate):
+// the session is mapped as a piece of its own from its first scan and never joined; as offline
+// it is kept and saved in its own frame, exit 0, and the live map is the offline one.
+TEST_F(LiveSlamSavedMapTest, KeepsASessionNeverJoined)
+{
+	const long before =
+		jsonInt(lrgc::test::readTextFile(m_dir + "/map/stats.json"), "keyframes");
+	m_setup.config.lrgc.correlator.max_std_xy_m = 1e-4;
+	m_setup.initialMap = loadSavedMap(m_dir + "/map", "--initial-map");
+	const std::string out = m_dir + "/kept";
+	ASSERT_EQ(run(out), kExitOk) << m_console;
+	EXPECT_NE(m_console.find("mapping as a piece not yet joined ("), std::string::npos)
+		<< m_console;
+	EXPECT_NE(m_console.find("live: the log was not joined to the map"), std::string::npos)
+		<< m_console;
+	EXPECT_EQ(m_console.find("no start found"), std::string::npos) << m_console;
+	const std::string stats = lrgc::test::readTextFile(out + "/stats.json");
+	EXPECT_NE(stats.find("\"joined\": false"), std::string::npos) << stats;
+	EXPECT_NE(stats.find("\"frame\": \"the log's own frame (its first scan at"),
+			  std::string::npos)
+		<< stats;
+	EXPECT_GT(jsonInt(stats, "start_attempts"), 0) << stats;
+	EXPECT_EQ(jsonInt(stats, "scans"), 150) << stats;
+	EXPECT_GT(jsonInt(stats, "keyframes"), before) << "the piece's keyframes beside the map";
+	EXPECT_EQ(lines(out + "/trajectory.tum").size(), 150u);
+	const std::string ini = m_dir + "/max_std.ini";
+	lrgc::test::writeTextFile(ini, "[PatchCorrelator]\nmax_std_xy_m = 0.0001\n");
+	const std::string replay = offline(out, {"--initial-map", m_dir + "/map", "--config", ini});
 	EXPECT_EQ(lines(out + "/trajectory.tum"), lines(replay + "/trajectory.tum"));
 	EXPECT_EQ(lrgc::test::readTextFile(out + "/graph.graph"),
 			  lrgc::test::readTextFile(replay + "/graph.graph"));
