@@ -4,6 +4,7 @@
 #include "SlamApp.h"
 #include "live/LiveSlam.h"
 #include "live/LiveSlamTestAccess.h"
+#include "live/LiveSlam_unittest.h"
 
 #include <atomic>
 #include <cstdio>
@@ -21,24 +22,11 @@
 using namespace lrgc::apps;
 using lrgc_test_fakes::laserScript;
 namespace fs = std::filesystem;
+using lrgc::apps::live_test::jsonInt;
+using lrgc::apps::live_test::lines;
 
 namespace
 {
-long jsonInt(const std::string& json, const std::string& key)
-{
-	std::smatch m;
-	if (!std::regex_search(json, m, std::regex("\"" + key + "\": (-?[0-9]+)"))) return -1;
-	return std::stol(m[1]);
-}
-
-std::vector<std::string> lines(const std::string& path)
-{
-	std::ifstream f(path);
-	std::vector<std::string> out;
-	for (std::string l; std::getline(f, l);) out.push_back(l);
-	return out;
-}
-
 /** Runs a live session on the fakes until every scripted scan was handed over. */
 class LiveSlamTest : public ::testing::Test
 {
