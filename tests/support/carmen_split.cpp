@@ -76,6 +76,37 @@ size_t odometryField(const std::vector<std::string>& f)
 	if (f[0] == "FLASER") return 2 + std::stoul(f[1]) + 3;
 	THROW_EXCEPTION_FMT("cutCarmenLog: unexpected line kind '%s'", f[0].c_str());
 }
+
+std::vector<std::string> fieldsOf(const std::string& line)
+{
+	std::istringstream words(line);
+	return {std::istream_iterator<std::string>(words), {}};
+}
+
+// Header lines ('#' comments, PARAM) and empty lines go into every cut as they are.
+bool isHeader(const std::vector<std::string>& f)
+{
+	return f.empty() || f[0][0] == '#' || f[0] == "PARAM";
+}
+
+// The line's odometry pose (and FLASER's laser pose, 3 fields before it) moved by `m`:
+// p' = m (+) p, written with 6 decimals.
+void moveOdometry(std::vector<std::string>& f, const TPose& m)
+{
+	const size_t o = odometryField(f);
+	for (const size_t k : f[0] == "ODOM" ? std::vector<size_t>{o} : std::vector{o - 3, o})
+	{
+		const TPose p = compose(m, {std::stod(f[k]), std::stod(f[k + 1]), std::stod(f[k + 2])});
+		f[k] = mrpt::format("%.6f", p.x), f[k + 1] = mrpt::format("%.6f", p.y),
+		f[k + 2] = mrpt::format("%.6f", p.phi);
+	}
+}
+
+void writeFields(std::ostream& text, const std::vector<std::string>& f)
+{
+	for (size_t k = 0; k < f.size(); ++k) text << (k ? " " : "") << f[k];
+	text << '\n';
+}
 }  // namespace
 
 double cutCarmenLog(const std::string& log, const std::string& out, double from, double to)
@@ -88,9 +119,8 @@ double cutCarmenLog(const std::string& log, const std::string& out, double from,
 	double shift = 0;
 	for (std::string line; std::getline(in, line);)
 	{
-		std::istringstream words(line);
-		std::vector<std::string> f{std::istream_iterator<std::string>(words), {}};
-		if (f.empty() || f[0][0] == '#' || f[0] == "PARAM")
+		std::vector<std::string> f = fieldsOf(line);
+		if (isHeader(f))
 		{
 			text << line << '\n';
 			continue;
@@ -106,17 +136,10 @@ double cutCarmenLog(const std::string& log, const std::string& out, double from,
 		if (stamp < to) continue;
 		if (!after)
 			after = true, shift = stamp - from, moved = compose(lastBefore, inverse(odo));
-		for (const size_t k : f[0] == "ODOM" ? std::vector<size_t>{o} : std::vector{o - 3, o})
-		{
-			const TPose p =
-				compose(moved, {std::stod(f[k]), std::stod(f[k + 1]), std::stod(f[k + 2])});
-			f[k] = std::to_string(p.x), f[k + 1] = std::to_string(p.y),
-			f[k + 2] = std::to_string(p.phi);
-		}
+		moveOdometry(f, moved);
 		for (const size_t k : {f.size() - 3, f.size() - 1})
 			f[k] = mrpt::format("%.6f", std::stod(f[k]) - shift);
-		for (size_t k = 0; k < f.size(); ++k) text << (k ? " " : "") << f[k];
-		text << '\n';
+		writeFields(text, f);
 	}
 	if (!before || !after)
 		THROW_EXCEPTION_FMT("cutCarmenLog: '%s' has no data on both sides of [%.3f, %.3f)",
@@ -136,28 +159,20 @@ size_t cutCarmenScans(const std::string& log, const std::string& out, size_t fir
 	const TPose m{move.x, move.y, move.phi};
 	for (std::string line; std::getline(in, line);)
 	{
-		std::istringstream words(line);
-		std::vector<std::string> f{std::istream_iterator<std::string>(words), {}};
-		if (f.empty() || f[0][0] == '#' || f[0] == "PARAM")
+		std::vector<std::string> f = fieldsOf(line);
+		if (isHeader(f))
 		{
 			text << line << '\n';
 			continue;
 		}
-		const size_t o = odometryField(f);
+		odometryField(f);  // throws on a line kind other than ODOM and FLASER, in range or not
 		const bool isScan = f[0] == "FLASER";
 		const bool inRange = scan >= first && scan < end;
 		scan += isScan;
 		if (!inRange) continue;
 		written += isScan;
-		for (const size_t k : isScan ? std::vector{o - 3, o} : std::vector<size_t>{o})
-		{
-			const TPose p =
-				compose(m, {std::stod(f[k]), std::stod(f[k + 1]), std::stod(f[k + 2])});
-			f[k] = mrpt::format("%.6f", p.x), f[k + 1] = mrpt::format("%.6f", p.y),
-			f[k + 2] = mrpt::format("%.6f", p.phi);
-		}
-		for (size_t k = 0; k < f.size(); ++k) text << (k ? " " : "") << f[k];
-		text << '\n';
+		moveOdometry(f, m);
+		writeFields(text, f);
 	}
 	if (written == 0)
 		THROW_EXCEPTION_FMT("cutCarmenScans: '%s' has no scan in [%zu, %zu)", log.c_str(),
