@@ -175,6 +175,17 @@ private:
 												  const TScan2D& scan,
 												  const mrpt::math::TPose2D& guess,
 												  const TScanMatch& plain);
+	/** A failed plain match retried (registerScan): matchWide over the heading the
+	 * odometry's error may span, kRetryAngle, or kRetryTurnAngle for a step turning more than
+	 * kRetryTurn, with starts kRetryStep apart (LocalRegistration.cpp). */
+	std::optional<TScanMatch> retriedMatch(const CReferenceCloud& cloud, const TScan2D& scan,
+										   const mrpt::math::TPose2D& guess,
+										   const TMotionPrediction& prediction);
+	/** CScanMatcher::matchWide over guess.phi +- angle [rad] with starts `step` [rad] apart
+	 * (0: wide_search_step), run by this thread and the helper. */
+	std::optional<TScanMatch> wideMatch(const CReferenceCloud& cloud, const TScan2D& scan,
+										const mrpt::math::TPose2D& guess, double angle,
+										double step);
 
 	TLocalRegistrationParams m_params;
 	TScanMatcherParams m_matcherParams;
