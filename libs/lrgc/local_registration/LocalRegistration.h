@@ -22,7 +22,10 @@
  * After an override the keyframe's odometry link is down-weighted to the constant-velocity
  * noise so it cannot pull the map. Otherwise the scans win over the odometry, except when the
  * wheels did not move at all: a match moving a robot that stands still is a wrong fit (people
- * walking by, a rotationally ambiguous place), and the prior is kept.
+ * walking by, a rotationally ambiguous place), and the prior is kept. A plain match that fails
+ * on a step nothing made suspect (the wheels moved) is retried by the same search over the
+ * heading the odometry's error may span (retriedMatch), with the same evidence; else the prior
+ * stands.
  *
  * Cost per keyframe: one patch build, at most `max_pairwise_links` pairwise matches against
  * reference clouds cached per window keyframe, and a window solve; none depends on the map
