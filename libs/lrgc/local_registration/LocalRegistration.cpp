@@ -358,8 +358,14 @@ std::optional<TScanMatch> CLocalRegistration::retriedMatch(const CReferenceCloud
 {
 	const double angle =
 		std::abs(prediction.motion.phi) > kRetryTurn ? kRetryTurnAngle : kRetryAngle;
-	return wideMatch(cloud, scan, guess, std::min(angle, m_params.wide_search_angle),
-					 kRetryStep);
+	auto won =
+		wideMatch(cloud, scan, guess, std::min(angle, m_params.wide_search_angle), kRetryStep);
+	// A winner within half a step of the guess's heading is the guess's own start, the basin
+	// the plain match had already reached and failed its checks in (people, clutter): the
+	// prior stands. The retry is for a heading the plain match could not reach.
+	if (won && std::abs(mrpt::math::wrapToPi(won->scanInRef.phi - guess.phi)) <= kRetryStep / 2)
+		return std::nullopt;
+	return won;
 }
 
 std::optional<TScanMatch> CLocalRegistration::wideMatch(const CReferenceCloud& cloud,
