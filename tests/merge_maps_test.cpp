@@ -183,3 +183,39 @@ TEST(RoomMerge, secondHalfInItsOwnFrameLandsOnTheFirstMap)
 	EXPECT_NE(readTextFile(dir + "/merged/stats.json").find("\"joined\": true"),
 			  std::string::npos);
 }
+
+// Bad inputs: one line naming the file (exit 1) or the option (exit 2); nothing written.
+TEST(RoomMerge, badInputsAreNamedAndNothingIsWritten)
+{
+	const std::string dir = makeTempDir("room_merge_bad");
+	writeTextFile(dir + "/room.clf", roomLog());
+	const auto mapped = runProcess(binaryPath("lrgc-slam"),
+								   {"--input", dir + "/room.clf", "--out", dir + "/room", "--quiet"});
+	ASSERT_EQ(mapped.exitCode, 0) << mapped.output;
+	writeTextFile(dir + "/broken.simplemap", "not a simplemap\n");
+	const std::string room = dir + "/room", out = dir + "/out";
+	const struct
+	{
+		std::vector<std::string> args;
+		int exitCode;
+		std::string says;
+	} cases[] = {
+		{{"--merge", room, dir + "/missing", "--out", out}, 1, "'" + dir + "/missing': no such"},
+		{{"--merge", dir + "/broken.simplemap", room, "--out", out},
+		 1,
+		 "'" + dir + "/broken.simplemap': not a readable MRPT CSimpleMap"},
+		{{"--merge", room, "--out", out}, 2, "--merge needs two values"},
+		{{"--merge", room, room}, 2, "--merge needs --out DIR"},
+		{{"--merge", room, room, "--input", dir + "/room.clf", "--out", out},
+		 2,
+		 "--merge takes no --input"},
+	};
+	for (const auto& c : cases)
+	{
+		const auto r = runProcess(binaryPath("lrgc-slam"), c.args);
+		EXPECT_EQ(r.exitCode, c.exitCode) << r.output;
+		EXPECT_NE(r.output.find(c.says), std::string::npos) << r.output;
+		EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+		EXPECT_FALSE(fileExists(out)) << r.output;
+	}
+}
