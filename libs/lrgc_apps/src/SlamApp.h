@@ -10,6 +10,9 @@
  * saying what the log holds, and stats.json only: no empty map. A bad --out is refused before
  * the log is opened.
  *
+ * Merge (--merge MAP_A MAP_B, SlamAppMerge.cpp): the offline loop, its log MAP_B's keyframes
+ * replayed to continue MAP_A (MergeMaps.h); nothing is written unless they join.
+ *
  * Live (--live SENSORS.ini): runs the live runner given at construction. It lives in the
  * separate library lrgc_live (live/LiveSlam.h, runLiveSlam), so that only programs
  * that map live link mrpt::hwdrivers and its hundreds of shared libraries.
