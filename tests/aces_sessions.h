@@ -42,8 +42,9 @@ enum class Relations
 
 /** The relation metric of the trajectories concatenated, over `which` relations. */
 inline eval::TRelationEvaluation evaluate(const std::vector<std::string>& tums,
-								   const std::string& relationsFile, const std::string& tmp,
-								   size_t& considered, Relations which = Relations::All)
+										  const std::string& relationsFile,
+										  const std::string& tmp, size_t& considered,
+										  Relations which = Relations::All)
 {
 	std::string both;
 	std::vector<std::pair<double, double>> spans;

@@ -51,8 +51,8 @@ void mapSession(const std::string& dir, const std::string& name, size_t first, s
 	const std::string log = dir + "/" + name + ".clf";
 	cutCarmenScans(sharedDatasetPath("aces/aces.clf.gz"), log, first, end,
 				   first == 0 ? TOdometryMove{} : kMoveB);
-	const auto r =
-		runProcess(binaryPath("lrgc-slam"), {"--input", log, "--out", dir + "/" + name, "--quiet"});
+	const auto r = runProcess(binaryPath("lrgc-slam"),
+							  {"--input", log, "--out", dir + "/" + name, "--quiet"});
 	ASSERT_EQ(r.exitCode, 0) << r.output;
 }
 
@@ -98,7 +98,8 @@ TEST_F(AcesMerge, overlappingMapsBecomeOneInTheFirstsFrame)
 	const std::string a = m_dir + "/a", b = m_dir + "/b", m = m_dir + "/merged";
 	const auto r = runProcess(binaryPath("lrgc-slam"), {"--merge", a, b, "--out", m});
 	ASSERT_EQ(r.exitCode, 0) << r.output;
-	EXPECT_NE(r.output.find("placed in '" + a + "' at (A <- B)"), std::string::npos) << r.output;
+	EXPECT_NE(r.output.find("placed in '" + a + "' at (A <- B)"), std::string::npos)
+		<< r.output;
 	const std::string stats = readTextFile(m + "/stats.json");
 	EXPECT_NE(stats.find("\"merge\": {\"map_a\""), std::string::npos) << stats;
 	EXPECT_NE(stats.find("\"joined\": true, \"joined_after_keyframes\""), std::string::npos)
@@ -167,9 +168,9 @@ TEST(RoomMerge, secondHalfInItsOwnFrameLandsOnTheFirstMap)
 	cutCarmenScans(dir + "/room.clf", dir + "/b.clf", 40, SIZE_MAX, {5.0, -3.0, 1.0});
 	for (const char* name : {"room", "b"})
 	{
-		const auto r = runProcess(binaryPath("lrgc-slam"),
-								  {"--input", dir + "/" + name + ".clf", "--out",
-								   dir + "/" + name, "--quiet"});
+		const auto r = runProcess(
+			binaryPath("lrgc-slam"),
+			{"--input", dir + "/" + name + ".clf", "--out", dir + "/" + name, "--quiet"});
 		ASSERT_EQ(r.exitCode, 0) << r.output;
 	}
 	const auto r = runProcess(binaryPath("lrgc-slam"),
@@ -190,8 +191,9 @@ TEST(RoomMerge, badInputsAreNamedAndNothingIsWritten)
 {
 	const std::string dir = makeTempDir("room_merge_bad");
 	writeTextFile(dir + "/room.clf", roomLog());
-	const auto mapped = runProcess(binaryPath("lrgc-slam"),
-								   {"--input", dir + "/room.clf", "--out", dir + "/room", "--quiet"});
+	const auto mapped =
+		runProcess(binaryPath("lrgc-slam"),
+				   {"--input", dir + "/room.clf", "--out", dir + "/room", "--quiet"});
 	ASSERT_EQ(mapped.exitCode, 0) << mapped.output;
 	writeTextFile(dir + "/broken.simplemap", "not a simplemap\n");
 	const std::string room = dir + "/room", out = dir + "/out";
@@ -201,7 +203,9 @@ TEST(RoomMerge, badInputsAreNamedAndNothingIsWritten)
 		int exitCode;
 		std::string says;
 	} cases[] = {
-		{{"--merge", room, dir + "/missing", "--out", out}, 1, "'" + dir + "/missing': no such"},
+		{{"--merge", room, dir + "/missing", "--out", out},
+		 1,
+		 "'" + dir + "/missing': no such"},
 		{{"--merge", dir + "/broken.simplemap", room, "--out", out},
 		 1,
 		 "'" + dir + "/broken.simplemap': not a readable MRPT CSimpleMap"},
@@ -230,12 +234,12 @@ TEST(SenaMerge, aMapMergedWithItselfLandsOnItselfAndHardlyGrows)
 {
 	LRGC_SKIP_IF_MISSING(senaRawlogPath());
 	const std::string dir = makeTempDir("sena_merge");
-	const auto mapped = runProcess(binaryPath("lrgc-slam"),
-								   {"--input", senaRawlogPath(), "--out", dir + "/a", "--quiet"});
+	const auto mapped = runProcess(
+		binaryPath("lrgc-slam"), {"--input", senaRawlogPath(), "--out", dir + "/a", "--quiet"});
 	ASSERT_EQ(mapped.exitCode, 0) << mapped.output;
-	const auto r = runProcess(binaryPath("lrgc-slam"), {"--merge", dir + "/a",
-														dir + "/a/map.simplemap.gz", "--out",
-														dir + "/m", "--quiet"});
+	const auto r = runProcess(
+		binaryPath("lrgc-slam"),
+		{"--merge", dir + "/a", dir + "/a/map.simplemap.gz", "--out", dir + "/m", "--quiet"});
 	ASSERT_EQ(r.exitCode, 0) << r.output;
 	const std::string stats = readTextFile(dir + "/m/stats.json");
 	const long keyframesA = jsonInt(readTextFile(dir + "/a/stats.json"), "keyframes");
@@ -247,8 +251,8 @@ TEST(SenaMerge, aMapMergedWithItselfLandsOnItselfAndHardlyGrows)
 	size_t close = 0;
 	for (const auto& p : m.poses())
 		if (const auto q = a.poseAt(p.t); q && q->how == eval::TPoseLookup::Exact)
-			close += std::hypot(p.pose.x - q->pose.x, p.pose.y - q->pose.y) < 0.03 &&
-					 std::abs(mrpt::math::wrapToPi(p.pose.phi - q->pose.phi)) <
-						 mrpt::DEG2RAD(0.5);
+			close +=
+				std::hypot(p.pose.x - q->pose.x, p.pose.y - q->pose.y) < 0.03 &&
+				std::abs(mrpt::math::wrapToPi(p.pose.phi - q->pose.phi)) < mrpt::DEG2RAD(0.5);
 	EXPECT_GE(double(close), 0.98 * double(keyframesA));
 }

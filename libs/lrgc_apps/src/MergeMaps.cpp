@@ -26,7 +26,8 @@ mrpt::Clock::time_point frameStamp(const mrpt::obs::CSensoryFrame& sf)
 }
 }  // namespace
 
-CKeyframeReplay::CKeyframeReplay(const TSavedMap& map) : CLogReader(map.path), m_map(map.keyframes)
+CKeyframeReplay::CKeyframeReplay(const TSavedMap& map)
+	: CLogReader(map.path), m_map(map.keyframes)
 {
 }
 
@@ -77,8 +78,9 @@ TTrajectory rehangTrajectory(const TTrajectory& dense, const TTrajectory& before
 	std::vector<std::pair<mrpt::Clock::time_point, mrpt::math::TPose2D>> moves;
 	for (const TStampedPose& b : before)
 	{
-		const auto it = std::find_if(after.begin(), after.end(), [&](const TStampedPose& a)
-									 { return a.timestamp == b.timestamp; });
+		const auto it =
+			std::find_if(after.begin(), after.end(),
+						 [&](const TStampedPose& a) { return a.timestamp == b.timestamp; });
 		if (it != after.end())
 			moves.emplace_back(b.timestamp, compose(it->robotInMap, inverse(b.robotInMap)));
 	}
@@ -92,8 +94,8 @@ TTrajectory rehangTrajectory(const TTrajectory& dense, const TTrajectory& before
 		auto hi = std::lower_bound(moves.begin(), moves.end(), p.timestamp,
 								   [](const auto& m, mrpt::Clock::time_point t)
 								   { return m.first < t; });
-		if (hi == moves.end() ||
-			(hi != moves.begin() && p.timestamp - std::prev(hi)->first < hi->first - p.timestamp))
+		if (hi == moves.end() || (hi != moves.begin() &&
+								  p.timestamp - std::prev(hi)->first < hi->first - p.timestamp))
 			hi = std::prev(hi);
 		out.push_back({p.timestamp, compose(hi->second, p.robotInMap)});
 	}

@@ -46,8 +46,8 @@ public:
 
 private:
 	const mrpt::maps::CSimpleMap& m_map;
-	size_t m_next = 0;           //!< the keyframe whose entries come next
-	bool m_frameDue = false;     //!< its odometry was given: its sensory frame comes next
+	size_t m_next = 0;        //!< the keyframe whose entries come next
+	bool m_frameDue = false;  //!< its odometry was given: its sensory frame comes next
 	TTrajectory m_poses;
 };
 

@@ -55,7 +55,8 @@ TEST(KeyframeReplay, givesEachKeyframesPoseAsOdometryThenItsFrame)
 	{
 		auto odo = replay.next();
 		ASSERT_TRUE(odo && odo->observation);
-		const auto o = std::dynamic_pointer_cast<mrpt::obs::CObservationOdometry>(odo->observation);
+		const auto o =
+			std::dynamic_pointer_cast<mrpt::obs::CObservationOdometry>(odo->observation);
 		ASSERT_TRUE(o);
 		expectNear(o->odometry.asTPose(), TPose2D(k, 0, 0.1 * k));
 		EXPECT_EQ(mrpt::Clock::toDouble(o->timestamp), 100.0 + k);

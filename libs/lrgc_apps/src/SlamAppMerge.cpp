@@ -38,7 +38,8 @@ std::string mergingMessage(const TMergeInputs& in, const CMetricMapBuilderLRGC& 
 	return mrpt::format(
 		"merging '%s' (%zu keyframes) into '%s' (%zu keyframes): its keyframes are replayed "
 		"as a piece until global correlation places them in that map's frame",
-		in.b.path.c_str(), in.b.keyframes.size(), in.a.path.c_str(), builder.graph().numNodes());
+		in.b.path.c_str(), in.b.keyframes.size(), in.a.path.c_str(),
+		builder.graph().numNodes());
 }
 
 std::string noOverlapMessage(const TSlamCommandLine& cl, const TRunSummary& run)

@@ -52,7 +52,8 @@ int CSlamApp::continueInitialMap(const TSavedMap& map, const TAppConfig& cfg,
 		try
 		{
 			join = joiner.service(builder, now);
-			if (join) run.pieceInMap = builder.joinPiece(join->node, join->nodeInMap, join->cov);
+			if (join)
+				run.pieceInMap = builder.joinPiece(join->node, join->nodeInMap, join->cov);
 		}
 		catch (const std::exception& e)
 		{
@@ -64,9 +65,9 @@ int CSlamApp::continueInitialMap(const TSavedMap& map, const TAppConfig& cfg,
 		report("lrgc-slam: " + (merging ? mergeJoinMessage(run) : joined));
 		return kExitOk;
 	};
-	int exitCode = mapLog(reader, builder, progress, run, signals, [&]() {
-		return joinIfFound(mrpt::Clock::toDouble(builder.lastScanTimestamp()));
-	});
+	int exitCode = mapLog(
+		reader, builder, progress, run, signals,
+		[&]() { return joinIfFound(mrpt::Clock::toDouble(builder.lastScanTimestamp())); });
 	// A merge has no later data to wait for: the search in hand is taken whenever it ends
 	// (and a patch still due is tried), rather than dropped with the log's end.
 	for (int i = 0; merging && exitCode == kExitOk && i < 2 && !signals.stopRequested(); ++i)
