@@ -76,9 +76,11 @@ TEST(AcesPieces, secondSessionStartingOutsideTheMapJoinsIt)
 	EXPECT_GT(considered, 900U);
 	EXPECT_GT(across, 10U);
 	EXPECT_GE(coverage, 0.99);
-	// The bar over the relations within the sessions (measured 0.0369 m). Over all of
-	// them, the 20 that join the sessions too, 0.0377 m: the whole log mapped in one run
-	// scores 0.0375 m on the same relations and 0.0795 m on those 20 (joined: 0.0786 m).
+	// The bar over the relations within the sessions (measured 0.0364 m). Over all of
+	// them, the 20 that join the sessions too: 0.0373 m, but 0.0370-0.0379 with B starting at
+	// another scan in 2900-3000 (the whole log in one run: 0.0372 m on the same relations,
+	// 0.0787 m on those 20; joined: 0.0789 m), so that bar is not asserted:
+	// doc/localization.md "What the joined figure is made of".
 	EXPECT_LE(evWithin.trans_m.mean, 0.0375);
 	EXPECT_LE(evAcross.trans_m.mean, 0.10);
 }
