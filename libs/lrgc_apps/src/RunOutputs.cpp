@@ -387,7 +387,10 @@ void writeSnapshotOutputs(const TRunOutputsSnapshot& s, const std::string& outDi
 	// graph-slam (which keeps one edge per pair) finds our poses (GraphExport.h).
 	writeGraph(toMrptLeastSquares(s.graph, s.optimizer), path("graph.graph"));
 	// The whole graph (link types, disabled links), for --initial-map: SavedMap.h.
-	writeTextFileAtomically(path(kPoseGraphFile), poseGraphToText(s.graph, s.lasers.label()));
+	std::vector<size_t> sessions;
+	for (const auto& k : s.gridKeyframes) sessions.push_back(k.session);
+	writeTextFileAtomically(path(kPoseGraphFile),
+							poseGraphToText(s.graph, s.lasers.label(), sessions));
 	writeSimplemap(s.keyframes, path("map.simplemap.gz"));
 	writeMrptClientFiles(s, outDir);  // pf-localization.ini, observations2map.ini
 }
