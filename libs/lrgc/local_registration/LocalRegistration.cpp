@@ -24,6 +24,12 @@ namespace
 const double kSecondOpinionTurn = mrpt::DEG2RAD(10.0);
 /** [m] ... or shifts it by more than this (0 to 2 matches per benchmark log beyond it). */
 constexpr double kSecondOpinionShift = 0.3;
+
+/** A step the wheels did not make: under 1 mm and 1 mrad (encoder ticks round to zero). */
+bool isZeroStep(const mrpt::math::TPose2D& motion)
+{
+	return translationNorm(motion) < 1e-3 && std::abs(motion.phi) < 1e-3;
+}
 }  // namespace
 
 CLocalRegistration::CLocalRegistration(const TLocalRegistrationParams& p,
@@ -243,6 +249,7 @@ TRegistration CLocalRegistration::registerScan(const CPoseGraph& graph,
 	m_lastPatchMatch.reset();
 	resizeWindowFor(prediction);
 	if (m_window.empty()) return reg;  // no keyframe of this session yet
+	if (auto still = stillRegistration(graph, prediction)) return *still;
 	const CReferenceCloud& cloud = windowCloud(graph, keyframes);
 	const TPose2D newestInMap = graph.pose(*m_cloudNewest);
 	const TPose2D guess = between(newestInMap, priorInMap);
@@ -281,8 +288,7 @@ TRegistration CLocalRegistration::registerScan(const CPoseGraph& graph,
 	// Wheels that did not turn at all are the one odometry reading to trust over a match
 	// that moves the robot: such a match is a wrong fit (people walking by a robot that
 	// stands still, a rotationally ambiguous place); keep the prior.
-	else if (disagrees && translationNorm(prediction.motion) < 1e-3 &&
-			 std::abs(prediction.motion.phi) < 1e-3)
+	else if (disagrees && isZeroStep(prediction.motion))
 		match.reset();
 	// A suspect step whose plain match agrees with the prior: the prior itself may be what is
 	// wrong (sparse scans on MIT-CSAIL: odometry that stalled reads -2.6 deg where the robot
@@ -293,6 +299,7 @@ TRegistration CLocalRegistration::registerScan(const CPoseGraph& graph,
 		if (auto wide = overrulingWideMatch(cloud, scan, guess, *match))
 			match = std::move(wide), reg.wideSearch = true;
 	}
+	m_lastAccepted.reset();
 	if (!match) return reg;
 
 	reg.matched = true;
@@ -301,8 +308,32 @@ TRegistration CLocalRegistration::registerScan(const CPoseGraph& graph,
 	if (prediction.fromOdometry)
 		m_lastPatchMatch = TPatchMatch{*m_cloudNewest, match->scanInRef, match->cov};
 	reg.odometryRejected = disagreement(*match) > m_params.glitch_gate_chi2;
+	if (!reg.odometryRejected && !reg.wideSearch)
+		m_lastAccepted = TPatchMatch{*m_cloudNewest, match->scanInRef, match->cov};
 	reg.scanInMap = compose(newestInMap, match->scanInRef);
 	reg.cov = rotateCovariance(match->cov, newestInMap.phi);  // newest keyframe's axes -> map's
+	return reg;
+}
+
+std::optional<TRegistration> CLocalRegistration::stillRegistration(
+	const CPoseGraph& graph, const TMotionPrediction& prediction)
+{
+	// Only wheels that really report no motion (odometry, no jump), and only while the patch
+	// the last match was made against is the one in use (m_cloudNewest is reset whenever the
+	// window or its poses change).
+	if (!m_params.reuse_match_when_still || !m_lastAccepted || !prediction.fromOdometry ||
+		prediction.odometryJump || !isZeroStep(prediction.motion) ||
+		m_cloudNewest != m_lastAccepted->node)
+		return std::nullopt;
+	// (node <- scan) = (node <- last scan) (+) (last scan <- scan); the covariance is the
+	// last match's, rotated from the node's axes to the map's.
+	m_lastAccepted->scanInNode = compose(m_lastAccepted->scanInNode, prediction.motion);
+	m_lastPatchMatch = m_lastAccepted;
+	const TPose2D nodeInMap = graph.pose(m_lastAccepted->node);
+	TRegistration reg;
+	reg.scanInMap = compose(nodeInMap, m_lastAccepted->scanInNode);
+	reg.cov = rotateCovariance(m_lastAccepted->cov, nodeInMap.phi);
+	reg.matched = true;
 	return reg;
 }
 
