@@ -12,18 +12,15 @@
  *    over its own relations no worse than 1.1 times that of the same scans mapped alone.
  * Skips where the shared benchmark logs are absent. */
 #include <gtest/gtest.h>
-#include <lrgc_apps/eval/relation_metric.h>
-#include <lrgc_apps/eval/trajectory.h>
 
 #include <algorithm>
-#include <sstream>
 
+#include "aces_sessions.h"
 #include "app_runner.h"
 #include "carmen_split.h"
 #include "test_data.h"
 
 using namespace lrgc::test;
-namespace eval = lrgc::apps::eval;
 
 namespace
 {
@@ -47,57 +44,6 @@ TAcesSessionA sessionAMapped(const std::string& name)
 	return a;
 }
 
-/** The first and last stamps of a trajectory.tum [s]. */
-std::pair<double, double> span(const std::string& tum)
-{
-	std::istringstream in(readTextFile(tum));
-	double first = -1, last = -1;
-	for (std::string line; std::getline(in, line);)
-		if (!line.empty() && line[0] != '#')
-		{
-			last = std::stod(line.substr(0, line.find(' ')));
-			if (first < 0) first = last;
-		}
-	return {first, last};
-}
-
-/** Which relations to evaluate: those with both ends within one session's span, those with
- * their ends in two sessions, or both (the metric would interpolate across a gap). */
-enum class Relations
-{
-	WithinSessions,
-	AcrossSessions,
-	All
-};
-
-/** The relation metric of the trajectories concatenated, over `which` relations. */
-eval::TRelationEvaluation evaluate(const std::vector<std::string>& tums,
-								   const std::string& relationsFile, const std::string& tmp,
-								   size_t& considered, Relations which = Relations::All)
-{
-	std::string both;
-	std::vector<std::pair<double, double>> spans;
-	for (const auto& t : tums) both += readTextFile(t), spans.push_back(span(t));
-	writeTextFile(tmp, both);
-	const auto session = [&](double t)
-	{
-		for (size_t i = 0; i < spans.size(); ++i)
-			if (t >= spans[i].first && t <= spans[i].second) return int(i);
-		return -1;
-	};
-	const auto wanted = [&](const eval::TRelation& r)
-	{
-		const int a = session(r.t1), b = session(r.t2);
-		if (a < 0 || b < 0) return false;
-		return which == Relations::All || (which == Relations::WithinSessions) == (a == b);
-	};
-	auto relations = eval::loadRelations(relationsFile);
-	relations.erase(std::remove_if(relations.begin(), relations.end(),
-								   [&](const eval::TRelation& r) { return !wanted(r); }),
-					relations.end());
-	considered = relations.size();
-	return eval::evaluateRelations(eval::CTrajectory2D::loadFromFile(tmp), relations);
-}
 }  // namespace
 
 TEST(AcesPieces, secondSessionStartingOutsideTheMapJoinsIt)
@@ -130,9 +76,11 @@ TEST(AcesPieces, secondSessionStartingOutsideTheMapJoinsIt)
 	EXPECT_GT(considered, 900U);
 	EXPECT_GT(across, 10U);
 	EXPECT_GE(coverage, 0.99);
-	// The bar over the relations within the sessions (measured 0.0369 m). Over all of
-	// them, the 20 that join the sessions too, 0.0377 m: the whole log mapped in one run
-	// scores 0.0375 m on the same relations and 0.0795 m on those 20 (joined: 0.0786 m).
+	// The bar over the relations within the sessions (measured 0.0364 m). Over all of
+	// them, the 20 that join the sessions too: 0.0373 m, but 0.0370-0.0379 with B starting at
+	// another scan in 2900-3000 (the whole log in one run: 0.0372 m on the same relations,
+	// 0.0787 m on those 20; joined: 0.0789 m), so that bar is not asserted:
+	// doc/localization.md "What the joined figure is made of".
 	EXPECT_LE(evWithin.trans_m.mean, 0.0375);
 	EXPECT_LE(evAcross.trans_m.mean, 0.10);
 }

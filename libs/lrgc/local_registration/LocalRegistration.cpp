@@ -39,10 +39,10 @@ const double kRetryTurn = mrpt::DEG2RAD(10.0);
  * with twice the gate, 1 m: 2.9 deg at 20 m). */
 const double kRetryStep = mrpt::DEG2RAD(2.5);
 
-/** Wheels that did not turn at all (the predicted step below 1 mm and 1 mrad). */
-bool wheelsStill(const TMotionPrediction& prediction)
+/** A step the wheels did not make: under 1 mm and 1 mrad (encoder ticks round to zero). */
+bool isZeroStep(const mrpt::math::TPose2D& motion)
 {
-	return translationNorm(prediction.motion) < 1e-3 && std::abs(prediction.motion.phi) < 1e-3;
+	return translationNorm(motion) < 1e-3 && std::abs(motion.phi) < 1e-3;
 }
 }  // namespace
 
@@ -263,6 +263,7 @@ TRegistration CLocalRegistration::registerScan(const CPoseGraph& graph,
 	m_lastPatchMatch.reset();
 	resizeWindowFor(prediction);
 	if (m_window.empty()) return reg;  // no keyframe of this session yet
+	if (auto still = stillRegistration(graph, prediction)) return *still;
 	const CReferenceCloud& cloud = windowCloud(graph, keyframes);
 	const TPose2D newestInMap = graph.pose(*m_cloudNewest);
 	const TPose2D guess = between(newestInMap, priorInMap);
@@ -281,7 +282,7 @@ TRegistration CLocalRegistration::registerScan(const CPoseGraph& graph,
 	const bool suspect = std::abs(prediction.motion.phi) > m_params.glitch_min_turn ||
 						 prediction.stepSeconds > m_params.glitch_min_gap_s ||
 						 prediction.odometryJump;
-	const bool standstill = wheelsStill(prediction);
+	const bool standstill = isZeroStep(prediction.motion);
 	// Nothing made the odometry suspect, yet the match turns the robot by more than
 	// kSecondOpinionTurn against it, or shifts it by more than kSecondOpinionShift: people or a
 	// repetitive scene (a hall's pillar rows) can pull a plain match into another basin, and
@@ -319,6 +320,7 @@ TRegistration CLocalRegistration::registerScan(const CPoseGraph& graph,
 		if (auto wide = overrulingWideMatch(cloud, scan, guess, *match))
 			match = std::move(wide), reg.wideSearch = true;
 	}
+	m_lastAccepted.reset();
 	if (!match) return reg;
 
 	reg.matched = true;
@@ -327,8 +329,32 @@ TRegistration CLocalRegistration::registerScan(const CPoseGraph& graph,
 	if (prediction.fromOdometry)
 		m_lastPatchMatch = TPatchMatch{*m_cloudNewest, match->scanInRef, match->cov};
 	reg.odometryRejected = disagreement(*match) > m_params.glitch_gate_chi2;
+	if (!reg.odometryRejected && !reg.wideSearch)
+		m_lastAccepted = TPatchMatch{*m_cloudNewest, match->scanInRef, match->cov};
 	reg.scanInMap = compose(newestInMap, match->scanInRef);
 	reg.cov = rotateCovariance(match->cov, newestInMap.phi);  // newest keyframe's axes -> map's
+	return reg;
+}
+
+std::optional<TRegistration> CLocalRegistration::stillRegistration(
+	const CPoseGraph& graph, const TMotionPrediction& prediction)
+{
+	// Only wheels that really report no motion (odometry, no jump), and only while the patch
+	// the last match was made against is the one in use (m_cloudNewest is reset whenever the
+	// window or its poses change).
+	if (!m_params.reuse_match_when_still || !m_lastAccepted || !prediction.fromOdometry ||
+		prediction.odometryJump || !isZeroStep(prediction.motion) ||
+		m_cloudNewest != m_lastAccepted->node)
+		return std::nullopt;
+	// (node <- scan) = (node <- last scan) (+) (last scan <- scan); the covariance is the
+	// last match's, rotated from the node's axes to the map's.
+	m_lastAccepted->scanInNode = compose(m_lastAccepted->scanInNode, prediction.motion);
+	m_lastPatchMatch = m_lastAccepted;
+	const TPose2D nodeInMap = graph.pose(m_lastAccepted->node);
+	TRegistration reg;
+	reg.scanInMap = compose(nodeInMap, m_lastAccepted->scanInNode);
+	reg.cov = rotateCovariance(m_lastAccepted->cov, nodeInMap.phi);
+	reg.matched = true;
 	return reg;
 }
 

@@ -207,6 +207,13 @@ private:
 		Eigen::Matrix3d cov;
 	};
 	std::optional<TPatchMatch> m_lastPatchMatch;
+	/** The last scan's registration if it was an accepted plain match (not refused by the
+	 * gate, not from the wide search): what a scan that stands still reuses. */
+	std::optional<TPatchMatch> m_lastAccepted;
+	/** A scan whose wheels did not turn, against the patch its predecessor was matched to:
+	 * that match moved by the odometry step (reuse_match_when_still); else nullopt. */
+	std::optional<TRegistration> stillRegistration(const CPoseGraph& graph,
+												   const TMotionPrediction& prediction);
 
 	CReferenceCloud m_cloud;              //!< window patch in the frame of node *m_cloudNewest
 	std::optional<size_t> m_cloudNewest;  //!< reset whenever the window or its poses change

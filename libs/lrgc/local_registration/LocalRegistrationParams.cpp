@@ -45,6 +45,7 @@ void TLocalRegistrationParams::loadFromConfigFile(const mrpt::config::CConfigFil
 	pairwise_link_weight = readDouble(c, s, "pairwise_link_weight", pairwise_link_weight);
 	requireParam(pairwise_link_weight > 0 && pairwise_link_weight <= 1, s,
 				 "pairwise_link_weight", "must be in (0, 1]");
+	reuse_match_when_still = readBool(c, s, "reuse_match_when_still", reuse_match_when_still);
 	requireParam(wide_search_angle >= 0 && wide_search_angle <= M_PI, s,
 				 "wide_search_angle_deg", "must be in [0, 180]");
 }
@@ -82,6 +83,9 @@ void TLocalRegistrationParams::saveToConfigFile(mrpt::config::CConfigFileBase& c
 	writeValue(c, s, "pairwise_link_weight", pairwise_link_weight,
 			   "Pairwise (scan to scan) links' information is scaled by this, after the split "
 			   "among them");
+	writeValue(c, s, "reuse_match_when_still", reuse_match_when_still,
+			   "A scan with a zero odometry step takes the last match's pose relative to the "
+			   "unchanged window instead of being matched again");
 }
 
 }  // namespace lrgc

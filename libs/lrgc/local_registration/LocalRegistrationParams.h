@@ -51,6 +51,12 @@ struct TLocalRegistrationParams : public mrpt::config::CLoadableOptions
 	 * 1000 scans, median, at 0.05); at 0.05 they mainly hold the window where the patch match
 	 * fails (doc/architecture.md). */
 	double pairwise_link_weight = 0.05;
+	/** A scan whose odometry step is zero (wheels that did not turn: under 1 mm and 1 mrad)
+	 * is not matched again while the window and its poses are unchanged: it takes the last
+	 * accepted match's pose relative to the window, composed with that step, and its
+	 * covariance. Such a match would only re-measure the same pose (the wheels already
+	 * overrule one that moves the robot); ACES stands still for 35 % of its scans. */
+	bool reuse_match_when_still = true;
 
 	void loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
 							const std::string& s) override;

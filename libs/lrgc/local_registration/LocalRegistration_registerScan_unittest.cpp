@@ -220,3 +220,56 @@ TEST(LocalRegistration, aFailedPlainMatchIsRetriedOverTheOdometrysHeadingError)
 		EXPECT_LT(headingError(scanTruth, r.scanInMap), kTolPhi);
 	}
 }
+
+// reuse_match_when_still: a robot whose wheels report no motion keeps the last match's pose
+// relative to the unchanged window; a re-match of another scan from there would move it by
+// the scans' noise. Moving the window (invalidate) or a real step makes the scan match again.
+TEST(LocalRegistration, aScanThatStandsStillReusesTheLastMatchWhileTheWindowIsUnchanged)
+{
+	const TKnownRun run;
+	const auto& truth = run.tr.truePoses;
+	CPoseGraph graph;
+	TKeyframes keyframes;
+	for (size_t i = 0; i < 6; ++i)
+		graph.addNode(truth[i]), keyframes.push_back(run.keyframes[i]);
+	const TPose2D scanTruth = compose(truth[5], TPose2D(0.15, 0, 0));
+	std::mt19937 rng(5);
+	const TScan2D first = lrgc::test::simulateScan(run.world, scanTruth, {}, rng);
+	const TScan2D second = lrgc::test::simulateScan(run.world, scanTruth, {}, rng);
+	const auto odometryStep = [](const TPose2D& motion)
+	{
+		lrgc::TMotionPrediction m;
+		m.motion = motion;
+		m.cov = Eigen::Vector3d(1e-4, 1e-4, 1e-4).asDiagonal();
+		m.fromOdometry = true;
+		m.stepSeconds = 0.2;
+		return m;
+	};
+	const TPose2D still(0, 0, 0), creep(0.002, 0, 0);
+	const auto run2 = [&](bool reuse, bool moveWindow, const TPose2D& step)
+	{
+		TStageParams p;
+		p.local.reuse_match_when_still = reuse;
+		CLocalRegistration local(p.local, p.matcher, p.optimizer);
+		for (size_t i = 0; i < 6; ++i) local.enterKeyframe(i, false, graph);
+		const TPose2D prior = compose(scanTruth, TPose2D(0.03, -0.02, 0.01));
+		const TRegistration a = local.registerScan(graph, keyframes, first, prior,
+												   odometryStep(TPose2D(0.15, 0, 0)));
+		if (moveWindow) local.invalidate();
+		const TRegistration b = local.registerScan(
+			graph, keyframes, second, compose(a.scanInMap, step), odometryStep(step));
+		EXPECT_TRUE(a.matched && b.matched);
+		EXPECT_LT(positionError(scanTruth, b.scanInMap), 0.02);
+		return std::make_pair(a, b);
+	};
+	const auto [a, b] = run2(true, false, still);
+	EXPECT_EQ(b.scanInMap, a.scanInMap);
+	EXPECT_TRUE(b.cov.isApprox(a.cov));
+	// Matched again: the second scan's own noise moves the pose (by micrometres at least).
+	const auto differs = [](const TRegistration& x, const TRegistration& y)
+	{ return !(x.scanInMap == y.scanInMap); };
+	EXPECT_TRUE(std::apply(differs, run2(false, false, still)));
+	EXPECT_TRUE(std::apply(differs, run2(true, true, still)));
+	const auto [c, d] = run2(true, false, creep);
+	EXPECT_FALSE(d.scanInMap == compose(c.scanInMap, creep));
+}

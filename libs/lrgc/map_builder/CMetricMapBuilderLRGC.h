@@ -126,9 +126,12 @@ public:
 	/** Continues a map saved by lrgc exactly: the keyframes of `keyframes` (entry i = node i)
 	 * with the graph `graph` (poses, links, link types, disabled links;
 	 * lrgc_apps/io/PoseGraphText.h) as they were. `laserLabel`: the scans to take from each
-	 * entry (empty: the first one). Throws if the sizes differ or an entry has no such scan. */
+	 * entry (empty: the first one). `sessions`: each node's mapping session as saved
+	 * (TKeyframe::session; empty: all 0); this run maps the session after the newest. Throws
+	 * if the sizes differ or an entry has no such scan. */
 	void initialize(const mrpt::maps::CSimpleMap& keyframes, const CPoseGraph& graph,
-					const std::string& laserLabel = {});
+					const std::string& laserLabel = {},
+					const std::vector<size_t>& sessions = {});
 	/** The next scan starts a new session at `scanInMap` (from global localisation, with its
 	 * covariance `cov` [m^2, rad^2]): it becomes a keyframe linked to the old map by a scan
 	 * match against the old keyframes around it (by `cov` if that fails), and the local

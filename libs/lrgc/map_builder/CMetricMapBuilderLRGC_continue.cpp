@@ -205,18 +205,28 @@ void CMetricMapBuilderLRGC::initialize(const mrpt::maps::CSimpleMap& initialMap,
 }
 
 void CMetricMapBuilderLRGC::initialize(const mrpt::maps::CSimpleMap& keyframes,
-									   const CPoseGraph& graph, const std::string& laserLabel)
+									   const CPoseGraph& graph, const std::string& laserLabel,
+									   const std::vector<size_t>& sessions)
 {
 	if (keyframes.size() != graph.numNodes())
 		THROW_EXCEPTION_FMT(
 			"the saved map has %zu keyframes but its graph %zu nodes: they are not of the same "
 			"run",
 			keyframes.size(), graph.numNodes());
+	if (!sessions.empty() && sessions.size() != graph.numNodes())
+		THROW_EXCEPTION_FMT("the saved map's graph has %zu nodes but %zu sessions",
+							graph.numNodes(), sessions.size());
 	const auto lock = lockMap();
 	resetState();
 	adoptKeyframes(keyframes, laserLabel, true);
-	m_session = m_keyframes.empty() ? 0 : 1;  // the map's keyframes are session 0
-	m_graph = graph;                          // the poses and links exactly as saved
+	// The map's keyframes keep their sessions (0 where none is saved); this run is the next.
+	m_session = m_keyframes.empty() ? 0 : 1;
+	for (size_t i = 0; i < sessions.size(); ++i)
+	{
+		m_keyframes[i].session = sessions[i];
+		m_session = std::max(m_session, sessions[i] + 1);
+	}
+	m_graph = graph;  // the poses and links exactly as saved
 	enterNewestKeyframes();
 	if (m_graph.numNodes() > 0)
 	{

@@ -15,8 +15,14 @@
  * refines it to Z', every node of the piece moves by
  *     (map <- piece) = Z' (+) X_k^-1,    X_i <- (map <- piece) (+) X_i,
  * (the scans hang from their keyframes and follow), and a loop link ties k to the nearest map
- * keyframe. The loop closer's copy of the graph takes the moved poses with its next job, and
- * from then on its searches reach the old map through that link. A piece never joined stays
+ * keyframe. Then the joined map is re-matched (the paper's re-matching after a loop closure,
+ * 2.2): CRevisitLinker's sweep, as at the end of a run, links every keyframe to the nearest
+ * older one that now lies within its radius and passes its scan match and gate, so where the
+ * piece has already driven over the map's ground it is tied there by many links at once, not
+ * by the one join link until the loop closer finds the others (ACES split, six starts of the
+ * second session: the relation error over both sessions lower in five, by 0.00013 m on
+ * average). The loop closer's copy of the graph takes the moved poses and the new links with
+ * its next job, and from then on its searches reach the old map through them. A piece never joined stays
  * in its own frame: finish() optimises each part with its own first node held fixed, and the
  * revisit sweep links no pair across the two.
  */
@@ -27,11 +33,27 @@
 #include <lrgc/local_registration/MotionPredictor.h>
 #include <lrgc/local_registration/SweepEstimator.h>
 #include <lrgc/loop_closing/LoopClosing.h>
+#include <lrgc/loop_closing/RevisitLinker.h>
 #include <lrgc/map_builder/KeyframeReuse.h>
 
 namespace lrgc
 {
 using mrpt::math::TPose2D;
+
+namespace
+{
+/** The re-matching of a map just joined: the revisit sweep over the whole graph (no split:
+ * one frame now), links only (the loop closer's next solve and the final one use them).
+ * Returns the links added; none where `[RevisitLinker] enabled` is off. */
+size_t rematchJoinedMap(const TLRGCParams& p, const CStopToken& stop, CPoseGraph& graph,
+						const TKeyframes& keyframes)
+{
+	if (!p.revisits.enabled) return 0;
+	CRevisitLinker linker(p.revisits, p.matcher, p.loop.link_noise);
+	linker.setStopToken(stop);
+	return linker.linkRevisits(graph, keyframes);
+}
+}  // namespace
 
 void CMetricMapBuilderLRGC::startPiece()
 {
@@ -83,13 +105,15 @@ TPose2D CMetricMapBuilderLRGC::joinPiece(size_t node, const TPose2D& nodeInMap,
 	m_reuse->noteLoopLink(n - 1);
 	m_reuse->setFirstCandidate(0);
 	++m_stats.loopClosureLinks;
+	const size_t rematched = rematchJoinedMap(m_params, m_stop, m_graph, m_keyframes);
+	m_stats.loopClosureLinks += rematched;  // stats.json: loop_links' rematch_or_reuse
 	m_pieceFirst.reset();
 	m_local->invalidate();
 	m_metricMapDirty = true;
 	MRPT_LOG_INFO_FMT(
 		"piece of keyframes %zu..%zu joined to the map at keyframe %zu, linked "
-		"to map keyframe %zu",
-		first, n - 1, node, j.link.from);
+		"to map keyframe %zu, %zu revisit links re-matched",
+		first, n - 1, node, j.link.from, rematched);
 	return pieceInMap;
 }
 

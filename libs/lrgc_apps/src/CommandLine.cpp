@@ -26,6 +26,37 @@ bool parseSavedMapOption(const std::vector<std::string>& args, size_t& i, TSlamC
 	return true;
 }
 
+// --merge MAP_A MAP_B: two values, each a folder or a file, never an option.
+bool parseMergeOption(const std::vector<std::string>& args, size_t& i, TSlamCommandLine& cl)
+{
+	if (args[i] != "--merge") return false;
+	for (std::string* dst : {&cl.mergeA, &cl.mergeB})
+	{
+		if (i + 1 >= args.size() || args[i + 1].rfind("--", 0) == 0)
+			throw CUsageError(
+				"option --merge needs two values, MAP_A MAP_B (each an lrgc output folder or "
+				"a .simplemap file)" +
+				std::string(kSeeHelp));
+		*dst = args[++i];
+	}
+	return true;
+}
+
+// --merge replays MAP_B into MAP_A: no log, no sensor, no other saved map.
+void checkMergeOptions(const TSlamCommandLine& cl)
+{
+	for (const auto& [given, option] : {std::pair{!cl.input.empty(), "--input"},
+										{!cl.live.empty(), "--live"},
+										{!cl.initialMap.empty(), "--initial-map"},
+										{!cl.localize.empty(), "--localize"},
+										{!cl.saveRawlog.empty(), "--save-rawlog"}})
+		if (given)
+			throw CUsageError(std::string("--merge takes no ") + option +
+							  " (it merges two saved maps: lrgc-slam --merge MAP_A MAP_B --out "
+							  "DIR)");
+	if (cl.outDir.empty()) throw CUsageError("--merge needs --out DIR" + std::string(kSeeHelp));
+}
+
 void checkSavedMapOptions(const TSlamCommandLine& cl)
 {
 	if (cl.initialMap.empty() && cl.localize.empty()) return;
@@ -46,6 +77,7 @@ const TSlamCommandLine& checkIcpSlamCommandLine(const TSlamCommandLine& cl)
 										{!cl.outDir.empty(), "--out"},
 										{!cl.initialMap.empty(), "--initial-map"},
 										{!cl.localize.empty(), "--localize"},
+										{!cl.mergeA.empty(), "--merge"},
 										{!cl.saveRawlog.empty(), "--save-rawlog"}})
 		if (given)
 			throw CUsageError("'" + cl.icpSlamIni +
@@ -70,6 +102,11 @@ TSlamCommandLine checkedRunOptions(TSlamCommandLine& cl)
 		throw CUsageError("--expert is for --write-default-config (it writes every key)");
 	if (!cl.writeDefaultConfig.empty()) return cl;
 	if (!cl.icpSlamIni.empty()) return checkIcpSlamCommandLine(cl);
+	if (!cl.mergeA.empty())
+	{
+		checkMergeOptions(cl);
+		return cl;
+	}
 	checkSavedMapOptions(cl);
 	if (!cl.live.empty())
 	{
@@ -131,7 +168,7 @@ TSlamCommandLine parseSlamCommandLine(const std::vector<std::string>& args)
 			value(cl.saveRawlog);
 		else if (a == "--write-default-config")
 			value(cl.writeDefaultConfig);
-		else if (parseSavedMapOption(args, i, cl))
+		else if (parseSavedMapOption(args, i, cl) || parseMergeOption(args, i, cl))
 			continue;
 		else if (a == "--force")
 			cl.force = true;
@@ -165,6 +202,7 @@ std::string slamUsage()
 		   "  lrgc-slam --input FILE --initial-map MAP --out DIR   continue a saved map\n"
 		   "  lrgc-slam --input FILE --localize MAP --out DIR      localise on a saved map\n"
 		   "  lrgc-slam --live SENSORS.ini --initial-map MAP | --localize MAP --out DIR\n"
+		   "  lrgc-slam --merge MAP_A MAP_B --out DIR            merge two overlapping maps\n"
 		   "  lrgc-slam --write-default-config FILE.ini [--expert] [--force]\n"
 		   "  lrgc-slam ICP-SLAM.ini [RAWLOG] [--config FILE.ini]  icp-slam's command line\n"
 		   "  lrgc-slam --help | --version\n"
@@ -197,6 +235,11 @@ std::string slamUsage()
 		   "gets the whole map (old + new), its trajectory.tum FILE's scans. --localize: the\n"
 		   "start in MAP is found by global correlation; MAP is not changed; DIR gets\n"
 		   "trajectory.tum, timing.csv and stats.json (relocalisations, latency).\n"
+		   "--merge MAP_A MAP_B: MAP_B's keyframes (their scans, their poses as odometry) are\n"
+		   "replayed as a piece beside MAP_A and joined to it where global correlation places\n"
+		   "them; DIR gets one map in MAP_A's frame (MAP_A's keyframes as saved), its\n"
+		   "trajectory.tum MAP_B's poses in that frame, stats.json's \"merge\" the transform\n"
+		   "(A <- B). Maps that do not overlap: exit 1, nothing written.\n"
 		   "ICP-SLAM.ini: an icp-slam .ini; its [MappingApplication] rawlog_file (or RAWLOG),\n"
 		   "rawlog_offset (rawlog objects to skip) and logOutput_dir are used, its others\n"
 		   "are reported as ignored (lrgc's parameters map). logOutput_dir gets lrgc's "

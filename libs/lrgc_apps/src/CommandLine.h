@@ -6,6 +6,7 @@
  *   lrgc-slam --live SENSORS.ini [--config FILE.ini] --out DIR [--quiet]   (live sensors)
  *   lrgc-slam --input FILE --initial-map MAP --out DIR     (continue MAP: DIR or .simplemap)
  *   lrgc-slam --input FILE --localize MAP --out DIR        (localise on MAP, no mapping)
+ *   lrgc-slam --merge MAP_A MAP_B --out DIR              (B's keyframes joined into A's map)
  *   lrgc-slam --write-default-config FILE.ini [--expert] [--force]
  *   lrgc-slam ICP-SLAM.ini [RAWLOG] [--config FILE.ini]      (icp-slam's command line:
  * IcpSlamIni.h)
@@ -35,6 +36,9 @@ struct TSlamCommandLine
 	std::string initialMap;
 	/** An earlier output folder or a .simplemap(.gz): localise on it, never change it. */
 	std::string localize;
+	/** --merge MAP_A MAP_B (issue 29): two saved maps (output folders or .simplemap(.gz)),
+	 * merged into one map in MAP_A's frame. Both empty unless --merge is given. */
+	std::string mergeA, mergeB;
 	bool force = false;   //!< --write-default-config may replace an existing file
 	bool expert = false;  //!< --write-default-config writes every key, not the user's few
 	bool quiet = false;

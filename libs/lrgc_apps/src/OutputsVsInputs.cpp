@@ -101,6 +101,8 @@ std::string slamOutputOverInput(const TSlamCommandLine& cl)
 		{"--input", cl.input}, {"--config", cl.config}, {"--live", cl.live}};
 	addSavedMap(inputs, "--initial-map", cl.initialMap);
 	addSavedMap(inputs, "--localize", cl.localize);
+	addSavedMap(inputs, "--merge", cl.mergeA);
+	addSavedMap(inputs, "--merge", cl.mergeB);
 	std::vector<TNamedPath> outputs = {{"--save-rawlog", cl.saveRawlog}};
 	if (!cl.outDir.empty())
 		for (const char* name : kSlamOutputNames)

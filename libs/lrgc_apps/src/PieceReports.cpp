@@ -35,6 +35,8 @@ std::string joinMessage(const TPieceJoin& join, const CPieceJoiner& joiner,
 {
 	run.joined = true;
 	run.frame = "map";
+	run.joinScore = join.score;
+	run.joinAmbiguity = join.ambiguity;
 	run.startScans = builder.stats().scans;
 	const mrpt::math::TPose2D start = builder.trajectory().front().robotInMap;
 	return mrpt::format(
@@ -42,6 +44,16 @@ std::string joinMessage(const TPieceJoin& join, const CPieceJoiner& joiner,
 		"attempts, %.1f s (score %.2f, ambiguity %.2f, patch of %zu keyframes)",
 		start.x, start.y, mrpt::RAD2DEG(start.phi), run.startScans, joiner.attempts(),
 		joiner.secondsSpent(), join.score, join.ambiguity, join.patchKeyframes);
+}
+
+std::string mergeJoinMessage(const TRunSummary& run)
+{
+	const mrpt::math::TPose2D& t = run.pieceInMap;
+	return mrpt::format(
+		"'%s' placed in '%s' at (A <- B) = (%.3f m, %.3f m, %.2f deg) after %zu of its %zu "
+		"keyframes (score %.2f, ambiguity %.2f)",
+		run.mergedMap.c_str(), run.initialMap.c_str(), t.x, t.y, mrpt::RAD2DEG(t.phi),
+		run.startScans, run.mergedMapKeyframes, run.joinScore, run.joinAmbiguity);
 }
 
 void recordJoinerFigures(const CPieceJoiner& joiner, const CMetricMapBuilderLRGC& builder,

@@ -24,6 +24,10 @@ std::string continuingMessage(const TSavedMap& map, const CMetricMapBuilderLRGC&
 std::string joinMessage(const TPieceJoin& join, const CPieceJoiner& joiner,
 						const CMetricMapBuilderLRGC& builder, TRunSummary& run);
 
+/** --merge, after joinMessage(): "'B' placed in 'A' at (A <- B) = (x m, y m, phi deg) after
+ * K of its N keyframes, ... attempts (score, ambiguity)". */
+std::string mergeJoinMessage(const TRunSummary& run);
+
 /** The joiner's figures so far into `run`: startAttempts, startSeconds, joinReplayWaitSeconds,
  * lastJoinRejection, and startScans (the scans mapped) while not joined. */
 void recordJoinerFigures(const CPieceJoiner& joiner, const CMetricMapBuilderLRGC& builder,

@@ -9,6 +9,7 @@
 #include "atomic_file.h"
 
 #include <lrgc/pose_graph/GraphExport.h>
+#include <mrpt/core/bits_math.h>
 #include <mrpt/maps/CSimpleMap.h>
 
 #include <unistd.h>
@@ -232,6 +233,30 @@ std::string initialMapJson(const TRunSummary& run)
 		   ", \"replay_wait_s\": " + std::to_string(run.joinReplayWaitSeconds) +
 		   ", \"frame\": " + jsonString(run.frame) + "},\n";
 }
+
+// A JSON number; null for an infinite one (an ambiguity with no second peak).
+std::string jsonNumber(double v)
+{
+	return std::isfinite(v) ? std::to_string(v) : "null";
+}
+
+// --merge: the two maps and the transform (A <- B) the join found [m, m, deg].
+std::string mergeJson(const TRunSummary& run)
+{
+	if (run.mergedMap.empty()) return {};
+	return "  \"merge\": {\"map_a\": " + jsonString(run.initialMap) +
+		   ", \"map_b\": " + jsonString(run.mergedMap) +
+		   ", \"keyframes_a\": " + std::to_string(run.initialMapKeyframes) +
+		   ", \"keyframes_b\": " + std::to_string(run.mergedMapKeyframes) +
+		   ", \"joined\": " + (run.joined ? "true" : "false") +
+		   ", \"joined_after_keyframes\": " + std::to_string(run.startScans) +
+		   ", \"b_in_a\": {\"x\": " + std::to_string(run.pieceInMap.x) +
+		   ", \"y\": " + std::to_string(run.pieceInMap.y) +
+		   ", \"phi_deg\": " + std::to_string(mrpt::RAD2DEG(run.pieceInMap.phi)) +
+		   "}, \"attempts\": " + std::to_string(run.startAttempts) +
+		   ", \"score\": " + jsonNumber(run.joinScore) +
+		   ", \"ambiguity\": " + jsonNumber(run.joinAmbiguity) + "},\n";
+}
 }  // namespace
 
 std::string statsJson(const TRunOutputsSnapshot& snapshot)
@@ -266,7 +291,7 @@ std::string statsJson(const TRunOutputsSnapshot& snapshot)
 	  << ", \"estimated\": " << (s.sweepTimeEstimated ? "true" : "false")
 	  << ", \"pairs\": " << s.sweepSamples << "},\n"
 	  << laserJson(snapshot.lasers) << loopClosingJson(s, snapshot.loopStats)
-	  << initialMapJson(run) << "  \"warnings\": " << run.warnings << ",\n"
+	  << initialMapJson(run) << mergeJson(run) << "  \"warnings\": " << run.warnings << ",\n"
 	  << "  \"data_duration_s\": " << run.dataDurationSeconds << ",\n"
 	  << "  \"wall_time_s\": " << run.wallSeconds << ",\n"
 	  << "  \"cpu_time_s\": " << run.cpuSeconds << ",\n"
@@ -362,7 +387,10 @@ void writeSnapshotOutputs(const TRunOutputsSnapshot& s, const std::string& outDi
 	// graph-slam (which keeps one edge per pair) finds our poses (GraphExport.h).
 	writeGraph(toMrptLeastSquares(s.graph, s.optimizer), path("graph.graph"));
 	// The whole graph (link types, disabled links), for --initial-map: SavedMap.h.
-	writeTextFileAtomically(path(kPoseGraphFile), poseGraphToText(s.graph, s.lasers.label()));
+	std::vector<size_t> sessions;
+	for (const auto& k : s.gridKeyframes) sessions.push_back(k.session);
+	writeTextFileAtomically(path(kPoseGraphFile),
+							poseGraphToText(s.graph, s.lasers.label(), sessions));
 	writeSimplemap(s.keyframes, path("map.simplemap.gz"));
 	writeMrptClientFiles(s, outDir);  // pf-localization.ini, observations2map.ini
 }

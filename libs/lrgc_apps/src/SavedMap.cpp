@@ -54,7 +54,8 @@ TSavedMap loadSavedMap(const std::string& path, const std::string& option)
 void initializeFromSavedMap(CMetricMapBuilderLRGC& builder, const TSavedMap& map)
 {
 	if (map.graph)
-		builder.initialize(map.keyframes, map.graph->graph, map.graph->laserLabel);
+		builder.initialize(map.keyframes, map.graph->graph, map.graph->laserLabel,
+						   map.graph->sessions);
 	else
 		builder.initialize(map.keyframes);
 	if (builder.graph().numNodes() == 0)

@@ -104,6 +104,7 @@ int CSlamApp::run(const std::vector<std::string>& args)
 		if (!cl.saveRawlog.empty())
 			if (const int rc = convertOnly(cl); rc != kExitOk || cl.outDir.empty()) return rc;
 		if (!cl.localize.empty()) return runLocalize(cl);
+		if (!cl.mergeA.empty()) return runMerge(cl);
 		return runOffline(cl);
 	}
 	catch (const CSetupError& e)

@@ -10,6 +10,9 @@
  * saying what the log holds, and stats.json only: no empty map. A bad --out is refused before
  * the log is opened.
  *
+ * Merge (--merge MAP_A MAP_B, SlamAppMerge.cpp): the offline loop, its log MAP_B's keyframes
+ * replayed to continue MAP_A (MergeMaps.h); nothing is written unless they join.
+ *
  * Live (--live SENSORS.ini): runs the live runner given at construction. It lives in the
  * separate library lrgc_live (live/LiveSlam.h, runLiveSlam), so that only programs
  * that map live link mrpt::hwdrivers and its hundreds of shared libraries.
@@ -89,10 +92,19 @@ private:
 	/** --initial-map: maps the log from its first scan as a piece of its own beside the
 	 * map, and joins it to the map where global correlation finds it (CPieceJoiner), all
 	 * while mapping; a piece never joined is kept in its own frame (run.frame says which).
-	 * Returns mapLog()'s exit code. */
+	 * `merging` (--merge: the log is MAP_B's keyframes): no "continuing" line, and the search
+	 * in hand at the log's end is awaited. Returns mapLog()'s exit code. */
 	int continueInitialMap(const TSavedMap& map, const TAppConfig& cfg, CLogReader& reader,
 						   CMetricMapBuilderLRGC& builder, CProgress& progress,
-						   TRunSummary& run, const CStopSignalWatcher& signals);
+						   TRunSummary& run, const CStopSignalWatcher& signals,
+						   bool merging = false);
+	/** --merge MAP_A MAP_B (SlamAppMerge.cpp): MAP_B's keyframes continue MAP_A as a piece
+	 * (MergeMaps.h); exit 1, nothing written, if the piece is never joined. */
+	int runMerge(const TSlamCommandLine& cl);
+	/** The end of an offline mapping run: the mapping stage's figures, the reader's last
+	 * warnings, finishMap(), the builder's warnings, the progress line. */
+	int endOffline(CMetricMapBuilderLRGC& builder, CLogReader& reader, CProgress& progress,
+				   TRunSummary& run, double threadCpu0, int exitCode);
 	/** After finishMap(): a piece never joined is kept, its frame stated (run.frame). */
 	void reportPiece(const CMetricMapBuilderLRGC& builder, TRunSummary& run);
 	/** --localize: tracks the log on the map (CLocalizer); writes trajectory.tum, timing.csv

@@ -142,22 +142,7 @@ int CSlamApp::runOffline(const TSlamCommandLine& cl)
 	int exitCode = initialMap ? continueInitialMap(*initialMap, cfg, *reader, builder, progress,
 												   run, signals)
 							  : mapLog(*reader, builder, progress, run, signals);
-	endMappingStage(run, builder, mappingThreadCpu0);
-	// The reader's last words: lines skipped after the last entry (a file of malformed lines
-	// has nothing else) and the counts of the problems not listed.
-	reportWarnings(reader->takeWarnings());
-
-	exitCode = finishMap(builder, run, exitCode);
-	reportWarnings(builder.takeWarnings());
-	if (initialMap) reportPiece(builder, run);
-	if (exitCode == kExitOk)
-		progress.finish(1.0, builder.stats().scans);
-	else
-		progress.finish(
-			reader->fractionRead(), builder.stats().scans,
-			exitCode == kExitInterrupted ? "interrupted" : "stopped by an input error");
-	run.malformedLines = reader->stats().skippedLines;
-	run.logContents = reader->stats().contents;
+	exitCode = endOffline(builder, *reader, progress, run, mappingThreadCpu0, exitCode);
 	if (builder.stats().scans == 0 && exitCode == kExitOk)
 	{
 		run.status = nothingToMap(*reader, builder);
@@ -168,6 +153,28 @@ int CSlamApp::runOffline(const TSlamCommandLine& cl)
 	if (m_icpSlam && builder.stats().scans > 0)
 		writeIcpSlamOutputs(cl.outDir, builder.trajectory(), m_scansAfterEntry);
 	reportEnd(cl, builder, run, exitCode);
+	return exitCode;
+}
+
+int CSlamApp::endOffline(CMetricMapBuilderLRGC& builder, CLogReader& reader,
+						 CProgress& progress, TRunSummary& run, double threadCpu0, int exitCode)
+{
+	endMappingStage(run, builder, threadCpu0);
+	// The reader's last words: lines skipped after the last entry (a file of malformed lines
+	// has nothing else) and the counts of the problems not listed.
+	reportWarnings(reader.takeWarnings());
+
+	exitCode = finishMap(builder, run, exitCode);
+	reportWarnings(builder.takeWarnings());
+	if (!run.initialMap.empty() && run.mergedMap.empty()) reportPiece(builder, run);
+	if (exitCode == kExitOk)
+		progress.finish(1.0, builder.stats().scans);
+	else
+		progress.finish(
+			reader.fractionRead(), builder.stats().scans,
+			exitCode == kExitInterrupted ? "interrupted" : "stopped by an input error");
+	run.malformedLines = reader.stats().skippedLines;
+	run.logContents = reader.stats().contents;
 	return exitCode;
 }
 

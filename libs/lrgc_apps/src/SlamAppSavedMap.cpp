@@ -25,6 +25,7 @@
 #include <algorithm>
 #include <chrono>
 #include <ctime>
+#include <limits>
 #include <filesystem>
 #include <sstream>
 
@@ -34,32 +35,43 @@ namespace lrgc::apps
 int CSlamApp::continueInitialMap(const TSavedMap& map, const TAppConfig& cfg,
 								 CLogReader& reader, CMetricMapBuilderLRGC& builder,
 								 CProgress& progress, TRunSummary& run,
-								 const CStopSignalWatcher& signals)
+								 const CStopSignalWatcher& signals, bool merging)
 {
-	report("lrgc-slam: " + continuingMessage(map, builder, run));
+	const std::string continuing = continuingMessage(map, builder, run);
+	if (!merging) report("lrgc-slam: " + continuing);
 	CPieceJoiner joiner(builder.graph(), builder.keyframes(), cfg.lrgc.correlator,
 						cfg.localization);
 	joiner.setStopToken(signals.token());
 	builder.freezeMap();
 	builder.startPiece();
-	const auto joinIfFound = [&]() -> int
+	// After each log entry at log time `now` [s]: the search result due by then, if any.
+	const auto joinIfFound = [&](double now) -> int
 	{
 		if (!builder.pieceFirstNode()) return kExitOk;  // joined
 		std::optional<TPieceJoin> join;
 		try
 		{
-			join = joiner.service(builder, mrpt::Clock::toDouble(builder.lastScanTimestamp()));
-			if (join) builder.joinPiece(join->node, join->nodeInMap, join->cov);
+			join = joiner.service(builder, now);
+			if (join)
+				run.pieceInMap = builder.joinPiece(join->node, join->nodeInMap, join->cov);
 		}
 		catch (const std::exception& e)
 		{
 			run.status = "error joining the log to the map: " + oneLineError(e);
 			return kExitInputError;
 		}
-		if (join) report("lrgc-slam: " + joinMessage(*join, joiner, builder, run));
+		if (!join) return kExitOk;
+		const std::string joined = joinMessage(*join, joiner, builder, run);
+		report("lrgc-slam: " + (merging ? mergeJoinMessage(run) : joined));
 		return kExitOk;
 	};
-	const int exitCode = mapLog(reader, builder, progress, run, signals, joinIfFound);
+	int exitCode = mapLog(
+		reader, builder, progress, run, signals,
+		[&]() { return joinIfFound(mrpt::Clock::toDouble(builder.lastScanTimestamp())); });
+	// A merge has no later data to wait for: the search in hand is taken whenever it ends
+	// (and a patch still due is tried), rather than dropped with the log's end.
+	for (int i = 0; merging && exitCode == kExitOk && i < 2 && !signals.stopRequested(); ++i)
+		exitCode = joinIfFound(std::numeric_limits<double>::max());
 	recordJoinerFigures(joiner, builder, run);
 	return exitCode;
 }

@@ -8,6 +8,7 @@
 
 #include <lrgc/map_builder/CMetricMapBuilderLRGC.h>
 #include <mrpt/maps/CSimpleMap.h>
+#include <mrpt/math/TPose2D.h>
 
 #include <map>
 #include <string>
@@ -50,6 +51,14 @@ struct TRunSummary
 	 * scan at its odometry pose (x, y, phi)"). */
 	std::string frame;
 	std::string lastJoinRejection;  //!< why the last correlation failed; empty if none did
+	/** (map <- piece) when the piece was joined: the join's transform, before the loops
+	 * closed after it adjust the piece's keyframes. */
+	mrpt::math::TPose2D pieceInMap{0, 0, 0};
+	double joinScore = 0, joinAmbiguity = 0;  //!< of the correlation that joined the piece
+	// --merge MAP_A MAP_B: MAP_B's keyframes replayed as the piece continuing MAP_A
+	// (initialMap); the join above is then (A <- B).
+	std::string mergedMap;  //!< MAP_B; empty: not a merge
+	size_t mergedMapKeyframes = 0;
 };
 
 class CRunClock;

@@ -12,7 +12,8 @@ namespace lrgc
 namespace
 {
 constexpr const char* kMagic = "LRGC_POSE_GRAPH";
-constexpr int kVersion = 2;  // 2: the END line; 1 (without it) is still read
+// 3: each node's session; 2: the END line; 1 (without it). All are read.
+constexpr int kVersion = 3;
 
 LinkType linkTypeFromName(const std::string& name, const std::string& where)
 {
@@ -33,17 +34,23 @@ void checkEnd(std::istringstream& s, const CPoseGraph& graph, const std::string&
 }
 }  // namespace
 
-std::string poseGraphToText(const CPoseGraph& graph, const std::string& laserLabel)
+std::string poseGraphToText(const CPoseGraph& graph, const std::string& laserLabel,
+							const std::vector<size_t>& sessions)
 {
+	if (!sessions.empty() && sessions.size() != graph.numNodes())
+		THROW_EXCEPTION_FMT("poseGraphToText: %zu sessions for %zu nodes", sessions.size(),
+							graph.numNodes());
 	std::string out = mrpt::format(
 		"# lrgc pose graph: node i is entry i of map.simplemap.gz; m, rad; "
-		"LINK from to x y phi I00 I01 I02 I11 I12 I22 type enabled\n%s %d\n",
+		"NODE i x y phi session; LINK from to x y phi I00 I01 I02 I11 I12 I22 type enabled\n"
+		"%s %d\n",
 		kMagic, kVersion);
 	if (!laserLabel.empty()) out += "LASER " + laserLabel + "\n";
 	for (size_t i = 0; i < graph.numNodes(); ++i)
 	{
 		const auto& p = graph.pose(i);
-		out += mrpt::format("NODE %zu %.17g %.17g %.17g\n", i, p.x, p.y, p.phi);
+		out += mrpt::format("NODE %zu %.17g %.17g %.17g %zu\n", i, p.x, p.y, p.phi,
+							sessions.empty() ? size_t(0) : sessions[i]);
 	}
 	for (size_t id = 0; id < graph.numLinks(); ++id)
 	{
@@ -59,13 +66,18 @@ std::string poseGraphToText(const CPoseGraph& graph, const std::string& laserLab
 
 namespace
 {
-// NODE i x y phi: node i (in order) at (x [m], y [m], phi [rad]) in the map frame.
-void readNode(std::istringstream& s, CPoseGraph& graph, const std::string& at)
+// NODE i x y phi session: node i (in order) at (x [m], y [m], phi [rad]) in the map frame,
+// of mapping session `session` (version 3; before it, no session: 0).
+void readNode(std::istringstream& s, TSavedPoseGraph& saved, int version, const std::string& at)
 {
+	CPoseGraph& graph = saved.graph;
 	size_t i = 0;
+	long long session = 0;  // signed: ">>" into an unsigned would take "-1" as 2^64 - 1
 	mrpt::math::TPose2D p;
-	if (!(s >> i >> p.x >> p.y >> p.phi) || !(s >> std::ws).eof())
-		THROW_EXCEPTION_FMT("%s: bad NODE line (NODE i x y phi)", at.c_str());
+	if (!(s >> i >> p.x >> p.y >> p.phi) || (version >= 3 && !(s >> session)) ||
+		!(s >> std::ws).eof())
+		THROW_EXCEPTION_FMT("%s: bad NODE line (NODE i x y phi%s)", at.c_str(),
+							version >= 3 ? " session" : "");
 	if (i != graph.numNodes())
 		THROW_EXCEPTION_FMT("%s: NODE %zu out of order (expected %zu)", at.c_str(), i,
 							graph.numNodes());
@@ -77,7 +89,14 @@ void readNode(std::istringstream& s, CPoseGraph& graph, const std::string& at)
 			"%s: NODE %zu at (%g, %g, %g): not finite or farther than %g m "
 			"from the map's origin",
 			at.c_str(), i, p.x, p.y, p.phi, kFarthest);
+	// Sessions count the times a map was continued: beyond this the number is corrupt (and
+	// the grid keeps a layer per session).
+	constexpr long long kMostSessions = 100000;
+	if (session < 0 || session > kMostSessions)
+		THROW_EXCEPTION_FMT("%s: NODE %zu of session %lld: not in [0, %lld]", at.c_str(), i,
+							session, kMostSessions);
 	graph.addNode(p);
+	saved.sessions.push_back(static_cast<size_t>(session));
 }
 
 // LINK from to x y phi I00 I01 I02 I11 I12 I22 type enabled: Z = (from <- to), the upper
@@ -150,7 +169,7 @@ TSavedPoseGraph poseGraphFromText(std::istream& in, const std::string& where)
 		}
 		if (record == "NODE")
 		{
-			readNode(s, saved.graph, at);
+			readNode(s, saved, version, at);
 			continue;
 		}
 		if (record == "LINK")

@@ -169,3 +169,36 @@ TEST(PoseGraphText, versionOneWarnsAndACutLineIsAnError)
 				<< e.what();
 		}
 }
+
+// Each node's mapping session is saved (version 3), so a map continued twice still knows which
+// keyframes are newer; files of versions 1 and 2 load with every node in session 0.
+TEST(PoseGraphText, sessionsRoundTripAndOlderVersionsLoadAsSessionZero)
+{
+	const CPoseGraph g = randomGraph(4);
+	std::vector<size_t> sessions(g.numNodes(), 0);
+	for (size_t i = 8; i < sessions.size(); ++i) sessions[i] = i < 14 ? 1 : 2;
+	const auto back = parse(lrgc::poseGraphToText(g, "", sessions));
+	EXPECT_EQ(back.sessions, sessions);
+	EXPECT_EQ(parse(lrgc::poseGraphToText(g)).sessions, std::vector<size_t>(g.numNodes(), 0));
+	EXPECT_EQ(parse("LRGC_POSE_GRAPH 2\nNODE 0 0 0 0\nNODE 1 1 0 0\nEND 2 0\n").sessions,
+			  std::vector<size_t>({0, 0}));
+	EXPECT_EQ(parse("LRGC_POSE_GRAPH 3\nNODE 0 0 0 0 0\nNODE 1 1 0 0 4\nEND 2 0\n").sessions,
+			  std::vector<size_t>({0, 4}));
+	const auto fails = [](const std::string& text, const std::string& expected)
+	{
+		try
+		{
+			parse(text);
+			ADD_FAILURE() << "accepted: " << text;
+		}
+		catch (const std::exception& e)
+		{
+			EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
+		}
+	};
+	fails("LRGC_POSE_GRAPH 3\nNODE 0 0 0 0\nEND 1 0\n", "g.lrgc:2: bad NODE line");
+	fails("LRGC_POSE_GRAPH 3\nNODE 0 0 0 0 -1\nEND 1 0\n", "g.lrgc:2: NODE 0 of session -1");
+	fails("LRGC_POSE_GRAPH 3\nNODE 0 0 0 0 1e9\nEND 1 0\n", "g.lrgc:2: bad NODE line");
+	fails("LRGC_POSE_GRAPH 3\nNODE 0 0 0 0 9999999\nEND 1 0\n", "not in [0, 100000]");
+	EXPECT_THROW(lrgc::poseGraphToText(g, "", {0, 1}), std::exception);
+}

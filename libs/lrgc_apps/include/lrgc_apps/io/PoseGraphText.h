@@ -6,14 +6,17 @@
  * only LoopClosure links robust) nor disabled links, and g2o readers want one edge per pair.
  *
  * Format (one record per line, '#' comments):
- *   LRGC_POSE_GRAPH 2
+ *   LRGC_POSE_GRAPH 3
  *   LASER <sensor label of the keyframes' scans>          (optional)
- *   NODE <i> <x> <y> <phi>                                 (i = 0, 1, 2, ... in order)
+ *   NODE <i> <x> <y> <phi> <session>                       (i = 0, 1, 2, ... in order)
  *   LINK <from> <to> <x> <y> <phi> <I00> <I01> <I02> <I11> <I12> <I22> <type> <enabled>
  *   END <nodes> <links>                                    (last; version 1 files lack it)
  * Units m and rad; Z = (from <- to); I the upper triangle of the information matrix over
  * (x, y, phi) in the frame of `from`; type Odometry | ScanMatch | LoopClosure; enabled 0 | 1.
- * Node i is entry i of the map's CSimpleMap (map.simplemap.gz).
+ * Node i is entry i of the map's CSimpleMap (map.simplemap.gz); its session is the mapping
+ * session whose scan that entry holds (TKeyframe::session: 0 the first, each continuation
+ * one more), so a map continued again still shows each place as its newest session saw it.
+ * Versions 1 and 2 (NODE without the session) are still read, every node as session 0.
  */
 #pragma once
 
@@ -21,19 +24,23 @@
 
 #include <istream>
 #include <string>
+#include <vector>
 
 namespace lrgc
 {
 struct TSavedPoseGraph
 {
 	CPoseGraph graph;
-	std::string laserLabel;  //!< empty if the file names none
+	std::string laserLabel;        //!< empty if the file names none
+	std::vector<size_t> sessions;  //!< per node (TKeyframe::session); all 0 before version 3
 	/** One line for the user when the file cannot be checked whole (a version 1 file, which
 	 * has no END line), else empty. */
 	std::string warning;
 };
 
-std::string poseGraphToText(const CPoseGraph& graph, const std::string& laserLabel = {});
+/** `sessions`: per node (TKeyframe::session); empty: all 0. */
+std::string poseGraphToText(const CPoseGraph& graph, const std::string& laserLabel = {},
+							const std::vector<size_t>& sessions = {});
 
 /** Parses the text written by poseGraphToText(); throws naming `where` and the line number
  * on anything else (unknown record, bad number, node out of order, invalid link, a last line
