@@ -16,6 +16,7 @@
  *    at least 60 s older); a place is closed if one of its keyframes ends a true loop link
  *    kept in the final graph;
  *  - false closures: loop links kept in the final graph that disagree with the truth.
+ * Issue 28's bars are asserted: under 1 % over 2 deg, recall >= 90 %, no false closure.
  */
 #include <gtest/gtest.h>
 #include <lrgc/common/se2.h>
@@ -162,12 +163,12 @@ TEST(GlassBuilding, registrationAndLoopsSurviveMixedReturns)
 
 	EXPECT_GT(recall.places, 15U) << "the second lap must revisit the first";
 	EXPECT_EQ(links.enabledFalse, 0U) << links.firstEnabledFalse;
-	// Issue 28's bars are < 1 % over 2 deg and recall >= 90 %; not reached yet. Before the
-	// free-space test let porous surfaces be (main at 639db6f): 59 scans unmatched, 31 / 589
-	// over 2 deg (5.3 %), 10 over 5 deg, recall 12 / 21. After: 28 unmatched, 22 / 589
-	// (3.7 %), 5 over 5 deg, recall 13 / 21. What is left is the inlier RMS gate
-	// ([ScanMatcher] max_rms_residual_m): far points' distances to the sparse far reference
-	// count in it in full (doc/generalisation.md).
-	EXPECT_LT(rel.shortOver2degShare(), 0.045);
-	EXPECT_GE(recall.recall(), 0.6);
+	// Issue 28's bars: < 1 % over 2 deg, recall >= 90 %. Main at 639db6f: 59 scans unmatched,
+	// 31 / 589 over 2 deg (5.3 %), recall 12 / 21; porous anchors out of the free-space test:
+	// 28 unmatched, 22 / 589 (3.7 %), 13 / 21. A failed plain match retried over the
+	// odometry's heading error (CLocalRegistration::retriedMatch): 1 unmatched, 0 / 589,
+	// 21 / 21 (doc/generalisation.md).
+	EXPECT_LE(st.unmatchedScans, 5U);
+	EXPECT_LT(rel.shortOver2degShare(), 0.01);
+	EXPECT_GE(recall.recall(), 0.9);
 }

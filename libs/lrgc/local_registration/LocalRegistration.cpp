@@ -24,6 +24,20 @@ namespace
 const double kSecondOpinionTurn = mrpt::DEG2RAD(10.0);
 /** [m] ... or shifts it by more than this (0 to 2 matches per benchmark log beyond it). */
 constexpr double kSecondOpinionShift = 0.3;
+/** [rad] A plain match that fails is retried from headings guess.phi + k kRetryStep over
+ * +- kRetryAngle (matchWide, its standard of evidence): beyond ~1.5 deg of heading error at a
+ * lever arm of 20 m (a long laser's far returns) the far points lie outside the match's gate,
+ * so the match settles in a wrong basin and fails, the odometry is kept and the keyframe
+ * enters the window misplaced, blurring the patch for the next scans (GlassBuilding, twice
+ * the default odometry noise: straight steps 3 deg off, corner steps 5-9 deg off). */
+const double kRetryAngle = mrpt::DEG2RAD(7.5);
+/** [rad] ... over +- kRetryTurnAngle where the step turns by more than kRetryTurn, the
+ * odometry's heading error growing with the turn (3.4 deg std for 34 deg there). */
+const double kRetryTurnAngle = mrpt::DEG2RAD(15.0);
+const double kRetryTurn = mrpt::DEG2RAD(10.0);
+/** [rad] Step between the retry's starts: within the basin of a start (matchWide explores
+ * with twice the gate, 1 m: 2.9 deg at 20 m). */
+const double kRetryStep = mrpt::DEG2RAD(2.5);
 
 /** A step the wheels did not make: under 1 mm and 1 mrad (encoder ticks round to zero). */
 bool isZeroStep(const mrpt::math::TPose2D& motion)
@@ -268,6 +282,7 @@ TRegistration CLocalRegistration::registerScan(const CPoseGraph& graph,
 	const bool suspect = std::abs(prediction.motion.phi) > m_params.glitch_min_turn ||
 						 prediction.stepSeconds > m_params.glitch_min_gap_s ||
 						 prediction.odometryJump;
+	const bool standstill = isZeroStep(prediction.motion);
 	// Nothing made the odometry suspect, yet the match turns the robot by more than
 	// kSecondOpinionTurn against it, or shifts it by more than kSecondOpinionShift: people or a
 	// repetitive scene (a hall's pillar rows) can pull a plain match into another basin, and
@@ -280,15 +295,21 @@ TRegistration CLocalRegistration::registerScan(const CPoseGraph& graph,
 					  translationNorm(between(guess, match->scanInRef)) > kSecondOpinionShift);
 	if ((implausible || (suspect && (!match || disagrees))) && m_params.wide_search_angle > 0)
 	{
-		match = m_matcher.matchWide(cloud, scan, guess, m_params.wide_search_angle,
-									[this](size_t n, const std::function<void(size_t)>& fn)
-									{ parallelFor(n, fn); });
+		match = wideMatch(cloud, scan, guess, m_params.wide_search_angle, 0);
+		reg.wideSearch = match.has_value();
+	}
+	// The plain match failed on a step nothing made suspect (and the wheels moved: else the
+	// prior stands, as below): retried over the heading the odometry's error may span (a
+	// far-turning step's wider), with the same evidence.
+	else if (!match && !standstill && m_params.wide_search_angle > 0)
+	{
+		match = retriedMatch(cloud, scan, guess, prediction);
 		reg.wideSearch = match.has_value();
 	}
 	// Wheels that did not turn at all are the one odometry reading to trust over a match
 	// that moves the robot: such a match is a wrong fit (people walking by a robot that
 	// stands still, a rotationally ambiguous place); keep the prior.
-	else if (disagrees && isZeroStep(prediction.motion))
+	else if (disagrees && standstill)
 		match.reset();
 	// A suspect step whose plain match agrees with the prior: the prior itself may be what is
 	// wrong (sparse scans on MIT-CSAIL: odometry that stalled reads -2.6 deg where the robot
@@ -348,14 +369,39 @@ std::optional<TScanMatch> CLocalRegistration::overrulingWideMatch(const CReferen
 	if (m_matcher.explainedFraction(cloud, scan, plain.scanInRef) >
 		1 - m_matcherParams.wide_ambiguity_margin)
 		return std::nullopt;
-	auto wide = m_matcher.matchWide(cloud, scan, guess, m_params.wide_search_angle,
-									[this](size_t n, const std::function<void(size_t)>& fn)
-									{ parallelFor(n, fn); });
+	auto wide = wideMatch(cloud, scan, guess, m_params.wide_search_angle, 0);
 	if (!wide) return std::nullopt;
 	// The plain match's own basin: nothing to overrule.
 	if (!CScanMatcher::distinctHypotheses(plain.scanInRef, wide->scanInRef))
 		return std::nullopt;
 	return wide;
+}
+
+std::optional<TScanMatch> CLocalRegistration::retriedMatch(const CReferenceCloud& cloud,
+														   const TScan2D& scan,
+														   const TPose2D& guess,
+														   const TMotionPrediction& prediction)
+{
+	const double angle =
+		std::abs(prediction.motion.phi) > kRetryTurn ? kRetryTurnAngle : kRetryAngle;
+	auto won =
+		wideMatch(cloud, scan, guess, std::min(angle, m_params.wide_search_angle), kRetryStep);
+	// A winner within half a step of the guess's heading is the guess's own start, the basin
+	// the plain match had already reached and failed its checks in (people, clutter): the
+	// prior stands. The retry is for a heading the plain match could not reach.
+	if (won && std::abs(mrpt::math::wrapToPi(won->scanInRef.phi - guess.phi)) <= kRetryStep / 2)
+		return std::nullopt;
+	return won;
+}
+
+std::optional<TScanMatch> CLocalRegistration::wideMatch(const CReferenceCloud& cloud,
+														const TScan2D& scan,
+														const TPose2D& guess, double angle,
+														double step)
+{
+	return m_matcher.matchWide(
+		cloud, scan, guess, angle,
+		[this](size_t n, const std::function<void(size_t)>& fn) { parallelFor(n, fn); }, step);
 }
 
 size_t CLocalRegistration::linkAndOptimize(CPoseGraph& graph, const TKeyframes& keyframes,

@@ -22,7 +22,10 @@
  * After an override the keyframe's odometry link is down-weighted to the constant-velocity
  * noise so it cannot pull the map. Otherwise the scans win over the odometry, except when the
  * wheels did not move at all: a match moving a robot that stands still is a wrong fit (people
- * walking by, a rotationally ambiguous place), and the prior is kept.
+ * walking by, a rotationally ambiguous place), and the prior is kept. A plain match that fails
+ * on a step nothing made suspect (the wheels moved) is retried by the same search over the
+ * heading the odometry's error may span (retriedMatch), with the same evidence and a winner
+ * that turns more than half a start step from the prior; else the prior stands.
  *
  * Cost per keyframe: one patch build, at most `max_pairwise_links` pairwise matches against
  * reference clouds cached per window keyframe, and a window solve; none depends on the map
@@ -175,6 +178,18 @@ private:
 												  const TScan2D& scan,
 												  const mrpt::math::TPose2D& guess,
 												  const TScanMatch& plain);
+	/** A failed plain match retried (registerScan): matchWide over the heading the
+	 * odometry's error may span, kRetryAngle, or kRetryTurnAngle for a step turning more than
+	 * kRetryTurn, with starts kRetryStep apart (LocalRegistration.cpp); nullopt unless the
+	 * winner turns more than kRetryStep / 2 from the guess. */
+	std::optional<TScanMatch> retriedMatch(const CReferenceCloud& cloud, const TScan2D& scan,
+										   const mrpt::math::TPose2D& guess,
+										   const TMotionPrediction& prediction);
+	/** CScanMatcher::matchWide over guess.phi +- angle [rad] with starts `step` [rad] apart
+	 * (0: wide_search_step), run by this thread and the helper. */
+	std::optional<TScanMatch> wideMatch(const CReferenceCloud& cloud, const TScan2D& scan,
+										const mrpt::math::TPose2D& guess, double angle,
+										double step);
 
 	TLocalRegistrationParams m_params;
 	TScanMatcherParams m_matcherParams;

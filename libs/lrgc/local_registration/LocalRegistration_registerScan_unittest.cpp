@@ -1,6 +1,7 @@
 /* CLocalRegistration::registerScan: a scan's pose from a rough prior, an odometry glitch (a
- * prior turned 70 deg wrongly) found only by the wide rotational search, and a suspect step's
- * plain match in the wrong basin overruled by it (sparse scans). */
+ * prior turned 70 deg wrongly) found only by the wide rotational search, a suspect step's
+ * plain match in the wrong basin overruled by it (sparse scans), and a failed plain match
+ * retried over the odometry's heading error (a long laser). */
 #include <gtest/gtest.h>
 #include <lrgc/local_registration/LocalRegistration.h>
 #include <lrgc/local_registration/MotionPredictor.h>
@@ -154,6 +155,72 @@ TEST(LocalRegistration, suspectStepsPlainMatchInTheWrongBasinIsOverruledByTheWid
 	}
 }
 
+TEST(LocalRegistration, aFailedPlainMatchIsRetriedOverTheOdometrysHeadingError)
+{
+	// A long laser (80 m, 181 beams) in the glass-and-railings building's south hall
+	// (issue 28): keyframes 0.4 m apart heading east, the scan 0.4 m past the newest, its
+	// prior some degrees off on a step that is not suspect. Beyond a few degrees the far
+	// walls lie outside the plain match's gate and it fails; the retry over the heading the
+	// odometry's error may span (+-7.5 deg, +-15 deg where the step turns more than 10)
+	// finds the pose. A prior farther off than that keeps the prior.
+	const CSyntheticWorld world = lrgc::test::makeGlassBuildingWorld(5, 0.2);
+	lrgc::test::TLaserSimParams laser;
+	laser.beams = 181, laser.maxRange = 80, laser.dropRate = 0.02, laser.mixedPixelRate = 1;
+	TStageParams p;
+	std::mt19937 rng(7);
+	CPoseGraph graph;
+	TKeyframes keyframes;
+	std::vector<TScan2D> scans;
+	for (size_t k = 0; k < 8; ++k)
+	{
+		TKeyframe kf;
+		kf.scan = lrgc::test::simulateScan(world, TPose2D(24 + 0.4 * k, 12, 0), laser, rng);
+		kf.scanIndex = k;
+		scans.push_back(kf.scan);
+		keyframes.push_back(std::move(kf));
+		graph.addNode(TPose2D(24 + 0.4 * k, 12, 0));
+	}
+	const TPose2D scanTruth(24 + 0.4 * 8, 12, 0);
+	const TScan2D scan = lrgc::test::simulateScan(world, scanTruth, laser, rng);
+	std::vector<TPose2D> inNewest;
+	for (size_t k = 0; k < 8; ++k) inNewest.push_back(between(graph.pose(7), graph.pose(k)));
+	const CReferenceCloud patch = CReferenceCloud::fromScans(scans, inNewest, p.matcher);
+	TScanMatcherParams localMatcher = p.matcher;
+	localMatcher.max_free_space_violation = p.local.max_free_space_violation;
+	const CScanMatcher matcher(localMatcher);
+
+	struct TCase
+	{
+		double offDeg, turnDeg;  // prior's heading error; the step's odometry turn
+		bool recovered;
+	};
+	for (const TCase c : {TCase{-4, 0, true}, TCase{4, 0, true}, TCase{-6, 0, true},
+						  TCase{12, 20, true}, TCase{25, 0, false}})
+	{
+		SCOPED_TRACE(c.offDeg);
+		const TPose2D prior = compose(scanTruth, TPose2D(0.05, -0.03, c.offDeg * M_PI / 180));
+		ASSERT_FALSE(matcher.match(patch, scan, between(graph.pose(7), prior)))
+			<< "the plain match must fail from this prior";
+		lrgc::TMotionPrediction step;
+		step.motion = TPose2D(0.4, 0, c.turnDeg * M_PI / 180);
+		step.cov = Eigen::Vector3d(0.05 * 0.05, 0.05 * 0.05, std::pow(0.05, 2)).asDiagonal();
+		step.fromOdometry = true;
+		step.stepSeconds = 0.7;
+		CLocalRegistration reg(p.local, p.matcher, p.optimizer);
+		for (size_t i = 0; i < 8; ++i) reg.enterKeyframe(i, false, graph);
+		const TRegistration r = reg.registerScan(graph, keyframes, scan, prior, step);
+		ASSERT_EQ(r.matched, c.recovered);
+		EXPECT_EQ(r.wideSearch, c.recovered);
+		if (!c.recovered)
+		{
+			EXPECT_EQ(r.scanInMap, prior);
+			continue;
+		}
+		EXPECT_LT(positionError(scanTruth, r.scanInMap), kTolXY);
+		EXPECT_LT(headingError(scanTruth, r.scanInMap), kTolPhi);
+	}
+}
+
 // reuse_match_when_still: a robot whose wheels report no motion keeps the last match's pose
 // relative to the unchanged window; a re-match of another scan from there would move it by
 // the scans' noise. Moving the window (invalidate) or a real step makes the scan match again.
@@ -186,11 +253,11 @@ TEST(LocalRegistration, aScanThatStandsStillReusesTheLastMatchWhileTheWindowIsUn
 		CLocalRegistration local(p.local, p.matcher, p.optimizer);
 		for (size_t i = 0; i < 6; ++i) local.enterKeyframe(i, false, graph);
 		const TPose2D prior = compose(scanTruth, TPose2D(0.03, -0.02, 0.01));
-		const TRegistration a =
-			local.registerScan(graph, keyframes, first, prior, odometryStep(TPose2D(0.15, 0, 0)));
+		const TRegistration a = local.registerScan(graph, keyframes, first, prior,
+												   odometryStep(TPose2D(0.15, 0, 0)));
 		if (moveWindow) local.invalidate();
-		const TRegistration b = local.registerScan(graph, keyframes, second,
-												   compose(a.scanInMap, step), odometryStep(step));
+		const TRegistration b = local.registerScan(
+			graph, keyframes, second, compose(a.scanInMap, step), odometryStep(step));
 		EXPECT_TRUE(a.matched && b.matched);
 		EXPECT_LT(positionError(scanTruth, b.scanInMap), 0.02);
 		return std::make_pair(a, b);

@@ -258,13 +258,12 @@ double CScanMatcher::explainedFraction(const CReferenceCloud& ref, const TScan2D
 	return explainedFractionOf(ref, scan.points, scanInRef, m_params.max_rms_residual_m);
 }
 
-std::optional<TScanMatch> CScanMatcher::matchWide(const CReferenceCloud& ref,
-												  const TScan2D& scan,
-												  const mrpt::math::TPose2D& guess,
-												  double searchAngle,
-												  const TParallelFor& parallel) const
+std::optional<TScanMatch> CScanMatcher::matchWide(
+	const CReferenceCloud& ref, const TScan2D& scan, const mrpt::math::TPose2D& guess,
+	double searchAngle, const TParallelFor& parallel, double stepArg) const
 {
-	ASSERT_(searchAngle >= 0);
+	ASSERT_(searchAngle >= 0 && stepArg >= 0);
+	const double step = stepArg > 0 ? stepArg : m_params.wide_search_step;
 	const double margin = m_params.wide_ambiguity_margin;
 	// Every hypothesis is scored alike: the share of points within the largest inlier RMS a
 	// match may have (max_rms_residual_m [m]) of the reference.
@@ -276,15 +275,14 @@ std::optional<TScanMatch> CScanMatcher::matchWide(const CReferenceCloud& ref,
 	const size_t stride = std::max<size_t>(1, scan.points.size() / kWideSearchSample);
 	std::vector<Eigen::Vector2d> sub;
 	for (size_t i = 0; i < scan.points.size(); i += stride) sub.push_back(scan.points[i]);
-	const int n = static_cast<int>(std::floor(searchAngle / m_params.wide_search_step + 1e-9));
-	// Start i explores heading guess.phi + (i - n) wide_search_step; kept in start order.
+	const int n = static_cast<int>(std::floor(searchAngle / step + 1e-9));
+	// Start i explores heading guess.phi + (i - n) step; kept in start order.
 	std::vector<std::optional<std::pair<double, mrpt::math::TPose2D>>> starts(2 * n + 1);
 	const std::function<void(size_t)> explore = [&](size_t i)
 	{
 		if (m_stop.stopRequested()) return;
 		mrpt::math::TPose2D g = guess;
-		g.phi = mrpt::math::wrapToPi(guess.phi +
-									 (static_cast<int>(i) - n) * m_params.wide_search_step);
+		g.phi = mrpt::math::wrapToPi(guess.phi + (static_cast<int>(i) - n) * step);
 		if (auto m = matchPoints(ref, sub, g, 2 * m_params.max_correspondence_dist_m, false))
 			starts[i] = {explainedFractionOf(ref, sub, m->scanInRef, tol), m->scanInRef};
 	};

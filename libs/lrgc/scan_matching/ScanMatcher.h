@@ -81,11 +81,13 @@ public:
 	 * beats by the same margin the local optimum from the guess itself (the hypothesis "the
 	 * guess was right"), converged on the whole scan. Else nullopt.
 	 * The starts are independent: `parallel`, if given, runs them (TParallelFor), with the
-	 * same result as one after the other. */
+	 * same result as one after the other. `step_rad` > 0 replaces wide_search_step as the
+	 * heading step between starts. */
 	std::optional<TScanMatch> matchWide(const CReferenceCloud& ref, const TScan2D& scan,
 										const mrpt::math::TPose2D& guessScanInRef,
 										double searchAngle_rad,
-										const TParallelFor& parallel = {}) const;
+										const TParallelFor& parallel = {},
+										double step_rad = 0) const;
 
 	/** Whether two poses are distinct hypotheses for matchWide (farther apart than 0.2 m or
 	 * 3 deg), not one basin. */
