@@ -141,7 +141,7 @@ private:
 	 * [m] (radiusOnly: CAnchorGrid's). */
 	void buildGrid(double cell, bool radiusOnly = false);
 	/** The nearest-anchor grid's cell side over the fits' grid's (see the constructor). */
-	static constexpr double kNearestCellsPerFitCell = 2;
+	static constexpr double kNearestCellsPerFitCell = 3;
 	void fitLines(const TScanMatcherParams& p, const std::vector<double>& weights);
 	Eigen::Vector2d fitAnchor(size_t i, double r0, const std::vector<double>& w,
 							  std::vector<double>& sigma2);
