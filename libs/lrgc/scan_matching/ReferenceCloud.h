@@ -137,15 +137,17 @@ public:
 	}
 
 private:
-	/** Indexes the usable anchors at their current positions (radiusOnly: CAnchorGrid's). */
-	void buildGrid(bool radiusOnly = false);
+	/** Indexes the usable anchors at their current positions in m_grid, cells of side `cell`
+	 * [m] (radiusOnly: CAnchorGrid's). */
+	void buildGrid(double cell, bool radiusOnly = false);
+	/** The nearest-anchor grid's cell side over the fits' grid's (see the constructor). */
+	static constexpr double kNearestCellsPerFitCell = 3;
 	void fitLines(const TScanMatcherParams& p, const std::vector<double>& weights);
 	Eigen::Vector2d fitAnchor(size_t i, double r0, const std::vector<double>& w,
 							  std::vector<double>& sigma2);
 
 	std::vector<TAnchor> m_anchors;
 	CAnchorGrid m_grid;
-	double m_cell = 0.1;  // grid cell side [m]
 	size_t m_inputCount = 0;
 	CFreeSpaceViews m_views;  // one per scan the cloud was built from
 	/** fromScans keeping only the points (in ref) for which keep() is true (all if empty). */
