@@ -322,17 +322,23 @@ TRegistration CLocalRegistration::registerScan(const CPoseGraph& graph,
 	}
 	m_lastAccepted.reset();
 	if (!match) return reg;
+	reg.odometryRejected = disagreement(*match) > m_params.glitch_gate_chi2;
+	return placedByMatch(reg, *match, newestInMap, prediction);
+}
 
+TRegistration CLocalRegistration::placedByMatch(TRegistration reg, const TScanMatch& match,
+												const TPose2D& newestInMap,
+												const TMotionPrediction& prediction)
+{
 	reg.matched = true;
 	// Only with an odometry prior: laser alone, the patch link let a robot standing at the
 	// start of Intel slide 0.6 m per 20 scans (laser-only relation error 0.44 -> 1.48 m).
 	if (prediction.fromOdometry)
-		m_lastPatchMatch = TPatchMatch{*m_cloudNewest, match->scanInRef, match->cov};
-	reg.odometryRejected = disagreement(*match) > m_params.glitch_gate_chi2;
+		m_lastPatchMatch = TPatchMatch{*m_cloudNewest, match.scanInRef, match.cov};
 	if (!reg.odometryRejected && !reg.wideSearch)
-		m_lastAccepted = TPatchMatch{*m_cloudNewest, match->scanInRef, match->cov};
-	reg.scanInMap = compose(newestInMap, match->scanInRef);
-	reg.cov = rotateCovariance(match->cov, newestInMap.phi);  // newest keyframe's axes -> map's
+		m_lastAccepted = TPatchMatch{*m_cloudNewest, match.scanInRef, match.cov};
+	reg.scanInMap = compose(newestInMap, match.scanInRef);
+	reg.cov = rotateCovariance(match.cov, newestInMap.phi);  // newest keyframe's axes -> map's
 	return reg;
 }
 

@@ -214,6 +214,12 @@ private:
 	 * that match moved by the odometry step (reuse_match_when_still); else nullopt. */
 	std::optional<TRegistration> stillRegistration(const CPoseGraph& graph,
 												   const TMotionPrediction& prediction);
+	/** `reg` (its odometryRejected and wideSearch set) placed by `match` against the patch of
+	 * the newest keyframe at newestInMap; remembers the match for the patch link and for a
+	 * scan that stands still. */
+	TRegistration placedByMatch(TRegistration reg, const TScanMatch& match,
+								const mrpt::math::TPose2D& newestInMap,
+								const TMotionPrediction& prediction);
 
 	CReferenceCloud m_cloud;              //!< window patch in the frame of node *m_cloudNewest
 	std::optional<size_t> m_cloudNewest;  //!< reset whenever the window or its poses change

@@ -22,9 +22,9 @@
  * by the one join link until the loop closer finds the others (ACES split, six starts of the
  * second session: the relation error over both sessions lower in five, by 0.00013 m on
  * average). The loop closer's copy of the graph takes the moved poses and the new links with
- * its next job, and from then on its searches reach the old map through them. A piece never joined stays
- * in its own frame: finish() optimises each part with its own first node held fixed, and the
- * revisit sweep links no pair across the two.
+ * its next job, and from then on its searches reach the old map through them. A piece never
+ * joined stays in its own frame: finish() optimises each part with its own first node held
+ * fixed, and the revisit sweep links no pair across the two.
  */
 #include <lrgc/map_builder/CMetricMapBuilderLRGC.h>
 
