@@ -56,12 +56,14 @@ struct TRun
 
 TRun mapRing(
 	const TLRGCParams& p, std::chrono::milliseconds extraDelay,
-	const std::function<void(const CMetricMapBuilderLRGC&, std::atomic<bool>&)>& reader = {})
+	const std::function<void(const CMetricMapBuilderLRGC&, std::atomic<bool>&)>& reader = {},
+	double scanPeriod = 0.2)
 {
 	const auto world = makeRingCorridorWorld(W, H, 2.0, 5, 4);
 	const TTrajectory tr = slippingRing();
 	TSyntheticRunOptions opt;
 	opt.laser.maxRange = 6;
+	opt.scanPeriod = scanPeriod;
 	CMetricMapBuilderLRGC builder(p);
 	lrgc::TLoopClosingTestAccess::setExtraDelay(builder, extraDelay);
 	std::atomic<bool> done{false};
@@ -260,6 +262,49 @@ TEST(LoopClosingWorker, searchesShedWhileBehindLieInTheNextSearchsPatch)
 	::testing::Test::RecordProperty("longest_run_shed", std::to_string(longest));
 	EXPECT_LT(longest, p.loop.patch_min_keyframes)
 		<< "consecutive keyframes shed: a place no search's patch covered";
+}
+
+// Issue 28: the worker's budget follows the data ([LoopCloser] worker_budget_ms_per_s). The
+// same ring driven slowly (2 s between scans, so a keyframe stands for seconds of data, as on
+// sparse logs) with a per-keyframe budget far below what its searches cost: with the budget
+// per keyframe alone (main) the worker falls behind, 53 searches are deferred, the revisit's
+// among them, and the loop stays open (0.50 m off at the end); with the seconds' budget 33
+// are deferred and the loop closes (0.12 m). No deferred search is lost: each is merged into
+// a later search whose patch holds its keyframe (the run's end searches too).
+TEST(LoopClosingWorker, aBudgetPerSecondOfDataClosesTheLoopASlowRobotRevisits)
+{
+	constexpr double kSlowScanPeriod = 2.0;  // [s] between scans; keyframes 4-6 s apart
+	constexpr double kPerKeyframeBudgetMs = 0.5;
+	// [ms/s] A keyframe, at least one scan period after the previous, grants 2 ms or more,
+	// held at the cap of 4 worker_budget_ms (2 ms): 4x the per-keyframe budget.
+	constexpr double kBudgetPerSecondMs = 1.0;
+	TLRGCParams p;
+	p.loop.worker_budget_ms = kPerKeyframeBudgetMs;
+	p.loop.max_backlog_keyframes = 6;
+	p.loop.worker_budget_ms_per_s = 0;  // main: the same budget per keyframe whatever the time
+	const TRun perKeyframe = mapRing(p, std::chrono::milliseconds(0), {}, kSlowScanPeriod);
+	p.loop.worker_budget_ms_per_s = kBudgetPerSecondMs;
+	const TRun perSecond = mapRing(p, std::chrono::milliseconds(0), {}, kSlowScanPeriod);
+	const TRun slow = mapRing(p, std::chrono::milliseconds(15), {}, kSlowScanPeriod);
+	::testing::Test::RecordProperty("deferred_per_keyframe",
+									std::to_string(perKeyframe.loop.searchesShed));
+	::testing::Test::RecordProperty("error_per_keyframe_m",
+									std::to_string(perKeyframe.error.finalXY));
+	::testing::Test::RecordProperty("error_per_second_m", std::to_string(perSecond.error.finalXY));
+
+	EXPECT_GT(perKeyframe.loop.searchesShed, 0U) << "the per-keyframe budget must fall behind";
+	EXPECT_EQ(perKeyframe.stats.loopClosures, 0U);
+	EXPECT_GT(perKeyframe.error.finalXY, 0.3);
+
+	EXPECT_LT(perSecond.loop.searchesShed, perKeyframe.loop.searchesShed);
+	EXPECT_GT(perSecond.stats.loopClosures, 0U);
+	EXPECT_LT(perSecond.error.finalXY, 0.3);
+	for (const TRun* run : {&perKeyframe, &perSecond})
+	{  // deferred, never lost: each merged into a later search (the run's end searches too)
+		EXPECT_EQ(run->loop.searchesMerged, run->loop.searchesShed);
+		EXPECT_TRUE(run->loop.droppedKeyframes.empty());
+	}
+	expectSameTrajectory(perSecond.trajectory, slow.trajectory, "slowed worker");
 }
 
 TEST(LoopWork, theModelIsLinearInTheCounts)

@@ -85,11 +85,20 @@ struct TLoopCloserParams : public mrpt::config::CLoadableOptions
 	 * instead of stalling the mapping thread at k + result_delay_keyframes; the schedule is
 	 * still a function of the log alone. 0: every result at k + result_delay_keyframes. */
 	double worker_budget_ms = 5;
-	/** [keyframes] When the modelled worker is more than this behind the newest keyframe, a
-	 * job only brings the worker's graph up to date and skips its search, unless the last
-	 * search ran patch_min_keyframes keyframes ago: searches are thinned, never stopped, and
-	 * a keyframe shed lies in the patch of the next search (its place is searched). The
-	 * worker's work stays bounded by worker_budget_ms per keyframe. Only
+	/** [ms of the reference machine per second of log time] The budget follows the data: a
+	 * keyframe taken dt seconds after the previous one lets the modelled worker do
+	 * max(worker_budget_ms, this * dt) of work (at most 4 worker_budget_ms;
+	 * CLoopClosingWorker). Sparse scans, where a keyframe stands for 3-4 s of data, get the
+	 * time those seconds give; 4: dense logs' keyframes lie 1.2-1.5 s apart (Intel, ACES,
+	 * Killian; MIT-CSAIL 0.44 s), where worker_budget_ms per keyframe is about this pace.
+	 * 0: worker_budget_ms per keyframe whatever the time. */
+	double worker_budget_ms_per_s = 4;
+	/** [keyframes] When the modelled worker is more than this many keyframes' budget
+	 * (this * worker_budget_ms) behind, a job only brings the worker's graph up to date and
+	 * defers its search, unless the last search ran patch_min_keyframes keyframes ago:
+	 * searches are thinned, never stopped, and a deferred search is merged into the next
+	 * search, whose patch holds its keyframe (its place is searched). The worker's work
+	 * stays bounded by its budget. Only
 	 * with worker_budget_ms > 0. Live runs (apply_when_ready) use neither: results are
 	 * taken when ready and no search is skipped. 150: with 15-keyframe windows, 300 let
 	 * Intel driven four times over add 2190 keyframes in every pass (no reuse); 150 adds

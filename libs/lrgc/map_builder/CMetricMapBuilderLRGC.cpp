@@ -192,7 +192,7 @@ void CMetricMapBuilderLRGC::enterReusedKeyframe(
 	m_anchorOffset = inNode;
 	if (m_keyframes[reused.node].session < m_session) showNewerScan(reused.node, laser, inNode);
 	recordScan(laser->timestamp, reused.node, inNode);
-	closeLoops(false);
+	closeLoops(false, laser->timestamp);
 }
 
 // A new keyframe: a node at the registered pose, linked to the window (odometry, patch and
@@ -216,7 +216,7 @@ void CMetricMapBuilderLRGC::enterNewKeyframe(
 		m_stats.scanMatchLinks +=
 			m_local->linkAndOptimize(m_graph, m_keyframes, odometryLink(*previous, node));
 		++m_stats.odometryLinks;
-		closeLoops(true);
+		closeLoops(true, laser->timestamp);
 	}
 	m_lastScanInMap = m_graph.pose(node);
 	m_motionSinceKeyframe = TPose2D(0, 0, 0);
@@ -234,12 +234,13 @@ void CMetricMapBuilderLRGC::recordScan(mrpt::Clock::time_point stamp, size_t nod
 
 // Steps 4-5 at a keyframe taken (CLoopClosing): the loop results due are applied, and a new
 // keyframe is handed over to look for a loop in the background.
-void CMetricMapBuilderLRGC::closeLoops(bool newKeyframe)
+void CMetricMapBuilderLRGC::closeLoops(bool newKeyframe, mrpt::Clock::time_point stamp)
 {
 	if (!m_loops) return;
 	CCpuTimer apply(m_stats.loopApplyCpuSeconds);
 	recordLoopUpdate(
-		m_loops->afterKeyframe(m_graph, m_keyframes, newKeyframe, anchor(), m_lastScanInMap));
+		m_loops->afterKeyframe(m_graph, m_keyframes, newKeyframe, anchor(), m_lastScanInMap,
+							   stamp));
 }
 
 void CMetricMapBuilderLRGC::takeReadyLoopResults()

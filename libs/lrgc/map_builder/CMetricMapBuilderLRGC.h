@@ -242,7 +242,7 @@ private:
 	void enterNewKeyframe(const mrpt::obs::CObservation2DRangeScan::Ptr& laser,
 						  const mrpt::obs::CSensoryFrame::Ptr& observations, TScan2D&& scan,
 						  const TRegistration& reg, size_t scanIndex);
-	void closeLoops(bool newKeyframe);
+	void closeLoops(bool newKeyframe, mrpt::Clock::time_point stamp);
 	void takeReadyLoopResults();
 	/** Records the scan in the trajectory, hanging from `node`, with the step predicted for it.
 	 */
