@@ -262,6 +262,9 @@ TEST(LoopClosingWorker, searchesShedWhileBehindLieInTheNextSearchsPatch)
 	::testing::Test::RecordProperty("longest_run_shed", std::to_string(longest));
 	EXPECT_LT(longest, p.loop.patch_min_keyframes)
 		<< "consecutive keyframes shed: a place no search's patch covered";
+	// Each deferred search is counted as merged into the next search that ran, none dropped.
+	EXPECT_EQ(run.loop.searchesMerged, run.loop.searchesShed);
+	EXPECT_TRUE(run.loop.droppedKeyframes.empty());
 }
 
 // Issue 28: the worker's budget follows the data ([LoopCloser] worker_budget_ms_per_s). The
