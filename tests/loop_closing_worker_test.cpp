@@ -293,7 +293,8 @@ TEST(LoopClosingWorker, aBudgetPerSecondOfDataClosesTheLoopASlowRobotRevisits)
 									std::to_string(perKeyframe.loop.searchesShed));
 	::testing::Test::RecordProperty("error_per_keyframe_m",
 									std::to_string(perKeyframe.error.finalXY));
-	::testing::Test::RecordProperty("error_per_second_m", std::to_string(perSecond.error.finalXY));
+	::testing::Test::RecordProperty("error_per_second_m",
+									std::to_string(perSecond.error.finalXY));
 
 	EXPECT_GT(perKeyframe.loop.searchesShed, 0U) << "the per-keyframe budget must fall behind";
 	EXPECT_EQ(perKeyframe.stats.loopClosures, 0U);

@@ -76,8 +76,9 @@ void CLoopClosing::applyDue(CPoseGraph& graph, bool atKeyframe, size_t anchor,
 	while (m_worker->pending() > 0)
 	{
 		double waited = 0;
-		const bool due = m_whenReady ? m_worker->ready()
-									 : atKeyframe && m_worker->due(m_keyframeClock, m_grantMs, waited);
+		const bool due = m_whenReady
+							 ? m_worker->ready()
+							 : atKeyframe && m_worker->due(m_keyframeClock, m_grantMs, waited);
 		if (waited > 0)
 		{
 			++m_schedule.waits;

@@ -76,7 +76,7 @@ struct TLoopJob
 	TScanRefs scans;  //!< scans of the nodes added since the previous job, in node order
 	size_t resultsApplied = 0;  //!< results the mapping thread had applied when handing it over
 	/** The mapping thread's keyframe clock when handing it over: keyframes taken so far, new
-	 * or reused (the schedule's time unit). */
+	 * or reused (result_delay_keyframes counts in it). */
 	size_t clock = 0;
 	double grantMs = 0;  //!< the modelled worker's grant G at hand-over [ms] (see the header)
 	/** The loop closer's stop token for this job (CLoopCloser::setStopToken): a job stopped
@@ -162,8 +162,8 @@ private:
 	const double m_budgetMs;  //!< worker_budget_ms (0: results at k + result_delay_keyframes)
 	const double m_budgetPerSecond;  //!< worker_budget_ms_per_s [ms/s]
 	const double m_maxBacklogMs;     //!< max_backlog_keyframes * worker_budget_ms [ms]
-	const size_t m_searchSpacing;  //!< patch_min_keyframes: the thinned searches' spacing
-	size_t m_lastSearched = 0;     //!< newest node of the last job that searched
+	const size_t m_searchSpacing;    //!< patch_min_keyframes: the thinned searches' spacing
+	size_t m_lastSearched = 0;       //!< newest node of the last job that searched
 	std::vector<size_t> m_deferred;  //!< nodes whose search was deferred, none run since
 	CLoopCloser m_closer;
 	CPoseGraph m_replica;  //!< the mapping thread's graph as of the last job, corrected

@@ -238,9 +238,8 @@ void CMetricMapBuilderLRGC::closeLoops(bool newKeyframe, mrpt::Clock::time_point
 {
 	if (!m_loops) return;
 	CCpuTimer apply(m_stats.loopApplyCpuSeconds);
-	recordLoopUpdate(
-		m_loops->afterKeyframe(m_graph, m_keyframes, newKeyframe, anchor(), m_lastScanInMap,
-							   stamp));
+	recordLoopUpdate(m_loops->afterKeyframe(m_graph, m_keyframes, newKeyframe, anchor(),
+											m_lastScanInMap, stamp));
 }
 
 void CMetricMapBuilderLRGC::takeReadyLoopResults()

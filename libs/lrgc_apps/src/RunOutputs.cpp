@@ -182,12 +182,14 @@ std::string loopClosingJson(const TMapBuilderStats& s, const TLoopCloserStats& l
 	  // budget ([LoopCloser] worker_budget_ms, worker_budget_ms_per_s; "searches_shed" is
 	  // "searches_deferred" under its old name), where, and what became of them: merged into
 	  // a later search whose patch holds their keyframe, or dropped (no later search).
-	  << ", \"modelled_work_s\": " << 1e-3 * lcs.work.referenceMs() << ", \"searches_shed\": "
-	  << lcs.searchesShed << ", \"searches_deferred\": " << lcs.searchesShed
+	  << ", \"modelled_work_s\": " << 1e-3 * lcs.work.referenceMs()
+	  << ", \"searches_shed\": " << lcs.searchesShed
+	  << ", \"searches_deferred\": " << lcs.searchesShed
 	  << ", \"searches_shed_at_keyframes\": " << jsonList(lcs.shedKeyframes)
 	  << ", \"searches_merged\": " << lcs.searchesMerged
 	  << ", \"searches_dropped\": " << lcs.droppedKeyframes.size()
-	  << ", \"searches_dropped_at\": " << droppedSearchesJson(lcs)
+	  << ", \"searches_dropped_at\": "
+	  << droppedSearchesJson(lcs)
 	  // CPU time of loop closing per step (the worker thread's, whatever else runs).
 	  << ", \"cpu_s\": {\"gate\": " << lcs.gateCpuSeconds
 	  << ", \"correlate\": " << lcs.correlateCpuSeconds
