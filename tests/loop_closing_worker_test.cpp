@@ -267,26 +267,27 @@ TEST(LoopClosingWorker, searchesShedWhileBehindLieInTheNextSearchsPatch)
 	EXPECT_TRUE(run.loop.droppedKeyframes.empty());
 }
 
-// Issue 28: the worker's budget follows the data ([LoopCloser] worker_budget_ms_per_s). The
-// same ring driven slowly (2 s between scans, so a keyframe stands for seconds of data, as on
-// sparse logs) with a per-keyframe budget far below what its searches cost: with the budget
-// per keyframe alone (main) the worker falls behind, 53 searches are deferred, the revisit's
-// among them, and the loop stays open (0.50 m off at the end); with the seconds' budget 33
-// are deferred and the loop closes (0.12 m). No deferred search is lost: each is merged into
-// a later search whose patch holds its keyframe (the run's end searches too).
-TEST(LoopClosingWorker, aBudgetPerSecondOfDataClosesTheLoopASlowRobotRevisits)
+// Issue 28: the worker's budget follows the data ([LoopCloser] worker_budget_span). The same
+// ring driven slowly (2 s between scans) with a per-keyframe budget far below what its
+// searches cost: with the budget per keyframe alone (main) the worker falls behind, searches
+// are deferred, the revisit's among them, and the loop stays open (0.50 m off at the end);
+// with the budget per keyframe spacing travelled fewer are deferred and the loop closes. No
+// deferred search is lost: each is merged into a later search whose patch holds its keyframe
+// (the run's end searches too).
+TEST(LoopClosingWorker, aBudgetPerSpacingTravelledClosesTheLoopASlowRobotRevisits)
 {
 	constexpr double kSlowScanPeriod = 2.0;  // [s] between scans; keyframes 4-6 s apart
 	constexpr double kPerKeyframeBudgetMs = 0.5;
-	// [ms/s] A keyframe, at least one scan period after the previous, grants 2 ms or more,
-	// held at the cap of 4 worker_budget_ms (2 ms): 4x the per-keyframe budget.
-	constexpr double kBudgetPerSecondMs = 1.0;
+	// [keyframe spacings] The ring's keyframes span 1-1.3 spacings of travel: each grants
+	// 3.3-4x the per-keyframe budget (the cap), as a sparse log's keyframes spanning 3-5
+	// spacings do with the default 1.5.
+	constexpr double kBudgetSpan = 0.3;
 	TLRGCParams p;
 	p.loop.worker_budget_ms = kPerKeyframeBudgetMs;
 	p.loop.max_backlog_keyframes = 6;
-	p.loop.worker_budget_ms_per_s = 0;  // main: the same budget per keyframe whatever the time
+	p.loop.worker_budget_span = 0;  // main: the same budget per keyframe whatever the travel
 	const TRun perKeyframe = mapRing(p, std::chrono::milliseconds(0), {}, kSlowScanPeriod);
-	p.loop.worker_budget_ms_per_s = kBudgetPerSecondMs;
+	p.loop.worker_budget_span = kBudgetSpan;
 	const TRun perSecond = mapRing(p, std::chrono::milliseconds(0), {}, kSlowScanPeriod);
 	const TRun slow = mapRing(p, std::chrono::milliseconds(15), {}, kSlowScanPeriod);
 	::testing::Test::RecordProperty("deferred_per_keyframe",

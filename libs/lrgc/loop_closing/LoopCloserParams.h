@@ -85,14 +85,15 @@ struct TLoopCloserParams : public mrpt::config::CLoadableOptions
 	 * instead of stalling the mapping thread at k + result_delay_keyframes; the schedule is
 	 * still a function of the log alone. 0: every result at k + result_delay_keyframes. */
 	double worker_budget_ms = 5;
-	/** [ms of the reference machine per second of log time] The budget follows the data: a
-	 * keyframe taken dt seconds after the previous one lets the modelled worker do
-	 * max(worker_budget_ms, this * dt) of work (at most 4 worker_budget_ms;
-	 * CLoopClosingWorker). Sparse scans, where a keyframe stands for 3-4 s of data, get the
-	 * time those seconds give; 4: dense logs' keyframes lie 1.2-1.5 s apart (Intel, ACES,
-	 * Killian; MIT-CSAIL 0.44 s), where worker_budget_ms per keyframe is about this pace.
-	 * 0: worker_budget_ms per keyframe whatever the time. */
-	double worker_budget_ms_per_s = 4;
+	/** [keyframe spacings] The budget follows the data: a keyframe taken after the robot
+	 * travelled s keyframe spacings since the previous one (s = max(path / keyframe_distance_m,
+	 * turn / keyframe_angle), summed over the scans between) lets the modelled worker do
+	 * worker_budget_ms * max(1, s / this) of work (at most 4 worker_budget_ms;
+	 * CLoopClosingWorker). A dense log takes a keyframe just past one spacing (s 1.0-1.8 on
+	 * Intel, ACES, MIT-CSAIL, Killian) and keeps worker_budget_ms per keyframe; a sparse one,
+	 * where one scan step spans 3-5 spacings, gets the work of the keyframes it stands for. A
+	 * stop adds no travel, so it grants nothing extra. 0: worker_budget_ms per keyframe. */
+	double worker_budget_span = 1.5;
 	/** [keyframes] When the modelled worker is more than this many keyframes' budget
 	 * (this * worker_budget_ms) behind, a job only brings the worker's graph up to date and
 	 * defers its search, unless the last search ran patch_min_keyframes keyframes ago:

@@ -4,8 +4,6 @@
 #include <lrgc/loop_closing/LoopClosingWorker.h>
 #include <lrgc/loop_closing/LoopCorrection.h>
 
-#include <mrpt/system/datetime.h>
-
 #include <algorithm>
 #include <utility>
 
@@ -31,12 +29,10 @@ TLoopCloserStats CLoopClosing::stats() const
 
 TLoopUpdate CLoopClosing::afterKeyframe(CPoseGraph& graph, const TKeyframes& keyframes,
 										bool newKeyframe, size_t anchor, TPose2D& robotInMap,
-										mrpt::Clock::time_point stamp)
+										double span)
 {
 	++m_keyframeClock;
-	const double dt = m_lastStamp ? mrpt::system::timeDifference(*m_lastStamp, stamp) : 0.0;
-	m_grantMs += m_worker->keyframeGrantMs(dt);
-	m_lastStamp = stamp;
+	m_grantMs += m_worker->keyframeGrantMs(span);
 	TLoopUpdate update;
 	applyDue(graph, true, anchor, robotInMap, update);
 	if (!newKeyframe || graph.numNodes() < 2) return update;

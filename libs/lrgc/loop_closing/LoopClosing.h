@@ -66,14 +66,13 @@ public:
 	CLoopClosing(const CLoopClosing&) = delete;
 	CLoopClosing& operator=(const CLoopClosing&) = delete;
 
-	/** At a keyframe taken at log time `stamp` (the keyframe clock advances, and the modelled
-	 * worker's grant with the time since the previous one): applies the results due by now,
-	 * then, for a new keyframe (`newKeyframe`; not at a reused one), hands it over for a loop
-	 * search. `anchor` is the keyframe the robot hangs from and `robotInMap` its pose: carried
-	 * along by the corrections applied. */
+	/** At a keyframe taken `span` keyframe spacings of travel after the previous one (the
+	 * keyframe clock advances, and the modelled worker's grant with it): applies the results
+	 * due by now, then, for a new keyframe (`newKeyframe`; not at a reused one), hands it over
+	 * for a loop search. `anchor` is the keyframe the robot hangs from and `robotInMap` its
+	 * pose: carried along by the corrections applied. */
 	TLoopUpdate afterKeyframe(CPoseGraph& graph, const TKeyframes& keyframes, bool newKeyframe,
-							  size_t anchor, mrpt::math::TPose2D& robotInMap,
-							  mrpt::Clock::time_point stamp);
+							  size_t anchor, mrpt::math::TPose2D& robotInMap, double span);
 	/** Between keyframes of a live run (apply_when_ready): applies the results ready now. */
 	TLoopUpdate whenReady(CPoseGraph& graph, size_t anchor, mrpt::math::TPose2D& robotInMap);
 	/** End of the run, before drain(): hands the newest keyframe over once more, to run the
@@ -117,9 +116,8 @@ private:
 	 * driving known ground reuses keyframes and adds none, but its results must land). */
 	size_t m_keyframeClock = 0;
 	/** The modelled worker's grant so far [ms] (CLoopClosingWorker::keyframeGrantMs per
-	 * keyframe taken) and the log time of the last keyframe taken. */
+	 * keyframe taken). */
 	double m_grantMs = 0;
-	std::optional<mrpt::Clock::time_point> m_lastStamp;
 	TLoopScheduleStats m_schedule;
 	CStopToken m_stop;
 	size_t m_frozen = 0;

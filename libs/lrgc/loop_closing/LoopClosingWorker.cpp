@@ -20,7 +20,7 @@ namespace
 /** A keyframe grants the modelled worker at most this many keyframes' worth of
  * worker_budget_ms: a robot that stood still for minutes must not let every queued search fall
  * due at once (the mapping thread would wait for the real worker to do them all). 4: a sparse
- * keyframe stands for 3-4 s of data, 3 dense ones. */
+ * keyframe spans 3-5 keyframe spacings of travel. */
 constexpr double kMaxGrantKeyframes = 4;
 }  // namespace
 
@@ -32,7 +32,7 @@ CLoopClosingWorker::CLoopClosingWorker(const TLoopCloserParams& p,
 	  // Live runs take results when ready: the model would only shed searches the real
 	  // worker, given the robot's time, has done long ago.
 	  m_budgetMs(p.apply_when_ready ? 0.0 : p.worker_budget_ms),
-	  m_budgetPerSecond(p.worker_budget_ms_per_s),
+	  m_budgetSpan(p.worker_budget_span),
 	  m_maxBacklogMs(double(p.max_backlog_keyframes) * p.worker_budget_ms),
 	  m_searchSpacing(p.patch_min_keyframes),
 	  m_closer(p, correlator, matcher, optimizer)
@@ -95,10 +95,10 @@ bool CLoopClosingWorker::isDue(size_t jobClock, double finishMs, size_t clock,
 	return clock >= jobClock + m_resultDelay && (m_budgetMs <= 0 || finishMs <= grantMs);
 }
 
-double CLoopClosingWorker::keyframeGrantMs(double dtSeconds) const
+double CLoopClosingWorker::keyframeGrantMs(double span) const
 {
-	return std::clamp(m_budgetPerSecond * std::max(dtSeconds, 0.0), m_budgetMs,
-					  kMaxGrantKeyframes * m_budgetMs);
+	if (m_budgetSpan <= 0) return m_budgetMs;
+	return m_budgetMs * std::clamp(span / m_budgetSpan, 1.0, kMaxGrantKeyframes);
 }
 
 bool CLoopClosingWorker::due(size_t clock, double grantMs, double& waitedSeconds)

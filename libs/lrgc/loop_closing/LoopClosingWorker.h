@@ -26,11 +26,13 @@
  * the keyframe where a modelled worker would finish it. The modelled worker's time is the
  * work it may have done, its grant G [ms]: every keyframe taken (new or reused: on known
  * ground the robot reuses keyframes and adds no node, and results must still land) grants it
- *     g = clamp(worker_budget_ms_per_s * dt, worker_budget_ms, kMaxGrantKeyframes *
- *         worker_budget_ms)                                                  [ms]
- * with dt the log time since the previous keyframe [s]: the budget follows the data, so a
- * sparse log, where a keyframe stands for seconds of data, gets the worker time those seconds
- * give; a dense log keeps worker_budget_ms per keyframe. One job after the other:
+ *     g = worker_budget_ms * clamp(s / worker_budget_span, 1, kMaxGrantKeyframes)    [ms]
+ * with s the robot's travel since the previous keyframe in keyframe spacings (the map
+ * builder's; path / keyframe_distance_m or turn / keyframe_angle, the larger): the budget
+ * follows the data, so a sparse log, where one scan step spans several spacings, gets the
+ * work of the keyframes it stands for; a dense log, whose keyframes are taken just past one
+ * spacing, keeps worker_budget_ms per keyframe, and a stop grants nothing. One job after the
+ * other:
  *     start_j = max(G_j, finish_{j-1}),  finish_j = start_j + W_j               [ms of grant]
  * with G_j the grant when job j was handed over and W_j its modelled work [ms]; the result is
  * due at the first keyframe clock c >= k_j + result_delay_keyframes whose grant G(c) >=
@@ -126,9 +128,9 @@ public:
 	 * (the job is still running and its work so far does not put it past `grantMs`); the time
 	 * waited is added to `waitedSeconds`. */
 	bool due(size_t clock, double grantMs, double& waitedSeconds);
-	/** What a keyframe taken `dtSeconds` of log time after the previous one adds to the
-	 * modelled worker's grant [ms] (see the header). */
-	double keyframeGrantMs(double dtSeconds) const;
+	/** What a keyframe taken `span` keyframe spacings of travel after the previous one adds
+	 * to the modelled worker's grant [ms] (see the header). */
+	double keyframeGrantMs(double span) const;
 	/** The oldest pending job's result, waiting for it if needed; rethrows what the job
 	 * threw. */
 	TLoopJobResult take();
@@ -160,7 +162,7 @@ private:
 
 	const size_t m_resultDelay;
 	const double m_budgetMs;  //!< worker_budget_ms (0: results at k + result_delay_keyframes)
-	const double m_budgetPerSecond;  //!< worker_budget_ms_per_s [ms/s]
+	const double m_budgetSpan;       //!< worker_budget_span [keyframe spacings]
 	const double m_maxBacklogMs;     //!< max_backlog_keyframes * worker_budget_ms [ms]
 	const size_t m_searchSpacing;    //!< patch_min_keyframes: the thinned searches' spacing
 	size_t m_lastSearched = 0;       //!< newest node of the last job that searched

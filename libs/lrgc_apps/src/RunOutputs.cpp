@@ -179,7 +179,7 @@ std::string loopClosingJson(const TMapBuilderStats& s, const TLoopCloserStats& l
 	  << ", \"result_delay_max_keyframes\": "
 	  << s.loopResultDelayMax
 	  // The worker's modelled work (LoopWork.h) and the searches it deferred to keep to its
-	  // budget ([LoopCloser] worker_budget_ms, worker_budget_ms_per_s; "searches_shed" is
+	  // budget ([LoopCloser] worker_budget_ms, worker_budget_span; "searches_shed" is
 	  // "searches_deferred" under its old name), where, and what became of them: merged into
 	  // a later search whose patch holds their keyframe, or dropped (no later search).
 	  << ", \"modelled_work_s\": " << 1e-3 * lcs.work.referenceMs()
