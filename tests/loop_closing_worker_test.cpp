@@ -312,6 +312,29 @@ TEST(LoopClosingWorker, aBudgetPerSpacingTravelledClosesTheLoopASlowRobotRevisit
 	expectSameTrajectory(perSecond.trajectory, slow.trajectory, "slowed worker");
 }
 
+// Issue 28: dense scans keep the per-keyframe schedule. At 5 scans per second the ring's
+// keyframes are taken just past one spacing of travel (below the default span of 1.5), so the
+// budget per spacing grants worker_budget_ms per keyframe, exactly main's (span 0): the same
+// searches deferred and the same trajectory. A budget that grew with anything else (the log's
+// seconds, a stop) would move the schedule here.
+TEST(LoopClosingWorker, denseKeyframesKeepThePerKeyframeBudget)
+{
+	TLRGCParams p;
+	p.loop.worker_budget_ms = 0.2;  // far behind: the schedule decides which searches run
+	p.loop.max_backlog_keyframes = 6;
+	ASSERT_GT(p.loop.worker_budget_span, 1.0);
+	const TRun perSpan = mapRing(p, std::chrono::milliseconds(0));
+	p.loop.worker_budget_span = 0;
+	const TRun perKeyframe = mapRing(p, std::chrono::milliseconds(0));
+	ASSERT_GT(perKeyframe.loop.searchesShed, 0U) << "the worker must fall behind for this test";
+	EXPECT_EQ(perSpan.loop.shedKeyframes, perKeyframe.loop.shedKeyframes);
+	expectSameTrajectory(perSpan.trajectory, perKeyframe.trajectory, "budget per spacing");
+	// The check can fail: a span below the keyframes' own (0.5: 2-2.6x the budget) moves it.
+	p.loop.worker_budget_span = 0.5;
+	const TRun moreBudget = mapRing(p, std::chrono::milliseconds(0));
+	EXPECT_NE(moreBudget.loop.shedKeyframes, perKeyframe.loop.shedKeyframes);
+}
+
 TEST(LoopWork, theModelIsLinearInTheCounts)
 {
 	lrgc::TLoopWork a, b;
