@@ -56,12 +56,14 @@ struct TRun
 
 TRun mapRing(
 	const TLRGCParams& p, std::chrono::milliseconds extraDelay,
-	const std::function<void(const CMetricMapBuilderLRGC&, std::atomic<bool>&)>& reader = {})
+	const std::function<void(const CMetricMapBuilderLRGC&, std::atomic<bool>&)>& reader = {},
+	double scanPeriod = 0.2)
 {
 	const auto world = makeRingCorridorWorld(W, H, 2.0, 5, 4);
 	const TTrajectory tr = slippingRing();
 	TSyntheticRunOptions opt;
 	opt.laser.maxRange = 6;
+	opt.scanPeriod = scanPeriod;
 	CMetricMapBuilderLRGC builder(p);
 	lrgc::TLoopClosingTestAccess::setExtraDelay(builder, extraDelay);
 	std::atomic<bool> done{false};
@@ -260,6 +262,77 @@ TEST(LoopClosingWorker, searchesShedWhileBehindLieInTheNextSearchsPatch)
 	::testing::Test::RecordProperty("longest_run_shed", std::to_string(longest));
 	EXPECT_LT(longest, p.loop.patch_min_keyframes)
 		<< "consecutive keyframes shed: a place no search's patch covered";
+	// Each deferred search is counted as merged into the next search that ran, none dropped.
+	EXPECT_EQ(run.loop.searchesMerged, run.loop.searchesShed);
+	EXPECT_TRUE(run.loop.droppedKeyframes.empty());
+}
+
+// Issue 28: the worker's budget follows the data ([LoopCloser] worker_budget_span). The same
+// ring driven slowly (2 s between scans) with a per-keyframe budget far below what its
+// searches cost: with the budget per keyframe alone (main) the worker falls behind, searches
+// are deferred, the revisit's among them, and the loop stays open (0.50 m off at the end);
+// with the budget per keyframe spacing travelled fewer are deferred and the loop closes. No
+// deferred search is lost: each is merged into a later search whose patch holds its keyframe
+// (the run's end searches too).
+TEST(LoopClosingWorker, aBudgetPerSpacingTravelledClosesTheLoopASlowRobotRevisits)
+{
+	constexpr double kSlowScanPeriod = 2.0;  // [s] between scans; keyframes 4-6 s apart
+	constexpr double kPerKeyframeBudgetMs = 0.5;
+	// [keyframe spacings] The ring's keyframes span 1-1.3 spacings of travel: each grants
+	// 3.3-4x the per-keyframe budget (the cap), as a sparse log's keyframes spanning 3-5
+	// spacings do with the default 1.5.
+	constexpr double kBudgetSpan = 0.3;
+	TLRGCParams p;
+	p.loop.worker_budget_ms = kPerKeyframeBudgetMs;
+	p.loop.max_backlog_keyframes = 6;
+	p.loop.worker_budget_span = 0;  // main: the same budget per keyframe whatever the travel
+	const TRun perKeyframe = mapRing(p, std::chrono::milliseconds(0), {}, kSlowScanPeriod);
+	p.loop.worker_budget_span = kBudgetSpan;
+	const TRun perSecond = mapRing(p, std::chrono::milliseconds(0), {}, kSlowScanPeriod);
+	const TRun slow = mapRing(p, std::chrono::milliseconds(15), {}, kSlowScanPeriod);
+	::testing::Test::RecordProperty("deferred_per_keyframe",
+									std::to_string(perKeyframe.loop.searchesShed));
+	::testing::Test::RecordProperty("error_per_keyframe_m",
+									std::to_string(perKeyframe.error.finalXY));
+	::testing::Test::RecordProperty("error_per_second_m",
+									std::to_string(perSecond.error.finalXY));
+
+	EXPECT_GT(perKeyframe.loop.searchesShed, 0U) << "the per-keyframe budget must fall behind";
+	EXPECT_EQ(perKeyframe.stats.loopClosures, 0U);
+	EXPECT_GT(perKeyframe.error.finalXY, 0.3);
+
+	EXPECT_LT(perSecond.loop.searchesShed, perKeyframe.loop.searchesShed);
+	EXPECT_GT(perSecond.stats.loopClosures, 0U);
+	EXPECT_LT(perSecond.error.finalXY, 0.3);
+	for (const TRun* run : {&perKeyframe, &perSecond})
+	{  // deferred, never lost: each merged into a later search (the run's end searches too)
+		EXPECT_EQ(run->loop.searchesMerged, run->loop.searchesShed);
+		EXPECT_TRUE(run->loop.droppedKeyframes.empty());
+	}
+	expectSameTrajectory(perSecond.trajectory, slow.trajectory, "slowed worker");
+}
+
+// Issue 28: dense scans keep the per-keyframe schedule. At 5 scans per second the ring's
+// keyframes are taken just past one spacing of travel (below the default span of 1.5), so the
+// budget per spacing grants worker_budget_ms per keyframe, exactly main's (span 0): the same
+// searches deferred and the same trajectory. A budget that grew with anything else (the log's
+// seconds, a stop) would move the schedule here.
+TEST(LoopClosingWorker, denseKeyframesKeepThePerKeyframeBudget)
+{
+	TLRGCParams p;
+	p.loop.worker_budget_ms = 0.2;  // far behind: the schedule decides which searches run
+	p.loop.max_backlog_keyframes = 6;
+	ASSERT_GT(p.loop.worker_budget_span, 1.0);
+	const TRun perSpan = mapRing(p, std::chrono::milliseconds(0));
+	p.loop.worker_budget_span = 0;
+	const TRun perKeyframe = mapRing(p, std::chrono::milliseconds(0));
+	ASSERT_GT(perKeyframe.loop.searchesShed, 0U) << "the worker must fall behind for this test";
+	EXPECT_EQ(perSpan.loop.shedKeyframes, perKeyframe.loop.shedKeyframes);
+	expectSameTrajectory(perSpan.trajectory, perKeyframe.trajectory, "budget per spacing");
+	// The check can fail: a span below the keyframes' own (0.5: 2-2.6x the budget) moves it.
+	p.loop.worker_budget_span = 0.5;
+	const TRun moreBudget = mapRing(p, std::chrono::milliseconds(0));
+	EXPECT_NE(moreBudget.loop.shedKeyframes, perKeyframe.loop.shedKeyframes);
 }
 
 TEST(LoopWork, theModelIsLinearInTheCounts)

@@ -61,11 +61,20 @@ public:
 	 * (path: the straight steps between consecutive nodes, map frame); at least 1. Caps the
 	 * patch ([LoopCloser] patch_max_travel_m). */
 	static size_t keyframesWithinTravel(const CPoseGraph& graph, double travel);
-	/** Counts a search for `keyframe` skipped by the caller (CLoopClosingWorker's backlog). */
+	/** Counts a search for `keyframe` deferred by the caller (CLoopClosingWorker's
+	 * backlog). */
 	void countShed(size_t keyframe)
 	{
 		++m_stats.searchesShed;
 		m_stats.shedKeyframes.push_back(keyframe);
+	}
+	/** Counts a deferred search merged into a later one whose patch holds its keyframe. */
+	void countMerged() { ++m_stats.searchesMerged; }
+	/** Counts a deferred search no later search covered: its keyframe and pose [map frame]. */
+	void countDropped(size_t keyframe, const mrpt::math::TPose2D& pose)
+	{
+		m_stats.droppedKeyframes.push_back(keyframe);
+		m_stats.droppedPoses.push_back(pose);
 	}
 	/** Adds the caller's own work (CLoopClosingWorker's updates of its graph) to stats(). */
 	void countWork(const TLoopWork& w) { m_stats.work += w; }

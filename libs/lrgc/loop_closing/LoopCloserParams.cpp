@@ -36,6 +36,8 @@ void TLoopCloserParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& 
 	result_delay_keyframes = readCount(c, s, "result_delay_keyframes", result_delay_keyframes);
 	worker_budget_ms = readDouble(c, s, "worker_budget_ms", worker_budget_ms);
 	requireParam(worker_budget_ms >= 0, s, "worker_budget_ms", "must be >= 0");
+	worker_budget_span = readDouble(c, s, "worker_budget_span", worker_budget_span);
+	requireParam(worker_budget_span >= 0, s, "worker_budget_span", "must be >= 0");
 	max_backlog_keyframes = readCount(c, s, "max_backlog_keyframes", max_backlog_keyframes);
 	link_noise.load(c, s, "");
 	requireParam(patch_max_range_m > 0, s, "patch_max_range_m", "must be > 0");
@@ -115,8 +117,13 @@ void TLoopCloserParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
 		"[ms per keyframe] A result is applied where a modelled worker doing this much work "
 		"per keyframe finishes it (deterministic; 0: at k + result_delay_keyframes)");
 	writeValue(
+		c, s, "worker_budget_span", worker_budget_span,
+		"[keyframe spacings] A keyframe s spacings of travel after the previous one grants "
+		"the modelled worker worker_budget_ms * max(1, s / this), at most 4x; 0: off");
+	writeValue(
 		c, s, "max_backlog_keyframes", uint64_t(max_backlog_keyframes),
-		"[keyframes] Searches are skipped while the modelled worker is more than this behind");
+		"[keyframes] Searches are deferred while the modelled worker is more than this many "
+		"keyframes' budget behind");
 	link_noise.save(c, s, "", "every loop link (scans minutes apart: moved objects)");
 }
 

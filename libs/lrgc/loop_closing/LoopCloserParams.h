@@ -85,11 +85,21 @@ struct TLoopCloserParams : public mrpt::config::CLoadableOptions
 	 * instead of stalling the mapping thread at k + result_delay_keyframes; the schedule is
 	 * still a function of the log alone. 0: every result at k + result_delay_keyframes. */
 	double worker_budget_ms = 5;
-	/** [keyframes] When the modelled worker is more than this behind the newest keyframe, a
-	 * job only brings the worker's graph up to date and skips its search, unless the last
-	 * search ran patch_min_keyframes keyframes ago: searches are thinned, never stopped, and
-	 * a keyframe shed lies in the patch of the next search (its place is searched). The
-	 * worker's work stays bounded by worker_budget_ms per keyframe. Only
+	/** [keyframe spacings] The budget follows the data: a keyframe taken after the robot
+	 * travelled s keyframe spacings since the previous one (s = max(path / keyframe_distance_m,
+	 * turn / keyframe_angle), summed over the scans between) lets the modelled worker do
+	 * worker_budget_ms * max(1, s / this) of work (at most 4 worker_budget_ms;
+	 * CLoopClosingWorker). A dense log takes a keyframe just past one spacing (s 1.0-1.8 on
+	 * Intel, ACES, MIT-CSAIL, Killian) and keeps worker_budget_ms per keyframe; a sparse one,
+	 * where one scan step spans 3-5 spacings, gets the work of the keyframes it stands for. A
+	 * stop adds no travel, so it grants nothing extra. 0: worker_budget_ms per keyframe. */
+	double worker_budget_span = 1.5;
+	/** [keyframes] When the modelled worker is more than this many keyframes' budget
+	 * (this * worker_budget_ms) behind, a job only brings the worker's graph up to date and
+	 * defers its search, unless the last search ran patch_min_keyframes keyframes ago:
+	 * searches are thinned, never stopped, and a deferred search is merged into the next
+	 * search, whose patch holds its keyframe (its place is searched). The worker's work
+	 * stays bounded by its budget. Only
 	 * with worker_budget_ms > 0. Live runs (apply_when_ready) use neither: results are
 	 * taken when ready and no search is skipped. 150: with 15-keyframe windows, 300 let
 	 * Intel driven four times over add 2190 keyframes in every pass (no reuse); 150 adds

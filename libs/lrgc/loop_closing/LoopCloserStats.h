@@ -3,6 +3,7 @@
 #pragma once
 
 #include <lrgc/loop_closing/LoopWork.h>
+#include <mrpt/math/TPose2D.h>
 
 #include <cstddef>
 #include <vector>
@@ -36,13 +37,20 @@ struct TLoopCloserStats
 	double workerThreadCpuSeconds = 0;
 	/** The same work in machine-independent counts (the worker's schedule, LoopWork.h). */
 	TLoopWork work;
-	/** Searches the worker skipped because its modelled schedule ran more than
-	 * [LoopCloser] max_backlog_keyframes keyframes behind (CLoopClosingWorker). */
+	/** Searches the worker deferred because its modelled schedule ran more than
+	 * [LoopCloser] max_backlog_keyframes keyframes' budget behind (CLoopClosingWorker). */
 	size_t searchesShed = 0;
-	/** Where: the keyframe (graph node) of each search shed, in order. Each lies within
-	 * patch_min_keyframes before a search that ran, so in its patch (issue 28: no place goes
-	 * unsearched). */
+	/** Where: the keyframe (graph node) of each search deferred, in order. */
 	std::vector<size_t> shedKeyframes;
+	/** Deferred searches merged into a later search whose patch holds their keyframe (their
+	 * place was searched). */
+	size_t searchesMerged = 0;
+	/** Deferred searches no later search covered (issue 28: none may be): their keyframes
+	 * and those keyframes' poses [map frame] when dropped. CLoopClosingWorker::stats() counts
+	 * the searches deferred since the last one that ran as dropped until a later search
+	 * merges them (at the end of a run: none will). */
+	std::vector<size_t> droppedKeyframes;
+	std::vector<mrpt::math::TPose2D> droppedPoses;
 };
 
 }  // namespace lrgc

@@ -28,9 +28,11 @@ TLoopCloserStats CLoopClosing::stats() const
 }
 
 TLoopUpdate CLoopClosing::afterKeyframe(CPoseGraph& graph, const TKeyframes& keyframes,
-										bool newKeyframe, size_t anchor, TPose2D& robotInMap)
+										bool newKeyframe, size_t anchor, TPose2D& robotInMap,
+										double span)
 {
 	++m_keyframeClock;
+	m_grantMs += m_worker->keyframeGrantMs(span);
 	TLoopUpdate update;
 	applyDue(graph, true, anchor, robotInMap, update);
 	if (!newKeyframe || graph.numNodes() < 2) return update;
@@ -46,6 +48,12 @@ TLoopUpdate CLoopClosing::whenReady(CPoseGraph& graph, size_t anchor, TPose2D& r
 	TLoopUpdate update;
 	applyDue(graph, false, anchor, robotInMap, update);
 	return update;
+}
+
+void CLoopClosing::searchDeferred(CPoseGraph& graph, const TKeyframes& keyframes)
+{
+	if (m_whenReady || graph.numNodes() < 2 || m_nodesSent != graph.numNodes()) return;
+	handOver(graph, keyframes, true);
 }
 
 TLoopUpdate CLoopClosing::drain(CPoseGraph& graph, size_t anchor, TPose2D& robotInMap)
@@ -64,8 +72,9 @@ void CLoopClosing::applyDue(CPoseGraph& graph, bool atKeyframe, size_t anchor,
 	while (m_worker->pending() > 0)
 	{
 		double waited = 0;
-		const bool due = m_whenReady ? m_worker->ready()
-									 : atKeyframe && m_worker->due(m_keyframeClock, waited);
+		const bool due = m_whenReady
+							 ? m_worker->ready()
+							 : atKeyframe && m_worker->due(m_keyframeClock, m_grantMs, waited);
 		if (waited > 0)
 		{
 			++m_schedule.waits;
@@ -79,13 +88,15 @@ void CLoopClosing::applyDue(CPoseGraph& graph, bool atKeyframe, size_t anchor,
 	}
 }
 
-// A job for the newest keyframe with what the worker's replica lacks (LoopClosing.h).
-void CLoopClosing::handOver(CPoseGraph& graph, const TKeyframes& keyframes)
+// A job for the newest keyframe with what the worker's replica lacks (LoopClosing.h); at the
+// run's end (searchDeferred) one with no new keyframe.
+void CLoopClosing::handOver(CPoseGraph& graph, const TKeyframes& keyframes, bool runsEnd)
 {
 	const size_t newest = graph.numNodes() - 1;
 	TLoopJob job;
 	job.newest = newest;
 	job.clock = m_keyframeClock;
+	job.grantMs = m_grantMs;
 	job.firstPose = std::min(graph.takeLowestMovedNode(), m_nodesSent);
 	job.poses.assign(graph.poses().begin() + job.firstPose, graph.poses().end());
 	for (size_t i = m_nodesSent; i <= newest; ++i) job.scans.push_back(&keyframes[i].scan);
@@ -95,6 +106,7 @@ void CLoopClosing::handOver(CPoseGraph& graph, const TKeyframes& keyframes)
 	job.resultsApplied = m_resultsApplied;
 	job.stop = m_stop;
 	job.frozenNodes = m_frozen;
+	job.runsEnd = runsEnd;
 	m_worker->submit(std::move(job));
 }
 

@@ -25,7 +25,10 @@
 #include <lrgc/scan_matching/Keyframe.h>
 #include <lrgc/scan_matching/ScanMatcherParams.h>
 
+#include <mrpt/core/Clock.h>
+
 #include <memory>
+#include <optional>
 #include <vector>
 
 namespace lrgc
@@ -63,14 +66,19 @@ public:
 	CLoopClosing(const CLoopClosing&) = delete;
 	CLoopClosing& operator=(const CLoopClosing&) = delete;
 
-	/** At a keyframe taken (the keyframe clock advances): applies the results due by now,
-	 * then, for a new keyframe (`newKeyframe`; not at a reused one), hands it over for a loop
-	 * search. `anchor` is the keyframe the robot hangs from and `robotInMap` its pose: carried
-	 * along by the corrections applied. */
+	/** At a keyframe taken `span` keyframe spacings of travel after the previous one (the
+	 * keyframe clock advances, and the modelled worker's grant with it): applies the results
+	 * due by now, then, for a new keyframe (`newKeyframe`; not at a reused one), hands it over
+	 * for a loop search. `anchor` is the keyframe the robot hangs from and `robotInMap` its
+	 * pose: carried along by the corrections applied. */
 	TLoopUpdate afterKeyframe(CPoseGraph& graph, const TKeyframes& keyframes, bool newKeyframe,
-							  size_t anchor, mrpt::math::TPose2D& robotInMap);
+							  size_t anchor, mrpt::math::TPose2D& robotInMap, double span);
 	/** Between keyframes of a live run (apply_when_ready): applies the results ready now. */
 	TLoopUpdate whenReady(CPoseGraph& graph, size_t anchor, mrpt::math::TPose2D& robotInMap);
+	/** End of the run, before drain(): hands the newest keyframe over once more, to run the
+	 * searches the worker deferred after its last search (no later keyframe will merge them;
+	 * CLoopClosingWorker: nothing is searched if none was deferred). */
+	void searchDeferred(CPoseGraph& graph, const TKeyframes& keyframes);
 	/** End of the run: waits for every search handed over and applies its result. */
 	TLoopUpdate drain(CPoseGraph& graph, size_t anchor, mrpt::math::TPose2D& robotInMap);
 
@@ -89,7 +97,7 @@ private:
 
 	void applyDue(CPoseGraph& graph, bool atKeyframe, size_t anchor,
 				  mrpt::math::TPose2D& robotInMap, TLoopUpdate& update);
-	void handOver(CPoseGraph& graph, const TKeyframes& keyframes);
+	void handOver(CPoseGraph& graph, const TKeyframes& keyframes, bool runsEnd = false);
 	void apply(TLoopJobResult&& r, CPoseGraph& graph, size_t anchor,
 			   mrpt::math::TPose2D& robotInMap, TLoopUpdate& update);
 	/** Queues the links added to `graph` since the last call for the next job. */
@@ -107,6 +115,9 @@ private:
 	/** Keyframes taken so far, new or reused: the clock of the worker's schedule (a robot
 	 * driving known ground reuses keyframes and adds none, but its results must land). */
 	size_t m_keyframeClock = 0;
+	/** The modelled worker's grant so far [ms] (CLoopClosingWorker::keyframeGrantMs per
+	 * keyframe taken). */
+	double m_grantMs = 0;
 	TLoopScheduleStats m_schedule;
 	CStopToken m_stop;
 	size_t m_frozen = 0;

@@ -15,6 +15,15 @@ namespace lrgc
 {
 using mrpt::math::TPose2D;
 
+namespace
+{
+/** A keyframe grants the modelled worker at most this many keyframes' worth of
+ * worker_budget_ms: a robot that stood still for minutes must not let every queued search fall
+ * due at once (the mapping thread would wait for the real worker to do them all). 4: a sparse
+ * keyframe spans 3-5 keyframe spacings of travel. */
+constexpr double kMaxGrantKeyframes = 4;
+}  // namespace
+
 CLoopClosingWorker::CLoopClosingWorker(const TLoopCloserParams& p,
 									   const TPatchCorrelatorParams& correlator,
 									   const TScanMatcherParams& matcher,
@@ -23,7 +32,8 @@ CLoopClosingWorker::CLoopClosingWorker(const TLoopCloserParams& p,
 	  // Live runs take results when ready: the model would only shed searches the real
 	  // worker, given the robot's time, has done long ago.
 	  m_budgetMs(p.apply_when_ready ? 0.0 : p.worker_budget_ms),
-	  m_maxBacklog(p.max_backlog_keyframes),
+	  m_budgetSpan(p.worker_budget_span),
+	  m_maxBacklogMs(double(p.max_backlog_keyframes) * p.worker_budget_ms),
 	  m_searchSpacing(p.patch_min_keyframes),
 	  m_closer(p, correlator, matcher, optimizer)
 {
@@ -79,7 +89,19 @@ bool CLoopClosingWorker::ready() const
 	return !m_pendingClocks.empty() && (!m_results.empty() || m_error);
 }
 
-bool CLoopClosingWorker::due(size_t clock, double& waitedSeconds)
+bool CLoopClosingWorker::isDue(size_t jobClock, double finishMs, size_t clock,
+							   double grantMs) const
+{
+	return clock >= jobClock + m_resultDelay && (m_budgetMs <= 0 || finishMs <= grantMs);
+}
+
+double CLoopClosingWorker::keyframeGrantMs(double span) const
+{
+	if (m_budgetSpan <= 0) return m_budgetMs;
+	return m_budgetMs * std::clamp(span / m_budgetSpan, 1.0, kMaxGrantKeyframes);
+}
+
+bool CLoopClosingWorker::due(size_t clock, double grantMs, double& waitedSeconds)
 {
 	ASSERTMSG_(!m_pendingClocks.empty(), "CLoopClosingWorker::due: no job was submitted");
 	const auto t0 = std::chrono::steady_clock::now();
@@ -90,12 +112,13 @@ bool CLoopClosingWorker::due(size_t clock, double& waitedSeconds)
 		if (m_error) break;
 		if (!m_results.empty())
 		{
-			if (m_results.front().dueAt > clock) return false;
+			const TLoopJobResult& r = m_results.front();
+			if (!isDue(r.clock, r.finishMs, clock, grantMs)) return false;
 			break;
 		}
-		const size_t leastDue =
-			m_runningJob == m_taken ? m_runningDue : m_pendingClocks.front() + m_resultDelay;
-		if (leastDue > clock) break;
+		// Not done: due only if even the least finish its work so far implies is.
+		const double leastFinish = m_runningJob == m_taken ? m_runningFinishMs : 0.0;
+		if (!isDue(m_pendingClocks.front(), leastFinish, clock, grantMs)) break;
 		m_cv.wait(lock);
 		waited = true;
 	}
@@ -194,23 +217,40 @@ void CLoopClosingWorker::updateReplica(const TLoopJob& job)
 	}
 }
 
-size_t CLoopClosingWorker::dueKeyframe(size_t clock, double start, const TLoopWork& work,
-									   double* finish) const
-{
-	if (m_budgetMs <= 0) return clock + m_resultDelay;
-	const double f = start + work.referenceMs() / m_budgetMs;
-	if (finish) *finish = f;
-	return std::max(clock + m_resultDelay, static_cast<size_t>(std::ceil(f)));
-}
-
-void CLoopClosingWorker::publishProgress(size_t due)
+void CLoopClosingWorker::publishProgress(double finishMs)
 {
 	{
 		std::lock_guard<std::mutex> lock(m_mutex);
 		m_runningJob = m_jobsDone;
-		m_runningDue = due;
+		m_runningFinishMs = finishMs;
 	}
 	m_cv.notify_all();
+}
+
+// The modelled worker's backlog (see the header): past max_backlog_keyframes *
+// worker_budget_ms, a job defers its search unless the last one ran patch_min_keyframes
+// keyframes ago. A search that runs for node n merges the deferred searches whose keyframe
+// lies in its patch (n + 1 - patch_min_keyframes or later: a patch is never shorter) and
+// drops the others, recording where they were. The run's last job searches only to merge
+// deferred searches.
+std::optional<TLoopClosure> CLoopClosingWorker::searchOrDefer(const TLoopJob& job, double start)
+{
+	if (job.runsEnd && m_deferred.empty()) return std::nullopt;
+	if (!job.runsEnd && m_budgetMs > 0 && start - job.grantMs > m_maxBacklogMs &&
+		job.newest < m_lastSearched + m_searchSpacing)
+	{
+		m_closer.countShed(job.newest);
+		m_deferred.push_back(job.newest);
+		return std::nullopt;
+	}
+	for (const size_t d : m_deferred)
+		if (d + m_searchSpacing > job.newest)
+			m_closer.countMerged();
+		else
+			m_closer.countDropped(d, m_replica.pose(d));
+	m_deferred.clear();
+	m_lastSearched = job.newest;
+	return m_closer.process(m_replica, m_scans);
 }
 
 // Brings the replica up to date with the job, runs the loop closer on it, and reports what
@@ -229,7 +269,7 @@ TLoopJobResult CLoopClosingWorker::execute(TLoopJob& job)
 
 	// The modelled worker's schedule (see the header); its work: this job's update of the
 	// replica and what the loop closer counts.
-	const double start = std::max(double(job.clock), m_modelledFree);
+	const double start = std::max(job.grantMs, m_modelledFree);
 	const TLoopWork before = m_closer.stats().work;
 	TLoopWork update;
 	update.jobs = 1, update.newScans = job.scans.size();
@@ -238,28 +278,19 @@ TLoopJobResult CLoopClosingWorker::execute(TLoopJob& job)
 		TLoopWork w = m_closer.stats().work - before;
 		return w += update;
 	};
-	publishProgress(dueKeyframe(job.clock, start, workSoFar(), nullptr));
+	publishProgress(start + workSoFar().referenceMs());
 	m_closer.setStopToken(job.stop);
 	m_closer.setFrozenNodes(job.frozenNodes);
-	m_closer.setProgressCallback(
-		[&] { publishProgress(dueKeyframe(job.clock, start, workSoFar(), nullptr)); });
+	m_closer.setProgressCallback([&] { publishProgress(start + workSoFar().referenceMs()); });
 
 	const size_t firstLink = m_replica.numLinks();
 	TLoopJobResult r;
 	r.newest = job.newest;
 	r.clock = job.clock;
-	if (m_budgetMs > 0 && start - double(job.clock) > double(m_maxBacklog) &&
-		job.newest < m_lastSearched + m_searchSpacing)
-		m_closer.countShed(job.newest);
-	else
-	{
-		r.closure = m_closer.process(m_replica, m_scans);
-		m_lastSearched = job.newest;
-	}
+	r.closure = searchOrDefer(job, start);
 	m_closer.setProgressCallback({});
-	double finish = start;
-	r.dueAt = dueKeyframe(job.clock, start, workSoFar(), &finish);
-	m_modelledFree = finish;
+	r.finishMs = start + workSoFar().referenceMs();
+	m_modelledFree = r.finishMs;
 	m_closer.countWork(update);
 	for (size_t id = firstLink; id < m_replica.numLinks(); ++id)
 	{
@@ -273,9 +304,12 @@ TLoopJobResult CLoopClosingWorker::execute(TLoopJob& job)
 	if (!r.poses.empty())
 		m_unapplied.push_back({m_jobsDone, r.newest, r.firstMoved, m_replica.pose(r.newest)});
 	++m_jobsDone;
+	std::lock_guard<std::mutex> lock(m_mutex);
+	m_stats = m_closer.stats();
+	for (const size_t d : m_deferred)  // not merged yet: dropped unless a search comes
 	{
-		std::lock_guard<std::mutex> lock(m_mutex);
-		m_stats = m_closer.stats();
+		m_stats.droppedKeyframes.push_back(d);
+		m_stats.droppedPoses.push_back(m_replica.pose(d));
 	}
 	return r;
 }

@@ -23,18 +23,27 @@
  * Determinism: a job's result depends only on the jobs so far, never on when the worker runs;
  * the map builder applies it at a keyframe fixed by the log alone, so offline runs give the
  * same map on any machine: k + result_delay_keyframes, or, with [LoopCloser] worker_budget_ms,
- * the keyframe where a modelled worker would finish it. The modelled worker does
- * worker_budget_ms of the work TLoopWork counts per keyframe, one job after the other: start_j
- * = max(k_j, finish_{j-1}),  finish_j = start_j + W_j / worker_budget_ms due_j = max(k_j +
- * result_delay_keyframes, ceil(finish_j))            [keyframes] with k_j the mapping thread's
- * keyframe clock when it handed the job over (keyframes taken, new or reused: on known ground
- * the robot reuses keyframes and adds no node, and results must still land) and W_j the job's
- * modelled work [ms]. A job that would start more than max_backlog_keyframes keyframes behind
- * skips its search, unless the last search ran patch_min_keyframes keyframes before it or
- * more: while behind, searches are thinned out, never stopped, and every keyframe skipped lies
- * in the patch of a search that ran (a patch is at least patch_min_keyframes long), so no
- * place goes unsearched (issue 28). While a job runs, the worker publishes the due keyframe its
- * work so far implies (a lower bound), so the mapping thread waits only when the real worker is
+ * the keyframe where a modelled worker would finish it. The modelled worker's time is the
+ * work it may have done, its grant G [ms]: every keyframe taken (new or reused: on known
+ * ground the robot reuses keyframes and adds no node, and results must still land) grants it
+ *     g = worker_budget_ms * clamp(s / worker_budget_span, 1, kMaxGrantKeyframes)    [ms]
+ * with s the robot's travel since the previous keyframe in keyframe spacings (the map
+ * builder's; path / keyframe_distance_m or turn / keyframe_angle, the larger): the budget
+ * follows the data, so a sparse log, where one scan step spans several spacings, gets the
+ * work of the keyframes it stands for; a dense log, whose keyframes are taken just past one
+ * spacing, keeps worker_budget_ms per keyframe, and a stop grants nothing. One job after the
+ * other:
+ *     start_j = max(G_j, finish_{j-1}),  finish_j = start_j + W_j               [ms of grant]
+ * with G_j the grant when job j was handed over and W_j its modelled work [ms]; the result is
+ * due at the first keyframe clock c >= k_j + result_delay_keyframes whose grant G(c) >=
+ * finish_j. A job that would start more than max_backlog_keyframes * worker_budget_ms behind
+ * its grant defers its search, unless the last search ran patch_min_keyframes keyframes before
+ * it or more: while behind, searches are thinned out, never stopped. A deferred search is
+ * merged into the next search that runs when its keyframe lies in that search's patch (a
+ * patch is at least patch_min_keyframes long: its place is searched), else dropped, and
+ * stats() says which and where (issue 28); at the run's end a last job searches the newest
+ * keyframe if searches are still deferred. While a job runs, the worker publishes the least
+ * finish its work so far implies, so the mapping thread waits only when the real worker is
  * slower than the modelled one. With `background` off a job runs inside submit() on the
  * caller's thread: the same results, for debugging and tests.
  */
@@ -69,12 +78,16 @@ struct TLoopJob
 	TScanRefs scans;  //!< scans of the nodes added since the previous job, in node order
 	size_t resultsApplied = 0;  //!< results the mapping thread had applied when handing it over
 	/** The mapping thread's keyframe clock when handing it over: keyframes taken so far, new
-	 * or reused (the schedule's time unit). */
+	 * or reused (result_delay_keyframes counts in it). */
 	size_t clock = 0;
+	double grantMs = 0;  //!< the modelled worker's grant G at hand-over [ms] (see the header)
 	/** The loop closer's stop token for this job (CLoopCloser::setStopToken): a job stopped
 	 * part-way adds nothing. */
 	CStopToken stop;
 	size_t frozenNodes = 0;  //!< nodes below it are held fixed (CLoopCloser::setFrozenNodes)
+	/** The run's end (CLoopClosing::searchDeferred): no new node; searches `newest` only if
+	 * searches were deferred since the last one, whatever the backlog. */
+	bool runsEnd = false;
 };
 
 /** What a job did to the replica, for the mapping thread to apply to its graph. */
@@ -88,8 +101,8 @@ struct TLoopJobResult
 	size_t firstMoved = 0;
 	std::vector<mrpt::math::TPose2D> poses;
 	size_t clock = 0;  //!< the job's clock
-	/** Keyframe clock at which the mapping thread applies it (see the header). */
-	size_t dueAt = 0;
+	/** The modelled worker's finish [ms of grant]: due once the grant reaches it. */
+	double finishMs = 0;
 };
 
 class CLoopClosingWorker
@@ -110,10 +123,14 @@ public:
 	size_t pending() const { return m_pendingClocks.size(); }
 	/** The oldest pending job is done (take() will not wait). */
 	bool ready() const;
-	/** Whether the oldest pending job's result is due at keyframe clock `clock`. Waits only
-	 * while that cannot be told yet (the job is still running and its work so far does not
-	 * put it past `clock`); the time waited is added to `waitedSeconds`. */
-	bool due(size_t clock, double& waitedSeconds);
+	/** Whether the oldest pending job's result is due at keyframe clock `clock`, with the
+	 * modelled worker's grant `grantMs` [ms] then. Waits only while that cannot be told yet
+	 * (the job is still running and its work so far does not put it past `grantMs`); the time
+	 * waited is added to `waitedSeconds`. */
+	bool due(size_t clock, double grantMs, double& waitedSeconds);
+	/** What a keyframe taken `span` keyframe spacings of travel after the previous one adds
+	 * to the modelled worker's grant [ms] (see the header). */
+	double keyframeGrantMs(double span) const;
 	/** The oldest pending job's result, waiting for it if needed; rethrows what the job
 	 * threw. */
 	TLoopJobResult take();
@@ -133,18 +150,23 @@ private:
 	};
 
 	TLoopJobResult execute(TLoopJob& job);
-	/** Due clock of a job handed over at `clock` whose modelled worker starts at `start`
-	 * [keyframes] and has done `work` so far; `finish` receives its finish [keyframes]. */
-	size_t dueKeyframe(size_t clock, double start, const TLoopWork& work, double* finish) const;
-	void publishProgress(size_t due);
+	/** Whether a result of a job handed over at `jobClock` that finishes at `finishMs` is due
+	 * at keyframe clock `clock` with grant `grantMs`. */
+	bool isDue(size_t jobClock, double finishMs, size_t clock, double grantMs) const;
+	/** Searches `job.newest` unless the backlog defers it (see the header); merges or drops
+	 * the searches deferred before it. */
+	std::optional<TLoopClosure> searchOrDefer(const TLoopJob& job, double start);
+	void publishProgress(double finishMs);
 	void updateReplica(const TLoopJob& job);
 	void threadMain();
 
 	const size_t m_resultDelay;
 	const double m_budgetMs;  //!< worker_budget_ms (0: results at k + result_delay_keyframes)
-	const size_t m_maxBacklog;
-	const size_t m_searchSpacing;  //!< patch_min_keyframes: the thinned searches' spacing
-	size_t m_lastSearched = 0;     //!< newest node of the last job that searched
+	const double m_budgetSpan;       //!< worker_budget_span [keyframe spacings]
+	const double m_maxBacklogMs;     //!< max_backlog_keyframes * worker_budget_ms [ms]
+	const size_t m_searchSpacing;    //!< patch_min_keyframes: the thinned searches' spacing
+	size_t m_lastSearched = 0;       //!< newest node of the last job that searched
+	std::vector<size_t> m_deferred;  //!< nodes whose search was deferred, none run since
 	CLoopCloser m_closer;
 	CPoseGraph m_replica;  //!< the mapping thread's graph as of the last job, corrected
 	TScanRefs m_scans;     //!< per replica node
@@ -153,7 +175,7 @@ private:
 	std::vector<mrpt::math::TPose2D> m_sentPoses;
 	std::vector<TCorrection> m_unapplied;
 	size_t m_jobsDone = 0;
-	double m_modelledFree = 0;               //!< keyframe at which the modelled worker is free
+	double m_modelledFree = 0;  //!< grant at which the modelled worker is free [ms]
 	std::atomic<int64_t> m_extraDelayMs{0};  //!< tests: every job first sleeps this long [ms]
 
 	std::deque<size_t> m_pendingClocks;  // of the jobs not taken; the mapping thread's
@@ -164,8 +186,9 @@ private:
 	std::deque<TLoopJob> m_jobs;
 	std::deque<TLoopJobResult> m_results;
 	/** The job running (its sequence number, SIZE_MAX: none) and the least due keyframe
-	 * its work so far implies. */
-	size_t m_runningJob = SIZE_MAX, m_runningDue = 0;
+	 * its work so far implies [ms of grant]. */
+	size_t m_runningJob = SIZE_MAX;
+	double m_runningFinishMs = 0;
 	std::exception_ptr m_error;
 	TLoopCloserStats m_stats;
 	double m_threadCpuSeconds = 0;  //!< the worker thread's, over its jobs [s]

@@ -4,7 +4,8 @@
  * Offline runs must give the same map on any machine (issue 12), so the keyframe at which a
  * loop search's result is applied cannot depend on how long the worker really took. It
  * depends on how long the work *should* take: CLoopClosingWorker runs a virtual worker that
- * does [LoopCloser] worker_budget_ms of modelled work per keyframe, and applies each result
+ * does [LoopCloser] worker_budget_ms of modelled work per keyframe (more for a keyframe that
+ * spans several keyframe spacings of travel: worker_budget_span), and applies each result
  * at the keyframe the virtual worker finishes it. A cheap search is applied at the next
  * keyframe, a whole-graph closure of Killian (~1 s) a few hundred keyframes later, and the
  * mapping thread waits only when the real worker is slower than the model says.

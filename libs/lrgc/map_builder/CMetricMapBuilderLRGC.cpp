@@ -117,6 +117,8 @@ void CMetricMapBuilderLRGC::followRobot(const mrpt::obs::CObservation2DRangeScan
 	m_scanStepCov = prediction.cov;
 	m_scanStepFromOdometry = prediction.fromOdometry;
 	const TPose2D step = between(m_lastScanInMap, reg.scanInMap);
+	m_pathSinceKeyframe += translationNorm(step);
+	m_turnSinceKeyframe += std::abs(step.phi);
 	m_predictor->commitScan(laser.timestamp, step);
 	const double dt = stepSeconds(prediction);
 	m_sweep->observe(laser, scan, dt > 0 ? prediction.motion.phi / dt : 0.0, sweep.phi, step,
@@ -218,6 +220,7 @@ void CMetricMapBuilderLRGC::enterNewKeyframe(
 		++m_stats.odometryLinks;
 		closeLoops(true);
 	}
+	m_pathSinceKeyframe = m_turnSinceKeyframe = 0;
 	m_lastScanInMap = m_graph.pose(node);
 	m_motionSinceKeyframe = TPose2D(0, 0, 0);
 	m_anchorOffset = TPose2D(0, 0, 0);
@@ -233,13 +236,17 @@ void CMetricMapBuilderLRGC::recordScan(mrpt::Clock::time_point stamp, size_t nod
 }
 
 // Steps 4-5 at a keyframe taken (CLoopClosing): the loop results due are applied, and a new
-// keyframe is handed over to look for a loop in the background.
+// keyframe is handed over to look for a loop in the background. The travel since the last
+// keyframe, in keyframe spacings, sets the loop worker's budget for this one.
 void CMetricMapBuilderLRGC::closeLoops(bool newKeyframe)
 {
+	const double span = std::max(m_pathSinceKeyframe / m_params.builder.keyframe_distance_m,
+								 m_turnSinceKeyframe / m_params.builder.keyframe_angle);
+	m_pathSinceKeyframe = m_turnSinceKeyframe = 0;
 	if (!m_loops) return;
 	CCpuTimer apply(m_stats.loopApplyCpuSeconds);
-	recordLoopUpdate(
-		m_loops->afterKeyframe(m_graph, m_keyframes, newKeyframe, anchor(), m_lastScanInMap));
+	recordLoopUpdate(m_loops->afterKeyframe(m_graph, m_keyframes, newKeyframe, anchor(),
+											m_lastScanInMap, span));
 }
 
 void CMetricMapBuilderLRGC::takeReadyLoopResults()

@@ -335,6 +335,9 @@ private:
 	 * keyframe, the registered offset for a reused one. Keyframe distances count from it. */
 	mrpt::math::TPose2D m_anchorOffset{0, 0, 0};
 	bool m_odometryTrustedSinceKeyframe = true;
+	/** The registered path [m] and turn [rad] since the last keyframe taken (new or reused),
+	 * summed over the scans' steps: the loop worker's budget follows it (closeLoops). */
+	double m_pathSinceKeyframe = 0, m_turnSinceKeyframe = 0;
 	/** The current scan's predicted step, its covariance and source, for its TScanRecord. */
 	mrpt::math::TPose2D m_scanStep{0, 0, 0};
 	Eigen::Matrix3d m_scanStepCov = Eigen::Matrix3d::Identity();

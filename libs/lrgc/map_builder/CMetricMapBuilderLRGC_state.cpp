@@ -61,7 +61,11 @@ unsigned int CMetricMapBuilderLRGC::getCurrentlyBuiltMapSize()
 void CMetricMapBuilderLRGC::finish()
 {
 	const auto lock = lockMap();
-	if (m_loops) recordLoopUpdate(m_loops->drain(m_graph, anchor(), m_lastScanInMap));
+	if (m_loops)
+	{
+		m_loops->searchDeferred(m_graph, m_keyframes);
+		recordLoopUpdate(m_loops->drain(m_graph, anchor(), m_lastScanInMap));
+	}
 	if (!m_params.builder.final_optimization || m_graph.numNodes() < 2) return;
 	if (m_loops && m_params.revisits.enabled)
 	{

@@ -131,6 +131,22 @@ std::string laserJson(const CLaserSelector& lasers)
 	return j.str();
 }
 
+// The places of the loop searches dropped: [{"keyframe": k, "x": m, "y": m, "phi_deg": deg}].
+std::string droppedSearchesJson(const TLoopCloserStats& lcs)
+{
+	std::ostringstream j;
+	j.precision(3);
+	j << std::fixed << "[";
+	for (size_t i = 0; i < lcs.droppedKeyframes.size(); ++i)
+	{
+		const mrpt::math::TPose2D& p = lcs.droppedPoses[i];
+		j << (i ? ", " : "") << "{\"keyframe\": " << lcs.droppedKeyframes[i]
+		  << ", \"x\": " << p.x << ", \"y\": " << p.y
+		  << ", \"phi_deg\": " << mrpt::RAD2DEG(p.phi) << "}";
+	}
+	return j.str() + "]";
+}
+
 // Loop closing: the searches and their outcomes, the schedule's waits and delays, the
 // modelled work and the searches shed, the worker's CPU time per step.
 std::string loopClosingJson(const TMapBuilderStats& s, const TLoopCloserStats& lcs)
@@ -162,13 +178,18 @@ std::string loopClosingJson(const TMapBuilderStats& s, const TLoopCloserStats& l
 	  << ", \"result_wait_max_ms\": " << 1e3 * s.loopResultWaitMaxSeconds
 	  << ", \"result_delay_max_keyframes\": "
 	  << s.loopResultDelayMax
-	  // The worker's modelled work (LoopWork.h) and the searches it skipped to keep to
-	  // [LoopCloser] worker_budget_ms per keyframe.
-	  << ", \"modelled_work_s\": " << 1e-3 * lcs.work.referenceMs() << ", \"searches_shed\": "
-	  << lcs.searchesShed
-	  // ... and where: the keyframe of each search shed.
-	  << ", \"searches_shed_at_keyframes\": "
-	  << jsonList(lcs.shedKeyframes)
+	  // The worker's modelled work (LoopWork.h) and the searches it deferred to keep to its
+	  // budget ([LoopCloser] worker_budget_ms, worker_budget_span; "searches_shed" is
+	  // "searches_deferred" under its old name), where, and what became of them: merged into
+	  // a later search whose patch holds their keyframe, or dropped (no later search).
+	  << ", \"modelled_work_s\": " << 1e-3 * lcs.work.referenceMs()
+	  << ", \"searches_shed\": " << lcs.searchesShed
+	  << ", \"searches_deferred\": " << lcs.searchesShed
+	  << ", \"searches_shed_at_keyframes\": " << jsonList(lcs.shedKeyframes)
+	  << ", \"searches_merged\": " << lcs.searchesMerged
+	  << ", \"searches_dropped\": " << lcs.droppedKeyframes.size()
+	  << ", \"searches_dropped_at\": "
+	  << droppedSearchesJson(lcs)
 	  // CPU time of loop closing per step (the worker thread's, whatever else runs).
 	  << ", \"cpu_s\": {\"gate\": " << lcs.gateCpuSeconds
 	  << ", \"correlate\": " << lcs.correlateCpuSeconds
