@@ -161,8 +161,8 @@ private:
 	void threadMain();
 
 	const size_t m_resultDelay;
-	const double m_budgetMs;  //!< worker_budget_ms (0: results at k + result_delay_keyframes)
-	const double m_budgetSpan;       //!< worker_budget_span [keyframe spacings]
+	const double m_budgetMs;    //!< worker_budget_ms (0: results at k + result_delay_keyframes)
+	const double m_budgetSpan;  //!< worker_budget_span [keyframe spacings]
 	const double m_maxBacklogMs;     //!< max_backlog_keyframes * worker_budget_ms [ms]
 	const size_t m_searchSpacing;    //!< patch_min_keyframes: the thinned searches' spacing
 	size_t m_lastSearched = 0;       //!< newest node of the last job that searched
