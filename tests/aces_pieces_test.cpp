@@ -76,11 +76,13 @@ TEST(AcesPieces, secondSessionStartingOutsideTheMapJoinsIt)
 	EXPECT_GT(considered, 900U);
 	EXPECT_GT(across, 10U);
 	EXPECT_GE(coverage, 0.99);
-	// The issue's bar over the relations within the sessions (measured 0.0364 m). Over all of
-	// them, the 20 that join the sessions too: 0.0373 m, but 0.0370-0.0379 with B starting at
-	// another scan in 2900-3000 (the whole log in one run: 0.0372 m on the same relations,
-	// 0.0787 m on those 20; joined: 0.0789 m), so that bar is not asserted:
-	// doc/localization.md "What the joined figure is made of".
+	// Issue 29's bar, over all the relations with both ends in a session (the 20 that join the
+	// sessions included): measured 0.03737 m at the end of stop 36 (within 0.0366, across
+	// 0.0742). It sits within the spread of the split's start: 0.0370-0.0379 with B starting at
+	// another scan in 2900-3000, and the whole log in one run scores 0.0372 m on the same
+	// relations (doc/localization.md "What the joined figure is made of"); a change to mapping
+	// that moves it above the bar fails here and must be judged there.
+	EXPECT_LE(ev.trans_m.mean, 0.0375);
 	EXPECT_LE(evWithin.trans_m.mean, 0.0375);
 	EXPECT_LE(evAcross.trans_m.mean, 0.10);
 }
