@@ -40,8 +40,15 @@ struct TStepFactor
 	Eigen::Matrix3d info;  //!< w_k (s^2 Q_k)^-1
 };
 
+/** The run's pose of scan k: x[k - first] if k is free, its fixed pose otherwise. */
+TPose2D poseOf(const std::vector<TScanStep>& s, const TRun& r, const std::vector<TPose2D>& x,
+			   size_t k)
+{
+	return k >= r.first && k <= r.last ? x[k - r.first] : s[k].pose;
+}
+
 std::vector<TStepFactor> stepFactors(const std::vector<TScanStep>& s, const TRun& r,
-									 const Eigen::Vector3d& scale)
+									 const Eigen::Vector3d& scale, const std::vector<TPose2D>& x)
 {
 	std::vector<TStepFactor> f;
 	const size_t from = std::max<size_t>(r.first, 1), to = std::min(r.last + 1, s.size() - 1);
@@ -50,7 +57,8 @@ std::vector<TStepFactor> stepFactors(const std::vector<TScanStep>& s, const TRun
 		if (!s[k].fromOdometry) continue;
 		const Eigen::Matrix3d info =
 			(scale.asDiagonal() * s[k].stepCov * scale.asDiagonal()).inverse();
-		const Eigen::Vector3d e = linkResidual(s[k - 1].pose, s[k].pose, s[k].odometryStep);
+		const Eigen::Vector3d e =
+			linkResidual(poseOf(s, r, x, k - 1), poseOf(s, r, x, k), s[k].odometryStep);
 		const double chi2 = e.dot(info * e);
 		f.push_back({k, info * std::min(1.0, kGateChi2 / std::max(chi2, 1e-12))});
 	}
@@ -82,8 +90,7 @@ bool gaussNewtonStep(const std::vector<TScanStep>& s, const TRun& r,
 		addBlock(t, j, j, info);
 		g.segment<3>(3 * long(j)) += info * e;
 	}
-	auto poseOf = [&](size_t k)
-	{ return k >= r.first && k <= r.last ? x[k - r.first] : s[k].pose; };
+	auto poseOf = [&](size_t k) { return lrgc::poseOf(s, r, x, k); };
 	auto isFree = [&](size_t k) { return k >= r.first && k <= r.last; };
 	for (const TStepFactor& f : steps)
 	{
@@ -147,11 +154,11 @@ std::vector<std::pair<size_t, TPose2D>> smoothScans(const std::vector<TScanStep>
 		size_t last = first;
 		while (last + 1 < s.size() && !s[last + 1].keyframe) ++last;
 		const TRun run{first, last};
-		const std::vector<TStepFactor> steps = stepFactors(s, run, scale);
 		std::vector<TPose2D> x;
 		for (size_t k = first; k <= last; ++k) x.push_back(s[k].pose);
 		bool ok = true;
-		for (int it = 0; it < kIterations && ok; ++it) ok = gaussNewtonStep(s, run, steps, x);
+		for (int it = 0; it < kIterations && ok; ++it)
+			ok = gaussNewtonStep(s, run, stepFactors(s, run, scale, x), x);
 		if (ok)  // positions only: the registered heading stays (see the file comment)
 			for (size_t k = first; k <= last; ++k)
 				smoothed.emplace_back(k,
