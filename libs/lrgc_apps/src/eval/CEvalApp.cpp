@@ -166,6 +166,8 @@ void jsonLoops(JsonOut& j, const TEvalOptions& o, const TLoopRecall& r)
 			j.beginObject()
 				.integer("first_keyframe", p.firstKeyframe)
 				.integer("last_keyframe", p.lastKeyframe)
+				.num("first_time_s", p.firstTime_s, "%.6f")
+				.num("last_time_s", p.lastTime_s, "%.6f")
 				.end('}');
 	j.end(']').beginArray("false_closures_list");
 	for (const auto& l : r.loopLinks)
@@ -290,9 +292,8 @@ TEvalResult CEvalApp::evaluate(const TEvalOptions& o)
 	TEvalResult r;
 	if (!o.loopsDir.empty())
 	{
-		TRecallInputs in = loadRecallInputs(o.loopsDir, o.reference, o.timeTolerance_s);
+		const TRecallInputs in = loadRecallInputs(o.loopsDir, o.reference, o.timeTolerance_s);
 		r.loops = evaluateLoopRecall(in.graph, in.keyframes);
-		r.loopKeyframes = std::move(in.keyframes);
 	}
 	if (o.trajectory.empty()) return r;
 	const CTrajectory2D trajectory = CTrajectory2D::loadFromFile(o.trajectory);
@@ -318,7 +319,7 @@ void CEvalApp::printReport(const TEvalResult& r, const TEvalOptions& o, std::ost
 {
 	if (r.loops)
 		out << "loops of " << o.loopsDir << " against " << o.reference << "\n"
-			<< recallReport(*r.loops, r.loopKeyframes);
+			<< recallReport(*r.loops);
 	if (o.trajectory.empty()) return;
 	out << mrpt::format(
 		"trajectory %s: %zu poses over [%.6f, %.6f] s (%.1f s), %zu backward time jumps\n",

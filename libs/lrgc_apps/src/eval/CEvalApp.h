@@ -50,8 +50,7 @@ struct TEvalResult
 	std::optional<TRelationReport> rpeStep;      //!< ground-truth relations, 1 step
 	std::optional<TRelationReport> rpeDistance;  //!< ground-truth relations, fixed distance
 	std::size_t groundTruthPoses = 0;
-	std::optional<TLoopRecall> loops;           //!< --loops
-	std::vector<TRecallKeyframe> loopKeyframes;  //!< --loops: its keyframes
+	std::optional<TLoopRecall> loops;  //!< --loops
 };
 
 class CEvalApp

@@ -62,10 +62,11 @@ std::vector<TRevisitPlace> revisitPlaces(const std::vector<TRecallKeyframe>& kfs
 		if (!isRevisit(kfs, i, p)) continue;
 		if (placeStart < 0 || travelled - placeStart >= p.placeLength_m)
 		{
-			places.push_back({i, i, false});
+			places.push_back({i, i, kfs[i].t, kfs[i].t, false});
 			placeStart = travelled;
 		}
 		places.back().lastKeyframe = i;
+		places.back().lastTime_s = kfs[i].t;
 		places.back().closed = places.back().closed || closedKf.count(i) > 0;
 	}
 	return places;
@@ -134,7 +135,7 @@ TRecallInputs loadRecallInputs(const std::string& outputDir, const std::string& 
 	return in;
 }
 
-std::string recallReport(const TLoopRecall& r, const std::vector<TRecallKeyframe>& keyframes)
+std::string recallReport(const TLoopRecall& r)
 {
 	std::string s = mrpt::format(
 		"loop recall: %zu of %zu revisited places closed (%.1f %%); %zu loop links kept, %zu "
@@ -143,8 +144,7 @@ std::string recallReport(const TLoopRecall& r, const std::vector<TRecallKeyframe
 	for (const auto& pl : r.places)
 		if (!pl.closed)
 			s += mrpt::format("  not closed: keyframes %zu-%zu (%.6f-%.6f s)\n",
-							  pl.firstKeyframe, pl.lastKeyframe,
-							  keyframes[pl.firstKeyframe].t, keyframes[pl.lastKeyframe].t);
+							  pl.firstKeyframe, pl.lastKeyframe, pl.firstTime_s, pl.lastTime_s);
 	for (const auto& l : r.loopLinks)
 		if (!l.agrees)
 			s += mrpt::format(

@@ -58,6 +58,7 @@ struct TAuditedLoopLink
 struct TRevisitPlace
 {
 	std::size_t firstKeyframe = 0, lastKeyframe = 0;
+	double firstTime_s = 0, lastTime_s = 0;  //!< [s] their scans' times
 	bool closed = false;
 };
 
@@ -92,6 +93,6 @@ TRecallInputs loadRecallInputs(const std::string& outputDir, const std::string& 
 							   double tolerance_s = 1e-5);
 
 /** Text lines of the report: figures, the unclosed places, the false closures. */
-std::string recallReport(const TLoopRecall& r, const std::vector<TRecallKeyframe>& keyframes);
+std::string recallReport(const TLoopRecall& r);
 
 }  // namespace lrgc::apps::eval
