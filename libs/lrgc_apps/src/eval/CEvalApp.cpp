@@ -160,6 +160,7 @@ void jsonLoops(JsonOut& j, const TEvalOptions& o, const TLoopRecall& r)
 		.num("recall", r.recall(), "%.4f")
 		.integer("loop_links", r.loopLinks.size())
 		.integer("false_closures", r.falseClosures)
+		.integer("judged_by_relations", r.byRelation)
 		.beginArray("places_not_closed");
 	for (const auto& p : r.places)
 		if (!p.closed)
@@ -178,6 +179,7 @@ void jsonLoops(JsonOut& j, const TEvalOptions& o, const TLoopRecall& r)
 				.num("off_m", l.offXY_m)
 				.num("off_deg", l.offPhi_rad * 180 / M_PI)
 				.num("chi2", l.chi2)
+				.text("judged_by", l.byRelation ? "relations" : "reference")
 				.end('}');
 	j.end(']').end('}');
 }
@@ -243,6 +245,7 @@ std::string CEvalApp::usage()
 		   "2 m,\n"
 		   "                   10 m each; loop links off by > 0.3 m / 5 deg and chi2 > 16.27 "
 		   "are false\n"
+		   "                   (by --relations where one joins both ends within 10 s)\n"
 		   "  --help, --version\n";
 }
 
@@ -292,8 +295,14 @@ TEvalResult CEvalApp::evaluate(const TEvalOptions& o)
 	TEvalResult r;
 	if (!o.loopsDir.empty())
 	{
-		const TRecallInputs in = loadRecallInputs(o.loopsDir, o.reference, o.timeTolerance_s);
-		r.loops = evaluateLoopRecall(in.graph, in.keyframes);
+		TRecallInputs in = loadRecallInputs(o.loopsDir, o.reference, o.timeTolerance_s);
+		const TLoopRecallParams params;
+		const TTruthBetween truth =
+			o.relations.empty()
+				? TTruthBetween()
+				: truthFromRelations(loadRelations(o.relations), std::move(in.reference),
+									 params.relationReach_s, o.timeTolerance_s);
+		r.loops = evaluateLoopRecall(in.graph, in.keyframes, params, truth);
 	}
 	if (o.trajectory.empty()) return r;
 	const CTrajectory2D trajectory = CTrajectory2D::loadFromFile(o.trajectory);

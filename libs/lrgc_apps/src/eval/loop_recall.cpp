@@ -22,14 +22,18 @@ Eigen::Vector2d position(const TRecallKeyframe& k)
 	return {k.reference.x, k.reference.y};
 }
 
-/** d = (ref_from^-1 (+) ref_to)^-1 (+) Z, in translation [m], heading [rad] and chi2. */
+/** d = truth^-1 (+) Z, truth = (ref_from^-1 (+) ref_to) or truthBetween's, in translation
+ * [m], heading [rad] and chi2. */
 TAuditedLoopLink audit(const lrgc::TLink& l, const std::vector<TRecallKeyframe>& kfs,
-					   const TLoopRecallParams& p)
+					   const TLoopRecallParams& p, const TTruthBetween& truthBetween)
 {
 	TAuditedLoopLink a;
 	a.from = l.from, a.to = l.to;
-	const auto d = lrgc::between(lrgc::between(kfs[l.from].reference, kfs[l.to].reference),
-								 l.toInFrom);
+	std::optional<mrpt::math::TPose2D> truth;
+	if (truthBetween) truth = truthBetween(kfs[l.from], kfs[l.to]);
+	a.byRelation = truth.has_value();
+	if (!truth) truth = lrgc::between(kfs[l.from].reference, kfs[l.to].reference);
+	const auto d = lrgc::between(*truth, l.toInFrom);
 	const Eigen::Vector3d e = lrgc::toVector(d);
 	a.offXY_m = lrgc::translationNorm(d);
 	a.offPhi_rad = std::abs(d.phi);
@@ -83,7 +87,7 @@ std::vector<std::pair<std::size_t, std::size_t>> TLoopRecall::agreeingLinks() co
 
 TLoopRecall evaluateLoopRecall(const lrgc::CPoseGraph& graph,
 							   const std::vector<TRecallKeyframe>& keyframes,
-							   const TLoopRecallParams& p)
+							   const TLoopRecallParams& p, const TTruthBetween& truthBetween)
 {
 	if (graph.numNodes() > keyframes.size())
 		throw std::invalid_argument(mrpt::format(
@@ -95,7 +99,8 @@ TLoopRecall evaluateLoopRecall(const lrgc::CPoseGraph& graph,
 	{
 		const auto& l = graph.link(id);
 		if (l.type != lrgc::LinkType::LoopClosure || !graph.isLinkEnabled(id)) continue;
-		r.loopLinks.push_back(audit(l, keyframes, p));
+		r.loopLinks.push_back(audit(l, keyframes, p, truthBetween));
+		r.byRelation += r.loopLinks.back().byRelation ? 1 : 0;
 		if (!r.loopLinks.back().agrees)
 			++r.falseClosures;
 		else if (std::abs(keyframes[l.from].t - keyframes[l.to].t) >= p.revisitGap_s)
@@ -116,6 +121,7 @@ TRecallInputs loadRecallInputs(const std::string& outputDir, const std::string& 
 	const CTrajectory2D ref = CTrajectory2D::loadFromFile(reference);
 	TRecallInputs in;
 	in.graph = map.graph->graph;
+	in.reference = ref;
 	for (std::size_t i = 0; i < map.keyframes.size(); ++i)
 	{
 		const auto [posePDF, sf] = map.keyframes.get(i);
@@ -135,12 +141,43 @@ TRecallInputs loadRecallInputs(const std::string& outputDir, const std::string& 
 	return in;
 }
 
+TTruthBetween truthFromRelations(std::vector<TRelation> relations, CTrajectory2D reference,
+								 double reach_s, double tolerance_s)
+{
+	return [rel = std::move(relations), ref = std::move(reference), reach_s, tolerance_s](
+			   const TRecallKeyframe& from,
+			   const TRecallKeyframe& to) -> std::optional<mrpt::math::TPose2D>
+	{
+		const TRelation* best = nullptr;
+		bool swapped = false;
+		double bestGap = 2 * reach_s;
+		for (const auto& r : rel)
+			for (const bool sw : {false, true})
+			{
+				const double g1 = std::abs((sw ? r.t2 : r.t1) - from.t);
+				const double g2 = std::abs((sw ? r.t1 : r.t2) - to.t);
+				if (g1 <= reach_s && g2 <= reach_s && g1 + g2 < bestGap)
+					best = &r, swapped = sw, bestGap = g1 + g2;
+			}
+		if (!best) return std::nullopt;
+		const auto p1 = ref.poseAt(best->t1, tolerance_s), p2 = ref.poseAt(best->t2, tolerance_s);
+		if (!p1 || !p2) return std::nullopt;
+		// (t1 <- t2) by the relation; (from <- t1) and (t2 <- to) by the reference.
+		const auto motion = swapped ? lrgc::inverse(best->motion) : best->motion;
+		const auto& a = swapped ? p2->pose : p1->pose;
+		const auto& b = swapped ? p1->pose : p2->pose;
+		return lrgc::compose(lrgc::compose(lrgc::between(from.reference, a), motion),
+							 lrgc::between(b, to.reference));
+	};
+}
+
 std::string recallReport(const TLoopRecall& r)
 {
 	std::string s = mrpt::format(
-		"loop recall: %zu of %zu revisited places closed (%.1f %%); %zu loop links kept, %zu "
-		"false closures\n",
-		r.closed, r.places.size(), 100 * r.recall(), r.loopLinks.size(), r.falseClosures);
+		"loop recall: %zu of %zu revisited places closed (%.1f %%); %zu loop links kept (%zu "
+		"judged by a relation), %zu false closures\n",
+		r.closed, r.places.size(), 100 * r.recall(), r.loopLinks.size(), r.byRelation,
+		r.falseClosures);
 	for (const auto& pl : r.places)
 		if (!pl.closed)
 			s += mrpt::format("  not closed: keyframes %zu-%zu (%.6f-%.6f s)\n",
@@ -148,8 +185,10 @@ std::string recallReport(const TLoopRecall& r)
 	for (const auto& l : r.loopLinks)
 		if (!l.agrees)
 			s += mrpt::format(
-				"  false closure: keyframe %zu -> %zu, %.2f m, %.1f deg off, chi2 %.1f\n",
-				l.from, l.to, l.offXY_m, l.offPhi_rad * 180 / M_PI, l.chi2);
+				"  false closure: keyframe %zu -> %zu, %.2f m, %.1f deg off, chi2 %.1f (by the "
+				"%s)\n",
+				l.from, l.to, l.offXY_m, l.offPhi_rad * 180 / M_PI, l.chi2,
+				l.byRelation ? "relations" : "reference");
 	return s;
 }
 
