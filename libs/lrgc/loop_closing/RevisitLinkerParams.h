@@ -18,7 +18,17 @@ struct TRevisitLinkerParams : public mrpt::config::CLoadableOptions
 	 * the first; 3 m linked scans of another place: doc/parameters.md). */
 	double radius_m = 2.0;
 	double max_phi = mrpt::DEG2RAD(45.0);  //!< [rad] (key max_phi_deg)
-	size_t min_index_gap = 40;             //!< j < k - min_index_gap (not the local window)
+	/** j < k - min_index_gap (not the local registration window, K = 15 keyframes) */
+	size_t min_index_gap = 15;
+	/** [m] and j lies at least this much path (the straight steps between consecutive
+	 * keyframes summed) before k. Dense logs' 40 keyframes span 14-17 m; a sparse log's
+	 * (1 m apart) 40 m, which hid its dead-end returns (doc/generalisation.md). */
+	double min_path_gap_m = 15.0;
+	/** A keyframe with no candidate within max_phi_deg, but old keyframes within radius_m
+	 * facing another way (a corridor driven back), is matched against all the old keyframes
+	 * within 3 radius_m, whatever their heading: a 180 deg laser sees the other half of the
+	 * world, so one old scan shares only the side walls with it. */
+	bool any_heading = true;
 	size_t stride = 2;                     //!< every stride-th keyframe is tried
 	double min_inlier_fraction = 0.5;      //!< least fraction of k's points matched
 	double gate_chi2 = 16.27;     //!< [chi2, 3 dof] agreement of the match with the guess
