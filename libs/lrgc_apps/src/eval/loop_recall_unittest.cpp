@@ -92,3 +92,35 @@ TEST(LoopRecall, aGraphWithMoreNodesThanKeyframesThrows)
 	run.kfs.pop_back();
 	EXPECT_THROW(evaluateLoopRecall(run.graph, run.kfs), std::invalid_argument);
 }
+
+// The reference is 0.5 m off at the way back (its own join wrong); a ground-truth relation
+// from 1 s after keyframe 5 to 2 s before keyframe 35 decides instead: the link measuring the
+// truth agrees, judged by the relation; one 0.4 m off it is false.
+TEST(LoopRecall, aRelationNearBothEndsJudgesTheLinkInsteadOfTheReference)
+{
+	TOutAndBack run;  // run.kfs: the truth
+	std::vector<TTimedPose2D> ref;
+	for (const auto& k : run.kfs)
+		ref.push_back({k.t, lrgc::compose(k.reference, TPose2D(0, k.t > 50 ? 0.5 : 0, 0)), 0});
+	TRelation r;  // keyframe 6 (6 s) to keyframe 33 (102 s)
+	r.t1 = run.kfs[6].t, r.t2 = run.kfs[33].t;
+	r.motion = lrgc::between(run.kfs[6].reference, run.kfs[33].reference);
+	auto kfs = run.kfs;
+	for (auto& k : kfs)
+		if (k.t > 50) k.reference = lrgc::compose(k.reference, TPose2D(0, 0.5, 0));
+	run.link(5, 35, {0, 0, 0});    // the truth
+	run.link(4, 36, {0.4, 0, 0});  // 0.4 m off the truth
+	const auto judge = truthFromRelations({r}, CTrajectory2D(ref), 20);
+	const TLoopRecall byRef = evaluateLoopRecall(run.graph, kfs);
+	EXPECT_EQ(byRef.falseClosures, 2U);  // the reference's 0.5 m error
+	const TLoopRecall byRel = evaluateLoopRecall(run.graph, kfs, {}, judge);
+	EXPECT_EQ(byRel.byRelation, 2U);
+	EXPECT_TRUE(byRel.loopLinks[0].agrees);
+	EXPECT_NEAR(byRel.loopLinks[0].offXY_m, 0, 1e-9);
+	EXPECT_FALSE(byRel.loopLinks[1].agrees);
+	EXPECT_NEAR(byRel.loopLinks[1].offXY_m, 0.4, 1e-9);
+	// Beyond the reach no relation decides.
+	const TLoopRecall far =
+		evaluateLoopRecall(run.graph, kfs, {}, truthFromRelations({r}, CTrajectory2D(ref), 0.5));
+	EXPECT_EQ(far.byRelation, 0U);
+}
