@@ -149,8 +149,11 @@ size_t CRevisitLinker::linkRevisits(CPoseGraph& graph, const TKeyframes& keyfram
 						m_params.prior_std_phi * m_params.prior_std_phi)
 			.asDiagonal();
 	size_t added = 0;
-	for (size_t k = m_params.min_index_gap + 1; k < n && !m_stop.stopRequested();
-		 k += m_params.stride)
+	// Keyframes stride - 1, 2 stride - 1, ... (counted from node 0, not from the gap: which
+	// keyframes are tried does not depend on min_index_gap).
+	const size_t s = m_params.stride;
+	for (size_t k = (m_params.min_index_gap + 1 + s) / s * s - 1; k < n && !m_stop.stopRequested();
+		 k += s)
 	{
 		const auto c = candidate(sw, keyframes, k);
 		if (!c || sw.linkedNear(k, c->old)) continue;
