@@ -227,7 +227,8 @@ TEST_F(SenaRun, StatsAndTimingAreWritten)
 	// Loop closures (accepted matches with the old map), and the loop links by origin.
 	const std::regex counts(
 		"\"loop_links\": \\{\"closure\": ([0-9]+), \"revisit\": [0-9]+, "
-		"\"rematch_or_reuse\": [0-9]+\\},\n  \"loop_closures\": ([0-9]+),");
+		"\"rematch_or_reuse\": [0-9]+, \"rejected_at_end\": [0-9]+\\},\n  \"loop_closures\": "
+		"([0-9]+),");
 	std::smatch m;
 	ASSERT_TRUE(std::regex_search(stats, m, counts)) << stats;
 	EXPECT_EQ(m[1].str(), m[2].str());

@@ -7,8 +7,17 @@
  *  - The revisits close: loops closed > 0, and the mean relation error within 1.5 times the
  *    dense figure (main's dense trajectory sampled at the kept scans, scored on the same
  *    relations: what the sparse map can reach).
+ *  - Loop recall (lrgc-eval --loops, lrgc_apps/eval/loop_recall.h, the glass world's
+ *    definition) against the dense log mapped by the same build as the reference, the links
+ *    judged by the log's own relations wherever one joins both ends within 20 s: where met
+ *    (Intel 38 / 40, MIT-CSAIL 9 / 9), >= 90 % of the revisited places closed and no kept
+ *    loop link that the relations call false; ACES (7 / 9: dead-end returns) and Killian
+ *    (54 / 69: corridors driven back, one link 0.31 m off by the relations) are printed
+ *    (doc/generalisation.md). Links judged by the reference alone are only printed: the dense
+ *    map's own joins can be a few decimetres off (Killian).
  * Skips where the shared logs or python3 are absent. */
 #include <gtest/gtest.h>
+#include <lrgc_apps/eval/loop_recall.h>
 #include <lrgc_apps/eval/relation_metric.h>
 #include <lrgc_apps/eval/trajectory.h>
 
@@ -48,7 +57,25 @@ struct TSparseCase
 	/** [m] main's dense trajectory (at 639db6f) sampled at the kept scans, scored on the
 	 * sparse relations: 0.0229 / 0.0510 / 0.0390 / 0.0406 m. */
 	double denseFigure_m;
+	bool recallMet;  //!< loop recall >= 90 % and no false closure by the relations
 };
+
+/** Loop recall of the sparse run in dir/out against the dense log mapped now (dir/dense), the
+ * links judged by the dense log's relations where they reach. */
+eval::TLoopRecall loopRecall(const std::string& dir, const std::string& denseLog,
+							 const std::string& denseRelations)
+{
+	const auto r = runProcess(binaryPath("lrgc-slam"),
+							  {"--input", denseLog, "--out", dir + "/dense", "--quiet"});
+	EXPECT_EQ(r.exitCode, 0) << r.output;
+	eval::TRecallInputs in =
+		eval::loadRecallInputs(dir + "/out", dir + "/dense/trajectory.tum");
+	const eval::TLoopRecallParams p;
+	return eval::evaluateLoopRecall(
+		in.graph, in.keyframes, p,
+		eval::truthFromRelations(eval::loadRelations(denseRelations), std::move(in.reference),
+								 p.relationReach_s));
+}
 
 void mapSparseVariant(const TSparseCase& c)
 {
@@ -71,34 +98,43 @@ void mapSparseVariant(const TSparseCase& c)
 	const auto ev =
 		eval::evaluateRelations(trajectory, eval::loadRelations(dir + "/sparse.relations"));
 	const std::string stats = readTextFile(dir + "/out/stats.json");
+	const auto recall = loopRecall(dir, log, rel);
 	const long loops = jsonInt(stats, "loop_closures");
 	std::cout << c.name << " sparse: " << made.output << "  relation error " << ev.trans_m.mean
 			  << " m, " << ev.rot_deg.mean << " deg; short relations " << ev.shortCount << ", "
 			  << ev.shortOver2deg << " off by > 2 deg, " << ev.shortOver5deg << " by > 5; "
 			  << jsonInt(stats, "unmatched_scans") << " of " << jsonInt(stats, "scans")
-			  << " scans unmatched; " << loops << " loops closed\n";
+			  << " scans unmatched; " << loops << " loops closed\n"
+			  << eval::recallReport(recall);
 
 	EXPECT_TRUE(ev.unmatched.empty()) << "every relation is on a kept scan";
 	EXPECT_GT(ev.shortCount, 200U);
 	EXPECT_EQ(ev.shortOver5deg, 0U) << "a short relation off by > 5 deg: a bent map";
 	EXPECT_GT(loops, 0);
 	EXPECT_LT(ev.trans_m.mean, 1.5 * c.denseFigure_m);
+	size_t falseByRelations = 0;
+	for (const auto& l : recall.loopLinks) falseByRelations += !l.agrees && l.byRelation;
+	::testing::Test::RecordProperty("loop_recall", std::to_string(recall.recall()));
+	::testing::Test::RecordProperty("false_closures_by_relations", std::to_string(falseByRelations));
+	if (!c.recallMet) return;
+	EXPECT_GE(recall.recall(), 0.9);
+	EXPECT_EQ(falseByRelations, 0U) << eval::recallReport(recall);
 }
 }  // namespace
 
 TEST(SparseScans, Intel)
 {
-	mapSparseVariant({"intel", 0.0229});
+	mapSparseVariant({"intel", 0.0229, true});
 }
 TEST(SparseScans, Aces)
 {
-	mapSparseVariant({"aces", 0.0510});
+	mapSparseVariant({"aces", 0.0510, false});
 }
 TEST(SparseScans, MitCsail)
 {
-	mapSparseVariant({"mit-csail", 0.0390});
+	mapSparseVariant({"mit-csail", 0.0390, true});
 }
 TEST(SparseScans, MitKillian)
 {
-	mapSparseVariant({"mit-killian", 0.0406});
+	mapSparseVariant({"mit-killian", 0.0406, false});
 }

@@ -24,9 +24,14 @@
 #include <lrgc/scan_matching/Keyframe.h>
 #include <lrgc/pose_graph/LinkNoise.h>
 #include <lrgc/pose_graph/PoseGraph.h>
+#include <lrgc/scan_matching/ReferenceCloud.h>
 #include <lrgc/scan_matching/ScanMatcher.h>
 #include <mrpt/config/CLoadableOptions.h>
 #include <mrpt/core/bits_math.h>
+
+#include <optional>
+#include <utility>
+#include <vector>
 
 namespace lrgc
 {
@@ -45,6 +50,18 @@ public:
 	void setSplit(size_t split) { m_split = split; }
 
 private:
+	struct TSweep;
+	struct TCandidate
+	{
+		size_t old = 0;               //!< the old keyframe the link starts from
+		mrpt::math::TPose2D guess;    //!< (old <- k) by the current poses
+		CReferenceCloud reference;    //!< in old's frame
+	};
+	std::vector<std::pair<size_t, double>> oldNear(const TSweep& sw, size_t k,
+												   double reach) const;
+	std::optional<TCandidate> candidate(const TSweep& sw, const TKeyframes& keyframes,
+										size_t k) const;
+
 	TRevisitLinkerParams m_params;
 	TScanMatcherParams m_matcherParams;
 	TLinkNoise m_linkNoise;

@@ -12,12 +12,15 @@ void TRevisitLinkerParams::loadFromConfigFile(const mrpt::config::CConfigFileBas
 	radius_m = readDouble(c, s, "radius_m", radius_m);
 	max_phi = readDegrees(c, s, "max_phi_deg", max_phi);
 	min_index_gap = readCount(c, s, "min_index_gap", min_index_gap);
+	min_path_gap_m = readDouble(c, s, "min_path_gap_m", min_path_gap_m);
+	any_heading = readBool(c, s, "any_heading", any_heading);
 	stride = readCount(c, s, "stride", stride);
 	min_inlier_fraction = readDouble(c, s, "min_inlier_fraction", min_inlier_fraction);
 	gate_chi2 = readDouble(c, s, "gate_chi2", gate_chi2);
 	prior_std_xy_m = readDouble(c, s, "prior_std_xy_m", prior_std_xy_m);
 	prior_std_phi = readDegrees(c, s, "prior_std_phi_deg", prior_std_phi);
 	requireParam(radius_m > 0, s, "radius_m", "must be > 0");
+	requireParam(min_path_gap_m >= 0, s, "min_path_gap_m", "must be >= 0");
 	requireParam(max_phi > 0 && max_phi <= M_PI, s, "max_phi_deg", "must be in (0, 180]");
 	requireParam(stride >= 1, s, "stride", "must be >= 1");
 	requireParam(min_inlier_fraction > 0 && min_inlier_fraction <= 1, s, "min_inlier_fraction",
@@ -37,6 +40,10 @@ void TRevisitLinkerParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
 	writeDegrees(c, s, "max_phi_deg", max_phi, "[deg] ... and this close in heading");
 	writeValue(c, s, "min_index_gap", uint64_t(min_index_gap),
 			   "Candidates are older than this many keyframes");
+	writeValue(c, s, "min_path_gap_m", min_path_gap_m,
+			   "[m] ... and lie at least this much path back");
+	writeValue(c, s, "any_heading", any_heading,
+			   "Match a keyframe facing away from every near old one against them all");
 	writeValue(c, s, "stride", uint64_t(stride), "Every stride-th keyframe is tried");
 	writeValue(c, s, "min_inlier_fraction", min_inlier_fraction,
 			   "Least fraction of the keyframe's points matched");

@@ -35,11 +35,14 @@ struct TRevisitRun
 	TKeyframes keyframes;
 	CPoseGraph graph;
 
-	TRevisitRun()
+	explicit TRevisitRun(std::vector<Eigen::Vector2d> waypoints = {{1.5, 3.5},
+																	{5.5, 3.5},
+																	{5.5, 5.8},
+																	{1.2, 5.8},
+																	{1.2, 3.0},
+																	{4.5, 3.0}})
 	{
-		tr = test::makeTrajectory(
-			{{1.5, 3.5}, {5.5, 3.5}, {5.5, 5.8}, {1.2, 5.8}, {1.2, 3.0}, {4.5, 3.0}}, 0.3,
-			test::TOdometryNoise{}, 21);
+		tr = test::makeTrajectory(waypoints, 0.3, test::TOdometryNoise{}, 21);
 		std::mt19937 rng(4);
 		std::normal_distribution<double> noise(0.0, 1.0);
 		for (size_t k = 0; k < tr.truePoses.size(); ++k)
@@ -62,16 +65,22 @@ TRevisitLinkerParams testParams()
 {
 	TRevisitLinkerParams p;
 	p.min_index_gap = 10;  // the run has ~60 keyframes
+	p.min_path_gap_m = 3;  // and 18 m of path
 	p.stride = 1;
 	return p;
 }
 }  // namespace
 
+// One old scan against the new one: at the truth to 2 cm and 0.3 deg, although every pose of
+// the map is 3 cm off its own. (any_heading off: the legs crossing at 90 deg would be matched
+// against several old scans, each 3 cm off in this map, to 4-6 cm; see below.)
 TEST(RevisitLinker, linksTheRevisitedLegAtTheTrueRelativePoses)
 {
 	TRevisitRun run;
 	const TStageParams defaults;
-	const CRevisitLinker linker(testParams(), defaults.matcher, defaults.loop.link_noise);
+	TRevisitLinkerParams p = testParams();
+	p.any_heading = false;
+	const CRevisitLinker linker(p, defaults.matcher, defaults.loop.link_noise);
 	const size_t linksBefore = run.graph.numLinks();
 	const size_t added = linker.linkRevisits(run.graph, run.keyframes);
 	EXPECT_GE(added, 3U);
@@ -115,6 +124,46 @@ TEST(RevisitLinker, recentKeyframesAreNotRevisits)
 	EXPECT_EQ(linker.linkRevisits(run.graph, run.keyframes), 0U);
 }
 
+TEST(RevisitLinker, oldKeyframesLessPathBackAreNotRevisits)
+{
+	TRevisitRun run;
+	const TStageParams defaults;
+	TRevisitLinkerParams p = testParams();
+	p.min_path_gap_m = 30;  // more than the whole run's path
+	const CRevisitLinker linker(p, defaults.matcher, defaults.loop.link_noise);
+	EXPECT_EQ(linker.linkRevisits(run.graph, run.keyframes), 0U);
+}
+
+// Down a corridor of the room and back the same way (a 180 deg laser): no old keyframe faces
+// the way back within max_phi, so only any_heading links it, against the old keyframes within
+// 3 radius_m, at the true relative poses to 8 cm and 1 deg (the old keyframes are placed by
+// the map, each 3 cm off: 6 cm seen).
+TEST(RevisitLinker, aCorridorDrivenBackIsLinkedWhateverTheHeading)
+{
+	TRevisitRun run({{1.5, 3.5}, {6.5, 3.5}, {1.5, 3.6}});
+	const TStageParams defaults;
+	TRevisitLinkerParams p = testParams();
+	p.any_heading = false;
+	TRevisitRun without = run;
+	EXPECT_EQ(CRevisitLinker(p, defaults.matcher, defaults.loop.link_noise)
+				  .linkRevisits(without.graph, without.keyframes),
+			  0U);
+	p.any_heading = true;
+	const size_t linksBefore = run.graph.numLinks();
+	const size_t added = CRevisitLinker(p, defaults.matcher, defaults.loop.link_noise)
+							 .linkRevisits(run.graph, run.keyframes);
+	EXPECT_GE(added, 3U);
+	for (size_t id = linksBefore; id < run.graph.numLinks(); ++id)
+	{
+		const TLink& l = run.graph.link(id);
+		const TPose2D truth = between(run.tr.truePoses[l.from], run.tr.truePoses[l.to]);
+		EXPECT_GT(std::abs(truth.phi), mrpt::DEG2RAD(135.0)) << l.from << " -> " << l.to;
+		EXPECT_LT(translationNorm(between(truth, l.toInFrom)), 0.08)
+			<< l.from << " -> " << l.to;
+		EXPECT_LT(std::abs(between(truth, l.toInFrom).phi), mrpt::DEG2RAD(1.0));
+	}
+}
+
 TEST(RevisitLinker, scansOfAnotherPlaceAreNotLinked)
 {
 	TRevisitRun run;
@@ -125,8 +174,14 @@ TEST(RevisitLinker, scansOfAnotherPlaceAreNotLinked)
 	for (size_t k = run.graph.numNodes() / 2; k < run.graph.numNodes(); ++k)
 		run.keyframes[k].scan = test::simulateScan(
 			run.world, compose(run.tr.truePoses[k], TPose2D(2.0, 0.0, M_PI / 2)), {}, rng);
+	// Where the legs of the first half cross at 90 deg (any_heading) the scans are right and
+	// get linked; no link reaches a replaced scan.
 	const CRevisitLinker linker(testParams(), defaults.matcher, defaults.loop.link_noise);
-	EXPECT_EQ(linker.linkRevisits(run.graph, run.keyframes), 0U);
+	const size_t linksBefore = run.graph.numLinks();
+	linker.linkRevisits(run.graph, run.keyframes);
+	for (size_t id = linksBefore; id < run.graph.numLinks(); ++id)
+		EXPECT_LT(run.graph.link(id).to, run.graph.numNodes() / 2)
+			<< run.graph.link(id).from << " -> " << run.graph.link(id).to;
 }
 
 TEST(RevisitLinker, parametersRoundTripAndUnknownKeysAreRejected)
@@ -135,6 +190,8 @@ TEST(RevisitLinker, parametersRoundTripAndUnknownKeysAreRejected)
 	p.radius_m = 1.7;
 	p.stride = 3;
 	p.max_phi = mrpt::DEG2RAD(30.0);
+	p.min_path_gap_m = 7.5;
+	p.any_heading = false;
 	mrpt::config::CConfigFileMemory saved;
 	p.saveToConfigFile(saved, "RevisitLinker");
 	// Through the text, as a user's .ini (MRPT 2.5.8's in-memory config keeps padded keys).
@@ -144,6 +201,8 @@ TEST(RevisitLinker, parametersRoundTripAndUnknownKeysAreRejected)
 	EXPECT_DOUBLE_EQ(q.radius_m, 1.7);
 	EXPECT_EQ(q.stride, 3U);
 	EXPECT_NEAR(q.max_phi, mrpt::DEG2RAD(30.0), 1e-12);
+	EXPECT_DOUBLE_EQ(q.min_path_gap_m, 7.5);
+	EXPECT_FALSE(q.any_heading);
 	mrpt::config::CConfigFileMemory bad("[RevisitLinker]\nradious = 2\n");
 	EXPECT_THROW(q.loadFromConfigFile(bad, "RevisitLinker"), std::exception);
 	mrpt::config::CConfigFileMemory zero("[RevisitLinker]\nstride = 0\n");

@@ -81,6 +81,9 @@ struct TMapBuilderStats
 	size_t odometryLinks = 0, scanMatchLinks = 0, loopClosureLinks = 0;
 	size_t loopClosures = 0;  //!< accepted loop-closure events
 	size_t revisitLinks = 0;  //!< links added by the end-of-run revisit sweep (CRevisitLinker)
+	/** Loop links the final optimisation down-weighted below [PoseGraphOptimizer]
+	 * reject_scale (the links it treats as false), then disabled. */
+	size_t finalRejectedLinks = 0;
 	size_t ignoredObservations = 0;  //!< observations of kinds the builder does not use
 	/** Times the mapping thread had to wait for a loop search's result (it was not done by
 	 * the keyframe it is due), and the time waited [s]. */

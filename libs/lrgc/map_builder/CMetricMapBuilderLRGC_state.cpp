@@ -80,6 +80,12 @@ void CMetricMapBuilderLRGC::finish()
 	CPoseGraphOptimizer optimizer(m_params.optimizer);
 	optimizer.setStopToken(m_stop);
 	const auto report = optimizer.optimize(m_graph, 0, {}, m_frozenNodes);
+	// The links it down-weighted to (almost) nothing are rejected, as a closure's solve
+	// rejects its link online: disabled, so that the saved graph (a continued map) and the
+	// loop counts do not hold them. The poses stay: their weight in them was s^2 < 0.01.
+	for (const size_t id : report.downweightedLinks)
+		if (m_graph.isLinkEnabled(id))
+			m_graph.setLinkEnabled(id, false), ++m_stats.finalRejectedLinks;
 	MRPT_LOG_INFO_FMT("final optimisation: %zu nodes, %d iterations, chi2 %.3g -> %.3g%s",
 					  m_graph.numNodes(), report.iterations, report.initialChi2,
 					  report.finalChi2, report.stopped ? " (stopped)" : "");

@@ -68,7 +68,8 @@ std::string loopCountsJson(const TMapBuilderStats& s)
 		   ", \"loop\": " + std::to_string(s.loopClosureLinks) + "},\n" +
 		   "  \"loop_links\": {\"closure\": " + std::to_string(s.loopClosures) +
 		   ", \"revisit\": " + std::to_string(s.revisitLinks) +
-		   ", \"rematch_or_reuse\": " + std::to_string(rematchOrReuse) + "},\n" +
+		   ", \"rematch_or_reuse\": " + std::to_string(rematchOrReuse) +
+		   ", \"rejected_at_end\": " + std::to_string(s.finalRejectedLinks) + "},\n" +
 		   "  \"loop_closures\": " + std::to_string(s.loopClosures) + ",\n";
 }
 

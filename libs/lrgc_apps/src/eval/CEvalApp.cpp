@@ -150,6 +150,40 @@ void jsonRelations(JsonOut& j, const char* key, const TRelationReport& r)
 	j.end(']').end('}');
 }
 
+void jsonLoops(JsonOut& j, const TEvalOptions& o, const TLoopRecall& r)
+{
+	j.beginObject("loops")
+		.text("output", o.loopsDir)
+		.text("reference", o.reference)
+		.integer("places", r.places.size())
+		.integer("closed", r.closed)
+		.num("recall", r.recall(), "%.4f")
+		.integer("loop_links", r.loopLinks.size())
+		.integer("false_closures", r.falseClosures)
+		.integer("judged_by_relations", r.byRelation)
+		.beginArray("places_not_closed");
+	for (const auto& p : r.places)
+		if (!p.closed)
+			j.beginObject()
+				.integer("first_keyframe", p.firstKeyframe)
+				.integer("last_keyframe", p.lastKeyframe)
+				.num("first_time_s", p.firstTime_s, "%.6f")
+				.num("last_time_s", p.lastTime_s, "%.6f")
+				.end('}');
+	j.end(']').beginArray("false_closures_list");
+	for (const auto& l : r.loopLinks)
+		if (!l.agrees)
+			j.beginObject()
+				.integer("from", l.from)
+				.integer("to", l.to)
+				.num("off_m", l.offXY_m)
+				.num("off_deg", l.offPhi_rad * 180 / M_PI)
+				.num("chi2", l.chi2)
+				.text("judged_by", l.byRelation ? "relations" : "reference")
+				.end('}');
+	j.end(']').end('}');
+}
+
 std::string statsLine(const char* what, const TErrorStats& s, const char* unit)
 {
 	return mrpt::format(
@@ -204,6 +238,14 @@ std::string CEvalApp::usage()
 		   "  --json           also write the figures as JSON\n"
 		   "  --time-tolerance timestamps this close [s] are equal (default 1e-5)\n"
 		   "  --rpe-distance   path length of the fixed-distance RPE [m] (default 1)\n"
+		   "  --loops DIR      loop recall of an lrgc-slam output folder (graph.lrgc, "
+		   "map.simplemap.gz)\n"
+		   "  --reference      with --loops: trajectory standing in for the truth (e.g. the\n"
+		   "                   dense run's trajectory.tum); places revisited after 60 s within "
+		   "2 m,\n"
+		   "                   10 m each; loop links off by > 0.3 m / 5 deg and chi2 > 16.27 "
+		   "are false\n"
+		   "                   (by --relations where one joins both ends within 10 s)\n"
 		   "  --help, --version\n";
 }
 
@@ -230,11 +272,18 @@ TEvalOptions CEvalApp::parseArguments(const std::vector<std::string>& args)
 			o.timeTolerance_s = parseDouble(a, value());
 		else if (a == "--rpe-distance")
 			o.rpeDistance_m = parseDouble(a, value());
+		else if (a == "--loops")
+			o.loopsDir = value();
+		else if (a == "--reference")
+			o.reference = value();
 		else
 			throw std::invalid_argument("unknown argument '" + a + "'");
 	}
-	if (o.trajectory.empty()) throw std::invalid_argument("--trajectory is required");
-	if (o.relations.empty() && o.groundTruth.empty())
+	if (o.loopsDir.empty() != o.reference.empty())
+		throw std::invalid_argument("--loops and --reference go together");
+	if (o.trajectory.empty() && o.loopsDir.empty())
+		throw std::invalid_argument("--trajectory is required");
+	if (!o.trajectory.empty() && o.relations.empty() && o.groundTruth.empty())
 		throw std::invalid_argument("give --relations and/or --ground-truth");
 	if (o.timeTolerance_s < 0) throw std::invalid_argument("--time-tolerance must be >= 0");
 	if (!(o.rpeDistance_m > 0)) throw std::invalid_argument("--rpe-distance must be > 0");
@@ -244,6 +293,18 @@ TEvalOptions CEvalApp::parseArguments(const std::vector<std::string>& args)
 TEvalResult CEvalApp::evaluate(const TEvalOptions& o)
 {
 	TEvalResult r;
+	if (!o.loopsDir.empty())
+	{
+		TRecallInputs in = loadRecallInputs(o.loopsDir, o.reference, o.timeTolerance_s);
+		const TLoopRecallParams params;
+		const TTruthBetween truth =
+			o.relations.empty()
+				? TTruthBetween()
+				: truthFromRelations(loadRelations(o.relations), std::move(in.reference),
+									 params.relationReach_s, o.timeTolerance_s);
+		r.loops = evaluateLoopRecall(in.graph, in.keyframes, params, truth);
+	}
+	if (o.trajectory.empty()) return r;
 	const CTrajectory2D trajectory = CTrajectory2D::loadFromFile(o.trajectory);
 	r.trajectoryPoses = trajectory.size();
 	r.backwardTimeJumps = trajectory.backwardTimeJumps();
@@ -265,6 +326,10 @@ TEvalResult CEvalApp::evaluate(const TEvalOptions& o)
 
 void CEvalApp::printReport(const TEvalResult& r, const TEvalOptions& o, std::ostream& out)
 {
+	if (r.loops)
+		out << "loops of " << o.loopsDir << " against " << o.reference << "\n"
+			<< recallReport(*r.loops);
+	if (o.trajectory.empty()) return;
 	out << mrpt::format(
 		"trajectory %s: %zu poses over [%.6f, %.6f] s (%.1f s), %zu backward time jumps\n",
 		o.trajectory.c_str(), r.trajectoryPoses, r.earliest_s, r.latest_s,
@@ -293,8 +358,10 @@ void CEvalApp::printReport(const TEvalResult& r, const TEvalOptions& o, std::ost
 std::string CEvalApp::toJson(const TEvalResult& r, const TEvalOptions& o)
 {
 	JsonOut j;
-	j.beginObject()
-		.beginObject("trajectory")
+	j.beginObject();
+	if (r.loops) jsonLoops(j, o, *r.loops);
+	if (o.trajectory.empty()) return j.end('}').str();
+	j.beginObject("trajectory")
 		.text("path", o.trajectory)
 		.integer("poses", r.trajectoryPoses)
 		.integer("backward_time_jumps", r.backwardTimeJumps)
@@ -360,7 +427,8 @@ int CEvalApp::run(const std::vector<std::string>& args, std::ostream& out, std::
 	if (const std::string clash =
 			outputOverInput({{"--json", o.jsonOut}}, {{"--trajectory", o.trajectory},
 													  {"--relations", o.relations},
-													  {"--ground-truth", o.groundTruth}});
+													  {"--ground-truth", o.groundTruth},
+													  {"--reference", o.reference}});
 		!clash.empty())
 	{
 		err << "lrgc-eval: " << clash << "\n";

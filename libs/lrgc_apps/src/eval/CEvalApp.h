@@ -5,9 +5,11 @@
  *
  *   lrgc-eval --trajectory T.tum --relations R.relations [--json out.json]
  *   lrgc-eval --trajectory T.tum --ground-truth GT.txt [--rpe-distance 1.0] [--json out.json]
+ *   lrgc-eval --loops OUT_DIR --reference REF.tum [--json out.json]   (loop_recall.h)
  */
 #pragma once
 
+#include <lrgc_apps/eval/loop_recall.h>
 #include <lrgc_apps/eval/relation_metric.h>
 #include <lrgc_apps/eval/trajectory_error.h>
 
@@ -24,6 +26,8 @@ struct TEvalOptions
 	std::string relations;           //!< relations file, optional
 	std::string groundTruth;         //!< ground-truth trajectory, optional
 	std::string jsonOut;             //!< JSON report path, optional
+	std::string loopsDir;            //!< lrgc-slam output folder whose loops are scored
+	std::string reference;           //!< trajectory standing in for the truth (--loops)
 	double timeTolerance_s = 1e-5;   //!< equal timestamps within this [s] use the pose as is
 	double rpeDistance_m = 1.0;      //!< path length of the fixed-distance RPE [m]
 	std::size_t listUnmatched = 20;  //!< unmatched relations listed in the text report
@@ -46,6 +50,7 @@ struct TEvalResult
 	std::optional<TRelationReport> rpeStep;      //!< ground-truth relations, 1 step
 	std::optional<TRelationReport> rpeDistance;  //!< ground-truth relations, fixed distance
 	std::size_t groundTruthPoses = 0;
+	std::optional<TLoopRecall> loops;  //!< --loops
 };
 
 class CEvalApp

@@ -1,0 +1,195 @@
+/* Loop recall against a truth or a reference trajectory (definition in loop_recall.h). */
+#include "lrgc_apps/eval/loop_recall.h"
+
+#include "lrgc_apps/SavedMap.h"
+#include "lrgc_apps/eval/trajectory.h"
+
+#include <lrgc/common/se2.h>
+#include <mrpt/core/format.h>
+#include <mrpt/obs/CObservation2DRangeScan.h>
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+#include <stdexcept>
+
+namespace lrgc::apps::eval
+{
+namespace
+{
+Eigen::Vector2d position(const TRecallKeyframe& k)
+{
+	return {k.reference.x, k.reference.y};
+}
+
+/** d = truth^-1 (+) Z, truth = (ref_from^-1 (+) ref_to) or truthBetween's, in translation
+ * [m], heading [rad] and chi2. */
+TAuditedLoopLink audit(const lrgc::TLink& l, const std::vector<TRecallKeyframe>& kfs,
+					   const TLoopRecallParams& p, const TTruthBetween& truthBetween)
+{
+	TAuditedLoopLink a;
+	a.from = l.from, a.to = l.to;
+	std::optional<mrpt::math::TPose2D> truth;
+	if (truthBetween) truth = truthBetween(kfs[l.from], kfs[l.to]);
+	a.byRelation = truth.has_value();
+	if (!truth) truth = lrgc::between(kfs[l.from].reference, kfs[l.to].reference);
+	const auto d = lrgc::between(*truth, l.toInFrom);
+	const Eigen::Vector3d e = lrgc::toVector(d);
+	a.offXY_m = lrgc::translationNorm(d);
+	a.offPhi_rad = std::abs(d.phi);
+	a.chi2 = e.dot(l.information * e);
+	a.agrees = (a.offXY_m <= p.maxXY_m && a.offPhi_rad <= p.maxPhi_rad) || a.chi2 <= p.maxChi2;
+	return a;
+}
+
+/** Is keyframe i within revisitNear_m of one at least revisitGap_s older? */
+bool isRevisit(const std::vector<TRecallKeyframe>& kfs, std::size_t i,
+			   const TLoopRecallParams& p)
+{
+	for (std::size_t j = 0; j < i; ++j)
+		if (kfs[i].t - kfs[j].t >= p.revisitGap_s &&
+			(position(kfs[i]) - position(kfs[j])).norm() < p.revisitNear_m)
+			return true;
+	return false;
+}
+
+/** The places (loop_recall.h), each closed if it holds one of `closedKf`. */
+std::vector<TRevisitPlace> revisitPlaces(const std::vector<TRecallKeyframe>& kfs,
+										 const std::set<std::size_t>& closedKf,
+										 const TLoopRecallParams& p)
+{
+	std::vector<TRevisitPlace> places;
+	double placeStart = -1, travelled = 0;  // [m] of reference path
+	for (std::size_t i = 0; i < kfs.size(); ++i)
+	{
+		if (i > 0) travelled += (position(kfs[i]) - position(kfs[i - 1])).norm();
+		if (!isRevisit(kfs, i, p)) continue;
+		if (placeStart < 0 || travelled - placeStart >= p.placeLength_m)
+		{
+			places.push_back({i, i, kfs[i].t, kfs[i].t, false});
+			placeStart = travelled;
+		}
+		places.back().lastKeyframe = i;
+		places.back().lastTime_s = kfs[i].t;
+		places.back().closed = places.back().closed || closedKf.count(i) > 0;
+	}
+	return places;
+}
+}  // namespace
+
+std::vector<std::pair<std::size_t, std::size_t>> TLoopRecall::agreeingLinks() const
+{
+	std::vector<std::pair<std::size_t, std::size_t>> out;
+	for (const auto& l : loopLinks)
+		if (l.agrees) out.emplace_back(l.from, l.to);
+	return out;
+}
+
+TLoopRecall evaluateLoopRecall(const lrgc::CPoseGraph& graph,
+							   const std::vector<TRecallKeyframe>& keyframes,
+							   const TLoopRecallParams& p, const TTruthBetween& truthBetween)
+{
+	if (graph.numNodes() > keyframes.size())
+		throw std::invalid_argument(mrpt::format(
+			"loop recall: the graph has %zu nodes but only %zu keyframes are given",
+			graph.numNodes(), keyframes.size()));
+	TLoopRecall r;
+	std::set<std::size_t> closedKf;  // the newer end of each agreeing loop link
+	for (std::size_t id = 0; id < graph.numLinks(); ++id)
+	{
+		const auto& l = graph.link(id);
+		if (l.type != lrgc::LinkType::LoopClosure || !graph.isLinkEnabled(id)) continue;
+		r.loopLinks.push_back(audit(l, keyframes, p, truthBetween));
+		r.byRelation += r.loopLinks.back().byRelation ? 1 : 0;
+		if (!r.loopLinks.back().agrees)
+			++r.falseClosures;
+		else if (std::abs(keyframes[l.from].t - keyframes[l.to].t) >= p.revisitGap_s)
+			closedKf.insert(std::max(l.from, l.to));
+	}
+	r.places = revisitPlaces(keyframes, closedKf, p);
+	for (const auto& pl : r.places) r.closed += pl.closed ? 1 : 0;
+	return r;
+}
+
+TRecallInputs loadRecallInputs(const std::string& outputDir, const std::string& reference,
+							   double tolerance_s)
+{
+	const TSavedMap map = loadSavedMap(outputDir, "--loops");
+	if (!map.graph)
+		throw std::runtime_error("--loops '" + outputDir +
+								 "': the folder has no graph.lrgc (the loop links)");
+	const CTrajectory2D ref = CTrajectory2D::loadFromFile(reference);
+	TRecallInputs in;
+	in.graph = map.graph->graph;
+	in.reference = ref;
+	for (std::size_t i = 0; i < map.keyframes.size(); ++i)
+	{
+		const auto [posePDF, sf] = map.keyframes.get(i);
+		mrpt::obs::CObservation2DRangeScan::Ptr scan;
+		if (sf) scan = sf->getObservationByClass<mrpt::obs::CObservation2DRangeScan>();
+		if (!scan)
+			throw std::runtime_error(mrpt::format(
+				"--loops '%s': keyframe %zu holds no 2D scan", outputDir.c_str(), i));
+		const double t = mrpt::Clock::toDouble(scan->timestamp);
+		const auto pose = ref.poseAt(t, tolerance_s);
+		if (!pose)
+			throw std::runtime_error(mrpt::format(
+				"--reference '%s': no pose at %.6f s (keyframe %zu of '%s')",
+				reference.c_str(), t, i, outputDir.c_str()));
+		in.keyframes.push_back({t, pose->pose});
+	}
+	return in;
+}
+
+TTruthBetween truthFromRelations(std::vector<TRelation> relations, CTrajectory2D reference,
+								 double reach_s, double tolerance_s)
+{
+	return [rel = std::move(relations), ref = std::move(reference), reach_s, tolerance_s](
+			   const TRecallKeyframe& from,
+			   const TRecallKeyframe& to) -> std::optional<mrpt::math::TPose2D>
+	{
+		const TRelation* best = nullptr;
+		bool swapped = false;
+		double bestGap = 2 * reach_s;
+		for (const auto& r : rel)
+			for (const bool sw : {false, true})
+			{
+				const double g1 = std::abs((sw ? r.t2 : r.t1) - from.t);
+				const double g2 = std::abs((sw ? r.t1 : r.t2) - to.t);
+				if (g1 <= reach_s && g2 <= reach_s && g1 + g2 < bestGap)
+					best = &r, swapped = sw, bestGap = g1 + g2;
+			}
+		if (!best) return std::nullopt;
+		const auto p1 = ref.poseAt(best->t1, tolerance_s), p2 = ref.poseAt(best->t2, tolerance_s);
+		if (!p1 || !p2) return std::nullopt;
+		// (t1 <- t2) by the relation; (from <- t1) and (t2 <- to) by the reference.
+		const auto motion = swapped ? lrgc::inverse(best->motion) : best->motion;
+		const auto& a = swapped ? p2->pose : p1->pose;
+		const auto& b = swapped ? p1->pose : p2->pose;
+		return lrgc::compose(lrgc::compose(lrgc::between(from.reference, a), motion),
+							 lrgc::between(b, to.reference));
+	};
+}
+
+std::string recallReport(const TLoopRecall& r)
+{
+	std::string s = mrpt::format(
+		"loop recall: %zu of %zu revisited places closed (%.1f %%); %zu loop links kept (%zu "
+		"judged by a relation), %zu false closures\n",
+		r.closed, r.places.size(), 100 * r.recall(), r.loopLinks.size(), r.byRelation,
+		r.falseClosures);
+	for (const auto& pl : r.places)
+		if (!pl.closed)
+			s += mrpt::format("  not closed: keyframes %zu-%zu (%.6f-%.6f s)\n",
+							  pl.firstKeyframe, pl.lastKeyframe, pl.firstTime_s, pl.lastTime_s);
+	for (const auto& l : r.loopLinks)
+		if (!l.agrees)
+			s += mrpt::format(
+				"  false closure: keyframe %zu -> %zu, %.2f m, %.1f deg off, chi2 %.1f (by the "
+				"%s)\n",
+				l.from, l.to, l.offXY_m, l.offPhi_rad * 180 / M_PI, l.chi2,
+				l.byRelation ? "relations" : "reference");
+	return s;
+}
+
+}  // namespace lrgc::apps::eval
