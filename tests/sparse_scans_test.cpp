@@ -11,10 +11,12 @@
  *    definition) against the dense log mapped by the same build as the reference, the links
  *    judged by the log's own relations wherever one joins both ends within 20 s: where met
  *    (Intel 38 / 40, MIT-CSAIL 9 / 9), >= 90 % of the revisited places closed and no kept
- *    loop link that the relations call false; ACES (7 / 9: dead-end returns) and Killian
- *    (54 / 69: corridors driven back, one link 0.31 m off by the relations) are printed
- *    (doc/generalisation.md). Links judged by the reference alone are only printed: the dense
- *    map's own joins can be a few decimetres off (Killian).
+ *    loop link that the relations call false. ACES (7 / 9: dead-end returns) and Killian
+ *    (54 / 69: corridors driven back, one link 0.31 m off by the relations) miss the bar and
+ *    are not scored here, to spare CI their dense runs (Killian's alone is 20-80 s): their
+ *    figures are in doc/generalisation.md, by `lrgc-eval --loops`. Links judged by the
+ *    reference alone are only printed: the dense map's own joins can be a few decimetres off
+ *    (Killian).
  * Skips where the shared logs or python3 are absent. */
 #include <gtest/gtest.h>
 #include <lrgc_apps/eval/loop_recall.h>
@@ -98,25 +100,25 @@ void mapSparseVariant(const TSparseCase& c)
 	const auto ev =
 		eval::evaluateRelations(trajectory, eval::loadRelations(dir + "/sparse.relations"));
 	const std::string stats = readTextFile(dir + "/out/stats.json");
-	const auto recall = loopRecall(dir, log, rel);
 	const long loops = jsonInt(stats, "loop_closures");
 	std::cout << c.name << " sparse: " << made.output << "  relation error " << ev.trans_m.mean
 			  << " m, " << ev.rot_deg.mean << " deg; short relations " << ev.shortCount << ", "
 			  << ev.shortOver2deg << " off by > 2 deg, " << ev.shortOver5deg << " by > 5; "
 			  << jsonInt(stats, "unmatched_scans") << " of " << jsonInt(stats, "scans")
-			  << " scans unmatched; " << loops << " loops closed\n"
-			  << eval::recallReport(recall);
+			  << " scans unmatched; " << loops << " loops closed\n";
 
 	EXPECT_TRUE(ev.unmatched.empty()) << "every relation is on a kept scan";
 	EXPECT_GT(ev.shortCount, 200U);
 	EXPECT_EQ(ev.shortOver5deg, 0U) << "a short relation off by > 5 deg: a bent map";
 	EXPECT_GT(loops, 0);
 	EXPECT_LT(ev.trans_m.mean, 1.5 * c.denseFigure_m);
+	if (!c.recallMet) return;
+	const auto recall = loopRecall(dir, log, rel);
+	std::cout << eval::recallReport(recall);
 	size_t falseByRelations = 0;
 	for (const auto& l : recall.loopLinks) falseByRelations += !l.agrees && l.byRelation;
 	::testing::Test::RecordProperty("loop_recall", std::to_string(recall.recall()));
 	::testing::Test::RecordProperty("false_closures_by_relations", std::to_string(falseByRelations));
-	if (!c.recallMet) return;
 	EXPECT_GE(recall.recall(), 0.9);
 	EXPECT_EQ(falseByRelations, 0U) << eval::recallReport(recall);
 }
