@@ -51,6 +51,17 @@ public:
 	template <class F>
 	void forEachPointWithin(const Eigen::Vector2d& q, double radius, F&& fn) const;
 
+	/** Calls visit(b, e) for each run [b, e) of cellPoints() / cellIndices() a radius query
+	 * reads, in forEachPointWithin's order: the points within radius of q are those of the
+	 * runs with (p - q).squaredNorm() <= radius^2. For loops that keep their sums in
+	 * registers (local scalars), which a per-point callback summing into a struct does not
+	 * get (the struct stays on the stack: a store and a load on each sum's chain per point). */
+	template <class F>
+	void forEachRun(const Eigen::Vector2d& q, double radius, F&& visit) const;
+	/** The indexed points in cell order, and their indices in the input. */
+	const std::vector<Eigen::Vector2d>& cellPoints() const { return m_pos; }
+	const std::vector<uint32_t>& cellIndices() const { return m_index; }
+
 	/** floor(v / cell), inline (std::floor is a library call on baseline x86-64), clamped to
 	 * +-kMaxCellIndex (NaN: -kMaxCellIndex) so that the cast and the index arithmetic of the
 	 * searches cannot overflow, whatever v. */
@@ -166,21 +177,27 @@ private:
 template <class F>
 void CAnchorGrid::forEachPointWithin(const Eigen::Vector2d& q, double radius, F&& fn) const
 {
-	if (m_pos.empty() || !mayHaveWithin(q, radius)) return;
 	const double r2 = radius * radius;
+	forEachRun(q, radius,
+			   [&](uint32_t b, uint32_t e)
+			   {
+				   for (uint32_t k = b; k < e; ++k)
+					   if ((m_pos[k] - q).squaredNorm() <= r2) fn(m_index[k], m_pos[k]);
+			   });
+}
+
+template <class F>
+void CAnchorGrid::forEachRun(const Eigen::Vector2d& q, double radius, F&& visit) const
+{
+	if (m_pos.empty() || !mayHaveWithin(q, radius)) return;
 	// The disc's cells, clipped to the box (cells outside it are empty).
 	const int64_t x0 = std::max(cellIndex(q.x() - radius, m_cell), m_bx0),
 				  x1 = std::min(cellIndex(q.x() + radius, m_cell), m_bx1);
 	const int64_t y0 = std::max(cellIndex(q.y() - radius, m_cell), m_by0),
 				  y1 = std::min(cellIndex(q.y() + radius, m_cell), m_by1);
-	auto visitRun = [&](uint32_t b, uint32_t e)
-	{
-		for (uint32_t k = b; k < e; ++k)
-			if ((m_pos[k] - q).squaredNorm() <= r2) fn(m_index[k], m_pos[k]);
-	};
 	if ((double(x1) - double(x0) + 1) * (double(y1) - double(y0) + 1) > kMaxVisitedCells)
 	{
-		visitRun(0, static_cast<uint32_t>(m_pos.size()));  // an absurd radius: read them all
+		visit(0, static_cast<uint32_t>(m_pos.size()));  // an absurd radius: read them all
 		return;
 	}
 	if (!m_start.empty())
@@ -191,13 +208,13 @@ void CAnchorGrid::forEachPointWithin(const Eigen::Vector2d& q, double radius, F&
 		if (dy0 > dy1) return;
 		for (int64_t dx = std::max<int64_t>(x0 - m_x0, 0); dx <= std::min(x1 - m_x0, m_nx - 1);
 			 ++dx)
-			visitRun(m_start[dx * m_ny + dy0], m_start[dx * m_ny + dy1 + 1]);
+			visit(m_start[dx * m_ny + dy0], m_start[dx * m_ny + dy1 + 1]);
 		return;
 	}
 	for (int64_t ix = x0; ix <= x1; ++ix)
 		for (int64_t iy = y0; iy <= y1; ++iy)
 			if (maybeOccupied(ix, iy))
-				if (const TCell* c = findCell(ix, iy)) visitRun(c->start, c->start + c->count);
+				if (const TCell* c = findCell(ix, iy)) visit(c->start, c->start + c->count);
 }
 
 }  // namespace lrgc

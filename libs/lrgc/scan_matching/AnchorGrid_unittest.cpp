@@ -159,6 +159,53 @@ TEST(AnchorGrid, forEachWithinVisitsCellsInColumnMajorOrderDenseOrHashed)
 	}
 }
 
+TEST(AnchorGrid, forEachRunFilteredIsForEachPointWithinDenseHashedOrAbsurd)
+{
+	// The line fits and the covariance's fit terms read the runs themselves and filter by
+	// distance: they must see forEachPointWithin's points in its order, index for index.
+	const TCloud c = randomCloud(1500, 17);
+	TCloud stray = c;
+	stray.pts.emplace_back(5000, -5000), stray.usable.push_back(true);
+	for (const TCloud* cloud : std::vector<const TCloud*>{&c, &stray})
+	{
+		const CAnchorGrid grid(cloud->pts, cloud->usable, 0.1);
+		EXPECT_EQ(grid.isDense(), cloud == &c);
+		std::mt19937 rng(18);
+		std::uniform_real_distribution<double> u(-6, 6);
+		size_t within06 = 0;  // points seen at radius 0.6, over all queries
+		for (int t = 0; t < 300; ++t)
+		{
+			const Eigen::Vector2d q(u(rng), u(rng));
+			// 1e6 m: more cells than kMaxVisitedCells, every point read.
+			for (const double radius : {0.15, 0.6, 2.0, 1e6})
+			{
+				std::vector<uint32_t> want, got;
+				grid.forEachPointWithin(q, radius,
+										[&](uint32_t i, const Eigen::Vector2d& p)
+										{
+											want.push_back(i);
+											EXPECT_EQ(p, cloud->pts[i]);
+										});
+				const auto& pos = grid.cellPoints();
+				const auto& index = grid.cellIndices();
+				grid.forEachRun(q, radius,
+								[&](uint32_t b, uint32_t e)
+								{
+									ASSERT_LE(b, e);
+									ASSERT_LE(e, pos.size());
+									for (uint32_t k = b; k < e; ++k)
+										if ((pos[k] - q).squaredNorm() <= radius * radius)
+											got.push_back(index[k]);
+								});
+				ASSERT_EQ(want, got) << "query " << q.transpose() << " radius " << radius;
+				within06 += radius == 0.6 ? want.size() : 0;
+			}
+		}
+		// ~ 300 queries x 12 usable points / m^2 x 1.13 m^2 x 0.69 (queries over the cloud)
+		EXPECT_GT(within06, 2000u);
+	}
+}
+
 TEST(AnchorGrid, cellIndexIsFloorOfTheRatio)
 {
 	for (const double v : {0.0, -0.0, 0.1, -0.1, 0.3, -0.3, 0.29999999999999999, 1e-300,

@@ -189,18 +189,33 @@ template <bool kNearest>
 TMoments momentsWithin(const CAnchorGrid& grid, const std::vector<double>& w, size_t self,
 					   const Eigen::Vector2d& x, double r)
 {
-	TMoments mo;
-	grid.forEachPointWithin(
-		x, r,
-		[&](uint32_t k, const Eigen::Vector2d& pos)
-		{
-			const double wk = w[k], dx = pos.x() - x.x(), dy = pos.y() - x.y();
-			mo.W += wk, mo.sx += wk * dx, mo.sy += wk * dy;
-			mo.sxx += wk * dx * dx, mo.sxy += wk * dx * dy, mo.syy += wk * dy * dy;
-			++mo.count;
-			if (kNearest && k != self) mo.nearest2 = std::min(mo.nearest2, dx * dx + dy * dy);
-		});
-	return mo;
+	// Local scalar sums over the query's runs stay in registers (summed into a TMoments
+	// through forEachPointWithin they lived on the stack: a store and a load on each sum's
+	// dependency chain per point). Same points, same order, same operations as
+	// forEachPointWithin: the same sums, bit for bit.
+	const Eigen::Vector2d* pos = grid.cellPoints().data();
+	const uint32_t* index = grid.cellIndices().data();
+	const double* wp = w.data();
+	const double r2 = r * r;
+	double W = 0, sx = 0, sy = 0, sxx = 0, sxy = 0, syy = 0;
+	double nearest2 = std::numeric_limits<double>::infinity();
+	size_t count = 0;
+	grid.forEachRun(x, r,
+					[&](uint32_t b, uint32_t e)
+					{
+						for (uint32_t k = b; k < e; ++k)
+						{
+							if (!((pos[k] - x).squaredNorm() <= r2)) continue;
+							const double wk = wp[index[k]], dx = pos[k].x() - x.x(),
+										 dy = pos[k].y() - x.y();
+							W += wk, sx += wk * dx, sy += wk * dy;
+							sxx += wk * dx * dx, sxy += wk * dx * dy, syy += wk * dy * dy;
+							++count;
+							if (kNearest && index[k] != self)
+								nearest2 = std::min(nearest2, dx * dx + dy * dy);
+						}
+					});
+	return TMoments{W, sx, sy, sxx, sxy, syy, count, nearest2};
 }
 
 /** The weighted PCA of the moments: mean m [map frame], tangent t and normal n, eigenvalues

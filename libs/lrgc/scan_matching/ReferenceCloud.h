@@ -102,15 +102,26 @@ public:
 	void forEachFitTerm(size_t j, F&& fn) const
 	{
 		if (!m_anchors[j].isLine) return;
-		const TLineFit& f = m_lineFits[j];
+		const TLineFit f = m_lineFits[j];
 		const Eigen::Vector2d t(-m_anchors[j].normal.y(), m_anchors[j].normal.x());
-		m_rawGrid.forEachPointWithin(
+		// forEachPointWithin's points and order, read through pointers held by value: fn's
+		// stores (the caller's sums) would otherwise make every read reload them.
+		const Eigen::Vector2d* pos = m_rawGrid.cellPoints().data();
+		const uint32_t* index = m_rawGrid.cellIndices().data();
+		const double* count = m_count.data();
+		const double r2 = f.radius * f.radius;
+		m_rawGrid.forEachRun(
 			f.centre, f.radius,
-			[&](uint32_t k, const Eigen::Vector2d& pos)
+			[&fn, f, t, pos, index, count, r2](uint32_t b, uint32_t e)
 			{
-				const double uk = (pos - f.mean).dot(t);
-				fn(k, static_cast<float>(m_count[k] / f.W),
-				   static_cast<float>(f.suu > 0 ? m_count[k] * uk / f.suu : 0));
+				for (uint32_t i = b; i < e; ++i)
+				{
+					if (!((pos[i] - f.centre).squaredNorm() <= r2)) continue;
+					const uint32_t k = index[i];
+					const double uk = (pos[i] - f.mean).dot(t);
+					fn(k, static_cast<float>(count[k] / f.W),
+					   static_cast<float>(f.suu > 0 ? count[k] * uk / f.suu : 0));
+				}
 			});
 	}
 	double pointVariance(size_t k) const { return m_noiseVar / m_count[k]; }

@@ -105,13 +105,14 @@ double robustScale(const std::vector<TCorrespondence>& corr, double floor,
 }
 
 /** Robust weights and the normal equations; returns the RMS lever arm L [m]. */
-double weighAndAccumulate(std::vector<TCorrespondence>& corr, double scale, Eigen::Matrix3d& H,
-						  Eigen::Vector3d& g, Eigen::Matrix3d& Hspur)
+double weighAndAccumulate(std::vector<TCorrespondence>& corr, double scale, Eigen::Matrix3d& Hout,
+						  Eigen::Vector3d& gOut, Eigen::Matrix3d& HspurOut)
 {
 	const double c2 = (kCauchy * scale) * (kCauchy * scale), s2 = scale * scale;
-	H.setZero();
-	Hspur.setZero();
-	g.setZero();
+	// Local sums, copied out at the end: sums behind the references would be stored and
+	// reloaded at every correspondence (they may alias corr), the jacobians with them.
+	Eigen::Matrix3d H = Eigen::Matrix3d::Zero(), Hspur = Eigen::Matrix3d::Zero();
+	Eigen::Vector3d g = Eigen::Vector3d::Zero();
 	double sw = 0, swl = 0;
 	for (auto& k : corr)
 	{
@@ -133,6 +134,7 @@ double weighAndAccumulate(std::vector<TCorrespondence>& corr, double scale, Eige
 		sw += k.w;
 		swl += k.w * arm2;
 	}
+	Hout = H, gOut = g, HspurOut = Hspur;
 	return sw > 0 ? std::sqrt(swl / sw) : 1.0;
 }
 }  // namespace
