@@ -116,8 +116,9 @@ TEST(GlassBuilding, registrationAndLoopsSurviveMixedReturns)
 		"%zu by the filters, %zu by the match, %zu by the back-end, %zu shed\n",
 		st.scans, st.unmatchedScans, st.keyframes, rel.shortCount, rel.shortOver2deg,
 		100 * rel.shortOver2degShare(), rel.shortOver5deg, recall.closed, recall.places.size(),
-		recall.loopLinks.size() - recall.falseClosures, recall.falseClosures, st.loopClosures, st.revisitLinks, ls.attempts,
-		ls.rejectedByFilters, ls.rejectedByMatch, ls.rejectedByBackEnd, ls.searchesShed);
+		recall.loopLinks.size() - recall.falseClosures, recall.falseClosures, st.loopClosures,
+		st.revisitLinks, ls.attempts, ls.rejectedByFilters, ls.rejectedByMatch,
+		ls.rejectedByBackEnd, ls.searchesShed);
 	RecordProperty("short_relations", std::to_string(rel.shortCount));
 	RecordProperty("short_over_2deg_share", std::to_string(rel.shortOver2degShare()));
 	RecordProperty("short_over_5deg", std::to_string(rel.shortOver5deg));

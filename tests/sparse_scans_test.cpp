@@ -118,7 +118,8 @@ void mapSparseVariant(const TSparseCase& c)
 	size_t falseByRelations = 0;
 	for (const auto& l : recall.loopLinks) falseByRelations += !l.agrees && l.byRelation;
 	::testing::Test::RecordProperty("loop_recall", std::to_string(recall.recall()));
-	::testing::Test::RecordProperty("false_closures_by_relations", std::to_string(falseByRelations));
+	::testing::Test::RecordProperty("false_closures_by_relations",
+									std::to_string(falseByRelations));
 	EXPECT_GE(recall.recall(), 0.9);
 	EXPECT_EQ(falseByRelations, 0U) << eval::recallReport(recall);
 }

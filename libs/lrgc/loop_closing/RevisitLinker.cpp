@@ -54,8 +54,7 @@ struct CRevisitLinker::TSweep
 			const TPose2D p = g.pose(j);
 			cells[cellKey(int64_t(std::floor(p.x / r)), int64_t(std::floor(p.y / r)))]
 				.push_back(j);
-			if (j > 0)
-				path[j] = path[j - 1] + translationNorm(between(g.pose(j - 1), p));
+			if (j > 0) path[j] = path[j - 1] + translationNorm(between(g.pose(j - 1), p));
 		}
 	}
 	/** A link between k +- 2 and j +- 2 already? */
@@ -72,7 +71,7 @@ struct CRevisitLinker::TSweep
 /** Old keyframes j of k (index and path gap, same frame) within `reach` [m] of k's position,
  * with their distance; the grid's cells within reach. */
 std::vector<std::pair<size_t, double>> CRevisitLinker::oldNear(const TSweep& sw, size_t k,
-																double reach) const
+															   double reach) const
 {
 	const TPose2D pk = sw.graph.pose(k);
 	const double r = m_params.radius_m;
@@ -100,8 +99,9 @@ std::vector<std::pair<size_t, double>> CRevisitLinker::oldNear(const TSweep& sw,
  * radius_m and max_phi, alone; else (any_heading) the nearest within radius_m at any heading,
  * with every old keyframe within 3 radius_m placed around it, cropped to where k's points
  * fall at the guess (as the loop closer's step 3). */
-std::optional<CRevisitLinker::TCandidate> CRevisitLinker::candidate(
-	const TSweep& sw, const TKeyframes& keyframes, size_t k) const
+std::optional<CRevisitLinker::TCandidate> CRevisitLinker::candidate(const TSweep& sw,
+																	const TKeyframes& keyframes,
+																	size_t k) const
 {
 	const TPose2D pk = sw.graph.pose(k);
 	const auto near = oldNear(sw, k, m_params.radius_m);
@@ -152,8 +152,8 @@ size_t CRevisitLinker::linkRevisits(CPoseGraph& graph, const TKeyframes& keyfram
 	// Keyframes stride - 1, 2 stride - 1, ... (counted from node 0, not from the gap: which
 	// keyframes are tried does not depend on min_index_gap).
 	const size_t s = m_params.stride;
-	for (size_t k = (m_params.min_index_gap + 1 + s) / s * s - 1; k < n && !m_stop.stopRequested();
-		 k += s)
+	for (size_t k = (m_params.min_index_gap + 1 + s) / s * s - 1;
+		 k < n && !m_stop.stopRequested(); k += s)
 	{
 		const auto c = candidate(sw, keyframes, k);
 		if (!c || sw.linkedNear(k, c->old)) continue;

@@ -53,9 +53,9 @@ private:
 	struct TSweep;
 	struct TCandidate
 	{
-		size_t old = 0;               //!< the old keyframe the link starts from
-		mrpt::math::TPose2D guess;    //!< (old <- k) by the current poses
-		CReferenceCloud reference;    //!< in old's frame
+		size_t old = 0;             //!< the old keyframe the link starts from
+		mrpt::math::TPose2D guess;  //!< (old <- k) by the current poses
+		CReferenceCloud reference;  //!< in old's frame
 	};
 	std::vector<std::pair<size_t, double>> oldNear(const TSweep& sw, size_t k,
 												   double reach) const;

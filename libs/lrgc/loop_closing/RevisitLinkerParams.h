@@ -32,10 +32,10 @@ struct TRevisitLinkerParams : public mrpt::config::CLoadableOptions
 	 * and the shorter gap, sparse recall rose to 95-100 % but new false links came with it
 	 * (doc/generalisation.md). */
 	bool any_heading = false;
-	size_t stride = 2;                     //!< every stride-th keyframe is tried
-	double min_inlier_fraction = 0.5;      //!< least fraction of k's points matched
-	double gate_chi2 = 16.27;     //!< [chi2, 3 dof] agreement of the match with the guess
-	double prior_std_xy_m = 0.3;  //!< [m] std of the guess (loop-closed map)
+	size_t stride = 2;                 //!< every stride-th keyframe is tried
+	double min_inlier_fraction = 0.5;  //!< least fraction of k's points matched
+	double gate_chi2 = 16.27;          //!< [chi2, 3 dof] agreement of the match with the guess
+	double prior_std_xy_m = 0.3;       //!< [m] std of the guess (loop-closed map)
 	double prior_std_phi = mrpt::DEG2RAD(3.0);  //!< [rad] (key prior_std_phi_deg)
 
 	void loadFromConfigFile(const mrpt::config::CConfigFileBase& c,

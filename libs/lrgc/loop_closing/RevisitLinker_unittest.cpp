@@ -35,12 +35,9 @@ struct TRevisitRun
 	TKeyframes keyframes;
 	CPoseGraph graph;
 
-	explicit TRevisitRun(std::vector<Eigen::Vector2d> waypoints = {{1.5, 3.5},
-																	{5.5, 3.5},
-																	{5.5, 5.8},
-																	{1.2, 5.8},
-																	{1.2, 3.0},
-																	{4.5, 3.0}})
+	explicit TRevisitRun(
+		std::vector<Eigen::Vector2d> waypoints = {
+			{1.5, 3.5}, {5.5, 3.5}, {5.5, 5.8}, {1.2, 5.8}, {1.2, 3.0}, {4.5, 3.0}})
 	{
 		tr = test::makeTrajectory(waypoints, 0.3, test::TOdometryNoise{}, 21);
 		std::mt19937 rng(4);

@@ -48,7 +48,8 @@ TPose2D poseOf(const std::vector<TScanStep>& s, const TRun& r, const std::vector
 }
 
 std::vector<TStepFactor> stepFactors(const std::vector<TScanStep>& s, const TRun& r,
-									 const Eigen::Vector3d& scale, const std::vector<TPose2D>& x)
+									 const Eigen::Vector3d& scale,
+									 const std::vector<TPose2D>& x)
 {
 	std::vector<TStepFactor> f;
 	const size_t from = std::max<size_t>(r.first, 1), to = std::min(r.last + 1, s.size() - 1);

@@ -67,8 +67,14 @@ TEST(ScanSmoothing, AnUncertainScanFollowsTheOdometryAPinnedOneStays)
 	const auto smoothed = lrgc::smoothScans(s, lrgc::odometryNoiseScale(s));
 	for (const auto& [k, pose] : smoothed)
 	{
-		if (k == 101) EXPECT_LT(offTruth(pose, truth[k]), 0.02);
-		if (k == 105) EXPECT_GT(offTruth(pose, truth[k]), 0.09);
+		if (k == 101)
+		{
+			EXPECT_LT(offTruth(pose, truth[k]), 0.02);
+		}
+		if (k == 105)
+		{
+			EXPECT_GT(offTruth(pose, truth[k]), 0.09);
+		}
 		EXPECT_DOUBLE_EQ(pose.phi, s[k].pose.phi) << "the heading is the registration's";
 	}
 }
@@ -92,4 +98,3 @@ TEST(ScanSmoothing, AScanOffItsOdometryFollowsItOnceTheStepsAreWeighedAtTheNewPo
 		}
 	EXPECT_TRUE(seen);
 }
-

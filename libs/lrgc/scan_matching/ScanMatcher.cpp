@@ -105,8 +105,9 @@ double robustScale(const std::vector<TCorrespondence>& corr, double floor,
 }
 
 /** Robust weights and the normal equations; returns the RMS lever arm L [m]. */
-double weighAndAccumulate(std::vector<TCorrespondence>& corr, double scale, Eigen::Matrix3d& Hout,
-						  Eigen::Vector3d& gOut, Eigen::Matrix3d& HspurOut)
+double weighAndAccumulate(std::vector<TCorrespondence>& corr, double scale,
+						  Eigen::Matrix3d& Hout, Eigen::Vector3d& gOut,
+						  Eigen::Matrix3d& HspurOut)
 {
 	const double c2 = (kCauchy * scale) * (kCauchy * scale), s2 = scale * scale;
 	// Local sums, copied out at the end: sums behind the references would be stored and

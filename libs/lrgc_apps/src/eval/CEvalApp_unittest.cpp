@@ -148,7 +148,8 @@ TEST_F(EvalApp, UsageErrors)
 	EXPECT_EQ(runEval({"--loops", dir}).code, 2);  // against what?
 	const auto noGraph = runEval({"--loops", dir, "--reference", tum});
 	EXPECT_EQ(noGraph.code, 1);
-	EXPECT_TRUE(contains(noGraph.err, "--loops '" + dir + "': the folder has no")) << noGraph.err;
+	EXPECT_TRUE(contains(noGraph.err, "--loops '" + dir + "': the folder has no"))
+		<< noGraph.err;
 }
 
 TEST_F(EvalApp, VersionIsLrgcSlams)

@@ -128,14 +128,14 @@ TRecallInputs loadRecallInputs(const std::string& outputDir, const std::string& 
 		mrpt::obs::CObservation2DRangeScan::Ptr scan;
 		if (sf) scan = sf->getObservationByClass<mrpt::obs::CObservation2DRangeScan>();
 		if (!scan)
-			throw std::runtime_error(mrpt::format(
-				"--loops '%s': keyframe %zu holds no 2D scan", outputDir.c_str(), i));
+			throw std::runtime_error(mrpt::format("--loops '%s': keyframe %zu holds no 2D scan",
+												  outputDir.c_str(), i));
 		const double t = mrpt::Clock::toDouble(scan->timestamp);
 		const auto pose = ref.poseAt(t, tolerance_s);
 		if (!pose)
-			throw std::runtime_error(mrpt::format(
-				"--reference '%s': no pose at %.6f s (keyframe %zu of '%s')",
-				reference.c_str(), t, i, outputDir.c_str()));
+			throw std::runtime_error(
+				mrpt::format("--reference '%s': no pose at %.6f s (keyframe %zu of '%s')",
+							 reference.c_str(), t, i, outputDir.c_str()));
 		in.keyframes.push_back({t, pose->pose});
 	}
 	return in;
@@ -160,7 +160,8 @@ TTruthBetween truthFromRelations(std::vector<TRelation> relations, CTrajectory2D
 					best = &r, swapped = sw, bestGap = g1 + g2;
 			}
 		if (!best) return std::nullopt;
-		const auto p1 = ref.poseAt(best->t1, tolerance_s), p2 = ref.poseAt(best->t2, tolerance_s);
+		const auto p1 = ref.poseAt(best->t1, tolerance_s),
+				   p2 = ref.poseAt(best->t2, tolerance_s);
 		if (!p1 || !p2) return std::nullopt;
 		// (t1 <- t2) by the relation; (from <- t1) and (t2 <- to) by the reference.
 		const auto motion = swapped ? lrgc::inverse(best->motion) : best->motion;

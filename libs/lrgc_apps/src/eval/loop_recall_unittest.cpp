@@ -28,7 +28,8 @@ struct TOutAndBack
 	{
 		lrgc::TLink l;
 		l.from = from, l.to = to, l.type = lrgc::LinkType::LoopClosure;
-		l.toInFrom = lrgc::compose(lrgc::between(kfs[from].reference, kfs[to].reference), error);
+		l.toInFrom =
+			lrgc::compose(lrgc::between(kfs[from].reference, kfs[to].reference), error);
 		l.information = information * Eigen::Matrix3d::Identity();
 		return graph.addLink(l);
 	}
@@ -43,7 +44,7 @@ TEST(LoopRecall, placesOfTenMetresAndTheLinksThatCloseThem)
 	run.link(20, 52, {0.31, 0, 0});      // 0.31 m off, chi2 961: a false closure
 	run.link(54, 55, {0, 0, 0});         // agrees, but 1 s apart: closes no revisit
 	run.graph.setLinkEnabled(run.link(2, 58, {0, 0, 0}), false);  // not kept: place 2 open
-	run.link(0, 61, {0.5, 0, 0}, 10);    // 0.5 m off, but chi2 2.5 by its information: agrees
+	run.link(0, 61, {0.5, 0, 0}, 10);  // 0.5 m off, but chi2 2.5 by its information: agrees
 
 	const TLoopRecall r = evaluateLoopRecall(run.graph, run.kfs);
 	// The way back starts 30.5 m along the path; a place every 10 m from there on.
@@ -120,7 +121,7 @@ TEST(LoopRecall, aRelationNearBothEndsJudgesTheLinkInsteadOfTheReference)
 	EXPECT_FALSE(byRel.loopLinks[1].agrees);
 	EXPECT_NEAR(byRel.loopLinks[1].offXY_m, 0.4, 1e-9);
 	// Beyond the reach no relation decides.
-	const TLoopRecall far =
-		evaluateLoopRecall(run.graph, kfs, {}, truthFromRelations({r}, CTrajectory2D(ref), 0.5));
+	const TLoopRecall far = evaluateLoopRecall(
+		run.graph, kfs, {}, truthFromRelations({r}, CTrajectory2D(ref), 0.5));
 	EXPECT_EQ(far.byRelation, 0U);
 }

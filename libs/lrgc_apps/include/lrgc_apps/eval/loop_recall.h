@@ -49,19 +49,19 @@ struct TRecallKeyframe
 
 struct TLoopRecallParams
 {
-	double revisitGap_s = 60;    //!< [s] a revisit is at least this much later
-	double revisitNear_m = 2;    //!< [m] and this close to the earlier visit
-	double placeLength_m = 10;   //!< [m] of path per place
-	double maxXY_m = 0.3;        //!< [m] a loop link within this of the reference agrees
+	double revisitGap_s = 60;   //!< [s] a revisit is at least this much later
+	double revisitNear_m = 2;   //!< [m] and this close to the earlier visit
+	double placeLength_m = 10;  //!< [m] of path per place
+	double maxXY_m = 0.3;       //!< [m] a loop link within this of the reference agrees
 	double maxPhi_rad = 5 * M_PI / 180;  //!< [rad] and within this
-	double maxChi2 = 16.27;      //!< or within this by its own information
-	double relationReach_s = 20;  //!< [s] a relation this close to both ends decides
+	double maxChi2 = 16.27;              //!< or within this by its own information
+	double relationReach_s = 20;         //!< [s] a relation this close to both ends decides
 };
 
 /** An enabled loop link set against the reference. */
 struct TAuditedLoopLink
 {
-	std::size_t from = 0, to = 0;  //!< keyframes
+	std::size_t from = 0, to = 0;                  //!< keyframes
 	double offXY_m = 0, offPhi_rad = 0, chi2 = 0;  //!< disagreement with the reference
 	bool agrees = false;
 	bool byRelation = false;  //!< judged by a ground-truth relation, not the reference
