@@ -35,6 +35,26 @@ struct TLoopCloserParams : public mrpt::config::CLoadableOptions
 	 * either), and a large window holds look-alikes. A held match that finds no agreeing one
 	 * within 2 old_map_exclusion_keyframes keyframes is dropped. 0: never hold. */
 	double confirm_above_sigma_m = 0;
+	/** Beyond the window (issue 28: a revisit the drift put tens of metres from the map).
+	 * While the window is capped (window_sigmas sigma beyond max_window_xy_m or
+	 * max_window_phi_deg, so the true place may lie outside it) and found no loop, every this
+	 * many such checks, when the worker has spare time, the patch is correlated with the
+	 * whole old map within far_window_xy_m at every heading on a coarse grid (the paper's
+	 * global correlation, section 2.3, by branch and bound); its far_candidates best distinct
+	 * poses are each searched again at full resolution in a small window with the three
+	 * filters and scan-matched. Those that pass are held; a loop is closed only when a later
+	 * patch, sharing no keyframe with theirs, confirms exactly one of them. 0: never. Off by
+	 * default: it runs on the modelled worker's spare time only, which on the hall loop of
+	 * tests/large_loop_test.cpp is too little near the return to close it, and on Killian
+	 * (sigma over 4 caps) it started 6 searches that shifted the schedule
+	 * (doc/generalisation.md); 25 with worker_budget_ms 0 closes that loop with 30 m of drift.
+	 */
+	size_t far_search_every_keyframes = 0;
+	double far_window_xy_m = 100.0;  //!< [m] half-window of the far search
+	/** [m] The far search's grid cell: it only proposes places for the full-resolution
+	 * search; its blur is at least a cell. The cost of a far search falls with its square. */
+	double far_resolution_m = 0.2;
+	size_t far_candidates = 8;       //!< distinct places the far search proposes, at most
 	double consistent_chi2 = 11.34;  //!< [chi2, 3 dof] a link agreeing this well needs no solve
 	/** Look for a loop every this many keyframes. 2 halves the loop closer's work, but
 	 * moved Killian's error from 0.029 to 0.030-0.035 m (doc/generalisation.md). */
