@@ -13,7 +13,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <ctime>
 #include <utility>
 
 namespace lrgc
@@ -30,19 +29,6 @@ constexpr size_t kRematchStride = 2;
  * most kAgreeXY [m] plus kAgreePerMetre of the path between the new nodes, and kAgreeTheta
  * [rad]: scan-matched loop links are good to centimetres, local chains to ~1 %. */
 constexpr double kAgreeXY = 0.3, kAgreePerMetre = 0.02, kAgreeTheta = 2.0 * M_PI / 180;
-
-/* Held link a (oa <- na) and new link b (ob <- nb), na before nb. Via a, nb in oa's frame is
- * Z_a (+) (na <- nb) (new side, from the graph); via b it is (oa <- ob) (+) Z_b (old side).
- * Both sides of the graph are locally consistent; only the loop itself is in doubt. */
-bool matchesAgree(const CPoseGraph& g, const TLink& a, const TLink& b)
-{
-	const TPose2D newSide = between(g.pose(a.to), g.pose(b.to));
-	const TPose2D viaA = compose(a.toInFrom, newSide);
-	const TPose2D viaB = compose(between(g.pose(a.from), g.pose(b.from)), b.toInFrom);
-	const TPose2D d = between(viaA, viaB);
-	return translationNorm(d) <= kAgreeXY + kAgreePerMetre * translationNorm(newSide) &&
-		   std::abs(mrpt::math::wrapToPi(d.phi)) <= kAgreeTheta;
-}
 
 /** Index in `candidates` of the node nearest to `pose` (map frame) and its distance [m]; the
  * first on ties. */
@@ -86,15 +72,32 @@ CLoopCloser::CLoopCloser(const TLoopCloserParams& p, const TPatchCorrelatorParam
 	: m_params(p),
 	  m_matcherParams(matcher),
 	  m_correlator(correlator),
+	  m_farCorrelator(farCorrelatorParams(correlator, p)),
+	  m_farCheckCorrelator(farCheckParams(correlator)),
 	  m_matcher(matcher),
 	  m_optimizer(optimizer)
 {
+}
+
+/* Held link a (oa <- na) and new link b (ob <- nb), na before nb. Via a, nb in oa's frame is
+ * Z_a (+) (na <- nb) (new side, from the graph); via b it is (oa <- ob) (+) Z_b (old side).
+ * Both sides of the graph are locally consistent; only the loop itself is in doubt. */
+bool CLoopCloser::matchesAgree(const CPoseGraph& g, const TLink& a, const TLink& b)
+{
+	const TPose2D newSide = between(g.pose(a.to), g.pose(b.to));
+	const TPose2D viaA = compose(a.toInFrom, newSide);
+	const TPose2D viaB = compose(between(g.pose(a.from), g.pose(b.from)), b.toInFrom);
+	const TPose2D d = between(viaA, viaB);
+	return translationNorm(d) <= kAgreeXY + kAgreePerMetre * translationNorm(newSide) &&
+		   std::abs(mrpt::math::wrapToPi(d.phi)) <= kAgreeTheta;
 }
 
 void CLoopCloser::setStopToken(const CStopToken& stop)
 {
 	m_stop = stop;
 	m_correlator.setStopToken(stop);
+	m_farCorrelator.setStopToken(stop);
+	m_farCheckCorrelator.setStopToken(stop);
 	m_matcher.setStopToken(stop);
 	m_optimizer.setStopToken(stop);
 }
@@ -120,6 +123,7 @@ auto CLoopCloser::gate(const CPoseGraph& graph, size_t newest) -> std::optional<
 	for (const auto& r : relativeUncertainty(graph, newest))
 	{
 		if (r.node > lastOld) continue;
+		c.allOld.push_back(r);
 		const Eigen::Vector2d t(r.nodeInSource.x, r.nodeInSource.y);
 		const double norm = t.norm();
 		const Eigen::Vector2d ts =
@@ -139,7 +143,8 @@ auto CLoopCloser::gate(const CPoseGraph& graph, size_t newest) -> std::optional<
 }
 
 // The paper's loop closing for the newest keyframe, as a list of steps: gate, size the search,
-// correlate the patch with the old map, match the loop link, close the loop.
+// search (correlate the patch with the old map, match the loop link, close the loop); then,
+// if the window was capped and found nothing, search beyond it.
 std::optional<TLoopClosure> CLoopCloser::process(CPoseGraph& graph, const TScanRefs& scans)
 {
 	m_lastRejection.clear();
@@ -147,17 +152,32 @@ std::optional<TLoopClosure> CLoopCloser::process(CPoseGraph& graph, const TScanR
 	const size_t newest = graph.numNodes() - 1;
 	const auto candidates = timedGate(graph, newest);
 	if (!candidates || stopped()) return std::nullopt;
-	const auto t0 = std::chrono::steady_clock::now();
 	TSearchWindow window = searchWindow(graph, *candidates);
-	if (!attemptDue(window)) return std::nullopt;
-	const auto corr = correlatePatch(graph, scans, *candidates, window);
+	const bool capped = windowCapped(*candidates);
+	if (attemptDue(window))
+		if (auto lc = searchNear(graph, scans, *candidates, window))
+		{
+			if (!m_farHeld.empty()) dropFarHeld(m_stats.farUnconfirmed);
+			m_far.reset();  // the old map has moved
+			return lc;
+		}
+	if (!capped || stopped()) return std::nullopt;
+	return searchBeyond(graph, scans, *candidates, window);
+}
+
+// Steps 2-4 in the window.
+std::optional<TLoopClosure> CLoopCloser::searchNear(CPoseGraph& graph, const TScanRefs& scans,
+													const TCandidates& c, TSearchWindow& w)
+{
+	const auto t0 = std::chrono::steady_clock::now();
+	const auto corr = correlatePatch(graph, scans, c, w);
 	if (!corr || stopped()) return std::nullopt;
-	const auto match = matchLoopLink(graph, scans, *candidates, corr->patchInMap);
+	auto match = matchLoopLink(graph, scans, c, corr->patchInMap);
 	if (!match || stopped()) return std::nullopt;
-	auto lc = closeLoop(graph, scans, *candidates, window, *match);
+	match->score = corr->score;
+	match->ambiguity = corr->ambiguity;
+	auto lc = closeLoop(graph, scans, c, w, *match);
 	if (!lc) return std::nullopt;
-	lc->score = corr->score;
-	lc->ambiguity = corr->ambiguity;
 	lc->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 	if (lc->optimized) m_stats.closureSeconds.push_back(lc->seconds);
 	return lc;
@@ -198,13 +218,18 @@ std::optional<TCorrelationResult> CLoopCloser::correlatePatch(const CPoseGraph& 
 	++m_stats.attempts;
 	++m_stats.work.correlations;
 	progress();
+	const CPatchCorrelator& correlator = correlatorFor(w);
 	const CCorrelationGrid grid =
-		m_correlator.makeGrid(pm.oldMap, 3 * m_correlator.params().blur_sigma_m);
-	const auto corr = countedCorrelation(grid, pm.patch, graph.pose(graph.numNodes() - 1), w);
+		correlator.makeGrid(pm.oldMap, 3 * correlator.params().blur_sigma_m);
+	const TPose2D centre = w.centre.value_or(graph.pose(graph.numNodes() - 1));
+	std::optional<TCorrelationResult> corr;
+	countedSearch(
+		[&](TCorrelationEffort& effort)
+		{ corr = correlator.correlate(grid, pm.patch, centre, w.xy, w.theta, &effort); });
 	const TCorrelationVerdict verdict =
-		corr ? corr->checkFilters(m_correlator.params())
+		corr ? corr->checkFilters(correlator.params())
 			 : TCorrelationVerdict{TCorrelationVerdict::Reason::LowScore, 0,
-								   m_correlator.params().min_score};
+								   correlator.params().min_score};
 	correlateTimer.stop();
 	progress();
 	if (verdict.accepted()) return corr;
@@ -311,7 +336,16 @@ std::optional<TLoopClosure> CLoopCloser::closeLoop(CPoseGraph& graph, const TSca
 	std::vector<size_t> vettedLinks;
 	std::optional<size_t> heldId;  // a held match confirmed: its link goes in first
 	if (!confirmed(graph, c, w, m, heldId, vettedLinks)) return std::nullopt;
+	return addAndClose(graph, scans, c, w, m, heldId, vettedLinks);
+}
+
+std::optional<TLoopClosure> CLoopCloser::addAndClose(
+	CPoseGraph& graph, const TScanRefs& scans, const TCandidates& c, const TSearchWindow& w,
+	const TLoopMatch& m, std::optional<size_t> heldId, std::vector<size_t>& vettedLinks)
+{
 	TLoopClosure lc;
+	lc.score = m.score;
+	lc.ambiguity = m.ambiguity;
 	lc.oldNode = m.link.from;
 	lc.newNode = m.link.to;
 	lc.linkId = graph.addLink(m.link);

@@ -21,6 +21,19 @@
  *     does.
  * With a very uncertain gate (std > confirm_above_sigma_m) step 3's link is held until a later
  * match from a disjoint patch agrees with it; then both links are added and step 4 runs.
+ *
+ * Beyond the window (issue 28; LoopCloser_far.cpp). The window is capped (max_window_xy_m,
+ * max_window_phi_deg): a revisit the drift put farther away lies outside it. While the cap
+ * binds and the window finds nothing, every far_search_every_keyframes such checks (when the
+ * worker is not behind) the patch is correlated with the whole old map within far_window_xy_m,
+ * every heading, on a coarse grid (far_resolution_m); its far_candidates best distinct poses
+ * (CPatchCorrelator::correlatePeaks) are each searched again at full resolution in a small
+ * window with the three filters, then scan-matched (steps 2-3 around that pose). A building
+ * holds look-alikes of any patch, so those confirmed are only held; once the patch shares no
+ * keyframe with them, each is searched for around the pose of n it implies,
+ *     X_n' = X_j (+) z_jk (+) (X_k^-1 (+) X_n)   (held link j -> k),
+ * and the loop is closed (both links, step 4) when exactly one held place is matched there
+ * and agrees; none within kFarConfirmTries checks, or several, and all are dropped.
  */
 #pragma once
 
@@ -76,6 +89,17 @@ public:
 		m_stats.droppedKeyframes.push_back(keyframe);
 		m_stats.droppedPoses.push_back(pose);
 	}
+	/** At the start of a job of the caller's modelled worker (CLoopClosingWorker): how far
+	 * it is behind the newest keyframe [keyframes] and the work it does per keyframe [ms of
+	 * the reference machine; 0: no modelled worker]. A far search runs only while the worker,
+	 * with the job's work so far, stays less than a quarter of max_backlog_keyframes behind:
+	 * it uses spare time only, and never makes the worker shed a search. */
+	void setBacklog(double keyframes, double budgetMs)
+	{
+		m_backlog = keyframes;
+		m_budgetMs = budgetMs;
+		m_jobStartMs = m_stats.work.referenceMs();
+	}
 	/** Adds the caller's own work (CLoopClosingWorker's updates of its graph) to stats(). */
 	void countWork(const TLoopWork& w) { m_stats.work += w; }
 	/** Called after each step of process() (gate, correlation, match, each solve), with
@@ -97,12 +121,18 @@ private:
 		std::vector<size_t> nodes;                   //!< gated old nodes
 		std::vector<TRelativeUncertainty> relative;  //!< per node: (newest <- node), covariance
 		double sigmaXY = 0, sigmaTheta = 0;  //!< largest position / heading std among them
+		/** (newest <- node) of every old node, gated or not (the far search's map). */
+		std::vector<TRelativeUncertainty> allOld;
 	};
 	/** Step 2's search: half window [m, rad] and the patch (keyframes patchFirst..newest). */
 	struct TSearchWindow
 	{
 		double xy = 0, theta = 0;
 		size_t patchSize = 0, patchFirst = 0;
+		/** Where the window is centred (map <- newest) if not at the newest pose. */
+		std::optional<mrpt::math::TPose2D> centre;
+		bool far = false;    //!< the far search's coarse grid (m_farCorrelator)
+		bool check = false;  //!< the check around a far place (m_farCheckCorrelator)
 	};
 	struct TPatchAndMap
 	{
@@ -115,6 +145,7 @@ private:
 		TLink link;
 		Eigen::Matrix3d info;
 		bool vetted = false;
+		double score = 0, ambiguity = 0;  //!< of the correlation that seeded it
 	};
 
 	// The steps of process(), in order.
@@ -122,20 +153,23 @@ private:
 	std::optional<TCandidates> timedGate(const CPoseGraph& graph, size_t newest);
 	TSearchWindow searchWindow(const CPoseGraph& graph, const TCandidates& c) const;
 	bool attemptDue(const TSearchWindow& w);
+	std::optional<TLoopClosure> searchNear(CPoseGraph& graph, const TScanRefs& scans,
+										   const TCandidates& c, TSearchWindow& w);
 	std::optional<TCorrelationResult> correlatePatch(const CPoseGraph& graph,
 													 const TScanRefs& scans,
 													 const TCandidates& c, TSearchWindow& w);
 	TPatchAndMap patchAndOldMap(const CPoseGraph& graph, const TScanRefs& scans,
 								const TCandidates& c, TSearchWindow& w) const;
-	std::optional<TCorrelationResult> countedCorrelation(
-		const CCorrelationGrid& grid, const std::vector<Eigen::Vector2d>& patch,
-		const mrpt::math::TPose2D& newestInMap, const TSearchWindow& w);
+	/** Runs `search` with its work counted as it goes (the worker's published progress). */
+	void countedSearch(const std::function<void(TCorrelationEffort&)>& search);
 	std::optional<TLoopMatch> matchLoopLink(const CPoseGraph& graph, const TScanRefs& scans,
 											const TCandidates& c,
 											const mrpt::math::TPose2D& corrected);
 	CReferenceCloud oldScansNear(const CPoseGraph& graph, const TScanRefs& scans,
 								 const TCandidates& c, size_t oldNode,
 								 const mrpt::math::TPose2D& corrected);
+	/** Whether a held loop link a and a later one b imply the same pose of b's new node. */
+	static bool matchesAgree(const CPoseGraph& g, const TLink& a, const TLink& b);
 	/** True (and the rejection named) once a stop is requested. */
 	bool stopped();
 	bool confirmed(CPoseGraph& graph, const TCandidates& c, const TSearchWindow& w,
@@ -144,6 +178,35 @@ private:
 	std::optional<TLoopClosure> closeLoop(CPoseGraph& graph, const TScanRefs& scans,
 										  const TCandidates& c, const TSearchWindow& w,
 										  const TLoopMatch& m);
+	/** Step 4 once the match is confirmed: `heldId`, if set, is a confirming link added. */
+	std::optional<TLoopClosure> addAndClose(CPoseGraph& graph, const TScanRefs& scans,
+											const TCandidates& c, const TSearchWindow& w,
+											const TLoopMatch& m, std::optional<size_t> heldId,
+											std::vector<size_t>& vettedLinks);
+
+	// Beyond the capped window (LoopCloser_far.cpp).
+	static TPatchCorrelatorParams farCorrelatorParams(const TPatchCorrelatorParams& near,
+													  const TLoopCloserParams& p);
+	static TPatchCorrelatorParams farCheckParams(const TPatchCorrelatorParams& near);
+	bool windowCapped(const TCandidates& c) const;
+	bool spareTime(double nextMs) const;
+	std::optional<TLoopClosure> searchBeyond(CPoseGraph& graph, const TScanRefs& scans,
+											 const TCandidates& c, const TSearchWindow& w);
+	void startFarSearch(const CPoseGraph& graph, const TScanRefs& scans, const TCandidates& all,
+						TSearchWindow w);
+	void farSearchSlice();
+	void checkFarPlace(CPoseGraph& graph, const TScanRefs& scans, const TCandidates& all,
+					   const TSearchWindow& w);
+	std::optional<TLoopMatch> matchAround(const CPoseGraph& graph, const TScanRefs& scans,
+										  const TCandidates& all, const TSearchWindow& w,
+										  const mrpt::math::TPose2D& centre);
+	std::optional<TLoopClosure> confirmFar(CPoseGraph& graph, const TScanRefs& scans,
+										   const TCandidates& all, const TSearchWindow& w);
+	void dropFarHeld(size_t& counter);
+	const CPatchCorrelator& correlatorFor(const TSearchWindow& w) const
+	{
+		return w.far ? m_farCorrelator : w.check ? m_farCheckCorrelator : m_correlator;
+	}
 
 	std::optional<TCandidates> gate(const CPoseGraph& graph, size_t newest);
 	/** (newest <- node) with covariance for every node (gate_reuse_keyframes). */
@@ -157,6 +220,8 @@ private:
 	TLoopCloserParams m_params;
 	TScanMatcherParams m_matcherParams;
 	CPatchCorrelator m_correlator;
+	CPatchCorrelator m_farCorrelator;  //!< the far search's: coarse, clusters of its window
+	CPatchCorrelator m_farCheckCorrelator;  //!< the check around a far place's
 	CScanMatcher m_matcher;
 	CPoseGraphOptimizer m_optimizer;
 	size_t m_frozen = 0;  //!< setFrozenNodes()
@@ -191,6 +256,28 @@ private:
 	size_t m_keyframesSinceCheck = 0;
 	bool m_onKnownGround = false;     //!< the last check added a link that agreed with the map
 	size_t m_checksSinceAttempt = 0;  //!< for attempt_stride
+	/** The far search under way (its steps, LoopCloser_far.cpp): the patch of keyframe `newest`
+	 * (its frame), the coarse old-map grid, the peaks found so far (best first), then the
+	 * places to check. */
+	struct TFarSearch
+	{
+		size_t newest = 0;
+		mrpt::math::TPose2D newestInMap;
+		double halfXY = 0;
+		std::vector<Eigen::Vector2d> patch;
+		CCorrelationGrid grid;
+		size_t nextSlice = 0;
+		std::vector<TCorrelationPeak> peaks;
+		std::vector<mrpt::math::TPose2D> places;  //!< (map <- patch) to check, best first
+		size_t nextPlace = 0;
+		double lastStepMs = 0;  //!< modelled cost of its last step [ms]
+	};
+	std::optional<TFarSearch> m_far;
+	/** Places the far search proposed and confirmed, held for a later patch's check. */
+	std::vector<TLoopMatch> m_farHeld;
+	size_t m_farTries = 0;        //!< checks of m_farHeld by later patches so far
+	size_t m_checksSinceFar = 0;  //!< capped checks since the last far search
+	double m_backlog = 0, m_budgetMs = 0, m_jobStartMs = 0;  //!< setBacklog()
 };
 
 }  // namespace lrgc

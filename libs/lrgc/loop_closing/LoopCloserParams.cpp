@@ -22,6 +22,16 @@ void TLoopCloserParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& 
 	max_window_phi = readDegrees(c, s, "max_window_phi_deg", max_window_phi);
 	confirm_above_sigma_m = readDouble(c, s, "confirm_above_sigma_m", confirm_above_sigma_m);
 	requireParam(confirm_above_sigma_m >= 0, s, "confirm_above_sigma_m", "must be >= 0");
+	far_search_every_keyframes =
+		readCount(c, s, "far_search_every_keyframes", far_search_every_keyframes);
+	far_window_xy_m = readDouble(c, s, "far_window_xy_m", far_window_xy_m);
+	requireParam(far_window_xy_m > 0 && far_window_xy_m <= 1000, s, "far_window_xy_m",
+				 "must be in (0, 1000] m");
+	far_resolution_m = readDouble(c, s, "far_resolution_m", far_resolution_m);
+	requireParam(far_resolution_m >= 0.01 && far_resolution_m <= 1, s, "far_resolution_m",
+				 "must be in [0.01, 1] m");
+	far_candidates = readCount(c, s, "far_candidates", far_candidates);
+	requireParam(far_candidates >= 1, s, "far_candidates", "must be >= 1");
 	consistent_chi2 = readDouble(c, s, "consistent_chi2", consistent_chi2);
 	check_every = readCount(c, s, "check_every", check_every);
 	known_ground_check_every =
@@ -87,6 +97,17 @@ void TLoopCloserParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
 	writeValue(c, s, "confirm_above_sigma_m", confirm_above_sigma_m,
 			   "[m] Gate std above which a loop is closed only when a second, independent "
 			   "match agrees (0: never)");
+	writeValue(
+		c, s, "far_search_every_keyframes", uint64_t(far_search_every_keyframes),
+		"While the window is capped and finds no loop, search the whole old map (every "
+		"heading, coarse grid) every this many checks, on the worker's spare time; a "
+		"place it proposes closes a loop only once a later patch confirms it (0: never)");
+	writeValue(c, s, "far_window_xy_m", far_window_xy_m, "[m] Half-window of that far search");
+	writeValue(
+		c, s, "far_resolution_m", far_resolution_m,
+		"[m] Its grid cell (it proposes; the confirming searches run at full resolution)");
+	writeValue(c, s, "far_candidates", uint64_t(far_candidates),
+			   "Distinct places it proposes, at most");
 	writeValue(c, s, "consistent_chi2", consistent_chi2,
 			   "[chi2, 3 dof] A loop link this consistent is added without a full solve");
 	writeValue(c, s, "check_every", uint64_t(check_every),

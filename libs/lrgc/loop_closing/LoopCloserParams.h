@@ -35,6 +35,28 @@ struct TLoopCloserParams : public mrpt::config::CLoadableOptions
 	 * either), and a large window holds look-alikes. A held match that finds no agreeing one
 	 * within 2 old_map_exclusion_keyframes keyframes is dropped. 0: never hold. */
 	double confirm_above_sigma_m = 0;
+	/** Beyond the window (issue 28: a revisit the drift put tens of metres from the map).
+	 * While the window is capped (window_sigmas sigma beyond max_window_xy_m or
+	 * max_window_phi_deg, so the true place may lie outside it) and found no loop, every this
+	 * many such checks, when the worker has spare time, the patch is correlated with the
+	 * whole old map within far_window_xy_m at every heading on a coarse grid (the paper's
+	 * global correlation, section 2.3, by branch and bound); its far_candidates best distinct
+	 * poses are each searched again at full resolution in a small window with the three
+	 * filters and scan-matched. Those that pass are held; a loop is closed only when a later
+	 * patch, sharing no keyframe with theirs, confirms exactly one of them. 0: never. Off by
+	 * default: one search over the hall loop of tests/large_loop_test.cpp costs about 390 ms
+	 * of modelled work at 0.4 m (78 keyframes of worker_budget_ms), so on spare time it does
+	 * not finish near the return, and given a step per check it keeps the worker 150
+	 * keyframes behind (170-188 searches deferred); 25 with worker_budget_ms 0 closes that
+	 * loop with 30 m of drift (doc/generalisation.md).
+	 */
+	size_t far_search_every_keyframes = 0;
+	double far_window_xy_m = 100.0;  //!< [m] half-window of the far search
+	/** [m] The far search's grid cell: it only proposes places for the full-resolution
+	 * search; its blur is at least a cell. 0.4 costs 2.4 times less than 0.2 on the hall loop.
+	 */
+	double far_resolution_m = 0.4;
+	size_t far_candidates = 8;       //!< distinct places the far search proposes, at most
 	double consistent_chi2 = 11.34;  //!< [chi2, 3 dof] a link agreeing this well needs no solve
 	/** Look for a loop every this many keyframes. 2 halves the loop closer's work, but
 	 * moved Killian's error from 0.029 to 0.030-0.035 m (doc/generalisation.md). */

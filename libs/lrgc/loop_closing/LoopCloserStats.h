@@ -20,6 +20,14 @@ struct TLoopCloserStats
 	 * [LoopCloser] confirm_above_sigma_m), and those dropped because the next disagreed or
 	 * none came. */
 	size_t heldForConfirmation = 0, unconfirmed = 0;
+	/** The search beyond the capped window ([LoopCloser] far_search_every_keyframes): far
+	 * searches run, and those due that waited for the worker's spare time; the distinct
+	 * places they proposed (candidates), those the full-resolution search and the scan match
+	 * confirmed and those they rejected; held places dropped because a later patch confirmed
+	 * none of them or more than one (ambiguous); loops closed so. */
+	size_t farSearches = 0, farSearchesWaited = 0;
+	size_t farCandidates = 0, farConfirmed = 0, farRejected = 0;
+	size_t farUnconfirmed = 0, farAmbiguous = 0, farClosures = 0;
 	size_t optimizations = 0;
 	/** Re-matches after a closure that disagreed with the solved poses (not linked). */
 	size_t rematchesRefused = 0;

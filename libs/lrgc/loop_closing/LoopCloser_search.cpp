@@ -90,8 +90,10 @@ auto CLoopCloser::patchAndOldMap(const CPoseGraph& graph, const TScanRefs& scans
 			patchRadius = std::max(patchRadius, range);
 		}
 	}
-	const Eigen::Vector2d centre(newestInMap.x, newestInMap.y);
-	const double blur = m_correlator.params().blur_sigma_m;
+	const TPose2D centreInMap = w.centre.value_or(newestInMap);
+	const Eigen::Vector2d centre(centreInMap.x, centreInMap.y);
+	const CPatchCorrelator& correlator = correlatorFor(w);
+	const double blur = correlator.params().blur_sigma_m;
 	const double reach = w.xy + patchRadius + 3 * blur;
 	for (const size_t j : c.nodes)
 	{
@@ -104,15 +106,13 @@ auto CLoopCloser::patchAndOldMap(const CPoseGraph& graph, const TScanRefs& scans
 	double farthest = 0;
 	for (const auto& q : pm.oldMap) farthest = std::max(farthest, (q - centre).norm());
 	w.xy = std::min(w.xy,
-					farthest + patchRadius + 4 * blur + 2 * m_correlator.params().resolution_m);
+					farthest + patchRadius + 4 * blur + 2 * correlator.params().resolution_m);
 	return pm;
 }
 
-// The correlation, its work counted as the search goes (the worker's published progress):
+// A correlation, its work counted as the search goes (the worker's published progress):
 // headings x patch cells once known, then poses scored x patch cells.
-std::optional<TCorrelationResult> CLoopCloser::countedCorrelation(
-	const CCorrelationGrid& grid, const std::vector<Eigen::Vector2d>& patch,
-	const TPose2D& newestInMap, const TSearchWindow& w)
+void CLoopCloser::countedSearch(const std::function<void(TCorrelationEffort&)>& search)
 {
 	TCorrelationEffort effort;
 	double counted = 0;  // poses scored x cells counted so far
@@ -126,10 +126,9 @@ std::optional<TCorrelationResult> CLoopCloser::countedCorrelation(
 		counted = poseCells;
 		progress();
 	};
-	const auto corr = m_correlator.correlate(grid, patch, newestInMap, w.xy, w.theta, &effort);
+	search(effort);
 	m_stats.work.correlationPoseCells +=
 		double(effort.posesScored) * double(effort.patchCells) - counted;
-	return corr;
 }
 
 }  // namespace lrgc

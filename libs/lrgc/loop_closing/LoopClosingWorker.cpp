@@ -250,6 +250,7 @@ std::optional<TLoopClosure> CLoopClosingWorker::searchOrDefer(const TLoopJob& jo
 			m_closer.countDropped(d, m_replica.pose(d));
 	m_deferred.clear();
 	m_lastSearched = job.newest;
+	m_closer.setBacklog(m_budgetMs > 0 ? (start - job.grantMs) / m_budgetMs : 0.0, m_budgetMs);
 	return m_closer.process(m_replica, m_scans);
 }
 

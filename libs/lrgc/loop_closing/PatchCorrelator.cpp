@@ -235,10 +235,10 @@ void preparePoseGrid(const CCorrelationGrid& grid, const std::vector<Eigen::Vect
 
 /** Step 4's exclusion zone: the best pose's cluster, the headings within cluster_radius_phi_deg
  * and the cells within cluster_radius_m of it [cells^2]. */
-detail::TExclusionZone bestCluster(const TPatchCorrelatorParams& prm, const TGridSpec& spec,
+detail::TExclusionDisc bestCluster(const TPatchCorrelatorParams& prm, const TGridSpec& spec,
 								   int numAngles, const detail::TSearchHit& best)
 {
-	detail::TExclusionZone zone;
+	detail::TExclusionDisc zone;
 	zone.inAngle.resize(size_t(numAngles));
 	for (int a = 0; a < numAngles; ++a)
 		zone.inAngle[size_t(a)] =
@@ -247,6 +247,45 @@ detail::TExclusionZone bestCluster(const TPatchCorrelatorParams& prm, const TGri
 	zone.ci = best.i, zone.cj = best.j;
 	zone.r2 = std::pow(prm.cluster_radius_m / spec.res, 2) + 1e-9;
 	return zone;
+}
+
+/** Steps 1 and 2 of a query: the patch's distinct cells and the pose grid over the window. */
+struct TPreparedSearch
+{
+	TGridSpec spec;
+	std::vector<Eigen::Vector2d> pts;
+	TPoseGridProblem pb;
+	int64_t full = 0;  //!< 255 N: the score of a perfect match
+};
+
+/** Prepares a query (see TPreparedSearch) and sets `effort` (never null) going: headings and
+ * patch cells, then progress as the searches evaluate. False if the patch is empty. */
+bool prepareSearch(const TPatchCorrelatorParams& prm, const CStopToken& stop,
+				   const CCorrelationGrid& grid, const std::vector<Eigen::Vector2d>& patch,
+				   const mrpt::math::TPose2D& center, double halfWindowXY,
+				   double halfWindowTheta, TCorrelationEffort* effort, TPreparedSearch& s)
+{
+	effort->headings = effort->patchCells = effort->posesScored = 0;
+	checkWindow(grid, center, halfWindowXY, halfWindowTheta);
+	s.spec.center = center;
+	s.spec.res = grid.resolution();
+	s.pts = distinctCells(patch, s.spec.res);
+	if (s.pts.empty()) return false;
+	preparePoseGrid(grid, s.pts, prm.angular_step, halfWindowXY, halfWindowTheta, s.spec, s.pb);
+	s.pb.stop = stop;
+	s.full = int64_t(255) * s.pb.numPoints;
+	effort->headings = size_t(s.pb.numAngles), effort->patchCells = s.pts.size();
+	// Progress: posesScored grows by the search's steps, then takes each search's count.
+	if (effort->onProgress)
+	{
+		effort->onProgress(*effort);
+		s.pb.onEvaluations = [effort]
+		{
+			effort->posesScored += TPoseGridProblem::kProgressEvaluations;
+			effort->onProgress(*effort);
+		};
+	}
+	return true;
 }
 }  // namespace
 
@@ -316,27 +355,13 @@ std::optional<TCorrelationResult> CPatchCorrelator::run(
 {
 	TCorrelationEffort spent;
 	if (!effort) effort = &spent;
-	effort->headings = effort->patchCells = effort->posesScored = 0;
-	checkWindow(grid, center, halfWindowXY, halfWindowTheta);
-	TGridSpec spec;
-	spec.center = center;
-	spec.res = grid.resolution();
-	const std::vector<Eigen::Vector2d> pts = distinctCells(patchPoints, spec.res);
-	if (pts.empty()) return std::nullopt;
-	TPoseGridProblem pb;
-	preparePoseGrid(grid, pts, m_params.angular_step, halfWindowXY, halfWindowTheta, spec, pb);
-	pb.stop = m_stop;
-	effort->headings = size_t(pb.numAngles), effort->patchCells = pts.size();
-	// Progress: posesScored grows by the search's steps, then takes each search's count.
-	if (effort->onProgress)
-	{
-		effort->onProgress(*effort);
-		pb.onEvaluations = [&]
-		{
-			effort->posesScored += TPoseGridProblem::kProgressEvaluations;
-			effort->onProgress(*effort);
-		};
-	}
+	TPreparedSearch prepared;
+	if (!prepareSearch(m_params, m_stop, grid, patchPoints, center, halfWindowXY,
+					   halfWindowTheta, effort, prepared))
+		return std::nullopt;
+	const TGridSpec& spec = prepared.spec;
+	const std::vector<Eigen::Vector2d>& pts = prepared.pts;
+	const TPoseGridProblem& pb = prepared.pb;
 
 	// Step 3: the best pose, scoring at least min_score.
 	const auto search = [&](int64_t floor, const detail::TExclusionZone& z, bool firstHit)
@@ -344,7 +369,7 @@ std::optional<TCorrelationResult> CPatchCorrelator::run(
 		return exhaustive ? detail::searchExhaustive(pb, floor, z)
 						  : detail::searchBranchAndBound(pb, floor, z, firstHit);
 	};
-	const int64_t full = int64_t(255) * pb.numPoints;
+	const int64_t full = prepared.full;
 	const auto floor1 =
 		static_cast<int64_t>(std::ceil(m_params.min_score * double(full) - 1e-9));
 	const detail::TSearchHit best = search(floor1, detail::TExclusionZone{}, false);
@@ -363,8 +388,9 @@ std::optional<TCorrelationResult> CPatchCorrelator::run(
 		exhaustive ? 0
 				   : static_cast<int64_t>(
 						 std::ceil(double(best.score) / m_params.min_ambiguity - 1e-9));
-	const detail::TSearchHit rival =
-		search(floor2, bestCluster(m_params, spec, pb.numAngles, best), true);
+	detail::TExclusionZone cluster;
+	cluster.discs.push_back(bestCluster(m_params, spec, pb.numAngles, best));
+	const detail::TSearchHit rival = search(floor2, cluster, true);
 	if (rival.stopped) return std::nullopt;  // a rival not found is no evidence then
 	res.ambiguity = std::numeric_limits<double>::infinity();
 	if (rival.found)
@@ -379,6 +405,40 @@ std::optional<TCorrelationResult> CPatchCorrelator::run(
 	// Step 5: the spread of the best cluster.
 	res.cov = clusterCovariance(m_params, grid, pts, spec, best.a, best.i, best.j, best.score);
 	return res;
+}
+
+// The k best distinct poses: branch and bound again and again, each time with the clusters of
+// the peaks found so far excluded and the floor max(min_score, atLeast, minShareOfBest s_1).
+std::vector<TCorrelationPeak> CPatchCorrelator::correlatePeaks(
+	const CCorrelationGrid& grid, const std::vector<Eigen::Vector2d>& patchPoints,
+	const mrpt::math::TPose2D& center, double halfWindowXY, double halfWindowTheta, size_t k,
+	double minShareOfBest, double atLeast, TCorrelationEffort* effort) const
+{
+	TCorrelationEffort spent;
+	if (!effort) effort = &spent;
+	std::vector<TCorrelationPeak> peaks;
+	TPreparedSearch s;
+	if (!prepareSearch(m_params, m_stop, grid, patchPoints, center, halfWindowXY,
+					   halfWindowTheta, effort, s))
+		return peaks;
+	auto floor = static_cast<int64_t>(
+		std::ceil(std::max(m_params.min_score, atLeast) * double(s.full) - 1e-9));
+	detail::TExclusionZone zone;
+	size_t evaluations = 0;
+	while (peaks.size() < k)
+	{
+		const detail::TSearchHit hit = detail::searchBranchAndBound(s.pb, floor, zone);
+		evaluations += hit.evaluations;
+		effort->posesScored = evaluations;
+		if (hit.stopped) return {};
+		if (!hit.found) break;
+		peaks.push_back({s.spec.pose(hit.a, hit.i, hit.j), double(hit.score) / double(s.full)});
+		if (peaks.size() == 1)
+			floor = std::max(floor, static_cast<int64_t>(
+										std::ceil(minShareOfBest * double(hit.score) - 1e-9)));
+		zone.discs.push_back(bestCluster(m_params, s.spec, s.pb.numAngles, hit));
+	}
+	return peaks;
 }
 
 }  // namespace lrgc

@@ -13,6 +13,7 @@
 
 #include "correlation_search.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -368,6 +369,58 @@ TEST(PatchCorrelator, RepeatedDoorsAreRejectedAsAmbiguous)
 	ASSERT_TRUE(local.has_value());
 	EXPECT_TRUE(local->passesFilters(prm)) << local->checkFilters(prm).message();
 	EXPECT_LE(std::abs(local->patchInMap.x - truth.x), 1.5 * prm.resolution_m);
+}
+
+// The k best distinct poses (the far loop search's candidates): in the corridor of repeated
+// doors, the truth, then each door 3 m away; peak 1 is correlate()'s best and peak 2 the
+// exhaustive search's exact rival (the best pose outside peak 1's cluster).
+TEST(PatchCorrelator, PeaksAreTheBestDistinctPosesBestFirst)
+{
+	std::mt19937 rng(5);
+	const TPatchCorrelatorParams prm;
+	const CPatchCorrelator corr(prm);
+	const World w = corridor(3.0);
+	const CCorrelationGrid map = corr.makeGrid(rasterise(w), 0.5);
+	const TPose2D truth(0.4, 0.1, 0.02);
+	const Points patch = makePatch(w, truth, 10, rng, 5.0);
+	const auto peaks = corr.correlatePeaks(map, patch, truth, 3.5, 0.05, 5, 0.5);
+	const auto best = corr.correlate(map, patch, truth, 3.5, 0.05);
+	const auto ex = corr.correlateExhaustive(map, patch, truth, 3.5, 0.05);
+	ASSERT_TRUE(best && ex);
+	ASSERT_GE(peaks.size(), 3u);
+	EXPECT_EQ(peaks[0].patchInMap.x, best->patchInMap.x);
+	EXPECT_EQ(peaks[0].patchInMap.y, best->patchInMap.y);
+	EXPECT_EQ(peaks[0].patchInMap.phi, best->patchInMap.phi);
+	EXPECT_EQ(peaks[0].score, best->score);
+	ASSERT_EQ(ex->clusterPeaks.size(), 2u);
+	EXPECT_EQ(peaks[1].patchInMap.x, ex->clusterPeaks[1].patchInMap.x);
+	EXPECT_EQ(peaks[1].patchInMap.y, ex->clusterPeaks[1].patchInMap.y);
+	EXPECT_EQ(peaks[1].score, ex->clusterPeaks[1].score);
+	std::vector<double> shifts;
+	for (size_t n = 0; n < peaks.size(); ++n)
+	{
+		if (n > 0)
+		{
+			EXPECT_LE(peaks[n].score, peaks[n - 1].score);
+		}
+		EXPECT_GE(peaks[n].score, std::max(prm.min_score, 0.5 * peaks[0].score));
+		for (size_t m = 0; m < n; ++m)
+		{
+			const TPose2D a = peaks[n].patchInMap, b = peaks[m].patchInMap;
+			EXPECT_TRUE(std::hypot(a.x - b.x, a.y - b.y) > prm.cluster_radius_m ||
+						angleDiff(a.phi, b.phi) > prm.cluster_radius_phi)
+				<< "peaks " << m << " and " << n << " share a cluster";
+		}
+		shifts.push_back(peaks[n].patchInMap.x - truth.x);
+	}
+	std::sort(shifts.begin(), shifts.begin() + 3);
+	EXPECT_NEAR(shifts[0], -3.0, 0.1) << "a door 3 m before";
+	EXPECT_NEAR(shifts[1], 0.0, 1.5 * prm.resolution_m) << "the truth";
+	EXPECT_NEAR(shifts[2], 3.0, 0.1) << "a door 3 m after";
+	// A share of 1: only the poses as good as the best.
+	const auto tied = static_cast<size_t>(std::count_if(
+		peaks.begin(), peaks.end(), [&](const auto& p) { return p.score == peaks[0].score; }));
+	EXPECT_EQ(corr.correlatePeaks(map, patch, truth, 3.5, 0.05, 5, 1.0).size(), tied);
 }
 
 TEST(PatchCorrelator, FeaturelessCorridorIsRejectedForItsSpreadAlongTheAxis)

@@ -50,16 +50,16 @@ struct TPoseGridProblem
 	}
 };
 
-/** Poses excluded from a search: those with inAngle[a] and (i-ci)^2 + (j-cj)^2 <= r2. */
-struct TExclusionZone
+/** One excluded cluster: the poses with inAngle[a] and (i-ci)^2 + (j-cj)^2 <= r2. */
+struct TExclusionDisc
 {
-	std::vector<bool> inAngle;  //!< empty = no exclusion
+	std::vector<bool> inAngle;
 	int ci = 0, cj = 0;
 	double r2 = -1;  //!< squared radius [cells^2]
 
 	bool excludes(int a, int i, int j) const
 	{
-		if (inAngle.empty() || !inAngle[size_t(a)]) return false;
+		if (!inAngle[size_t(a)]) return false;
 		const double di = i - ci, dj = j - cj;
 		return di * di + dj * dj <= r2;
 	}
@@ -68,6 +68,27 @@ struct TExclusionZone
 	{
 		return excludes(a, i0, j0) && excludes(a, i0, j1) && excludes(a, i1, j0) &&
 			   excludes(a, i1, j1);  // the disc is convex
+	}
+};
+
+/** Poses excluded from a search: those in any of the discs (none: no exclusion). A block is
+ * skipped whole only when one disc covers it; a block that several discs cover together is
+ * still explored, and each of its poses excluded on its own (exact either way). */
+struct TExclusionZone
+{
+	std::vector<TExclusionDisc> discs;
+
+	bool excludes(int a, int i, int j) const
+	{
+		for (const auto& d : discs)
+			if (d.excludes(a, i, j)) return true;
+		return false;
+	}
+	bool excludesBlock(int a, int i0, int i1, int j0, int j1) const
+	{
+		for (const auto& d : discs)
+			if (d.excludesBlock(a, i0, i1, j0, j1)) return true;
+		return false;
 	}
 };
 

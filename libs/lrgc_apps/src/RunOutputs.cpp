@@ -165,8 +165,17 @@ std::string loopClosingJson(const TMapBuilderStats& s, const TLoopCloserStats& l
 	  << ", \"rejected_by_back_end\": " << lcs.rejectedByBackEnd
 	  << ", \"held_for_confirmation\": " << lcs.heldForConfirmation
 	  << ", \"unconfirmed\": " << lcs.unconfirmed
-	  << ", \"optimizations\": " << lcs.optimizations
-	  << ", \"rematches_refused\": " << lcs.rematchesRefused
+	  << ", \"optimizations\": " << lcs.optimizations << ", \"rematches_refused\": "
+	  << lcs.rematchesRefused
+	  // The search beyond the capped window ([LoopCloser] far_search_every_keyframes).
+	  << ", \"far_searches\": " << lcs.farSearches
+	  << ", \"far_searches_waited\": " << lcs.farSearchesWaited
+	  << ", \"far_candidates\": " << lcs.farCandidates
+	  << ", \"far_confirmed\": " << lcs.farConfirmed
+	  << ", \"far_rejected\": " << lcs.farRejected
+	  << ", \"far_unconfirmed\": " << lcs.farUnconfirmed
+	  << ", \"far_ambiguous\": " << lcs.farAmbiguous
+	  << ", \"far_closures\": " << lcs.farClosures
 	  << ", \"gate_propagations\": " << lcs.gatePropagations
 	  << ", \"gate_reuses\": " << lcs.gateReuses
 	  << ", \"closure_ms\": {\"count\": " << closureMs.size()

@@ -1,0 +1,297 @@
+/* CLoopCloser beyond the capped window (issue 28; see LoopCloser.h): a far search over the
+ * whole old map proposes the k best distinct places (coarse grid, every heading, branch and
+ * bound); each is checked by the full-resolution search with the paper's three filters in a
+ * small window around it and by the scan match; those that pass are held until a later,
+ * disjoint patch confirms exactly one of them. Trade-off: a far search costs about k
+ * correlations over the old map's extent on a grid far_resolution_m / resolution_m times
+ * coarser in x, y and heading (the patch is cut at patch_max_range_m, so not more for a
+ * long-range laser), and runs on the worker's spare time only; a loop is closed one patch later
+ * than a near one. */
+#include <lrgc/common/se2.h>
+#include <mrpt/math/wrap2pi.h>
+#include <lrgc/loop_closing/LoopCloser.h>
+
+#include <lrgc/common/CpuTime.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+namespace lrgc
+{
+using mrpt::math::TPose2D;
+
+namespace
+{
+/** Half-window of the full-resolution search around a far peak or a held place's implied pose
+ * [m, rad]: the far grid's cells (far_resolution_m, its heading step) and a patch's drift fit
+ * well inside; a look-alike elsewhere in the building does not. */
+constexpr double kFarCheckXY = 2.0, kFarCheckTheta = 10.0 * M_PI / 180;
+/** The check's ambiguity filter (the best pose against the best one outside its cluster in
+ * that window): a true place in a corridor has a slid copy of itself within kFarCheckXY
+ * (1.14-1.20 on the hall loop); the later patch's confirmation tells places apart. */
+constexpr double kFarCheckAmbiguity = 1.1;
+/** Far peaks proposed must score at least this share of the best one: a true place scores
+ * about as well as the best look-alike, a junk peak far less. */
+constexpr double kFarPeakShare = 0.8;
+/** Checks by later patches a held place gets before it is dropped: a true place in a corridor
+ * fails the check's filters at some of them (3 dropped the hall loop's true place). */
+constexpr size_t kFarConfirmTries = 10;
+/** A far search's headings are searched in this many slices, each for its far_candidates best
+ * peaks (a slice's floor is kFarPeakShare of the best peak so far). */
+constexpr size_t kFarSlices = 8;
+/** A far search not finished this many keyframes after its patch is dropped: the local chain
+ * that carries its places to the newest keyframe has drifted by then. */
+constexpr size_t kFarStaleKeyframes = 80;
+/** The far search runs only while window_sigmas sigma exceeds the window's cap this many
+ * times (the shared benchmark logs stay below). */
+constexpr double kFarBeyondCap = 4.0;
+/** A far search waits while the modelled worker is more than this share of
+ * max_backlog_keyframes behind: it uses spare time, and never makes the worker shed. */
+constexpr double kFarSpareBacklog = 0.25;
+}  // namespace
+
+// The far search's correlator: the same operator on a coarser grid (far_resolution_m), its
+// blur at least a cell; its clusters as wide as the full-resolution check's window, so that no
+// two peaks fall in one such window.
+TPatchCorrelatorParams CLoopCloser::farCorrelatorParams(const TPatchCorrelatorParams& near,
+														const TLoopCloserParams& p)
+{
+	TPatchCorrelatorParams far = near;
+	far.resolution_m = std::max(near.resolution_m, p.far_resolution_m);
+	far.blur_sigma_m = std::max(near.blur_sigma_m, far.resolution_m);
+	far.cluster_radius_m = kFarCheckXY;
+	far.cluster_radius_phi = kFarCheckTheta;
+	return far;
+}
+
+// The check around a far peak or a held place: full resolution, the three filters, with an
+// ambiguity filter of kFarCheckAmbiguity at most.
+TPatchCorrelatorParams CLoopCloser::farCheckParams(const TPatchCorrelatorParams& near)
+{
+	TPatchCorrelatorParams check = near;
+	check.min_ambiguity = std::min(near.min_ambiguity, kFarCheckAmbiguity);
+	return check;
+}
+
+// The cap binds by kFarBeyondCap or more: the true place may lie well outside the window.
+bool CLoopCloser::windowCapped(const TCandidates& c) const
+{
+	return m_params.far_search_every_keyframes > 0 &&
+		   (m_params.window_sigmas * c.sigmaXY >= kFarBeyondCap * m_params.max_window_xy_m ||
+			m_params.window_sigmas * c.sigmaTheta >= kFarBeyondCap * m_params.max_window_phi);
+}
+
+// Spare time: the modelled worker, with this job's work so far and `nextMs` more [ms], stays
+// within kFarSpareBacklog of max_backlog_keyframes behind the newest keyframe (always, without
+// a modelled worker).
+bool CLoopCloser::spareTime(double nextMs) const
+{
+	if (m_budgetMs <= 0) return true;
+	const double behind =
+		m_backlog + (m_stats.work.referenceMs() - m_jobStartMs + nextMs) / m_budgetMs;
+	return behind <= kFarSpareBacklog * double(m_params.max_backlog_keyframes);
+}
+
+// The window was capped and found nothing: check the held far places with this patch, or run
+// the steps of a far search (its slices of headings, then a check of each place found) while
+// the worker has spare time, going on at the next checks where this one stops.
+std::optional<TLoopClosure> CLoopCloser::searchBeyond(CPoseGraph& graph, const TScanRefs& scans,
+													  const TCandidates& c,
+													  const TSearchWindow& w)
+{
+	TCandidates all;
+	all.relative = c.allOld;
+	for (const auto& r : all.relative) all.nodes.push_back(r.node);
+	all.sigmaXY = c.sigmaXY, all.sigmaTheta = c.sigmaTheta;
+	if (!m_far && !m_farHeld.empty()) return confirmFar(graph, scans, all, w);
+	const size_t newest = graph.numNodes() - 1;
+	if (m_far && newest > m_far->newest + kFarStaleKeyframes) m_far.reset();
+	if (!m_far && ++m_checksSinceFar < m_params.far_search_every_keyframes) return std::nullopt;
+	if (!spareTime(m_far ? m_far->lastStepMs : 0.0))
+	{
+		++m_stats.farSearchesWaited;  // the worker is behind: no spare time now
+		return std::nullopt;
+	}
+	if (!m_far) startFarSearch(graph, scans, all, w);
+	// A step runs only when the spare time left holds one more step as costly as the last.
+	while (m_far && spareTime(m_far->lastStepMs) && !stopped())
+	{
+		const double before = m_stats.work.referenceMs();
+		if (m_far->nextSlice < kFarSlices)
+			farSearchSlice();
+		else
+			checkFarPlace(graph, scans, all, w);
+		if (m_far) m_far->lastStepMs = m_stats.work.referenceMs() - before;
+	}
+	return std::nullopt;
+}
+
+// A far search starts: the patch (newest keyframe's frame) and the whole old map within
+// far_window_xy_m on the coarse grid; then kFarSlices slices of headings and a check of each
+// place found.
+void CLoopCloser::startFarSearch(const CPoseGraph& graph, const TScanRefs& scans,
+								 const TCandidates& all, TSearchWindow w)
+{
+	CCpuTimer correlateTimer(m_stats.correlateCpuSeconds);
+	m_checksSinceFar = 0;
+	w.far = true;
+	w.xy = m_params.far_window_xy_m;
+	w.theta = M_PI;
+	TPatchAndMap pm = patchAndOldMap(graph, scans, all, w);
+	if (pm.oldMap.empty() || pm.patch.empty()) return;
+	++m_stats.farSearches;
+	++m_stats.work.correlations;
+	progress();
+	TFarSearch f;
+	f.newest = graph.numNodes() - 1;
+	f.newestInMap = graph.pose(f.newest);
+	f.halfXY = w.xy;
+	f.patch = std::move(pm.patch);
+	f.grid = m_farCorrelator.makeGrid(pm.oldMap, 3 * m_farCorrelator.params().blur_sigma_m);
+	m_far = std::move(f);
+}
+
+// The next slice of headings: its far_candidates best distinct poses scoring at least
+// kFarPeakShare of the best found so far. After the last slice, the places to check: the
+// far_candidates best distinct peaks of all slices (a peak within kFarCheckXY and
+// kFarCheckTheta of a better one is the same place) scoring at least kFarPeakShare of the best.
+void CLoopCloser::farSearchSlice()
+{
+	CCpuTimer correlateTimer(m_stats.correlateCpuSeconds);
+	TFarSearch& f = *m_far;
+	const double slice = 2 * M_PI / kFarSlices;
+	TPose2D centre = f.newestInMap;
+	centre.phi = mrpt::math::wrapToPi(centre.phi - M_PI + (double(f.nextSlice) + 0.5) * slice);
+	const double best = f.peaks.empty() ? 0.0 : f.peaks.front().score;
+	std::vector<TCorrelationPeak> found;
+	countedSearch(
+		[&](TCorrelationEffort& effort)
+		{
+			found = m_farCorrelator.correlatePeaks(
+				f.grid, f.patch, centre, f.halfXY, 0.5 * slice, m_params.far_candidates,
+				kFarPeakShare, kFarPeakShare * best, &effort);
+		});
+	f.peaks.insert(f.peaks.end(), found.begin(), found.end());
+	std::stable_sort(f.peaks.begin(), f.peaks.end(),
+					 [](const auto& a, const auto& b) { return a.score > b.score; });
+	if (++f.nextSlice < kFarSlices) return;
+	const auto samePlace = [](const TPose2D& a, const TPose2D& b)
+	{
+		return translationNorm(between(a, b)) <= kFarCheckXY &&
+			   std::abs(mrpt::math::wrapToPi(a.phi - b.phi)) <= kFarCheckTheta;
+	};
+	for (const TCorrelationPeak& peak : f.peaks)
+	{
+		if (f.places.size() >= m_params.far_candidates ||
+			peak.score < kFarPeakShare * f.peaks.front().score)
+			break;
+		if (std::none_of(f.places.begin(), f.places.end(),
+						 [&](const TPose2D& q) { return samePlace(q, peak.patchInMap); }))
+			f.places.push_back(peak.patchInMap);
+	}
+	m_stats.farCandidates += f.places.size();
+}
+
+// The next place of the far search, checked around the pose of the newest keyframe n it
+// implies, X_n' = place (+) (X_k^-1 (+) X_n) (k the search's keyframe); held if it passes
+// (one per place: matches that agree are one). After the last place the search is done.
+void CLoopCloser::checkFarPlace(CPoseGraph& graph, const TScanRefs& scans,
+								const TCandidates& all, const TSearchWindow& w)
+{
+	TFarSearch& f = *m_far;
+	if (f.nextPlace < f.places.size())
+	{
+		const TPose2D place = f.places[f.nextPlace++];
+		const TPose2D kToN = between(f.newestInMap, graph.pose(graph.numNodes() - 1));
+		const auto m = matchAround(graph, scans, all, w, compose(place, kToN));
+		if (!m)
+			++m_stats.farRejected;
+		else
+		{
+			++m_stats.farConfirmed;
+			const bool known = std::any_of(m_farHeld.begin(), m_farHeld.end(),
+										   [&](const auto& h)
+										   { return matchesAgree(graph, h.link, m->link); });
+			if (!known) m_farHeld.push_back(*m), ++m_stats.heldForConfirmation;
+		}
+	}
+	if (f.nextPlace < f.places.size()) return;
+	m_far.reset();
+	m_farTries = 0;
+	if (!m_farHeld.empty())
+		m_lastRejection = "far matches held until a later patch confirms one";
+}
+
+// Steps 2-3 in a small window around `centre` (map <- newest): the full-resolution search
+// with the three filters, then the scan match of the loop link.
+auto CLoopCloser::matchAround(const CPoseGraph& graph, const TScanRefs& scans,
+							  const TCandidates& all, const TSearchWindow& w,
+							  const TPose2D& centre) -> std::optional<TLoopMatch>
+{
+	TSearchWindow around = w;
+	around.centre = centre;
+	around.xy = kFarCheckXY;
+	around.theta = kFarCheckTheta;
+	around.check = true;
+	const auto corr = correlatePatch(graph, scans, all, around);
+	if (!corr || stopped()) return std::nullopt;
+	auto match = matchLoopLink(graph, scans, all, corr->patchInMap);
+	if (!match || stopped()) return std::nullopt;
+	match->score = corr->score;
+	match->ambiguity = corr->ambiguity;
+	return match;
+}
+
+// A later patch, sharing no keyframe with the held places' patch, is searched for around the
+// pose of the newest keyframe n each implies, X_n' = X_j (+) z_jk (+) (X_k^-1 (+) X_n); the
+// loop is closed with both links when exactly one place is matched there and agrees.
+std::optional<TLoopClosure> CLoopCloser::confirmFar(CPoseGraph& graph, const TScanRefs& scans,
+													const TCandidates& all,
+													const TSearchWindow& w)
+{
+	const size_t newest = graph.numNodes() - 1;
+	for (const auto& h : m_farHeld)
+		if (h.link.to >= w.patchFirst) return std::nullopt;  // the same evidence
+	const auto t0 = std::chrono::steady_clock::now();
+	++m_farTries;
+	std::vector<std::pair<size_t, TLoopMatch>> agreeing;
+	for (size_t i = 0; i < m_farHeld.size() && !stopped(); ++i)
+	{
+		const TLink& l = m_farHeld[i].link;
+		const TPose2D implied = compose(compose(graph.pose(l.from), l.toInFrom),
+										between(graph.pose(l.to), graph.pose(newest)));
+		if (auto m = matchAround(graph, scans, all, w, implied);
+			m && matchesAgree(graph, l, m->link))
+			agreeing.emplace_back(i, *m);
+	}
+	if (stopped()) return std::nullopt;
+	if (agreeing.size() > 1) dropFarHeld(m_stats.farAmbiguous);
+	if (agreeing.size() != 1)
+	{
+		if (m_farTries >= kFarConfirmTries) dropFarHeld(m_stats.farUnconfirmed);
+		return std::nullopt;
+	}
+	const TLoopMatch held = m_farHeld[agreeing[0].first];
+	m_farHeld.erase(m_farHeld.begin() + std::ptrdiff_t(agreeing[0].first));
+	dropFarHeld(m_stats.farUnconfirmed);  // the places the patch did not confirm
+	std::vector<size_t> vettedLinks;
+	const size_t heldId = graph.addLink(held.link);
+	if (held.vetted) vettedLinks.push_back(heldId);
+	auto lc = addAndClose(graph, scans, all, w, agreeing[0].second, heldId, vettedLinks);
+	if (!lc) return std::nullopt;
+	++m_stats.farClosures;
+	lc->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+	if (lc->optimized) m_stats.closureSeconds.push_back(lc->seconds);
+	return lc;
+}
+
+// Drops every held far place, counting them in `counter`.
+void CLoopCloser::dropFarHeld(size_t& counter)
+{
+	counter += m_farHeld.size();
+	m_stats.unconfirmed += m_farHeld.size();
+	m_farHeld.clear();
+}
+
+}  // namespace lrgc
