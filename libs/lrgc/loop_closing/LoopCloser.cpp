@@ -198,6 +198,7 @@ std::optional<TCorrelationResult> CLoopCloser::correlatePatch(const CPoseGraph& 
 	++m_stats.attempts;
 	++m_stats.work.correlations;
 	progress();
+	m_correlator.setScanNoise(scans[graph.numNodes() - 1]->rangeNoiseStd);
 	const CCorrelationGrid grid =
 		m_correlator.makeGrid(pm.oldMap, 3 * m_correlator.params().blur_sigma_m);
 	const auto corr = countedCorrelation(grid, pm.patch, graph.pose(graph.numNodes() - 1), w);
