@@ -7,6 +7,8 @@ namespace lrgc
 {
 namespace
 {
+constexpr double kMaxSurfaceStep_m = 1.0;
+
 bool returned(const mrpt::obs::CObservation2DRangeScan& obs, size_t i)
 {
 	const double r = obs.getScanRange(i);
@@ -57,9 +59,15 @@ double rangeNoiseStd(const mrpt::obs::CObservation2DRangeScan& obs)
 	const size_t n = obs.getScanSize();
 	d.reserve(n);
 	for (size_t i = 1; i + 1 < n; ++i)
-		if (returned(obs, i - 1) && returned(obs, i) && returned(obs, i + 1))
-			d.push_back(std::abs(obs.getScanRange(i - 1) - 2 * obs.getScanRange(i) +
-								 obs.getScanRange(i + 1)));
+	{
+		if (!returned(obs, i - 1) || !returned(obs, i) || !returned(obs, i + 1)) continue;
+		const double a = obs.getScanRange(i - 1), b = obs.getScanRange(i),
+					 c = obs.getScanRange(i + 1);
+		// A jump of more than kMaxSurfaceStep_m between neighbours is an edge (or a pane's
+		// far side), not noise on one surface.
+		if (std::abs(b - a) < kMaxSurfaceStep_m && std::abs(c - b) < kMaxSurfaceStep_m)
+			d.push_back(std::abs(a - 2 * b + c));
+	}
 	if (d.size() < 10) return 0;
 	// The lower quartile of |d| is 0.31864 sqrt(6) sigma for Gaussian noise.
 	auto q = d.begin() + d.size() / 4;

@@ -3,7 +3,9 @@
  *
  * Noise: along a smooth surface, consecutive ranges are locally linear in the beam index, so
  * the second difference d_i = r_{i-1} - 2 r_i + r_{i+1} of three valid returns is noise alone,
- * with variance 6 sigma^2 for independent range noise of std sigma. The estimate is
+ * with variance 6 sigma^2 for independent range noise of std sigma. Triples with a step of 1 m
+ * or more between neighbours are edges, not noise (GlassBuilding's panes alternate near and
+ * far returns), and are left out. The estimate is
  *     sigma = q25_i |d_i| / (0.31864 sqrt(6))     [m]
  * (the lower quartile of |d|, 0.31864 sqrt(6) sigma for Gaussian noise: corners, edges and
  * clutter, the upper part, do not move it; the median let Intel's open lab, desks and chairs
