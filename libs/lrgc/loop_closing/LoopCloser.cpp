@@ -218,6 +218,11 @@ std::optional<TCorrelationResult> CLoopCloser::correlatePatch(const CPoseGraph& 
 	++m_stats.attempts;
 	++m_stats.work.correlations;
 	progress();
+	// A noisy laser's peaks are as wide as its noise (CPatchCorrelator::setScanNoise).
+	const double noise = scans[graph.numNodes() - 1]->rangeNoiseStd;
+	for (CPatchCorrelator* correlatorUsed :
+		 {&m_correlator, &m_farCorrelator, &m_farCheckCorrelator})
+		correlatorUsed->setScanNoise(noise);
 	const CPatchCorrelator& correlator = correlatorFor(w);
 	const CCorrelationGrid grid =
 		correlator.makeGrid(pm.oldMap, 3 * correlator.params().blur_sigma_m);

@@ -321,9 +321,17 @@ TCorrelationVerdict TCorrelationResult::checkFilters(const TPatchCorrelatorParam
 	return {};
 }
 
-CPatchCorrelator::CPatchCorrelator(const TPatchCorrelatorParams& params) : m_params(params)
+CPatchCorrelator::CPatchCorrelator(const TPatchCorrelatorParams& params)
+	: m_configured(params), m_params(params)
 {
 	m_params.validate();
+}
+
+void CPatchCorrelator::setScanNoise(double sigma)
+{
+	m_params = m_configured;
+	m_params.cluster_radius_m = std::max(m_configured.cluster_radius_m, 16 * sigma);
+	m_params.max_std_xy_m = std::max(m_configured.max_std_xy_m, 6 * sigma);
 }
 
 CCorrelationGrid CPatchCorrelator::makeGrid(const std::vector<Eigen::Vector2d>& pointsInMap,

@@ -105,6 +105,14 @@ public:
 	explicit CPatchCorrelator(const TPatchCorrelatorParams& params = {});
 
 	const TPatchCorrelatorParams& params() const { return m_params; }
+	/** Scales the best cluster and filter 3 to scans of range noise `sigma` [m] (TScan2D::
+	 * rangeNoiseStd): cluster_radius_m = max(configured, 16 sigma), max_std_xy_m =
+	 * max(configured, 6 sigma). Noise spreads the correlation peak in proportion, so a
+	 * constant radius cuts the one peak into "best" and an adjacent "rival" (measured on MRPT's
+	 * range_030_bearing_015 log: the rival 0.5-1 m along the peak's ridge,
+	 * ambiguity 1.02-1.198). sigma is 0 unless the laser is noisy (kNoisyLaserStd_m): the
+	 * configured values. */
+	void setScanNoise(double sigma);
 	/** Searches end early once `stop` is stopped and then find nothing (std::nullopt). */
 	void setStopToken(const CStopToken& stop) { m_stop = stop; }
 	const CStopToken& stopToken() const { return m_stop; }
@@ -151,7 +159,8 @@ private:
 										  double halfWindowXY, double halfWindowTheta,
 										  TCorrelationEffort* effort) const;
 
-	TPatchCorrelatorParams m_params;
+	TPatchCorrelatorParams m_configured;  //!< as given
+	TPatchCorrelatorParams m_params;      //!< as used: m_configured scaled by setScanNoise
 	CStopToken m_stop;
 };
 

@@ -72,12 +72,14 @@ void CMetricMapBuilderLRGC::processScan(const mrpt::obs::CObservation2DRangeScan
 }
 
 // Step 1b: the scan as points in the robot frame, de-skewed by the predicted motion over its
-// sweep; none (counted, with a warning) if it has too few valid returns to match.
+// sweep, denoised if the laser's range noise (estimated from the scans) is large; none
+// (counted, with a warning) if it has too few valid returns to match.
 std::optional<TScan2D> CMetricMapBuilderLRGC::convertScan(
 	const mrpt::obs::CObservation2DRangeScan& laser, const TPose2D& sweep)
 {
 	TScanConversionStats conv;
-	TScan2D scan = scanFromObservation(laser, &conv, sweep);
+	const double rangeNoise = m_rangeNoise.add(rangeNoiseStd(laser));
+	TScan2D scan = scanFromObservation(laser, &conv, sweep, rangeNoise);
 	if (scan.points.size() >= m_params.builder.min_scan_points) return scan;
 	++m_stats.skippedScans;
 	warn(mrpt::format("scan at t=%.6f skipped: %zu valid returns of %zu (min %zu)",

@@ -31,6 +31,7 @@
 #include <lrgc/map_builder/MapBuilderParams.h>
 #include <lrgc/map_builder/Trajectory.h>
 #include <lrgc/scan_matching/Keyframe.h>
+#include <lrgc/scan_matching/RangeDenoiser.h>
 #include <lrgc/pose_graph/PoseGraph.h>
 #include <mrpt/maps/CMultiMetricMap.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
@@ -308,6 +309,7 @@ private:
 	CStopToken m_stop;
 	std::unique_ptr<CMotionPredictor> m_predictor;
 	std::unique_ptr<CSweepEstimator> m_sweep;
+	CRangeNoiseEstimate m_rangeNoise;  //!< the laser's range noise, from the scans
 	std::unique_ptr<CLocalRegistration> m_local;
 	std::unique_ptr<CKeyframeReuse> m_reuse;
 	std::unique_ptr<CLoopClosing> m_loops;  //!< null with loop closing off

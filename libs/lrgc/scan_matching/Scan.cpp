@@ -1,4 +1,5 @@
 #include <lrgc/scan_matching/Scan.h>
+#include <lrgc/scan_matching/RangeDenoiser.h>
 
 #include <cmath>
 
@@ -73,7 +74,8 @@ std::vector<float> sweepFractions(const mrpt::obs::CObservation2DRangeScan& obs)
 }
 
 TScan2D scanFromObservation(const mrpt::obs::CObservation2DRangeScan& obs,
-							TScanConversionStats* stats, const mrpt::math::TPose2D& sweepMotion)
+							TScanConversionStats* stats, const mrpt::math::TPose2D& sweepMotion,
+							double rangeNoise)
 {
 	TScan2D scan;
 	scan.maxRange = obs.maxRange;
@@ -87,10 +89,15 @@ TScan2D scanFromObservation(const mrpt::obs::CObservation2DRangeScan& obs,
 	const double sx = obs.sensorPose.x(), sy = obs.sensorPose.y();
 	const double sc = std::cos(obs.sensorPose.yaw()), ss = std::sin(obs.sensorPose.yaw());
 	const bool deskew = sweepMotion.x != 0 || sweepMotion.y != 0 || sweepMotion.phi != 0;
+	// Ranges as measured, or denoised where the laser's noise is large (RangeDenoiser.h).
+	size_t window = 1;
+	const std::vector<float> ranges = denoisedRanges(obs, rangeNoise, &window);
+	scan.rangeNoiseStd =
+		rangeNoise > kNoisyLaserStd_m ? rangeNoise / std::sqrt(double(window)) : 0;
 	for (size_t i = 0; i < n; ++i)
 	{
 		if (!isReturn(obs, i, st)) continue;
-		const double r = obs.getScanRange(i);
+		const double r = ranges[i];
 		// Beam angle in the sensor frame [rad]: -aperture/2 .. +aperture/2 (rightToLeft).
 		const double a = obs.getScanAngle(i);
 		const double px = r * std::cos(a), py = r * std::sin(a);

@@ -41,6 +41,10 @@ struct TScan2D
 	/** Sensor range limit [m]; readings at or above it were no-returns. */
 	double maxRange = 0;
 	mrpt::Clock::time_point timestamp{};
+	/** Range noise std left in the points of a noisy laser's scan [m]: the laser's estimate
+	 * divided by sqrt(2h+1), the denoiser's window (RangeDenoiser.h); 0 for a laser below
+	 * kNoisyLaserStd_m (the gates as configured). */
+	double rangeNoiseStd = 0;
 };
 
 /** Why readings of a scan were dropped. */
@@ -72,12 +76,16 @@ mrpt::obs::CObservation2DRangeScan::Ptr applyRangeLimits(
 	size_t* marked = nullptr);
 
 /** Converts an MRPT laser observation; never throws on bad ranges (they are counted).
+ * `rangeNoise`: the laser's range noise std [m] (CRangeNoiseEstimate); above
+ * kNoisyLaserStd_m the ranges are denoised first (RangeDenoiser.h) and the scan's
+ * rangeNoiseStd says what is left; 0: ranges as measured, rangeNoiseStd 0.
  * `sweepMotion`: the robot's motion over the sweep, first beam -> last beam, in the robot
  * frame [m, m, rad] (zero: no de-skewing). */
 TScan2D scanFromObservation(const mrpt::obs::CObservation2DRangeScan& obs,
 							TScanConversionStats* stats = nullptr,
 							const mrpt::math::TPose2D& sweepMotion = mrpt::math::TPose2D(0, 0,
-																						 0));
+																						 0),
+							double rangeNoise = 0);
 
 /** The sweep fraction f = i / (n - 1) - 1/2 of each point scanFromObservation(obs) keeps, in
  * the same order: where in the sweep (first beam -1/2, last +1/2) the point was measured. */

@@ -148,13 +148,20 @@ CScanMatcher::CScanMatcher(const TScanMatcherParams& p) : m_params(p)
 std::optional<TScanMatch> CScanMatcher::match(const CReferenceCloud& ref, const TScan2D& scan,
 											  const mrpt::math::TPose2D& guess) const
 {
-	return matchPoints(ref, scan.points, guess, m_params.max_correspondence_dist_m);
+	return matchPoints(ref, scan.points, guess, m_params.max_correspondence_dist_m, true,
+					   scan.rangeNoiseStd);
+}
+
+double CScanMatcher::rmsGate(double scanNoiseStd) const
+{
+	return std::max(m_params.max_rms_residual_m, 3 * scanNoiseStd);
 }
 
 std::optional<TScanMatch> CScanMatcher::matchPoints(const CReferenceCloud& ref,
 													const std::vector<Eigen::Vector2d>& pts,
 													const mrpt::math::TPose2D& guess,
-													double gate0, bool check) const
+													double gate0, bool check,
+													double scanNoiseStd) const
 {
 	const auto& P = m_params;
 	if (ref.empty() || pts.size() < static_cast<size_t>(P.min_inliers)) return std::nullopt;
@@ -211,7 +218,7 @@ std::optional<TScanMatch> CScanMatcher::matchPoints(const CReferenceCloud& ref,
 	// Unchecked (matchWide's alternatives): the converged pose and its inliers, no verdict.
 	if (!check) return m;
 	if (inliers < static_cast<size_t>(P.min_inliers) ||
-		m.inlierFraction < P.min_inlier_fraction || m.rmsResidual > P.max_rms_residual_m ||
+		m.inlierFraction < P.min_inlier_fraction || m.rmsResidual > rmsGate(scanNoiseStd) ||
 		info.unobservable > 1)
 		return std::nullopt;
 	// Free-space consistency: aligned scan points must not sit where the reference saw through.
@@ -306,7 +313,8 @@ std::optional<TScanMatch> CScanMatcher::matchWide(
 			return std::nullopt;
 	// Refine the winner with the whole scan, match()'s checks applying, and ask for a clear
 	// majority of the scan matched.
-	auto won = matchPoints(ref, scan.points, bestPose, m_params.max_correspondence_dist_m);
+	auto won = matchPoints(ref, scan.points, bestPose, m_params.max_correspondence_dist_m, true,
+						   scan.rangeNoiseStd);
 	if (!won || won->inlierFraction < m_params.wide_min_inlier_fraction) return std::nullopt;
 	// The guess's own hypothesis on the same footing (whole scan, plain gate, unchecked): the
 	// winner must explain clearly more of the scan than the guess's local optimum does.

@@ -102,7 +102,12 @@ private:
 	std::optional<TScanMatch> matchPoints(const CReferenceCloud& ref,
 										  const std::vector<Eigen::Vector2d>& pts,
 										  const mrpt::math::TPose2D& guess, double initialGate,
-										  bool check = true) const;
+										  bool check = true, double scanNoiseStd = 0) const;
+	/** The inlier RMS gate for a scan of range noise `scanNoiseStd` [m] (TScan2D::
+	 * rangeNoiseStd): max(max_rms_residual_m, 3 scanNoiseStd). The point-to-line residual of
+	 * two such scans is ~sqrt(2) scanNoiseStd, inliers reaching 2.4x that (Cauchy c).
+	 * scanNoiseStd is 0 unless the laser is noisy (kNoisyLaserStd_m). */
+	double rmsGate(double scanNoiseStd) const;
 
 	TScanMatcherParams m_params;
 	CStopToken m_stop;
