@@ -79,6 +79,12 @@ std::optional<TScan2D> CMetricMapBuilderLRGC::convertScan(
 {
 	TScanConversionStats conv;
 	const double rangeNoise = m_rangeNoise.add(rangeNoiseStd(laser));
+	m_stats.rangeNoiseStd = rangeNoise;
+	if (rangeNoise > kNoisyLaserStd_m && m_stats.scansDenoised++ == 0)
+		warn(
+			mrpt::format("the laser's range noise is %.2f m (estimated from its scans, from "
+						 "t=%.6f): its scans are denoised and the matching gates widened",
+						 rangeNoise, mrpt::Clock::toDouble(laser.timestamp)));
 	TScan2D scan = scanFromObservation(laser, &conv, sweep, rangeNoise);
 	if (scan.points.size() >= m_params.builder.min_scan_points) return scan;
 	++m_stats.skippedScans;

@@ -99,6 +99,10 @@ struct TMapBuilderStats
 	double sweepTime = 0;
 	bool sweepTimeEstimated = false;
 	size_t sweepSamples = 0;
+	/** [m] the laser's range noise std as estimated from its scans at the end
+	 * (CRangeNoiseEstimate), and the scans denoised because it exceeded kNoisyLaserStd_m. */
+	double rangeNoiseStd = 0;
+	size_t scansDenoised = 0;
 	/** CPU time of the mapping thread [s] (CLOCK_THREAD_CPUTIME_ID) placing scans (step 3:
 	 * new keyframes with their window links and solve, reused keyframes, and the loop results
 	 * applied at them), and applying loop results (steps 4-5 on the mapping thread: at

@@ -320,7 +320,12 @@ std::string statsJson(const TRunOutputsSnapshot& snapshot)
 	  // scan_sweep_time_s, or estimated online from this many scan pairs (CSweepEstimator).
 	  << "  \"scan_sweep_time\": {\"seconds\": " << s.sweepTime
 	  << ", \"estimated\": " << (s.sweepTimeEstimated ? "true" : "false")
-	  << ", \"pairs\": " << s.sweepSamples << "},\n"
+	  << ", \"pairs\": " << s.sweepSamples
+	  << "},\n"
+	  // The laser's range noise as its scans show it [m] (RangeDenoiser.h), and the scans
+	  // denoised because it was over 0.1 m.
+	  << "  \"range_noise\": {\"std_m\": " << s.rangeNoiseStd
+	  << ", \"scans_denoised\": " << s.scansDenoised << "},\n"
 	  << laserJson(snapshot.lasers) << loopClosingJson(s, snapshot.loopStats)
 	  << initialMapJson(run) << mergeJson(run) << "  \"warnings\": " << run.warnings << ",\n"
 	  << "  \"data_duration_s\": " << run.dataDurationSeconds << ",\n"
