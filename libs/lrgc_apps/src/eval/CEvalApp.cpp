@@ -245,7 +245,7 @@ std::string CEvalApp::usage()
 		   "2 m,\n"
 		   "                   10 m each; loop links off by > 0.3 m / 5 deg and chi2 > 16.27 "
 		   "are false\n"
-		   "                   (by --relations where one joins both ends within 10 s)\n"
+		   "                   (by --relations where one joins both ends within 20 s)\n"
 		   "  --help, --version\n";
 }
 
