@@ -27,8 +27,7 @@ const std::string kDemos =
 double jsonNumber(const std::string& json, const std::string& key)
 {
 	std::smatch m;
-	if (!std::regex_search(json, m, std::regex("\"" + key + "\": (-?[0-9.eE+-]+)")))
-		return -1;
+	if (!std::regex_search(json, m, std::regex("\"" + key + "\": (-?[0-9.eE+-]+)"))) return -1;
 	return std::stod(m[1]);
 }
 
@@ -50,10 +49,9 @@ TMapped mapDemo(const std::string& name)
 							  eval::CTrajectory2D::loadFromFile(kDemos + name + ".GT.txt"));
 	m.stats = readTextFile(dir + "/out/stats.json");
 	std::cout << name << ": ATE rmse " << m.ate.trans_m.rms() << " m, range noise "
-			  << jsonNumber(m.stats, "std_m") << " m, "
-			  << jsonNumber(m.stats, "scans_denoised") << " scans denoised, "
-			  << jsonNumber(m.stats, "unmatched_scans") << " unmatched, loop links "
-			  << jsonNumber(m.stats, "loop") << "\n";
+			  << jsonNumber(m.stats, "std_m") << " m, " << jsonNumber(m.stats, "scans_denoised")
+			  << " scans denoised, " << jsonNumber(m.stats, "unmatched_scans")
+			  << " unmatched, loop links " << jsonNumber(m.stats, "loop") << "\n";
 	return m;
 }
 }  // namespace
