@@ -170,12 +170,8 @@ std::optional<TLoopClosure> CLoopCloser::searchNear(CPoseGraph& graph, const TSc
 													const TCandidates& c, TSearchWindow& w)
 {
 	const auto t0 = std::chrono::steady_clock::now();
-	const auto corr = correlatePatch(graph, scans, c, w);
-	if (!corr || stopped()) return std::nullopt;
-	auto match = matchLoopLink(graph, scans, c, corr->patchInMap);
-	if (!match || stopped()) return std::nullopt;
-	match->score = corr->score;
-	match->ambiguity = corr->ambiguity;
+	const auto match = correlateAndMatch(graph, scans, c, w);
+	if (!match) return std::nullopt;
 	auto lc = closeLoop(graph, scans, c, w, *match);
 	if (!lc) return std::nullopt;
 	lc->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -203,6 +199,21 @@ auto CLoopCloser::timedGate(const CPoseGraph& graph, size_t newest)
 	gateTimer.stop();
 	progress();
 	return candidates;
+}
+
+// Steps 2-3: the correlation's pose, through its filters, refined by the scan match; the
+// match carries the correlation's score and ambiguity.
+auto CLoopCloser::correlateAndMatch(const CPoseGraph& graph, const TScanRefs& scans,
+									const TCandidates& c, TSearchWindow& w)
+	-> std::optional<TLoopMatch>
+{
+	const auto corr = correlatePatch(graph, scans, c, w);
+	if (!corr || stopped()) return std::nullopt;
+	auto match = matchLoopLink(graph, scans, c, corr->patchInMap);
+	if (!match || stopped()) return std::nullopt;
+	match->score = corr->score;
+	match->ambiguity = corr->ambiguity;
+	return match;
 }
 
 // Step 2: the patch (in the newest keyframe's frame) against the old map (map frame), through

@@ -155,6 +155,8 @@ private:
 	bool attemptDue(const TSearchWindow& w);
 	std::optional<TLoopClosure> searchNear(CPoseGraph& graph, const TScanRefs& scans,
 										   const TCandidates& c, TSearchWindow& w);
+	std::optional<TLoopMatch> correlateAndMatch(const CPoseGraph& graph, const TScanRefs& scans,
+												const TCandidates& c, TSearchWindow& w);
 	std::optional<TCorrelationResult> correlatePatch(const CPoseGraph& graph,
 													 const TScanRefs& scans,
 													 const TCandidates& c, TSearchWindow& w);

@@ -234,13 +234,7 @@ auto CLoopCloser::matchAround(const CPoseGraph& graph, const TScanRefs& scans,
 	around.xy = kFarCheckXY;
 	around.theta = kFarCheckTheta;
 	around.check = true;
-	const auto corr = correlatePatch(graph, scans, all, around);
-	if (!corr || stopped()) return std::nullopt;
-	auto match = matchLoopLink(graph, scans, all, corr->patchInMap);
-	if (!match || stopped()) return std::nullopt;
-	match->score = corr->score;
-	match->ambiguity = corr->ambiguity;
-	return match;
+	return correlateAndMatch(graph, scans, all, around);
 }
 
 // A later patch, sharing no keyframe with the held places' patch, is searched for around the

@@ -89,15 +89,19 @@ TScan2D scanFromObservation(const mrpt::obs::CObservation2DRangeScan& obs,
 	const double sx = obs.sensorPose.x(), sy = obs.sensorPose.y();
 	const double sc = std::cos(obs.sensorPose.yaw()), ss = std::sin(obs.sensorPose.yaw());
 	const bool deskew = sweepMotion.x != 0 || sweepMotion.y != 0 || sweepMotion.phi != 0;
-	// Ranges as measured, or denoised where the laser's noise is large (RangeDenoiser.h).
-	size_t window = 1;
-	const std::vector<float> ranges = denoisedRanges(obs, rangeNoise, &window);
-	scan.rangeNoiseStd =
-		rangeNoise > kNoisyLaserStd_m ? rangeNoise / std::sqrt(double(window)) : 0;
+	// Ranges as measured, or denoised where the laser's noise is large (RangeDenoiser.h):
+	// only then is a copy made.
+	std::vector<float> denoised;
+	if (rangeNoise > kNoisyLaserStd_m)
+	{
+		size_t window = 1;
+		denoised = denoisedRanges(obs, rangeNoise, &window);
+		scan.rangeNoiseStd = rangeNoise / std::sqrt(double(window));
+	}
 	for (size_t i = 0; i < n; ++i)
 	{
 		if (!isReturn(obs, i, st)) continue;
-		const double r = ranges[i];
+		const double r = denoised.empty() ? obs.getScanRange(i) : denoised[i];
 		// Beam angle in the sensor frame [rad]: -aperture/2 .. +aperture/2 (rightToLeft).
 		const double a = obs.getScanAngle(i);
 		const double px = r * std::cos(a), py = r * std::sin(a);
