@@ -10,11 +10,14 @@
  */
 #include <gtest/gtest.h>
 #include <lrgc/common/se2.h>
+#include <lrgc/scan_matching/ReferenceCloud.h>
+#include <lrgc/scan_matching/ScanMatcher.h>
 #include <lrgc_apps/eval/trajectory_error.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <random>
 
 #include "synthetic_run.h"
 
@@ -131,7 +134,10 @@ TEST(CrowdedHall, everyScanFollowsTheMap)
 		// step, 0.025 / 0.109 (lap 1 3.9x) and 0.021 / 0.070 (lap 1 3.0x), the worst above its
 		// neighbours 0.042 and 0.020 m. What is left is the leg along the glass facade after
 		// the corner at (64, 39): no scan-to-scan match there, each keyframe on its patch link
-		// alone, 5-6 cm sideways on both laps (doc/generalisation.md, CrowdedHall). Lap 2's
+		// alone, 5-6 cm sideways on both laps. Not the matcher's bias (the test below): the
+		// heading carried across that corner, where the turn's last scans share only far
+		// walls with the window and settle in a heading optimum 0.9 deg off
+		// (doc/generalisation.md, CrowdedHall). Lap 2's
 		// west leg (x = 5) runs through the pillars at (5, 33.75) and (5, 11.25): the runs
 		// settleIsolatedScans settles are the scans taken inside them.
 		EXPECT_LT(all.rmse, 0.030);
@@ -143,4 +149,81 @@ TEST(CrowdedHall, everyScanFollowsTheMap)
 		}
 		EXPECT_LT(start, 0.08);
 	}
+}
+
+/* The leg along the glass facade (y = 39, heading west, after the corner at (64, 39)) is where
+ * the map is worst. This separates the scan matcher from the chain that feeds it: each scan
+ * of the leg (x 8-62 m, every other step) is matched against the patch of the 15 keyframes
+ * before it (every other step, 0.5 m apart, as the builder's K-window) built at their TRUE
+ * poses, from a guess 3 cm and 0.5 deg off. Measured (seed 1, people walking): 109 of 109
+ * matched, lateral error mean +0.9 mm, rms 4.5 mm, the covariance's lateral std 4.3 mm on
+ * average. So the matcher, its voxels, line fits and robust weights are neither biased nor
+ * over-confident here; the 2-10 cm sideways errors of the full run's patch links come from
+ * the window's own poses (doc/generalisation.md, CrowdedHall). */
+TEST(CrowdedHall, patchMatchAlongTheFacadeIsUnbiasedOnTruePoses)
+{
+	const uint32_t seed = 1;
+	const CSyntheticWorld world = makeOpenHallWorld(seed, 70, 45, 6);
+	const TTrajectory tr = makeTrajectory(
+		{{4, 5}, {64, 5}, {64, 39}, {6, 39}, {6, 6}, {64, 6}, {64, 38}, {5, 38}, {5, 8}}, 0.25,
+		TOdometryNoise{}, 40 + seed);
+	TLaserSimParams laser;
+	laser.beams = 181;
+	laser.maxRange = 80;
+	laser.rangeNoiseStd = 0.015;
+	laser.dropRate = 0.05;
+	laser.outlierRate = 0.01;
+	const CCrowd crowd({{2, 1}, {68, 44}}, 25, 200 + seed);
+	std::mt19937 rng(seed);
+	auto scanAt = [&](size_t k)
+	{
+		const TPose2D& p = tr.truePoses[k];
+		return simulateScan(crowd.addTo(world, 0.2 * double(k), {p.x, p.y}), p, laser, rng);
+	};
+	lrgc::TScanMatcherParams mp;
+	mp.max_free_space_violation = 0.3;  // local registration's ([LocalRegistration])
+	const lrgc::CScanMatcher matcher(mp);
+	constexpr size_t kStride = 2, kWindow = 15;
+	double sumLat = 0, sumLat2 = 0, sumStd = 0;
+	size_t n = 0, tried = 0;
+	for (size_t k = kStride * kWindow; k < tr.truePoses.size(); k += kStride)
+	{
+		const TPose2D& p = tr.truePoses[k];
+		if (std::abs(p.y - 39) > 1e-6 || std::abs(std::abs(p.phi) - M_PI) > 1e-3 || p.x < 8 ||
+			p.x > 62)
+			continue;
+		++tried;
+		std::vector<lrgc::TScan2D> scans;
+		std::vector<TPose2D> inNewest;
+		const TPose2D& newest = tr.truePoses[k - kStride];
+		for (size_t j = kWindow; j >= 1; --j)
+		{
+			scans.push_back(scanAt(k - kStride * j));
+			inNewest.push_back(lrgc::between(newest, tr.truePoses[k - kStride * j]));
+		}
+		const auto patch = lrgc::CReferenceCloud::fromScans(scans, inNewest, mp);
+		const TPose2D truth = lrgc::between(newest, p);
+		const TPose2D guess =
+			lrgc::compose(truth, TPose2D(0.03, 0.03, mrpt::DEG2RAD(0.5)));  // robot frame
+		const auto m = matcher.match(patch, scanAt(k), guess);
+		if (!m) continue;
+		const double lateral = lrgc::between(truth, m->scanInRef).y;  // [m], robot frame
+		// The covariance is in the patch's (newest keyframe's) frame: its lateral axis is the
+		// robot's y rotated by truth.phi.
+		const Eigen::Vector2d y(-std::sin(truth.phi), std::cos(truth.phi));
+		sumLat += lateral, sumLat2 += lateral * lateral;
+		sumStd += std::sqrt(y.dot(m->cov.topLeftCorner<2, 2>() * y));
+		++n;
+	}
+	ASSERT_GT(tried, 100u);
+	const double mean = sumLat / double(n), rms = std::sqrt(sumLat2 / double(n)),
+				 claimed = sumStd / double(n);
+	std::printf(
+		"[ crowded hall ] facade leg on true poses: %zu of %zu matched, lateral error mean "
+		"%+.4f m, rms %.4f m, the covariance's lateral std %.4f m on average\n",
+		n, tried, mean, rms, claimed);
+	EXPECT_GE(n, tried * 95 / 100);
+	EXPECT_LT(std::abs(mean), 0.003);  // a 2 cm bias, as the full run's links, would fail
+	EXPECT_LT(rms, 0.01);
+	EXPECT_GT(claimed, 0.5 * rms);  // honest: not over-confident
 }
