@@ -121,6 +121,7 @@ public:
 		m_firstFree = holdFirst ? first + 1 : first;
 		m_cloudNewest.reset();
 		m_keyframeClouds.clear();
+		m_preparedNewest.reset();
 	}
 
 	/** The window's keyframes, oldest first. */
@@ -137,21 +138,29 @@ private:
 	void resizeWindowFor(const TMotionPrediction& prediction);
 	bool m_withOdometry = true;  //!< the last registered scan's prior came from odometry
 	using TCloudPtr = std::shared_ptr<const CReferenceCloud>;
+	/** One piece of a prepared window, built once by whichever thread claims it first. */
+	template <class T>
+	struct TPreparedPart
+	{
+		std::atomic<bool> claimed{false};  //!< a thread builds `value`
+		T value;
+		std::exception_ptr error;
+		bool built = false;  //!< guarded by the window's mutex
+	};
 	/** The patch for the next scans, built from the window as it was after a keyframe's
-	 * solve (nodes, scans and poses copied), with that keyframe's own cloud; by the helper
-	 * thread or, if it has not started on it when needed, by the mapping thread. */
+	 * solve (nodes, scans and poses copied), and that keyframe's own cloud; each by the
+	 * helper thread or, if it has not started on it when needed, by the mapping thread. The
+	 * next scan waits for the patch only; the own cloud waits for the next keyframe's
+	 * pairwise links (takeNewestCloud). */
 	struct TPreparedWindow
 	{
 		std::vector<size_t> nodes;
 		std::vector<TScan2D> scans;
 		std::vector<mrpt::math::TPose2D> posesInMap;  //!< of `nodes`, (map <- node)
-		std::atomic<bool> claimed{false};             //!< a thread builds what follows
-		CReferenceCloud cloud;
-		TCloudPtr newestCloud;
-		std::exception_ptr error;
-		std::mutex mutex;  //!< guards `built`
+		TPreparedPart<CReferenceCloud> patch;
+		TPreparedPart<TCloudPtr> newestCloud;
+		std::mutex mutex;  //!< guards the parts' `built`
 		std::condition_variable cv;
-		bool built = false;
 	};
 
 	/** The window's keyframes, oldest first (a copy). */
@@ -162,9 +171,18 @@ private:
 								   const std::vector<mrpt::math::TPose2D>& posesInMap,
 								   const TScanMatcherParams& p);
 	void prepareNextWindow(const CPoseGraph& graph, const TKeyframes& keyframes);
-	static void build(TPreparedWindow& job, const TScanMatcherParams& p);
+	/** Builds the part (part.value = make()) unless another thread claimed it. */
+	template <class T, class Fn>
+	static void buildUnlessClaimed(TPreparedWindow& job, TPreparedPart<T>& part, Fn&& make);
+	/** Waits until the part is built; rethrows what its build threw. */
+	template <class T>
+	static void waitFor(TPreparedWindow& job, TPreparedPart<T>& part);
+	static void buildPatch(TPreparedWindow& job, const TScanMatcherParams& p);
+	static void buildNewestCloud(TPreparedWindow& job, const TScanMatcherParams& p);
 	/** Waits for the prepared patch; true (and m_cloud set) if the window is unchanged. */
 	bool takePreparedWindow(const CPoseGraph& graph);
+	/** The prepared window's own keyframe cloud (built or waited for) into the cache. */
+	void takeNewestCloud();
 	/** The matches of keyframes[newNode].scan against refs[l] from guesses[l], computed by
 	 * this thread and the helper together; nullopt where a match failed. */
 	std::vector<std::optional<TScanMatch>> matchAll(
@@ -228,6 +246,8 @@ private:
 	/** Reference cloud of each window keyframe's own scan, for pairwise links. */
 	std::deque<std::pair<size_t, TCloudPtr>> m_keyframeClouds;
 	std::shared_ptr<TPreparedWindow> m_prepared;
+	/** The last prepared window whose own keyframe cloud is not in the cache yet. */
+	std::shared_ptr<TPreparedWindow> m_preparedNewest;
 	CHelperThread m_helper;  //!< last: destroyed (its jobs run to their end) first
 };
 
