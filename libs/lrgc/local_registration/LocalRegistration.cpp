@@ -92,21 +92,24 @@ const CReferenceCloud& CLocalRegistration::windowCloud(const CPoseGraph& graph,
 
 CReferenceCloud CLocalRegistration::patchOf(const std::vector<TScan2D>& scans,
 											const std::vector<TPose2D>& posesInMap,
-											const TScanMatcherParams& p)
+											const TScanMatcherParams& p,
+											const TParallelFor& parallel)
 {
 	// The patch: every window scan with its pose in the newest keyframe's frame,
 	// (newest <- node); the cloud keeps their range images for the free-space check.
 	std::vector<TPose2D> scansInNewest;
 	for (const TPose2D& pose : posesInMap)
 		scansInNewest.push_back(between(posesInMap.back(), pose));
-	return CReferenceCloud::fromScans(scans, scansInNewest, p);
+	return CReferenceCloud::fromScans(scans, scansInNewest, p, parallel);
 }
 
 // After a keyframe's window solve: the helper builds the patch for the next scans from a copy
 // of the window (scans and poses), then the new keyframe's own cloud for the next pairwise
 // links, while the mapping thread goes on. Whoever comes first builds each: a helper not yet
 // running when the next scan needs the patch leaves it to the mapping thread, and the next
-// scan waits for the patch only (the own cloud was 20-25 % of the job on MIT-CSAIL).
+// scan waits for the patch only (the own cloud was 20-25 % of the job on MIT-CSAIL). The
+// patch's line fits (most of its cost) are shared: a mapping thread that arrives while the
+// helper runs them takes blocks of them instead of waiting.
 void CLocalRegistration::prepareNextWindow(const CPoseGraph& graph, const TKeyframes& keyframes)
 {
 	auto job = std::make_shared<TPreparedWindow>();
@@ -119,7 +122,7 @@ void CLocalRegistration::prepareNextWindow(const CPoseGraph& graph, const TKeyfr
 	m_helper.post(
 		[job, p = m_matcherParams]
 		{
-			buildPatch(*job, p);
+			buildPatch(*job, p, sharedFits(*job));
 			buildNewestCloud(*job, p);
 		});
 	m_prepared = job;
@@ -154,9 +157,47 @@ void CLocalRegistration::waitFor(TPreparedWindow& job, TPreparedPart<T>& part)
 	if (part.error) std::rethrow_exception(part.error);
 }
 
-void CLocalRegistration::buildPatch(TPreparedWindow& job, const TScanMatcherParams& p)
+void CLocalRegistration::buildPatch(TPreparedWindow& job, const TScanMatcherParams& p,
+									const TParallelFor& parallel)
 {
-	buildUnlessClaimed(job, job.patch, [&] { return patchOf(job.scans, job.posesInMap, p); });
+	buildUnlessClaimed(job, job.patch,
+					   [&] { return patchOf(job.scans, job.posesInMap, p, parallel); });
+}
+
+void CLocalRegistration::waitForPatch(TPreparedWindow& job)
+{
+	for (;;)
+	{
+		std::shared_ptr<CSharedLoop> fits;
+		{
+			std::unique_lock<std::mutex> lock(job.mutex);
+			job.cv.wait(lock,
+						[&] { return job.patch.built || (job.fits && !job.fits->exhausted()); });
+			if (job.patch.built) break;
+			fits = job.fits;
+		}
+		fits->work();
+	}
+	if (job.patch.error) std::rethrow_exception(job.patch.error);
+}
+
+// The helper's TParallelFor for the patch's line fits: the loop is published in job.fits
+// while it runs, so that a mapping thread waiting for the patch takes part (waitForPatch).
+TParallelFor CLocalRegistration::sharedFits(TPreparedWindow& job)
+{
+	return [&job](size_t n, const std::function<void(size_t)>& fn)
+	{
+		auto loop = std::make_shared<CSharedLoop>(n, fn);
+		{
+			std::lock_guard<std::mutex> lock(job.mutex);
+			job.fits = loop;
+		}
+		job.cv.notify_all();
+		loop->work();
+		loop->wait();
+		std::lock_guard<std::mutex> lock(job.mutex);
+		job.fits.reset();
+	};
 }
 
 void CLocalRegistration::buildNewestCloud(TPreparedWindow& job, const TScanMatcherParams& p)
@@ -174,8 +215,10 @@ bool CLocalRegistration::takePreparedWindow(const CPoseGraph& graph)
 	if (!m_prepared) return false;
 	const std::shared_ptr<TPreparedWindow> job = std::move(m_prepared);
 	m_prepared.reset();
-	buildPatch(*job, m_matcherParams);  // unless the helper has it in hand
-	waitFor(*job, job->patch);
+	// Unless the helper has it in hand (then this thread joins its line fits).
+	buildPatch(*job, m_matcherParams,
+			   [this](size_t n, const std::function<void(size_t)>& fn) { parallelFor(n, fn); });
+	waitForPatch(*job);
 	// Bit for bit the window it was built from, else it is not the patch of this window (a
 	// loop closure or a new session moved or replaced nodes).
 	if (windowNodes() != job->nodes) return false;
@@ -221,50 +264,15 @@ void CLocalRegistration::cacheKeyframeCloud(size_t node, TCloudPtr cloud)
 	m_keyframeClouds.emplace_back(node, std::move(cloud));
 }
 
-// Each thread takes the next item nobody took yet; this one then waits only for the items
-// the helper is in the middle of. A helper that starts late finds nothing left to do and never
-// calls fn (so fn and what it refers to need only live until this returns).
+// Each thread takes the next item nobody took yet (CSharedLoop); this one then waits only for
+// the items the helper is in the middle of. A helper that starts late finds nothing left to do
+// and never calls fn (so fn and what it refers to need only live until this returns).
 void CLocalRegistration::parallelFor(size_t n, const std::function<void(size_t)>& fn)
 {
-	struct TShared
-	{
-		const std::function<void(size_t)>* fn = nullptr;
-		size_t n = 0;
-		std::vector<std::exception_ptr> errors;
-		std::atomic<size_t> next{0};
-		size_t done = 0;  //!< items finished (guarded by mutex)
-		std::mutex mutex;
-		std::condition_variable cv;
-	};
-	auto shared = std::make_shared<TShared>();
-	shared->fn = &fn;
-	shared->n = n;
-	shared->errors.resize(n);
-	auto work = [shared]
-	{
-		for (size_t i; (i = shared->next.fetch_add(1)) < shared->n;)
-		{
-			try
-			{
-				(*shared->fn)(i);
-			}
-			catch (...)
-			{
-				shared->errors[i] = std::current_exception();
-			}
-			std::lock_guard<std::mutex> lock(shared->mutex);
-			++shared->done;
-			shared->cv.notify_all();
-		}
-	};
-	if (n > 1 && m_helper.threaded()) m_helper.post(work);
-	work();
-	{
-		std::unique_lock<std::mutex> lock(shared->mutex);
-		shared->cv.wait(lock, [&] { return shared->done == n; });
-	}
-	for (const auto& e : shared->errors)
-		if (e) std::rethrow_exception(e);
+	auto loop = std::make_shared<CSharedLoop>(n, fn);
+	if (n > 1 && m_helper.threaded()) m_helper.post([loop] { loop->work(); });
+	loop->work();
+	loop->wait();
 }
 
 std::vector<std::optional<TScanMatch>> CLocalRegistration::matchAll(

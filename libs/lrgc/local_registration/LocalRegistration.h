@@ -40,6 +40,7 @@
 #pragma once
 
 #include <lrgc/common/HelperThread.h>
+#include <lrgc/common/SharedLoop.h>
 #include <lrgc/local_registration/LocalRegistrationParams.h>
 #include <lrgc/scan_matching/Keyframe.h>
 #include <lrgc/pose_graph/LinkNoise.h>
@@ -150,8 +151,9 @@ private:
 	/** The patch for the next scans, built from the window as it was after a keyframe's
 	 * solve (nodes, scans and poses copied), and that keyframe's own cloud; each by the
 	 * helper thread or, if it has not started on it when needed, by the mapping thread. The
-	 * next scan waits for the patch only; the own cloud waits for the next keyframe's
-	 * pairwise links (takeNewestCloud). */
+	 * next scan waits for the patch only, taking part in its line fits while they run
+	 * (waitForPatch); the own cloud waits for the next keyframe's pairwise links
+	 * (takeNewestCloud). */
 	struct TPreparedWindow
 	{
 		std::vector<size_t> nodes;
@@ -159,17 +161,21 @@ private:
 		std::vector<mrpt::math::TPose2D> posesInMap;  //!< of `nodes`, (map <- node)
 		TPreparedPart<CReferenceCloud> patch;
 		TPreparedPart<TCloudPtr> newestCloud;
-		std::mutex mutex;  //!< guards the parts' `built`
+		std::mutex mutex;  //!< guards the parts' `built` and `fits`
 		std::condition_variable cv;
+		/** The patch's line fits while the helper runs them, for a waiting thread to join. */
+		std::shared_ptr<CSharedLoop> fits;
 	};
 
 	/** The window's keyframes, oldest first (a copy). */
 	std::vector<size_t> windowNodes() const { return {m_window.begin(), m_window.end()}; }
 	const CReferenceCloud& windowCloud(const CPoseGraph& graph, const TKeyframes& keyframes);
-	/** The patch of `scans` placed at `posesInMap`, in the frame of the last one. */
+	/** The patch of `scans` placed at `posesInMap`, in the frame of the last one (line
+	 * fits run by `parallel`, if given). */
 	static CReferenceCloud patchOf(const std::vector<TScan2D>& scans,
 								   const std::vector<mrpt::math::TPose2D>& posesInMap,
-								   const TScanMatcherParams& p);
+								   const TScanMatcherParams& p,
+								   const TParallelFor& parallel = {});
 	void prepareNextWindow(const CPoseGraph& graph, const TKeyframes& keyframes);
 	/** Builds the part (part.value = make()) unless another thread claimed it. */
 	template <class T, class Fn>
@@ -177,7 +183,13 @@ private:
 	/** Waits until the part is built; rethrows what its build threw. */
 	template <class T>
 	static void waitFor(TPreparedWindow& job, TPreparedPart<T>& part);
-	static void buildPatch(TPreparedWindow& job, const TScanMatcherParams& p);
+	/** The patch, unless claimed; its line fits shared through job.fits (the helper's
+	 * build) or by parallel (the mapping thread's). */
+	static void buildPatch(TPreparedWindow& job, const TScanMatcherParams& p,
+						   const TParallelFor& parallel);
+	/** Waits for the patch, running iterations of its line fits meanwhile. */
+	static void waitForPatch(TPreparedWindow& job);
+	static TParallelFor sharedFits(TPreparedWindow& job);
 	static void buildNewestCloud(TPreparedWindow& job, const TScanMatcherParams& p);
 	/** Waits for the prepared patch; true (and m_cloud set) if the window is unchanged. */
 	bool takePreparedWindow(const CPoseGraph& graph);
