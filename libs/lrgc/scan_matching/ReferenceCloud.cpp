@@ -8,7 +8,6 @@
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
-#include <array>
 #include <functional>
 #include <limits>
 #include <numeric>
@@ -221,45 +220,6 @@ TMoments momentsWithin(const CAnchorGrid& grid, const std::vector<double>& w, si
 	return TMoments{W, sx, sy, sxx, sxy, syy, count, nearest2};
 }
 
-/** momentsWithin for the radii r, 2 r and 4 r (nearest2 for 4 r only) in one pass over the
- * widest query's runs. A narrower query's cells are a contiguous part of each column of the
- * wider one's, visited in the same order, and a point of the other cells is farther than the
- * narrower radius (but for one within a rounding error of its box's edge): each radius gets
- * the same points in the same order as its own query, and the same sums bit for bit. One
- * pass reads 16 r^2 of cells where the three queries read 21 r^2. */
-std::array<TMoments, 3> nestedMomentsWithin(const CAnchorGrid& grid, const std::vector<double>& w,
-											size_t self, const Eigen::Vector2d& x, double r)
-{
-	const Eigen::Vector2d* pos = grid.cellPoints().data();
-	const uint32_t* index = grid.cellIndices().data();
-	const double* wp = w.data();
-	const double r2[3] = {r * r, 4 * r * r, 16 * r * r};
-	std::array<TMoments, 3> m;
-	double nearest2 = std::numeric_limits<double>::infinity();
-	grid.forEachRun(x, 4 * r,
-					[&](uint32_t b, uint32_t e)
-					{
-						for (uint32_t k = b; k < e; ++k)
-						{
-							const double d2 = (pos[k] - x).squaredNorm();
-							if (!(d2 <= r2[2])) continue;
-							const double wk = wp[index[k]], dx = pos[k].x() - x.x(),
-										 dy = pos[k].y() - x.y();
-							for (int j = 2; j >= 0 && d2 <= r2[j]; --j)
-							{
-								TMoments& mj = m[j];
-								mj.W += wk, mj.sx += wk * dx, mj.sy += wk * dy;
-								mj.sxx += wk * dx * dx, mj.sxy += wk * dx * dy,
-									mj.syy += wk * dy * dy;
-								++mj.count;
-							}
-							if (index[k] != self) nearest2 = std::min(nearest2, dx * dx + dy * dy);
-						}
-					});
-	m[2].nearest2 = nearest2;
-	return m;
-}
-
 /** The weighted PCA of the moments: mean m [map frame], tangent t and normal n, eigenvalues
  * l1 >= l2 of C in closed form. */
 struct TLineFromMoments
@@ -317,9 +277,8 @@ void CReferenceCloud::fitLines(const TScanMatcherParams& p, const std::vector<do
 	auto fitBlock = [&](size_t block)
 	{
 		const size_t end = std::min(n, (block + 1) * kFitsPerBlock);
-		bool widest = false;  // the previous anchor (a neighbour: voxel order) needed 4 r0
 		for (size_t i = block * kFitsPerBlock; i < end; ++i)
-			newPos[i] = fitAnchor(i, p.normal_radius_m, w, fitSigma2[i], widest);
+			newPos[i] = fitAnchor(i, p.normal_radius_m, w, fitSigma2[i]);
 	};
 	const size_t blocks = (n + kFitsPerBlock - 1) / kFitsPerBlock;
 	if (parallel && blocks > 1)
@@ -344,26 +303,18 @@ void CReferenceCloud::fitLines(const TScanMatcherParams& p, const std::vector<do
 // Anchor i's line fit (fitLines): the neighbourhood is widened (radius r0, 2 r0, 4 r0) while it
 // has too few points or is too thick: range noise thickens a small neighbourhood, a corner
 // stays thick at every size. Returns the anchor's position (projected onto its line); sets
-// `sigma2` to the fit's noise estimate l2 W / (n - 2). With `widest` (the previous anchor
-// needed 4 r0) the three neighbourhoods' moments come from one pass (nestedMomentsWithin:
-// the same sums); `widest` is then set to whether this one needed 4 r0. A noisy laser's
-// patches widen almost every fit (range_030_bearing_015: 96 %), and neighbours widen alike.
+// `sigma2` to the fit's noise estimate l2 W / (n - 2).
 Eigen::Vector2d CReferenceCloud::fitAnchor(size_t i, double r0, const std::vector<double>& w,
-										   double& sigma2, bool& widest)
+										   double& sigma2)
 {
 	const Eigen::Vector2d x = m_anchors[i].pos;
-	const bool onePass = widest;
-	std::array<TMoments, 3> nested;
-	if (onePass) nested = nestedMomentsWithin(m_grid, w, i, x, r0);
 	double r = r0;
 	TMoments mo;
 	for (int widen = 0; widen < 3; ++widen, r *= 2)
 	{
 		// Only the widest neighbourhood's nearest neighbour is used (below the loop).
-		mo = onePass	 ? nested[widen]
-			 : widen < 2 ? momentsWithin<false>(m_grid, w, i, x, r)
-						 : momentsWithin<true>(m_grid, w, i, x, r);
-		widest = widen == 2;
+		mo = widen < 2 ? momentsWithin<false>(m_grid, w, i, x, r)
+					   : momentsWithin<true>(m_grid, w, i, x, r);
 		const auto f = lineOf(mo, x);
 		if (!f) continue;
 		TAnchor& a = m_anchors[i];

@@ -165,10 +165,9 @@ private:
 	static constexpr size_t kFitsPerBlock = 64;
 	void fitLines(const TScanMatcherParams& p, const std::vector<double>& weights,
 				  const TParallelFor& parallel);
-	/** Sets `sigma2` to the fit's noise estimate if anchor i is a LINE (else leaves it);
-	 * `widest`: see the definition. */
+	/** Sets `sigma2` to the fit's noise estimate if anchor i is a LINE (else leaves it). */
 	Eigen::Vector2d fitAnchor(size_t i, double r0, const std::vector<double>& w,
-							  double& sigma2, bool& widest);
+							  double& sigma2);
 
 	std::vector<TAnchor> m_anchors;
 	CAnchorGrid m_grid;
