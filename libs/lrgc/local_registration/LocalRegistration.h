@@ -30,12 +30,13 @@
  * Cost per keyframe: one patch build, at most `max_pairwise_links` pairwise matches against
  * reference clouds cached per window keyframe, and a window solve; none depends on the map
  * size. A helper thread (CHelperThread) keeps two of them off a keyframe's latency: once the
- * window is solved it builds the patch the next scan will be matched against (and the new
- * keyframe's own cloud), while the mapping thread returns the scan's pose; and it shares the
- * pairwise matches with the mapping thread. The next scan takes that patch only if the window
- * still has the nodes and poses it was built from (else it is built again, as without the
- * helper), and pairwise links are added in their fixed order: the map does not depend on the
- * helper's timing.
+ * window is solved it builds the patch the next scan will be matched against (then the new
+ * keyframe's own cloud, for the next keyframe's pairwise links), while the mapping thread
+ * returns the scan's pose, and the next scan, waiting for the patch, runs blocks of its line
+ * fits meanwhile; and it shares the pairwise matches with the mapping thread. The next scan
+ * takes that patch only if the window still has the nodes and poses it was built from (else
+ * it is built again, as without the helper), and pairwise links are added in their fixed
+ * order: the map does not depend on the helper's timing.
  */
 #pragma once
 
