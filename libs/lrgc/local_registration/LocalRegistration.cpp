@@ -8,10 +8,6 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <mrpt/math/wrap2pi.h>
-#include <atomic>
-#include <condition_variable>
-#include <exception>
-#include <mutex>
 
 namespace lrgc
 {
@@ -92,142 +88,15 @@ const CReferenceCloud& CLocalRegistration::windowCloud(const CPoseGraph& graph,
 
 CReferenceCloud CLocalRegistration::patchOf(const std::vector<TScan2D>& scans,
 											const std::vector<TPose2D>& posesInMap,
-											const TScanMatcherParams& p)
+											const TScanMatcherParams& p,
+											const TParallelFor& parallel)
 {
 	// The patch: every window scan with its pose in the newest keyframe's frame,
 	// (newest <- node); the cloud keeps their range images for the free-space check.
 	std::vector<TPose2D> scansInNewest;
 	for (const TPose2D& pose : posesInMap)
 		scansInNewest.push_back(between(posesInMap.back(), pose));
-	return CReferenceCloud::fromScans(scans, scansInNewest, p);
-}
-
-// After a keyframe's window solve: the helper builds the patch for the next scans from a copy
-// of the window (scans and poses), and the new keyframe's own cloud for the next pairwise
-// links, while the mapping thread goes on. Whoever comes first builds them: a helper not yet
-// running when the next scan needs them leaves them to the mapping thread.
-void CLocalRegistration::prepareNextWindow(const CPoseGraph& graph, const TKeyframes& keyframes)
-{
-	auto job = std::make_shared<TPreparedWindow>();
-	job->nodes = windowNodes();
-	for (const size_t node : job->nodes)
-	{
-		job->scans.push_back(keyframes[node].scan);
-		job->posesInMap.push_back(graph.pose(node));
-	}
-	m_helper.post([job, p = m_matcherParams] { build(*job, p); });
-	m_prepared = std::move(job);
-}
-
-void CLocalRegistration::build(TPreparedWindow& job, const TScanMatcherParams& p)
-{
-	if (job.claimed.exchange(true)) return;
-	try
-	{
-		job.cloud = patchOf(job.scans, job.posesInMap, p);
-		job.newestCloud = std::make_shared<const CReferenceCloud>(
-			CReferenceCloud::fromScan(job.scans.back(), p));
-	}
-	catch (...)
-	{
-		job.error = std::current_exception();
-	}
-	std::lock_guard<std::mutex> lock(job.mutex);
-	job.built = true;
-	job.cv.notify_all();
-}
-
-bool CLocalRegistration::takePreparedWindow(const CPoseGraph& graph)
-{
-	if (!m_prepared) return false;
-	const std::shared_ptr<TPreparedWindow> job = std::move(m_prepared);
-	m_prepared.reset();
-	build(*job, m_matcherParams);  // unless the helper has it in hand
-	{
-		std::unique_lock<std::mutex> lock(job->mutex);
-		job->cv.wait(lock, [&] { return job->built; });
-	}
-	if (job->error) std::rethrow_exception(job->error);
-	cacheKeyframeCloud(job->nodes.back(), job->newestCloud);  // its scan never changes
-	// Bit for bit the window it was built from, else it is not the patch of this window (a
-	// loop closure or a new session moved or replaced nodes).
-	if (windowNodes() != job->nodes) return false;
-	for (size_t i = 0; i < job->nodes.size(); ++i)
-	{
-		const TPose2D& now = graph.pose(job->nodes[i]);
-		const TPose2D& then = job->posesInMap[i];
-		if (!(now.x == then.x && now.y == then.y && now.phi == then.phi)) return false;
-	}
-	m_cloud = std::move(job->cloud);
-	m_cloudNewest = job->nodes.back();
-	return true;
-}
-
-CLocalRegistration::TCloudPtr CLocalRegistration::keyframeCloud(size_t node,
-																const TKeyframes& keyframes)
-{
-	for (const auto& [n, cloud] : m_keyframeClouds)
-		if (n == node) return cloud;
-	auto cloud = std::make_shared<const CReferenceCloud>(
-		CReferenceCloud::fromScan(keyframes[node].scan, m_matcherParams));
-	cacheKeyframeCloud(node, cloud);
-	return cloud;
-}
-
-void CLocalRegistration::cacheKeyframeCloud(size_t node, TCloudPtr cloud)
-{
-	for (const auto& entry : m_keyframeClouds)
-		if (entry.first == node) return;
-	if (m_keyframeClouds.size() >=
-		std::max(m_params.window_size, m_params.laser_only_window_size))
-		m_keyframeClouds.pop_front();
-	m_keyframeClouds.emplace_back(node, std::move(cloud));
-}
-
-// Each thread takes the next item nobody took yet; this one then waits only for the items
-// the helper is in the middle of. A helper that starts late finds nothing left to do and never
-// calls fn (so fn and what it refers to need only live until this returns).
-void CLocalRegistration::parallelFor(size_t n, const std::function<void(size_t)>& fn)
-{
-	struct TShared
-	{
-		const std::function<void(size_t)>* fn = nullptr;
-		size_t n = 0;
-		std::vector<std::exception_ptr> errors;
-		std::atomic<size_t> next{0};
-		size_t done = 0;  //!< items finished (guarded by mutex)
-		std::mutex mutex;
-		std::condition_variable cv;
-	};
-	auto shared = std::make_shared<TShared>();
-	shared->fn = &fn;
-	shared->n = n;
-	shared->errors.resize(n);
-	auto work = [shared]
-	{
-		for (size_t i; (i = shared->next.fetch_add(1)) < shared->n;)
-		{
-			try
-			{
-				(*shared->fn)(i);
-			}
-			catch (...)
-			{
-				shared->errors[i] = std::current_exception();
-			}
-			std::lock_guard<std::mutex> lock(shared->mutex);
-			++shared->done;
-			shared->cv.notify_all();
-		}
-	};
-	if (n > 1 && m_helper.threaded()) m_helper.post(work);
-	work();
-	{
-		std::unique_lock<std::mutex> lock(shared->mutex);
-		shared->cv.wait(lock, [&] { return shared->done == n; });
-	}
-	for (const auto& e : shared->errors)
-		if (e) std::rethrow_exception(e);
+	return CReferenceCloud::fromScans(scans, scansInNewest, p, parallel);
 }
 
 std::vector<std::optional<TScanMatch>> CLocalRegistration::matchAll(
@@ -435,6 +304,7 @@ size_t CLocalRegistration::linkAndOptimize(CPoseGraph& graph, const TKeyframes& 
 		++added;
 	}
 	m_lastPatchMatch.reset();
+	takeNewestCloud();  // the previous anchor's, prepared with the last patch
 	std::vector<size_t> nodes;
 	std::vector<TCloudPtr> refs;
 	std::vector<TPose2D> guesses;

@@ -30,16 +30,18 @@
  * Cost per keyframe: one patch build, at most `max_pairwise_links` pairwise matches against
  * reference clouds cached per window keyframe, and a window solve; none depends on the map
  * size. A helper thread (CHelperThread) keeps two of them off a keyframe's latency: once the
- * window is solved it builds the patch the next scan will be matched against (and the new
- * keyframe's own cloud), while the mapping thread returns the scan's pose; and it shares the
- * pairwise matches with the mapping thread. The next scan takes that patch only if the window
- * still has the nodes and poses it was built from (else it is built again, as without the
- * helper), and pairwise links are added in their fixed order: the map does not depend on the
- * helper's timing.
+ * window is solved it builds the patch the next scan will be matched against (then the new
+ * keyframe's own cloud, for the next keyframe's pairwise links), while the mapping thread
+ * returns the scan's pose, and the next scan, waiting for the patch, runs blocks of its line
+ * fits meanwhile; and it shares the pairwise matches with the mapping thread. The next scan
+ * takes that patch only if the window still has the nodes and poses it was built from (else
+ * it is built again, as without the helper), and pairwise links are added in their fixed
+ * order: the map does not depend on the helper's timing.
  */
 #pragma once
 
 #include <lrgc/common/HelperThread.h>
+#include <lrgc/common/SharedLoop.h>
 #include <lrgc/local_registration/LocalRegistrationParams.h>
 #include <lrgc/scan_matching/Keyframe.h>
 #include <lrgc/pose_graph/LinkNoise.h>
@@ -121,6 +123,7 @@ public:
 		m_firstFree = holdFirst ? first + 1 : first;
 		m_cloudNewest.reset();
 		m_keyframeClouds.clear();
+		m_preparedNewest.reset();
 	}
 
 	/** The window's keyframes, oldest first. */
@@ -137,34 +140,62 @@ private:
 	void resizeWindowFor(const TMotionPrediction& prediction);
 	bool m_withOdometry = true;  //!< the last registered scan's prior came from odometry
 	using TCloudPtr = std::shared_ptr<const CReferenceCloud>;
+	/** One piece of a prepared window, built once by whichever thread claims it first. */
+	template <class T>
+	struct TPreparedPart
+	{
+		std::atomic<bool> claimed{false};  //!< a thread builds `value`
+		T value;
+		std::exception_ptr error;
+		bool built = false;  //!< guarded by the window's mutex
+	};
 	/** The patch for the next scans, built from the window as it was after a keyframe's
-	 * solve (nodes, scans and poses copied), with that keyframe's own cloud; by the helper
-	 * thread or, if it has not started on it when needed, by the mapping thread. */
+	 * solve (nodes, scans and poses copied), and that keyframe's own cloud; each by the
+	 * helper thread or, if it has not started on it when needed, by the mapping thread. The
+	 * next scan waits for the patch only, taking part in its line fits while they run
+	 * (waitForPatch); the own cloud waits for the next keyframe's pairwise links
+	 * (takeNewestCloud). */
 	struct TPreparedWindow
 	{
 		std::vector<size_t> nodes;
 		std::vector<TScan2D> scans;
 		std::vector<mrpt::math::TPose2D> posesInMap;  //!< of `nodes`, (map <- node)
-		std::atomic<bool> claimed{false};             //!< a thread builds what follows
-		CReferenceCloud cloud;
-		TCloudPtr newestCloud;
-		std::exception_ptr error;
-		std::mutex mutex;  //!< guards `built`
+		TPreparedPart<CReferenceCloud> patch;
+		TPreparedPart<TCloudPtr> newestCloud;
+		std::mutex mutex;  //!< guards the parts' `built` and `fits`
 		std::condition_variable cv;
-		bool built = false;
+		/** The patch's line fits while the helper runs them, for a waiting thread to join. */
+		std::shared_ptr<CSharedLoop> fits;
 	};
 
 	/** The window's keyframes, oldest first (a copy). */
 	std::vector<size_t> windowNodes() const { return {m_window.begin(), m_window.end()}; }
 	const CReferenceCloud& windowCloud(const CPoseGraph& graph, const TKeyframes& keyframes);
-	/** The patch of `scans` placed at `posesInMap`, in the frame of the last one. */
+	/** The patch of `scans` placed at `posesInMap`, in the frame of the last one (line
+	 * fits run by `parallel`, if given). */
 	static CReferenceCloud patchOf(const std::vector<TScan2D>& scans,
 								   const std::vector<mrpt::math::TPose2D>& posesInMap,
-								   const TScanMatcherParams& p);
+								   const TScanMatcherParams& p,
+								   const TParallelFor& parallel = {});
 	void prepareNextWindow(const CPoseGraph& graph, const TKeyframes& keyframes);
-	static void build(TPreparedWindow& job, const TScanMatcherParams& p);
+	/** Builds the part (part.value = make()) unless another thread claimed it. */
+	template <class T, class Fn>
+	static void buildUnlessClaimed(TPreparedWindow& job, TPreparedPart<T>& part, Fn&& make);
+	/** Waits until the part is built; rethrows what its build threw. */
+	template <class T>
+	static void waitFor(TPreparedWindow& job, TPreparedPart<T>& part);
+	/** The patch, unless claimed; its line fits shared through job.fits (the helper's
+	 * build) or by parallel (the mapping thread's). */
+	static void buildPatch(TPreparedWindow& job, const TScanMatcherParams& p,
+						   const TParallelFor& parallel);
+	/** Waits for the patch, running iterations of its line fits meanwhile. */
+	static void waitForPatch(TPreparedWindow& job);
+	static TParallelFor sharedFits(TPreparedWindow& job);
+	static void buildNewestCloud(TPreparedWindow& job, const TScanMatcherParams& p);
 	/** Waits for the prepared patch; true (and m_cloud set) if the window is unchanged. */
 	bool takePreparedWindow(const CPoseGraph& graph);
+	/** The prepared window's own keyframe cloud (built or waited for) into the cache. */
+	void takeNewestCloud();
 	/** The matches of keyframes[newNode].scan against refs[l] from guesses[l], computed by
 	 * this thread and the helper together; nullopt where a match failed. */
 	std::vector<std::optional<TScanMatch>> matchAll(
@@ -228,6 +259,8 @@ private:
 	/** Reference cloud of each window keyframe's own scan, for pairwise links. */
 	std::deque<std::pair<size_t, TCloudPtr>> m_keyframeClouds;
 	std::shared_ptr<TPreparedWindow> m_prepared;
+	/** The last prepared window whose own keyframe cloud is not in the cache yet. */
+	std::shared_ptr<TPreparedWindow> m_preparedNewest;
 	CHelperThread m_helper;  //!< last: destroyed (its jobs run to their end) first
 };
 

@@ -48,7 +48,7 @@ void voxelReduce(const std::vector<Eigen::Vector2d>& pts, double res,
 }  // namespace
 
 CReferenceCloud::CReferenceCloud(std::vector<Eigen::Vector2d> pointsInRef,
-								 const TScanMatcherParams& p)
+								 const TScanMatcherParams& p, const TParallelFor& parallel)
 {
 	p.validate();
 	m_inputCount = pointsInRef.size();
@@ -60,7 +60,7 @@ CReferenceCloud::CReferenceCloud(std::vector<Eigen::Vector2d> pointsInRef,
 	// Cell side of the fits' grid: a few reduced points per cell along a wall.
 	const double fitCell = std::max(0.1, 3 * p.ref_resolution_m);
 	buildGrid(fitCell, true);  // for the fits' radius queries only
-	fitLines(p, weights);
+	fitLines(p, weights, parallel);
 	m_rawGrid = std::move(m_grid);  // the fits' neighbourhoods, for forEachFitTerm
 	// The nearest-anchor grid (line anchors moved, by about the noise, onto their lines), on
 	// cells kNearestCellsPerFitCell times wider: a correspondence search walks rings of cells
@@ -108,7 +108,8 @@ double CReferenceCloud::freeSpaceViolation(const TScan2D& scan,
 
 CReferenceCloud CReferenceCloud::fromScansWhere(
 	const std::vector<TScan2D>& scans, const std::vector<mrpt::math::TPose2D>& scansInRef,
-	const TScanMatcherParams& p, const std::function<bool(const Eigen::Vector2d&)>& keep)
+	const TScanMatcherParams& p, const std::function<bool(const Eigen::Vector2d&)>& keep,
+	const TParallelFor& parallel)
 {
 	if (scans.size() != scansInRef.size())
 		THROW_EXCEPTION_FMT("CReferenceCloud::fromScans: %zu scans but %zu poses", scans.size(),
@@ -123,16 +124,17 @@ CReferenceCloud CReferenceCloud::fromScansWhere(
 		for (const auto& q : scans[k].points)
 			if (const Eigen::Vector2d r = toRef(q); !keep || keep(r)) pts.push_back(r);
 	}
-	CReferenceCloud c(std::move(pts), p);
+	CReferenceCloud c(std::move(pts), p, parallel);
 	for (size_t k = 0; k < scans.size(); ++k) c.m_views.add(scans[k], scansInRef[k]);
 	return c;
 }
 
 CReferenceCloud CReferenceCloud::fromScans(const std::vector<TScan2D>& scans,
 										   const std::vector<mrpt::math::TPose2D>& scansInRef,
-										   const TScanMatcherParams& p)
+										   const TScanMatcherParams& p,
+										   const TParallelFor& parallel)
 {
-	return fromScansWhere(scans, scansInRef, p, {});
+	return fromScansWhere(scans, scansInRef, p, {}, parallel);
 }
 
 CReferenceCloud CReferenceCloud::fromScansNear(
@@ -250,7 +252,8 @@ std::optional<TLineFromMoments> lineOf(const TMoments& mo, const Eigen::Vector2d
 }
 }  // namespace
 
-void CReferenceCloud::fitLines(const TScanMatcherParams& p, const std::vector<double>& w)
+void CReferenceCloud::fitLines(const TScanMatcherParams& p, const std::vector<double>& w,
+							   const TParallelFor& parallel)
 {
 	// Weighted PCA of the neighbourhood N (weights = raw points per voxel):
 	//   mean m = sum w_k x_k / W,  C = sum w_k (x_k - m)(x_k - m)^T / W,
@@ -263,14 +266,31 @@ void CReferenceCloud::fitLines(const TScanMatcherParams& p, const std::vector<do
 	//   beta_jk = w_k / W + u_j w_k u_k / sum_l w_l u_l^2,   u = (x - m) . t.
 	// sigma^2 per raw point is estimated from each fit, l2 W / (n - 2), and its median kept.
 	// The beta_jk are not stored: forEachFitTerm recomputes them from the fit (m, W, sum w
-	// u^2).
-	std::vector<Eigen::Vector2d> newPos(m_anchors.size());
-	std::vector<double> sigma2;
+	// u^2). Each fit reads the grid (the positions before any moved) and writes its own
+	// anchor only: blocks of them may run on any threads, and the noise estimates are
+	// collected in anchor order afterwards, so the cloud is the same bit for bit.
+	const size_t n = m_anchors.size();
+	std::vector<Eigen::Vector2d> newPos(n);
+	std::vector<double> fitSigma2(n);
 	m_count = w;
-	m_lineFits.assign(m_anchors.size(), TLineFit{});
-	for (size_t i = 0; i < m_anchors.size(); ++i)
-		newPos[i] = fitAnchor(i, p.normal_radius_m, w, sigma2);
-	for (size_t i = 0; i < m_anchors.size(); ++i) m_anchors[i].pos = newPos[i];
+	m_lineFits.assign(n, TLineFit{});
+	auto fitBlock = [&](size_t block)
+	{
+		const size_t end = std::min(n, (block + 1) * kFitsPerBlock);
+		for (size_t i = block * kFitsPerBlock; i < end; ++i)
+			newPos[i] = fitAnchor(i, p.normal_radius_m, w, fitSigma2[i]);
+	};
+	const size_t blocks = (n + kFitsPerBlock - 1) / kFitsPerBlock;
+	if (parallel && blocks > 1)
+		parallel(blocks, fitBlock);
+	else
+		for (size_t block = 0; block < blocks; ++block) fitBlock(block);
+	std::vector<double> sigma2;
+	for (size_t i = 0; i < n; ++i)
+	{
+		m_anchors[i].pos = newPos[i];
+		if (m_anchors[i].isLine) sigma2.push_back(fitSigma2[i]);
+	}
 	m_noiseVar = p.min_residual_std_m * p.min_residual_std_m;
 	if (!sigma2.empty())
 	{
@@ -282,10 +302,10 @@ void CReferenceCloud::fitLines(const TScanMatcherParams& p, const std::vector<do
 
 // Anchor i's line fit (fitLines): the neighbourhood is widened (radius r0, 2 r0, 4 r0) while it
 // has too few points or is too thick: range noise thickens a small neighbourhood, a corner
-// stays thick at every size. Returns the anchor's position (projected onto its line); appends
-// the fit's noise estimate l2 W / (n - 2) to `sigma2`.
+// stays thick at every size. Returns the anchor's position (projected onto its line); sets
+// `sigma2` to the fit's noise estimate l2 W / (n - 2).
 Eigen::Vector2d CReferenceCloud::fitAnchor(size_t i, double r0, const std::vector<double>& w,
-										   std::vector<double>& sigma2)
+										   double& sigma2)
 {
 	const Eigen::Vector2d x = m_anchors[i].pos;
 	double r = r0;
@@ -307,7 +327,7 @@ Eigen::Vector2d CReferenceCloud::fitAnchor(size_t i, double r0, const std::vecto
 		a.u = static_cast<float>((x - f->m).dot(f->t));
 		// slope variance sigma^2 / sum w u^2, sigma^2 filled in by fitLines
 		a.normalVar = static_cast<float>(suu > 0 ? 1 / suu : 0);
-		sigma2.push_back(f->l2 * mo.W / static_cast<double>(mo.count - 2));
+		sigma2 = f->l2 * mo.W / static_cast<double>(mo.count - 2);
 		return f->m + (x - f->m).dot(f->t) * f->t;
 	}
 	// count and nearest2 are of the widest neighbourhood here (r is twice its radius now, as

@@ -35,6 +35,10 @@ namespace lrgc
 struct TScan2D;
 struct TScanMatcherParams;
 
+/** Runs fn(i) for every i in [0, n), in any order and on any threads; returns when all are
+ * done (rethrowing an error of fn). */
+using TParallelFor = std::function<void(size_t n, const std::function<void(size_t)>& fn)>;
+
 class CReferenceCloud
 {
 public:
@@ -57,15 +61,19 @@ public:
 	};
 
 	CReferenceCloud() = default;
-	/** Builds from points already in the reference frame. Non-finite points are ignored. */
-	CReferenceCloud(std::vector<Eigen::Vector2d> pointsInRef, const TScanMatcherParams& p);
+	/** Builds from points already in the reference frame. Non-finite points are ignored.
+	 * `parallel`, if given, runs the line fits (blocks of anchors, each fit independent of
+	 * the others: the same cloud on any threads). */
+	CReferenceCloud(std::vector<Eigen::Vector2d> pointsInRef, const TScanMatcherParams& p,
+					const TParallelFor& parallel = {});
 
 	/** One scan as the reference (its robot frame is the reference frame). */
 	static CReferenceCloud fromScan(const TScan2D& scan, const TScanMatcherParams& p);
 	/** A local patch: scans[k] placed at scansInRef[k] (ref <- scan k). Sizes must match. */
 	static CReferenceCloud fromScans(const std::vector<TScan2D>& scans,
 									 const std::vector<mrpt::math::TPose2D>& scansInRef,
-									 const TScanMatcherParams& p);
+									 const TScanMatcherParams& p,
+									 const TParallelFor& parallel = {});
 	/** fromScans keeping only the points within about `margin` [m] of some point of
 	 * `nearInRef` (cells of side margin: a kept point is within 2 sqrt(2) margin).
 	 * For matching a scan known to lie at nearInRef to within a few cm: with margin >=
@@ -153,9 +161,13 @@ private:
 	void buildGrid(double cell, bool radiusOnly = false);
 	/** The nearest-anchor grid's cell side over the fits' grid's (see the constructor). */
 	static constexpr double kNearestCellsPerFitCell = 3;
-	void fitLines(const TScanMatcherParams& p, const std::vector<double>& weights);
+	/** Line fits in blocks of kFitsPerBlock anchors (the unit `parallel` hands out). */
+	static constexpr size_t kFitsPerBlock = 64;
+	void fitLines(const TScanMatcherParams& p, const std::vector<double>& weights,
+				  const TParallelFor& parallel);
+	/** Sets `sigma2` to the fit's noise estimate if anchor i is a LINE (else leaves it). */
 	Eigen::Vector2d fitAnchor(size_t i, double r0, const std::vector<double>& w,
-							  std::vector<double>& sigma2);
+							  double& sigma2);
 
 	std::vector<TAnchor> m_anchors;
 	CAnchorGrid m_grid;
@@ -164,7 +176,8 @@ private:
 	/** fromScans keeping only the points (in ref) for which keep() is true (all if empty). */
 	static CReferenceCloud fromScansWhere(
 		const std::vector<TScan2D>& scans, const std::vector<mrpt::math::TPose2D>& scansInRef,
-		const TScanMatcherParams& p, const std::function<bool(const Eigen::Vector2d&)>& keep);
+		const TScanMatcherParams& p, const std::function<bool(const Eigen::Vector2d&)>& keep,
+		const TParallelFor& parallel = {});
 	std::vector<double> m_count;  // raw points per reduced point
 	// What forEachFitTerm needs of each LINE anchor's fit: its neighbourhood (the reduced
 	// points before they were moved onto their lines, indexed by m_rawGrid, within radius [m]

@@ -166,6 +166,47 @@ TEST(ReferenceCloud, patchFromScansReducesOverlappingPoints)
 	EXPECT_THROW(CReferenceCloud::fromScans(scans, {}, p), std::exception);
 }
 
+// The line fits handed out in blocks (here run last block first, as another thread could)
+// give the same cloud bit for bit as run in order: each fit reads only the grid.
+TEST(ReferenceCloud, lineFitsRunInAnyOrderGiveTheSameCloud)
+{
+	const auto world = makeRoomWorld(4);
+	std::mt19937 rng(5);
+	TLaserSimParams laser;
+	std::vector<TScan2D> scans;
+	std::vector<TPose2D> poses;
+	for (int k = 0; k < 6; ++k)
+	{
+		poses.emplace_back(3 + 0.3 * k, 3.5 - 0.1 * k, 0.07 * k);
+		scans.push_back(simulateScan(world, poses.back(), laser, rng));
+	}
+	const TScanMatcherParams p;
+	size_t blocks = 0;
+	const TParallelFor reversed = [&](size_t n, const std::function<void(size_t)>& fn)
+	{
+		blocks = n;
+		for (size_t i = n; i-- > 0;) fn(i);
+	};
+	const auto inOrder = CReferenceCloud::fromScans(scans, poses, p);
+	const auto shuffled = CReferenceCloud::fromScans(scans, poses, p, reversed);
+	EXPECT_GT(blocks, 10U);  // the fits were handed out
+	ASSERT_EQ(inOrder.size(), shuffled.size());
+	EXPECT_EQ(inOrder.noiseVariance(), shuffled.noiseVariance());
+	size_t lines = 0;
+	for (size_t i = 0; i < inOrder.size(); ++i)
+	{
+		const auto &a = inOrder.anchors()[i], &b = shuffled.anchors()[i];
+		ASSERT_EQ(a.pos, b.pos) << "anchor " << i;
+		ASSERT_EQ(a.normal, b.normal) << "anchor " << i;
+		ASSERT_EQ(a.isLine, b.isLine) << "anchor " << i;
+		ASSERT_EQ(a.normalVar, b.normalVar) << "anchor " << i;
+		ASSERT_EQ(a.samplingVar, b.samplingVar) << "anchor " << i;
+		ASSERT_EQ(a.usable, b.usable) << "anchor " << i;
+		lines += a.isLine;
+	}
+	EXPECT_GT(lines, inOrder.size() / 2);
+}
+
 TEST(ReferenceCloud, cropAroundAScanKeepsEveryAnchorTheScanCanReach)
 {
 	// Six scans of a room; the query is a seventh scan, the crop margin the one the loop

@@ -53,10 +53,6 @@ struct TScanMatch
 	int unobservableDims = 0;
 };
 
-/** Runs fn(i) for every i in [0, n), in any order and on any threads; returns when all are
- * done (rethrowing an error of fn). */
-using TParallelFor = std::function<void(size_t n, const std::function<void(size_t)>& fn)>;
-
 class CScanMatcher
 {
 public:
