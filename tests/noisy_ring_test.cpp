@@ -27,13 +27,19 @@ constexpr double kSlip = 1.09;       // odometry translation / true, on the nort
 constexpr double kRangeNoise = 0.3;  // [m] range_030_bearing_015.rawlog's
 constexpr double kPeriod = 0.2;      // [s] between scans (TSyntheticRunOptions' default)
 
+/** Seeds of a run: the boxes' places, the laser's noise, the odometry's noise. */
+struct TRingSeeds
+{
+	uint32_t world, laser, odometry;
+};
+
 /** 1.25 laps along the corridors' centre lines, 0.2 m steps, the north corridor slipping. */
-TTrajectory slippingNoisyRing()
+TTrajectory slippingNoisyRing(uint32_t seed)
 {
 	const double c = kCorridor / 2;
 	TTrajectory tr = makeTrajectory(
 		{{6, c}, {W - c, c}, {W - c, H - c}, {c, H - c}, {c, c}, {W - c, c}, {W - c, 8}}, 0.2,
-		TOdometryNoise{}, 11);
+		TOdometryNoise{}, seed);
 	for (size_t k = 0; k < tr.odometryIncrements.size(); ++k)
 		if (tr.truePoses[k].y > H - kCorridor)
 		{
@@ -54,15 +60,20 @@ lrgc::apps::eval::TLoopRecall loopRecall(const CMetricMapBuilderLRGC& builder,
 		kfs.push_back({kPeriod * double(kf.scanIndex), truth.at(kf.scanIndex)});
 	return lrgc::apps::eval::evaluateLoopRecall(builder.graph(), kfs);
 }
+class NoisyRing : public ::testing::TestWithParam<TRingSeeds>
+{
+};
 }  // namespace
 
-TEST(NoisyRing, mapsAndClosesTheLoopWithRangeNoiseOf30cm)
+TEST_P(NoisyRing, mapsAndClosesTheLoopWithRangeNoiseOf30cm)
 {
-	const auto world = makeRingCorridorWorld(W, H, kCorridor, 5, 12);
-	const TTrajectory tr = slippingNoisyRing();
+	const TRingSeeds seeds = GetParam();
+	const auto world = makeRingCorridorWorld(W, H, kCorridor, seeds.world, 12);
+	const TTrajectory tr = slippingNoisyRing(seeds.odometry);
 	EXPECT_GT(minClearance(world, tr.truePoses), 1.5);
 	TSyntheticRunOptions opt;
 	opt.scanPeriod = kPeriod;
+	opt.laserSeed = seeds.laser;
 	opt.laser.maxRange = 30;
 	opt.laser.rangeNoiseStd = kRangeNoise;
 	CMetricMapBuilderLRGC builder{TLRGCParams{}};
@@ -79,10 +90,11 @@ TEST(NoisyRing, mapsAndClosesTheLoopWithRangeNoiseOf30cm)
 		links.enabledTrue, links.enabledFalse, links.worstEnabledXY, recall.closed,
 		recall.places.size(), recall.falseClosures);
 	EXPECT_EQ(st.scans, tr.truePoses.size());
-	// Registered: 36 scans unmatched (353 when the denoiser fitted its lines through the
-	// points, whose walls then carved free space into each other), position rms 0.138 m.
+	// Registered: 28-41 scans unmatched (353 for the first when the denoiser fitted its
+	// lines through the points, whose walls then carved free space into each other), position
+	// rms 0.085-0.098 m (0.631).
 	EXPECT_LT(st.unmatchedScans, 60U);
-	EXPECT_LT(err.rmsXY, 0.25);
+	EXPECT_LT(err.rmsXY, 0.15);
 	// The loop closed, by true links only: one joins the last lap to the first (keyframes
 	// half the run apart), and the end, back on the start's corridor, is near the truth.
 	size_t longest = 0;
@@ -90,8 +102,21 @@ TEST(NoisyRing, mapsAndClosesTheLoopWithRangeNoiseOf30cm)
 		longest = std::max(longest, to > from ? to - from : from - to);
 	EXPECT_GT(longest, st.keyframes / 2);
 	EXPECT_EQ(links.enabledFalse, 0U) << links.firstEnabledFalse;
-	EXPECT_LT(err.finalXY, 0.4);
+	EXPECT_LT(err.finalXY, 0.3);
 	// Issue 28's bar: loop recall of 90 % or more (3 of 3 places), no false closure kept.
 	EXPECT_GE(recall.recall(), 0.9) << lrgc::apps::eval::recallReport(recall);
 	EXPECT_EQ(recall.falseClosures, 0U) << lrgc::apps::eval::recallReport(recall);
 }
+
+// The first seeds are loop_closing_test.cpp's; the others were picked blind. Over three more
+// (5 2 11, 8 1 11, 8 2 12) the figures are alike: 26-45 unmatched, rms 0.081-0.105 m, none
+// false.
+INSTANTIATE_TEST_SUITE_P(Seeds, NoisyRing,
+						 ::testing::Values(TRingSeeds{5, 1, 11}, TRingSeeds{5, 3, 11},
+										   TRingSeeds{13, 4, 13}),
+						 [](const ::testing::TestParamInfo<TRingSeeds>& p)
+						 {
+							 return "world" + std::to_string(p.param.world) + "laser" +
+									std::to_string(p.param.laser) + "odometry" +
+									std::to_string(p.param.odometry);
+						 });
