@@ -60,29 +60,33 @@ TLineFit fitLine(const TPrefixSums& s, size_t a, size_t b)
 	f.valid = ybar > 0;
 	return f;
 }
-/** The line through return k of the m valid ones: of the three windows of 2h+1 returns holding
- * k (centred, left, right), the one with the smallest residual, if that residual is what a
- * single line with range noise sigma gives, below sigma^2 (1 + 3 sqrt(2 / (2h+1))) (the mean
- * of a line's residual is about sigma^2, its std sigma^2 sqrt(2 / n)). Else the window spans
- * a corner or an edge: a far wall narrower than the window (a 5 m corridor's end 21 m away
- * spans 27 rays of 0.5 deg), whose fit across the corners would cut them and pull the wall
- * nearer; then half the window is tried, down to h = 1. Invalid if none fits. */
+/** The line through return k of the m valid ones: the window of 2h+1 returns centred on k if
+ * its residual is what a single line with range noise sigma gives, below sigma^2 (1 + 3
+ * sqrt(2 / (2h+1))) (the mean of a line's residual is about sigma^2, its std sigma^2 sqrt(2 /
+ * n)); else the left or right window, the one with the smaller residual, if below that bound
+ * (a one-sided window extrapolates to k with twice the centred one's error: picking the
+ * smallest residual of the three on a flat wall, as before, took one two times in three, and
+ * left range_030 with 79 unmatched scans, now 1). Else every window spans a corner or an edge:
+ * a far wall narrower than the window (a 5 m corridor's end 21 m away spans 27 rays of 0.5
+ * deg), whose fit across the corners would cut them and pull the wall nearer; then half the
+ * window is tried, down to h = 1. Invalid if none fits. */
 TLineFit lineAt(const TPrefixSums& s, size_t k, size_t h, double sigma)
 {
 	const size_t m = s.cc.size() - 1;
 	for (;; h /= 2)
 	{
-		TLineFit best;
-		const size_t starts[3] = {k >= h ? k - h : 0, k >= 2 * h ? k - 2 * h : 0, k};
-		for (size_t a : starts)
-		{
-			a = std::min(a, m - (2 * h + 1));
-			const TLineFit f = fitLine(s, a, a + 2 * h + 1);
-			if (f.valid && (!best.valid || f.residual < best.residual)) best = f;
-		}
 		const double n = double(2 * h + 1);
-		if (best.valid && best.residual <= sigma * sigma * (1 + 3 * std::sqrt(2 / n)))
-			return best;
+		const double bound = sigma * sigma * (1 + 3 * std::sqrt(2 / n));
+		const size_t starts[3] = {k >= h ? k - h : 0, k >= 2 * h ? k - 2 * h : 0, k};
+		TLineFit best;
+		for (size_t w = 0; w < 3; ++w)
+		{
+			const size_t a = std::min(starts[w], m - (2 * h + 1));
+			const TLineFit f = fitLine(s, a, a + 2 * h + 1);
+			if (w == 0 && f.valid && f.residual <= bound) return f;
+			if (w > 0 && f.valid && (!best.valid || f.residual < best.residual)) best = f;
+		}
+		if (best.valid && best.residual <= bound) return best;
 		if (h <= 1) return {};
 	}
 }
