@@ -271,6 +271,34 @@ bool joinedAbove(const TPoseGridProblem& pb, const detail::TSearchHit& from,
 	return true;
 }
 
+/** Step 4's search, outside the best cluster. A noisy laser's peak is wide (setScanNoise): a
+ * rival that the poses scoring at least s(best) / min_ambiguity join to the best without a
+ * valley lies on the best peak's ridge (a corridor's), whose extent is filter 3's to judge.
+ * Its cluster then joins the best's, and the search goes on for a peak of its own. */
+template <class Search>
+detail::TSearchHit searchRival(const Search& search, const TPatchCorrelatorParams& prm,
+							   bool ridgeRivals, const TPoseGridProblem& pb,
+							   const TGridSpec& spec, const detail::TSearchHit& best,
+							   int64_t floor)
+{
+	detail::TExclusionZone cluster;
+	cluster.discs.push_back(bestCluster(prm, spec, pb.numAngles, best));
+	detail::TSearchHit rival = search(floor, cluster, true);
+	const auto joinFloor =
+		static_cast<int64_t>(std::ceil(double(best.score) / prm.min_ambiguity - 1e-9));
+	size_t ridgeEvaluations = 0;
+	for (int grown = 0; ridgeRivals && rival.found && !rival.stopped &&
+						grown < kMaxRidgeDiscs && joinedAbove(pb, best, rival, joinFloor);
+		 ++grown)
+	{
+		ridgeEvaluations += rival.evaluations;
+		cluster.discs.push_back(bestCluster(prm, spec, pb.numAngles, rival));
+		rival = search(floor, cluster, true);
+	}
+	rival.evaluations += ridgeEvaluations;
+	return rival;
+}
+
 /** Steps 1 and 2 of a query: the patch's distinct cells and the pose grid over the window. */
 struct TPreparedSearch
 {
@@ -419,25 +447,8 @@ std::optional<TCorrelationResult> CPatchCorrelator::run(
 		exhaustive ? 0
 				   : static_cast<int64_t>(
 						 std::ceil(double(best.score) / m_params.min_ambiguity - 1e-9));
-	detail::TExclusionZone cluster;
-	cluster.discs.push_back(bestCluster(m_params, spec, pb.numAngles, best));
-	detail::TSearchHit rival = search(floor2, cluster, true);
-	// A noisy laser's peak is wide (setScanNoise): a rival that the poses scoring at least
-	// s(best) / min_ambiguity join to the best without a valley lies on the best peak's ridge
-	// (a corridor's), whose extent is filter 3's to judge. Its cluster joins the best's, and
-	// the search goes on for a peak of its own.
-	const auto joinFloor =
-		static_cast<int64_t>(std::ceil(double(best.score) / m_params.min_ambiguity - 1e-9));
-	size_t ridgeEvaluations = 0;
-	for (int grown = 0; m_ridgeRivals && rival.found && !rival.stopped &&
-						grown < kMaxRidgeDiscs && joinedAbove(pb, best, rival, joinFloor);
-		 ++grown)
-	{
-		ridgeEvaluations += rival.evaluations;
-		cluster.discs.push_back(bestCluster(m_params, spec, pb.numAngles, rival));
-		rival = search(floor2, cluster, true);
-	}
-	rival.evaluations += ridgeEvaluations;
+	const detail::TSearchHit rival =
+		searchRival(search, m_params, m_ridgeRivals, pb, spec, best, floor2);
 	if (rival.stopped) return std::nullopt;  // a rival not found is no evidence then
 	res.ambiguity = std::numeric_limits<double>::infinity();
 	if (rival.found)
