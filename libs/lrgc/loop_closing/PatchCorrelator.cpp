@@ -233,6 +233,9 @@ void preparePoseGrid(const CCorrelationGrid& grid, const std::vector<Eigen::Vect
 	pb.prepare();
 }
 
+/** Step 4: rivals found on the best peak's ridge, whose clusters join the best's, at most. */
+constexpr int kMaxRidgeDiscs = 8;
+
 /** Step 4's exclusion zone: the best pose's cluster, the headings within cluster_radius_phi_deg
  * and the cells within cluster_radius_m of it [cells^2]. */
 detail::TExclusionDisc bestCluster(const TPatchCorrelatorParams& prm, const TGridSpec& spec,
@@ -247,6 +250,53 @@ detail::TExclusionDisc bestCluster(const TPatchCorrelatorParams& prm, const TGri
 	zone.ci = best.i, zone.cj = best.j;
 	zone.r2 = std::pow(prm.cluster_radius_m / spec.res, 2) + 1e-9;
 	return zone;
+}
+
+/** True if every pose on the straight path from `from` to `to` in the pose grid (headings and
+ * cells interpolated, one sample per cell or heading step) scores at least `floor`: `to` lies
+ * on a ridge of `from`'s peak, not on a peak of its own (no valley between them). */
+bool joinedAbove(const TPoseGridProblem& pb, const detail::TSearchHit& from,
+				 const detail::TSearchHit& to, int64_t floor)
+{
+	const int steps = std::max(
+		{std::abs(to.a - from.a), std::abs(to.i - from.i), std::abs(to.j - from.j), 1});
+	for (int k = 1; k < steps; ++k)
+	{
+		const double t = double(k) / steps;
+		const auto at = [t](int x0, int x1) { return int(std::lround(x0 + t * (x1 - x0))); };
+		if (detail::scoreAt(pb, 0, at(from.a, to.a), at(from.i, to.i), at(from.j, to.j)) <
+			floor)
+			return false;
+	}
+	return true;
+}
+
+/** Step 4's search, outside the best cluster. A noisy laser's peak is wide (setScanNoise): a
+ * rival that the poses scoring at least s(best) / min_ambiguity join to the best without a
+ * valley lies on the best peak's ridge (a corridor's), whose extent is filter 3's to judge.
+ * Its cluster then joins the best's, and the search goes on for a peak of its own. */
+template <class Search>
+detail::TSearchHit searchRival(const Search& search, const TPatchCorrelatorParams& prm,
+							   bool ridgeRivals, const TPoseGridProblem& pb,
+							   const TGridSpec& spec, const detail::TSearchHit& best,
+							   int64_t floor)
+{
+	detail::TExclusionZone cluster;
+	cluster.discs.push_back(bestCluster(prm, spec, pb.numAngles, best));
+	detail::TSearchHit rival = search(floor, cluster, true);
+	const auto joinFloor =
+		static_cast<int64_t>(std::ceil(double(best.score) / prm.min_ambiguity - 1e-9));
+	size_t ridgeEvaluations = 0;
+	for (int grown = 0; ridgeRivals && rival.found && !rival.stopped &&
+						grown < kMaxRidgeDiscs && joinedAbove(pb, best, rival, joinFloor);
+		 ++grown)
+	{
+		ridgeEvaluations += rival.evaluations;
+		cluster.discs.push_back(bestCluster(prm, spec, pb.numAngles, rival));
+		rival = search(floor, cluster, true);
+	}
+	rival.evaluations += ridgeEvaluations;
+	return rival;
 }
 
 /** Steps 1 and 2 of a query: the patch's distinct cells and the pose grid over the window. */
@@ -332,6 +382,7 @@ void CPatchCorrelator::setScanNoise(double sigma)
 	m_params = m_configured;
 	m_params.cluster_radius_m = std::max(m_configured.cluster_radius_m, 16 * sigma);
 	m_params.max_std_xy_m = std::max(m_configured.max_std_xy_m, 6 * sigma);
+	m_ridgeRivals = sigma > 0;
 }
 
 CCorrelationGrid CPatchCorrelator::makeGrid(const std::vector<Eigen::Vector2d>& pointsInMap,
@@ -396,9 +447,8 @@ std::optional<TCorrelationResult> CPatchCorrelator::run(
 		exhaustive ? 0
 				   : static_cast<int64_t>(
 						 std::ceil(double(best.score) / m_params.min_ambiguity - 1e-9));
-	detail::TExclusionZone cluster;
-	cluster.discs.push_back(bestCluster(m_params, spec, pb.numAngles, best));
-	const detail::TSearchHit rival = search(floor2, cluster, true);
+	const detail::TSearchHit rival =
+		searchRival(search, m_params, m_ridgeRivals, pb, spec, best, floor2);
 	if (rival.stopped) return std::nullopt;  // a rival not found is no evidence then
 	res.ambiguity = std::numeric_limits<double>::infinity();
 	if (rival.found)

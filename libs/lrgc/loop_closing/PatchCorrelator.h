@@ -110,8 +110,12 @@ public:
 	 * max(configured, 6 sigma). Noise spreads the correlation peak in proportion, so a
 	 * constant radius cuts the one peak into "best" and an adjacent "rival" (measured on MRPT's
 	 * range_030_bearing_015 log: the rival 0.5-1 m along the peak's ridge,
-	 * ambiguity 1.02-1.198). sigma is 0 unless the laser is noisy (kNoisyLaserStd_m): the
-	 * configured values. */
+	 * ambiguity 1.02-1.198). The radius alone does not hold a corridor's ridge (the synthetic
+	 * noisy ring: rivals 0.8 m along it, ambiguity 1.18-1.19 with a radius of 0.78 m), so for
+	 * sigma > 0 a rival joined to the best pose by poses all scoring at least s(best) /
+	 * min_ambiguity (no valley between them) is the best peak's own: its cluster joins the
+	 * best's and the rival search goes on (up to 8 times), leaving the ridge's extent to filter
+	 * 3. sigma is 0 unless the laser is noisy (kNoisyLaserStd_m): the configured values. */
 	void setScanNoise(double sigma);
 	/** Searches end early once `stop` is stopped and then find nothing (std::nullopt). */
 	void setStopToken(const CStopToken& stop) { m_stop = stop; }
@@ -161,6 +165,8 @@ private:
 
 	TPatchCorrelatorParams m_configured;  //!< as given
 	TPatchCorrelatorParams m_params;      //!< as used: m_configured scaled by setScanNoise
+	/** A noisy laser's (setScanNoise): rivals on the best peak's ridge join its cluster. */
+	bool m_ridgeRivals = false;
 	CStopToken m_stop;
 };
 

@@ -13,14 +13,20 @@
  * (CRangeNoiseEstimate). MRPT's simulator with range noise 0.30 m gives 0.32 m.
  *
  * Denoising (only when sigma exceeds kNoisyLaserStd_m): each return i is moved along its own
- * ray onto a total-least-squares line fitted to its neighbours, in the sensor frame. Three
- * windows of valid returns are tried, centred [i-h, i+h], left [i-2h, i] and right [i, i+2h],
- * and the one with the smallest mean squared perpendicular residual wins (a Kuwahara-style
- * choice: at a corner one side lies on a single wall). The fitted range at the window centre
- * has variance sigma^2 / (2h+1), so h = ceil(((sigma / kDenoiseTargetStd_m)^2 - 1) / 2), at
- * most kDenoiseMaxHalfWindow. A return is kept as measured if its ray grazes the line (|cos| <
- * 0.2) or the line is more than 3 sigma away along the ray (a return off any wall: a post, a
- * person).
+ * ray onto a line fitted to its neighbours, in the sensor frame. The noise lies along the
+ * rays, so the line is fitted in ray space: a line n . p = d meets the ray of bearing a at
+ * 1 / r(a) = A cos(a) + B sin(a), (A, B) = n / d, linear least squares in (A, B) over 1 / r_i
+ * (a total-least-squares fit of the points takes the noise as isotropic and, where a window
+ * spans less along the wall than the noise across it, a 5 m corridor's side walls, fits the
+ * noise's direction). The window centred on i, [i-h, i+h], is used if its residual is what one
+ * line with noise sigma gives; else (a corner) the better of the left [i-2h, i] and right
+ * [i, i+2h] windows if it is one line (at a corner one side lies on a single wall); else (a
+ * far wall narrower than the window, whose corners the fit would cut) half the window is
+ * tried, down to 3 returns. A one-sided window extrapolates to its end, with twice the error
+ * of the centred one. The fitted range at the window centre has variance sigma^2 / (2h+1), so h
+ * = ceil(((sigma / kDenoiseTargetStd_m)^2 - 1) / 2), at most kDenoiseMaxHalfWindow. A return is
+ * kept as measured if its ray grazes the line (|cos| < 0.2) or the line is more than 3 sigma
+ * away along the ray (a return off any wall: a post, a person).
  */
 #pragma once
 
