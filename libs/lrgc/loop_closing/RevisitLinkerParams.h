@@ -33,6 +33,13 @@ struct TRevisitLinkerParams : public mrpt::config::CLoadableOptions
 	 * (doc/generalisation.md). */
 	bool any_heading = false;
 	size_t stride = 2;                 //!< every stride-th keyframe is tried
+	/** A match is kept only if k's patch (k +- this many keyframes, placed by the map),
+	 * matched against the old keyframes near k, agrees with it (RevisitLinker.h); 0: no
+	 * second match. */
+	size_t patch_check_keyframes = 2;
+	/** A match is kept only if no other local optimum within the prior explains as much of
+	 * the scan (RevisitLinker.cpp, unambiguous). */
+	bool ambiguity_check = true;
 	double min_inlier_fraction = 0.5;  //!< least fraction of k's points matched
 	double gate_chi2 = 16.27;          //!< [chi2, 3 dof] agreement of the match with the guess
 	double prior_std_xy_m = 0.3;       //!< [m] std of the guess (loop-closed map)
