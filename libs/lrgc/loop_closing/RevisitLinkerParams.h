@@ -19,12 +19,12 @@ struct TRevisitLinkerParams : public mrpt::config::CLoadableOptions
 	double radius_m = 2.0;
 	double max_phi = mrpt::DEG2RAD(45.0);  //!< [rad] (key max_phi_deg)
 	/** j < k - min_index_gap (beyond the local window, K = 15). 40 hid a sparse log's
-	 * dead-end returns (keyframes 1 m apart: 40 m of path); the path condition below
-	 * keeps the dense logs' reach (their 40 keyframes span 14-17 m). */
+	 * dead-end returns (keyframes 1 m apart: 40 m of path); on the dense logs the path
+	 * condition below rules (their 40 keyframes span 14-17 m). */
 	size_t min_index_gap = 15;
 	/** [m] and j lies at least this much path (the straight steps between consecutive
 	 * keyframes summed) before k; 0: no path condition. 15 kept a false link on sparse
-	 * ACES (a dead-end return 18 m of path back, 0.31 m off along its corridor), 20 did
+	 * ACES (a dead-end return 15.5 m of path back, 0.31 m off along its corridor), 20 did
 	 * not and closed as many places (doc/generalisation.md). */
 	double min_path_gap_m = 20.0;
 	/** A keyframe with no candidate within max_phi_deg, but old keyframes within radius_m
