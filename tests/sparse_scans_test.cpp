@@ -11,8 +11,9 @@
  *    definition) against the dense log mapped by the same build as the reference, the links
  *    judged by the log's own relations wherever one joins both ends within 20 s: >= 90 % of
  *    the revisited places closed and no kept loop link that the relations call false, on
- *    all four (seed 1: 38 / 40, 9 / 9, 9 / 9, 65 / 69; ACES' dead-end returns and Killian's
- *    corridors driven back closed by the revisit sweep's reach, doc/generalisation.md).
+ *    all four (seed 1, main's dense runs as the reference: 38 / 40, 9 / 9, 9 / 9, 65 / 69;
+ *    ACES' dead-end returns and Killian's corridors driven back closed by the revisit
+ *    sweep's reach, doc/generalisation.md).
  *    Links judged by the reference alone are only printed: the dense map's own joins can be
  *    a few decimetres off (Killian). The four tests take about 90 s of CPU in all, dense
  *    runs included (Killian's the longest: 86 s wall on a loaded machine).

@@ -33,7 +33,7 @@ struct TRevisitLinkerParams : public mrpt::config::CLoadableOptions
 	 * world, so one old scan shares only the side walls with it (sparse Killian's
 	 * corridors driven back: doc/generalisation.md). */
 	bool any_heading = true;
-	size_t stride = 2;                 //!< every stride-th keyframe is tried
+	size_t stride = 2;  //!< every stride-th keyframe is tried
 	/** A match is kept only if k's patch (k +- this many keyframes, placed by the map),
 	 * matched against the old keyframes near k, agrees with it (RevisitLinker.h); 0: no
 	 * second match. */
