@@ -19,7 +19,17 @@ using mrpt::math::TPose2D;
 
 CRevisitLinker::CRevisitLinker(const TRevisitLinkerParams& p, const TScanMatcherParams& matcher,
 							   const TLinkNoise& linkNoise)
-	: m_params(p), m_matcherParams(matcher), m_linkNoise(linkNoise), m_matcher(matcher)
+	: m_params(p),
+	  m_matcherParams(matcher),
+	  m_linkNoise(linkNoise),
+	  m_matcher(matcher),
+	  m_patchMatcher(
+		  [&matcher]
+		  {
+			  TScanMatcherParams q = matcher;
+			  q.max_free_space_violation = 1.0;
+			  return q;
+		  }())
 {
 }
 
@@ -138,6 +148,71 @@ std::optional<CRevisitLinker::TCandidate> CRevisitLinker::candidate(const TSweep
 	return c;
 }
 
+/* The second, independent match (see the header): k's patch against the old keyframes
+ * within 3 radius_m of k, both as placed by the map, from the same guess as k's match. */
+bool CRevisitLinker::patchAgrees(const TSweep& sw, const TKeyframes& keyframes, size_t k,
+								 const TCandidate& c, const TScanMatch& m) const
+{
+	const size_t a = m_params.patch_check_keyframes;
+	if (a == 0) return true;
+	const TPose2D pk = sw.graph.pose(k);
+	TScan2D patch = keyframes[k].scan;
+	patch.points.clear();
+	for (size_t q = k > a ? k - a : 0; q <= k + a && q < sw.graph.numNodes(); ++q)
+	{
+		if ((q < m_split) != (k < m_split)) continue;
+		const CPointTransform toK(between(pk, sw.graph.pose(q)));
+		for (const auto& p : keyframes[q].scan.points) patch.points.push_back(toK(p));
+	}
+	std::vector<TScan2D> scans;
+	std::vector<TPose2D> inOld;
+	for (const auto& [j, d] : oldNear(sw, k, 3 * m_params.radius_m))
+	{
+		scans.push_back(keyframes[j].scan);
+		inOld.push_back(between(sw.graph.pose(c.old), sw.graph.pose(j)));
+	}
+	std::vector<Eigen::Vector2d> patchInOld;
+	const CPointTransform toOld(c.guess);
+	for (const auto& p : patch.points) patchInOld.push_back(toOld(p));
+	const double margin =
+		m_matcherParams.max_correspondence_dist_m + 4 * m_matcherParams.normal_radius_m + 0.2;
+	const auto region =
+		CReferenceCloud::fromScansNear(scans, inOld, m_matcherParams, patchInOld, margin);
+	const auto mp = m_patchMatcher.match(region, patch, c.guess);
+	if (!mp) return false;
+	const Eigen::Matrix3d C = m.cov + mp->cov + 2 * m_linkNoise.floorCovariance();
+	return disagreementChi2(m.scanInRef, mp->scanInRef, C) <= m_params.gate_chi2;
+}
+
+/* The match is the best local optimum within the prior: the scan is matched again from
+ * starts 1 and 2 prior stds off the guess along x, along y and (2 stds) in heading; an
+ * alternative that converges, agrees with the guess as the match must, lies apart from
+ * the match (CScanMatcher::distinctHypotheses, and chi2 > gate_chi2 under both covariances
+ * and the link noise floor) and explains at least as much of the scan
+ * (CScanMatcher::explainedFraction) makes the place ambiguous for this scan. */
+bool CRevisitLinker::unambiguous(const TScan2D& scan, const TCandidate& c, const TScanMatch& m,
+								 const Eigen::Matrix3d& prior) const
+{
+	if (!m_params.ambiguity_check) return true;
+	const double sxy = m_params.prior_std_xy_m, sphi = m_params.prior_std_phi;
+	const double explained = m_matcher.explainedFraction(c.reference, scan, m.scanInRef);
+	for (const TPose2D& d :
+		 {TPose2D(sxy, 0, 0), TPose2D(-sxy, 0, 0), TPose2D(0, sxy, 0), TPose2D(0, -sxy, 0),
+		  TPose2D(2 * sxy, 0, 0), TPose2D(-2 * sxy, 0, 0), TPose2D(0, 2 * sxy, 0),
+		  TPose2D(0, -2 * sxy, 0), TPose2D(0, 0, 2 * sphi), TPose2D(0, 0, -2 * sphi)})
+	{
+		const auto a = m_matcher.match(c.reference, scan, compose(c.guess, d));
+		if (!a || !CScanMatcher::distinctHypotheses(m.scanInRef, a->scanInRef) ||
+			disagreementChi2(c.guess, a->scanInRef, prior + a->cov) > m_params.gate_chi2)
+			continue;
+		const Eigen::Matrix3d C = m.cov + a->cov + 2 * m_linkNoise.floorCovariance();
+		if (disagreementChi2(m.scanInRef, a->scanInRef, C) > m_params.gate_chi2 &&
+			m_matcher.explainedFraction(c.reference, scan, a->scanInRef) >= explained)
+			return false;
+	}
+	return true;
+}
+
 size_t CRevisitLinker::linkRevisits(CPoseGraph& graph, const TKeyframes& keyframes) const
 {
 	const size_t n = graph.numNodes();
@@ -159,7 +234,9 @@ size_t CRevisitLinker::linkRevisits(CPoseGraph& graph, const TKeyframes& keyfram
 		if (!c || sw.linkedNear(k, c->old)) continue;
 		const auto m = m_matcher.match(c->reference, keyframes[k].scan, c->guess);
 		if (!m || m->inlierFraction < m_params.min_inlier_fraction) continue;
-		if (disagreementChi2(c->guess, m->scanInRef, prior + m->cov) > m_params.gate_chi2)
+		if (disagreementChi2(c->guess, m->scanInRef, prior + m->cov) > m_params.gate_chi2 ||
+			!patchAgrees(sw, keyframes, k, *c, *m) ||
+			!unambiguous(keyframes[k].scan, *c, *m, prior))
 			continue;
 		graph.addLink({c->old, k, m->scanInRef, linkInformation(m->cov, m_linkNoise),
 					   LinkType::LoopClosure});

@@ -61,11 +61,16 @@ private:
 												   double reach) const;
 	std::optional<TCandidate> candidate(const TSweep& sw, const TKeyframes& keyframes,
 										size_t k) const;
+	bool patchAgrees(const TSweep& sw, const TKeyframes& keyframes, size_t k,
+					 const TCandidate& c, const TScanMatch& m) const;
+	bool unambiguous(const TScan2D& scan, const TCandidate& c, const TScanMatch& m,
+					 const Eigen::Matrix3d& prior) const;
 
 	TRevisitLinkerParams m_params;
 	TScanMatcherParams m_matcherParams;
 	TLinkNoise m_linkNoise;
 	CScanMatcher m_matcher;
+	CScanMatcher m_patchMatcher;  //!< no free-space test: a patch is not one scan's rays
 	CStopToken m_stop;
 	size_t m_split = 0;
 };

@@ -15,6 +15,8 @@ void TRevisitLinkerParams::loadFromConfigFile(const mrpt::config::CConfigFileBas
 	min_path_gap_m = readDouble(c, s, "min_path_gap_m", min_path_gap_m);
 	any_heading = readBool(c, s, "any_heading", any_heading);
 	stride = readCount(c, s, "stride", stride);
+	patch_check_keyframes = readCount(c, s, "patch_check_keyframes", patch_check_keyframes);
+	ambiguity_check = readBool(c, s, "ambiguity_check", ambiguity_check);
 	min_inlier_fraction = readDouble(c, s, "min_inlier_fraction", min_inlier_fraction);
 	gate_chi2 = readDouble(c, s, "gate_chi2", gate_chi2);
 	prior_std_xy_m = readDouble(c, s, "prior_std_xy_m", prior_std_xy_m);
@@ -45,6 +47,10 @@ void TRevisitLinkerParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
 	writeValue(c, s, "any_heading", any_heading,
 			   "Match a keyframe facing away from every near old one against them all");
 	writeValue(c, s, "stride", uint64_t(stride), "Every stride-th keyframe is tried");
+	writeValue(c, s, "patch_check_keyframes", uint64_t(patch_check_keyframes),
+			   "A match must agree with that of the keyframe +- this many (0: not checked)");
+	writeValue(c, s, "ambiguity_check", ambiguity_check,
+			   "A match must explain more of the scan than any other optimum within the prior");
 	writeValue(c, s, "min_inlier_fraction", min_inlier_fraction,
 			   "Least fraction of the keyframe's points matched");
 	writeValue(c, s, "gate_chi2", gate_chi2,

@@ -18,21 +18,29 @@ struct TRevisitLinkerParams : public mrpt::config::CLoadableOptions
 	 * the first; 3 m linked scans of another place: doc/parameters.md). */
 	double radius_m = 2.0;
 	double max_phi = mrpt::DEG2RAD(45.0);  //!< [rad] (key max_phi_deg)
-	/** j < k - min_index_gap (not the local window). On a sparse log (keyframes 1 m apart)
-	 * 40 keyframes are 40 m of path, which hides its dead-end returns; 15 (= K) with
-	 * min_path_gap_m 15 reaches them but is not the default (doc/generalisation.md). */
-	size_t min_index_gap = 40;
+	/** j < k - min_index_gap (beyond the local window, K = 15). 40 hid a sparse log's
+	 * dead-end returns (keyframes 1 m apart: 40 m of path); on the dense logs the path
+	 * condition below rules (their 40 keyframes span 14-17 m). */
+	size_t min_index_gap = 15;
 	/** [m] and j lies at least this much path (the straight steps between consecutive
-	 * keyframes summed) before k; 0: no path condition. */
-	double min_path_gap_m = 0.0;
+	 * keyframes summed) before k; 0: no path condition. 15 kept a false link on sparse
+	 * ACES (a dead-end return 15.5 m of path back, 0.31 m off along its corridor), 20 did
+	 * not and closed as many places (doc/generalisation.md). */
+	double min_path_gap_m = 20.0;
 	/** A keyframe with no candidate within max_phi_deg, but old keyframes within radius_m
 	 * facing another way (a corridor driven back), is matched against all the old keyframes
 	 * within 3 radius_m, whatever their heading: a 180 deg laser sees the other half of the
-	 * world, so one old scan shares only the side walls with it. Off by default: with it
-	 * and the shorter gap, sparse recall rose to 95-100 % but new false links came with it
-	 * (doc/generalisation.md). */
-	bool any_heading = false;
-	size_t stride = 2;                 //!< every stride-th keyframe is tried
+	 * world, so one old scan shares only the side walls with it (sparse Killian's
+	 * corridors driven back: doc/generalisation.md). */
+	bool any_heading = true;
+	size_t stride = 2;  //!< every stride-th keyframe is tried
+	/** A match is kept only if k's patch (k +- this many keyframes, placed by the map),
+	 * matched against the old keyframes near k, agrees with it (RevisitLinker.h); 0: no
+	 * second match. */
+	size_t patch_check_keyframes = 2;
+	/** A match is kept only if no other local optimum within the prior explains as much of
+	 * the scan (RevisitLinker.cpp, unambiguous). */
+	bool ambiguity_check = true;
 	double min_inlier_fraction = 0.5;  //!< least fraction of k's points matched
 	double gate_chi2 = 16.27;          //!< [chi2, 3 dof] agreement of the match with the guess
 	double prior_std_xy_m = 0.3;       //!< [m] std of the guess (loop-closed map)

@@ -161,6 +161,44 @@ TEST(RevisitLinker, aCorridorDrivenBackIsLinkedWhateverTheHeading)
 	}
 }
 
+// A scan that fits the old one in a wrong pose within the sweep's prior (here: taken 0.25 m
+// ahead of its keyframe, as a timing glitch would leave it) matches there, and the link would
+// be 0.25 m off; the keyframe's patch (its neighbours' scans, right) lands elsewhere, so with
+// the patch check (the default) no link ends at that keyframe.
+TEST(RevisitLinker, aScanThatFitsElsewhereIsRefusedWhenItsPatchDisagrees)
+{
+	const TStageParams defaults;
+	TRevisitLinkerParams p = testParams();
+	p.any_heading = false;
+	TRevisitRun clean;
+	const size_t first = clean.graph.numLinks();
+	CRevisitLinker(p, defaults.matcher, defaults.loop.link_noise)
+		.linkRevisits(clean.graph, clean.keyframes);
+	ASSERT_GT(clean.graph.numLinks(), first);
+	const size_t k = clean.graph.link(first).to;  // a keyframe the sweep links
+	TRevisitRun run;
+	std::mt19937 rng(11);
+	run.keyframes[k].scan = test::simulateScan(
+		run.world, compose(run.tr.truePoses[k], TPose2D(0.25, 0.0, 0.0)), {}, rng);
+	// The link ending at k after a sweep with patch_check_keyframes = a, if any.
+	const auto linkAt = [&](size_t a) -> std::optional<TLink>
+	{
+		TRevisitRun r = run;
+		p.patch_check_keyframes = a;
+		const size_t before = r.graph.numLinks();
+		CRevisitLinker(p, defaults.matcher, defaults.loop.link_noise)
+			.linkRevisits(r.graph, r.keyframes);
+		for (size_t id = before; id < r.graph.numLinks(); ++id)
+			if (r.graph.link(id).to == k) return r.graph.link(id);
+		return std::nullopt;
+	};
+	const auto unchecked = linkAt(0);
+	ASSERT_TRUE(unchecked.has_value()) << "the single scan's match is made";
+	const TPose2D truth = between(run.tr.truePoses[unchecked->from], run.tr.truePoses[k]);
+	EXPECT_GT(translationNorm(between(truth, unchecked->toInFrom)), 0.15);
+	EXPECT_FALSE(linkAt(TRevisitLinkerParams().patch_check_keyframes).has_value());
+}
+
 TEST(RevisitLinker, scansOfAnotherPlaceAreNotLinked)
 {
 	TRevisitRun run;
@@ -189,6 +227,8 @@ TEST(RevisitLinker, parametersRoundTripAndUnknownKeysAreRejected)
 	p.max_phi = mrpt::DEG2RAD(30.0);
 	p.min_path_gap_m = 7.5;
 	p.any_heading = false;
+	p.patch_check_keyframes = 4;
+	p.ambiguity_check = false;
 	mrpt::config::CConfigFileMemory saved;
 	p.saveToConfigFile(saved, "RevisitLinker");
 	// Through the text, as a user's .ini (MRPT 2.5.8's in-memory config keeps padded keys).
@@ -200,6 +240,8 @@ TEST(RevisitLinker, parametersRoundTripAndUnknownKeysAreRejected)
 	EXPECT_NEAR(q.max_phi, mrpt::DEG2RAD(30.0), 1e-12);
 	EXPECT_DOUBLE_EQ(q.min_path_gap_m, 7.5);
 	EXPECT_FALSE(q.any_heading);
+	EXPECT_EQ(q.patch_check_keyframes, 4U);
+	EXPECT_FALSE(q.ambiguity_check);
 	mrpt::config::CConfigFileMemory bad("[RevisitLinker]\nradious = 2\n");
 	EXPECT_THROW(q.loadFromConfigFile(bad, "RevisitLinker"), std::exception);
 	mrpt::config::CConfigFileMemory zero("[RevisitLinker]\nstride = 0\n");

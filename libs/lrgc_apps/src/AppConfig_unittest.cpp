@@ -31,7 +31,8 @@ TEST(AppConfig, AnOldFullIniGivesTheDefaultsAndAWarningPerOldKey)
 	const auto cfg = lrgc::apps::loadAppConfig(std::string(LRGC_SOURCE_DIR) +
 											   "/tests/data/lrgc-default-7c31216.ini");
 	lrgc::apps::TAppConfig expected;
-	expected.lrgc.revisits.radius_m = 1.0;  // 2 m since stop 35 (RevisitLinkerParams.h)
+	expected.lrgc.revisits.radius_m = 1.0;      // 2 m since stop 35 (RevisitLinkerParams.h)
+	expected.lrgc.revisits.min_index_gap = 40;  // 15 since the revisit sweep's checks (recall2)
 	EXPECT_EQ(saved(cfg), saved(expected));
 	EXPECT_EQ(cfg.warnings.size(),
 			  lrgc::TLRGCParams::renamedKeys().size() + lrgc::apps::appRenamedKeys().size());
