@@ -305,9 +305,9 @@ TEST(LargeLoop, tensOfMetresOfDriftAreClosedByTheFarSearchWithTime)
 // The same with the default modelled worker: the far search uses its spare time only (5 ms
 // per keyframe, while the worker is less than half of max_backlog_keyframes behind). One
 // search costs about 80 ms of modelled work here (the places in one pass over the old path,
-// eight checks in a 1 m / 5 deg window), so the one that starts after the return finishes
-// within a few keyframes and the next patch confirms its place: the loop closes with true
-// links only.
+// eight checks in a 1 m / 5 deg window, one step per check), so the one that starts after the
+// return finishes within nine keyframes and a later patch confirms its place: the loop closes
+// with true links only.
 TEST(LargeLoop, tensOfMetresOfDriftAreClosedOnTheWorkersSpareTime)
 {
 	TLoopSetup s;
