@@ -459,13 +459,12 @@ std::vector<TCorrelationPeak> CPatchCorrelator::correlatePeaks(
 	const auto floor = static_cast<int64_t>(
 		std::ceil(std::max(m_params.min_score, atLeast) * double(s.full) - 1e-9));
 	detail::TExclusionZone zone;
-	const auto hits = detail::searchPeaks(
+	const detail::TSearchPeaks found = detail::searchPeaks(
 		s.pb, floor, minShareOfBest, k, zone,
 		[&](const detail::TSearchHit& hit)
 		{ zone.discs.push_back(bestCluster(m_params, s.spec, s.pb.numAngles, hit)); });
-	if (!hits.empty()) effort->posesScored = hits.back().evaluations;
-	if (!hits.empty() && hits.back().stopped) return peaks;
-	for (const detail::TSearchHit& hit : hits)
+	effort->posesScored = found.evaluations;
+	for (const detail::TSearchHit& hit : found.peaks)
 		peaks.push_back({s.spec.pose(hit.a, hit.i, hit.j), double(hit.score) / double(s.full)});
 	return peaks;
 }

@@ -147,8 +147,10 @@ public:
 	 * peak n is the best pose outside the clusters (cluster_radius_m, cluster_radius_phi) of
 	 * peaks 1..n-1, scoring at least min_score, `atLeast` and minShareOfBest times peak 1's
 	 * score, with the patch's origin in `origins` (empty: anywhere). No filter is applied.
-	 * Empty if no pose reaches the floor, the patch is empty or a stop was requested. Costs
-	 * about one correlate() per peak. */
+	 * Empty if no pose reaches the floor, the patch is empty or a stop was requested. One
+	 * best-first pass (detail::searchPeaks): about one correlate() for all k peaks, where
+	 * searching again per peak cost that much per peak (30-60k bounds each on the hall loop).
+	 */
 	std::vector<TCorrelationPeak> correlatePeaks(
 		const CCorrelationGrid& oldMap, const std::vector<Eigen::Vector2d>& patchPoints,
 		const mrpt::math::TPose2D& centerPatchInMap, double halfWindowXY,

@@ -319,9 +319,11 @@ TEST(PatchCorrelator, PeaksInOnePassEqualRepeatedExhaustiveSearches)
 		};
 		const int64_t floor = int64_t(0.2 * 255 * pb.numPoints);
 		lrgc::detail::TExclusionZone zone;
-		const auto peaks = lrgc::detail::searchPeaks(pb, floor, 0.6, 6, zone,
+		const auto found = lrgc::detail::searchPeaks(pb, floor, 0.6, 6, zone,
 													 [&](const lrgc::detail::TSearchHit& hit)
 													 { zone.discs.push_back(clusterOf(hit)); });
+		const auto& peaks = found.peaks;
+		EXPECT_GE(found.evaluations, peaks.size());
 		lrgc::detail::TExclusionZone refZone;
 		int64_t refFloor = floor;
 		std::vector<lrgc::detail::TSearchHit> ref;

@@ -16,7 +16,10 @@
  * patch point inside the grid (the rest score 0, below any positive floor), so a window much
  * wider than the old map costs what the map's extent costs. A bound is abandoned early once the
  * partial sum plus 255 per remaining point cannot reach the required value (the node is pruned
- * anyway, and pruned nodes are the majority).
+ * anyway, and pruned nodes are the majority). Translations outside an allowed region (the far
+ * loop search's old path) are pruned block by block from a pyramid of allowed blocks, before
+ * any bound. The k best distinct poses (searchPeaks) take the same nodes best-first from a
+ * priority queue instead of depth first, so that one pass yields them all.
  */
 #include "correlation_search.h"
 
@@ -130,12 +133,13 @@ public:
 	 * (the best pose outside the clusters of the peaks before it), and `onPeak` grows the zone
 	 * by its cluster. After peak 1 the floor rises to shareOfBest times its score. Nodes below
 	 * the floor are dropped. */
-	std::vector<TSearchHit> runPeaks(size_t k, double shareOfBest, const TOnPeak& onPeak)
+	TSearchPeaks runPeaks(size_t k, double shareOfBest, const TOnPeak& onPeak)
 	{
 		const auto lower = [](const Node& x, const Node& y)
 		{ return x.bound != y.bound ? x.bound < y.bound : x.minIndex > y.minIndex; };
 		std::priority_queue<Node, std::vector<Node>, decltype(lower)> queue(lower, topNodes());
-		std::vector<TSearchHit> peaks;
+		TSearchPeaks out;
+		std::vector<TSearchHit>& peaks = out.peaks;
 		while (!queue.empty() && peaks.size() < k && !m_done)
 		{
 			const Node n = queue.top();
@@ -156,8 +160,10 @@ public:
 					m_best.score,
 					static_cast<int64_t>(std::ceil(shareOfBest * double(n.bound) - 1e-9)));
 		}
-		if (m_stopped) peaks.assign(1, hitOf(0, 0, 0, 0, false));
-		return peaks;
+		out.evaluations = m_evaluations;
+		out.stopped = m_stopped;
+		if (m_stopped) peaks.clear();
+		return out;
 	}
 
 private:
@@ -428,9 +434,8 @@ TSearchHit searchBranchAndBound(const TPoseGridProblem& pb, int64_t floorScore,
 	return BranchAndBound(pb, floorScore, zone, firstHit).run();
 }
 
-std::vector<TSearchHit> searchPeaks(const TPoseGridProblem& pb, int64_t floorScore,
-									double shareOfBest, size_t k, const TExclusionZone& zone,
-									const TOnPeak& onPeak)
+TSearchPeaks searchPeaks(const TPoseGridProblem& pb, int64_t floorScore, double shareOfBest,
+						 size_t k, const TExclusionZone& zone, const TOnPeak& onPeak)
 {
 	return BranchAndBound(pb, floorScore, zone, false).runPeaks(k, shareOfBest, onPeak);
 }

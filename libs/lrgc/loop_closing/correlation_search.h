@@ -130,14 +130,18 @@ TSearchHit searchBranchAndBound(const TPoseGridProblem& pb, int64_t floorScore,
 
 /** Called with each peak searchPeaks() finds; it adds the peak's cluster to the zone. */
 using TOnPeak = std::function<void(const TSearchHit&)>;
+struct TSearchPeaks
+{
+	std::vector<TSearchHit> peaks;  //!< best first; empty when stopped
+	size_t evaluations = 0;         //!< scores + bounds computed by the whole pass
+	bool stopped = false;           //!< ended by a stop request: no peaks
+};
 /** The k best distinct poses, best first, in one best-first pass over the same nodes: peak n
  * is the best pose scoring at least `floorScore` outside `zone`, which onPeak grows by the
  * cluster of each peak found (so `zone` is the caller's, alive and growing); after peak 1 the
- * floor rises to shareOfBest times its score. Exact: the same peaks as searchBranchAndBound
- * run again and again with the clusters excluded. A stopped search returns one hit with
- * `stopped` set. */
-std::vector<TSearchHit> searchPeaks(const TPoseGridProblem& pb, int64_t floorScore,
-									double shareOfBest, size_t k, const TExclusionZone& zone,
-									const TOnPeak& onPeak);
+ * floor rises to shareOfBest times its score. Exact: the same peaks as the exhaustive search
+ * run again and again with the clusters excluded. */
+TSearchPeaks searchPeaks(const TPoseGridProblem& pb, int64_t floorScore, double shareOfBest,
+						 size_t k, const TExclusionZone& zone, const TOnPeak& onPeak);
 
 }  // namespace lrgc::detail
