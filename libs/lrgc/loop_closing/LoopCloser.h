@@ -196,7 +196,7 @@ private:
 											 const TCandidates& c, const TSearchWindow& w);
 	void startFarSearch(const CPoseGraph& graph, const TScanRefs& scans, const TCandidates& all,
 						TSearchWindow w);
-	void farSearchSlice();
+	void farSearchPeaks();
 	void checkFarPlace(CPoseGraph& graph, const TScanRefs& scans, const TCandidates& all,
 					   const TSearchWindow& w);
 	std::optional<TLoopMatch> matchAround(const CPoseGraph& graph, const TScanRefs& scans,
@@ -259,17 +259,17 @@ private:
 	bool m_onKnownGround = false;     //!< the last check added a link that agreed with the map
 	size_t m_checksSinceAttempt = 0;  //!< for attempt_stride
 	/** The far search under way (its steps, LoopCloser_far.cpp): the patch of keyframe `newest`
-	 * (its frame), the coarse old-map grid, the peaks found so far (best first), then the
-	 * places to check. */
+	 * (its frame), the coarse old-map grid and where the patch may stand, then the places to
+	 * check. */
 	struct TFarSearch
 	{
 		size_t newest = 0;
 		mrpt::math::TPose2D newestInMap;
 		double halfXY = 0;
 		std::vector<Eigen::Vector2d> patch;
+		TOriginRegion origins;  //!< the old keyframes' positions: where the patch may stand
 		CCorrelationGrid grid;
-		size_t nextSlice = 0;
-		std::vector<TCorrelationPeak> peaks;
+		bool searched = false;                    //!< farSearchPeaks() has run
 		std::vector<mrpt::math::TPose2D> places;  //!< (map <- patch) to check, best first
 		size_t nextPlace = 0;
 		double lastStepMs = 0;  //!< modelled cost of its last step [ms]

@@ -1,12 +1,13 @@
 /* CLoopCloser beyond the capped window (issue 28; see LoopCloser.h): a far search over the
- * whole old map proposes the k best distinct places (coarse grid, every heading, branch and
- * bound); each is checked by the full-resolution search with the paper's three filters in a
- * small window around it and by the scan match; those that pass are held until a later,
- * disjoint patch confirms exactly one of them. Trade-off: a far search costs about k
- * correlations over the old map's extent on a grid far_resolution_m / resolution_m times
+ * whole old map proposes the k best distinct places (coarse grid, every heading, the newest
+ * keyframe within kFarPathRadius of the old path, one best-first pass of branch and bound);
+ * each is checked by the full-resolution search with the paper's three filters in a small
+ * window around it and by the scan match; those that pass are held until a later, disjoint
+ * patch confirms exactly one of them. Trade-off: the search for places costs about one
+ * correlation over the old path's extent on a grid far_resolution_m / resolution_m times
  * coarser in x, y and heading (the patch is cut at patch_max_range_m, so not more for a
- * long-range laser), and runs on the worker's spare time only; a loop is closed one patch later
- * than a near one. */
+ * long-range laser), the checks k small full-resolution correlations; it runs on the worker's
+ * spare time only, and a loop is closed one patch later than a near one. */
 #include <lrgc/common/se2.h>
 #include <mrpt/math/wrap2pi.h>
 #include <lrgc/loop_closing/LoopCloser.h>
@@ -24,12 +25,14 @@ using mrpt::math::TPose2D;
 namespace
 {
 /** Half-window of the full-resolution search around a far peak or a held place's implied pose
- * [m, rad]: the far grid's cells (far_resolution_m, its heading step) and a patch's drift fit
- * well inside; a look-alike elsewhere in the building does not. */
-constexpr double kFarCheckXY = 2.0, kFarCheckTheta = 10.0 * M_PI / 180;
+ * [m, rad]: the far grid's cells (0.4 m, about 2 deg of heading) and a patch's drift fit
+ * inside; a look-alike elsewhere in the building does not. 2 m / 10 deg cost twice as much
+ * (the check's headings x patch cells dominate its cost) and closed the hall loop alike. */
+constexpr double kFarCheckXY = 1.0, kFarCheckTheta = 5.0 * M_PI / 180;
 /** The check's ambiguity filter (the best pose against the best one outside its cluster in
- * that window): a true place in a corridor has a slid copy of itself within kFarCheckXY
- * (1.14-1.20 on the hall loop); the later patch's confirmation tells places apart. */
+ * that window): a true place in a corridor has a slid copy of itself within a few metres
+ * (1.14-1.20 within 2 m on the hall loop); the later patch's confirmation tells places
+ * apart. */
 constexpr double kFarCheckAmbiguity = 1.1;
 /** Far peaks proposed must score at least this share of the best one: a true place scores
  * about as well as the best look-alike, a junk peak far less. */
@@ -37,18 +40,22 @@ constexpr double kFarPeakShare = 0.8;
 /** Checks by later patches a held place gets before it is dropped: a true place in a corridor
  * fails the check's filters at some of them (3 dropped the hall loop's true place). */
 constexpr size_t kFarConfirmTries = 10;
-/** A far search's headings are searched in this many slices, each for its far_candidates best
- * peaks (a slice's floor is kFarPeakShare of the best peak so far). */
-constexpr size_t kFarSlices = 8;
 /** A far search not finished this many keyframes after its patch is dropped: the local chain
  * that carries its places to the newest keyframe has drifted by then. */
 constexpr size_t kFarStaleKeyframes = 80;
+/** A revisit stands about where the robot stood before: the far search puts the newest
+ * keyframe within this distance [m] of an old keyframe only (a corridor's width, with margin
+ * for a hall crossed a little apart). */
+constexpr double kFarPathRadius = 3.0;
 /** The far search runs only while window_sigmas sigma exceeds the window's cap this many
- * times (the shared benchmark logs stay below). */
+ * times. Intel, ACES and MIT-CSAIL stay below; Killian's gate reaches 24 caps (the hall
+ * loop's 9 at its return), so no such threshold keeps the far search off Killian. */
 constexpr double kFarBeyondCap = 4.0;
 /** A far search waits while the modelled worker is more than this share of
- * max_backlog_keyframes behind: it uses spare time, and never makes the worker shed. */
-constexpr double kFarSpareBacklog = 0.25;
+ * max_backlog_keyframes behind: it uses spare time. A quarter never let it run near the hall
+ * loop's return, where the capped near searches keep the worker 35-60 keyframes behind; half
+ * leaves 75 keyframes for the near searches before the worker defers any. */
+constexpr double kFarSpareBacklog = 0.5;
 }  // namespace
 
 // The far search's correlator: the same operator on a coarser grid (far_resolution_m), its
@@ -94,8 +101,8 @@ bool CLoopCloser::spareTime(double nextMs) const
 }
 
 // The window was capped and found nothing: check the held far places with this patch, or run
-// the steps of a far search (its slices of headings, then a check of each place found) while
-// the worker has spare time, going on at the next checks where this one stops.
+// the next step of a far search (the search for places, then a check of each place found) if
+// the worker has spare time; the search goes on at the next checks.
 std::optional<TLoopClosure> CLoopCloser::searchBeyond(CPoseGraph& graph, const TScanRefs& scans,
 													  const TCandidates& c,
 													  const TSearchWindow& w)
@@ -114,12 +121,15 @@ std::optional<TLoopClosure> CLoopCloser::searchBeyond(CPoseGraph& graph, const T
 		return std::nullopt;
 	}
 	if (!m_far) startFarSearch(graph, scans, all, w);
-	// A step runs only when the spare time left holds one more step as costly as the last.
-	while (m_far && spareTime(m_far->lastStepMs) && !stopped())
+	// One step per check (a job's far work stays within one step, 2-50 ms, so a job the real
+	// worker runs slower than modelled holds the mapping thread up little: Killian's latency
+	// max 410 -> 150 ms on a loaded machine), and only when the spare time left holds one more
+	// step as costly as the last.
+	if (m_far && spareTime(m_far->lastStepMs) && !stopped())
 	{
 		const double before = m_stats.work.referenceMs();
-		if (m_far->nextSlice < kFarSlices)
-			farSearchSlice();
+		if (!m_far->searched)
+			farSearchPeaks();
 		else
 			checkFarPlace(graph, scans, all, w);
 		if (m_far) m_far->lastStepMs = m_stats.work.referenceMs() - before;
@@ -127,9 +137,9 @@ std::optional<TLoopClosure> CLoopCloser::searchBeyond(CPoseGraph& graph, const T
 	return std::nullopt;
 }
 
-// A far search starts: the patch (newest keyframe's frame) and the whole old map within
-// far_window_xy_m on the coarse grid; then kFarSlices slices of headings and a check of each
-// place found.
+// A far search starts: the patch (newest keyframe's frame), the whole old map within
+// far_window_xy_m on the coarse grid, and the old keyframes' positions; its next steps are
+// the search for places (farSearchPeaks) and a check of each place found.
 void CLoopCloser::startFarSearch(const CPoseGraph& graph, const TScanRefs& scans,
 								 const TCandidates& all, TSearchWindow w)
 {
@@ -142,54 +152,41 @@ void CLoopCloser::startFarSearch(const CPoseGraph& graph, const TScanRefs& scans
 	if (pm.oldMap.empty() || pm.patch.empty()) return;
 	++m_stats.farSearches;
 	++m_stats.work.correlations;
+	m_stats.work.farMapPoints += pm.oldMap.size();
 	progress();
 	TFarSearch f;
 	f.newest = graph.numNodes() - 1;
 	f.newestInMap = graph.pose(f.newest);
 	f.halfXY = w.xy;
 	f.patch = std::move(pm.patch);
+	f.origins.radius = kFarPathRadius;
+	for (const auto& r : all.relative)
+	{
+		const TPose2D p = graph.pose(r.node);
+		f.origins.points.emplace_back(p.x, p.y);
+	}
 	f.grid = m_farCorrelator.makeGrid(pm.oldMap, 3 * m_farCorrelator.params().blur_sigma_m);
 	m_far = std::move(f);
 }
 
-// The next slice of headings: its far_candidates best distinct poses scoring at least
-// kFarPeakShare of the best found so far. After the last slice, the places to check: the
-// far_candidates best distinct peaks of all slices (a peak within kFarCheckXY and
-// kFarCheckTheta of a better one is the same place) scoring at least kFarPeakShare of the best.
-void CLoopCloser::farSearchSlice()
+// The places to check: the far_candidates best distinct poses over every heading, each the
+// best outside the kFarCheckXY / kFarCheckTheta clusters of those before it, scoring at least
+// kFarPeakShare of the best, with the newest keyframe near the old path (kFarPathRadius), in
+// one best-first pass of branch and bound (CPatchCorrelator::correlatePeaks).
+void CLoopCloser::farSearchPeaks()
 {
 	CCpuTimer correlateTimer(m_stats.correlateCpuSeconds);
 	TFarSearch& f = *m_far;
-	const double slice = 2 * M_PI / kFarSlices;
-	TPose2D centre = f.newestInMap;
-	centre.phi = mrpt::math::wrapToPi(centre.phi - M_PI + (double(f.nextSlice) + 0.5) * slice);
-	const double best = f.peaks.empty() ? 0.0 : f.peaks.front().score;
-	std::vector<TCorrelationPeak> found;
+	std::vector<TCorrelationPeak> peaks;
 	countedSearch(
 		[&](TCorrelationEffort& effort)
 		{
-			found = m_farCorrelator.correlatePeaks(
-				f.grid, f.patch, centre, f.halfXY, 0.5 * slice, m_params.far_candidates,
-				kFarPeakShare, kFarPeakShare * best, &effort);
+			peaks = m_farCorrelator.correlatePeaks(f.grid, f.patch, f.newestInMap, f.halfXY,
+												   M_PI, m_params.far_candidates, kFarPeakShare,
+												   0, f.origins, &effort);
 		});
-	f.peaks.insert(f.peaks.end(), found.begin(), found.end());
-	std::stable_sort(f.peaks.begin(), f.peaks.end(),
-					 [](const auto& a, const auto& b) { return a.score > b.score; });
-	if (++f.nextSlice < kFarSlices) return;
-	const auto samePlace = [](const TPose2D& a, const TPose2D& b)
-	{
-		return translationNorm(between(a, b)) <= kFarCheckXY &&
-			   std::abs(mrpt::math::wrapToPi(a.phi - b.phi)) <= kFarCheckTheta;
-	};
-	for (const TCorrelationPeak& peak : f.peaks)
-	{
-		if (f.places.size() >= m_params.far_candidates ||
-			peak.score < kFarPeakShare * f.peaks.front().score)
-			break;
-		if (std::none_of(f.places.begin(), f.places.end(),
-						 [&](const TPose2D& q) { return samePlace(q, peak.patchInMap); }))
-			f.places.push_back(peak.patchInMap);
-	}
+	for (const TCorrelationPeak& peak : peaks) f.places.push_back(peak.patchInMap);
+	f.searched = true;
 	m_stats.farCandidates += f.places.size();
 }
 

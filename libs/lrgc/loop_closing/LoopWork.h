@@ -16,10 +16,14 @@
  *   match      a_m + b_r reference points
  *   close      sum over solves: b_s (nodes + links) + b_i iterations (nodes + links)
  *   job        a_j + b_j new scans (the replica's update)
+ *   far map    b_f old-map points of a far search (CLoopCloser::startFarSearch: every old
+ *              point moved into the map frame and rasterised into the coarse grid)
  * Coefficients: non-negative least squares on the per-job thread CPU time of Intel and MIT
  * Killian (6973 jobs) on the development machine (2 cores, Release): per job the model's
  * total is within 0.5x-1.9x of the measured time for jobs over 20 ms, and the two logs'
- * totals within 0.3 %.
+ * totals within 0.3 %. b_f is not in that fit (no far search ran there): measured on the
+ * hall loop of tests/large_loop_test.cpp, 10 far maps of 79k-189k points took 2.1-4.5 ms of
+ * thread CPU, a_c (counted as the search's correlation) plus 0.8-1.7e-5 ms per point.
  */
 #pragma once
 
@@ -37,6 +41,7 @@ struct TLoopWork
 	double correlationPoseCells = 0;    //!< sum of poses scored x distinct patch cells
 	size_t matches = 0;                 //!< loop link scan matches (step 3)
 	size_t matchRefPoints = 0;          //!< points of the old scans they were built from
+	size_t farMapPoints = 0;            //!< old-map points of the far searches' grids
 	double solveElements = 0;           //!< sum over whole-graph solves of nodes + links
 	double solveIterationElements = 0;  //!< the same, times the solve's iterations
 

@@ -236,6 +236,30 @@ void preparePoseGrid(const CCorrelationGrid& grid, const std::vector<Eigen::Vect
 /** Step 4: rivals found on the best peak's ridge, whose clusters join the best's, at most. */
 constexpr int kMaxRidgeDiscs = 8;
 
+/** The translations (i, j) of the pose grid that put the patch's origin within the region:
+ * |t_c + (i, j) res - q| <= radius for some point q; a pyramid of as many levels as the grid.
+ */
+void restrictOrigins(const TOriginRegion& origins, const TGridSpec& spec, TPoseGridProblem& pb)
+{
+	if (origins.points.empty()) return;
+	const int W = pb.halfCells, n = pb.side();
+	const double r = origins.radius / spec.res;
+	const int R = static_cast<int>(std::floor(r));
+	std::vector<uint8_t> level0(size_t(n) * size_t(n), 0);
+	for (const Eigen::Vector2d& q : origins.points)
+	{
+		const double qi = (q.x() - spec.center.x) / spec.res;
+		const double qj = (q.y() - spec.center.y) / spec.res;
+		const int i0 = static_cast<int>(std::ceil(qi - r)),
+				  j0 = static_cast<int>(std::ceil(qj - r));
+		for (int i = std::max(-W, i0); i <= std::min(W, i0 + 2 * R + 1); ++i)
+			for (int j = std::max(-W, j0); j <= std::min(W, j0 + 2 * R + 1); ++j)
+				if ((i - qi) * (i - qi) + (j - qj) * (j - qj) <= r * r)
+					level0[size_t(i + W) * size_t(n) + size_t(j + W)] = 1;
+	}
+	pb.setAllowed(std::move(level0), pb.grid->numLevels());
+}
+
 /** Step 4's exclusion zone: the best pose's cluster, the headings within cluster_radius_phi_deg
  * and the cells within cluster_radius_m of it [cells^2]. */
 detail::TExclusionDisc bestCluster(const TPatchCorrelatorParams& prm, const TGridSpec& spec,
@@ -465,12 +489,14 @@ std::optional<TCorrelationResult> CPatchCorrelator::run(
 	return res;
 }
 
-// The k best distinct poses: branch and bound again and again, each time with the clusters of
-// the peaks found so far excluded and the floor max(min_score, atLeast, minShareOfBest s_1).
+// The k best distinct poses in one best-first pass (detail::searchPeaks): each the best pose
+// outside the clusters of the peaks before it, the floor max(min_score, atLeast) and, after
+// the first, minShareOfBest s_1.
 std::vector<TCorrelationPeak> CPatchCorrelator::correlatePeaks(
 	const CCorrelationGrid& grid, const std::vector<Eigen::Vector2d>& patchPoints,
 	const mrpt::math::TPose2D& center, double halfWindowXY, double halfWindowTheta, size_t k,
-	double minShareOfBest, double atLeast, TCorrelationEffort* effort) const
+	double minShareOfBest, double atLeast, const TOriginRegion& origins,
+	TCorrelationEffort* effort) const
 {
 	TCorrelationEffort spent;
 	if (!effort) effort = &spent;
@@ -479,23 +505,17 @@ std::vector<TCorrelationPeak> CPatchCorrelator::correlatePeaks(
 	if (!prepareSearch(m_params, m_stop, grid, patchPoints, center, halfWindowXY,
 					   halfWindowTheta, effort, s))
 		return peaks;
-	auto floor = static_cast<int64_t>(
+	restrictOrigins(origins, s.spec, s.pb);
+	const auto floor = static_cast<int64_t>(
 		std::ceil(std::max(m_params.min_score, atLeast) * double(s.full) - 1e-9));
 	detail::TExclusionZone zone;
-	size_t evaluations = 0;
-	while (peaks.size() < k)
-	{
-		const detail::TSearchHit hit = detail::searchBranchAndBound(s.pb, floor, zone);
-		evaluations += hit.evaluations;
-		effort->posesScored = evaluations;
-		if (hit.stopped) return {};
-		if (!hit.found) break;
+	const detail::TSearchPeaks found = detail::searchPeaks(
+		s.pb, floor, minShareOfBest, k, zone,
+		[&](const detail::TSearchHit& hit)
+		{ zone.discs.push_back(bestCluster(m_params, s.spec, s.pb.numAngles, hit)); });
+	effort->posesScored = found.evaluations;
+	for (const detail::TSearchHit& hit : found.peaks)
 		peaks.push_back({s.spec.pose(hit.a, hit.i, hit.j), double(hit.score) / double(s.full)});
-		if (peaks.size() == 1)
-			floor = std::max(floor, static_cast<int64_t>(
-										std::ceil(minShareOfBest * double(hit.score) - 1e-9)));
-		zone.discs.push_back(bestCluster(m_params, s.spec, s.pb.numAngles, hit));
-	}
 	return peaks;
 }
 

@@ -98,6 +98,15 @@ struct TCorrelationEffort
 	std::function<void(const TCorrelationEffort&)> onProgress;
 };
 
+/** Where a search may put the patch's origin (the newest keyframe): within `radius` [m] of
+ * one of `points` [map frame]. The far loop search gives the old keyframes' positions, since a
+ * revisit stands about where the robot stood before. No points: anywhere in the window. */
+struct TOriginRegion
+{
+	std::vector<Eigen::Vector2d> points;
+	double radius = 0;
+};
+
 class CPatchCorrelator
 {
 public:
@@ -141,13 +150,16 @@ public:
 	/** The k best distinct poses of the same pose grid, best first, by branch and bound:
 	 * peak n is the best pose outside the clusters (cluster_radius_m, cluster_radius_phi) of
 	 * peaks 1..n-1, scoring at least min_score, `atLeast` and minShareOfBest times peak 1's
-	 * score. No filter is applied. Empty if no pose reaches the floor, the patch is empty or
-	 * a stop was requested. Costs about one correlate() per peak. */
+	 * score, with the patch's origin in `origins` (empty: anywhere). No filter is applied.
+	 * Empty if no pose reaches the floor, the patch is empty or a stop was requested. One
+	 * best-first pass (detail::searchPeaks): about one correlate() for all k peaks, where
+	 * searching again per peak cost that much per peak (30-60k bounds each on the hall loop).
+	 */
 	std::vector<TCorrelationPeak> correlatePeaks(
 		const CCorrelationGrid& oldMap, const std::vector<Eigen::Vector2d>& patchPoints,
 		const mrpt::math::TPose2D& centerPatchInMap, double halfWindowXY,
 		double halfWindowTheta, size_t k, double minShareOfBest, double atLeast = 0,
-		TCorrelationEffort* effort = nullptr) const;
+		const TOriginRegion& origins = {}, TCorrelationEffort* effort = nullptr) const;
 
 	/** The paper's exhaustive search over the same pose grid; same contract, except that the
 	 * ambiguity is always the exact ratio (inf only if every pose is inside the cluster). */

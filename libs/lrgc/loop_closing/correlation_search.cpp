@@ -16,13 +16,17 @@
  * patch point inside the grid (the rest score 0, below any positive floor), so a window much
  * wider than the old map costs what the map's extent costs. A bound is abandoned early once the
  * partial sum plus 255 per remaining point cannot reach the required value (the node is pruned
- * anyway, and pruned nodes are the majority).
+ * anyway, and pruned nodes are the majority). Translations outside an allowed region (the far
+ * loop search's old path) are pruned block by block from a pyramid of allowed blocks, before
+ * any bound. The k best distinct poses (searchPeaks) take the same nodes best-first from a
+ * priority queue instead of depth first, so that one pass yields them all.
  */
 #include "correlation_search.h"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <queue>
 
 namespace lrgc::detail
 {
@@ -118,6 +122,66 @@ public:
 
 	TSearchHit run()
 	{
+		std::vector<Node> nodes = topNodes();
+		explore(nodes);
+		return hitOf(m_best.a, m_best.i, m_best.j, m_best.score, m_best.index != kNoIndex);
+	}
+
+	/* The k best distinct poses in one pass, best first: nodes are taken from a priority
+	 * queue, highest bound first (smallest index among equal bounds), so leaves come out in
+	 * the exact order of (score desc, index asc); a leaf outside the zone is the next peak
+	 * (the best pose outside the clusters of the peaks before it), and `onPeak` grows the zone
+	 * by its cluster. After peak 1 the floor rises to shareOfBest times its score. Nodes below
+	 * the floor are dropped. */
+	TSearchPeaks runPeaks(size_t k, double shareOfBest, const TOnPeak& onPeak)
+	{
+		const auto lower = [](const Node& x, const Node& y)
+		{ return x.bound != y.bound ? x.bound < y.bound : x.minIndex > y.minIndex; };
+		std::priority_queue<Node, std::vector<Node>, decltype(lower)> queue(lower, topNodes());
+		TSearchPeaks out;
+		std::vector<TSearchHit>& peaks = out.peaks;
+		while (!queue.empty() && peaks.size() < k && !m_done)
+		{
+			const Node n = queue.top();
+			queue.pop();
+			if (n.bound < m_best.score) break;  // the floor: no node left reaches it
+			if (n.h > 0 || n.a0 != n.a1)
+			{
+				Children children;
+				split(n, children);
+				for (const Node& c : children) queue.push(c);
+				continue;
+			}
+			if (m_zone.excludes(n.a0, n.i0, n.j0)) continue;
+			peaks.push_back(hitOf(n.a0, n.i0, n.j0, n.bound, true));
+			onPeak(peaks.back());
+			if (peaks.size() == 1)
+				m_best.score = std::max(
+					m_best.score,
+					static_cast<int64_t>(std::ceil(shareOfBest * double(n.bound) - 1e-9)));
+		}
+		out.evaluations = m_evaluations;
+		out.stopped = m_stopped;
+		if (m_stopped) peaks.clear();
+		return out;
+	}
+
+private:
+	TSearchHit hitOf(int a, int i, int j, int64_t score, bool found) const
+	{
+		TSearchHit hit;
+		hit.found = found;
+		hit.a = a, hit.i = i, hit.j = j;
+		hit.score = score;
+		hit.evaluations = m_evaluations;
+		hit.stopped = m_stopped;
+		return hit;
+	}
+
+	// The top-level nodes: blocks of 2^top translations and 2^top headings (or fewer, see
+	// angleBlock) tiling the translations that put a patch point in the grid, each bounded.
+	std::vector<Node> topNodes()
+	{
 		const int maxLevel = m_pb.grid->numLevels() - 1;
 		// Translation blocks of 2^top cells, heading blocks of 2^top steps; the heading
 		// block's bound reads level top + 1 (see headingBlockBound), hence top < maxLevel.
@@ -139,17 +203,9 @@ public:
 				for (int j0 = r.j0; j0 <= r.j1; j0 += 1 << top)
 					consider(a0, a1, top, i0, j0, nodes);
 		}
-		explore(nodes);
-		TSearchHit hit;
-		hit.found = m_best.index != kNoIndex;
-		hit.a = m_best.a, hit.i = m_best.i, hit.j = m_best.j;
-		hit.score = m_best.score;
-		hit.evaluations = m_evaluations;
-		hit.stopped = m_stopped;
-		return hit;
+		return nodes;
 	}
 
-private:
 	// Headings per node at translation level h: 2^(h - 2), or 1 when the window has few
 	// headings. Measured (tests/large_loop_test.cpp, full circle, +-200 m): one heading per
 	// node 39.7 s for the test, 2^(h-2) 19.9 s, 2^h 29.3 s; on the narrow windows of
@@ -191,7 +247,7 @@ private:
 	{
 		const int W = m_pb.halfCells;
 		const int i1 = std::min(W, i0 + (1 << h) - 1), j1 = std::min(W, j0 + (1 << h) - 1);
-		if (blockExcluded(a0, a1, i0, i1, j0, j1)) return;
+		if (!m_pb.blockAllowed(h, i0, j0) || blockExcluded(a0, a1, i0, i1, j0, j1)) return;
 		const int64_t idx = m_pb.linearIndex(a0, i0, j0);  // the block's smallest index
 		if (m_best.required(idx) > int64_t(255) * m_pb.numPoints) return;
 		if (++m_evaluations % TPoseGridProblem::kProgressEvaluations == 0)
@@ -232,26 +288,32 @@ private:
 				m_done = m_firstHit;
 				continue;
 			}
-			// Halve the heading range and the translation block (whichever is not single).
-			const int W = m_pb.halfCells;
-			const int h = n.h > 0 ? n.h - 1 : 0;
-			const int half = n.h > 0 ? 1 << h : 1;
-			const int span = n.a1 - n.a0 + 1;
-			const bool splitA = span > 1 && (n.h == 0 || span > angleBlock(h));
-			const int aSplit = splitA ? n.a0 + span / 2 : n.a1 + 1;
 			Children children;
-			for (int part = 0; part < 2; ++part)
-			{
-				const int ca0 = part == 0 ? n.a0 : aSplit, ca1 = part == 0 ? aSplit - 1 : n.a1;
-				if (ca0 > ca1) continue;
-				for (int di = 0; di < (n.h > 0 ? 2 : 1); ++di)
-					for (int dj = 0; dj < (n.h > 0 ? 2 : 1); ++dj)
-					{
-						const int ci = n.i0 + di * half, cj = n.j0 + dj * half;
-						if (ci <= W && cj <= W) consider(ca0, ca1, h, ci, cj, children);
-					}
-			}
+			split(n, children);
 			explore(children);
+		}
+	}
+
+	// The children of a node, each bounded (those that can be pruned already left out):
+	// the heading range and the translation block halved, whichever is not single.
+	void split(const Node& n, Children& children)
+	{
+		const int W = m_pb.halfCells;
+		const int h = n.h > 0 ? n.h - 1 : 0;
+		const int half = n.h > 0 ? 1 << h : 1;
+		const int span = n.a1 - n.a0 + 1;
+		const bool splitA = span > 1 && (n.h == 0 || span > angleBlock(h));
+		const int aSplit = splitA ? n.a0 + span / 2 : n.a1 + 1;
+		for (int part = 0; part < 2; ++part)
+		{
+			const int ca0 = part == 0 ? n.a0 : aSplit, ca1 = part == 0 ? aSplit - 1 : n.a1;
+			if (ca0 > ca1) continue;
+			for (int di = 0; di < (n.h > 0 ? 2 : 1); ++di)
+				for (int dj = 0; dj < (n.h > 0 ? 2 : 1); ++dj)
+				{
+					const int ci = n.i0 + di * half, cj = n.j0 + dj * half;
+					if (ci <= W && cj <= W) consider(ca0, ca1, h, ci, cj, children);
+				}
 		}
 	}
 
@@ -305,6 +367,30 @@ void TPoseGridProblem::prepare()
 		linear[k] = int64_t(baseCells[2 * k + 1]) * stride + baseCells[2 * k];
 }
 
+// Level h from h - 1 (s = 2^(h-1)): a block of 2^h is allowed when one of its four blocks of
+// 2^(h-1) at (i, j), (i + s, j), (i, j + s), (i + s, j + s) is (beyond the side: none).
+void TPoseGridProblem::setAllowed(std::vector<uint8_t> level0, int levels)
+{
+	const size_t n = size_t(side());
+	allowed.assign(1, std::move(level0));
+	for (int h = 1; h < levels; ++h)
+	{
+		const std::vector<uint8_t>& prev = allowed.back();
+		std::vector<uint8_t> next(prev);
+		const size_t s = size_t(1) << (h - 1);
+		for (size_t r = 0; r < n; ++r)
+			for (size_t c = 0; c < n; ++c)
+			{
+				uint8_t v = prev[r * n + c];
+				if (c + s < n) v |= prev[r * n + c + s];
+				if (r + s < n) v |= prev[(r + s) * n + c];
+				if (r + s < n && c + s < n) v |= prev[(r + s) * n + c + s];
+				next[r * n + c] = v;
+			}
+		allowed.push_back(std::move(next));
+	}
+}
+
 int64_t scoreAt(const TPoseGridProblem& pb, int level, int a, int i, int j)
 {
 	return boundedSum(pb, level, a, i, j, std::numeric_limits<int64_t>::min());
@@ -328,7 +414,7 @@ TSearchHit searchExhaustive(const TPoseGridProblem& pb, int64_t floorScore,
 		for (int i = -W; i <= W; ++i)
 			for (int j = -W; j <= W; ++j)
 			{
-				if (zone.excludes(a, i, j)) continue;
+				if (!pb.blockAllowed(0, i, j) || zone.excludes(a, i, j)) continue;
 				++evaluations;
 				const int64_t s = scoreAt(pb, 0, a, i, j);
 				const int64_t idx = pb.linearIndex(a, i, j);
@@ -346,6 +432,12 @@ TSearchHit searchBranchAndBound(const TPoseGridProblem& pb, int64_t floorScore,
 								const TExclusionZone& zone, bool firstHit)
 {
 	return BranchAndBound(pb, floorScore, zone, firstHit).run();
+}
+
+TSearchPeaks searchPeaks(const TPoseGridProblem& pb, int64_t floorScore, double shareOfBest,
+						 size_t k, const TExclusionZone& zone, const TOnPeak& onPeak)
+{
+	return BranchAndBound(pb, floorScore, zone, false).runPeaks(k, shareOfBest, onPeak);
 }
 
 }  // namespace lrgc::detail

@@ -35,6 +35,18 @@ struct TPoseGridProblem
 	std::vector<int32_t> bbox;
 	std::vector<int64_t> linear;
 	void prepare();
+	/** Translations the search may take, as a pyramid over the side() x side() translations
+	 * (row (i + W), column (j + W)): allowed[h] is non-zero where some translation of the
+	 * block [i, i + 2^h) x [j, j + 2^h) is allowed (setAllowed). Empty: every translation. */
+	std::vector<std::vector<uint8_t>> allowed;
+	/** Sets `allowed` from level 0 (side() x side(), non-zero: allowed), up to `levels`
+	 * levels. */
+	void setAllowed(std::vector<uint8_t> level0, int levels);
+	bool blockAllowed(int h, int i0, int j0) const
+	{
+		return allowed.empty() || allowed[size_t(h)][size_t(i0 + halfCells) * size_t(side()) +
+													 size_t(j0 + halfCells)] != 0;
+	}
 	/** If set, the branch and bound calls it after every kProgressEvaluations evaluations
 	 * (progress for the loop-closing worker's schedule). */
 	std::function<void()> onEvaluations;
@@ -115,5 +127,21 @@ TSearchHit searchExhaustive(const TPoseGridProblem& pb, int64_t floorScore,
  * ambiguity filter's rival, where only whether one exists decides. */
 TSearchHit searchBranchAndBound(const TPoseGridProblem& pb, int64_t floorScore,
 								const TExclusionZone& zone, bool firstHit = false);
+
+/** Called with each peak searchPeaks() finds; it adds the peak's cluster to the zone. */
+using TOnPeak = std::function<void(const TSearchHit&)>;
+struct TSearchPeaks
+{
+	std::vector<TSearchHit> peaks;  //!< best first; empty when stopped
+	size_t evaluations = 0;         //!< scores + bounds computed by the whole pass
+	bool stopped = false;           //!< ended by a stop request: no peaks
+};
+/** The k best distinct poses, best first, in one best-first pass over the same nodes: peak n
+ * is the best pose scoring at least `floorScore` outside `zone`, which onPeak grows by the
+ * cluster of each peak found (so `zone` is the caller's, alive and growing); after peak 1 the
+ * floor rises to shareOfBest times its score. Exact: the same peaks as the exhaustive search
+ * run again and again with the clusters excluded. */
+TSearchPeaks searchPeaks(const TPoseGridProblem& pb, int64_t floorScore, double shareOfBest,
+						 size_t k, const TExclusionZone& zone, const TOnPeak& onPeak);
 
 }  // namespace lrgc::detail
