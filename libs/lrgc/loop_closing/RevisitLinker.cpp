@@ -1,6 +1,8 @@
 #include <lrgc/loop_closing/RevisitLinker.h>
 
 #include <lrgc/scan_matching/ReferenceCloud.h>
+#include <lrgc/common/HelperThread.h>
+#include <lrgc/common/SharedLoop.h>
 #include <lrgc/common/params_io.h>
 #include <lrgc/common/se2.h>
 
@@ -9,6 +11,8 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <functional>
+#include <memory>
 #include <optional>
 #include <unordered_map>
 #include <unordered_set>
@@ -109,9 +113,8 @@ std::vector<std::pair<size_t, double>> CRevisitLinker::oldNear(const TSweep& sw,
  * radius_m and max_phi, alone; else (any_heading) the nearest within radius_m at any heading,
  * with every old keyframe within 3 radius_m placed around it, cropped to where k's points
  * fall at the guess (as the loop closer's step 3). */
-std::optional<CRevisitLinker::TCandidate> CRevisitLinker::candidate(const TSweep& sw,
-																	const TKeyframes& keyframes,
-																	size_t k) const
+std::optional<CRevisitLinker::TCandidate> CRevisitLinker::candidate(
+	const TSweep& sw, const TKeyframes& keyframes, size_t k, const TParallelFor& parallel) const
 {
 	const TPose2D pk = sw.graph.pose(k);
 	const auto near = oldNear(sw, k, m_params.radius_m);
@@ -144,25 +147,27 @@ std::optional<CRevisitLinker::TCandidate> CRevisitLinker::candidate(const TSweep
 	for (const auto& p : keyframes[k].scan.points) kInOld.push_back(toOld(p));
 	const double margin =
 		m_matcherParams.max_correspondence_dist_m + 4 * m_matcherParams.normal_radius_m + 0.2;
-	c.reference = CReferenceCloud::fromScansNear(scans, inOld, m_matcherParams, kInOld, margin);
+	c.reference =
+		CReferenceCloud::fromScansNear(scans, inOld, m_matcherParams, kInOld, margin, parallel);
 	return c;
 }
 
-/* The second, independent match (see the header): k's patch against the old keyframes
- * within 3 radius_m of k, both as placed by the map, from the same guess as k's match. */
-bool CRevisitLinker::patchAgrees(const TSweep& sw, const TKeyframes& keyframes, size_t k,
-								 const TCandidate& c, const TScanMatch& m) const
+/* The second, independent match (see the header), its input: k's patch and the old keyframes
+ * within 3 radius_m of k, both as placed by the map. */
+CRevisitLinker::TPatch CRevisitLinker::patchOf(const TSweep& sw, const TKeyframes& keyframes,
+											   size_t k, const TCandidate& c,
+											   const TParallelFor& parallel) const
 {
 	const size_t a = m_params.patch_check_keyframes;
-	if (a == 0) return true;
 	const TPose2D pk = sw.graph.pose(k);
-	TScan2D patch = keyframes[k].scan;
-	patch.points.clear();
+	TPatch out;
+	out.patch = keyframes[k].scan;
+	out.patch.points.clear();
 	for (size_t q = k > a ? k - a : 0; q <= k + a && q < sw.graph.numNodes(); ++q)
 	{
 		if ((q < m_split) != (k < m_split)) continue;
 		const CPointTransform toK(between(pk, sw.graph.pose(q)));
-		for (const auto& p : keyframes[q].scan.points) patch.points.push_back(toK(p));
+		for (const auto& p : keyframes[q].scan.points) out.patch.points.push_back(toK(p));
 	}
 	std::vector<TScan2D> scans;
 	std::vector<TPose2D> inOld;
@@ -173,44 +178,83 @@ bool CRevisitLinker::patchAgrees(const TSweep& sw, const TKeyframes& keyframes, 
 	}
 	std::vector<Eigen::Vector2d> patchInOld;
 	const CPointTransform toOld(c.guess);
-	for (const auto& p : patch.points) patchInOld.push_back(toOld(p));
+	for (const auto& p : out.patch.points) patchInOld.push_back(toOld(p));
 	const double margin =
 		m_matcherParams.max_correspondence_dist_m + 4 * m_matcherParams.normal_radius_m + 0.2;
-	const auto region =
-		CReferenceCloud::fromScansNear(scans, inOld, m_matcherParams, patchInOld, margin);
-	const auto mp = m_patchMatcher.match(region, patch, c.guess);
+	out.region = CReferenceCloud::fromScansNear(scans, inOld, m_matcherParams, patchInOld,
+												margin, parallel);
+	return out;
+}
+
+/* The patch matched from the same guess as k's scan must land where the scan did: chi2 <=
+ * gate_chi2 under both covariances and twice the link noise floor. */
+bool CRevisitLinker::patchAgrees(const TPatch& p, const TCandidate& c,
+								 const TScanMatch& m) const
+{
+	const auto mp = m_patchMatcher.match(p.region, p.patch, c.guess);
 	if (!mp) return false;
 	const Eigen::Matrix3d C = m.cov + mp->cov + 2 * m_linkNoise.floorCovariance();
 	return disagreementChi2(m.scanInRef, mp->scanInRef, C) <= m_params.gate_chi2;
 }
 
-/* The match is the best local optimum within the prior: the scan is matched again from
- * starts 1 and 2 prior stds off the guess along x, along y and (2 stds) in heading; an
- * alternative that converges, agrees with the guess as the match must, lies apart from
- * the match (CScanMatcher::distinctHypotheses, and chi2 > gate_chi2 under both covariances
- * and the link noise floor) and explains at least as much of the scan
- * (CScanMatcher::explainedFraction) makes the place ambiguous for this scan. */
-bool CRevisitLinker::unambiguous(const TScan2D& scan, const TCandidate& c, const TScanMatch& m,
-								 const Eigen::Matrix3d& prior) const
+namespace
 {
-	if (!m_params.ambiguity_check) return true;
-	const double sxy = m_params.prior_std_xy_m, sphi = m_params.prior_std_phi;
-	const double explained = m_matcher.explainedFraction(c.reference, scan, m.scanInRef);
-	for (const TPose2D& d :
-		 {TPose2D(sxy, 0, 0), TPose2D(-sxy, 0, 0), TPose2D(0, sxy, 0), TPose2D(0, -sxy, 0),
-		  TPose2D(2 * sxy, 0, 0), TPose2D(-2 * sxy, 0, 0), TPose2D(0, 2 * sxy, 0),
-		  TPose2D(0, -2 * sxy, 0), TPose2D(0, 0, 2 * sphi), TPose2D(0, 0, -2 * sphi)})
+/** The ambiguity check's starts, as offsets from the guess (guess's frame): 1 and 2 prior
+ * stds along x and along y, 2 in heading. */
+std::vector<TPose2D> restartOffsets(double sxy, double sphi)
+{
+	return {TPose2D(sxy, 0, 0),      TPose2D(-sxy, 0, 0),     TPose2D(0, sxy, 0),
+			TPose2D(0, -sxy, 0),     TPose2D(2 * sxy, 0, 0),  TPose2D(-2 * sxy, 0, 0),
+			TPose2D(0, 2 * sxy, 0),  TPose2D(0, -2 * sxy, 0), TPose2D(0, 0, 2 * sphi),
+			TPose2D(0, 0, -2 * sphi)};
+}
+}  // namespace
+
+/* One start of the ambiguity check: the scan matched again from guess (+) offset. A rival
+ * converges, agrees with the guess as the match must, lies apart from the match
+ * (CScanMatcher::distinctHypotheses, and chi2 > gate_chi2 under both covariances and the
+ * link noise floor) and explains at least `explained` of the scan
+ * (CScanMatcher::explainedFraction): the place is then ambiguous for this scan. */
+bool CRevisitLinker::rivalFrom(const TScan2D& scan, const TCandidate& c, const TScanMatch& m,
+							   const Eigen::Matrix3d& prior, double explained,
+							   const TPose2D& offset) const
+{
+	const auto a = m_matcher.match(c.reference, scan, compose(c.guess, offset));
+	if (!a || !CScanMatcher::distinctHypotheses(m.scanInRef, a->scanInRef) ||
+		disagreementChi2(c.guess, a->scanInRef, prior + a->cov) > m_params.gate_chi2)
+		return false;
+	const Eigen::Matrix3d C = m.cov + a->cov + 2 * m_linkNoise.floorCovariance();
+	return disagreementChi2(m.scanInRef, a->scanInRef, C) > m_params.gate_chi2 &&
+		   m_matcher.explainedFraction(c.reference, scan, a->scanInRef) >= explained;
+}
+
+/* The second opinion on a match that passed the gates (see the header): k's patch agrees
+ * (patch_check_keyframes > 0) and no start of the ambiguity check (ambiguity_check) finds a
+ * rival. The patch match and the starts are independent matches, run as one loop on the
+ * sweep's two threads; the answer does not depend on which thread ran what. */
+bool CRevisitLinker::passesChecks(const TSweep& sw, const TKeyframes& keyframes, size_t k,
+								  const TCandidate& c, const TScanMatch& m,
+								  const Eigen::Matrix3d& prior,
+								  const TParallelFor& parallel) const
+{
+	std::optional<TPatch> patch;
+	if (m_params.patch_check_keyframes > 0) patch = patchOf(sw, keyframes, k, c, parallel);
+	const TScan2D& scan = keyframes[k].scan;
+	std::vector<TPose2D> starts;
+	double explained = 0;
+	if (m_params.ambiguity_check)
 	{
-		const auto a = m_matcher.match(c.reference, scan, compose(c.guess, d));
-		if (!a || !CScanMatcher::distinctHypotheses(m.scanInRef, a->scanInRef) ||
-			disagreementChi2(c.guess, a->scanInRef, prior + a->cov) > m_params.gate_chi2)
-			continue;
-		const Eigen::Matrix3d C = m.cov + a->cov + 2 * m_linkNoise.floorCovariance();
-		if (disagreementChi2(m.scanInRef, a->scanInRef, C) > m_params.gate_chi2 &&
-			m_matcher.explainedFraction(c.reference, scan, a->scanInRef) >= explained)
-			return false;
+		starts = restartOffsets(m_params.prior_std_xy_m, m_params.prior_std_phi);
+		explained = m_matcher.explainedFraction(c.reference, scan, m.scanInRef);
 	}
-	return true;
+	std::vector<char> refuses(starts.size() + 1, 0);
+	parallel(refuses.size(),
+			 [&](size_t i)
+			 {
+				 refuses[i] = i == 0 ? (patch && !patchAgrees(*patch, c, m))
+									 : rivalFrom(scan, c, m, prior, explained, starts[i - 1]);
+			 });
+	return std::none_of(refuses.begin(), refuses.end(), [](char r) { return r != 0; });
 }
 
 size_t CRevisitLinker::linkRevisits(CPoseGraph& graph, const TKeyframes& keyframes) const
@@ -223,6 +267,16 @@ size_t CRevisitLinker::linkRevisits(CPoseGraph& graph, const TKeyframes& keyfram
 						m_params.prior_std_xy_m * m_params.prior_std_xy_m,
 						m_params.prior_std_phi * m_params.prior_std_phi)
 			.asDiagonal();
+	// A second thread shares the clouds' line fits and the checks' matches (CSharedLoop:
+	// the same links on any number of threads).
+	CHelperThread helper;
+	const TParallelFor parallel = [&helper](size_t count, const std::function<void(size_t)>& fn)
+	{
+		auto loop = std::make_shared<CSharedLoop>(count, fn);
+		if (count > 1) helper.post([loop] { loop->work(); });
+		loop->work();
+		loop->wait();
+	};
 	size_t added = 0;
 	// Keyframes stride - 1, 2 stride - 1, ... (counted from node 0, not from the gap: which
 	// keyframes are tried does not depend on min_index_gap).
@@ -230,13 +284,12 @@ size_t CRevisitLinker::linkRevisits(CPoseGraph& graph, const TKeyframes& keyfram
 	for (size_t k = (m_params.min_index_gap + 1 + s) / s * s - 1;
 		 k < n && !m_stop.stopRequested(); k += s)
 	{
-		const auto c = candidate(sw, keyframes, k);
+		const auto c = candidate(sw, keyframes, k, parallel);
 		if (!c || sw.linkedNear(k, c->old)) continue;
 		const auto m = m_matcher.match(c->reference, keyframes[k].scan, c->guess);
 		if (!m || m->inlierFraction < m_params.min_inlier_fraction) continue;
 		if (disagreementChi2(c->guess, m->scanInRef, prior + m->cov) > m_params.gate_chi2 ||
-			!patchAgrees(sw, keyframes, k, *c, *m) ||
-			!unambiguous(keyframes[k].scan, *c, *m, prior))
+			!passesChecks(sw, keyframes, k, *c, *m, prior, parallel))
 			continue;
 		graph.addLink({c->old, k, m->scanInRef, linkInformation(m->cov, m_linkNoise),
 					   LinkType::LoopClosure});

@@ -59,12 +59,24 @@ private:
 	};
 	std::vector<std::pair<size_t, double>> oldNear(const TSweep& sw, size_t k,
 												   double reach) const;
-	std::optional<TCandidate> candidate(const TSweep& sw, const TKeyframes& keyframes,
-										size_t k) const;
-	bool patchAgrees(const TSweep& sw, const TKeyframes& keyframes, size_t k,
-					 const TCandidate& c, const TScanMatch& m) const;
-	bool unambiguous(const TScan2D& scan, const TCandidate& c, const TScanMatch& m,
-					 const Eigen::Matrix3d& prior) const;
+	std::optional<TCandidate> candidate(const TSweep& sw, const TKeyframes& keyframes, size_t k,
+										const TParallelFor& parallel) const;
+	/** k's patch (keyframes k +- patch_check_keyframes in k's frame) and the old map's region
+	 * (old's frame) where it falls at the guess. */
+	struct TPatch
+	{
+		TScan2D patch;
+		CReferenceCloud region;
+	};
+	TPatch patchOf(const TSweep& sw, const TKeyframes& keyframes, size_t k, const TCandidate& c,
+				   const TParallelFor& parallel) const;
+	bool patchAgrees(const TPatch& p, const TCandidate& c, const TScanMatch& m) const;
+	bool rivalFrom(const TScan2D& scan, const TCandidate& c, const TScanMatch& m,
+				   const Eigen::Matrix3d& prior, double explained,
+				   const mrpt::math::TPose2D& offset) const;
+	bool passesChecks(const TSweep& sw, const TKeyframes& keyframes, size_t k,
+					  const TCandidate& c, const TScanMatch& m, const Eigen::Matrix3d& prior,
+					  const TParallelFor& parallel) const;
 
 	TRevisitLinkerParams m_params;
 	TScanMatcherParams m_matcherParams;

@@ -139,7 +139,8 @@ CReferenceCloud CReferenceCloud::fromScans(const std::vector<TScan2D>& scans,
 
 CReferenceCloud CReferenceCloud::fromScansNear(
 	const std::vector<TScan2D>& scans, const std::vector<mrpt::math::TPose2D>& scansInRef,
-	const TScanMatcherParams& p, const std::vector<Eigen::Vector2d>& nearInRef, double margin)
+	const TScanMatcherParams& p, const std::vector<Eigen::Vector2d>& nearInRef, double margin,
+	const TParallelFor& parallel)
 {
 	if (!(margin > 0))
 		THROW_EXCEPTION_FMT("CReferenceCloud::fromScansNear: margin %g m must be > 0", margin);
@@ -157,13 +158,15 @@ CReferenceCloud CReferenceCloud::fromScansNear(
 	}
 	std::sort(marked.begin(), marked.end());
 	marked.erase(std::unique(marked.begin(), marked.end()), marked.end());
-	return fromScansWhere(scans, scansInRef, p,
-						  [&](const Eigen::Vector2d& r)
-						  {
-							  return std::binary_search(marked.begin(), marked.end(),
-														std::pair{cellIndex(r.x(), margin),
-																  cellIndex(r.y(), margin)});
-						  });
+	return fromScansWhere(
+		scans, scansInRef, p,
+		[&](const Eigen::Vector2d& r)
+		{
+			return std::binary_search(
+				marked.begin(), marked.end(),
+				std::pair{cellIndex(r.x(), margin), cellIndex(r.y(), margin)});
+		},
+		parallel);
 }
 
 void CReferenceCloud::buildGrid(double cell, bool radiusOnly)

@@ -84,7 +84,7 @@ public:
 										 const std::vector<mrpt::math::TPose2D>& scansInRef,
 										 const TScanMatcherParams& p,
 										 const std::vector<Eigen::Vector2d>& nearInRef,
-										 double margin);
+										 double margin, const TParallelFor& parallel = {});
 
 	bool empty() const { return m_anchors.empty(); }
 	size_t size() const { return m_anchors.size(); }
