@@ -181,8 +181,9 @@ CRevisitLinker::TPatch CRevisitLinker::patchOf(const TSweep& sw, const TKeyframe
 	for (const auto& p : out.patch.points) patchInOld.push_back(toOld(p));
 	const double margin =
 		m_matcherParams.max_correspondence_dist_m + 4 * m_matcherParams.normal_radius_m + 0.2;
+	// The patch matcher's free-space check is off (a patch is not one scan's rays): no views.
 	out.region = CReferenceCloud::fromScansNear(scans, inOld, m_matcherParams, patchInOld,
-												margin, parallel);
+												margin, parallel, false);
 	return out;
 }
 

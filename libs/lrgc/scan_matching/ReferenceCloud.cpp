@@ -109,7 +109,7 @@ double CReferenceCloud::freeSpaceViolation(const TScan2D& scan,
 CReferenceCloud CReferenceCloud::fromScansWhere(
 	const std::vector<TScan2D>& scans, const std::vector<mrpt::math::TPose2D>& scansInRef,
 	const TScanMatcherParams& p, const std::function<bool(const Eigen::Vector2d&)>& keep,
-	const TParallelFor& parallel)
+	const TParallelFor& parallel, bool withViews)
 {
 	if (scans.size() != scansInRef.size())
 		THROW_EXCEPTION_FMT("CReferenceCloud::fromScans: %zu scans but %zu poses", scans.size(),
@@ -125,7 +125,8 @@ CReferenceCloud CReferenceCloud::fromScansWhere(
 			if (const Eigen::Vector2d r = toRef(q); !keep || keep(r)) pts.push_back(r);
 	}
 	CReferenceCloud c(std::move(pts), p, parallel);
-	for (size_t k = 0; k < scans.size(); ++k) c.m_views.add(scans[k], scansInRef[k]);
+	if (withViews)
+		for (size_t k = 0; k < scans.size(); ++k) c.m_views.add(scans[k], scansInRef[k]);
 	return c;
 }
 
@@ -140,7 +141,7 @@ CReferenceCloud CReferenceCloud::fromScans(const std::vector<TScan2D>& scans,
 CReferenceCloud CReferenceCloud::fromScansNear(
 	const std::vector<TScan2D>& scans, const std::vector<mrpt::math::TPose2D>& scansInRef,
 	const TScanMatcherParams& p, const std::vector<Eigen::Vector2d>& nearInRef, double margin,
-	const TParallelFor& parallel)
+	const TParallelFor& parallel, bool withViews)
 {
 	if (!(margin > 0))
 		THROW_EXCEPTION_FMT("CReferenceCloud::fromScansNear: margin %g m must be > 0", margin);
@@ -166,7 +167,7 @@ CReferenceCloud CReferenceCloud::fromScansNear(
 				marked.begin(), marked.end(),
 				std::pair{cellIndex(r.x(), margin), cellIndex(r.y(), margin)});
 		},
-		parallel);
+		parallel, withViews);
 }
 
 void CReferenceCloud::buildGrid(double cell, bool radiusOnly)

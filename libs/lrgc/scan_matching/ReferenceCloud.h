@@ -79,12 +79,14 @@ public:
 	 * For matching a scan known to lie at nearInRef to within a few cm: with margin >=
 	 * maxCorrespondenceDist + 4 normalRadius (the widest line fit) every anchor the match can
 	 * reach gets the same line fit as without the crop. The views (free-space check) are
-	 * kept whole. */
+	 * kept whole; withViews false builds none (for a matcher whose free-space check is off:
+	 * max_free_space_violation 1, a scan's range image per view saved). */
 	static CReferenceCloud fromScansNear(const std::vector<TScan2D>& scans,
 										 const std::vector<mrpt::math::TPose2D>& scansInRef,
 										 const TScanMatcherParams& p,
 										 const std::vector<Eigen::Vector2d>& nearInRef,
-										 double margin, const TParallelFor& parallel = {});
+										 double margin, const TParallelFor& parallel = {},
+										 bool withViews = true);
 
 	bool empty() const { return m_anchors.empty(); }
 	size_t size() const { return m_anchors.size(); }
@@ -177,7 +179,7 @@ private:
 	static CReferenceCloud fromScansWhere(
 		const std::vector<TScan2D>& scans, const std::vector<mrpt::math::TPose2D>& scansInRef,
 		const TScanMatcherParams& p, const std::function<bool(const Eigen::Vector2d&)>& keep,
-		const TParallelFor& parallel = {});
+		const TParallelFor& parallel = {}, bool withViews = true);
 	std::vector<double> m_count;  // raw points per reduced point
 	// What forEachFitTerm needs of each LINE anchor's fit: its neighbourhood (the reduced
 	// points before they were moved onto their lines, indexed by m_rawGrid, within radius [m]

@@ -221,12 +221,16 @@ std::optional<TScanMatch> CScanMatcher::matchPoints(const CReferenceCloud& ref,
 		m.inlierFraction < P.min_inlier_fraction || m.rmsResidual > rmsGate(scanNoiseStd) ||
 		info.unobservable > 1)
 		return std::nullopt;
-	// Free-space consistency: aligned scan points must not sit where the reference saw through.
-	TScan2D asScan;
-	asScan.points = pts;
-	m.freeSpaceViolation =
-		ref.freeSpaceViolation(asScan, m.scanInRef, std::max(0.1, 4 * scale));
-	if (m.freeSpaceViolation > P.max_free_space_violation) return std::nullopt;
+	// Free-space consistency: aligned scan points must not sit where the reference saw through
+	// (a violation is a share, never above 1: at max_free_space_violation 1 the check is off).
+	if (P.max_free_space_violation < 1)
+	{
+		TScan2D asScan;
+		asScan.points = pts;
+		m.freeSpaceViolation =
+			ref.freeSpaceViolation(asScan, m.scanInRef, std::max(0.1, 4 * scale));
+		if (m.freeSpaceViolation > P.max_free_space_violation) return std::nullopt;
+	}
 	// Residuals of anchors closer than this share reference noise (the line fit neighbourhood
 	// is up to 4 normal_radius_m wide where sparse).
 	const double cluster = std::max(0.5, 2 * P.normal_radius_m);

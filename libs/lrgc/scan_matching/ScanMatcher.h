@@ -43,7 +43,8 @@ struct TScanMatch
 	Eigen::Matrix3d cov = Eigen::Matrix3d::Identity();
 	double inlierFraction = 0;  //!< inlier points / scan points
 	/** Free-space inconsistency (CReferenceCloud::freeSpaceViolation): the share of points
-	 * of either side lying where the other side's beams passed. A wrong alignment has many. */
+	 * of either side lying where the other side's beams passed. A wrong alignment has many.
+	 * 0 (not computed) where max_free_space_violation is 1 (the check off). */
 	double freeSpaceViolation = 0;
 	double rmsResidual = 0;  //!< [m] RMS of inlier residuals
 	double residualStd = 0;  //!< [m] robust residual scale s at convergence
