@@ -157,6 +157,18 @@ double CScanMatcher::rmsGate(double scanNoiseStd) const
 	return std::max(m_params.max_rms_residual_m, 3 * scanNoiseStd);
 }
 
+namespace
+{
+/** CReferenceCloud::freeSpaceViolation of the scan points pts placed at scanInRef. */
+double violationOf(const CReferenceCloud& ref, const std::vector<Eigen::Vector2d>& pts,
+				   const mrpt::math::TPose2D& scanInRef, double margin)
+{
+	TScan2D asScan;
+	asScan.points = pts;
+	return ref.freeSpaceViolation(asScan, scanInRef, margin);
+}
+}  // namespace
+
 std::optional<TScanMatch> CScanMatcher::matchPoints(const CReferenceCloud& ref,
 													const std::vector<Eigen::Vector2d>& pts,
 													const mrpt::math::TPose2D& guess,
@@ -225,10 +237,7 @@ std::optional<TScanMatch> CScanMatcher::matchPoints(const CReferenceCloud& ref,
 	// (a violation is a share, never above 1: at max_free_space_violation 1 the check is off).
 	if (P.max_free_space_violation < 1)
 	{
-		TScan2D asScan;
-		asScan.points = pts;
-		m.freeSpaceViolation =
-			ref.freeSpaceViolation(asScan, m.scanInRef, std::max(0.1, 4 * scale));
+		m.freeSpaceViolation = violationOf(ref, pts, m.scanInRef, std::max(0.1, 4 * scale));
 		if (m.freeSpaceViolation > P.max_free_space_violation) return std::nullopt;
 	}
 	// Residuals of anchors closer than this share reference noise (the line fit neighbourhood
