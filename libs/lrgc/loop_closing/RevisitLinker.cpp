@@ -109,10 +109,10 @@ std::vector<std::pair<size_t, double>> CRevisitLinker::oldNear(const TSweep& sw,
 	return out;
 }
 
-/* k's candidate and the reference to match it against: the nearest old keyframe within
- * radius_m and max_phi, alone; else (any_heading) the nearest within radius_m at any heading,
- * with every old keyframe within 3 radius_m placed around it, cropped to where k's points
- * fall at the guess (as the loop closer's step 3). */
+/* k's candidate, unless k and it are already linked near, and the reference to match it
+ * against: the nearest old keyframe within radius_m and max_phi, alone; else (any_heading) the
+ * nearest within radius_m at any heading, with every old keyframe within 3 radius_m placed
+ * around it, cropped to where k's points fall at the guess (as the loop closer's step 3). */
 std::optional<CRevisitLinker::TCandidate> CRevisitLinker::candidate(
 	const TSweep& sw, const TKeyframes& keyframes, size_t k, const TParallelFor& parallel) const
 {
@@ -129,6 +129,7 @@ std::optional<CRevisitLinker::TCandidate> CRevisitLinker::candidate(
 	if (!same && (!m_params.any_heading || !any)) return std::nullopt;
 	TCandidate c;
 	c.old = same ? same->first : any->first;
+	if (sw.linkedNear(k, c.old)) return std::nullopt;  // before its reference is built
 	c.guess = between(sw.graph.pose(c.old), pk);
 	if (same)
 	{
@@ -286,7 +287,7 @@ size_t CRevisitLinker::linkRevisits(CPoseGraph& graph, const TKeyframes& keyfram
 		 k < n && !m_stop.stopRequested(); k += s)
 	{
 		const auto c = candidate(sw, keyframes, k, parallel);
-		if (!c || sw.linkedNear(k, c->old)) continue;
+		if (!c) continue;
 		const auto m = m_matcher.match(c->reference, keyframes[k].scan, c->guess);
 		if (!m || m->inlierFraction < m_params.min_inlier_fraction) continue;
 		if (disagreementChi2(c->guess, m->scanInRef, prior + m->cov) > m_params.gate_chi2 ||
