@@ -154,9 +154,10 @@ std::optional<CRevisitLinker::TCandidate> CRevisitLinker::candidate(
 }
 
 /* The second, independent match (see the header), its input: k's patch and the old keyframes
- * within 3 radius_m of k, both as placed by the map. */
+ * within 3 radius_m of k, both as placed by the map, cropped to where the patch falls at
+ * `at` (old <- k). */
 CRevisitLinker::TPatch CRevisitLinker::patchOf(const TSweep& sw, const TKeyframes& keyframes,
-											   size_t k, const TCandidate& c,
+											   size_t k, const TCandidate& c, const TPose2D& at,
 											   const TParallelFor& parallel) const
 {
 	const size_t a = m_params.patch_check_keyframes;
@@ -178,7 +179,7 @@ CRevisitLinker::TPatch CRevisitLinker::patchOf(const TSweep& sw, const TKeyframe
 		inOld.push_back(between(sw.graph.pose(c.old), sw.graph.pose(j)));
 	}
 	std::vector<Eigen::Vector2d> patchInOld;
-	const CPointTransform toOld(c.guess);
+	const CPointTransform toOld(at);
 	for (const auto& p : out.patch.points) patchInOld.push_back(toOld(p));
 	const double margin =
 		m_matcherParams.max_correspondence_dist_m + 4 * m_matcherParams.normal_radius_m + 0.2;
@@ -188,12 +189,14 @@ CRevisitLinker::TPatch CRevisitLinker::patchOf(const TSweep& sw, const TKeyframe
 	return out;
 }
 
-/* The patch matched from the same guess as k's scan must land where the scan did: chi2 <=
- * gate_chi2 under both covariances and twice the link noise floor. */
+/* The patch, started where k's scan matched, must stay there: chi2 <= gate_chi2 under both
+ * covariances and twice the link noise floor. (Started at the guess instead, a patch whose
+ * guess is 0.8 m off along a corridor stays in the guess's basin and refuses a true match:
+ * doc/generalisation.md.) */
 bool CRevisitLinker::patchAgrees(const TPatch& p, const TCandidate& c,
 								 const TScanMatch& m) const
 {
-	const auto mp = m_patchMatcher.match(p.region, p.patch, c.guess);
+	const auto mp = m_patchMatcher.match(p.region, p.patch, m.scanInRef);
 	if (!mp) return false;
 	const Eigen::Matrix3d C = m.cov + mp->cov + 2 * m_linkNoise.floorCovariance();
 	return disagreementChi2(m.scanInRef, mp->scanInRef, C) <= m_params.gate_chi2;
@@ -240,7 +243,8 @@ bool CRevisitLinker::passesChecks(const TSweep& sw, const TKeyframes& keyframes,
 								  const TParallelFor& parallel) const
 {
 	std::optional<TPatch> patch;
-	if (m_params.patch_check_keyframes > 0) patch = patchOf(sw, keyframes, k, c, parallel);
+	if (m_params.patch_check_keyframes > 0)
+		patch = patchOf(sw, keyframes, k, c, m.scanInRef, parallel);
 	const TScan2D& scan = keyframes[k].scan;
 	std::vector<TPose2D> starts;
 	double explained = 0;

@@ -62,14 +62,14 @@ private:
 	std::optional<TCandidate> candidate(const TSweep& sw, const TKeyframes& keyframes, size_t k,
 										const TParallelFor& parallel) const;
 	/** k's patch (keyframes k +- patch_check_keyframes in k's frame) and the old map's region
-	 * (old's frame) where it falls at the guess. */
+	 * (old's frame) where it falls at a pose of k in old's frame. */
 	struct TPatch
 	{
 		TScan2D patch;
 		CReferenceCloud region;
 	};
 	TPatch patchOf(const TSweep& sw, const TKeyframes& keyframes, size_t k, const TCandidate& c,
-				   const TParallelFor& parallel) const;
+				   const mrpt::math::TPose2D& at, const TParallelFor& parallel) const;
 	bool patchAgrees(const TPatch& p, const TCandidate& c, const TScanMatch& m) const;
 	bool rivalFrom(const TScan2D& scan, const TCandidate& c, const TScanMatch& m,
 				   const Eigen::Matrix3d& prior, double explained,

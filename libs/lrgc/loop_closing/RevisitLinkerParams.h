@@ -39,7 +39,7 @@ struct TRevisitLinkerParams : public mrpt::config::CLoadableOptions
 	 * second match. */
 	size_t patch_check_keyframes = 2;
 	/** A match is kept only if no other local optimum within the prior explains as much of
-	 * the scan (RevisitLinker.cpp, unambiguous). */
+	 * the scan (RevisitLinker.cpp, rivalFrom). */
 	bool ambiguity_check = true;
 	double min_inlier_fraction = 0.5;  //!< least fraction of k's points matched
 	double gate_chi2 = 16.27;          //!< [chi2, 3 dof] agreement of the match with the guess
