@@ -109,6 +109,31 @@ std::vector<std::pair<size_t, double>> CRevisitLinker::oldNear(const TSweep& sw,
 	return out;
 }
 
+/* The old keyframes within 3 radius_m of k, as placed by the map in old's frame, cropped to
+ * where `points` (k's frame) fall at `at` (old <- k), as the loop closer's step 3: the margin
+ * covers the match's reach plus the widest line fit. */
+CReferenceCloud CRevisitLinker::oldRegion(const TSweep& sw, const TKeyframes& keyframes,
+										  size_t k, size_t old,
+										  const std::vector<Eigen::Vector2d>& points,
+										  const TPose2D& at, const TParallelFor& parallel,
+										  bool withViews) const
+{
+	std::vector<TScan2D> scans;
+	std::vector<TPose2D> inOld;
+	for (const auto& [j, d] : oldNear(sw, k, 3 * m_params.radius_m))
+	{
+		scans.push_back(keyframes[j].scan);
+		inOld.push_back(between(sw.graph.pose(old), sw.graph.pose(j)));
+	}
+	std::vector<Eigen::Vector2d> inOldFrame;
+	const CPointTransform toOld(at);
+	for (const auto& p : points) inOldFrame.push_back(toOld(p));
+	const double margin =
+		m_matcherParams.max_correspondence_dist_m + 4 * m_matcherParams.normal_radius_m + 0.2;
+	return CReferenceCloud::fromScansNear(scans, inOld, m_matcherParams, inOldFrame, margin,
+										  parallel, withViews);
+}
+
 /* k's candidate, unless k and it are already linked near, and the reference to match it
  * against: the nearest old keyframe within radius_m and max_phi, alone; else (any_heading) the
  * nearest within radius_m at any heading, with every old keyframe within 3 radius_m placed
@@ -136,28 +161,15 @@ std::optional<CRevisitLinker::TCandidate> CRevisitLinker::candidate(
 		c.reference = CReferenceCloud::fromScan(keyframes[c.old].scan, m_matcherParams);
 		return c;
 	}
-	std::vector<TScan2D> scans;
-	std::vector<TPose2D> inOld;
-	for (const auto& [j, d] : oldNear(sw, k, 3 * m_params.radius_m))
-	{
-		scans.push_back(keyframes[j].scan);
-		inOld.push_back(between(sw.graph.pose(c.old), sw.graph.pose(j)));
-	}
-	std::vector<Eigen::Vector2d> kInOld;
-	const CPointTransform toOld(c.guess);
-	for (const auto& p : keyframes[k].scan.points) kInOld.push_back(toOld(p));
-	const double margin =
-		m_matcherParams.max_correspondence_dist_m + 4 * m_matcherParams.normal_radius_m + 0.2;
 	c.reference =
-		CReferenceCloud::fromScansNear(scans, inOld, m_matcherParams, kInOld, margin, parallel);
+		oldRegion(sw, keyframes, k, c.old, keyframes[k].scan.points, c.guess, parallel, true);
 	return c;
 }
 
-/* The second, independent match (see the header), its input: k's patch and the old keyframes
- * within 3 radius_m of k, both as placed by the map, cropped to where the patch falls at
- * `at` (old <- k). */
+/* The second, independent match (see the header), its input: k's patch, as placed by the
+ * map, and the old map's region where it falls at `at` (old <- k). */
 CRevisitLinker::TPatch CRevisitLinker::patchOf(const TSweep& sw, const TKeyframes& keyframes,
-											   size_t k, const TCandidate& c, const TPose2D& at,
+											   size_t k, size_t old, const TPose2D& at,
 											   const TParallelFor& parallel) const
 {
 	const size_t a = m_params.patch_check_keyframes;
@@ -171,21 +183,8 @@ CRevisitLinker::TPatch CRevisitLinker::patchOf(const TSweep& sw, const TKeyframe
 		const CPointTransform toK(between(pk, sw.graph.pose(q)));
 		for (const auto& p : keyframes[q].scan.points) out.patch.points.push_back(toK(p));
 	}
-	std::vector<TScan2D> scans;
-	std::vector<TPose2D> inOld;
-	for (const auto& [j, d] : oldNear(sw, k, 3 * m_params.radius_m))
-	{
-		scans.push_back(keyframes[j].scan);
-		inOld.push_back(between(sw.graph.pose(c.old), sw.graph.pose(j)));
-	}
-	std::vector<Eigen::Vector2d> patchInOld;
-	const CPointTransform toOld(at);
-	for (const auto& p : out.patch.points) patchInOld.push_back(toOld(p));
-	const double margin =
-		m_matcherParams.max_correspondence_dist_m + 4 * m_matcherParams.normal_radius_m + 0.2;
 	// The patch matcher's free-space check is off (a patch is not one scan's rays): no views.
-	out.region = CReferenceCloud::fromScansNear(scans, inOld, m_matcherParams, patchInOld,
-												margin, parallel, false);
+	out.region = oldRegion(sw, keyframes, k, old, out.patch.points, at, parallel, false);
 	return out;
 }
 
@@ -193,8 +192,7 @@ CRevisitLinker::TPatch CRevisitLinker::patchOf(const TSweep& sw, const TKeyframe
  * covariances and twice the link noise floor. (Started at the guess instead, a patch whose
  * guess is 0.8 m off along a corridor stays in the guess's basin and refuses a true match:
  * doc/generalisation.md.) */
-bool CRevisitLinker::patchAgrees(const TPatch& p, const TCandidate& c,
-								 const TScanMatch& m) const
+bool CRevisitLinker::patchAgrees(const TPatch& p, const TScanMatch& m) const
 {
 	const auto mp = m_patchMatcher.match(p.region, p.patch, m.scanInRef);
 	if (!mp) return false;
@@ -244,7 +242,7 @@ bool CRevisitLinker::passesChecks(const TSweep& sw, const TKeyframes& keyframes,
 {
 	std::optional<TPatch> patch;
 	if (m_params.patch_check_keyframes > 0)
-		patch = patchOf(sw, keyframes, k, c, m.scanInRef, parallel);
+		patch = patchOf(sw, keyframes, k, c.old, m.scanInRef, parallel);
 	const TScan2D& scan = keyframes[k].scan;
 	std::vector<TPose2D> starts;
 	double explained = 0;
@@ -257,7 +255,7 @@ bool CRevisitLinker::passesChecks(const TSweep& sw, const TKeyframes& keyframes,
 	parallel(refuses.size(),
 			 [&](size_t i)
 			 {
-				 refuses[i] = i == 0 ? (patch && !patchAgrees(*patch, c, m))
+				 refuses[i] = i == 0 ? (patch && !patchAgrees(*patch, m))
 									 : rivalFrom(scan, c, m, prior, explained, starts[i - 1]);
 			 });
 	return std::none_of(refuses.begin(), refuses.end(), [](char r) { return r != 0; });

@@ -68,9 +68,13 @@ private:
 		TScan2D patch;
 		CReferenceCloud region;
 	};
-	TPatch patchOf(const TSweep& sw, const TKeyframes& keyframes, size_t k, const TCandidate& c,
+	TPatch patchOf(const TSweep& sw, const TKeyframes& keyframes, size_t k, size_t old,
 				   const mrpt::math::TPose2D& at, const TParallelFor& parallel) const;
-	bool patchAgrees(const TPatch& p, const TCandidate& c, const TScanMatch& m) const;
+	bool patchAgrees(const TPatch& p, const TScanMatch& m) const;
+	CReferenceCloud oldRegion(const TSweep& sw, const TKeyframes& keyframes, size_t k,
+							  size_t old, const std::vector<Eigen::Vector2d>& points,
+							  const mrpt::math::TPose2D& at, const TParallelFor& parallel,
+							  bool withViews) const;
 	bool rivalFrom(const TScan2D& scan, const TCandidate& c, const TScanMatch& m,
 				   const Eigen::Matrix3d& prior, double explained,
 				   const mrpt::math::TPose2D& offset) const;
