@@ -147,6 +147,24 @@ void expectSameResult(const TCorrelationResult& bnb, const TCorrelationResult& e
 		EXPECT_TRUE(std::isinf(bnb.ambiguity)) << "trial " << trial;
 	EXPECT_EQ(bnb.checkFilters(prm).rejection, ex.checkFilters(prm).rejection);
 }
+/** A pose-grid problem's base cells (map cells, per heading then per point): heading a
+ * (0 .. numAngles - 1) turns the patch to robot.phi + (a + a0) dtheta [rad], placed at robot.
+ */
+void appendBaseCells(lrgc::detail::TPoseGridProblem& pb, const CCorrelationGrid& map,
+					 const TPose2D& robot, const Points& patch, int a0, double dtheta)
+{
+	for (int a = 0; a < pb.numAngles; ++a)
+	{
+		const double th = robot.phi + (a + a0) * dtheta, c = std::cos(th), sn = std::sin(th);
+		for (const auto& p : patch)
+		{
+			const Eigen::Vector2i cell = map.cellOf(
+				{robot.x + c * p.x() - sn * p.y(), robot.y + sn * p.x() + c * p.y()});
+			pb.baseCells.push_back(cell.x());
+			pb.baseCells.push_back(cell.y());
+		}
+	}
+}
 }  // namespace
 
 TEST(PatchCorrelator, BranchAndBoundEqualsExhaustiveAndRecoversThePose)
@@ -226,17 +244,7 @@ TEST(PatchCorrelator, HeadingBlockBoundIsAtLeastEveryScoreOfItsBlock)
 	pb.halfCells = 40;
 	pb.numAngles = 200;
 	pb.cellsPerAngleStep = maxR * dtheta / res;
-	for (int a = 0; a < pb.numAngles; ++a)
-	{
-		const double th = robot.phi + (a - 100) * dtheta, c = std::cos(th), sn = std::sin(th);
-		for (const auto& p : patch)
-		{
-			const Eigen::Vector2i cell = map.cellOf(
-				{robot.x + c * p.x() - sn * p.y(), robot.y + sn * p.x() + c * p.y()});
-			pb.baseCells.push_back(cell.x());
-			pb.baseCells.push_back(cell.y());
-		}
-	}
+	appendBaseCells(pb, map, robot, patch, -100, dtheta);
 	pb.prepare();
 	std::uniform_int_distribution<int> level(0, 4), angle(0, pb.numAngles - 1), cell(-40, 30);
 	int tightBlocks = 0;
@@ -286,17 +294,7 @@ TEST(PatchCorrelator, PeaksInOnePassEqualRepeatedExhaustiveSearches)
 		for (const auto& p : patch) maxR = std::max(maxR, p.norm());
 		const double dtheta = 2 * M_PI / pb.numAngles;
 		pb.cellsPerAngleStep = maxR * dtheta / map.resolution();
-		for (int a = 0; a < pb.numAngles; ++a)
-		{
-			const double th = robot.phi + a * dtheta, c = std::cos(th), sn = std::sin(th);
-			for (const auto& p : patch)
-			{
-				const Eigen::Vector2i cell = map.cellOf(
-					{robot.x + c * p.x() - sn * p.y(), robot.y + sn * p.x() + c * p.y()});
-				pb.baseCells.push_back(cell.x());
-				pb.baseCells.push_back(cell.y());
-			}
-		}
+		appendBaseCells(pb, map, robot, patch, 0, dtheta);
 		pb.prepare();
 		if (trial % 2 == 1)
 		{  // translations allowed only in two discs of 5 cells
