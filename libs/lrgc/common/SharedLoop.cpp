@@ -1,5 +1,7 @@
 #include <lrgc/common/SharedLoop.h>
 
+#include <memory>
+
 namespace lrgc
 {
 void CSharedLoop::work()
@@ -27,6 +29,15 @@ void CSharedLoop::wait()
 	}
 	for (const auto& e : m_errors)
 		if (e) std::rethrow_exception(e);
+}
+
+void runShared(CHelperThread& helper, size_t n, const std::function<void(size_t)>& fn)
+{
+	// Held by the helper's job too: it may start after the owner has finished the loop.
+	auto loop = std::make_shared<CSharedLoop>(n, fn);
+	if (n > 1 && helper.threaded()) helper.post([loop] { loop->work(); });
+	loop->work();
+	loop->wait();
 }
 
 }  // namespace lrgc

@@ -10,6 +10,8 @@
  */
 #pragma once
 
+#include <lrgc/common/HelperThread.h>
+
 #include <atomic>
 #include <condition_variable>
 #include <cstddef>
@@ -47,5 +49,10 @@ private:
 	std::condition_variable m_cv;
 	size_t m_done = 0;
 };
+
+/** fn(i) for every i in [0, n), shared between the calling thread and `helper` (a
+ * CSharedLoop the helper joins when it gets to it); returns once every iteration finished,
+ * rethrowing the error of the lowest one. */
+void runShared(CHelperThread& helper, size_t n, const std::function<void(size_t)>& fn);
 
 }  // namespace lrgc

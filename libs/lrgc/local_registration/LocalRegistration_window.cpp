@@ -177,10 +177,7 @@ void CLocalRegistration::cacheKeyframeCloud(size_t node, TCloudPtr cloud)
 // and never calls fn (so fn and what it refers to need only live until this returns).
 void CLocalRegistration::parallelFor(size_t n, const std::function<void(size_t)>& fn)
 {
-	auto loop = std::make_shared<CSharedLoop>(n, fn);
-	if (n > 1 && m_helper.threaded()) m_helper.post([loop] { loop->work(); });
-	loop->work();
-	loop->wait();
+	runShared(m_helper, n, fn);
 }
 
 }  // namespace lrgc

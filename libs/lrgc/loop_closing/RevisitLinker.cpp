@@ -12,7 +12,6 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
-#include <memory>
 #include <optional>
 #include <unordered_map>
 #include <unordered_set>
@@ -275,12 +274,7 @@ size_t CRevisitLinker::linkRevisits(CPoseGraph& graph, const TKeyframes& keyfram
 	// the same links on any number of threads).
 	CHelperThread helper;
 	const TParallelFor parallel = [&helper](size_t count, const std::function<void(size_t)>& fn)
-	{
-		auto loop = std::make_shared<CSharedLoop>(count, fn);
-		if (count > 1) helper.post([loop] { loop->work(); });
-		loop->work();
-		loop->wait();
-	};
+	{ runShared(helper, count, fn); };
 	size_t added = 0;
 	// Keyframes stride - 1, 2 stride - 1, ... (counted from node 0, not from the gap: which
 	// keyframes are tried does not depend on min_index_gap).
