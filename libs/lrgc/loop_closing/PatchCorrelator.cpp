@@ -13,13 +13,12 @@
  *     stopping at the first pose that reaches the floor (its existence alone fails filter 2;
  *     the strongest rival is not needed), floor 0 and the exact rival for the exhaustive
  *     reference.
- *  5. Covariance: the response is sampled on a lattice around the best pose, weighted
- *         w = exp(-(S_best - S) / (cluster_score_scale S_best)),
- *     and its weighted covariance is taken, plus the lattice's own discretisation (step^2/12).
- *     First lattice: the pose grid itself, +-4 steps on each axis. If the response is not
- *     contained in it, a coarser one over +-3 maxStd (at most 4 samples per side). A
- *     response flat over that lattice gives std ~ 3 maxStd / sqrt(3) > maxStd, so filter 3
- *     still rejects it although the lattice truncates it.
+ *  5. Covariance (pose_grid.cpp): the response is sampled on a lattice around the best pose,
+ * weighted w = exp(-(S_best - S) / (cluster_score_scale S_best)), and its weighted covariance
+ * is taken, plus the lattice's own discretisation (step^2/12). First lattice: the pose grid
+ * itself, +-4 steps on each axis. If the response is not contained in it, a coarser one over
+ * +-3 maxStd (at most 4 samples per side). A response flat over that lattice gives std ~ 3
+ * maxStd / sqrt(3) > maxStd, so filter 3 still rejects it although the lattice truncates it.
  */
 #include <lrgc/loop_closing/PatchCorrelator.h>
 
@@ -29,6 +28,7 @@
 #include <mrpt/math/wrap2pi.h>
 
 #include "correlation_search.h"
+#include "pose_grid.h"
 
 #include <algorithm>
 #include <cmath>
@@ -39,6 +39,9 @@ namespace lrgc
 {
 namespace
 {
+using detail::appendBaseCells;
+using detail::clusterCovariance;
+using detail::TGridSpec;
 using detail::TPoseGridProblem;
 
 // Step 1: centroids of the distinct cells of the patch, in a fixed pseudo-random order (so
@@ -83,106 +86,6 @@ std::vector<Eigen::Vector2d> distinctCells(const std::vector<Eigen::Vector2d>& p
 	}
 	std::mt19937 rng(12345);
 	std::shuffle(out.begin(), out.end(), rng);
-	return out;
-}
-
-struct TGridSpec
-{
-	mrpt::math::TPose2D center;
-	double res = 0, dtheta = 0;
-	int angle0 = 0;  //!< theta_a = center.phi + (a - angle0) dtheta
-	double theta(int a) const { return center.phi + (a - angle0) * dtheta; }
-	mrpt::math::TPose2D pose(int a, int i, int j) const
-	{
-		return {center.x + i * res, center.y + j * res, mrpt::math::wrapToPi(theta(a))};
-	}
-};
-
-// Base cells (cx, cy) of every point rotated by theta and moved by the window centre.
-void appendBaseCells(const CCorrelationGrid& grid, const std::vector<Eigen::Vector2d>& pts,
-					 const mrpt::math::TPose2D& center, double theta, std::vector<int32_t>& out)
-{
-	const double c = std::cos(theta), s = std::sin(theta);
-	for (const auto& p : pts)
-	{
-		const Eigen::Vector2i cell =
-			grid.cellOf({center.x + c * p.x() - s * p.y(), center.y + s * p.x() + c * p.y()});
-		out.push_back(cell.x());
-		out.push_back(cell.y());
-	}
-}
-
-// Weighted covariance of the response sampled on the lattice (u strideXY, v strideXY,
-// t strideTh) around (a, i, j), |u|, |v| <= nXY, |t| <= nTh; plus the lattice's own
-// discretisation step^2 / 12.
-Eigen::Matrix3d sampledCovariance(const TPatchCorrelatorParams& prm,
-								  const CCorrelationGrid& grid,
-								  const std::vector<Eigen::Vector2d>& pts,
-								  const TGridSpec& spec, int a, int i, int j, int64_t bestScore,
-								  int strideXY, int nXY, int strideTh, int nTh)
-{
-	TPoseGridProblem local;
-	local.grid = &grid;
-	local.numPoints = static_cast<int>(pts.size());
-	local.numAngles = 2 * nTh + 1;
-	for (int t = -nTh; t <= nTh; ++t)
-		appendBaseCells(grid, pts, spec.center, spec.theta(a) + t * strideTh * spec.dtheta,
-						local.baseCells);
-	local.prepare();
-	const double scale = prm.cluster_score_scale * double(std::max<int64_t>(bestScore, 1));
-	const double qXY = strideXY * spec.res, qTh = strideTh * spec.dtheta;
-	double wsum = 0;
-	Eigen::Vector3d m1 = Eigen::Vector3d::Zero();
-	Eigen::Matrix3d m2 = Eigen::Matrix3d::Zero();
-	for (int t = -nTh; t <= nTh; ++t)
-		for (int u = -nXY; u <= nXY; ++u)
-			for (int v = -nXY; v <= nXY; ++v)
-			{
-				const int64_t s =
-					detail::scoreAt(local, 0, t + nTh, i + u * strideXY, j + v * strideXY);
-				const double w = std::exp(double(s - bestScore) / scale);
-				const Eigen::Vector3d d(u * qXY, v * qXY, t * qTh);
-				wsum += w;
-				m1 += w * d;
-				m2 += w * d * d.transpose();
-			}
-	m1 /= wsum;
-	Eigen::Matrix3d cov = m2 / wsum - m1 * m1.transpose();
-	cov.diagonal() += Eigen::Vector3d(qXY * qXY, qXY * qXY, qTh * qTh) / 12.0;
-	return cov;
-}
-
-// Step 5, see the file comment: first the pose grid's own lattice, +-kFine steps; if the
-// response is not contained in it (a std dev above a third of its half-width), a coarser
-// lattice spanning +-3 maxStd with at most kFine samples per side.
-Eigen::Matrix3d clusterCovariance(const TPatchCorrelatorParams& prm,
-								  const CCorrelationGrid& grid,
-								  const std::vector<Eigen::Vector2d>& pts,
-								  const TGridSpec& spec, int a, int i, int j, int64_t bestScore)
-{
-	constexpr int kFine = 4;
-	const Eigen::Matrix3d fine =
-		sampledCovariance(prm, grid, pts, spec, a, i, j, bestScore, 1, kFine, 1, kFine);
-	const double lim2XY = std::pow(kFine * spec.res / 3, 2);
-	const double lim2Th = std::pow(kFine * spec.dtheta / 3, 2);
-	if (fine(0, 0) <= lim2XY && fine(1, 1) <= lim2XY && fine(2, 2) <= lim2Th) return fine;
-	const double boxXY = 3 * prm.max_std_xy_m, boxTh = 3 * prm.max_std_phi;
-	const int strideXY = std::max(1, int(std::ceil(boxXY / spec.res / kFine)));
-	const int strideTh = std::max(1, int(std::ceil(boxTh / spec.dtheta / kFine)));
-	const int nXY = std::max(1, int(std::floor(boxXY / (strideXY * spec.res))));
-	const int nTh = std::max(1, int(std::floor(boxTh / (strideTh * spec.dtheta))));
-	const Eigen::Matrix3d coarse =
-		sampledCovariance(prm, grid, pts, spec, a, i, j, bestScore, strideXY,
-						  std::min(kFine, nXY), strideTh, std::min(kFine, nTh));
-	// Keep the finer estimate of any axis that the fine lattice did contain.
-	Eigen::Matrix3d out = coarse;
-	for (int k = 0; k < 3; ++k)
-		if (fine(k, k) <= (k < 2 ? lim2XY : lim2Th) && fine(k, k) < coarse(k, k))
-		{
-			const double f = std::sqrt(fine(k, k) / coarse(k, k));
-			out.row(k) *= f;
-			out.col(k) *= f;
-		}
 	return out;
 }
 
