@@ -1,21 +1,17 @@
-/* CPatchCorrelator on synthetic segment worlds with known poses.
- *
- * A small generator lives here (a shared synthetic world is being written separately): a
- * world is a set of wall segments; the old map is the walls sampled every 2 cm; a patch is
- * the ray-cast scans (180 beams, 1 cm noise) of a short robot path, expressed in the frame
- * of the path's last pose, which is therefore the true patchInMap.
- */
+/* CPatchCorrelator on synthetic segment worlds with known poses (PatchCorrelator_unittest.h):
+ * branch and bound against the exhaustive search, stopped searches, patches with no
+ * counterpart, repeated doors and featureless corridors, the k best peaks, the heading
+ * window across +-pi, bad input. The search core's own tests are in
+ * PatchCorrelator_search_unittest.cpp. */
 #include <gtest/gtest.h>
 #include <mrpt/math/wrap2pi.h>
 
 #include <lrgc/loop_closing/PatchCorrelator.h>
-#include <lrgc/common/se2.h>
 
-#include "correlation_search.h"
+#include "PatchCorrelator_unittest.h"
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <random>
 
 using lrgc::CCorrelationGrid;
@@ -26,88 +22,10 @@ using lrgc::TCorrelationResult;
 using lrgc::TPatchCorrelatorParams;
 using mrpt::math::TPose2D;
 using Reason = lrgc::TCorrelationVerdict::Reason;
-using Points = std::vector<Eigen::Vector2d>;
+using namespace lrgc::test;
 
 namespace
 {
-struct Segment
-{
-	Eigen::Vector2d a, b;
-};
-using World = std::vector<Segment>;
-
-// A square room of side `size` with `n` random interior walls (0.5 to 3 m).
-World randomWorld(std::mt19937& rng, double size, int n)
-{
-	World w{{{0, 0}, {size, 0}},
-			{{size, 0}, {size, size}},
-			{{size, size}, {0, size}},
-			{{0, size}, {0, 0}}};
-	std::uniform_real_distribution<double> pos(0.5, size - 0.5), len(0.5, 3.0),
-		ang(-M_PI, M_PI);
-	for (int k = 0; k < n; ++k)
-	{
-		const Eigen::Vector2d a(pos(rng), pos(rng));
-		const double t = ang(rng), l = len(rng);
-		w.push_back({a, a + l * Eigen::Vector2d(std::cos(t), std::sin(t))});
-	}
-	return w;
-}
-
-Points rasterise(const World& w, double spacing = 0.02)
-{
-	Points pts;
-	for (const auto& s : w)
-	{
-		const int n = std::max(1, int(std::ceil((s.b - s.a).norm() / spacing)));
-		for (int k = 0; k <= n; ++k) pts.push_back(s.a + (s.b - s.a) * (double(k) / n));
-	}
-	return pts;
-}
-
-// Scan from `robot`: nearest hit of each beam (-90..+90 deg) in the robot frame.
-Points raycast(const World& w, const TPose2D& robot, std::mt19937& rng, double maxRange)
-{
-	std::normal_distribution<double> noise(0, 0.01);
-	Points pts;
-	const Eigen::Vector2d o(robot.x, robot.y);
-	for (int k = 0; k < 180; ++k)
-	{
-		const double beam = -M_PI / 2 + M_PI * k / 179.0;
-		const Eigen::Vector2d d(std::cos(robot.phi + beam), std::sin(robot.phi + beam));
-		double best = maxRange;
-		for (const auto& s : w)
-		{
-			const Eigen::Vector2d e = s.b - s.a, r = s.a - o;
-			const double den = d.x() * e.y() - d.y() * e.x();
-			if (std::abs(den) < 1e-12) continue;
-			const double t = (r.x() * e.y() - r.y() * e.x()) / den;
-			const double u = (r.x() * d.y() - r.y() * d.x()) / den;
-			if (t > 0.05 && u >= 0 && u <= 1) best = std::min(best, t);
-		}
-		if (best >= maxRange) continue;
-		const double r = best + noise(rng);
-		pts.emplace_back(r * std::cos(beam), r * std::sin(beam));
-	}
-	return pts;
-}
-
-// Patch of `n` scans along a path ending at `last` (straight, 0.15 m per scan), in the
-// frame of `last`.
-Points makePatch(const World& w, const TPose2D& last, int n, std::mt19937& rng,
-				 double maxRange = 8.0)
-{
-	Points patch;
-	for (int k = n - 1; k >= 0; --k)
-	{
-		const TPose2D robot = lrgc::compose(last, TPose2D(-0.15 * k, 0, 0.01 * k));
-		const TPose2D robotInPatch = lrgc::between(last, robot);
-		for (const auto& p : raycast(w, robot, rng, maxRange))
-			patch.push_back(lrgc::transformPoint(robotInPatch, p));
-	}
-	return patch;
-}
-
 double angleDiff(double a, double b)
 {
 	return std::abs(mrpt::math::wrapToPi(a - b));
@@ -146,24 +64,6 @@ void expectSameResult(const TCorrelationResult& bnb, const TCorrelationResult& e
 	else
 		EXPECT_TRUE(std::isinf(bnb.ambiguity)) << "trial " << trial;
 	EXPECT_EQ(bnb.checkFilters(prm).rejection, ex.checkFilters(prm).rejection);
-}
-/** A pose-grid problem's base cells (map cells, per heading then per point): heading a
- * (0 .. numAngles - 1) turns the patch to robot.phi + (a + a0) dtheta [rad], placed at robot.
- */
-void appendBaseCells(lrgc::detail::TPoseGridProblem& pb, const CCorrelationGrid& map,
-					 const TPose2D& robot, const Points& patch, int a0, double dtheta)
-{
-	for (int a = 0; a < pb.numAngles; ++a)
-	{
-		const double th = robot.phi + (a + a0) * dtheta, c = std::cos(th), sn = std::sin(th);
-		for (const auto& p : patch)
-		{
-			const Eigen::Vector2i cell = map.cellOf(
-				{robot.x + c * p.x() - sn * p.y(), robot.y + sn * p.x() + c * p.y()});
-			pb.baseCells.push_back(cell.x());
-			pb.baseCells.push_back(cell.y());
-		}
-	}
 }
 }  // namespace
 
@@ -221,134 +121,6 @@ TEST(PatchCorrelator, StoppedSearchFindsNothing)
 	EXPECT_TRUE(source.stopRequested());
 	EXPECT_LT(effort.posesScored, 3 * 4096u);
 	EXPECT_FALSE(corr.correlateExhaustive(map, patch, truth, 0.5, 0.1).has_value());
-}
-
-// The bound of a node spanning several headings (branch and bound over the full circle) is at
-// least every exact score of its headings and translations: random blocks of a real problem
-// (a room seen by 8 scans, 0.05 m cells, the correlator's own heading step).
-TEST(PatchCorrelator, HeadingBlockBoundIsAtLeastEveryScoreOfItsBlock)
-{
-	std::mt19937 rng(99);
-	std::uniform_real_distribution<double> inRoom(2.5, 9.5), ang(-M_PI, M_PI);
-	const CPatchCorrelator corr;
-	const World w = randomWorld(rng, 12, 10);
-	const CCorrelationGrid map = corr.makeGrid(rasterise(w), 0.5);
-	const TPose2D robot(inRoom(rng), inRoom(rng), ang(rng));
-	const Points patch = makePatch(w, robot, 8, rng);
-	double maxR = 0;
-	for (const auto& p : patch) maxR = std::max(maxR, p.norm());
-	const double res = map.resolution(), dtheta = res / maxR;
-	lrgc::detail::TPoseGridProblem pb;
-	pb.grid = &map;
-	pb.numPoints = int(patch.size());
-	pb.halfCells = 40;
-	pb.numAngles = 200;
-	pb.cellsPerAngleStep = maxR * dtheta / res;
-	appendBaseCells(pb, map, robot, patch, -100, dtheta);
-	pb.prepare();
-	std::uniform_int_distribution<int> level(0, 4), angle(0, pb.numAngles - 1), cell(-40, 30);
-	int tightBlocks = 0;
-	for (int trial = 0; trial < 300; ++trial)
-	{
-		const int h = level(rng);
-		const int a0 = angle(rng), a1 = std::min(pb.numAngles - 1, a0 + (1 << level(rng)));
-		const int i0 = cell(rng), j0 = cell(rng);
-		int64_t best = 0;
-		for (int a = a0; a <= a1; ++a)
-			for (int i = i0; i < i0 + (1 << h); ++i)
-				for (int j = j0; j < j0 + (1 << h); ++j)
-					best = std::max(best, lrgc::detail::scoreAt(pb, 0, a, i, j));
-		const int64_t bound = lrgc::detail::blockBound(pb, a0, a1, h, i0, j0,
-													   std::numeric_limits<int64_t>::min());
-		ASSERT_GE(bound, best) << "headings " << a0 << ".." << a1 << ", level " << h
-							   << ", cells (" << i0 << ", " << j0 << ")";
-		tightBlocks += bound < int64_t(255) * pb.numPoints;
-	}
-	EXPECT_GT(tightBlocks, 250) << "the bound must prune, not just be 255 N";
-}
-
-// The far search's peaks in one best-first pass (detail::searchPeaks) are exactly those of
-// the exhaustive search run again and again, each time with the clusters of the peaks before
-// excluded and, after the first, the floor at 0.6 of its score: with and without a region the
-// translations are restricted to (setAllowed), with one heading per node (60 headings) and
-// with blocks of headings (300).
-TEST(PatchCorrelator, PeaksInOnePassEqualRepeatedExhaustiveSearches)
-{
-	std::mt19937 rng(777);
-	std::uniform_real_distribution<double> inRoom(2.5, 9.5), ang(-M_PI, M_PI);
-	TPatchCorrelatorParams prm;
-	prm.resolution_m = 0.2, prm.blur_sigma_m = 0.2;
-	const CPatchCorrelator corr(prm);
-	for (int trial = 0; trial < 4; ++trial)
-	{
-		const World w = randomWorld(rng, 12, 10);
-		const CCorrelationGrid map = corr.makeGrid(rasterise(w), 0.6);
-		const TPose2D robot(inRoom(rng), inRoom(rng), ang(rng));
-		const Points patch = makePatch(w, robot, 6, rng);
-		lrgc::detail::TPoseGridProblem pb;
-		pb.grid = &map;
-		pb.numPoints = int(patch.size());
-		pb.halfCells = trial < 2 ? 20 : 8;
-		pb.numAngles = trial < 2 ? 60 : 300;
-		double maxR = 0;
-		for (const auto& p : patch) maxR = std::max(maxR, p.norm());
-		const double dtheta = 2 * M_PI / pb.numAngles;
-		pb.cellsPerAngleStep = maxR * dtheta / map.resolution();
-		appendBaseCells(pb, map, robot, patch, 0, dtheta);
-		pb.prepare();
-		if (trial % 2 == 1)
-		{  // translations allowed only in two discs of 5 cells
-			std::vector<uint8_t> level0(size_t(pb.side()) * size_t(pb.side()), 0);
-			for (int i = -pb.halfCells; i <= pb.halfCells; ++i)
-				for (int j = -pb.halfCells; j <= pb.halfCells; ++j)
-					if (std::hypot(i - 3, j + 2) <= 5 || std::hypot(i + 6, j - 5) <= 5)
-						level0[size_t(i + pb.halfCells) * size_t(pb.side()) +
-							   size_t(j + pb.halfCells)] = 1;
-			pb.setAllowed(level0, map.numLevels());
-		}
-		const auto clusterOf = [&](const lrgc::detail::TSearchHit& hit)
-		{
-			lrgc::detail::TExclusionDisc d;
-			d.inAngle.resize(size_t(pb.numAngles));
-			for (int a = 0; a < pb.numAngles; ++a)
-				d.inAngle[size_t(a)] = std::abs(a - hit.a) <= 3;
-			d.ci = hit.i, d.cj = hit.j, d.r2 = 9;
-			return d;
-		};
-		const int64_t floor = int64_t(0.2 * 255 * pb.numPoints);
-		lrgc::detail::TExclusionZone zone;
-		const auto found = lrgc::detail::searchPeaks(pb, floor, 0.6, 6, zone,
-													 [&](const lrgc::detail::TSearchHit& hit)
-													 { zone.discs.push_back(clusterOf(hit)); });
-		const auto& peaks = found.peaks;
-		EXPECT_GE(found.evaluations, peaks.size());
-		lrgc::detail::TExclusionZone refZone;
-		int64_t refFloor = floor;
-		std::vector<lrgc::detail::TSearchHit> ref;
-		while (ref.size() < 6)
-		{
-			const auto hit = lrgc::detail::searchExhaustive(pb, refFloor, refZone);
-			if (!hit.found) break;
-			ref.push_back(hit);
-			if (ref.size() == 1)
-				refFloor =
-					std::max(refFloor, int64_t(std::ceil(0.6 * double(hit.score) - 1e-9)));
-			refZone.discs.push_back(clusterOf(hit));
-		}
-		ASSERT_GE(ref.size(), 2u) << "trial " << trial << ": the test needs several peaks";
-		ASSERT_EQ(peaks.size(), ref.size()) << "trial " << trial;
-		for (size_t n = 0; n < ref.size(); ++n)
-		{
-			EXPECT_EQ(peaks[n].score, ref[n].score) << "trial " << trial << ", peak " << n;
-			EXPECT_EQ(peaks[n].a, ref[n].a) << "trial " << trial << ", peak " << n;
-			EXPECT_EQ(peaks[n].i, ref[n].i) << "trial " << trial << ", peak " << n;
-			EXPECT_EQ(peaks[n].j, ref[n].j) << "trial " << trial << ", peak " << n;
-			if (trial % 2 == 1)
-			{
-				EXPECT_TRUE(pb.blockAllowed(0, peaks[n].i, peaks[n].j));
-			}
-		}
-	}
 }
 
 // A full-circle window has ~1000 headings here, so branch and bound bounds blocks of headings
