@@ -112,10 +112,14 @@ TEST_P(NoisyRing, mapsAndClosesTheLoopWithRangeNoiseOf30cm)
 
 // The first seeds are loop_closing_test.cpp's; the others were picked blind. Over three more
 // (5 2 11, 8 1 11, 8 2 12, 21 7 17, 34 9 3) the figures are alike: 0-2 unmatched, rms
-// 0.059-0.120 m, 17-25 online closures, none false.
+// 0.059-0.120 m, 17-25 online closures, none false. 7 9 4 is the one of 20 further blind seeds
+// that kept a false link (21 -> 233, 0.33 m off along the south corridor, stated std 0.03 m:
+// chi2 118) before loop links of denoised scans got their floor (denoisedLoopLinkNoise,
+// LinkNoise.h; now stated 0.10 m, chi2 12). Over those 20 seeds: 0-6 unmatched, rms
+// 0.055-0.166 m (two above 0.15: 0.151, 0.166), 10-29 online closures, none false.
 INSTANTIATE_TEST_SUITE_P(Seeds, NoisyRing,
 						 ::testing::Values(TRingSeeds{5, 1, 11}, TRingSeeds{5, 3, 11},
-										   TRingSeeds{13, 4, 13}),
+										   TRingSeeds{13, 4, 13}, TRingSeeds{7, 9, 4}),
 						 [](const ::testing::TestParamInfo<TRingSeeds>& p)
 						 {
 							 return "world" + std::to_string(p.param.world) + "laser" +

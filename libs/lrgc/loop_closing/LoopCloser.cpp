@@ -278,7 +278,8 @@ auto CLoopCloser::matchLoopLink(const CPoseGraph& graph, const TScanRefs& scans,
 	}
 	matchTimer.stop();
 	TLoopMatch m;
-	m.info = linkInformation(match->cov, m_params.link_noise);
+	m.info = linkInformation(
+		match->cov, denoisedLoopLinkNoise(m_params.link_noise, scans[newest]->rangeNoiseStd));
 	m.link = {oldNode, newest, match->scanInRef, m.info, LinkType::LoopClosure};
 	m.vetted = gateInnovationChi2(c.relative[oldIndex], match->scanInRef, m.info) <
 			   3 * m_optimizer.params().dcs_phi;
@@ -447,7 +448,8 @@ size_t CLoopCloser::rematch(CPoseGraph& graph, const TScanRefs& scans, const TCa
 		// The closure's solve has just placed both poses: a re-match that lands far from
 		// them (chi2 of e = v(Z^-1 (+) (X_nearest^-1 (+) X_k)) above 3 Phi, DCS's bound)
 		// converged to another wall, and would add a wrong link of its own.
-		const Eigen::Matrix3d info = linkInformation(m->cov, m_params.link_noise);
+		const Eigen::Matrix3d info = linkInformation(
+			m->cov, denoisedLoopLinkNoise(m_params.link_noise, scans[k]->rangeNoiseStd));
 		const Eigen::Vector3d e =
 			linkResidual(graph.pose(nearest), graph.pose(k), m->scanInRef);
 		if (e.dot(info * e) > 3 * m_optimizer.params().dcs_phi)

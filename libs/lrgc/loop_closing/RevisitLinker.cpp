@@ -289,8 +289,11 @@ size_t CRevisitLinker::linkRevisits(CPoseGraph& graph, const TKeyframes& keyfram
 		if (disagreementChi2(c->guess, m->scanInRef, prior + m->cov) > m_params.gate_chi2 ||
 			!passesChecks(sw, keyframes, k, *c, *m, prior, parallel))
 			continue;
-		graph.addLink({c->old, k, m->scanInRef, linkInformation(m->cov, m_linkNoise),
-					   LinkType::LoopClosure});
+		graph.addLink(
+			{c->old, k, m->scanInRef,
+			 linkInformation(
+				 m->cov, denoisedLoopLinkNoise(m_linkNoise, keyframes[k].scan.rangeNoiseStd)),
+			 LinkType::LoopClosure});
 		sw.linked.insert(pairKey(c->old, k));
 		++added;
 	}

@@ -1,6 +1,7 @@
 /* CPoseGraph: validation, adjacency, disabling, the Manhattan simulator, and the round trip
- * through an MRPT .graph text file. */
+ * through an MRPT .graph text file; the floor of a denoised scan's loop link (LinkNoise.h). */
 #include <gtest/gtest.h>
+#include <lrgc/pose_graph/LinkNoise.h>
 #include <lrgc/pose_graph/PoseGraph.h>
 #include "manhattan_pose_graph.h"
 #include <lrgc/pose_graph/PoseGraphOptimizer.h>
@@ -200,4 +201,23 @@ TEST(PoseGraph, FromMrptRejectsNonContiguousIds)
 	net.nodes[0] = mrpt::poses::CPose2D(0, 0, 0);
 	net.nodes[2] = mrpt::poses::CPose2D(1, 0, 0);
 	EXPECT_THROW(CPoseGraph::fromMrpt(net), std::exception);
+}
+
+// A loop link's floor (LinkNoise.h): as configured for scans with their ranges as measured
+// (rangeNoiseStd 0) or whose left noise is below half the floor, 2x the left noise above.
+TEST(LinkNoise, DenoisedLoopLinkFloorIsTwiceTheNoiseLeft)
+{
+	const TLinkNoise configured{0.01, 0.25 * M_PI / 180};
+	for (const double left : {0.0, 0.004, 0.005})
+	{
+		const TLinkNoise n = denoisedLoopLinkNoise(configured, left);
+		EXPECT_EQ(n.floor_xy_m, configured.floor_xy_m) << left;
+		EXPECT_EQ(n.floor_phi, configured.floor_phi) << left;
+	}
+	const TLinkNoise noisy = denoisedLoopLinkNoise(configured, 0.05);
+	EXPECT_DOUBLE_EQ(noisy.floor_xy_m, 0.1);
+	EXPECT_EQ(noisy.floor_phi, configured.floor_phi);  // the heading's floor as configured
+	// The link's information: xy std sqrt(C + 0.1^2) along both axes.
+	const Eigen::Matrix3d info = linkInformation(Eigen::Matrix3d::Identity() * 1e-4, noisy);
+	EXPECT_NEAR(1 / std::sqrt(info(0, 0)), std::sqrt(1e-4 + 0.01), 1e-12);
 }
