@@ -46,8 +46,8 @@ const double kRetryStep = mrpt::DEG2RAD(2.5);
  * corner at (64, 39) err 2-10 cm sideways, same side, claiming 1-2 cm. The heading is kept:
  * that link is what holds a hall's heading against biased odometry (OpenHall, heading
  * widened too: mean drift 0.66 -> 0.85 deg / 100 m and a wrong wide-search override). The
- * shared logs' unconfirmed links have d 0.05-0.15 m (sparse variants included): at most a
- * few per log, by a few per cent. */
+ * shared logs' unconfirmed links have d 0.05-0.15 m: none widened (their sparse variants:
+ * 0-2 per log). */
 Eigen::Matrix3d lonePatchLinkCov(const Eigen::Matrix3d& cov, const TScan2D& scan, double r)
 {
 	if (scan.points.size() < 2 || r <= 0) return cov;
