@@ -116,10 +116,10 @@ TEST(CrowdedHall, everyScanFollowsTheMap)
 									  scanOutliers(err, lapEnd, err.size())};
 		const double start = *std::max_element(err.begin(), err.begin() + 40);
 		std::printf(
-			"[ crowded hall ] seed %u: %zu scans, %zu loop closures, %zu settled, first "
-			"10 m of the first lap within %.3f m\n",
+			"[ crowded hall ] seed %u: %zu scans, %zu loop closures, %zu settled, %zu patch "
+			"links widened, first 10 m of the first lap within %.3f m\n",
 			seed, err.size(), builder.stats().loopClosures, builder.stats().scansSettled,
-			start);
+			builder.stats().patchLinksWidened, start);
 		printFigures("all", all);
 		printFigures("lap 1", lap[0]);
 		printFigures("lap 2", lap[1]);
@@ -137,11 +137,15 @@ TEST(CrowdedHall, everyScanFollowsTheMap)
 		// alone, 5-6 cm sideways on both laps. Not the matcher's bias (the test below): the
 		// heading carried across that corner, where the turn's last scans share only far
 		// walls with the window and settle in a heading optimum 0.9 deg off
-		// (doc/generalisation.md, CrowdedHall). Lap 2's
-		// west leg (x = 5) runs through the pillars at (5, 33.75) and (5, 11.25): the runs
-		// settleIsolatedScans settles are the scans taken inside them.
-		EXPECT_LT(all.rmse, 0.030);
-		EXPECT_LT(all.worst, 0.15);
+		// (doc/generalisation.md, CrowdedHall). With such patch links' position covariance
+		// widened by the scan's sparseness (LocalRegistration.cpp, lonePatchLinkCov):
+		// 0.020 / 0.060 m (lap 1 2.5x, lap 2 2.9x) and 0.021 / 0.064 m (lap 1 3.0x, lap 2
+		// 2.0x). Lap 2's west leg (x = 5) runs through the pillars at (5, 33.75) and
+		// (5, 11.25): the runs settleIsolatedScans settles are the scans taken inside them.
+		EXPECT_LT(all.rmse, 0.025);
+		EXPECT_LT(all.worst, 0.08);  // before the widening: 0.109 m (seed 1)
+		// Most keyframes here see only far walls (about 390 of 720 widened).
+		EXPECT_GT(builder.stats().patchLinksWidened, builder.stats().keyframes / 4);
 		for (const TScanOutliers& l : lap)
 		{
 			EXPECT_LT(l.worstAboveNeighbours, 0.08);

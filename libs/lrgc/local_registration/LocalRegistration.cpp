@@ -35,6 +35,32 @@ const double kRetryTurn = mrpt::DEG2RAD(10.0);
  * with twice the gate, 1 m: 2.9 deg at 20 m). */
 const double kRetryStep = mrpt::DEG2RAD(2.5);
 
+/** A keyframe's patch link that no pairwise match confirmed, where the scan's returns are
+ * sparse, gets its position covariance widened by (d / r)^2 where d > r (x and y scaled by
+ * d / r: their correlation kept, the heading's variance as it was), d [m] the median distance
+ * between consecutive points of the scan, r [m] the line fits' radius (normal_radius_m).
+ * Where the returns are that sparse (a hall's far walls, one degree between beams: 0.4-1.3 m
+ * at 25-75 m) the scan shares no wall stretch with any single window scan; its patch match
+ * rests on the window's scans as placed and lands among optima about one beam apart, so its
+ * covariance (exact for the patch as built) is over-confident: CrowdedHall's links after the
+ * corner at (64, 39) err 2-10 cm sideways, same side, claiming 1-2 cm. The heading is kept:
+ * that link is what holds a hall's heading against biased odometry (OpenHall, heading
+ * widened too: mean drift 0.66 -> 0.85 deg / 100 m and a wrong wide-search override). The
+ * shared logs' unconfirmed links have d 0.05-0.15 m: none widened (their sparse variants:
+ * 0-2 per log). */
+Eigen::Matrix3d lonePatchLinkCov(const Eigen::Matrix3d& cov, const TScan2D& scan, double r)
+{
+	if (scan.points.size() < 2 || r <= 0) return cov;
+	std::vector<double> d(scan.points.size() - 1);
+	for (size_t i = 1; i < scan.points.size(); ++i)
+		d[i - 1] = (scan.points[i] - scan.points[i - 1]).norm();
+	std::nth_element(d.begin(), d.begin() + d.size() / 2, d.end());
+	const double ratio = d[d.size() / 2] / r;
+	if (ratio <= 1) return cov;
+	const Eigen::DiagonalMatrix<double, 3> D(ratio, ratio, 1.0);
+	return D * cov * D;
+}
+
 /** A step the wheels did not make: under 1 mm and 1 mrad (encoder ticks round to zero). */
 bool isZeroStep(const mrpt::math::TPose2D& motion)
 {
@@ -294,16 +320,9 @@ size_t CLocalRegistration::linkAndOptimize(CPoseGraph& graph, const TKeyframes& 
 	// Scan to map: the keyframe's registration against the window patch, in the frame of
 	// the patch's reference node (the previous anchor). Without it (the patch match failed)
 	// the pairwise links keep their full weight: they are all the scans say then.
-	double pairwiseWeight = 1.0;
-	if (m_params.patch_link && m_lastPatchMatch && m_lastPatchMatch->node == odometryLink.from)
-	{
-		pairwiseWeight = m_params.pairwise_link_weight;
-		graph.addLink({m_lastPatchMatch->node, newNode, m_lastPatchMatch->scanInNode,
-					   linkInformation(m_lastPatchMatch->cov, m_params.patch_link_noise),
-					   LinkType::ScanMatch});
-		++added;
-	}
-	m_lastPatchMatch.reset();
+	const bool patchLink =
+		m_params.patch_link && m_lastPatchMatch && m_lastPatchMatch->node == odometryLink.from;
+	const double pairwiseWeight = patchLink ? m_params.pairwise_link_weight : 1.0;
 	takeNewestCloud();  // the previous anchor's, prepared with the last patch
 	std::vector<size_t> nodes;
 	std::vector<TCloudPtr> refs;
@@ -316,10 +335,24 @@ size_t CLocalRegistration::linkAndOptimize(CPoseGraph& graph, const TKeyframes& 
 		guesses.push_back(between(graph.pose(node), graph.pose(newNode)));
 	}
 	const auto matches = matchAll(refs, keyframes[newNode].scan, guesses);
+	auto confirms = [&](const std::optional<TScanMatch>& m)
+	{ return m && m->inlierFraction >= m_params.min_link_inlier_fraction; };
+	if (patchLink)  // added before the pairwise links, as their ids have always been
+	{
+		Eigen::Matrix3d cov = m_lastPatchMatch->cov;
+		if (std::none_of(matches.begin(), matches.end(), confirms))
+			cov =
+				lonePatchLinkCov(cov, keyframes[newNode].scan, m_matcherParams.normal_radius_m);
+		m_patchLinksWidened += cov != m_lastPatchMatch->cov;
+		graph.addLink({m_lastPatchMatch->node, newNode, m_lastPatchMatch->scanInNode,
+					   linkInformation(cov, m_params.patch_link_noise), LinkType::ScanMatch});
+		++added;
+	}
+	m_lastPatchMatch.reset();
 	for (size_t l = 0; l < links; ++l)
 	{
 		const auto& m = matches[l];
-		if (!m || m->inlierFraction < m_params.min_link_inlier_fraction) continue;
+		if (!confirms(m)) continue;
 		graph.addLink(
 			{nodes[l], newNode, m->scanInRef,
 			 linkInformation(m->cov, m_params.link_noise, double(links) / pairwiseWeight),

@@ -129,6 +129,10 @@ public:
 	/** The window's keyframes, oldest first. */
 	const std::deque<size_t>& window() const { return m_window; }
 
+	/** Patch links widened so far: no pairwise match confirmed them and the scan's returns
+	 * were sparser than the line fits' radius (linkAndOptimize, lonePatchLinkScale). */
+	size_t patchLinksWidened() const { return m_patchLinksWidened; }
+
 private:
 	/** K: window_size after a scan with an odometry prior, laser_only_window_size after one
 	 * with the constant-velocity prior (the last registerScan's). */
@@ -241,6 +245,7 @@ private:
 	/** The last scan's registration if it was an accepted plain match (not refused by the
 	 * gate, not from the wide search): what a scan that stands still reuses. */
 	std::optional<TPatchMatch> m_lastAccepted;
+	size_t m_patchLinksWidened = 0;
 	/** A scan whose wheels did not turn, against the patch its predecessor was matched to:
 	 * that match moved by the odometry step (reuse_match_when_still); else nullopt. */
 	std::optional<TRegistration> stillRegistration(const CPoseGraph& graph,

@@ -225,6 +225,7 @@ void CMetricMapBuilderLRGC::enterNewKeyframe(
 	{
 		m_stats.scanMatchLinks +=
 			m_local->linkAndOptimize(m_graph, m_keyframes, odometryLink(*previous, node));
+		m_stats.patchLinksWidened = m_local->patchLinksWidened();
 		++m_stats.odometryLinks;
 		closeLoops(true);
 	}

@@ -74,6 +74,10 @@ struct TMapBuilderStats
 	/** Scans whose pose was off their neighbours' odometry chain at the end of the run and
 	 * was settled onto it (settleIsolatedScans). */
 	size_t scansSettled = 0;
+	/** Keyframes' patch links that no pairwise match confirmed, among returns sparser than
+	 * the line fits' radius, whose covariance local registration widened (a hall's far
+	 * walls; CLocalRegistration::patchLinksWidened). */
+	size_t patchLinksWidened = 0;
 	size_t odometryRejected = 0;  //!< scans whose match disagreed with odometry beyond the gate
 	size_t glitchesRecovered = 0;  //!< of those, recovered by the wide rotational search
 	/** Odometry steps beyond any motion of the robot (a reset, a reboot, a re-based frame:

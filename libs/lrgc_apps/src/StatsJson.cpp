@@ -268,6 +268,7 @@ std::string statsJson(const TRunOutputsSnapshot& snapshot)
 	  << "  \"skipped_scans\": " << s.skippedScans << ",\n"
 	  << "  \"unmatched_scans\": " << s.unmatchedScans << ",\n"
 	  << "  \"scans_settled\": " << s.scansSettled << ",\n"
+	  << "  \"patch_links_widened\": " << s.patchLinksWidened << ",\n"
 	  << "  \"odometry_rejected\": " << s.odometryRejected << ",\n"
 	  << "  \"odometry_glitches_recovered\": " << s.glitchesRecovered << ",\n"
 	  << "  \"odometry_jumps\": " << s.odometryJumps << ",\n"
