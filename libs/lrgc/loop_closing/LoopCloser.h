@@ -89,17 +89,22 @@ public:
 		m_stats.droppedKeyframes.push_back(keyframe);
 		m_stats.droppedPoses.push_back(pose);
 	}
-	/** At the start of a job of the caller's modelled worker (CLoopClosingWorker): how far
-	 * it is behind the newest keyframe [keyframes] and the work it does per keyframe [ms of
-	 * the reference machine; 0: no modelled worker]. A far search runs only while the worker,
-	 * with the job's work so far, stays less than a quarter of max_backlog_keyframes behind:
-	 * it uses spare time only, and never makes the worker shed a search. */
-	void setBacklog(double keyframes, double budgetMs)
+	/** At the start of a job of the caller's modelled worker (CLoopClosingWorker): its grant
+	 * when the job was handed over [ms of grant, see LoopClosingWorker.h] and the work it
+	 * does per keyframe [ms of the reference machine; 0: no modelled worker]. The far search
+	 * runs on a lane of its own, a second modelled worker with the same grant: it starts a
+	 * step only when that lane is free at the job's grant, and its work is counted apart
+	 * (stats().farWork), so the near searches' schedule is the same with it or without. */
+	void setSchedule(double grantMs, double budgetMs)
 	{
-		m_backlog = keyframes;
+		m_grantMs = grantMs;
 		m_budgetMs = budgetMs;
-		m_jobStartMs = m_stats.work.referenceMs();
 	}
+	/** The far lane's step due after the last process(): the next step of the far search
+	 * (its search for places, or a check of one place). It reads the graph and moves
+	 * nothing, so the worker runs it once the job's result is handed over (the mapping thread
+	 * never waits for it); a place it holds is confirmed by a later process(). */
+	void farStep(const CPoseGraph& graph, const TScanRefs& scans);
 	/** Adds the caller's own work (CLoopClosingWorker's updates of its graph) to stats(). */
 	void countWork(const TLoopWork& w) { m_stats.work += w; }
 	/** Called after each step of process() (gate, correlation, match, each solve), with
@@ -191,13 +196,19 @@ private:
 													  const TLoopCloserParams& p);
 	static TPatchCorrelatorParams farCheckParams(const TPatchCorrelatorParams& near);
 	bool windowCapped(const TCandidates& c) const;
-	bool spareTime(double nextMs) const;
+	/** Whether the far lane is free at this job's grant (always without a modelled worker). */
+	bool farLaneFree() const;
+	/** Runs `work` on the far lane: its modelled work into stats().farWork, its CPU time into
+	 * stats().farCpuSeconds, and the lane busy for that work from this job's grant on. */
+	void onFarLane(const std::function<void()>& work);
+	/** Where the far work is counted: the far lane's, or the near worker's. */
+	TLoopWork& work() { return m_onFarLane ? m_stats.farWork : m_stats.work; }
 	std::optional<TLoopClosure> searchBeyond(CPoseGraph& graph, const TScanRefs& scans,
 											 const TCandidates& c, const TSearchWindow& w);
 	void startFarSearch(const CPoseGraph& graph, const TScanRefs& scans, const TCandidates& all,
 						TSearchWindow w);
 	void farSearchPeaks();
-	void checkFarPlace(CPoseGraph& graph, const TScanRefs& scans, const TCandidates& all,
+	void checkFarPlace(const CPoseGraph& graph, const TScanRefs& scans, const TCandidates& all,
 					   const TSearchWindow& w);
 	std::optional<TLoopMatch> matchAround(const CPoseGraph& graph, const TScanRefs& scans,
 										  const TCandidates& all, const TSearchWindow& w,
@@ -272,14 +283,18 @@ private:
 		bool searched = false;                    //!< farSearchPeaks() has run
 		std::vector<mrpt::math::TPose2D> places;  //!< (map <- patch) to check, best first
 		size_t nextPlace = 0;
-		double lastStepMs = 0;  //!< modelled cost of its last step [ms]
 	};
 	std::optional<TFarSearch> m_far;
 	/** Places the far search proposed and confirmed, held for a later patch's check. */
 	std::vector<TLoopMatch> m_farHeld;
 	size_t m_farTries = 0;        //!< checks of m_farHeld by later patches so far
 	size_t m_checksSinceFar = 0;  //!< capped checks since the last far search
-	double m_backlog = 0, m_budgetMs = 0, m_jobStartMs = 0;  //!< setBacklog()
+	/** The last process()'s capped check that found nothing, for farStep(): every old node
+	 * as candidate, and its window. */
+	std::optional<std::pair<TCandidates, TSearchWindow>> m_farDue;
+	double m_grantMs = 0, m_budgetMs = 0;  //!< setSchedule()
+	double m_farFreeMs = 0;                //!< grant at which the far lane is free [ms]
+	bool m_onFarLane = false;              //!< work() counts the far lane's
 };
 
 }  // namespace lrgc

@@ -51,11 +51,6 @@ constexpr double kFarPathRadius = 3.0;
  * times. Intel, ACES and MIT-CSAIL stay below; Killian's gate reaches 24 caps (the hall
  * loop's 9 at its return), so no such threshold keeps the far search off Killian. */
 constexpr double kFarBeyondCap = 4.0;
-/** A far search waits while the modelled worker is more than this share of
- * max_backlog_keyframes behind: it uses spare time. A quarter never let it run near the hall
- * loop's return, where the capped near searches keep the worker 35-60 keyframes behind; half
- * leaves 75 keyframes for the near searches before the worker defers any. */
-constexpr double kFarSpareBacklog = 0.5;
 }  // namespace
 
 // The far search's correlator: the same operator on a coarser grid (far_resolution_m), its
@@ -89,20 +84,36 @@ bool CLoopCloser::windowCapped(const TCandidates& c) const
 			m_params.window_sigmas * c.sigmaTheta >= kFarBeyondCap * m_params.max_window_phi);
 }
 
-// Spare time: the modelled worker, with this job's work so far and `nextMs` more [ms], stays
-// within kFarSpareBacklog of max_backlog_keyframes behind the newest keyframe (always, without
-// a modelled worker).
-bool CLoopCloser::spareTime(double nextMs) const
+// The far lane: a second modelled worker with the near one's grant (LoopClosingWorker.h),
+// free once its work so far, started no earlier than each step's job, is done:
+//     free_f = max(free_f, G_j) + W_f    [ms of grant]
+// A step starts at job j only when free_f <= G_j. Without a modelled worker it is always free.
+bool CLoopCloser::farLaneFree() const
 {
-	if (m_budgetMs <= 0) return true;
-	const double behind =
-		m_backlog + (m_stats.work.referenceMs() - m_jobStartMs + nextMs) / m_budgetMs;
-	return behind <= kFarSpareBacklog * double(m_params.max_backlog_keyframes);
+	return m_budgetMs <= 0 || m_farFreeMs <= m_grantMs;
 }
 
-// The window was capped and found nothing: check the held far places with this patch, or run
-// the next step of a far search (the search for places, then a check of each place found) if
-// the worker has spare time; the search goes on at the next checks.
+void CLoopCloser::onFarLane(const std::function<void()>& work)
+{
+	CCpuTimer farTimer(m_stats.farCpuSeconds);
+	const double before = m_stats.farWork.referenceMs();
+	m_onFarLane = true;
+	try
+	{
+		work();
+	}
+	catch (...)
+	{
+		m_onFarLane = false;
+		throw;
+	}
+	m_onFarLane = false;
+	m_farFreeMs = std::max(m_farFreeMs, m_grantMs) + m_stats.farWork.referenceMs() - before;
+}
+
+// The window was capped and found nothing: with held far places and no far search under way,
+// check them with this patch (it may close the loop); else the far lane's next step is due
+// (farStep, once the job's result is handed over).
 std::optional<TLoopClosure> CLoopCloser::searchBeyond(CPoseGraph& graph, const TScanRefs& scans,
 													  const TCandidates& c,
 													  const TSearchWindow& w)
@@ -111,30 +122,46 @@ std::optional<TLoopClosure> CLoopCloser::searchBeyond(CPoseGraph& graph, const T
 	all.relative = c.allOld;
 	for (const auto& r : all.relative) all.nodes.push_back(r.node);
 	all.sigmaXY = c.sigmaXY, all.sigmaTheta = c.sigmaTheta;
-	if (!m_far && !m_farHeld.empty()) return confirmFar(graph, scans, all, w);
-	const size_t newest = graph.numNodes() - 1;
-	if (m_far && newest > m_far->newest + kFarStaleKeyframes) m_far.reset();
-	if (!m_far && ++m_checksSinceFar < m_params.far_search_every_keyframes) return std::nullopt;
-	if (!spareTime(m_far ? m_far->lastStepMs : 0.0))
+	if (m_far || m_farHeld.empty())
 	{
-		++m_stats.farSearchesWaited;  // the worker is behind: no spare time now
+		m_farDue.emplace(std::move(all), w);
 		return std::nullopt;
 	}
-	if (!m_far) startFarSearch(graph, scans, all, w);
-	// One step per check (a job's far work stays within one step, 2-50 ms, so a job the real
-	// worker runs slower than modelled holds the mapping thread up little: Killian's latency
-	// max 410 -> 150 ms on a loaded machine), and only when the spare time left holds one more
-	// step as costly as the last.
-	if (m_far && spareTime(m_far->lastStepMs) && !stopped())
+	if (!farLaneFree())
 	{
-		const double before = m_stats.work.referenceMs();
-		if (!m_far->searched)
-			farSearchPeaks();
-		else
-			checkFarPlace(graph, scans, all, w);
-		if (m_far) m_far->lastStepMs = m_stats.work.referenceMs() - before;
+		++m_stats.farSearchesWaited;
+		return std::nullopt;
 	}
-	return std::nullopt;
+	return confirmFar(graph, scans, all, w);
+}
+
+// The far lane's step after a capped check that found nothing: every
+// far_search_every_keyframes such checks a far search starts; one step per check (the search
+// for places, then a check of each place found), when the lane is free. One step per job
+// keeps what the real worker does after a result small (2-50 ms).
+void CLoopCloser::farStep(const CPoseGraph& graph, const TScanRefs& scans)
+{
+	if (!m_farDue) return;
+	const auto [all, w] = std::move(*m_farDue);
+	m_farDue.reset();
+	const size_t newest = graph.numNodes() - 1;
+	if (m_far && newest > m_far->newest + kFarStaleKeyframes) m_far.reset();
+	if (!m_far && ++m_checksSinceFar < m_params.far_search_every_keyframes) return;
+	if (!farLaneFree())
+	{
+		++m_stats.farSearchesWaited;  // the lane is busy with the last step
+		return;
+	}
+	onFarLane(
+		[&]
+		{
+			if (!m_far) startFarSearch(graph, scans, all, w);
+			if (!m_far || stopped()) return;
+			if (!m_far->searched)
+				farSearchPeaks();
+			else
+				checkFarPlace(graph, scans, all, w);
+		});
 }
 
 // A far search starts: the patch (newest keyframe's frame), the whole old map within
@@ -151,8 +178,8 @@ void CLoopCloser::startFarSearch(const CPoseGraph& graph, const TScanRefs& scans
 	TPatchAndMap pm = patchAndOldMap(graph, scans, all, w);
 	if (pm.oldMap.empty() || pm.patch.empty()) return;
 	++m_stats.farSearches;
-	++m_stats.work.correlations;
-	m_stats.work.farMapPoints += pm.oldMap.size();
+	++work().correlations;
+	work().farMapPoints += pm.oldMap.size();
 	progress();
 	TFarSearch f;
 	f.newest = graph.numNodes() - 1;
@@ -193,7 +220,7 @@ void CLoopCloser::farSearchPeaks()
 // The next place of the far search, checked around the pose of the newest keyframe n it
 // implies, X_n' = place (+) (X_k^-1 (+) X_n) (k the search's keyframe); held if it passes
 // (one per place: matches that agree are one). After the last place the search is done.
-void CLoopCloser::checkFarPlace(CPoseGraph& graph, const TScanRefs& scans,
+void CLoopCloser::checkFarPlace(const CPoseGraph& graph, const TScanRefs& scans,
 								const TCandidates& all, const TSearchWindow& w)
 {
 	TFarSearch& f = *m_far;
@@ -247,15 +274,19 @@ std::optional<TLoopClosure> CLoopCloser::confirmFar(CPoseGraph& graph, const TSc
 	const auto t0 = std::chrono::steady_clock::now();
 	++m_farTries;
 	std::vector<std::pair<size_t, TLoopMatch>> agreeing;
-	for (size_t i = 0; i < m_farHeld.size() && !stopped(); ++i)
-	{
-		const TLink& l = m_farHeld[i].link;
-		const TPose2D implied = compose(compose(graph.pose(l.from), l.toInFrom),
-										between(graph.pose(l.to), graph.pose(newest)));
-		if (auto m = matchAround(graph, scans, all, w, implied);
-			m && matchesAgree(graph, l, m->link))
-			agreeing.emplace_back(i, *m);
-	}
+	onFarLane(
+		[&]
+		{
+			for (size_t i = 0; i < m_farHeld.size() && !stopped(); ++i)
+			{
+				const TLink& l = m_farHeld[i].link;
+				const TPose2D implied = compose(compose(graph.pose(l.from), l.toInFrom),
+												between(graph.pose(l.to), graph.pose(newest)));
+				if (auto m = matchAround(graph, scans, all, w, implied);
+					m && matchesAgree(graph, l, m->link))
+					agreeing.emplace_back(i, *m);
+			}
+		});
 	if (stopped()) return std::nullopt;
 	if (agreeing.size() > 1) dropFarHeld(m_stats.farAmbiguous);
 	if (agreeing.size() != 1)
