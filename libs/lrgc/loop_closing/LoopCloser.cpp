@@ -66,19 +66,6 @@ double gateInnovationChi2(const TRelativeUncertainty& iFromJ, const TPose2D& z,
 }
 }  // namespace
 
-CLoopCloser::CLoopCloser(const TLoopCloserParams& p, const TPatchCorrelatorParams& correlator,
-						 const TScanMatcherParams& matcher,
-						 const TPoseGraphOptimizerParams& optimizer)
-	: m_params(p),
-	  m_matcherParams(matcher),
-	  m_correlator(correlator),
-	  m_farCorrelator(farCorrelatorParams(correlator, p)),
-	  m_farCheckCorrelator(farCheckParams(correlator)),
-	  m_matcher(matcher),
-	  m_optimizer(optimizer)
-{
-}
-
 /* Held link a (oa <- na) and new link b (ob <- nb), na before nb. Via a, nb in oa's frame is
  * Z_a (+) (na <- nb) (new side, from the graph); via b it is (oa <- ob) (+) Z_b (old side).
  * Both sides of the graph are locally consistent; only the loop itself is in doubt. */
@@ -158,6 +145,7 @@ std::optional<TLoopClosure> CLoopCloser::process(CPoseGraph& graph, const TScanR
 	if (attemptDue(window))
 		if (auto lc = searchNear(graph, scans, *candidates, window))
 		{
+			collectFarStep();
 			if (!m_farHeld.empty()) dropFarHeld(m_stats.farUnconfirmed);
 			m_far.reset();  // the old map has moved
 			return lc;

@@ -6,8 +6,8 @@
  * patch confirms exactly one of them. Trade-off: the search for places costs about one
  * correlation over the old path's extent on a grid far_resolution_m / resolution_m times
  * coarser in x, y and heading (the patch is cut at patch_max_range_m, so not more for a
- * long-range laser), the checks k small full-resolution correlations; it runs on the worker's
- * spare time only, and a loop is closed one patch later than a near one. */
+ * long-range laser), the checks k small full-resolution correlations; it runs on a lane of its
+ * own (LoopCloser_lane.cpp), and a loop is closed one patch later than a near one. */
 #include <lrgc/common/se2.h>
 #include <mrpt/math/wrap2pi.h>
 #include <lrgc/loop_closing/LoopCloser.h>
@@ -84,84 +84,45 @@ bool CLoopCloser::windowCapped(const TCandidates& c) const
 			m_params.window_sigmas * c.sigmaTheta >= kFarBeyondCap * m_params.max_window_phi);
 }
 
-// The far lane: a second modelled worker with the near one's grant (LoopClosingWorker.h),
-// free once its work so far, started no earlier than each step's job, is done:
-//     free_f = max(free_f, G_j) + W_f    [ms of grant]
-// A step starts at job j only when free_f <= G_j. Without a modelled worker it is always free.
-bool CLoopCloser::farLaneFree() const
-{
-	return m_budgetMs <= 0 || m_farFreeMs <= m_grantMs;
-}
-
-void CLoopCloser::onFarLane(const std::function<void()>& work)
-{
-	CCpuTimer farTimer(m_stats.farCpuSeconds);
-	const double before = m_stats.farWork.referenceMs();
-	m_onFarLane = true;
-	try
-	{
-		work();
-	}
-	catch (...)
-	{
-		m_onFarLane = false;
-		throw;
-	}
-	m_onFarLane = false;
-	m_farFreeMs = std::max(m_farFreeMs, m_grantMs) + m_stats.farWork.referenceMs() - before;
-}
-
-// The window was capped and found nothing: with held far places and no far search under way,
-// check them with this patch (it may close the loop); else the far lane's next step is due
-// (farStep, once the job's result is handed over).
+// The window was capped and found nothing. Once the far lane is free (LoopCloser_lane.cpp):
+// with held far places and no far search under way, check them with this patch (it may close
+// the loop); else every far_search_every_keyframes such checks a far search starts, and while
+// one is under way its next step is due (farStep, once the job's result is handed over).
 std::optional<TLoopClosure> CLoopCloser::searchBeyond(CPoseGraph& graph, const TScanRefs& scans,
 													  const TCandidates& c,
 													  const TSearchWindow& w)
 {
-	TCandidates all;
-	all.relative = c.allOld;
-	for (const auto& r : all.relative) all.nodes.push_back(r.node);
-	all.sigmaXY = c.sigmaXY, all.sigmaTheta = c.sigmaTheta;
-	if (m_far || m_farHeld.empty())
-	{
-		m_farDue.emplace(std::move(all), w);
-		return std::nullopt;
-	}
 	if (!farLaneFree())
 	{
 		++m_stats.farSearchesWaited;
 		return std::nullopt;
 	}
-	return confirmFar(graph, scans, all, w);
-}
-
-// The far lane's step after a capped check that found nothing: every
-// far_search_every_keyframes such checks a far search starts; one step per check (the search
-// for places, then a check of each place found), when the lane is free. One step per job
-// keeps what the real worker does after a result small (2-50 ms).
-void CLoopCloser::farStep(const CPoseGraph& graph, const TScanRefs& scans)
-{
-	if (!m_farDue) return;
-	const auto [all, w] = std::move(*m_farDue);
-	m_farDue.reset();
+	TCandidates all;
+	all.relative = c.allOld;
+	for (const auto& r : all.relative) all.nodes.push_back(r.node);
+	all.sigmaXY = c.sigmaXY, all.sigmaTheta = c.sigmaTheta;
+	if (!m_far && !m_farHeld.empty()) return confirmFar(graph, scans, all, w);
 	const size_t newest = graph.numNodes() - 1;
 	if (m_far && newest > m_far->newest + kFarStaleKeyframes) m_far.reset();
-	if (!m_far && ++m_checksSinceFar < m_params.far_search_every_keyframes) return;
-	if (!farLaneFree())
-	{
-		++m_stats.farSearchesWaited;  // the lane is busy with the last step
-		return;
-	}
-	onFarLane(
-		[&]
-		{
-			if (!m_far) startFarSearch(graph, scans, all, w);
-			if (!m_far || stopped()) return;
-			if (!m_far->searched)
-				farSearchPeaks();
-			else
-				checkFarPlace(graph, scans, all, w);
-		});
+	if (!m_far && ++m_checksSinceFar < m_params.far_search_every_keyframes) return std::nullopt;
+	if (!m_far) m_checksSinceFar = 0;
+	m_farDue.emplace(std::move(all), w);
+	return std::nullopt;
+}
+
+// One step of the far search on this (the lane's own) loop closer: its start and its search
+// for places, or the check of its next place.
+void CLoopCloser::runFarStep(const CPoseGraph& graph, const TScanRefs& scans,
+							 const TCandidates& all, const TSearchWindow& w)
+{
+	CCpuTimer farTimer(m_stats.farCpuSeconds);
+	m_onFarLane = true;
+	if (!m_far) startFarSearch(graph, scans, all, w);
+	if (!m_far || stopped()) return;
+	if (!m_far->searched)
+		farSearchPeaks();
+	else
+		checkFarPlace(graph, scans, all, w);
 }
 
 // A far search starts: the patch (newest keyframe's frame), the whole old map within
@@ -171,7 +132,6 @@ void CLoopCloser::startFarSearch(const CPoseGraph& graph, const TScanRefs& scans
 								 const TCandidates& all, TSearchWindow w)
 {
 	CCpuTimer correlateTimer(m_stats.correlateCpuSeconds);
-	m_checksSinceFar = 0;
 	w.far = true;
 	w.xy = m_params.far_window_xy_m;
 	w.theta = M_PI;

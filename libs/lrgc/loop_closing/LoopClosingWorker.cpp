@@ -37,6 +37,7 @@ CLoopClosingWorker::CLoopClosingWorker(const TLoopCloserParams& p,
 	  m_searchSpacing(p.patch_min_keyframes),
 	  m_closer(p, correlator, matcher, optimizer)
 {
+	m_closer.setFarThread(p.background, p.apply_when_ready);
 	// Results taken whenever ready (a live run): the mapping thread never waits for this
 	// thread, so it yields the cores to it.
 	if (p.background)
@@ -146,7 +147,7 @@ TLoopCloserStats CLoopClosingWorker::stats() const
 {
 	std::lock_guard<std::mutex> lock(m_mutex);
 	TLoopCloserStats s = m_stats;
-	s.workerThreadCpuSeconds = m_threadCpuSeconds;
+	s.workerThreadCpuSeconds = m_threadCpuSeconds + s.farThreadCpuSeconds;
 	return s;
 }
 
@@ -312,6 +313,7 @@ TLoopJobResult CLoopClosingWorker::execute(TLoopJob& job)
 	r.newest = job.newest;
 	r.clock = job.clock;
 	r.closure = searchOrDefer(job, start);
+	if (job.runsEnd) m_closer.collectFarStep();  // its counters
 	m_closer.setProgressCallback({});
 	r.finishMs = start + workSoFar().referenceMs();
 	m_modelledFree = r.finishMs;
