@@ -11,6 +11,7 @@
 #include <lrgc/common/se2.h>
 
 #include <iostream>
+#include <limits>
 #include <random>
 
 #include "synthetic_run.h"
@@ -302,21 +303,41 @@ TEST(LargeLoop, tensOfMetresOfDriftAreClosedByTheFarSearchWithTime)
 	EXPECT_LT(on.error.finalXY, 0.5) << "drifted run: " << drifted.error.finalXY << " m";
 }
 
-// The same with the default modelled worker: the far search uses its spare time only (5 ms
-// per keyframe, while the worker is less than half of max_backlog_keyframes behind). One
-// search costs about 80 ms of modelled work here (the places in one pass over the old path,
-// eight checks in a 1 m / 5 deg window, one step per check), so the one that starts after the
-// return finishes within nine keyframes and a later patch confirms its place: the loop closes
-// with true links only.
-TEST(LargeLoop, tensOfMetresOfDriftAreClosedOnTheWorkersSpareTime)
+// The same with the defaults (far_search_every_keyframes 25): the far search runs on a lane of
+// its own, a second modelled worker with the near worker's budget (5 ms per keyframe), never in
+// the near searches' schedule. One search costs about 80 ms of modelled work here (the places
+// in one pass over the old path, eight checks in a 1 m / 5 deg window, one step per check), so
+// the one that starts after the return finishes within a few keyframes and a later patch
+// confirms its place: the loop closes with true links only.
+TEST(LargeLoop, tensOfMetresOfDriftAreClosedWithTheDefaults)
 {
 	TLoopSetup s;
 	s.turnBias = 1.25;
-	s.farSearchEvery = 25;
 	const auto [drifted, on] = farRun(s);
 	EXPECT_GE(on.loopStats.farClosures, 1U);
 	EXPECT_LT(on.error.finalXY, 0.5) << "drifted run: " << drifted.error.finalXY << " m";
 	EXPECT_TRUE(on.loopStats.droppedKeyframes.empty()) << "a deferred search was dropped";
+}
+
+// Where the far search closes nothing it moves nothing: the same drift, no return (three
+// sides), the defaults. Its searches run and propose look-alikes, but on their own lane (their
+// work counted apart, their steps on their own thread, taken back at points fixed by the
+// modelled schedule), so the map is the one without them, to the bit.
+TEST(LargeLoop, theFarSearchMovesNoMapWhereItClosesNothing)
+{
+	TLoopSetup s;
+	s.turnBias = 1.25;
+	s.returns = false;
+	const TRun on = runHallLoop(s);
+	s.farSearchEvery = std::numeric_limits<size_t>::max();  // never due: off
+	const TRun off = runHallLoop(s);
+	EXPECT_GE(on.loopStats.farSearches, 3U) << "the far search must run";
+	EXPECT_EQ(on.loopStats.farClosures, 0U);
+	EXPECT_EQ(off.loopStats.farSearches, 0U);
+	EXPECT_EQ(on.error.rmsXY, off.error.rmsXY);
+	EXPECT_EQ(on.error.finalXY, off.error.finalXY);
+	EXPECT_EQ(on.stats.loopClosures, off.stats.loopClosures);
+	EXPECT_EQ(on.loopStats.work.referenceMs(), off.loopStats.work.referenceMs());
 }
 
 // Look-alikes only: the same drift, but the run ends before the robot is back (three sides,

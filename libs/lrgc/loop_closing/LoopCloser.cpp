@@ -66,19 +66,6 @@ double gateInnovationChi2(const TRelativeUncertainty& iFromJ, const TPose2D& z,
 }
 }  // namespace
 
-CLoopCloser::CLoopCloser(const TLoopCloserParams& p, const TPatchCorrelatorParams& correlator,
-						 const TScanMatcherParams& matcher,
-						 const TPoseGraphOptimizerParams& optimizer)
-	: m_params(p),
-	  m_matcherParams(matcher),
-	  m_correlator(correlator),
-	  m_farCorrelator(farCorrelatorParams(correlator, p)),
-	  m_farCheckCorrelator(farCheckParams(correlator)),
-	  m_matcher(matcher),
-	  m_optimizer(optimizer)
-{
-}
-
 /* Held link a (oa <- na) and new link b (ob <- nb), na before nb. Via a, nb in oa's frame is
  * Z_a (+) (na <- nb) (new side, from the graph); via b it is (oa <- ob) (+) Z_b (old side).
  * Both sides of the graph are locally consistent; only the loop itself is in doubt. */
@@ -148,6 +135,7 @@ auto CLoopCloser::gate(const CPoseGraph& graph, size_t newest) -> std::optional<
 std::optional<TLoopClosure> CLoopCloser::process(CPoseGraph& graph, const TScanRefs& scans)
 {
 	m_lastRejection.clear();
+	m_farDue.reset();
 	if (!checkDue() || stopped()) return std::nullopt;
 	const size_t newest = graph.numNodes() - 1;
 	const auto candidates = timedGate(graph, newest);
@@ -157,6 +145,7 @@ std::optional<TLoopClosure> CLoopCloser::process(CPoseGraph& graph, const TScanR
 	if (attemptDue(window))
 		if (auto lc = searchNear(graph, scans, *candidates, window))
 		{
+			collectFarStep();
 			if (!m_farHeld.empty()) dropFarHeld(m_stats.farUnconfirmed);
 			m_far.reset();  // the old map has moved
 			return lc;
@@ -227,7 +216,7 @@ std::optional<TCorrelationResult> CLoopCloser::correlatePatch(const CPoseGraph& 
 	const TPatchAndMap pm = patchAndOldMap(graph, scans, c, w);
 	if (pm.oldMap.empty()) return std::nullopt;
 	++m_stats.attempts;
-	++m_stats.work.correlations;
+	++work().correlations;
 	progress();
 	// A noisy laser's peaks are as wide as its noise (CPatchCorrelator::setScanNoise).
 	const double noise = scans[graph.numNodes() - 1]->rangeNoiseStd;
@@ -267,7 +256,7 @@ auto CLoopCloser::matchLoopLink(const CPoseGraph& graph, const TScanRefs& scans,
 	const size_t oldNode = c.nodes[oldIndex];
 	const TPose2D guessInOld = between(graph.pose(oldNode), corrected);
 	const CReferenceCloud reference = oldScansNear(graph, scans, c, oldNode, corrected);
-	++m_stats.work.matches;
+	++work().matches;
 	progress();
 	const auto match = m_matcher.match(reference, *scans[newest], guessInOld);
 	if (!match)
@@ -301,7 +290,7 @@ CReferenceCloud CLoopCloser::oldScansNear(const CPoseGraph& graph, const TScanRe
 		if (translationNorm(between(graph.pose(j), corrected)) > 2 * m_params.overlap_radius_m)
 			continue;
 		refScans.push_back(*scans[j]);
-		m_stats.work.matchRefPoints += scans[j]->points.size();
+		work().matchRefPoints += scans[j]->points.size();
 		refInOld.push_back(between(oldInMap, graph.pose(j)));
 	}
 	std::vector<Eigen::Vector2d> scanInOld;
@@ -410,12 +399,12 @@ TOptimizationReport CLoopCloser::optimize(CPoseGraph& graph, const std::vector<s
 	// of the job's modelled work: the problem's size (every node and link), then each
 	// iteration as it starts.
 	const double elements = double(graph.numNodes() + graph.numLinks());
-	m_stats.work.solveElements += elements;
+	work().solveElements += elements;
 	progress();
 	m_optimizer.setIterationCallback(
 		[this, elements]
 		{
-			m_stats.work.solveIterationElements += elements;
+			work().solveIterationElements += elements;
 			progress();
 		});
 	const std::vector<TPose2D> before = graph.poses();  // n poses: little beside a solve

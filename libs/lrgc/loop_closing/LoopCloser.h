@@ -24,8 +24,9 @@
  *
  * Beyond the window (issue 28; LoopCloser_far.cpp). The window is capped (max_window_xy_m,
  * max_window_phi_deg): a revisit the drift put farther away lies outside it. While the cap
- * binds and the window finds nothing, every far_search_every_keyframes such checks (when the
- * worker is not behind) the patch is correlated with the whole old map within far_window_xy_m,
+ * binds and the window finds nothing, every far_search_every_keyframes such checks (on a lane
+ * of its own, LoopCloser_lane.cpp: it never moves the near searches' schedule) the patch is
+ * correlated with the whole old map within far_window_xy_m,
  * every heading, on a coarse grid (far_resolution_m); its far_candidates best distinct poses
  * (CPatchCorrelator::correlatePeaks) are each searched again at full resolution in a small
  * window with the three filters, then scan-matched (steps 2-3 around that pose). A building
@@ -50,6 +51,7 @@
 #include <mrpt/config/CLoadableOptions.h>
 
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 
@@ -63,6 +65,10 @@ public:
 	 * matcher, optimizer). Its loop links' noise floor is p.link_noise. */
 	CLoopCloser(const TLoopCloserParams& p, const TPatchCorrelatorParams& correlator,
 				const TScanMatcherParams& matcher, const TPoseGraphOptimizerParams& optimizer);
+	/** Waits for a far step still running on its thread. */
+	~CLoopCloser();
+	CLoopCloser(const CLoopCloser&) = delete;
+	CLoopCloser& operator=(const CLoopCloser&) = delete;
 
 	/** Looks for a loop for the newest keyframe and closes it; `scans[i]` is node i's scan.
 	 * Returns the closure if a link was added (the graph may have been optimised: callers
@@ -89,17 +95,38 @@ public:
 		m_stats.droppedKeyframes.push_back(keyframe);
 		m_stats.droppedPoses.push_back(pose);
 	}
-	/** At the start of a job of the caller's modelled worker (CLoopClosingWorker): how far
-	 * it is behind the newest keyframe [keyframes] and the work it does per keyframe [ms of
-	 * the reference machine; 0: no modelled worker]. A far search runs only while the worker,
-	 * with the job's work so far, stays less than a quarter of max_backlog_keyframes behind:
-	 * it uses spare time only, and never makes the worker shed a search. */
-	void setBacklog(double keyframes, double budgetMs)
+	/** At the start of a job of the caller's modelled worker (CLoopClosingWorker): its grant
+	 * when the job was handed over [ms of grant, see LoopClosingWorker.h] and the work it
+	 * does per keyframe [ms of the reference machine; 0: no modelled worker]. The far search
+	 * runs on a lane of its own, a second modelled worker with the same grant: it starts a
+	 * step only when that lane is free at the job's grant, and its work is counted apart
+	 * (stats().farWork), so the near searches' schedule is the same with it or without. */
+	void setSchedule(double grantMs, double budgetMs)
 	{
-		m_backlog = keyframes;
+		m_grantMs = grantMs;
 		m_budgetMs = budgetMs;
-		m_jobStartMs = m_stats.work.referenceMs();
 	}
+	/** The far lane's step due after the last process(): the next step of the far search
+	 * (its start and search for places, or a check of one place). It runs on a loop closer of
+	 * its own (its correlators, matcher and counters) over a copy of the graph, on a thread
+	 * of its own if setFarThread(true), else now; the caller runs it once the
+	 * job's result is handed over. Its outcome (the search's state, the places it holds, its
+	 * counters) is taken back only where this loop closer next needs it: at a capped check
+	 * where the lane is free at the job's grant by its modelled work, or at a closure. So the
+	 * outcome, and what follows from it, does not depend on when the thread runs. */
+	void farStep(const CPoseGraph& graph, const TScanRefs& scans);
+	/** Whether farStep() runs on a thread of its own (the worker's `background`), and whether
+	 * that thread yields the cores to the others (a live run, `apply_when_ready`: the mapping
+	 * thread never waits for the loop closer). Offline, a thread at low priority on a loaded
+	 * machine fell far behind its modelled lane and the worker waited for it (Killian: latency
+	 * max 1035 ms). */
+	void setFarThread(bool on, bool yield)
+	{
+		m_farThreaded = on;
+		m_farYields = yield;
+	}
+	/** Takes back the far step under way, waiting for it (the run's end: its counters). */
+	void collectFarStep();
 	/** Adds the caller's own work (CLoopClosingWorker's updates of its graph) to stats(). */
 	void countWork(const TLoopWork& w) { m_stats.work += w; }
 	/** Called after each step of process() (gate, correlation, match, each solve), with
@@ -191,13 +218,24 @@ private:
 													  const TLoopCloserParams& p);
 	static TPatchCorrelatorParams farCheckParams(const TPatchCorrelatorParams& near);
 	bool windowCapped(const TCandidates& c) const;
-	bool spareTime(double nextMs) const;
+	/** Whether the far lane is free at this job's grant (always without a modelled worker);
+	 * takes back the step under way when it has finished by then (LoopCloser_lane.cpp). */
+	bool farLaneFree();
+	void runFarStep(const CPoseGraph& graph, const TScanRefs& scans, const TCandidates& all,
+					const TSearchWindow& w);
+	/** Adds the far step's counters (the lane's loop closer's) to stats(). */
+	void addFarCounts(const TLoopCloserStats& s);
+	/** Runs `work` on the far lane: its modelled work into stats().farWork, its CPU time into
+	 * stats().farCpuSeconds, and the lane busy for that work from this job's grant on. */
+	void onFarLane(const std::function<void()>& work);
+	/** Where the far work is counted: the far lane's, or the near worker's. */
+	TLoopWork& work() { return m_onFarLane ? m_stats.farWork : m_stats.work; }
 	std::optional<TLoopClosure> searchBeyond(CPoseGraph& graph, const TScanRefs& scans,
 											 const TCandidates& c, const TSearchWindow& w);
 	void startFarSearch(const CPoseGraph& graph, const TScanRefs& scans, const TCandidates& all,
 						TSearchWindow w);
 	void farSearchPeaks();
-	void checkFarPlace(CPoseGraph& graph, const TScanRefs& scans, const TCandidates& all,
+	void checkFarPlace(const CPoseGraph& graph, const TScanRefs& scans, const TCandidates& all,
 					   const TSearchWindow& w);
 	std::optional<TLoopMatch> matchAround(const CPoseGraph& graph, const TScanRefs& scans,
 										  const TCandidates& all, const TSearchWindow& w,
@@ -272,14 +310,23 @@ private:
 		bool searched = false;                    //!< farSearchPeaks() has run
 		std::vector<mrpt::math::TPose2D> places;  //!< (map <- patch) to check, best first
 		size_t nextPlace = 0;
-		double lastStepMs = 0;  //!< modelled cost of its last step [ms]
 	};
 	std::optional<TFarSearch> m_far;
 	/** Places the far search proposed and confirmed, held for a later patch's check. */
 	std::vector<TLoopMatch> m_farHeld;
 	size_t m_farTries = 0;        //!< checks of m_farHeld by later patches so far
 	size_t m_checksSinceFar = 0;  //!< capped checks since the last far search
-	double m_backlog = 0, m_budgetMs = 0, m_jobStartMs = 0;  //!< setBacklog()
+	/** The last process()'s capped check that found nothing, for farStep(): every old node
+	 * as candidate, and its window. */
+	std::optional<std::pair<TCandidates, TSearchWindow>> m_farDue;
+	double m_grantMs = 0, m_budgetMs = 0;  //!< setSchedule()
+	double m_farFreeMs = 0;                //!< grant at which the far lane is free [ms]
+	bool m_onFarLane = false;              //!< work() counts the far lane's
+	bool m_farThreaded = false, m_farYields = false;  //!< setFarThread()
+	/** The far lane's loop closer and its step under way (LoopCloser_lane.cpp). */
+	struct TFarLane;
+	std::unique_ptr<TFarLane> m_farLane;
+	bool m_farRunning = false;  //!< a step started and not taken back
 };
 
 }  // namespace lrgc

@@ -100,8 +100,9 @@ void TLoopCloserParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
 	writeValue(
 		c, s, "far_search_every_keyframes", uint64_t(far_search_every_keyframes),
 		"While the window is capped and finds no loop, search the whole old map (every "
-		"heading, coarse grid) every this many checks, on the worker's spare time; a "
-		"place it proposes closes a loop only once a later patch confirms it (0: never)");
+		"heading, coarse grid) every this many checks, on a lane of its own that never moves "
+		"the near searches' schedule; a place it proposes closes a loop only once a later "
+		"patch confirms it (0: never)");
 	writeValue(c, s, "far_window_xy_m", far_window_xy_m, "[m] Half-window of that far search");
 	writeValue(
 		c, s, "far_resolution_m", far_resolution_m,

@@ -21,7 +21,7 @@ struct TLoopCloserStats
 	 * none came. */
 	size_t heldForConfirmation = 0, unconfirmed = 0;
 	/** The search beyond the capped window ([LoopCloser] far_search_every_keyframes): far
-	 * searches run, and those due that waited for the worker's spare time; the distinct
+	 * searches run, and the capped checks that found the far lane busy; the distinct
 	 * places they proposed (candidates), those the full-resolution search and the scan match
 	 * confirmed and those they rejected; held places dropped because a later patch confirmed
 	 * none of them or more than one (ambiguous); loops closed so. */
@@ -45,6 +45,12 @@ struct TLoopCloserStats
 	double workerThreadCpuSeconds = 0;
 	/** The same work in machine-independent counts (the worker's schedule, LoopWork.h). */
 	TLoopWork work;
+	/** The far search's own lane (CLoopCloser::setSchedule): its work in the same counts,
+	 * apart from `work`, and its CPU time [s] (also in the steps' CPU times above, apart
+	 * from a loop it closes, counted in `work` and closeCpuSeconds). */
+	TLoopWork farWork;
+	double farCpuSeconds = 0;
+	double farThreadCpuSeconds = 0;  //!< the part of it on the far lane's own thread [s]
 	/** Searches the worker deferred because its modelled schedule ran more than
 	 * [LoopCloser] max_backlog_keyframes keyframes' budget behind (CLoopClosingWorker). */
 	size_t searchesShed = 0;

@@ -6,8 +6,8 @@
  * patch confirms exactly one of them. Trade-off: the search for places costs about one
  * correlation over the old path's extent on a grid far_resolution_m / resolution_m times
  * coarser in x, y and heading (the patch is cut at patch_max_range_m, so not more for a
- * long-range laser), the checks k small full-resolution correlations; it runs on the worker's
- * spare time only, and a loop is closed one patch later than a near one. */
+ * long-range laser), the checks k small full-resolution correlations; it runs on a lane of its
+ * own (LoopCloser_lane.cpp), and a loop is closed one patch later than a near one. */
 #include <lrgc/common/se2.h>
 #include <mrpt/math/wrap2pi.h>
 #include <lrgc/loop_closing/LoopCloser.h>
@@ -51,11 +51,6 @@ constexpr double kFarPathRadius = 3.0;
  * times. Intel, ACES and MIT-CSAIL stay below; Killian's gate reaches 24 caps (the hall
  * loop's 9 at its return), so no such threshold keeps the far search off Killian. */
 constexpr double kFarBeyondCap = 4.0;
-/** A far search waits while the modelled worker is more than this share of
- * max_backlog_keyframes behind: it uses spare time. A quarter never let it run near the hall
- * loop's return, where the capped near searches keep the worker 35-60 keyframes behind; half
- * leaves 75 keyframes for the near searches before the worker defers any. */
-constexpr double kFarSpareBacklog = 0.5;
 }  // namespace
 
 // The far search's correlator: the same operator on a coarser grid (far_resolution_m), its
@@ -89,24 +84,19 @@ bool CLoopCloser::windowCapped(const TCandidates& c) const
 			m_params.window_sigmas * c.sigmaTheta >= kFarBeyondCap * m_params.max_window_phi);
 }
 
-// Spare time: the modelled worker, with this job's work so far and `nextMs` more [ms], stays
-// within kFarSpareBacklog of max_backlog_keyframes behind the newest keyframe (always, without
-// a modelled worker).
-bool CLoopCloser::spareTime(double nextMs) const
-{
-	if (m_budgetMs <= 0) return true;
-	const double behind =
-		m_backlog + (m_stats.work.referenceMs() - m_jobStartMs + nextMs) / m_budgetMs;
-	return behind <= kFarSpareBacklog * double(m_params.max_backlog_keyframes);
-}
-
-// The window was capped and found nothing: check the held far places with this patch, or run
-// the next step of a far search (the search for places, then a check of each place found) if
-// the worker has spare time; the search goes on at the next checks.
+// The window was capped and found nothing. Once the far lane is free (LoopCloser_lane.cpp):
+// with held far places and no far search under way, check them with this patch (it may close
+// the loop); else every far_search_every_keyframes such checks a far search starts, and while
+// one is under way its next step is due (farStep, once the job's result is handed over).
 std::optional<TLoopClosure> CLoopCloser::searchBeyond(CPoseGraph& graph, const TScanRefs& scans,
 													  const TCandidates& c,
 													  const TSearchWindow& w)
 {
+	if (!farLaneFree())
+	{
+		++m_stats.farSearchesWaited;
+		return std::nullopt;
+	}
 	TCandidates all;
 	all.relative = c.allOld;
 	for (const auto& r : all.relative) all.nodes.push_back(r.node);
@@ -115,26 +105,24 @@ std::optional<TLoopClosure> CLoopCloser::searchBeyond(CPoseGraph& graph, const T
 	const size_t newest = graph.numNodes() - 1;
 	if (m_far && newest > m_far->newest + kFarStaleKeyframes) m_far.reset();
 	if (!m_far && ++m_checksSinceFar < m_params.far_search_every_keyframes) return std::nullopt;
-	if (!spareTime(m_far ? m_far->lastStepMs : 0.0))
-	{
-		++m_stats.farSearchesWaited;  // the worker is behind: no spare time now
-		return std::nullopt;
-	}
-	if (!m_far) startFarSearch(graph, scans, all, w);
-	// One step per check (a job's far work stays within one step, 2-50 ms, so a job the real
-	// worker runs slower than modelled holds the mapping thread up little: Killian's latency
-	// max 410 -> 150 ms on a loaded machine), and only when the spare time left holds one more
-	// step as costly as the last.
-	if (m_far && spareTime(m_far->lastStepMs) && !stopped())
-	{
-		const double before = m_stats.work.referenceMs();
-		if (!m_far->searched)
-			farSearchPeaks();
-		else
-			checkFarPlace(graph, scans, all, w);
-		if (m_far) m_far->lastStepMs = m_stats.work.referenceMs() - before;
-	}
+	if (!m_far) m_checksSinceFar = 0;
+	m_farDue.emplace(std::move(all), w);
 	return std::nullopt;
+}
+
+// One step of the far search on this (the lane's own) loop closer: its start and its search
+// for places, or the check of its next place.
+void CLoopCloser::runFarStep(const CPoseGraph& graph, const TScanRefs& scans,
+							 const TCandidates& all, const TSearchWindow& w)
+{
+	CCpuTimer farTimer(m_stats.farCpuSeconds);
+	m_onFarLane = true;
+	if (!m_far) startFarSearch(graph, scans, all, w);
+	if (!m_far || stopped()) return;
+	if (!m_far->searched)
+		farSearchPeaks();
+	else
+		checkFarPlace(graph, scans, all, w);
 }
 
 // A far search starts: the patch (newest keyframe's frame), the whole old map within
@@ -144,15 +132,14 @@ void CLoopCloser::startFarSearch(const CPoseGraph& graph, const TScanRefs& scans
 								 const TCandidates& all, TSearchWindow w)
 {
 	CCpuTimer correlateTimer(m_stats.correlateCpuSeconds);
-	m_checksSinceFar = 0;
 	w.far = true;
 	w.xy = m_params.far_window_xy_m;
 	w.theta = M_PI;
 	TPatchAndMap pm = patchAndOldMap(graph, scans, all, w);
 	if (pm.oldMap.empty() || pm.patch.empty()) return;
 	++m_stats.farSearches;
-	++m_stats.work.correlations;
-	m_stats.work.farMapPoints += pm.oldMap.size();
+	++work().correlations;
+	work().farMapPoints += pm.oldMap.size();
 	progress();
 	TFarSearch f;
 	f.newest = graph.numNodes() - 1;
@@ -193,7 +180,7 @@ void CLoopCloser::farSearchPeaks()
 // The next place of the far search, checked around the pose of the newest keyframe n it
 // implies, X_n' = place (+) (X_k^-1 (+) X_n) (k the search's keyframe); held if it passes
 // (one per place: matches that agree are one). After the last place the search is done.
-void CLoopCloser::checkFarPlace(CPoseGraph& graph, const TScanRefs& scans,
+void CLoopCloser::checkFarPlace(const CPoseGraph& graph, const TScanRefs& scans,
 								const TCandidates& all, const TSearchWindow& w)
 {
 	TFarSearch& f = *m_far;
@@ -247,15 +234,19 @@ std::optional<TLoopClosure> CLoopCloser::confirmFar(CPoseGraph& graph, const TSc
 	const auto t0 = std::chrono::steady_clock::now();
 	++m_farTries;
 	std::vector<std::pair<size_t, TLoopMatch>> agreeing;
-	for (size_t i = 0; i < m_farHeld.size() && !stopped(); ++i)
-	{
-		const TLink& l = m_farHeld[i].link;
-		const TPose2D implied = compose(compose(graph.pose(l.from), l.toInFrom),
-										between(graph.pose(l.to), graph.pose(newest)));
-		if (auto m = matchAround(graph, scans, all, w, implied);
-			m && matchesAgree(graph, l, m->link))
-			agreeing.emplace_back(i, *m);
-	}
+	onFarLane(
+		[&]
+		{
+			for (size_t i = 0; i < m_farHeld.size() && !stopped(); ++i)
+			{
+				const TLink& l = m_farHeld[i].link;
+				const TPose2D implied = compose(compose(graph.pose(l.from), l.toInFrom),
+												between(graph.pose(l.to), graph.pose(newest)));
+				if (auto m = matchAround(graph, scans, all, w, implied);
+					m && matchesAgree(graph, l, m->link))
+					agreeing.emplace_back(i, *m);
+			}
+		});
 	if (stopped()) return std::nullopt;
 	if (agreeing.size() > 1) dropFarHeld(m_stats.farAmbiguous);
 	if (agreeing.size() != 1)

@@ -120,14 +120,14 @@ void CLoopCloser::countedSearch(const std::function<void(TCorrelationEffort&)>& 
 	effort.onProgress = [this, &counted, &prepared](const TCorrelationEffort& e)
 	{
 		if (!std::exchange(prepared, true))
-			m_stats.work.correlationAngleCells += double(e.headings) * double(e.patchCells);
+			work().correlationAngleCells += double(e.headings) * double(e.patchCells);
 		const double poseCells = double(e.posesScored) * double(e.patchCells);
-		m_stats.work.correlationPoseCells += poseCells - counted;
+		work().correlationPoseCells += poseCells - counted;
 		counted = poseCells;
 		progress();
 	};
 	search(effort);
-	m_stats.work.correlationPoseCells +=
+	work().correlationPoseCells +=
 		double(effort.posesScored) * double(effort.patchCells) - counted;
 }
 

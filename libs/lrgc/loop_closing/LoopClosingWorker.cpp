@@ -37,6 +37,7 @@ CLoopClosingWorker::CLoopClosingWorker(const TLoopCloserParams& p,
 	  m_searchSpacing(p.patch_min_keyframes),
 	  m_closer(p, correlator, matcher, optimizer)
 {
+	m_closer.setFarThread(p.background, p.apply_when_ready);
 	// Results taken whenever ready (a live run): the mapping thread never waits for this
 	// thread, so it yields the cores to it.
 	if (p.background)
@@ -69,6 +70,7 @@ void CLoopClosingWorker::submit(TLoopJob job)
 		try
 		{
 			m_results.push_back(execute(job));
+			farStep();
 		}
 		catch (...)
 		{
@@ -145,7 +147,7 @@ TLoopCloserStats CLoopClosingWorker::stats() const
 {
 	std::lock_guard<std::mutex> lock(m_mutex);
 	TLoopCloserStats s = m_stats;
-	s.workerThreadCpuSeconds = m_threadCpuSeconds;
+	s.workerThreadCpuSeconds = m_threadCpuSeconds + s.farThreadCpuSeconds;
 	return s;
 }
 
@@ -170,13 +172,35 @@ void CLoopClosingWorker::threadMain()
 		{
 			error = std::current_exception();
 		}
-		const double cpu = threadCpuSeconds() - cpu0;
 		lock.lock();
-		m_threadCpuSeconds += cpu;
+		m_threadCpuSeconds += threadCpuSeconds() - cpu0;
 		if (result) m_results.push_back(std::move(*result));
 		if (error) m_error = error;
 		m_cv.notify_all();
+		if (error) continue;
+		// The result is handed over: the far lane's step, if one is due, runs now.
+		lock.unlock();
+		const double farCpu0 = threadCpuSeconds();
+		try
+		{
+			farStep();
+		}
+		catch (...)
+		{
+			error = std::current_exception();
+		}
+		lock.lock();
+		m_threadCpuSeconds += threadCpuSeconds() - farCpu0;
+		if (error) m_error = error;
+		m_cv.notify_all();
 	}
+}
+
+void CLoopClosingWorker::farStep()
+{
+	m_closer.farStep(m_replica, m_scans);
+	std::lock_guard<std::mutex> lock(m_mutex);
+	publishStats();
 }
 
 // The job's poses M_i are in the mapping thread's frame, which lacks the corrections it had
@@ -250,7 +274,7 @@ std::optional<TLoopClosure> CLoopClosingWorker::searchOrDefer(const TLoopJob& jo
 			m_closer.countDropped(d, m_replica.pose(d));
 	m_deferred.clear();
 	m_lastSearched = job.newest;
-	m_closer.setBacklog(m_budgetMs > 0 ? (start - job.grantMs) / m_budgetMs : 0.0, m_budgetMs);
+	m_closer.setSchedule(job.grantMs, m_budgetMs);
 	return m_closer.process(m_replica, m_scans);
 }
 
@@ -289,6 +313,7 @@ TLoopJobResult CLoopClosingWorker::execute(TLoopJob& job)
 	r.newest = job.newest;
 	r.clock = job.clock;
 	r.closure = searchOrDefer(job, start);
+	if (job.runsEnd) m_closer.collectFarStep();  // its counters
 	m_closer.setProgressCallback({});
 	r.finishMs = start + workSoFar().referenceMs();
 	m_modelledFree = r.finishMs;
@@ -306,13 +331,18 @@ TLoopJobResult CLoopClosingWorker::execute(TLoopJob& job)
 		m_unapplied.push_back({m_jobsDone, r.newest, r.firstMoved, m_replica.pose(r.newest)});
 	++m_jobsDone;
 	std::lock_guard<std::mutex> lock(m_mutex);
+	publishStats();
+	return r;
+}
+
+void CLoopClosingWorker::publishStats()
+{
 	m_stats = m_closer.stats();
 	for (const size_t d : m_deferred)  // not merged yet: dropped unless a search comes
 	{
 		m_stats.droppedKeyframes.push_back(d);
 		m_stats.droppedPoses.push_back(m_replica.pose(d));
 	}
-	return r;
 }
 
 }  // namespace lrgc

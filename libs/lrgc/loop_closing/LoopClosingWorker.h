@@ -157,6 +157,11 @@ private:
 	 * the searches deferred before it. */
 	std::optional<TLoopClosure> searchOrDefer(const TLoopJob& job, double start);
 	void publishProgress(double finishMs);
+	/** The far lane's step due after the job just done (CLoopCloser::farStep), run once its
+	 * result is handed over; it moves nothing in the replica. */
+	void farStep();
+	/** m_stats from the loop closer's (m_mutex held). */
+	void publishStats();
 	void updateReplica(const TLoopJob& job);
 	void threadMain();
 

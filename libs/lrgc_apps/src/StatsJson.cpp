@@ -132,6 +132,9 @@ std::string loopClosingJson(const TMapBuilderStats& s, const TLoopCloserStats& l
 	  << ", \"far_unconfirmed\": " << lcs.farUnconfirmed
 	  << ", \"far_ambiguous\": " << lcs.farAmbiguous
 	  << ", \"far_closures\": " << lcs.farClosures
+	  // Its own lane: modelled work apart from the near searches' schedule, and CPU time.
+	  << ", \"far_modelled_work_s\": " << 1e-3 * lcs.farWork.referenceMs()
+	  << ", \"far_cpu_s\": " << lcs.farCpuSeconds
 	  << ", \"gate_propagations\": " << lcs.gatePropagations
 	  << ", \"gate_reuses\": " << lcs.gateReuses
 	  << ", \"closure_ms\": {\"count\": " << closureMs.size()
@@ -160,7 +163,7 @@ std::string loopClosingJson(const TMapBuilderStats& s, const TLoopCloserStats& l
 	  << ", \"cpu_s\": {\"gate\": " << lcs.gateCpuSeconds
 	  << ", \"correlate\": " << lcs.correlateCpuSeconds
 	  << ", \"match\": " << lcs.matchCpuSeconds << ", \"close\": " << lcs.closeCpuSeconds
-	  << "}},\n";
+	  << ", \"far\": " << lcs.farCpuSeconds << "}},\n";
 	return j.str();
 }
 
