@@ -4,8 +4,11 @@
  *
  * Model. The lane is a second modelled worker with the near worker's grant G
  * (LoopClosingWorker.h). A step starts at job j only when the lane is free, free_f <= G_j, and
- * then keeps it busy for its modelled work W_f (LoopWork.h):
- *     start_f = max(free_f, G_j),  free_f = start_f + W_f    [ms of grant]
+ * then keeps it busy for its modelled work W_f (LoopWork.h), done at half the near worker's
+ * speed (kFarLaneSpeed: the lane's thread shares the cores with the mapping thread, the window's
+ * helper and the near worker, and the near worker waits whenever the real step is slower than
+ * its model):
+ *     start_f = max(free_f, G_j),  free_f = start_f + W_f / kFarLaneSpeed    [ms of grant]
  * W_f is counted in stats().farWork, never in stats().work (the near worker's schedule).
  *
  * Threads. A step of the far search (start and search for places, or a check of one place)
@@ -31,6 +34,12 @@
 
 namespace lrgc
 {
+namespace
+{
+// The far lane's speed as a fraction of the near worker's (see the model above).
+constexpr double kFarLaneSpeed = 0.5;
+}  // namespace
+
 struct CLoopCloser::TFarLane
 {
 	std::unique_ptr<CLoopCloser> closer;  //!< runs the steps; only the far search's state
@@ -68,10 +77,10 @@ bool CLoopCloser::farLaneFree()
 	if (m_farRunning)
 	{
 		TFarLane& lane = *m_farLane;
-		// Free at G_j iff W_f <= G_j - start_f: wait until the work so far exceeds that
+		// Free at G_j iff W_f <= kFarLaneSpeed (G_j - start_f): wait until the work so far exceeds that
 		// (busy) or the step is done.
 		const bool modelled = m_budgetMs > 0;
-		const double room = m_grantMs - lane.startMs;
+		const double room = kFarLaneSpeed * (m_grantMs - lane.startMs);
 		bool finished = false;
 		{
 			std::unique_lock<std::mutex> lock(lane.mutex);
@@ -99,7 +108,8 @@ void CLoopCloser::onFarLane(const std::function<void()>& work)
 		throw;
 	}
 	m_onFarLane = false;
-	m_farFreeMs = std::max(m_farFreeMs, m_grantMs) + m_stats.farWork.referenceMs() - before;
+	m_farFreeMs = std::max(m_farFreeMs, m_grantMs) +
+				  (m_stats.farWork.referenceMs() - before) / kFarLaneSpeed;
 }
 
 void CLoopCloser::farStep(const CPoseGraph& graph, const TScanRefs& scans)
@@ -182,7 +192,7 @@ void CLoopCloser::collectFarStep()
 		m_lastRejection = "far matches held until a later patch confirms one";
 	addFarCounts(far.m_stats);
 	m_stats.farThreadCpuSeconds += lane.threadCpu;
-	m_farFreeMs = lane.startMs + far.m_stats.farWork.referenceMs();
+	m_farFreeMs = lane.startMs + far.m_stats.farWork.referenceMs() / kFarLaneSpeed;
 }
 
 // The counters a far step touches (runFarStep and what it calls).
