@@ -5,11 +5,11 @@
  * Model. The lane is a second modelled worker with the near worker's grant G
  * (LoopClosingWorker.h). A step starts at job j only when the lane is free, free_f <= G_j, and
  * then keeps it busy for its modelled work W_f (LoopWork.h), done at half the near worker's
- * speed (kFarLaneSpeed: the lane's thread shares the cores with the mapping thread, the window's
- * helper and the near worker, and the near worker waits whenever the real step is slower than
- * its model):
- *     start_f = max(free_f, G_j),  free_f = start_f + W_f / kFarLaneSpeed    [ms of grant]
- * W_f is counted in stats().farWork, never in stats().work (the near worker's schedule).
+ * speed (kFarLaneSpeed: the lane's thread shares the cores with the mapping thread, the
+ * window's helper and the near worker, and the near worker waits whenever the real step is
+ * slower than its model): start_f = max(free_f, G_j),  free_f = start_f + W_f / kFarLaneSpeed
+ * [ms of grant] W_f is counted in stats().farWork, never in stats().work (the near worker's
+ * schedule).
  *
  * Threads. A step of the far search (start and search for places, or a check of one place)
  * reads the graph and moves nothing: it runs on a loop closer of its own (its correlators,
@@ -77,8 +77,8 @@ bool CLoopCloser::farLaneFree()
 	if (m_farRunning)
 	{
 		TFarLane& lane = *m_farLane;
-		// Free at G_j iff W_f <= kFarLaneSpeed (G_j - start_f): wait until the work so far exceeds that
-		// (busy) or the step is done.
+		// Free at G_j iff W_f <= kFarLaneSpeed (G_j - start_f): wait until the work so far
+		// exceeds that (busy) or the step is done.
 		const bool modelled = m_budgetMs > 0;
 		const double room = kFarLaneSpeed * (m_grantMs - lane.startMs);
 		bool finished = false;

@@ -130,8 +130,8 @@ std::string loopClosingJson(const TMapBuilderStats& s, const TLoopCloserStats& l
 	  << ", \"far_confirmed\": " << lcs.farConfirmed
 	  << ", \"far_rejected\": " << lcs.farRejected
 	  << ", \"far_unconfirmed\": " << lcs.farUnconfirmed
-	  << ", \"far_ambiguous\": " << lcs.farAmbiguous
-	  << ", \"far_closures\": " << lcs.farClosures
+	  << ", \"far_ambiguous\": " << lcs.farAmbiguous << ", \"far_closures\": "
+	  << lcs.farClosures
 	  // Its own lane: modelled work apart from the near searches' schedule, and CPU time.
 	  << ", \"far_modelled_work_s\": " << 1e-3 * lcs.farWork.referenceMs()
 	  << ", \"far_cpu_s\": " << lcs.farCpuSeconds
