@@ -29,7 +29,15 @@ CMetricMapBuilderLRGC::CMetricMapBuilderLRGC(const TLRGCParams& params)
 	initialize();
 }
 
-CMetricMapBuilderLRGC::~CMetricMapBuilderLRGC() = default;
+// The loop-closing worker (and its far lane) and the window's helper thread may still run a job
+// that reads keyframe scans through TScanRefs (raw pointers into m_keyframes): they are joined
+// here, before the members they read are destroyed (members go in reverse order of declaration,
+// and m_keyframes / m_scans are declared after them).
+CMetricMapBuilderLRGC::~CMetricMapBuilderLRGC()
+{
+	m_loops.reset();
+	m_local.reset();
+}
 
 void CMetricMapBuilderLRGC::setParams(const TLRGCParams& params)
 {
