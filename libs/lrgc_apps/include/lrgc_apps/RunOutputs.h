@@ -4,6 +4,7 @@
  * only: an empty trajectory and a blank grid would pass for a map. */
 #pragma once
 
+#include "lrgc_apps/JsonString.h"
 #include "lrgc_apps/RunStats.h"
 
 #include <lrgc/map_builder/CMetricMapBuilderLRGC.h>
@@ -16,9 +17,6 @@
 
 namespace lrgc::apps
 {
-/** `s` as a JSON string literal, quoted, with " \\ and control characters escaped. */
-std::string jsonString(const std::string& s);
-
 struct TRunSummary
 {
 	std::string input;                //!< input log path

@@ -1,6 +1,7 @@
 /* lrgc-eval's reports of an evaluation (CEvalApp::printReport, CEvalApp::toJson): the text
  * a reader sees and the same figures as JSON, by a minimal emitter of our own (JsonOut). */
 #include "eval/CEvalApp.h"
+#include "lrgc_apps/JsonString.h"
 
 #include <mrpt/core/format.h>
 
@@ -46,7 +47,7 @@ public:
 	JsonOut& text(const char* key, const std::string& v)
 	{
 		item(key);
-		m_s << quote(v);
+		m_s << jsonString(v);
 		return *this;
 	}
 
@@ -55,24 +56,10 @@ private:
 	int m_depth = 0;
 	bool m_first = true;
 	std::string indent() const { return std::string(2 * m_depth, ' '); }
-	static std::string quote(const std::string& v)
-	{
-		std::string q = "\"";
-		for (const char c : v)
-		{
-			if (c == '"' || c == '\\')
-				q += std::string("\\") + c;
-			else if (static_cast<unsigned char>(c) < 0x20)
-				q += mrpt::format("\\u%04x", c);
-			else
-				q += c;
-		}
-		return q + "\"";
-	}
 	void item(const char* key)
 	{
 		if (m_depth > 0) m_s << (m_first ? "\n" : ",\n") << indent();
-		if (key) m_s << quote(key) << ": ";
+		if (key) m_s << jsonString(key) << ": ";
 		m_first = false;
 	}
 	JsonOut& open(const char* key, char c)
