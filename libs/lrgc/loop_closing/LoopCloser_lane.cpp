@@ -24,13 +24,13 @@
 #include <lrgc/loop_closing/LoopCloser.h>
 
 #include <lrgc/common/CpuTime.h>
+#include <lrgc/common/HelperThread.h>
 #include <lrgc/common/ThreadPriority.h>
 
 #include <algorithm>
 #include <condition_variable>
 #include <exception>
 #include <mutex>
-#include <thread>
 
 namespace lrgc
 {
@@ -42,15 +42,19 @@ constexpr double kFarLaneSpeed = 0.5;
 
 struct CLoopCloser::TFarLane
 {
+	explicit TFarLane(bool threaded) : helper(threaded) {}
+
 	std::unique_ptr<CLoopCloser> closer;  //!< runs the steps; only the far search's state
-	std::thread thread;
-	std::mutex mutex;  // guards what follows
+	std::mutex mutex;                     // guards what follows up to `helper`
 	std::condition_variable cv;
 	bool done = false;
 	double workMs = 0;     //!< the step's modelled work so far [ms]
 	double startMs = 0;    //!< start_f [ms of grant]
 	double threadCpu = 0;  //!< the step's thread CPU time [s]
 	std::exception_ptr error;
+	/** Runs the steps (at once without a thread); last, so that it is destroyed first: a
+	 * step under way ends before what it uses goes. */
+	CHelperThread helper;
 };
 
 // Here, where TFarLane is complete (the constructor destroys m_farLane if it throws).
@@ -67,10 +71,7 @@ CLoopCloser::CLoopCloser(const TLoopCloserParams& p, const TPatchCorrelatorParam
 {
 }
 
-CLoopCloser::~CLoopCloser()
-{
-	if (m_farLane && m_farLane->thread.joinable()) m_farLane->thread.join();
-}
+CLoopCloser::~CLoopCloser() = default;  // m_farLane's helper waits for a step under way
 
 bool CLoopCloser::farLaneFree()
 {
@@ -118,7 +119,7 @@ void CLoopCloser::farStep(const CPoseGraph& graph, const TScanRefs& scans)
 	collectFarStep();  // none under way: a step is due only once the lane is free
 	if (!m_farLane)
 	{
-		m_farLane = std::make_unique<TFarLane>();
+		m_farLane = std::make_unique<TFarLane>(m_farThreaded);
 		m_farLane->closer = std::make_unique<CLoopCloser>(
 			m_params, m_correlator.params(), m_matcherParams, m_optimizer.params());
 	}
@@ -142,8 +143,8 @@ void CLoopCloser::farStep(const CPoseGraph& graph, const TScanRefs& scans)
 	lane.error = nullptr;
 	lane.startMs = std::max(m_farFreeMs, m_grantMs);
 	m_farRunning = true;
-	auto step = [&lane, &far, threaded = m_farThreaded, yield = m_farYields, graphCopy = graph,
-				 scans, due = std::move(*m_farDue)]
+	auto step = [&lane, &far, threaded = lane.helper.threaded(), yield = m_farYields,
+				 graphCopy = graph, scans, due = std::move(*m_farDue)]
 	{
 		if (yield) lowerCallingThreadPriority();
 		const double cpu0 = threadCpuSeconds();
@@ -164,10 +165,7 @@ void CLoopCloser::farStep(const CPoseGraph& graph, const TScanRefs& scans)
 		lane.cv.notify_all();
 	};
 	m_farDue.reset();
-	if (m_farThreaded)
-		lane.thread = std::thread(std::move(step));
-	else
-		step();
+	lane.helper.post(std::move(step));
 }
 
 void CLoopCloser::collectFarStep()
@@ -178,7 +176,6 @@ void CLoopCloser::collectFarStep()
 		std::unique_lock<std::mutex> lock(lane.mutex);
 		lane.cv.wait(lock, [&] { return lane.done; });
 	}
-	if (lane.thread.joinable()) lane.thread.join();
 	m_farRunning = false;
 	if (lane.error) std::rethrow_exception(lane.error);
 	CLoopCloser& far = *lane.closer;
