@@ -2,10 +2,11 @@
  * filters, rivals and peaks; PatchCorrelator_search_unittest.cpp: the search core of
  * correlation_search.h): synthetic segment worlds with known poses.
  *
- * A small generator lives here (a shared synthetic world is being written separately): a
- * world is a set of wall segments; the old map is the walls sampled every 2 cm; a patch is
- * the ray-cast scans (180 beams, 1 cm noise) of a short robot path, expressed in the frame
- * of the path's last pose, which is therefore the true patchInMap.
+ * A small generator of their own (tests/support/synthetic_world models a whole laser and
+ * building; these tests need only segments and exact rays): a world is a set of wall segments;
+ * the old map is the walls sampled every 2 cm; a patch is the ray-cast scans (180 beams, 1 cm
+ * noise) of a short robot path, expressed in the frame of the path's last pose, which is
+ * therefore the true patchInMap.
  */
 #pragma once
 
