@@ -1,5 +1,6 @@
 #include <lrgc/local_registration/LocalRegistration.h>
 
+#include <lrgc/common/OrderStatistic.h>
 #include <lrgc/common/params_io.h>
 #include <lrgc/common/se2.h>
 
@@ -54,8 +55,7 @@ Eigen::Matrix3d lonePatchLinkCov(const Eigen::Matrix3d& cov, const TScan2D& scan
 	std::vector<double> d(scan.points.size() - 1);
 	for (size_t i = 1; i < scan.points.size(); ++i)
 		d[i - 1] = (scan.points[i] - scan.points[i - 1]).norm();
-	std::nth_element(d.begin(), d.begin() + d.size() / 2, d.end());
-	const double ratio = d[d.size() / 2] / r;
+	const double ratio = upperMedian(d) / r;
 	if (ratio <= 1) return cov;
 	const Eigen::DiagonalMatrix<double, 3> D(ratio, ratio, 1.0);
 	return D * cov * D;

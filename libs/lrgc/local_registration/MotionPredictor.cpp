@@ -1,5 +1,6 @@
 #include <lrgc/local_registration/MotionPredictor.h>
 
+#include <lrgc/common/OrderStatistic.h>
 #include <lrgc/common/params_io.h>
 #include <lrgc/common/se2.h>
 
@@ -87,9 +88,7 @@ double CMotionPredictor::scanPeriod() const
 	for (const double dt : m_recentSteps)
 		if (dt > 0) positive.push_back(dt);
 	if (positive.empty()) return 0;
-	auto mid = positive.begin() + positive.size() / 2;
-	std::nth_element(positive.begin(), mid, positive.end());
-	return *mid;
+	return upperMedian(positive);
 }
 
 double CMotionPredictor::meanScanPeriod() const

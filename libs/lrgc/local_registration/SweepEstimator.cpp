@@ -1,5 +1,6 @@
 #include <lrgc/local_registration/SweepEstimator.h>
 
+#include <lrgc/common/OrderStatistic.h>
 #include <lrgc/common/se2.h>
 
 #include <Eigen/Dense>
@@ -30,9 +31,7 @@ constexpr double kStdInflation = 3.0;
 double robustScale(std::vector<double>& absResiduals, double floor)
 {
 	if (absResiduals.empty()) return floor;
-	auto mid = absResiduals.begin() + absResiduals.size() / 2;
-	std::nth_element(absResiduals.begin(), mid, absResiduals.end());
-	return std::max(floor, 1.4826 * *mid);
+	return std::max(floor, 1.4826 * upperMedian(absResiduals));
 }
 }  // namespace
 

@@ -1,5 +1,6 @@
 #include <lrgc/map_builder/ScanSmoothing.h>
 
+#include <lrgc/common/OrderStatistic.h>
 #include <lrgc/common/se2.h>
 #include <lrgc/pose_graph/PoseGraphOptimizer.h>
 
@@ -134,9 +135,7 @@ Eigen::Vector3d odometryNoiseScale(const std::vector<TScanStep>& s)
 	Eigen::Vector3d scale;
 	for (int c = 0; c < 3; ++c)
 	{
-		auto& z = z2[c];
-		std::nth_element(z.begin(), z.begin() + z.size() / 2, z.end());
-		scale[c] = std::sqrt(std::max(kMinNoiseScale, z[z.size() / 2] / kChi2Median1));
+		scale[c] = std::sqrt(std::max(kMinNoiseScale, upperMedian(z2[c]) / kChi2Median1));
 	}
 	return scale;
 }

@@ -1,5 +1,7 @@
 #include <lrgc/scan_matching/RangeDenoiser.h>
 
+#include <lrgc/common/OrderStatistic.h>
+
 #include <algorithm>
 #include <cmath>
 
@@ -109,9 +111,7 @@ double rangeNoiseStd(const mrpt::obs::CObservation2DRangeScan& obs)
 	}
 	if (d.size() < 10) return 0;
 	// The lower quartile of |d| is 0.31864 sqrt(6) sigma for Gaussian noise.
-	auto q = d.begin() + d.size() / 4;
-	std::nth_element(d.begin(), q, d.end());
-	return *q / (0.31864 * std::sqrt(6.0));
+	return kthSmallest(d, d.size() / 4) / (0.31864 * std::sqrt(6.0));
 }
 
 double CRangeNoiseEstimate::add(double scanSigma)
@@ -123,9 +123,7 @@ double CRangeNoiseEstimate::add(double scanSigma)
 	}
 	if (m_recent.empty()) return 0;
 	std::vector<double> v(m_recent.begin(), m_recent.end());
-	auto mid = v.begin() + v.size() / 2;
-	std::nth_element(v.begin(), mid, v.end());
-	return *mid;
+	return upperMedian(v);
 }
 
 std::vector<float> denoisedRanges(const mrpt::obs::CObservation2DRangeScan& obs, double sigma,

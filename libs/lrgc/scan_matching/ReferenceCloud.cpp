@@ -3,6 +3,7 @@
 #include <lrgc/scan_matching/ReferenceCloud.h>
 
 #include <lrgc/scan_matching/ScanMatcher.h>
+#include <lrgc/common/OrderStatistic.h>
 #include <lrgc/common/se2.h>
 #include <mrpt/core/exceptions.h>
 
@@ -296,11 +297,7 @@ void CReferenceCloud::fitLines(const TScanMatcherParams& p, const std::vector<do
 		if (m_anchors[i].isLine) sigma2.push_back(fitSigma2[i]);
 	}
 	m_noiseVar = p.min_residual_std_m * p.min_residual_std_m;
-	if (!sigma2.empty())
-	{
-		std::nth_element(sigma2.begin(), sigma2.begin() + sigma2.size() / 2, sigma2.end());
-		m_noiseVar = std::max(m_noiseVar, sigma2[sigma2.size() / 2]);
-	}
+	if (!sigma2.empty()) m_noiseVar = std::max(m_noiseVar, upperMedian(sigma2));
 	for (auto& a : m_anchors) a.normalVar = static_cast<float>(a.normalVar * m_noiseVar);
 }
 

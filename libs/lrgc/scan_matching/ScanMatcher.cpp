@@ -15,6 +15,7 @@
  * Converged when the step is below 10 um (lever-arm scaled) and the gate has settled.
  */
 #include <lrgc/scan_matching/ScanMatcher.h>
+#include <lrgc/common/OrderStatistic.h>
 #include <lrgc/common/se2.h>
 #include <mrpt/core/exceptions.h>
 #include <mrpt/math/wrap2pi.h>
@@ -99,9 +100,7 @@ double robustScale(const std::vector<TCorrespondence>& corr, double floor,
 		if (!k.isLine) tmp.push_back(std::abs(k.e1));
 	}
 	if (tmp.empty()) return floor;
-	auto mid = tmp.begin() + tmp.size() / 2;
-	std::nth_element(tmp.begin(), mid, tmp.end());
-	return std::max(floor, kMadToSigma * *mid);
+	return std::max(floor, kMadToSigma * upperMedian(tmp));
 }
 
 /** Robust weights and the normal equations; returns the RMS lever arm L [m]. */
