@@ -415,9 +415,9 @@ TEST(LargeLoop, aLoopMoreThan100mOffAcceptsNoLookAlike)
 	s.returns = false;
 	const TRun on = runHallLoop(s);
 	const auto& l = on.loopStats;
-	std::cout << "no return: far searches " << l.farSearches << ", candidates "
-			  << l.farCandidates << ", confirmed " << l.farConfirmed << ", held "
-			  << l.heldForConfirmation << ", closed " << l.farClosures << "\n";
+	std::cout << "no return: far searches " << l.farSearches << " (rings " << l.farRings
+			  << "), candidates " << l.farCandidates << ", confirmed " << l.farConfirmed
+			  << ", held " << l.heldForConfirmation << ", closed " << l.farClosures << "\n";
 	EXPECT_GE(l.farSearches, 3U) << "the far search must run";
 	EXPECT_GT(l.farRings, l.farSearches) << "its windows must reach beyond far_window_xy_m";
 	EXPECT_EQ(l.farClosures, 0U);

@@ -1,6 +1,7 @@
 /* CLoopCloser beyond the capped window (issue 28; see LoopCloser.h): a far search over the
- * whole old map proposes the k best distinct places (coarse grid, every heading, the newest
- * keyframe within kFarPathRadius of the old path, one best-first pass of branch and bound);
+ * old map within 3 sigma of the gate proposes the k best distinct places per ring of
+ * far_window_xy_m (coarse grid, every heading, the newest keyframe within kFarPathRadius of
+ * the old path, one best-first pass of branch and bound per ring);
  * each is checked by the full-resolution search with the paper's three filters in a small
  * window around it and by the scan match; those that pass are held until a later, disjoint
  * patch confirms exactly one of them. Trade-off: the search for places costs about one
