@@ -26,8 +26,9 @@
  * max_window_phi_deg): a revisit the drift put farther away lies outside it. While the cap
  * binds and the window finds nothing, every far_search_every_keyframes such checks (on a lane
  * of its own, LoopCloser_lane.cpp: it never moves the near searches' schedule) the patch is
- * correlated with the whole old map within far_window_xy_m,
- * every heading, on a coarse grid (far_resolution_m); its far_candidates best distinct poses
+ * correlated with the whole old map within window_sigmas sigma (at least far_window_xy_m, at
+ * most the old map's extent), every heading, on a coarse grid (far_resolution_m); its
+ * far_candidates best distinct poses per ring of far_window_xy_m
  * (CPatchCorrelator::correlatePeaks) are each searched again at full resolution in a small
  * window with the three filters, then scan-matched (steps 2-3 around that pose). A building
  * holds look-alikes of any patch, so those confirmed are only held; once the patch shares no
@@ -307,7 +308,8 @@ private:
 		std::vector<Eigen::Vector2d> patch;
 		TOriginRegion origins;  //!< the old keyframes' positions: where the patch may stand
 		CCorrelationGrid grid;
-		bool searched = false;                    //!< farSearchPeaks() has run
+		size_t rings = 1;     //!< rings of far_window_xy_m in the window (farSearchPeaks)
+		size_t nextRing = 0;  //!< rings searched so far
 		std::vector<mrpt::math::TPose2D> places;  //!< (map <- patch) to check, best first
 		size_t nextPlace = 0;
 	};

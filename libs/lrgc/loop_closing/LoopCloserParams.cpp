@@ -103,12 +103,14 @@ void TLoopCloserParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
 		"heading, coarse grid) every this many checks, on a lane of its own that never moves "
 		"the near searches' schedule; a place it proposes closes a loop only once a later "
 		"patch confirms it (0: never)");
-	writeValue(c, s, "far_window_xy_m", far_window_xy_m, "[m] Half-window of that far search");
+	writeValue(c, s, "far_window_xy_m", far_window_xy_m,
+			   "[m] Least half-window of that far search (window_sigmas sigma when larger, cut "
+			   "at the old map's extent), and the width of the rings it proposes places in");
 	writeValue(
 		c, s, "far_resolution_m", far_resolution_m,
 		"[m] Its grid cell (it proposes; the confirming searches run at full resolution)");
 	writeValue(c, s, "far_candidates", uint64_t(far_candidates),
-			   "Distinct places it proposes, at most");
+			   "Distinct places it proposes per ring of far_window_xy_m, at most");
 	writeValue(c, s, "consistent_chi2", consistent_chi2,
 			   "[chi2, 3 dof] A loop link this consistent is added without a full solve");
 	writeValue(c, s, "check_every", uint64_t(check_every),

@@ -39,25 +39,34 @@ struct TLoopCloserParams : public mrpt::config::CLoadableOptions
 	 * While the window is capped (window_sigmas sigma beyond max_window_xy_m or
 	 * max_window_phi_deg, so the true place may lie outside it) and found no loop, every this
 	 * many such checks, on a lane of its own (LoopCloser_lane.cpp), the patch is correlated
-	 * with the whole old map within far_window_xy_m at every heading on a coarse grid (the
-	 * paper's global correlation, section 2.3, by branch and bound); its far_candidates best
-	 * distinct poses are each searched again at full resolution in a small window with the
-	 * three filters and scan-matched. Those that pass are held; a loop is closed only when a
-	 * later patch, sharing no keyframe with theirs, confirms exactly one of them. 0: never. The
-	 * lane is a second modelled worker with the near worker's budget, its work counted apart,
-	 * its steps on a thread of their own: the near searches' schedule is the same with it or
-	 * without, so the far search changes a map only by a loop it closes. 25 closes the hall
-	 * loop of tests/large_loop_test.cpp with 30 m / 87 deg of drift with the defaults; on the
-	 * shared logs only Killian's gate reaches 4 caps: 17 far searches, none closed, the map
-	 * byte for byte as with 0, about 2 s more CPU (doc/generalisation.md).
+	 * with the whole old map within window_sigmas sigma (far_window_xy_m below) at every
+	 * heading on a coarse grid (the paper's global correlation, section 2.3, by branch and
+	 * bound); its far_candidates best distinct poses per ring are each searched again at full
+	 * resolution in a small window with the three filters and scan-matched. Those that pass are
+	 * held; a loop is closed only when a later patch, sharing no keyframe with theirs, confirms
+	 * exactly one of them. 0: never. The lane is a second modelled worker with the near
+	 * worker's budget, its work counted apart, its steps on a thread of their own: the near
+	 * searches' schedule is the same with it or without, so the far search changes a map only
+	 * by a loop it closes. 25 closes the hall loop of tests/large_loop_test.cpp with 30 m / 87
+	 * deg of drift with the defaults; on the shared logs only Killian's gate reaches 4 caps: 17
+	 * far searches, none closed, the map byte for byte as with 0, about 2 s more CPU
+	 * (doc/generalisation.md).
 	 */
 	size_t far_search_every_keyframes = 25;
-	double far_window_xy_m = 100.0;  //!< [m] half-window of the far search
+	/** [m] The far search's least half-window, and its rings' width. The window is
+	 * window_sigmas sigma of the gate's position when that is larger, cut at the old map's
+	 * extent: a revisit stands where the drift put it (the held-out long-range log: 126 m
+	 * away, median). Its places are proposed ring by ring (ring r: the newest keyframe r to
+	 * r + 1 times this from where the map has it, in x or y), far_candidates per ring, so that
+	 * look-alikes in a wide window do not crowd the true place out (with one list over 250 m
+	 * Killian lost its one far closure). 100 closes a 600 m loop 117 m off at the return
+	 * (LargeLoop.aReturnMoreThan100mOffCloses). */
+	double far_window_xy_m = 100.0;
 	/** [m] The far search's grid cell: it only proposes places for the full-resolution
 	 * search; its blur is at least a cell. 0.4 costs 2.4 times less than 0.2 on the hall loop.
 	 */
 	double far_resolution_m = 0.4;
-	size_t far_candidates = 8;       //!< distinct places the far search proposes, at most
+	size_t far_candidates = 8;  //!< distinct places the far search proposes per ring, at most
 	double consistent_chi2 = 11.34;  //!< [chi2, 3 dof] a link agreeing this well needs no solve
 	/** Look for a loop every this many keyframes. 2 halves the loop closer's work, but
 	 * moved Killian's error from 0.029 to 0.030-0.035 m (doc/generalisation.md). */

@@ -26,6 +26,9 @@ struct TLoopCloserStats
 	 * confirmed and those they rejected; held places dropped because a later patch confirmed
 	 * none of them or more than one (ambiguous); loops closed so. */
 	size_t farSearches = 0, farSearchesWaited = 0;
+	/** Rings of far_window_xy_m the far searches' windows held, summed (farSearches of them
+	 * the first rings: the rest reached beyond far_window_xy_m). */
+	size_t farRings = 0;
 	size_t farCandidates = 0, farConfirmed = 0, farRejected = 0;
 	size_t farUnconfirmed = 0, farAmbiguous = 0, farClosures = 0;
 	size_t optimizations = 0;

@@ -200,6 +200,7 @@ void CLoopCloser::addFarCounts(const TLoopCloserStats& s)
 	m_stats.rejectedByMatch += s.rejectedByMatch;
 	m_stats.heldForConfirmation += s.heldForConfirmation;
 	m_stats.farSearches += s.farSearches;
+	m_stats.farRings += s.farRings;
 	m_stats.farCandidates += s.farCandidates;
 	m_stats.farConfirmed += s.farConfirmed;
 	m_stats.farRejected += s.farRejected;

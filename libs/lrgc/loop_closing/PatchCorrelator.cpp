@@ -140,15 +140,24 @@ void preparePoseGrid(const CCorrelationGrid& grid, const std::vector<Eigen::Vect
 constexpr int kMaxRidgeDiscs = 8;
 
 /** The translations (i, j) of the pose grid that put the patch's origin within the region:
- * |t_c + (i, j) res - q| <= radius for some point q; a pyramid of as many levels as the grid.
- */
+ * |t_c + (i, j) res - q| <= radius for some point q (any, without points), and
+ * max(|i|, |j|) > ceil(beyondXY / res) when beyondXY > 0; a pyramid of as many levels as the
+ * grid. */
 void restrictOrigins(const TOriginRegion& origins, const TGridSpec& spec, TPoseGridProblem& pb)
 {
-	if (origins.points.empty()) return;
+	if (origins.points.empty() && !(origins.beyondXY > 0)) return;
 	const int W = pb.halfCells, n = pb.side();
+	const int inner = origins.beyondXY > 0
+						  ? static_cast<int>(std::ceil(origins.beyondXY / spec.res - 1e-9))
+						  : -1;
+	auto allowed = [&](int i, int j) { return std::max(std::abs(i), std::abs(j)) > inner; };
+	std::vector<uint8_t> level0(size_t(n) * size_t(n), 0);
+	if (origins.points.empty())
+		for (int i = -W; i <= W; ++i)
+			for (int j = -W; j <= W; ++j)
+				level0[size_t(i + W) * size_t(n) + size_t(j + W)] = allowed(i, j) ? 1 : 0;
 	const double r = origins.radius / spec.res;
 	const int R = static_cast<int>(std::floor(r));
-	std::vector<uint8_t> level0(size_t(n) * size_t(n), 0);
 	for (const Eigen::Vector2d& q : origins.points)
 	{
 		const double qi = (q.x() - spec.center.x) / spec.res;
@@ -157,7 +166,7 @@ void restrictOrigins(const TOriginRegion& origins, const TGridSpec& spec, TPoseG
 				  j0 = static_cast<int>(std::ceil(qj - r));
 		for (int i = std::max(-W, i0); i <= std::min(W, i0 + 2 * R + 1); ++i)
 			for (int j = std::max(-W, j0); j <= std::min(W, j0 + 2 * R + 1); ++j)
-				if ((i - qi) * (i - qi) + (j - qj) * (j - qj) <= r * r)
+				if ((i - qi) * (i - qi) + (j - qj) * (j - qj) <= r * r && allowed(i, j))
 					level0[size_t(i + W) * size_t(n) + size_t(j + W)] = 1;
 	}
 	pb.setAllowed(std::move(level0), pb.grid->numLevels());

@@ -100,11 +100,15 @@ struct TCorrelationEffort
 
 /** Where a search may put the patch's origin (the newest keyframe): within `radius` [m] of
  * one of `points` [map frame]. The far loop search gives the old keyframes' positions, since a
- * revisit stands about where the robot stood before. No points: anywhere in the window. */
+ * revisit stands about where the robot stood before. No points: anywhere in the window.
+ * beyondXY > 0 keeps only a square ring of the window: translations more than beyondXY [m]
+ * from the window's centre in x or y (max(|i|, |j|) > ceil(beyondXY / resolution) cells), so
+ * that the far search can ask for its best places ring by ring. */
 struct TOriginRegion
 {
 	std::vector<Eigen::Vector2d> points;
 	double radius = 0;
+	double beyondXY = 0;
 };
 
 class CPatchCorrelator

@@ -287,6 +287,44 @@ TEST(PatchCorrelator, PeaksAreTheBestDistinctPosesBestFirst)
 	EXPECT_EQ(corr.correlatePeaks(map, patch, truth, 3.5, 0.05, 5, 1.0).size(), tied);
 }
 
+// A ring of the window (TOriginRegion::beyondXY, the far search's rings): in the same corridor
+// of doors 3 m apart, the peaks with the origin more than 1.5 m from the centre in x or y are
+// the doors 3 m before and after, never the truth, and the first is the best of the whole
+// window's peaks that lie in the ring.
+TEST(PatchCorrelator, PeaksOfARingLieOutsideItsInnerSquare)
+{
+	std::mt19937 rng(5);
+	const TPatchCorrelatorParams prm;
+	const CPatchCorrelator corr(prm);
+	const World w = corridor(3.0);
+	const CCorrelationGrid map = corr.makeGrid(rasterise(w), 0.5);
+	const TPose2D truth(0.4, 0.1, 0.02);
+	const Points patch = makePatch(w, truth, 10, rng, 5.0);
+	lrgc::TOriginRegion ring;
+	ring.beyondXY = 1.5;
+	const auto peaks = corr.correlatePeaks(map, patch, truth, 3.5, 0.05, 5, 0.5, 0, ring);
+	ASSERT_GE(peaks.size(), 2u);
+	const double inner = std::ceil(ring.beyondXY / prm.resolution_m - 1e-9) * prm.resolution_m;
+	for (const auto& p : peaks)
+		EXPECT_GT(
+			std::max(std::abs(p.patchInMap.x - truth.x), std::abs(p.patchInMap.y - truth.y)),
+			inner + 1e-9)
+			<< "a peak inside the ring's inner square";
+	std::vector<double> shifts{peaks[0].patchInMap.x - truth.x,
+							   peaks[1].patchInMap.x - truth.x};
+	std::sort(shifts.begin(), shifts.end());
+	EXPECT_NEAR(shifts[0], -3.0, 0.1) << "a door 3 m before";
+	EXPECT_NEAR(shifts[1], 3.0, 0.1) << "a door 3 m after";
+	const auto all = corr.correlatePeaks(map, patch, truth, 3.5, 0.05, 5, 0.5);
+	for (const auto& p : all)
+		if (std::max(std::abs(p.patchInMap.x - truth.x), std::abs(p.patchInMap.y - truth.y)) >
+			inner + 1e-9)
+		{
+			EXPECT_EQ(peaks[0].score, p.score) << "the ring's best is the window's best there";
+			break;
+		}
+}
+
 TEST(PatchCorrelator, FeaturelessCorridorIsRejectedForItsSpreadAlongTheAxis)
 {
 	std::mt19937 rng(6);

@@ -126,7 +126,7 @@ std::string loopClosingJson(const TMapBuilderStats& s, const TLoopCloserStats& l
 	  // The search beyond the capped window ([LoopCloser] far_search_every_keyframes).
 	  << ", \"far_searches\": " << lcs.farSearches
 	  << ", \"far_searches_waited\": " << lcs.farSearchesWaited
-	  << ", \"far_candidates\": " << lcs.farCandidates
+	  << ", \"far_rings\": " << lcs.farRings << ", \"far_candidates\": " << lcs.farCandidates
 	  << ", \"far_confirmed\": " << lcs.farConfirmed
 	  << ", \"far_rejected\": " << lcs.farRejected
 	  << ", \"far_unconfirmed\": " << lcs.farUnconfirmed
