@@ -176,17 +176,26 @@ TEST(CrowdedHall, everyScanFollowsTheMap)
 		// widened by the scan's sparseness (LocalRegistration.cpp, lonePatchLinkCov):
 		// 0.020 / 0.060 m (lap 1 2.5x, lap 2 2.9x) and 0.021 / 0.064 m (lap 1 3.0x, lap 2
 		// 2.0x). Lap 2's west leg (x = 5) runs through the pillars at (5, 33.75) and
-		// (5, 11.25): the runs settleIsolatedScans settles are the scans taken inside them.
+		// (5, 11.25): the runs settleIsolatedScans settled were the scans taken inside them.
+		// With that leg at x = 4 (task `crowd4`) none is settled, and the worst laps were the
+		// scans between the keyframes after the corner at (64, 38), matched 5-10 cm sideways
+		// where the keyframes' own matches failed (trajectory seed 44: scan 1137, 0.070 m, 4.3x
+		// its lap's rmse); with their registration's covariance widened as a lone patch
+		// match's for the smoothing (lonePatchLinkCov): 0.038 m, 2.4x. Seeds 1 and 2 now:
+		// 0.018 / 0.057 m (lap 1 2.6x, lap 2 2.2x, the worst above its neighbours 0.012 m)
+		// and 0.021 / 0.062 m (2.9x, 2.1x, 0.014 m).
 		EXPECT_LT(all.rmse, 0.025);
 		EXPECT_LT(all.worst, 0.08);  // before the widening: 0.109 m (seed 1)
 		// Most keyframes here see only far walls (about 390 of 720 widened).
 		EXPECT_GT(builder.stats().patchLinksWidened, builder.stats().keyframes / 4);
 		for (const TScanOutliers& l : lap)
 		{
-			EXPECT_LT(l.worstAboveNeighbours, 0.08);
-			EXPECT_LT(l.worst, 4 * l.rmse);  // issue 28 asks for 3x: not yet met
+			EXPECT_LT(l.worstAboveNeighbours, 0.03);  // before task `crowd4`: 0.08
+			// Issue 28 asks for 3x: met on seeds 1 and 2 (2.9x at most) and on 14 of the 16
+			// laps of seeds 1-8 (doc/generalisation.md); before task `crowd4`: 4x.
+			EXPECT_LT(l.worst, 3.5 * l.rmse);
 		}
-		EXPECT_LT(start, 0.08);
+		EXPECT_LT(start, 0.05);  // seeds 1-8: 0.015-0.045 m (before task `crowd4`: 0.08)
 	}
 }
 
