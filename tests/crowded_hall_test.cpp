@@ -17,7 +17,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <random>
+#include <sstream>
+#include <stdexcept>
 
 #include "synthetic_run.h"
 
@@ -68,6 +71,35 @@ TScanOutliers scanOutliers(const std::vector<double>& err, size_t first, size_t 
 	o.rmse = std::sqrt(sum2 / double(last - first));
 	return o;
 }
+
+/** Two laps of a 60 x 33 m loop between the pillar rows of makeOpenHallWorld(.., 70, 45, ..)
+ * (pillars at x = 5, 15, ... 65 in the rows y = 11.25 and 33.75, at x = 10, ... 60 in
+ * y = 22.5, radius 0.3 m), 0.25 m a step; the first lap ends at (6, 6). Every leg keeps
+ * 0.7 m or more from a pillar's surface: lap 2's west leg runs at x = 4 (until task
+ * `crowd4` at x = 5, through the pillars at (5, 33.75) and (5, 11.25)). */
+TTrajectory hallLoops(uint32_t trajectorySeed)
+{
+	return makeTrajectory(
+		{{4, 5}, {64, 5}, {64, 39}, {6, 39}, {6, 6}, {64, 6}, {64, 38}, {4, 38}, {4, 8}}, 0.25,
+		TOdometryNoise{}, trajectorySeed);
+}
+
+/** The seeds CrowdedHall runs: LRGC_HALL_SEEDS (e.g. "1 2 3 4 5 6 7 8"), 1 and 2 if unset. */
+std::vector<uint32_t> hallSeeds()
+{
+	std::vector<uint32_t> seeds;
+	if (const char* env = std::getenv("LRGC_HALL_SEEDS"); env && *env)
+	{
+		std::istringstream in(env);
+		for (uint32_t s; in >> s;) seeds.push_back(s);
+		if (!in.eof() || seeds.empty())
+			throw std::invalid_argument(std::string("LRGC_HALL_SEEDS: not a list of seeds: '") +
+										env + "'");
+	}
+	else
+		seeds = {1, 2};
+	return seeds;
+}
 }  // namespace
 
 /** Index of the first pose of `truth` at `(x, y)` (the end of the first lap). */
@@ -89,14 +121,14 @@ void printFigures(const char* what, const TScanOutliers& o)
 
 TEST(CrowdedHall, everyScanFollowsTheMap)
 {
-	for (uint32_t seed = 1; seed <= 2; ++seed)
+	for (const uint32_t seed : hallSeeds())
 	{
 		const CSyntheticWorld world = makeOpenHallWorld(seed, 70, 45, 6);
-		// Two laps of a 60 x 33 m loop between the pillar rows, 0.25 m a step; the first
-		// ends at (6, 6).
-		TTrajectory tr = makeTrajectory(
-			{{4, 5}, {64, 5}, {64, 39}, {6, 39}, {6, 6}, {64, 6}, {64, 38}, {5, 38}, {5, 8}},
-			0.25, TOdometryNoise{}, 40 + seed);
+		const TTrajectory tr = hallLoops(40 + seed);
+		double clearance = INFINITY;
+		for (const TPose2D& p : tr.truePoses)
+			clearance = std::min(clearance, world.distanceToNearest({p.x, p.y}));
+		ASSERT_GT(clearance, 0.5) << "the hall's path runs into an obstacle (seed " << seed << ")";
 		TSyntheticRunOptions opt;
 		opt.laser.beams = 181;
 		opt.laser.maxRange = 80;
@@ -123,6 +155,9 @@ TEST(CrowdedHall, everyScanFollowsTheMap)
 		printFigures("all", all);
 		printFigures("lap 1", lap[0]);
 		printFigures("lap 2", lap[1]);
+		std::printf("  row: | %u | %.4f / %.3f (%.1fx) | %.4f / %.3f (%.1fx) | %.3f |\n", seed,
+					lap[0].rmse, lap[0].worst, lap[0].worst / lap[0].rmse, lap[1].rmse,
+					lap[1].worst, lap[1].worst / lap[1].rmse, start);
 		// Issue 28's bars for such a hall: rmse <= 0.030 m, worst scan <= 0.25 m, and per lap
 		// the worst scan within 3x the lap's rmse. Before the wide search's second opinion and
 		// settleIsolatedScans: seed 1 rmse 0.032, worst 0.463 m (scan 1478, 0.444 above its
@@ -141,17 +176,26 @@ TEST(CrowdedHall, everyScanFollowsTheMap)
 		// widened by the scan's sparseness (LocalRegistration.cpp, lonePatchLinkCov):
 		// 0.020 / 0.060 m (lap 1 2.5x, lap 2 2.9x) and 0.021 / 0.064 m (lap 1 3.0x, lap 2
 		// 2.0x). Lap 2's west leg (x = 5) runs through the pillars at (5, 33.75) and
-		// (5, 11.25): the runs settleIsolatedScans settles are the scans taken inside them.
+		// (5, 11.25): the runs settleIsolatedScans settled were the scans taken inside them.
+		// With that leg at x = 4 (task `crowd4`) none is settled, and the worst laps were the
+		// scans between the keyframes after the corner at (64, 38), matched 5-10 cm sideways
+		// where the keyframes' own matches failed (trajectory seed 44: scan 1137, 0.070 m, 4.3x
+		// its lap's rmse); with their registration's covariance widened as a lone patch
+		// match's for the smoothing (lonePatchLinkCov): 0.038 m, 2.4x. Seeds 1 and 2 now:
+		// 0.018 / 0.057 m (lap 1 2.6x, lap 2 2.2x, the worst above its neighbours 0.012 m)
+		// and 0.021 / 0.062 m (2.9x, 2.1x, 0.014 m).
 		EXPECT_LT(all.rmse, 0.025);
 		EXPECT_LT(all.worst, 0.08);  // before the widening: 0.109 m (seed 1)
 		// Most keyframes here see only far walls (about 390 of 720 widened).
 		EXPECT_GT(builder.stats().patchLinksWidened, builder.stats().keyframes / 4);
 		for (const TScanOutliers& l : lap)
 		{
-			EXPECT_LT(l.worstAboveNeighbours, 0.08);
-			EXPECT_LT(l.worst, 4 * l.rmse);  // issue 28 asks for 3x: not yet met
+			EXPECT_LT(l.worstAboveNeighbours, 0.03);  // before task `crowd4`: 0.08
+			// Issue 28 asks for 3x: met on seeds 1 and 2 (2.9x at most) and on 14 of the 16
+			// laps of seeds 1-8 (doc/generalisation.md); before task `crowd4`: 4x.
+			EXPECT_LT(l.worst, 3.5 * l.rmse);
 		}
-		EXPECT_LT(start, 0.08);
+		EXPECT_LT(start, 0.05);  // seeds 1-8: 0.015-0.045 m (before task `crowd4`: 0.08)
 	}
 }
 
@@ -168,9 +212,7 @@ TEST(CrowdedHall, patchMatchAlongTheFacadeIsUnbiasedOnTruePoses)
 {
 	const uint32_t seed = 1;
 	const CSyntheticWorld world = makeOpenHallWorld(seed, 70, 45, 6);
-	const TTrajectory tr = makeTrajectory(
-		{{4, 5}, {64, 5}, {64, 39}, {6, 39}, {6, 6}, {64, 6}, {64, 38}, {5, 38}, {5, 8}}, 0.25,
-		TOdometryNoise{}, 40 + seed);
+	const TTrajectory tr = hallLoops(40 + seed);
 	TLaserSimParams laser;
 	laser.beams = 181;
 	laser.maxRange = 80;

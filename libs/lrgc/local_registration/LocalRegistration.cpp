@@ -36,19 +36,14 @@ const double kRetryTurn = mrpt::DEG2RAD(10.0);
  * with twice the gate, 1 m: 2.9 deg at 20 m). */
 const double kRetryStep = mrpt::DEG2RAD(2.5);
 
-/** A keyframe's patch link that no pairwise match confirmed, where the scan's returns are
- * sparse, gets its position covariance widened by (d / r)^2 where d > r (x and y scaled by
- * d / r: their correlation kept, the heading's variance as it was), d [m] the median distance
- * between consecutive points of the scan, r [m] the line fits' radius (normal_radius_m).
- * Where the returns are that sparse (a hall's far walls, one degree between beams: 0.4-1.3 m
- * at 25-75 m) the scan shares no wall stretch with any single window scan; its patch match
- * rests on the window's scans as placed and lands among optima about one beam apart, so its
- * covariance (exact for the patch as built) is over-confident: CrowdedHall's links after the
- * corner at (64, 39) err 2-10 cm sideways, same side, claiming 1-2 cm. The heading is kept:
- * that link is what holds a hall's heading against biased odometry (OpenHall, heading
- * widened too: mean drift 0.66 -> 0.85 deg / 100 m and a wrong wide-search override). The
- * shared logs' unconfirmed links have d 0.05-0.15 m: none widened (their sparse variants:
- * 0-2 per log). */
+/** A step the wheels did not make: under 1 mm and 1 mrad (encoder ticks round to zero). */
+bool isZeroStep(const mrpt::math::TPose2D& motion)
+{
+	return translationNorm(motion) < 1e-3 && std::abs(motion.phi) < 1e-3;
+}
+}  // namespace
+
+// The reasoning and the measurements: LocalRegistration.h.
 Eigen::Matrix3d lonePatchLinkCov(const Eigen::Matrix3d& cov, const TScan2D& scan, double r)
 {
 	if (scan.points.size() < 2 || r <= 0) return cov;
@@ -60,13 +55,6 @@ Eigen::Matrix3d lonePatchLinkCov(const Eigen::Matrix3d& cov, const TScan2D& scan
 	const Eigen::DiagonalMatrix<double, 3> D(ratio, ratio, 1.0);
 	return D * cov * D;
 }
-
-/** A step the wheels did not make: under 1 mm and 1 mrad (encoder ticks round to zero). */
-bool isZeroStep(const mrpt::math::TPose2D& motion)
-{
-	return translationNorm(motion) < 1e-3 && std::abs(motion.phi) < 1e-3;
-}
-}  // namespace
 
 CLocalRegistration::CLocalRegistration(const TLocalRegistrationParams& p,
 									   const TScanMatcherParams& matcher,

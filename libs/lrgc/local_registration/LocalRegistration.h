@@ -75,6 +75,27 @@ struct TRegistration
 	bool wideSearch = false;        //!< the match came from the wide rotational search
 };
 
+/** A keyframe's patch link that no pairwise match confirmed, where the scan's returns are
+ * sparse, gets its position covariance widened by (d / r)^2 where d > r (x and y scaled by
+ * d / r: their correlation kept, the heading's variance as it was), d [m] the median distance
+ * between consecutive points of the scan, r [m] the line fits' radius (normal_radius_m).
+ * Where the returns are that sparse (a hall's far walls, one degree between beams: 0.4-1.3 m
+ * at 25-75 m) the scan shares no wall stretch with any single window scan; its patch match
+ * rests on the window's scans as placed and lands among optima about one beam apart, so its
+ * covariance (exact for the patch as built) is over-confident: CrowdedHall's links after the
+ * corner at (64, 39) err 2-10 cm sideways, same side, claiming 1-2 cm. The heading is kept:
+ * that link is what holds a hall's heading against biased odometry (OpenHall, heading
+ * widened too: mean drift 0.66 -> 0.85 deg / 100 m and a wrong wide-search override). The
+ * shared logs' unconfirmed links have d 0.05-0.15 m: none widened (their sparse variants:
+ * 0-2 per log).
+ * A scan that does not become a keyframe is registered by the patch match alone: the same
+ * widening gives its covariance for the end of the run (ScanSmoothing.h), where it weighs
+ * the registered position against the odometry (CrowdedHall, trajectory seed 44: after the
+ * corner at (64, 38) the keyframes' matches fail and the odometry places them, while the
+ * scans between them match 5-10 cm sideways, all to one side, claiming 1.5-2.5 cm; scan
+ * 1137 stayed 0.070 m off, 0.038 m above its neighbours). */
+Eigen::Matrix3d lonePatchLinkCov(const Eigen::Matrix3d& cov, const TScan2D& scan, double r);
+
 class CLocalRegistration
 {
 public:

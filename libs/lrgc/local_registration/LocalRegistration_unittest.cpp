@@ -300,3 +300,25 @@ TEST(LocalRegistration, helperThreadLeavesEveryResultBitForBit)
 	EXPECT_EQ(moved, 12U);
 	EXPECT_GT(graph.numLinks(), 3 * graph.numNodes());  // pairwise links were made
 }
+
+/* lonePatchLinkCov: points 0.6 m apart with normal_radius_m 0.15 m scale x and y by 4 (their
+ * variances by 16, their correlation kept) and leave the heading's variance as it was; a scan
+ * whose points lie closer than the radius keeps its covariance bit for bit. */
+TEST(LocalRegistration, lonePatchLinkCovWidensOnlyWhereReturnsAreSparse)
+{
+	Eigen::Matrix3d cov;
+	cov << 4e-4, 1e-4, 2e-5, 1e-4, 2e-4, -1e-5, 2e-5, -1e-5, 3e-5;
+	TScan2D sparse, dense;
+	for (int i = 0; i < 50; ++i)
+	{
+		sparse.points.emplace_back(40.0, 0.6 * i);
+		dense.points.emplace_back(4.0, 0.05 * i);
+	}
+	const Eigen::Matrix3d w = lonePatchLinkCov(cov, sparse, 0.15);
+	EXPECT_NEAR(w(0, 0), 16 * cov(0, 0), 1e-12);
+	EXPECT_NEAR(w(1, 1), 16 * cov(1, 1), 1e-12);
+	EXPECT_NEAR(w(0, 1), 16 * cov(0, 1), 1e-12);
+	EXPECT_NEAR(w(0, 2), 4 * cov(0, 2), 1e-12);
+	EXPECT_EQ(w(2, 2), cov(2, 2));
+	EXPECT_EQ(lonePatchLinkCov(cov, dense, 0.15), cov);
+}

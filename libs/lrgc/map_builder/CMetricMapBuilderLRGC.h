@@ -233,7 +233,7 @@ private:
 		 * came from odometry (settleIsolatedScans). */
 		mrpt::math::TPose2D step{0, 0, 0};
 		Eigen::Matrix3d stepCov = Eigen::Matrix3d::Identity();      //!< of `step` (its model)
-		Eigen::Matrix3d registrationCov = Eigen::Matrix3d::Zero();  //!< TRegistration::cov
+		Eigen::Matrix3d registrationCov = Eigen::Matrix3d::Zero();  //!< TRegistration::cov, widened (m_lastScanSmoothingCov)
 		bool stepFromOdometry = false;
 		bool keyframe = false;  //!< the scan is its node's own (a new keyframe)
 	};
@@ -332,6 +332,9 @@ private:
 
 	mrpt::math::TPose2D m_lastScanInMap{0, 0, 0};
 	Eigen::Matrix3d m_lastScanCov = Eigen::Matrix3d::Zero();
+	/** m_lastScanCov of a matched scan widened as a lone patch match's (lonePatchLinkCov):
+	 * what the end of the run's smoothing weighs its registration by (TScanRecord). */
+	Eigen::Matrix3d m_lastScanSmoothingCov = Eigen::Matrix3d::Zero();
 	std::optional<mrpt::math::TPose2D> m_nextScanPrior;  //!< from initialize(x0)
 	/** Set by startSessionAt(): the next scan starts a session; the covariance of its pose. */
 	std::optional<Eigen::Matrix3d> m_sessionStartCov;

@@ -85,6 +85,7 @@ void CMetricMapBuilderLRGC::resetState()
 	m_lasers = CLaserSelector(m_params.builder);
 	m_lastScanInMap = TPose2D(0, 0, 0);
 	m_lastScanCov.setZero();
+	m_lastScanSmoothingCov.setZero();
 	m_nextScanPrior.reset();
 	m_sessionStartCov.reset();
 	m_pieceFirst.reset();

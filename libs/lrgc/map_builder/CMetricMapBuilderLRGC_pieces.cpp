@@ -101,6 +101,7 @@ TPose2D CMetricMapBuilderLRGC::joinPiece(size_t node, const TPose2D& nodeInMap,
 	for (size_t i = first; i < n; ++i) m_graph.setPose(i, compose(pieceInMap, m_graph.pose(i)));
 	m_lastScanInMap = compose(pieceInMap, m_lastScanInMap);
 	m_lastScanCov = rotateCovariance(m_lastScanCov, pieceInMap.phi);
+	m_lastScanSmoothingCov = rotateCovariance(m_lastScanSmoothingCov, pieceInMap.phi);
 	m_graph.addLink(j.link);
 	m_reuse->noteLoopLink(n - 1);
 	m_reuse->setFirstCandidate(0);

@@ -3,7 +3,8 @@
  * with the keyframes before and after it and with the odometry between them.
  *
  * A scan's registration alone placed it against the window of its time, with covariance
- * P_k; its neighbours' odometry says where it is too, and once the graph is final the two
+ * P_k (the patch match's, widened where the scan's returns are sparse as a lone patch link's:
+ * lonePatchLinkCov, LocalRegistration.h); its neighbours' odometry says where it is too, and once the graph is final the two
  * keyframes around a run of scans are the best-known poses. For each maximal run a+1..b-1 of
  * scans that are not keyframes (a, b: the keyframe scans around it, held fixed), the poses
  * x_k minimise, by Gauss-Newton on SE(2),
