@@ -128,7 +128,8 @@ TEST(CrowdedHall, everyScanFollowsTheMap)
 		double clearance = INFINITY;
 		for (const TPose2D& p : tr.truePoses)
 			clearance = std::min(clearance, world.distanceToNearest({p.x, p.y}));
-		ASSERT_GT(clearance, 0.5) << "the hall's path runs into an obstacle (seed " << seed << ")";
+		ASSERT_GT(clearance, 0.5)
+			<< "the hall's path runs into an obstacle (seed " << seed << ")";
 		TSyntheticRunOptions opt;
 		opt.laser.beams = 181;
 		opt.laser.maxRange = 80;

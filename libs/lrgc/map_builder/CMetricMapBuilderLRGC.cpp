@@ -142,7 +142,8 @@ void CMetricMapBuilderLRGC::followRobot(const mrpt::obs::CObservation2DRangeScan
 	m_lastScanInMap = reg.scanInMap;
 	m_lastScanCov = reg.cov;
 	m_lastScanSmoothingCov =
-		reg.matched ? lonePatchLinkCov(reg.cov, scan, m_params.matcher.normal_radius_m) : reg.cov;
+		reg.matched ? lonePatchLinkCov(reg.cov, scan, m_params.matcher.normal_radius_m)
+					: reg.cov;
 }
 
 // Bookkeeping of step 2: unmatched scans, odometry glitches, the sweep estimate.
@@ -250,8 +251,8 @@ void CMetricMapBuilderLRGC::enterNewKeyframe(
 void CMetricMapBuilderLRGC::recordScan(mrpt::Clock::time_point stamp, size_t node,
 									   const TPose2D& robotInNode, bool keyframe)
 {
-	m_scans.push_back({stamp, node, robotInNode, m_scanStep, m_scanStepCov, m_lastScanSmoothingCov,
-					   m_scanStepFromOdometry, keyframe});
+	m_scans.push_back({stamp, node, robotInNode, m_scanStep, m_scanStepCov,
+					   m_lastScanSmoothingCov, m_scanStepFromOdometry, keyframe});
 }
 
 // Steps 4-5 at a keyframe taken (CLoopClosing): the loop results due are applied, and a new

@@ -232,8 +232,9 @@ private:
 		/** The predicted step into this scan, (previous scan <- this scan), and whether it
 		 * came from odometry (settleIsolatedScans). */
 		mrpt::math::TPose2D step{0, 0, 0};
-		Eigen::Matrix3d stepCov = Eigen::Matrix3d::Identity();      //!< of `step` (its model)
-		Eigen::Matrix3d registrationCov = Eigen::Matrix3d::Zero();  //!< TRegistration::cov, widened (m_lastScanSmoothingCov)
+		Eigen::Matrix3d stepCov = Eigen::Matrix3d::Identity();  //!< of `step` (its model)
+		Eigen::Matrix3d registrationCov =
+			Eigen::Matrix3d::Zero();  //!< TRegistration::cov, widened (m_lastScanSmoothingCov)
 		bool stepFromOdometry = false;
 		bool keyframe = false;  //!< the scan is its node's own (a new keyframe)
 	};
