@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <utility>
 
 namespace lrgc
@@ -166,9 +167,12 @@ std::pair<int64_t, int64_t> ringRank(int64_t dx, int64_t dy)
 }
 }  // namespace
 
-int CAnchorGrid::nearestDense(const Eigen::Vector2d& q, double maxDist, double* d2Out) const
+template <bool kBound>
+int CAnchorGrid::nearestDense(const Eigen::Vector2d& q, double maxDist, double* d2Out,
+							  double* boundOut) const
 {
-	if (m_rowStart.empty()) return nearestByScan(q, maxDist, d2Out);  // a radiusOnly grid
+	if (m_rowStart.empty())
+		return nearestByScan<kBound>(q, maxDist, d2Out, boundOut);  // a radiusOnly grid
 	// The ring walk of nearest() with each ring read as four runs: its bottom and top rows
 	// from the row-major table, its left and right columns (corners excluded) from the
 	// column-major one. A ring holds the same points whatever the order, so the best
@@ -177,6 +181,7 @@ int CAnchorGrid::nearestDense(const Eigen::Vector2d& q, double maxDist, double* 
 	// cell the first of its run as there.
 	const int64_t cx = cellIndex(q.x(), m_cell), cy = cellIndex(q.y(), m_cell);
 	double best = maxDist * maxDist;
+	double second = std::numeric_limits<double>::infinity();  // kBound: the others' nearest
 	int bestIdx = -1;
 	Eigen::Vector2d bestPos(0, 0);
 	auto scan = [&](const std::vector<Eigen::Vector2d>& pos, const std::vector<uint32_t>& index,
@@ -186,12 +191,16 @@ int CAnchorGrid::nearestDense(const Eigen::Vector2d& q, double maxDist, double* 
 		{
 			const double d2 = (pos[k] - q).squaredNorm();
 			if (d2 < best)
+			{
+				if (kBound && bestIdx >= 0) second = std::min(second, best);
 				best = d2, bestIdx = static_cast<int>(index[k]), bestPos = pos[k];
-			else if (d2 == best && bestIdx >= 0 &&
-					 ringRank(cellIndex(pos[k].x(), m_cell) - cx,
-							  cellIndex(pos[k].y(), m_cell) - cy) <
-						 ringRank(cellIndex(bestPos.x(), m_cell) - cx,
-								  cellIndex(bestPos.y(), m_cell) - cy))
+				continue;
+			}
+			if (kBound) second = std::min(second, d2);
+			if (d2 == best && bestIdx >= 0 &&
+				ringRank(cellIndex(pos[k].x(), m_cell) - cx, cellIndex(pos[k].y(), m_cell) - cy) <
+					ringRank(cellIndex(bestPos.x(), m_cell) - cx,
+							 cellIndex(bestPos.y(), m_cell) - cy))
 				bestIdx = static_cast<int>(index[k]), bestPos = pos[k];
 		}
 	};
@@ -213,6 +222,7 @@ int CAnchorGrid::nearestDense(const Eigen::Vector2d& q, double maxDist, double* 
 			 m_rowStart[dy * m_nx + dx1 + 1]);
 	};
 	const int64_t last = lastRing(cx, cy);
+	double unread = std::numeric_limits<double>::infinity();  // distance to unread cells [m]
 	for (int64_t k = 0; k <= last; ++k)
 	{
 		if (k == 0)
@@ -227,35 +237,68 @@ int CAnchorGrid::nearestDense(const Eigen::Vector2d& q, double maxDist, double* 
 		const double lb =
 			std::min(std::min(q.x() - (cx - k) * m_cell, (cx + k + 1) * m_cell - q.x()),
 					 std::min(q.y() - (cy - k) * m_cell, (cy + k + 1) * m_cell - q.y()));
-		if (lb * lb >= best) break;
+		if (lb * lb >= best)
+		{
+			unread = lb;
+			break;
+		}
 	}
+	if (kBound) *boundOut = std::min(std::sqrt(second), unread);
 	if (bestIdx >= 0 && d2Out) *d2Out = best;
 	return bestIdx;
 }
 
-int CAnchorGrid::nearestByScan(const Eigen::Vector2d& q, double maxDist, double* d2Out) const
+template <bool kBound>
+int CAnchorGrid::nearestByScan(const Eigen::Vector2d& q, double maxDist, double* d2Out,
+							   double* boundOut) const
 {
-	double best = maxDist * maxDist;
+	double best = maxDist * maxDist, second = std::numeric_limits<double>::infinity();
 	int bestIdx = -1;
 	for (size_t k = 0; k < m_pos.size(); ++k)
-		if (const double d2 = (m_pos[k] - q).squaredNorm(); d2 < best)
+	{
+		const double d2 = (m_pos[k] - q).squaredNorm();
+		if (d2 < best)
+		{
+			if (kBound && bestIdx >= 0) second = std::min(second, best);
 			best = d2, bestIdx = static_cast<int>(m_index[k]);
+		}
+		else if (kBound)
+			second = std::min(second, d2);
+	}
+	if (kBound) *boundOut = std::sqrt(second);  // every point read
 	if (bestIdx >= 0 && d2Out) *d2Out = best;
 	return bestIdx;
 }
 
-int CAnchorGrid::nearest(const Eigen::Vector2d& q, double maxDist, double* d2Out) const
+template <bool kBound>
+int CAnchorGrid::nearestImpl(const Eigen::Vector2d& q, double maxDist, double* d2Out,
+							 double* boundOut) const
 {
-	if (m_pos.empty() || !(maxDist > 0) || !mayHaveWithin(q, maxDist)) return -1;
+	if (m_pos.empty() || !(maxDist > 0) || !mayHaveWithin(q, maxDist))
+	{
+		// No point, or none within maxDist (q is farther than that from their cells' box).
+		if (kBound)
+			*boundOut = m_pos.empty() ? std::numeric_limits<double>::infinity()
+					  : q.allFinite() && maxDist > 0 ? maxDist
+													 : 0.0;
+		return -1;
+	}
 	const int64_t qx = cellIndex(q.x(), m_cell), qy = cellIndex(q.y(), m_cell);
 	if (std::min(double(lastRing(qx, qy)), maxDist / m_cell + 1) > double(kMaxRings))
-		return nearestByScan(q, maxDist, d2Out);
-	if (isDense()) return nearestDense(q, maxDist, d2Out);
+		return nearestByScan<kBound>(q, maxDist, d2Out, boundOut);
+	if (isDense()) return nearestDense<kBound>(q, maxDist, d2Out, boundOut);
+	return nearestRings<kBound>(q, maxDist, d2Out, boundOut);
+}
+
+template <bool kBound>
+int CAnchorGrid::nearestRings(const Eigen::Vector2d& q, double maxDist, double* d2Out,
+							  double* boundOut) const
+{
 	// Ring search: ring k holds the cells at Chebyshev distance k from q's cell. After ring k,
 	// every unvisited point is at least `lb` away (distance from q to the border of the
 	// visited block), so the search stops once the best distance is <= lb or lb >= maxDist.
 	const int64_t cx = cellIndex(q.x(), m_cell), cy = cellIndex(q.y(), m_cell);
-	double best = maxDist * maxDist;
+	double best = maxDist * maxDist, second = std::numeric_limits<double>::infinity();
 	int bestIdx = -1;
 	auto visit = [&](int64_t ix, int64_t iy)
 	{
@@ -263,12 +306,19 @@ int CAnchorGrid::nearest(const Eigen::Vector2d& q, double maxDist, double* d2Out
 		for (uint32_t k = b; k < e; ++k)
 		{
 			const double d2 = (m_pos[k] - q).squaredNorm();
-			if (d2 < best) best = d2, bestIdx = static_cast<int>(m_index[k]);
+			if (d2 < best)
+			{
+				if (kBound && bestIdx >= 0) second = std::min(second, best);
+				best = d2, bestIdx = static_cast<int>(m_index[k]);
+			}
+			else if (kBound)
+				second = std::min(second, d2);
 		}
 	};
 	// Bounded twice: by maxDist (the stopping rule) and by the box (after ring `last`, every
 	// occupied cell has been visited), whatever maxDist.
 	const int64_t last = lastRing(cx, cy);
+	double unread = std::numeric_limits<double>::infinity();  // distance to unread cells [m]
 	for (int64_t k = 0; k <= last; ++k)
 	{
 		if (k == 0)
@@ -282,10 +332,20 @@ int CAnchorGrid::nearest(const Eigen::Vector2d& q, double maxDist, double* d2Out
 		const double lb =
 			std::min(std::min(q.x() - (cx - k) * m_cell, (cx + k + 1) * m_cell - q.x()),
 					 std::min(q.y() - (cy - k) * m_cell, (cy + k + 1) * m_cell - q.y()));
-		if (lb * lb >= best) break;
+		if (lb * lb >= best)
+		{
+			unread = lb;
+			break;
+		}
 	}
+	if (kBound) *boundOut = std::min(std::sqrt(second), unread);
 	if (bestIdx >= 0 && d2Out) *d2Out = best;
 	return bestIdx;
 }
+
+template int CAnchorGrid::nearestImpl<false>(const Eigen::Vector2d&, double, double*,
+											 double*) const;
+template int CAnchorGrid::nearestImpl<true>(const Eigen::Vector2d&, double, double*,
+											double*) const;
 
 }  // namespace lrgc

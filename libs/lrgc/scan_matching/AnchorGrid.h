@@ -38,7 +38,21 @@ public:
 
 	/** Index of the point nearest to q within maxDist [m] (exact; of equally near points, the
 	 * first in cell order), or -1. If found and d2 is given, *d2 is the squared distance. */
-	int nearest(const Eigen::Vector2d& q, double maxDist, double* d2 = nullptr) const;
+	int nearest(const Eigen::Vector2d& q, double maxDist, double* d2 = nullptr) const
+	{
+		return nearestImpl<false>(q, maxDist, d2, nullptr);
+	}
+	/** nearest() (the same answer) that also bounds the others: every indexed point but the
+	 * one returned is at least *otherBound [m] from q; with none returned, every point is. The
+	 * bound is the nearest of the other points the search read, or the distance from q to the
+	 * cells it left unread, whichever is less (0 for a q that is not finite). So for a query
+	 * moved to q', the answer stays the same point j while |q' - p_j| < otherBound - |q' - q|
+	 * (triangle inequality; within maxDist' iff |q' - p_j| < maxDist'), and stays none while
+	 * otherBound - |q' - q| >= maxDist'. */
+	int nearestWithBound(const Eigen::Vector2d& q, double maxDist, double* otherBound) const
+	{
+		return nearestImpl<true>(q, maxDist, nullptr, otherBound);
+	}
 
 	/** Calls fn(index) for every indexed point within radius [m] of q. */
 	template <class F>
@@ -128,7 +142,17 @@ private:
 			   static_cast<uint32_t>(iy);
 	}
 	const TCell* findCell(int64_t ix, int64_t iy) const;
-	int nearestDense(const Eigen::Vector2d& q, double maxDist, double* d2Out) const;
+	/** nearest() and nearestWithBound(): with kBound, *boundOut gets the bound (the searches
+	 * then also keep the second-nearest distance they read). */
+	template <bool kBound>
+	int nearestImpl(const Eigen::Vector2d& q, double maxDist, double* d2Out,
+					double* boundOut) const;
+	template <bool kBound>
+	int nearestRings(const Eigen::Vector2d& q, double maxDist, double* d2Out,
+					 double* boundOut) const;
+	template <bool kBound>
+	int nearestDense(const Eigen::Vector2d& q, double maxDist, double* d2Out,
+					 double* boundOut) const;
 	/** Fills the dense table from the key-sorted m_index; false if the box is too large. */
 	bool buildDense(const std::vector<Eigen::Vector2d>& points, bool rowMajor);
 
@@ -146,7 +170,9 @@ private:
 	static constexpr int64_t kMaxRings = 4096;
 	static constexpr double kMaxVisitedCells = double(size_t(1) << 24);
 	/** nearest() by reading every point (the first of equally near ones in m_pos order). */
-	int nearestByScan(const Eigen::Vector2d& q, double maxDist, double* d2Out) const;
+	template <bool kBound>
+	int nearestByScan(const Eigen::Vector2d& q, double maxDist, double* d2Out,
+					  double* boundOut) const;
 	/** Rings around cell (cx, cy) after which every cell of the box has been visited. */
 	int64_t lastRing(int64_t cx, int64_t cy) const
 	{

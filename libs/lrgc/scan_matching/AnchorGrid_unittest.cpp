@@ -4,6 +4,7 @@
 #include <lrgc/scan_matching/AnchorGrid.h>
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <random>
 #include <set>
@@ -128,6 +129,48 @@ TEST(AnchorGrid, denseAndHashedCellsGiveTheSameAnswers)
 	}
 	EXPECT_EQ(hashed.nearest({4000.01, -3000}, 0.1), static_cast<int>(c.pts.size()));
 	EXPECT_EQ(dense.nearest({4000.01, -3000}, 0.1), -1);
+}
+
+TEST(AnchorGrid, nearestWithBoundAnswersAsNearestAndBoundsEveryOtherPoint)
+{
+	// The bound the scan matcher's warm association relies on: no usable point other than the
+	// answer (none: no usable point at all) is closer than it, through the dense table, the
+	// hash table and the radiusOnly grid's full scan; and it is not vacuous near the points.
+	const TCloud c = randomCloud(1500, 21);
+	TCloud stray = c;
+	stray.pts.emplace_back(4000, -3000), stray.usable.push_back(true);
+	const CAnchorGrid dense(c.pts, c.usable, 0.3), hashed(stray.pts, stray.usable, 0.3),
+		scanOnly(c.pts, c.usable, 0.3, true);
+	ASSERT_TRUE(dense.isDense());
+	ASSERT_FALSE(hashed.isDense());
+	std::mt19937 rng(22);
+	std::uniform_real_distribution<double> u(-6, 6);
+	int useful = 0, found = 0;
+	for (int t = 0; t < 1500; ++t)
+		for (const double gate : {0.02, 0.3, 1.5})
+		{
+			const Eigen::Vector2d q(u(rng), u(rng));
+			for (const auto* g : {&dense, &hashed, &scanOnly})
+			{
+				const TCloud& cl = g == &hashed ? stray : c;
+				double bound = -1;
+				const int j = g->nearestWithBound(q, gate, &bound);
+				ASSERT_EQ(j, g->nearest(q, gate)) << "query " << q.transpose();
+				double other = std::numeric_limits<double>::infinity();
+				for (size_t i = 0; i < cl.pts.size(); ++i)
+					if (cl.usable[i] && static_cast<int>(i) != j)
+						other = std::min(other, (cl.pts[i] - q).norm());
+				ASSERT_LE(bound, other + 1e-12) << "query " << q.transpose() << " gate " << gate;
+				if (j >= 0) ++found, useful += bound > (cl.pts[j] - q).norm();
+			}
+		}
+	ASSERT_GT(found, 1000);
+	EXPECT_GT(useful, found * 9 / 10) << "the bound should mostly exceed the answer's distance";
+	double bound = -1;
+	EXPECT_EQ(dense.nearestWithBound({100, 100}, 0.5, &bound), -1);
+	EXPECT_EQ(bound, 0.5) << "a query far from the box: every point beyond the gate";
+	EXPECT_EQ(dense.nearestWithBound({NAN, 0}, 0.5, &bound), -1);
+	EXPECT_EQ(bound, 0.0);
 }
 
 TEST(AnchorGrid, forEachWithinVisitsCellsInColumnMajorOrderDenseOrHashed)

@@ -100,6 +100,12 @@ public:
 	{
 		return m_grid.nearest(q, maxDist, d2);
 	}
+	/** nearest() with a lower bound [m] on the distance from q to every other anchor
+	 * (CAnchorGrid::nearestWithBound; the grid holds the anchors' positions as anchors()). */
+	int nearestWithBound(const Eigen::Vector2d& q, double maxDist, double* otherBound) const
+	{
+		return m_grid.nearestWithBound(q, maxDist, otherBound);
+	}
 
 	/** Noise model, for the covariance of a match. The error of LINE anchor j's fitted line
 	 * along its normal, at line coordinate u (anchor.u + tangent offset), is

@@ -62,11 +62,50 @@ void linearise(const CReferenceCloud& ref, const Eigen::Vector2d& r, const Eigen
 	}
 }
 
-/** Nearest-anchor association within the gate (frozen == false), or re-linearisation of the
- * pairs already in `out` at the new pose (frozen == true). */
+/** Warm association: a scan point's last searched position q0 [m, in ref], the anchor found
+ * there within the gate (-1: none) and a bound b [m] below which no other anchor was
+ * (CReferenceCloud::nearestWithBound). At the point's next position q, every other anchor
+ * is at least b - |q - q0| away (triangle inequality), so a new search would answer
+ *   anchor j, if |q - a_j| < b - |q - q0|: j when |q - a_j| < gate, else none;
+ *   none,     if b - |q - q0| >= gate (the gate never grows);
+ * and these answers are taken without the search: the pairs are exactly a new search's.
+ * Later iterations move the scan by millimetres against anchors ~ref_resolution_m apart,
+ * so most points keep their anchor. */
+struct TWarmEntry
+{
+	Eigen::Vector2d q0 = Eigen::Vector2d::Zero();
+	double bound = -1;  //!< < 0: no search yet
+	int anchor = -1;
+};
+
+/** Slack [m] on the warm test against the rounding of the distances (~1e-15 m). */
+constexpr double kWarmSlack_m = 1e-9;
+
+/** ref.nearest(q, gate), answered from w where the bound allows, else searched (refreshing
+ * w). */
+int warmNearest(const CReferenceCloud& ref, const Eigen::Vector2d& q, double gate,
+				TWarmEntry& w)
+{
+	const double reach = w.bound - (q - w.q0).norm() - kWarmSlack_m;
+	if (w.anchor >= 0 && reach > 0)
+	{
+		// The same squared distance and test as CAnchorGrid::nearest's.
+		const double d2 = (ref.anchors()[w.anchor].pos - q).squaredNorm();
+		if (d2 < reach * reach) return d2 < gate * gate ? w.anchor : -1;
+	}
+	else if (w.anchor < 0 && w.bound >= 0 && reach >= gate)
+		return -1;
+	w.q0 = q;
+	w.anchor = ref.nearestWithBound(q, gate, &w.bound);
+	return w.anchor;
+}
+
+/** Nearest-anchor association within the gate (frozen == false; warm: one entry per point,
+ * kept between iterations), or re-linearisation of the pairs already in `out` at the new
+ * pose (frozen == true). */
 void associate(const CReferenceCloud& ref, const std::vector<Eigen::Vector2d>& pts,
 			   const Eigen::Vector3d& x, double gate, bool frozen,
-			   std::vector<TCorrespondence>& out)
+			   std::vector<TWarmEntry>& warm, std::vector<TCorrespondence>& out)
 {
 	const double c = std::cos(x.z()), s = std::sin(x.z());
 	auto rot = [&](const Eigen::Vector2d& p)
@@ -77,10 +116,12 @@ void associate(const CReferenceCloud& ref, const std::vector<Eigen::Vector2d>& p
 		return;
 	}
 	out.clear();
+	warm.resize(pts.size());
 	for (uint32_t i = 0; i < pts.size(); ++i)
 	{
 		const Eigen::Vector2d r = rot(pts[i]);
-		const int j = ref.nearest(Eigen::Vector2d(r.x() + x.x(), r.y() + x.y()), gate);
+		const int j = warmNearest(ref, Eigen::Vector2d(r.x() + x.x(), r.y() + x.y()), gate,
+								  warm[i]);
 		if (j < 0) continue;
 		TCorrespondence k;
 		k.anchor = static_cast<uint32_t>(j);
@@ -181,6 +222,7 @@ std::optional<TScanMatch> CScanMatcher::matchPoints(const CReferenceCloud& ref,
 	const double gateFloor = std::max(5 * P.min_residual_std_m, 2 * P.ref_resolution_m);
 	std::vector<TCorrespondence> corr;
 	corr.reserve(pts.size());
+	std::vector<TWarmEntry> warm;
 	std::vector<double> tmp;
 	Eigen::Matrix3d H, Hspur;
 	Eigen::Vector3d g;
@@ -189,7 +231,7 @@ std::optional<TScanMatch> CScanMatcher::matchPoints(const CReferenceCloud& ref,
 	while (!converged && ++it <= P.max_iterations)
 	{
 		if (m_stop.stopRequested()) return std::nullopt;  // not converged: no match
-		associate(ref, pts, x, gate, frozen, corr);
+		associate(ref, pts, x, gate, frozen, warm, corr);
 		if (corr.size() < 3) return std::nullopt;
 		const double scale = robustScale(corr, P.min_residual_std_m, tmp);
 		const double L = weighAndAccumulate(corr, scale, H, g, Hspur);
@@ -210,7 +252,7 @@ std::optional<TScanMatch> CScanMatcher::matchPoints(const CReferenceCloud& ref,
 
 	// Final linearisation at the solution, with the pairs it is optimal for: inliers,
 	// residuals, covariance.
-	associate(ref, pts, x, gate, frozen, corr);
+	associate(ref, pts, x, gate, frozen, warm, corr);
 	if (corr.size() < 3) return std::nullopt;
 	const double scale = robustScale(corr, P.min_residual_std_m, tmp);
 	const double L = weighAndAccumulate(corr, scale, H, g, Hspur);
