@@ -198,7 +198,8 @@ int CAnchorGrid::nearestDense(const Eigen::Vector2d& q, double maxDist, double* 
 			}
 			if (kBound) second = std::min(second, d2);
 			if (d2 == best && bestIdx >= 0 &&
-				ringRank(cellIndex(pos[k].x(), m_cell) - cx, cellIndex(pos[k].y(), m_cell) - cy) <
+				ringRank(cellIndex(pos[k].x(), m_cell) - cx,
+						 cellIndex(pos[k].y(), m_cell) - cy) <
 					ringRank(cellIndex(bestPos.x(), m_cell) - cx,
 							 cellIndex(bestPos.y(), m_cell) - cy))
 				bestIdx = static_cast<int>(index[k]), bestPos = pos[k];
@@ -278,9 +279,9 @@ int CAnchorGrid::nearestImpl(const Eigen::Vector2d& q, double maxDist, double* d
 	{
 		// No point, or none within maxDist (q is farther than that from their cells' box).
 		if (kBound)
-			*boundOut = m_pos.empty() ? std::numeric_limits<double>::infinity()
-					  : q.allFinite() && maxDist > 0 ? maxDist
-													 : 0.0;
+			*boundOut = m_pos.empty()                  ? std::numeric_limits<double>::infinity()
+						: q.allFinite() && maxDist > 0 ? maxDist
+													   : 0.0;
 		return -1;
 	}
 	const int64_t qx = cellIndex(q.x(), m_cell), qy = cellIndex(q.y(), m_cell);

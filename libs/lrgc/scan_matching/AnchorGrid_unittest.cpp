@@ -160,7 +160,8 @@ TEST(AnchorGrid, nearestWithBoundAnswersAsNearestAndBoundsEveryOtherPoint)
 				for (size_t i = 0; i < cl.pts.size(); ++i)
 					if (cl.usable[i] && static_cast<int>(i) != j)
 						other = std::min(other, (cl.pts[i] - q).norm());
-				ASSERT_LE(bound, other + 1e-12) << "query " << q.transpose() << " gate " << gate;
+				ASSERT_LE(bound, other + 1e-12)
+					<< "query " << q.transpose() << " gate " << gate;
 				if (j >= 0) ++found, useful += bound > (cl.pts[j] - q).norm();
 			}
 		}

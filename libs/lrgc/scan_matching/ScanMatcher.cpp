@@ -120,8 +120,8 @@ void associate(const CReferenceCloud& ref, const std::vector<Eigen::Vector2d>& p
 	for (uint32_t i = 0; i < pts.size(); ++i)
 	{
 		const Eigen::Vector2d r = rot(pts[i]);
-		const int j = warmNearest(ref, Eigen::Vector2d(r.x() + x.x(), r.y() + x.y()), gate,
-								  warm[i]);
+		const int j =
+			warmNearest(ref, Eigen::Vector2d(r.x() + x.x(), r.y() + x.y()), gate, warm[i]);
 		if (j < 0) continue;
 		TCorrespondence k;
 		k.anchor = static_cast<uint32_t>(j);
