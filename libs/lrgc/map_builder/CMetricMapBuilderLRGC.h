@@ -233,8 +233,8 @@ private:
 		 * came from odometry (settleIsolatedScans). */
 		mrpt::math::TPose2D step{0, 0, 0};
 		Eigen::Matrix3d stepCov = Eigen::Matrix3d::Identity();  //!< of `step` (its model)
-		Eigen::Matrix3d registrationCov =
-			Eigen::Matrix3d::Zero();  //!< TRegistration::cov, widened (m_lastScanSmoothingCov)
+		/** TRegistration::cov, widened where returns are sparse (m_lastScanSmoothingCov). */
+		Eigen::Matrix3d registrationCov = Eigen::Matrix3d::Zero();
 		bool stepFromOdometry = false;
 		bool keyframe = false;  //!< the scan is its node's own (a new keyframe)
 	};

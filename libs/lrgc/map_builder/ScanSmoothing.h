@@ -3,12 +3,12 @@
  * with the keyframes before and after it and with the odometry between them.
  *
  * A scan's registration alone placed it against the window of its time, with covariance
- * P_k (the patch match's, widened where the scan's returns are sparse as a lone patch link's:
- * lonePatchLinkCov, LocalRegistration.h); its neighbours' odometry says where it is too, and
- * once the graph is final the two keyframes around a run of scans are the best-known poses. For
- * each maximal run a+1..b-1 of scans that are not keyframes (a, b: the keyframe scans around
- * it, held fixed), the poses x_k minimise, by Gauss-Newton on SE(2), sum_k (x_k - p_k)^T P_k^-1
- * (x_k - p_k)                       registration [map axes]
+ * P_k (the patch match's, widened where the scan's returns are sparse as a lone patch
+ * link's: lonePatchLinkCov, LocalRegistration.h); its neighbours' odometry says where it is
+ * too, and once the graph is final the two keyframes around a run of scans are the
+ * best-known poses. For each maximal run a+1..b-1 of scans that are not keyframes (a, b: the
+ * keyframe scans around it, held fixed), the poses x_k minimise, by Gauss-Newton on SE(2),
+ *     sum_k (x_k - p_k)^T P_k^-1 (x_k - p_k)                       registration [map axes]
  *   + sum_k w_k e_k^T (D Q_k D)^-1 e_k,  e_k = v(o_k^-1 (+) (x_{k-1}^-1 (+) x_k))   odometry
  * over the steps with odometry (o_k, its modelled covariance Q_k in the previous scan's axes).
  * D = diag(s_x, s_y, s_phi) calibrates the model on the run itself, per component c: for
