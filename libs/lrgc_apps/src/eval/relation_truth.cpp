@@ -67,8 +67,9 @@ CRelationTruth::CRelationTruth(const std::vector<TRelation>& relations,
 							  std::abs(keyframes[*best].t - keyframes[i].t)))
 				best = j;
 		if (!best) continue;
-		anchor_[i] = std::make_pair(
-			own[*best]->first, lrgc::between(keyframes[i].reference, keyframes[*best].reference));
+		anchor_[i] =
+			std::make_pair(own[*best]->first,
+						   lrgc::between(keyframes[i].reference, keyframes[*best].reference));
 		isBridged_[i] = true;
 		++bridged_;
 	}
@@ -95,7 +96,8 @@ const std::map<std::size_t, mrpt::math::TPose2D>& CRelationTruth::reach(std::siz
 	return reachCache_.emplace(node, std::move(poses)).first->second;
 }
 
-std::optional<mrpt::math::TPose2D> CRelationTruth::between(std::size_t from, std::size_t to) const
+std::optional<mrpt::math::TPose2D> CRelationTruth::between(std::size_t from,
+														   std::size_t to) const
 {
 	if (!anchor_.at(from) || !anchor_.at(to)) return std::nullopt;
 	const auto& [fromNode, fromBridge] = *anchor_[from];

@@ -42,7 +42,8 @@ struct TRelationRun
 	{
 		lrgc::TLink l;
 		l.from = from, l.to = to, l.type = lrgc::LinkType::LoopClosure;
-		l.toInFrom = lrgc::compose(lrgc::between(kfs[from].reference, kfs[to].reference), error);
+		l.toInFrom =
+			lrgc::compose(lrgc::between(kfs[from].reference, kfs[to].reference), error);
 		l.information = 1e4 * Eigen::Matrix3d::Identity();
 		graph.addLink(l);
 	}
@@ -66,10 +67,10 @@ TEST(RelationTruth, chainsOfRelationsJudgeTheLinksAndFindTheRevisits)
 	EXPECT_NEAR(d->phi, expected.phi, 1e-9);
 	EXPECT_FALSE(truth.between(0, 30).has_value()) << "30 relations apart, over maxHops";
 
-	run.link(6, 55, {0, 0, 0});      // the truth: closes the place
-	run.link(5, 54, {0.4, 0, 0});    // 0.4 m off: false, by the relations
+	run.link(6, 55, {0, 0, 0});       // the truth: closes the place
+	run.link(5, 54, {0.4, 0, 0});     // 0.4 m off: false, by the relations
 	run.link(7, 56, {0.1, 0, 0.01});  // 56 bridged by the map (to 55): agrees, not byRelation
-	run.link(20, 40, {0, 0, 0});     // no path: not judged
+	run.link(20, 40, {0, 0, 0});      // no path: not judged
 	const TLoopRecall r = evaluateLoopRecall(run.graph, run.kfs, truth);
 	ASSERT_EQ(r.loopLinks.size(), 4U);
 	EXPECT_TRUE(r.loopLinks[0].agrees && r.loopLinks[0].byRelation);

@@ -41,7 +41,7 @@ struct TRelationTruthParams
 
 class CRelationTruth
 {
-   public:
+public:
 	/** `keyframes[i].t`: the scan times; `keyframes[i].reference`: the map's own poses (used
 	 * only for the bridges above). */
 	CRelationTruth(const std::vector<TRelation>& relations,
@@ -58,7 +58,7 @@ class CRelationTruth
 	std::size_t ownAnchors() const { return own_; }
 	std::size_t bridgedAnchors() const { return bridged_; }
 
-   private:
+private:
 	struct TEdge
 	{
 		std::size_t to;
