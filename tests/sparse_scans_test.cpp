@@ -8,19 +8,22 @@
  *    dense figure (main's dense trajectory sampled at the kept scans, scored on the same
  *    relations: what the sparse map can reach).
  *  - Loop recall (lrgc-eval --loops, lrgc_apps/eval/loop_recall.h, the glass world's
- *    definition) against the dense log mapped by the same build as the reference, the links
- *    judged by the log's own relations wherever one joins both ends within 20 s: >= 90 % of
- *    the revisited places closed and no kept loop link that the relations call false, on
- *    all four (seed 1, main's dense runs as the reference: 38 / 40, 9 / 9, 9 / 9, 65 / 69;
- *    ACES' dead-end returns and Killian's corridors driven back closed by the revisit
- *    sweep's reach, doc/generalisation.md).
- *    Links judged by the reference alone are only printed: the dense map's own joins can be
- *    a few decimetres off (Killian). The four tests take about 90 s of CPU in all, dense
- *    runs included (Killian's the longest: 86 s wall on a loaded machine).
+ *    definition) judged by the log's own relations alone (relation_truth.h: the revisits are
+ *    where chains of at most 16 relations join keyframes 60 s apart within 2 m, a loop link's
+ *    truth is such a chain), so the judge does not move with the build and no dense run is
+ *    needed: >= 90 % of the revisited places closed and no kept loop link that the relations
+ *    alone call false, on all four (seed 1, main at 37911f0: 37 / 37, 7 / 7, 7 / 7, 56 / 58).
+ *    Links with an end at a keyframe no relation names are judged with the map's own poses
+ *    bridging it to the nearest one that has a relation (within 10 s) and only printed
+ *    (main's Killian: 503 -> 1185, 0.31 m off, across a turn); links no chain reaches are not
+ *    judged (main: 36 / 15 / 10 / 45 of 388 / 36 / 37 / 211).
+ *    The four tests took 92 s of CPU with a dense run each, 31 s without (loaded machine,
+ *    /usr/bin/time; doc/generalisation.md).
  * Skips where the shared logs or python3 are absent. */
 #include <gtest/gtest.h>
 #include <lrgc_apps/eval/loop_recall.h>
 #include <lrgc_apps/eval/relation_metric.h>
+#include <lrgc_apps/eval/relation_truth.h>
 #include <lrgc_apps/eval/trajectory.h>
 
 #include "app_runner.h"
@@ -61,21 +64,13 @@ struct TSparseCase
 	double denseFigure_m;
 };
 
-/** Loop recall of the sparse run in dir/out against the dense log mapped now (dir/dense), the
- * links judged by the dense log's relations where they reach. */
-eval::TLoopRecall loopRecall(const std::string& dir, const std::string& denseLog,
-							 const std::string& denseRelations)
+/** Loop recall of the sparse run in dir/out judged by the log's relations alone
+ * (relation_truth.h): no dense run. */
+eval::TLoopRecall loopRecall(const std::string& dir, const std::string& relations)
 {
-	const auto r = runProcess(binaryPath("lrgc-slam"),
-							  {"--input", denseLog, "--out", dir + "/dense", "--quiet"});
-	EXPECT_EQ(r.exitCode, 0) << r.output;
-	eval::TRecallInputs in =
-		eval::loadRecallInputs(dir + "/out", dir + "/dense/trajectory.tum");
-	const eval::TLoopRecallParams p;
-	return eval::evaluateLoopRecall(
-		in.graph, in.keyframes, p,
-		eval::truthFromRelations(eval::loadRelations(denseRelations), std::move(in.reference),
-								 p.relationReach_s));
+	const eval::TRecallInputs in = eval::loadRecallInputs(dir + "/out", "");
+	const eval::CRelationTruth truth(eval::loadRelations(relations), in.keyframes);
+	return eval::evaluateLoopRecall(in.graph, in.keyframes, truth);
 }
 
 void mapSparseVariant(const TSparseCase& c)
@@ -111,13 +106,14 @@ void mapSparseVariant(const TSparseCase& c)
 	EXPECT_EQ(ev.shortOver5deg, 0U) << "a short relation off by > 5 deg: a bent map";
 	EXPECT_GT(loops, 0);
 	EXPECT_LT(ev.trans_m.mean, 1.5 * c.denseFigure_m);
-	const auto recall = loopRecall(dir, log, rel);
+	const auto recall = loopRecall(dir, rel);
 	std::cout << eval::recallReport(recall);
 	size_t falseByRelations = 0;
 	for (const auto& l : recall.loopLinks) falseByRelations += !l.agrees && l.byRelation;
 	::testing::Test::RecordProperty("loop_recall", std::to_string(recall.recall()));
 	::testing::Test::RecordProperty("false_closures_by_relations",
 									std::to_string(falseByRelations));
+	::testing::Test::RecordProperty("loop_links_not_judged", std::to_string(recall.notJudged));
 	EXPECT_GE(recall.recall(), 0.9);
 	EXPECT_EQ(falseByRelations, 0U) << eval::recallReport(recall);
 }

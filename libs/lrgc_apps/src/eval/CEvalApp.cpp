@@ -57,7 +57,10 @@ std::string CEvalApp::usage()
 		   "  --time-tolerance timestamps this close [s] are equal (default 1e-5)\n"
 		   "  --rpe-distance   path length of the fixed-distance RPE [m] (default 1)\n"
 		   "  --loops DIR      loop recall of an lrgc-slam output folder (graph.lrgc, "
-		   "map.simplemap.gz)\n"
+		   "map.simplemap.gz);\n"
+		   "                   with --relations alone: judged by chains of relations (no\n"
+		   "                   reference), places where they join keyframes 60 s apart "
+		   "within 2 m\n"
 		   "  --reference      with --loops: trajectory standing in for the truth (e.g. the\n"
 		   "                   dense run's trajectory.tum); places revisited after 60 s within "
 		   "2 m,\n"
@@ -97,8 +100,10 @@ TEvalOptions CEvalApp::parseArguments(const std::vector<std::string>& args)
 		else
 			throw std::invalid_argument("unknown argument '" + a + "'");
 	}
-	if (o.loopsDir.empty() != o.reference.empty())
-		throw std::invalid_argument("--loops and --reference go together");
+	if (!o.reference.empty() && o.loopsDir.empty())
+		throw std::invalid_argument("--reference goes with --loops");
+	if (!o.loopsDir.empty() && o.reference.empty() && o.relations.empty())
+		throw std::invalid_argument("--loops needs --reference and/or --relations");
 	if (o.trajectory.empty() && o.loopsDir.empty())
 		throw std::invalid_argument("--trajectory is required");
 	if (!o.trajectory.empty() && o.relations.empty() && o.groundTruth.empty())
@@ -115,12 +120,22 @@ TEvalResult CEvalApp::evaluate(const TEvalOptions& o)
 	{
 		TRecallInputs in = loadRecallInputs(o.loopsDir, o.reference, o.timeTolerance_s);
 		const TLoopRecallParams params;
-		const TTruthBetween truth =
-			o.relations.empty()
-				? TTruthBetween()
-				: truthFromRelations(loadRelations(o.relations), std::move(in.reference),
-									 params.relationReach_s, o.timeTolerance_s);
-		r.loops = evaluateLoopRecall(in.graph, in.keyframes, params, truth);
+		if (o.reference.empty())  // the relations alone (relation_truth.h)
+		{
+			TRelationTruthParams tp;
+			tp.tolerance_s = o.timeTolerance_s;
+			const CRelationTruth truth(loadRelations(o.relations), in.keyframes, tp);
+			r.loops = evaluateLoopRecall(in.graph, in.keyframes, truth, params);
+		}
+		else
+		{
+			const TTruthBetween truth =
+				o.relations.empty()
+					? TTruthBetween()
+					: truthFromRelations(loadRelations(o.relations), std::move(in.reference),
+										 params.relationReach_s, o.timeTolerance_s);
+			r.loops = evaluateLoopRecall(in.graph, in.keyframes, params, truth);
+		}
 	}
 	if (o.trajectory.empty()) return r;
 	const CTrajectory2D trajectory = CTrajectory2D::loadFromFile(o.trajectory);

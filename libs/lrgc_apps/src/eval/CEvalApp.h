@@ -10,6 +10,7 @@
 #pragma once
 
 #include <lrgc_apps/eval/loop_recall.h>
+#include <lrgc_apps/eval/relation_truth.h>
 #include <lrgc_apps/eval/relation_metric.h>
 #include <lrgc_apps/eval/trajectory_error.h>
 

@@ -122,12 +122,14 @@ void jsonLoops(JsonOut& j, const TEvalOptions& o, const TLoopRecall& r)
 	j.beginObject("loops")
 		.text("output", o.loopsDir)
 		.text("reference", o.reference)
+		.text("judge", o.reference.empty() ? "relations" : "reference")
 		.integer("places", r.places.size())
 		.integer("closed", r.closed)
 		.num("recall", r.recall(), "%.4f")
 		.integer("loop_links", r.loopLinks.size())
 		.integer("false_closures", r.falseClosures)
 		.integer("judged_by_relations", r.byRelation)
+		.integer("not_judged", r.notJudged)
 		.beginArray("places_not_closed");
 	for (const auto& p : r.places)
 		if (!p.closed)
@@ -139,14 +141,16 @@ void jsonLoops(JsonOut& j, const TEvalOptions& o, const TLoopRecall& r)
 				.end('}');
 	j.end(']').beginArray("false_closures_list");
 	for (const auto& l : r.loopLinks)
-		if (!l.agrees)
+		if (l.judged && !l.agrees)
 			j.beginObject()
 				.integer("from", l.from)
 				.integer("to", l.to)
 				.num("off_m", l.offXY_m)
 				.num("off_deg", l.offPhi_rad * 180 / M_PI)
 				.num("chi2", l.chi2)
-				.text("judged_by", l.byRelation ? "relations" : "reference")
+				.text("judged_by", l.byRelation ? "relations"
+								   : l.bridged  ? "relations and a map bridge"
+												: "reference")
 				.end('}');
 	j.end(']').end('}');
 }
@@ -185,7 +189,8 @@ void printRelations(std::ostream& out, const char* title, const TRelationReport&
 void CEvalApp::printReport(const TEvalResult& r, const TEvalOptions& o, std::ostream& out)
 {
 	if (r.loops)
-		out << "loops of " << o.loopsDir << " against " << o.reference << "\n"
+		out << "loops of " << o.loopsDir << " against "
+			<< (o.reference.empty() ? o.relations + " alone" : o.reference) << "\n"
 			<< recallReport(*r.loops);
 	if (o.trajectory.empty()) return;
 	out << mrpt::format(

@@ -7,6 +7,8 @@
 #include <lrgc/common/se2.h>
 #include <mrpt/core/format.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
+#include <mrpt/poses/CPose2D.h>
+#include <mrpt/poses/CPose3DPDF.h>
 
 #include <algorithm>
 #include <cmath>
@@ -22,18 +24,17 @@ Eigen::Vector2d position(const TRecallKeyframe& k)
 	return {k.reference.x, k.reference.y};
 }
 
-/** d = truth^-1 (+) Z, truth = (ref_from^-1 (+) ref_to) or truthBetween's, in translation
- * [m], heading [rad] and chi2. */
-TAuditedLoopLink audit(const lrgc::TLink& l, const std::vector<TRecallKeyframe>& kfs,
-					   const TLoopRecallParams& p, const TTruthBetween& truthBetween)
+/** d = truth^-1 (+) Z in translation [m], heading [rad] and chi2; no truth: not judged. */
+TAuditedLoopLink audit(const lrgc::TLink& l, const std::optional<TRecallJudge::TTruth>& truth,
+					   const TLoopRecallParams& p)
 {
 	TAuditedLoopLink a;
 	a.from = l.from, a.to = l.to;
-	std::optional<mrpt::math::TPose2D> truth;
-	if (truthBetween) truth = truthBetween(kfs[l.from], kfs[l.to]);
-	a.byRelation = truth.has_value();
-	if (!truth) truth = lrgc::between(kfs[l.from].reference, kfs[l.to].reference);
-	const auto d = lrgc::between(*truth, l.toInFrom);
+	a.judged = truth.has_value();
+	if (!truth) return a;
+	a.byRelation = truth->byRelation;
+	a.bridged = truth->bridged;
+	const auto d = lrgc::between(truth->toInFrom, l.toInFrom);
 	const Eigen::Vector3d e = lrgc::toVector(d);
 	a.offXY_m = lrgc::translationNorm(d);
 	a.offPhi_rad = std::abs(d.phi);
@@ -42,7 +43,7 @@ TAuditedLoopLink audit(const lrgc::TLink& l, const std::vector<TRecallKeyframe>&
 	return a;
 }
 
-/** Is keyframe i within revisitNear_m of one at least revisitGap_s older? */
+/** Is keyframe i within revisitNear_m of one at least revisitGap_s older (by the reference)? */
 bool isRevisit(const std::vector<TRecallKeyframe>& kfs, std::size_t i,
 			   const TLoopRecallParams& p)
 {
@@ -56,14 +57,14 @@ bool isRevisit(const std::vector<TRecallKeyframe>& kfs, std::size_t i,
 /** The places (loop_recall.h), each closed if it holds one of `closedKf`. */
 std::vector<TRevisitPlace> revisitPlaces(const std::vector<TRecallKeyframe>& kfs,
 										 const std::set<std::size_t>& closedKf,
-										 const TLoopRecallParams& p)
+										 const TRecallJudge& judge, const TLoopRecallParams& p)
 {
 	std::vector<TRevisitPlace> places;
-	double placeStart = -1, travelled = 0;  // [m] of reference path
+	double placeStart = -1, travelled = 0;  // [m] of path
 	for (std::size_t i = 0; i < kfs.size(); ++i)
 	{
-		if (i > 0) travelled += (position(kfs[i]) - position(kfs[i - 1])).norm();
-		if (!isRevisit(kfs, i, p)) continue;
+		if (i > 0) travelled += judge.step_m(i);
+		if (!judge.isRevisit(i)) continue;
 		if (placeStart < 0 || travelled - placeStart >= p.placeLength_m)
 		{
 			places.push_back({i, i, kfs[i].t, kfs[i].t, false});
@@ -87,7 +88,7 @@ std::vector<std::pair<std::size_t, std::size_t>> TLoopRecall::agreeingLinks() co
 
 TLoopRecall evaluateLoopRecall(const lrgc::CPoseGraph& graph,
 							   const std::vector<TRecallKeyframe>& keyframes,
-							   const TLoopRecallParams& p, const TTruthBetween& truthBetween)
+							   const TRecallJudge& judge, const TLoopRecallParams& p)
 {
 	if (graph.numNodes() > keyframes.size())
 		throw std::invalid_argument(mrpt::format(
@@ -99,16 +100,38 @@ TLoopRecall evaluateLoopRecall(const lrgc::CPoseGraph& graph,
 	{
 		const auto& l = graph.link(id);
 		if (l.type != lrgc::LinkType::LoopClosure || !graph.isLinkEnabled(id)) continue;
-		r.loopLinks.push_back(audit(l, keyframes, p, truthBetween));
-		r.byRelation += r.loopLinks.back().byRelation ? 1 : 0;
-		if (!r.loopLinks.back().agrees)
+		r.loopLinks.push_back(audit(l, judge.between(l.from, l.to), p));
+		const auto& a = r.loopLinks.back();
+		r.byRelation += a.byRelation ? 1 : 0;
+		if (!a.judged)
+			++r.notJudged;
+		else if (!a.agrees)
 			++r.falseClosures;
 		else if (std::abs(keyframes[l.from].t - keyframes[l.to].t) >= p.revisitGap_s)
 			closedKf.insert(std::max(l.from, l.to));
 	}
-	r.places = revisitPlaces(keyframes, closedKf, p);
+	r.places = revisitPlaces(keyframes, closedKf, judge, p);
 	for (const auto& pl : r.places) r.closed += pl.closed ? 1 : 0;
 	return r;
+}
+
+TLoopRecall evaluateLoopRecall(const lrgc::CPoseGraph& graph,
+							   const std::vector<TRecallKeyframe>& keyframes,
+							   const TLoopRecallParams& p, const TTruthBetween& truthBetween)
+{
+	TRecallJudge judge;
+	judge.isRevisit = [&](std::size_t i) { return isRevisit(keyframes, i, p); };
+	judge.step_m = [&](std::size_t i)
+	{ return (position(keyframes[i]) - position(keyframes[i - 1])).norm(); };
+	judge.between = [&](std::size_t from, std::size_t to)
+	{
+		std::optional<mrpt::math::TPose2D> truth;
+		if (truthBetween) truth = truthBetween(keyframes.at(from), keyframes.at(to));
+		if (truth) return std::optional<TRecallJudge::TTruth>({*truth, true});
+		return std::optional<TRecallJudge::TTruth>(
+			{lrgc::between(keyframes.at(from).reference, keyframes.at(to).reference), false});
+	};
+	return evaluateLoopRecall(graph, keyframes, judge, p);
 }
 
 TRecallInputs loadRecallInputs(const std::string& outputDir, const std::string& reference,
@@ -118,7 +141,8 @@ TRecallInputs loadRecallInputs(const std::string& outputDir, const std::string& 
 	if (!map.graph)
 		throw std::runtime_error("--loops '" + outputDir +
 								 "': the folder has no graph.lrgc (the loop links)");
-	const CTrajectory2D ref = CTrajectory2D::loadFromFile(reference);
+	const CTrajectory2D ref =
+		reference.empty() ? CTrajectory2D() : CTrajectory2D::loadFromFile(reference);
 	TRecallInputs in;
 	in.graph = map.graph->graph;
 	in.reference = ref;
@@ -131,6 +155,11 @@ TRecallInputs loadRecallInputs(const std::string& outputDir, const std::string& 
 			throw std::runtime_error(mrpt::format("--loops '%s': keyframe %zu holds no 2D scan",
 												  outputDir.c_str(), i));
 		const double t = mrpt::Clock::toDouble(scan->timestamp);
+		if (reference.empty())
+		{
+			in.keyframes.push_back({t, mrpt::poses::CPose2D(posePDF->getMeanVal()).asTPose()});
+			continue;
+		}
 		const auto pose = ref.poseAt(t, tolerance_s);
 		if (!pose)
 			throw std::runtime_error(
@@ -179,17 +208,21 @@ std::string recallReport(const TLoopRecall& r)
 		"judged by a relation), %zu false closures\n",
 		r.closed, r.places.size(), 100 * r.recall(), r.loopLinks.size(), r.byRelation,
 		r.falseClosures);
+	if (r.notJudged > 0)
+		s += mrpt::format("  %zu loop links not judged (their truth unknown)\n", r.notJudged);
 	for (const auto& pl : r.places)
 		if (!pl.closed)
 			s += mrpt::format("  not closed: keyframes %zu-%zu (%.6f-%.6f s)\n",
 							  pl.firstKeyframe, pl.lastKeyframe, pl.firstTime_s, pl.lastTime_s);
 	for (const auto& l : r.loopLinks)
-		if (!l.agrees)
+		if (l.judged && !l.agrees)
 			s += mrpt::format(
 				"  false closure: keyframe %zu -> %zu, %.2f m, %.1f deg off, chi2 %.1f (by the "
 				"%s)\n",
 				l.from, l.to, l.offXY_m, l.offPhi_rad * 180 / M_PI, l.chi2,
-				l.byRelation ? "relations" : "reference");
+				l.byRelation ? "relations"
+				: l.bridged  ? "relations, a map bridge"
+							 : "reference");
 	return s;
 }
 

@@ -25,6 +25,8 @@
  *     (from <- to) = (ref_from^-1 (+) ref_t1) (+) relation(t1 -> t2) (+) (ref_t2^-1 (+) ref_to)
  * with the relation whose ends lie nearest in time (|t1 - t_from| + |t2 - t_to|, either way
  * round); the reference bridges only those few seconds.
+ * Without a reference, relation_truth.h judges by the relations alone (lrgc-eval --loops with
+ * --relations and no --reference; the SparseScans tests).
  */
 #pragma once
 
@@ -65,6 +67,8 @@ struct TAuditedLoopLink
 	double offXY_m = 0, offPhi_rad = 0, chi2 = 0;  //!< disagreement with the reference
 	bool agrees = false;
 	bool byRelation = false;  //!< judged by a ground-truth relation, not the reference
+	bool judged = true;       //!< false: the truth is unknown (relation_truth.h)
+	bool bridged = false;     //!< by relations, the map bridging an end (relation_truth.h)
 };
 
 /** A piece of revisited path. */
@@ -82,6 +86,7 @@ struct TLoopRecall
 	std::size_t closed = 0;                   //!< places closed
 	std::size_t falseClosures = 0;            //!< loop links that disagree
 	std::size_t byRelation = 0;               //!< loop links judged by a relation
+	std::size_t notJudged = 0;                //!< loop links whose truth is unknown
 	/** The link pairs (from, to) that agree, in link order. */
 	std::vector<std::pair<std::size_t, std::size_t>> agreeingLinks() const;
 	double recall() const { return places.empty() ? 0.0 : double(closed) / places.size(); }
@@ -91,6 +96,25 @@ struct TLoopRecall
  * poses; nothing: the reference's. */
 using TTruthBetween = std::function<std::optional<mrpt::math::TPose2D>(
 	const TRecallKeyframe& from, const TRecallKeyframe& to)>;
+
+/** What the recall asks of a truth, per keyframe index: is i a revisit; the path [m] from
+ * keyframe i - 1 to i; the true (from <- to) of a loop link and whether a relation gave it
+ * (nothing: not judged). The evaluateLoopRecall overloads build one. */
+struct TRecallJudge
+{
+	struct TTruth
+	{
+		mrpt::math::TPose2D toInFrom;
+		bool byRelation = false;
+		bool bridged = false;
+	};
+	std::function<bool(std::size_t)> isRevisit;
+	std::function<double(std::size_t)> step_m;
+	std::function<std::optional<TTruth>(std::size_t, std::size_t)> between;
+};
+TLoopRecall evaluateLoopRecall(const lrgc::CPoseGraph& graph,
+							   const std::vector<TRecallKeyframe>& keyframes,
+							   const TRecallJudge& judge, const TLoopRecallParams& p);
 
 /** Recall and false closures of `graph` (node i = keyframes[i]); see the top of the file.
  * Throws if the graph has more nodes than `keyframes`. */
@@ -105,8 +129,9 @@ TTruthBetween truthFromRelations(std::vector<TRelation> relations, CTrajectory2D
 
 /** The keyframes of an lrgc-slam output folder (map.simplemap.gz: its scans' timestamps) with
  * the reference pose at each scan's time (CTrajectory2D::poseAt: the pose of equal timestamp
- * within `tolerance_s`, else interpolated), and its graph (graph.lrgc). Throws, naming the
- * file, if one is missing or unreadable, a node has no scan or a scan's time lies outside
+ * within `tolerance_s`, else interpolated), and its graph (graph.lrgc). An empty `reference`
+ * gives the map's own keyframe poses instead (for relation_truth.h's bridges). Throws, naming
+ * the file, if one is missing or unreadable, a node has no scan or a scan's time lies outside
  * the reference. */
 struct TRecallInputs
 {
