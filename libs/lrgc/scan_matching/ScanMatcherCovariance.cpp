@@ -231,13 +231,31 @@ Eigen::Matrix3d jackknifeSpread(const TBread& b, const TMatrixUpTo3& Ho, const T
 								const Eigen::Matrix3d& S, double minInfo)
 {
 	Eigen::Matrix3d Csand = Eigen::Matrix3d::Zero();
+	const int nObs = static_cast<int>(Ho.rows());
 	for (const auto& [key, cl] : b.clusters)
 	{
 		const TMatrixUpTo3 Hg = Ho - P.transpose() * (S * cl.M * S) * P;
+		const TVectorUpTo3 sg = P.transpose() * (S * cl.s);
+		// No eigenvalue floored (H_g - minInfo I positive definite: every eigenvalue of H_g
+		// above minInfo, the usual case): the floored inverse is H_g^-1, two 3x3 Cholesky
+		// factorisations instead of an eigendecomposition per cluster.
+		if (nObs == 3)
+		{
+			const Eigen::Matrix3d Hg3 = Hg;
+			const Eigen::LLT<Eigen::Matrix3d> shifted(Hg3 -
+													  minInfo * Eigen::Matrix3d::Identity());
+			if (shifted.info() == Eigen::Success)
+			{
+				const Eigen::Vector3d d =
+					Eigen::LLT<Eigen::Matrix3d>(Hg3).solve(Eigen::Vector3d(sg));
+				Csand += P * (d * d.transpose()) * P.transpose();
+				continue;
+			}
+		}
 		const Eigen::SelfAdjointEigenSolver<TMatrixUpTo3> es(Hg);
 		const TVectorUpTo3 inv = es.eigenvalues().cwiseMax(minInfo).cwiseInverse();
-		const TVectorUpTo3 d = es.eigenvectors() * inv.asDiagonal() *
-							   es.eigenvectors().transpose() * (P.transpose() * (S * cl.s));
+		const TVectorUpTo3 d =
+			es.eigenvectors() * inv.asDiagonal() * es.eigenvectors().transpose() * sg;
 		Csand += P * d * d.transpose() * P.transpose();
 	}
 	return Csand;
