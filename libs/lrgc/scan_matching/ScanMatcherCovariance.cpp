@@ -64,11 +64,12 @@ Eigen::Matrix3d psdMaxOnSubspace(const Eigen::Matrix3d& A, const Eigen::Matrix3d
 Eigen::Matrix3d modelScoreCovariance(const CReferenceCloud& ref,
 									 const std::vector<TCorrespondence>& corr)
 {
-	// Per reference point used, in order of first use (touched): g_k (LINE fit terms) and G_k
-	// (POINT anchors), at slot[k]. A match uses a few hundred of a patch's thousands of points.
+	// Per reference point used, in order of first use (touched): g_k (LINE fit terms) at
+	// slot[k], and G_k (POINT anchors) at pointSlot[slot[k]] for the few points that are one.
+	// A match uses a few hundred of a patch's thousands of points.
 	constexpr uint32_t kUnused = ~uint32_t(0);
 	std::vector<uint32_t> slot(ref.size(), kUnused);
-	std::vector<uint32_t> touched;
+	std::vector<uint32_t> touched, pointSlot;
 	std::vector<Eigen::Vector3d> g;
 	std::vector<Eigen::Matrix<double, 3, 2>> G;
 	auto use = [&](uint32_t k)
@@ -78,9 +79,19 @@ Eigen::Matrix3d modelScoreCovariance(const CReferenceCloud& ref,
 			slot[k] = static_cast<uint32_t>(touched.size());
 			touched.push_back(k);
 			g.push_back(Eigen::Vector3d::Zero());
-			G.push_back(Eigen::Matrix<double, 3, 2>::Zero());
+			pointSlot.push_back(kUnused);
 		}
 		return slot[k];
+	};
+	auto usePoint = [&](uint32_t k)
+	{
+		const uint32_t s = use(k);
+		if (pointSlot[s] == kUnused)
+		{
+			pointSlot[s] = static_cast<uint32_t>(G.size());
+			G.push_back(Eigen::Matrix<double, 3, 2>::Zero());
+		}
+		return pointSlot[s];
 	};
 	Eigen::Matrix3d Bscan = Eigen::Matrix3d::Zero();
 	double sumW2e2 = 0, sumW2 = 0, rows = 0;
@@ -103,7 +114,7 @@ Eigen::Matrix3d modelScoreCovariance(const CReferenceCloud& ref,
 		}
 		Bscan += k.w * k.w * (k.J0 * k.J0.transpose() + k.J1 * k.J1.transpose());
 		rows += 2;
-		const uint32_t a = use(k.anchor);
+		const uint32_t a = usePoint(k.anchor);
 		G[a].col(0) += k.w * k.J0;
 		G[a].col(1) += k.w * k.J1;
 	}
@@ -116,8 +127,17 @@ Eigen::Matrix3d modelScoreCovariance(const CReferenceCloud& ref,
 	for (uint32_t s = 0; s < touched.size(); ++s)
 	{
 		const uint32_t k = touched[s];
-		B += ref.pointVariance(k) * (g[s] * g[s].transpose() + G[s] * G[s].transpose()) +
-			 ref.anchors()[k].samplingVar * G[s] * G[s].transpose();
+		if (pointSlot[s] == kUnused)  // G_k = 0: its terms would add zeros
+		{
+			// g g^T evaluated first, as in the sum below (a scalar times a bare product would
+			// be folded into its factor: other rounding).
+			const Eigen::Matrix3d ggT = g[s] * g[s].transpose();
+			B += ref.pointVariance(k) * ggT;
+			continue;
+		}
+		const Eigen::Matrix<double, 3, 2>& Gs = G[pointSlot[s]];
+		B += ref.pointVariance(k) * (g[s] * g[s].transpose() + Gs * Gs.transpose()) +
+			 ref.anchors()[k].samplingVar * Gs * Gs.transpose();
 	}
 	return B;
 }
@@ -231,13 +251,31 @@ Eigen::Matrix3d jackknifeSpread(const TBread& b, const TMatrixUpTo3& Ho, const T
 								const Eigen::Matrix3d& S, double minInfo)
 {
 	Eigen::Matrix3d Csand = Eigen::Matrix3d::Zero();
+	const int nObs = static_cast<int>(Ho.rows());
 	for (const auto& [key, cl] : b.clusters)
 	{
 		const TMatrixUpTo3 Hg = Ho - P.transpose() * (S * cl.M * S) * P;
+		const TVectorUpTo3 sg = P.transpose() * (S * cl.s);
+		// No eigenvalue floored (H_g - minInfo I positive definite: every eigenvalue of H_g
+		// above minInfo, the usual case): the floored inverse is H_g^-1, two 3x3 Cholesky
+		// factorisations instead of an eigendecomposition per cluster.
+		if (nObs == 3)
+		{
+			const Eigen::Matrix3d Hg3 = Hg;
+			const Eigen::LLT<Eigen::Matrix3d> shifted(Hg3 -
+													  minInfo * Eigen::Matrix3d::Identity());
+			if (shifted.info() == Eigen::Success)
+			{
+				const Eigen::Vector3d d =
+					Eigen::LLT<Eigen::Matrix3d>(Hg3).solve(Eigen::Vector3d(sg));
+				Csand += P * (d * d.transpose()) * P.transpose();
+				continue;
+			}
+		}
 		const Eigen::SelfAdjointEigenSolver<TMatrixUpTo3> es(Hg);
 		const TVectorUpTo3 inv = es.eigenvalues().cwiseMax(minInfo).cwiseInverse();
-		const TVectorUpTo3 d = es.eigenvectors() * inv.asDiagonal() *
-							   es.eigenvectors().transpose() * (P.transpose() * (S * cl.s));
+		const TVectorUpTo3 d =
+			es.eigenvectors() * inv.asDiagonal() * es.eigenvectors().transpose() * sg;
 		Csand += P * d * d.transpose() * P.transpose();
 	}
 	return Csand;
