@@ -131,7 +131,7 @@ std::optional<TLoopClosure> CLoopCloser::process(CPoseGraph& graph, const TScanR
 		{
 			collectFarStep();
 			if (!m_farHeld.empty()) dropFarHeld(m_stats.farUnconfirmed);
-			m_far.reset();  // the old map has moved
+			if (m_far) ++m_stats.farSearchesClosedOut, m_far.reset();  // the old map moved
 			return lc;
 		}
 	if (!capped || stopped()) return std::nullopt;

@@ -243,7 +243,14 @@ private:
 										  const mrpt::math::TPose2D& centre);
 	std::optional<TLoopClosure> confirmFar(CPoseGraph& graph, const TScanRefs& scans,
 										   const TCandidates& all, const TSearchWindow& w);
+	/** Whether a held far place's patch shares no keyframe with the patch of `w`. */
+	bool farHeldReady(const TSearchWindow& w) const;
+	/** Ends the far search under way for a later one (merged when the later window, of
+	 * half-side `laterHalfXY` [m] around the newest keyframe, holds every place it has not
+	 * checked; else dropped, its keyframe and pose reported). */
+	void supersedeFar(const CPoseGraph& graph, double laterHalfXY);
 	void dropFarHeld(size_t& counter);
+	double farHalfWindow(const TCandidates& c) const;
 	const CPatchCorrelator& correlatorFor(const TSearchWindow& w) const
 	{
 		return w.far ? m_farCorrelator : w.check ? m_farCheckCorrelator : m_correlator;
@@ -310,14 +317,23 @@ private:
 		CCorrelationGrid grid;
 		size_t rings = 1;     //!< rings of far_window_xy_m in the window (farSearchPeaks)
 		size_t nextRing = 0;  //!< rings searched so far
-		std::vector<mrpt::math::TPose2D> places;  //!< (map <- patch) to check, best first
+		/** (map <- patch) to check with their coarse scores; once every ring is searched,
+		 * best first over all rings (coarse to fine). */
+		std::vector<TCorrelationPeak> places;
 		size_t nextPlace = 0;
+		bool ringsDone() const { return nextRing >= rings; }
 	};
 	std::optional<TFarSearch> m_far;
-	/** Places the far search proposed and confirmed, held for a later patch's check. */
-	std::vector<TLoopMatch> m_farHeld;
-	size_t m_farTries = 0;        //!< checks of m_farHeld by later patches so far
-	size_t m_checksSinceFar = 0;  //!< capped checks since the last far search
+	/** A place the far search proposed and confirmed, held for a later, disjoint patch's
+	 * check, and the checks by such patches it has failed so far. */
+	struct TFarHeld
+	{
+		TLoopMatch match;
+		size_t tries = 0;
+	};
+	std::vector<TFarHeld> m_farHeld;
+	void dropFarHeldIf(const std::function<bool(const TFarHeld&)>& drop, size_t& counter);
+	size_t m_checksSinceFar = 0;  //!< capped checks since the last far search started
 	/** The last process()'s capped check that found nothing, for farStep(): every old node
 	 * as candidate, and its window. */
 	std::optional<std::pair<TCandidates, TSearchWindow>> m_farDue;

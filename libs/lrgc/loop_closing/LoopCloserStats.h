@@ -31,6 +31,16 @@ struct TLoopCloserStats
 	size_t farRings = 0;
 	size_t farCandidates = 0, farConfirmed = 0, farRejected = 0;
 	size_t farUnconfirmed = 0, farAmbiguous = 0, farClosures = 0;
+	/** Far searches a later one superseded before they had checked all their places
+	 * (far_search_every_keyframes capped checks after they started, their rings done):
+	 * merged when the later search's window holds every place left unchecked (it searches
+	 * them again with a newer patch), else dropped; the places so left unchecked; and far
+	 * searches ended by a loop closure (the old map moved under them). None is dropped for its
+	 * age: a search whose rings take long goes on to its end. */
+	size_t farSearchesMerged = 0, farPlacesMerged = 0, farSearchesClosedOut = 0;
+	/** The far searches dropped: their keyframes and those keyframes' poses [map frame]. */
+	std::vector<size_t> farDroppedKeyframes;
+	std::vector<mrpt::math::TPose2D> farDroppedPoses;
 	size_t optimizations = 0;
 	/** Re-matches after a closure that disagreed with the solved poses (not linked). */
 	size_t rematchesRefused = 0;

@@ -38,12 +38,9 @@ constexpr double kFarCheckAmbiguity = 1.1;
 /** Far peaks proposed must score at least this share of the best one: a true place scores
  * about as well as the best look-alike, a junk peak far less. */
 constexpr double kFarPeakShare = 0.8;
-/** Checks by later patches a held place gets before it is dropped: a true place in a corridor
- * fails the check's filters at some of them (3 dropped the hall loop's true place). */
+/** Checks by later, disjoint patches a held place gets before it is dropped: a true place in a
+ * corridor fails the check's filters at some of them (3 dropped the hall loop's true place). */
 constexpr size_t kFarConfirmTries = 10;
-/** A far search not finished this many keyframes after its patch is dropped: the local chain
- * that carries its places to the newest keyframe has drifted by then. */
-constexpr size_t kFarStaleKeyframes = 80;
 /** A revisit stands about where the robot stood before: the far search puts the newest
  * keyframe within this distance [m] of an old keyframe only (a corridor's width, with margin
  * for a hall crossed a little apart). */
@@ -85,10 +82,20 @@ bool CLoopCloser::windowCapped(const TCandidates& c) const
 			m_params.window_sigmas * c.sigmaTheta >= kFarBeyondCap * m_params.max_window_phi);
 }
 
+// The far search's half-window [m]: window_sigmas sigma of the gate's position, at least
+// far_window_xy_m (patchAndOldMap cuts it at the old map's extent).
+double CLoopCloser::farHalfWindow(const TCandidates& c) const
+{
+	return std::max(m_params.far_window_xy_m, m_params.window_sigmas * c.sigmaXY);
+}
+
 // The window was capped and found nothing. Once the far lane is free (LoopCloser_lane.cpp):
-// with held far places and no far search under way, check them with this patch (it may close
-// the loop); else every far_search_every_keyframes such checks a far search starts, and while
-// one is under way its next step is due (farStep, once the job's result is handed over).
+// with a held far place whose patch this one does not overlap, check the held places with it
+// (it may close the loop); else a far search starts every far_search_every_keyframes such
+// checks, and while one is under way its next step is due (farStep, once the job's result is
+// handed over). A search still checking its places when the next is due, its rings done and
+// its best place checked, is superseded (supersedeFar): the newer patch overlaps the old map
+// more, and no search is ever dropped for its age.
 std::optional<TLoopClosure> CLoopCloser::searchBeyond(CPoseGraph& graph, const TScanRefs& scans,
 													  const TCandidates& c,
 													  const TSearchWindow& w)
@@ -102,13 +109,42 @@ std::optional<TLoopClosure> CLoopCloser::searchBeyond(CPoseGraph& graph, const T
 	all.relative = c.allOld;
 	for (const auto& r : all.relative) all.nodes.push_back(r.node);
 	all.sigmaXY = c.sigmaXY, all.sigmaTheta = c.sigmaTheta;
-	if (!m_far && !m_farHeld.empty()) return confirmFar(graph, scans, all, w);
-	const size_t newest = graph.numNodes() - 1;
-	if (m_far && newest > m_far->newest + kFarStaleKeyframes) m_far.reset();
-	if (!m_far && ++m_checksSinceFar < m_params.far_search_every_keyframes) return std::nullopt;
+	const bool due = ++m_checksSinceFar >= m_params.far_search_every_keyframes;
+	if (farHeldReady(w)) return confirmFar(graph, scans, all, w);
+	if (m_far && due && m_far->ringsDone() && m_far->nextPlace > 0)
+		supersedeFar(graph, farHalfWindow(all));
+	if (!m_far && !due) return std::nullopt;
 	if (!m_far) m_checksSinceFar = 0;
 	m_farDue.emplace(std::move(all), w);
 	return std::nullopt;
+}
+
+// The search under way ends for the one about to start. Its places not yet checked, carried to
+// the newest keyframe n as a check would (place (+) (X_k^-1 (+) X_n)), lie in the later
+// window when within laterHalfXY of X_n in x and y: that search correlates them again.
+void CLoopCloser::supersedeFar(const CPoseGraph& graph, double laterHalfXY)
+{
+	const TFarSearch& f = *m_far;
+	const TPose2D n = graph.pose(graph.numNodes() - 1);
+	const TPose2D kToN = between(f.newestInMap, n);
+	const bool held = std::all_of(
+		f.places.begin() + std::ptrdiff_t(f.nextPlace), f.places.end(),
+		[&](const TCorrelationPeak& p)
+		{
+			const TPose2D at = compose(p.patchInMap, kToN);
+			return std::abs(at.x - n.x) <= laterHalfXY && std::abs(at.y - n.y) <= laterHalfXY;
+		});
+	if (held)
+	{
+		++m_stats.farSearchesMerged;
+		m_stats.farPlacesMerged += f.places.size() - f.nextPlace;
+	}
+	else
+	{
+		m_stats.farDroppedKeyframes.push_back(f.newest);
+		m_stats.farDroppedPoses.push_back(graph.pose(f.newest));
+	}
+	m_far.reset();
 }
 
 // One step of the far search on this (the lane's own) loop closer: its start and its search
@@ -137,7 +173,7 @@ void CLoopCloser::startFarSearch(const CPoseGraph& graph, const TScanRefs& scans
 {
 	CCpuTimer correlateTimer(m_stats.correlateCpuSeconds);
 	w.far = true;
-	w.xy = std::max(m_params.far_window_xy_m, m_params.window_sigmas * all.sigmaXY);
+	w.xy = farHalfWindow(all);
 	w.theta = M_PI;
 	TPatchAndMap pm = patchAndOldMap(graph, scans, all, w);
 	if (pm.oldMap.empty() || pm.patch.empty()) return;
@@ -171,7 +207,11 @@ void CLoopCloser::startFarSearch(const CPoseGraph& graph, const TScanRefs& scans
 // the old path (kFarPathRadius), in one best-first pass of branch and bound
 // (CPatchCorrelator::correlatePeaks). Per ring, so that look-alikes in a wide window do not
 // push the true place out of the list (Killian's one far closure was lost that way with a
-// single list over 250 m), and one ring per step on the lane.
+// single list over 250 m), and one ring per step on the lane. Once every ring is searched, the
+// places of all rings are ordered by their coarse score, so that the full-resolution checks go
+// to the best places in any ring first (coarse to fine: the true place of the hall loop and of
+// Killian scored best, 0.986 and 0.992 against 0.93-0.95 for look-alikes, but stood in the
+// middle of the per-ring lists' order).
 void CLoopCloser::farSearchPeaks()
 {
 	CCpuTimer correlateTimer(m_stats.correlateCpuSeconds);
@@ -189,8 +229,12 @@ void CLoopCloser::farSearchPeaks()
 												   m_params.far_candidates, kFarPeakShare, 0,
 												   origins, &effort);
 		});
-	for (const TCorrelationPeak& peak : peaks) f.places.push_back(peak.patchInMap);
+	f.places.insert(f.places.end(), peaks.begin(), peaks.end());
 	m_stats.farCandidates += peaks.size();
+	if (f.ringsDone())
+		std::stable_sort(f.places.begin(), f.places.end(),
+						 [](const TCorrelationPeak& a, const TCorrelationPeak& b)
+						 { return a.score > b.score; });
 }
 
 // The next place of the far search, checked around the pose of the newest keyframe n it
@@ -202,7 +246,7 @@ void CLoopCloser::checkFarPlace(const CPoseGraph& graph, const TScanRefs& scans,
 	TFarSearch& f = *m_far;
 	if (f.nextPlace < f.places.size())
 	{
-		const TPose2D place = f.places[f.nextPlace++];
+		const TPose2D place = f.places[f.nextPlace++].patchInMap;
 		const TPose2D kToN = between(f.newestInMap, graph.pose(graph.numNodes() - 1));
 		const auto m = matchAround(graph, scans, all, w, compose(place, kToN));
 		if (!m)
@@ -210,15 +254,14 @@ void CLoopCloser::checkFarPlace(const CPoseGraph& graph, const TScanRefs& scans,
 		else
 		{
 			++m_stats.farConfirmed;
-			const bool known = std::any_of(m_farHeld.begin(), m_farHeld.end(),
-										   [&](const auto& h)
-										   { return matchesAgree(graph, h.link, m->link); });
-			if (!known) m_farHeld.push_back(*m), ++m_stats.heldForConfirmation;
+			const bool known = std::any_of(
+				m_farHeld.begin(), m_farHeld.end(),
+				[&](const TFarHeld& h) { return matchesAgree(graph, h.match.link, m->link); });
+			if (!known) m_farHeld.push_back({*m, 0}), ++m_stats.heldForConfirmation;
 		}
 	}
 	if (f.nextPlace < f.places.size()) return;
 	m_far.reset();
-	m_farTries = 0;
 	if (!m_farHeld.empty())
 		m_lastRejection = "far matches held until a later patch confirms one";
 }
@@ -237,25 +280,34 @@ auto CLoopCloser::matchAround(const CPoseGraph& graph, const TScanRefs& scans,
 	return correlateAndMatch(graph, scans, all, around);
 }
 
-// A later patch, sharing no keyframe with the held places' patch, is searched for around the
-// pose of the newest keyframe n each implies, X_n' = X_j (+) z_jk (+) (X_k^-1 (+) X_n); the
-// loop is closed with both links when exactly one place is matched there and agrees.
+// Whether a held place's patch (its link's newest keyframe and those before it) ends before
+// the patch of `w` starts: the later patch is evidence of its own.
+bool CLoopCloser::farHeldReady(const TSearchWindow& w) const
+{
+	return std::any_of(m_farHeld.begin(), m_farHeld.end(),
+					   [&](const TFarHeld& h) { return h.match.link.to < w.patchFirst; });
+}
+
+// A later patch, sharing no keyframe with a held place's patch, is searched for around the
+// pose of the newest keyframe n each such place implies, X_n' = X_j (+) z_jk (+) (X_k^-1 (+)
+// X_n); the loop is closed with both links when exactly one place is matched there and agrees.
+// Places held later (their patch overlaps this one) wait for their own disjoint patch, so a
+// look-alike held first does not keep the far search from the true place.
 std::optional<TLoopClosure> CLoopCloser::confirmFar(CPoseGraph& graph, const TScanRefs& scans,
 													const TCandidates& all,
 													const TSearchWindow& w)
 {
 	const size_t newest = graph.numNodes() - 1;
-	for (const auto& h : m_farHeld)
-		if (h.link.to >= w.patchFirst) return std::nullopt;  // the same evidence
 	const auto t0 = std::chrono::steady_clock::now();
-	++m_farTries;
+	const auto ready = [&](const TFarHeld& h) { return h.match.link.to < w.patchFirst; };
 	std::vector<std::pair<size_t, TLoopMatch>> agreeing;
 	onFarLane(
 		[&]
 		{
 			for (size_t i = 0; i < m_farHeld.size() && !stopped(); ++i)
 			{
-				const TLink& l = m_farHeld[i].link;
+				if (!ready(m_farHeld[i])) continue;
+				const TLink& l = m_farHeld[i].match.link;
 				const TPose2D implied = compose(compose(graph.pose(l.from), l.toInFrom),
 												between(graph.pose(l.to), graph.pose(newest)));
 				if (auto m = matchAround(graph, scans, all, w, implied);
@@ -264,15 +316,19 @@ std::optional<TLoopClosure> CLoopCloser::confirmFar(CPoseGraph& graph, const TSc
 			}
 		});
 	if (stopped()) return std::nullopt;
-	if (agreeing.size() > 1) dropFarHeld(m_stats.farAmbiguous);
 	if (agreeing.size() != 1)
 	{
-		if (m_farTries >= kFarConfirmTries) dropFarHeld(m_stats.farUnconfirmed);
+		const bool ambiguous = agreeing.size() > 1;
+		for (TFarHeld& h : m_farHeld) h.tries += ready(h) ? 1 : 0;
+		dropFarHeldIf([&](const TFarHeld& h)
+					  { return ready(h) && (ambiguous || h.tries >= kFarConfirmTries); },
+					  ambiguous ? m_stats.farAmbiguous : m_stats.farUnconfirmed);
 		return std::nullopt;
 	}
-	const TLoopMatch held = m_farHeld[agreeing[0].first];
+	const TLoopMatch held = m_farHeld[agreeing[0].first].match;
 	m_farHeld.erase(m_farHeld.begin() + std::ptrdiff_t(agreeing[0].first));
 	dropFarHeld(m_stats.farUnconfirmed);  // the places the patch did not confirm
+	if (m_far) ++m_stats.farSearchesClosedOut, m_far.reset();  // the old map is about to move
 	std::vector<size_t> vettedLinks;
 	const size_t heldId = graph.addLink(held.link);
 	if (held.vetted) vettedLinks.push_back(heldId);
@@ -287,9 +343,18 @@ std::optional<TLoopClosure> CLoopCloser::confirmFar(CPoseGraph& graph, const TSc
 // Drops every held far place, counting them in `counter`.
 void CLoopCloser::dropFarHeld(size_t& counter)
 {
-	counter += m_farHeld.size();
-	m_stats.unconfirmed += m_farHeld.size();
-	m_farHeld.clear();
+	dropFarHeldIf([](const TFarHeld&) { return true; }, counter);
+}
+
+// Drops the held far places `drop` selects, counting them in `counter`.
+void CLoopCloser::dropFarHeldIf(const std::function<bool(const TFarHeld&)>& drop,
+								size_t& counter)
+{
+	const auto end = std::remove_if(m_farHeld.begin(), m_farHeld.end(), drop);
+	const auto n = size_t(m_farHeld.end() - end);
+	counter += n;
+	m_stats.unconfirmed += n;
+	m_farHeld.erase(end, m_farHeld.end());
 }
 
 }  // namespace lrgc

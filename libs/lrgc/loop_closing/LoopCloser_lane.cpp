@@ -128,7 +128,6 @@ void CLoopCloser::farStep(const CPoseGraph& graph, const TScanRefs& scans)
 	far.m_far = std::move(m_far);
 	m_far.reset();
 	far.m_farHeld = m_farHeld;
-	far.m_farTries = m_farTries;
 	far.m_stats = {};
 	far.setStopToken(m_stop);
 	far.setProgressCallback(
@@ -184,7 +183,6 @@ void CLoopCloser::collectFarStep()
 	far.m_far.reset();
 	m_farHeld = std::move(far.m_farHeld);
 	far.m_farHeld.clear();
-	m_farTries = far.m_farTries;
 	if (!m_far && !m_farHeld.empty())
 		m_lastRejection = "far matches held until a later patch confirms one";
 	addFarCounts(far.m_stats);

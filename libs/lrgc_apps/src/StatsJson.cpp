@@ -89,17 +89,17 @@ std::string laserJson(const CLaserSelector& lasers)
 }
 
 // The places of the loop searches dropped: [{"keyframe": k, "x": m, "y": m, "phi_deg": deg}].
-std::string droppedSearchesJson(const TLoopCloserStats& lcs)
+std::string droppedSearchesJson(const std::vector<size_t>& keyframes,
+								const std::vector<mrpt::math::TPose2D>& poses)
 {
 	std::ostringstream j;
 	j.precision(3);
 	j << std::fixed << "[";
-	for (size_t i = 0; i < lcs.droppedKeyframes.size(); ++i)
+	for (size_t i = 0; i < keyframes.size(); ++i)
 	{
-		const mrpt::math::TPose2D& p = lcs.droppedPoses[i];
-		j << (i ? ", " : "") << "{\"keyframe\": " << lcs.droppedKeyframes[i]
-		  << ", \"x\": " << p.x << ", \"y\": " << p.y
-		  << ", \"phi_deg\": " << mrpt::RAD2DEG(p.phi) << "}";
+		const mrpt::math::TPose2D& p = poses[i];
+		j << (i ? ", " : "") << "{\"keyframe\": " << keyframes[i] << ", \"x\": " << p.x
+		  << ", \"y\": " << p.y << ", \"phi_deg\": " << mrpt::RAD2DEG(p.phi) << "}";
 	}
 	return j.str() + "]";
 }
@@ -132,6 +132,15 @@ std::string loopClosingJson(const TMapBuilderStats& s, const TLoopCloserStats& l
 	  << ", \"far_unconfirmed\": " << lcs.farUnconfirmed
 	  << ", \"far_ambiguous\": " << lcs.farAmbiguous << ", \"far_closures\": "
 	  << lcs.farClosures
+	  // What became of far searches a later one superseded (none is dropped for its age):
+	  // merged (the later window holds the places they left unchecked), or dropped, where;
+	  // and those a loop closure ended.
+	  << ", \"far_searches_merged\": " << lcs.farSearchesMerged
+	  << ", \"far_places_merged\": " << lcs.farPlacesMerged
+	  << ", \"far_searches_closed_out\": " << lcs.farSearchesClosedOut
+	  << ", \"far_searches_dropped\": " << lcs.farDroppedKeyframes.size()
+	  << ", \"far_searches_dropped_at\": "
+	  << droppedSearchesJson(lcs.farDroppedKeyframes, lcs.farDroppedPoses)
 	  // Its own lane: modelled work apart from the near searches' schedule, and CPU time
 	  // (part of cpu_s's steps below, as the near searches').
 	  << ", \"far_modelled_work_s\": " << 1e-3 * lcs.farWork.referenceMs()
@@ -159,7 +168,7 @@ std::string loopClosingJson(const TMapBuilderStats& s, const TLoopCloserStats& l
 	  << ", \"searches_merged\": " << lcs.searchesMerged
 	  << ", \"searches_dropped\": " << lcs.droppedKeyframes.size()
 	  << ", \"searches_dropped_at\": "
-	  << droppedSearchesJson(lcs)
+	  << droppedSearchesJson(lcs.droppedKeyframes, lcs.droppedPoses)
 	  // CPU time of loop closing per step (the worker thread's, whatever else runs).
 	  << ", \"cpu_s\": {\"gate\": " << lcs.gateCpuSeconds
 	  << ", \"correlate\": " << lcs.correlateCpuSeconds
