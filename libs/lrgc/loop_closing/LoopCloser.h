@@ -243,7 +243,8 @@ private:
 										  const mrpt::math::TPose2D& centre);
 	std::optional<TLoopClosure> confirmFar(CPoseGraph& graph, const TScanRefs& scans,
 										   const TCandidates& all, const TSearchWindow& w);
-	/** Whether a held far place's patch shares no keyframe with the patch of `w`. */
+	/** Whether a held far place's patch shares no keyframe with the patch of `w`
+	 * (farHeldBefore). */
 	bool farHeldReady(const TSearchWindow& w) const;
 	/** Ends the far search under way for a later one (merged when the later window, of
 	 * half-side `laterHalfXY` [m] around the newest keyframe, holds every place it has not
@@ -332,6 +333,8 @@ private:
 		size_t tries = 0;
 	};
 	std::vector<TFarHeld> m_farHeld;
+	/** Whether `h`'s patch ends before the patch of `w` starts (shares no keyframe with it). */
+	static bool farHeldBefore(const TFarHeld& h, const TSearchWindow& w);
 	void dropFarHeldIf(const std::function<bool(const TFarHeld&)>& drop, size_t& counter);
 	size_t m_checksSinceFar = 0;  //!< capped checks since the last far search started
 	/** The last process()'s capped check that found nothing, for farStep(): every old node

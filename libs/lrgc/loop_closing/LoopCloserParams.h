@@ -64,7 +64,7 @@ struct TLoopCloserParams : public mrpt::config::CLoadableOptions
 	 * r + 1 times this from where the map has it, in x or y), far_candidates per ring, so that
 	 * look-alikes in a wide window do not crowd the true place out (with one list over 250 m
 	 * Killian lost its one far closure). 100 closes a 600 m loop 117 m off at the return
-	 * (LargeLoop.aReturnMoreThan100mOffCloses). */
+	 * (LargeLoop.aReturnMoreThan100mOffClosesWithin55m). */
 	double far_window_xy_m = 100.0;
 	/** [m] The far search's grid cell: it only proposes places for the full-resolution
 	 * search; its blur is at least a cell. 0.4 costs 2.4 times less than 0.2 on the hall loop.

@@ -280,12 +280,17 @@ auto CLoopCloser::matchAround(const CPoseGraph& graph, const TScanRefs& scans,
 	return correlateAndMatch(graph, scans, all, around);
 }
 
-// Whether a held place's patch (its link's newest keyframe and those before it) ends before
+// Whether the held place's patch (its link's newest keyframe and those before it) ends before
 // the patch of `w` starts: the later patch is evidence of its own.
+bool CLoopCloser::farHeldBefore(const TFarHeld& h, const TSearchWindow& w)
+{
+	return h.match.link.to < w.patchFirst;
+}
+
 bool CLoopCloser::farHeldReady(const TSearchWindow& w) const
 {
 	return std::any_of(m_farHeld.begin(), m_farHeld.end(),
-					   [&](const TFarHeld& h) { return h.match.link.to < w.patchFirst; });
+					   [&](const TFarHeld& h) { return farHeldBefore(h, w); });
 }
 
 // A later patch, sharing no keyframe with a held place's patch, is searched for around the
@@ -299,7 +304,7 @@ std::optional<TLoopClosure> CLoopCloser::confirmFar(CPoseGraph& graph, const TSc
 {
 	const size_t newest = graph.numNodes() - 1;
 	const auto t0 = std::chrono::steady_clock::now();
-	const auto ready = [&](const TFarHeld& h) { return h.match.link.to < w.patchFirst; };
+	const auto ready = [&](const TFarHeld& h) { return farHeldBefore(h, w); };
 	std::vector<std::pair<size_t, TLoopMatch>> agreeing;
 	onFarLane(
 		[&]
