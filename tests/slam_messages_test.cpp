@@ -291,3 +291,29 @@ TEST(SlamMessages, InterruptedRunShowsHowFarItGot)
 	EXPECT_NE(out.find("% "), std::string::npos) << out;
 	EXPECT_NE(out.find("interrupted"), std::string::npos) << out;
 }
+
+// --live runs in lrgc-slam-live, which lrgc-slam execs (LiveProgram.h): found beside it, the
+// sensors file is that program's to check; a lrgc-slam without it says so in one line.
+TEST(SlamMessages, LiveWithoutTheLiveProgramIsOneLineNamingWhereItLooked)
+{
+	const std::string dir = makeTempDir("msg_live");
+	auto r = runProcess(binaryPath("lrgc-slam"),
+						{"--live", dir + "/none.ini", "--out", dir + "/out"});
+	EXPECT_EQ(r.exitCode, 2) << r.output;
+	EXPECT_EQ(r.output, "lrgc-slam: sensors file '" + dir + "/none.ini' does not exist\n");
+
+	const std::string lonely = dir + "/bin/lrgc-slam";
+	fs::create_directories(dir + "/bin");
+	fs::copy_file(binaryPath("lrgc-slam"), lonely);
+	r = runProcess(lonely, {"--live", dir + "/none.ini", "--out", dir + "/out"});
+	EXPECT_EQ(r.exitCode, 2) << r.output;
+	// ... and where an install keeps it (../libexec/lrgc with the default install folders).
+	EXPECT_EQ(r.output.rfind("lrgc-slam: --live: lrgc-slam-live (live sensor support) is not "
+							 "installed: looked for " +
+								 dir + "/bin/lrgc-slam-live and ",
+							 0),
+			  0u)
+		<< r.output;
+	EXPECT_EQ(lineCount(r.output), 1u) << r.output;
+	EXPECT_FALSE(fs::exists(dir + "/out"));
+}

@@ -1,8 +1,9 @@
 /* lrgc-slam: 2D laser SLAM (Local Registration and Global Correlation) for MRPT logs and live
- * mrpt::hwdrivers sensors. Everything lives in lrgc::apps::CSlamApp (and, for --live, in
- * lrgc::apps::runLiveSlam) so tests can drive the whole application. */
+ * mrpt::hwdrivers sensors. Everything lives in lrgc::apps::CSlamApp so tests can drive the
+ * whole application; --live is handed to lrgc-slam-live (live_main.cpp), the same application
+ * linked with the sensor drivers, which this program does not load (LiveProgram.h). */
+#include "LiveProgram.h"
 #include "SlamApp.h"
-#include "live/LiveSlam.h"
 
 #include <string>
 #include <vector>
@@ -10,5 +11,8 @@
 int main(int argc, char** argv)
 {
 	const std::vector<std::string> args(argv + 1, argv + argc);
-	return lrgc::apps::CSlamApp(stderr, lrgc::apps::runLiveSlam).run(args);
+	return lrgc::apps::CSlamApp(stderr,
+								[argv](const lrgc::apps::TSlamCommandLine&, std::FILE*) -> int
+								{ lrgc::apps::execLiveProgram(argv); })
+		.run(args);
 }

@@ -30,6 +30,9 @@ for f in /usr/bin/lrgc-slam /usr/bin/lrgc-eval /usr/bin/lrgc-plot /usr/bin/calib
   has "$run" "$f"
 done
 hasnot "$run" '^/usr/include|\.a$|/cmake/'
+# --live runs in lrgc-slam-live, which lrgc-slam execs (LiveProgram.h): lrgc-slam itself loads
+# no sensor driver.
+has "$run" /usr/libexec/lrgc/lrgc-slam-live
 for f in /usr/include/lrgc/map_builder/CMetricMapBuilderLRGC.h \
          "/usr/lib/$arch/liblrgc.a" "/usr/lib/$arch/liblrgc_apps.a" \
          "/usr/lib/$arch/cmake/lrgc/lrgcConfig.cmake" /usr/share/doc/liblrgc-dev/copyright; do
@@ -61,6 +64,14 @@ dpkg-deb -x "$run" "$work/root"
 for p in lrgc-slam lrgc-eval lrgc-plot; do
   "$work/root/usr/bin/$p" --version </dev/null | grep -q "^$p " || fail "installed $p --version"
 done
+! readelf -d "$work/root/usr/bin/lrgc-slam" | grep -q 'libmrpt-hwdrivers' ||
+  fail "installed lrgc-slam links mrpt::hwdrivers (only lrgc-slam-live should)"
+# The installed lrgc-slam finds the installed lrgc-slam-live: it answers for the sensors file.
+live_err=$("$work/root/usr/bin/lrgc-slam" --live "$work/no-sensors.ini" --out "$work/live-out" \
+  </dev/null 2>&1 || true)
+grep -q "sensors file '$work/no-sensors.ini' does not exist" <<<"$live_err" ||
+  fail "installed lrgc-slam --live did not reach lrgc-slam-live: $live_err"
+grep -q 'libmrpt-hwdrivers2.5' <<<"$depends" || fail "lrgc's dependencies lack MRPT's hwdrivers: $depends"
 "$work/root/usr/bin/calibrate-sweep-time" --help </dev/null | grep -q "scan_sweep_time_s" ||
   fail "installed calibrate-sweep-time --help"
 # liblrgc-dev as shipped: tests/consumer finds lrgc in the unpacked packages (both, as apt
