@@ -34,7 +34,9 @@ public:
 	bool inFreeSpace(const Eigen::Vector2d& d, double margin, bool* known = nullptr) const;
 
 private:
-	std::vector<float> m_minRange;  // [m] per bearing bin; 0: no return (unknown)
+	/** [m] per bearing bin b, the nearest return of bins b - 1, b, b + 1 (the bins around
+	 * a bearing); 0: one of them holds no return (unknown). */
+	std::vector<float> m_nearest3;
 };
 
 class CFreeSpaceViews
