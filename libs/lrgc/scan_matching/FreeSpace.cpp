@@ -60,7 +60,7 @@ long bearingBin(double x, double y)
 	return exactBin(x, y);
 }
 
-CRangeImage::CRangeImage(const std::vector<Eigen::Vector2d>& pts)
+CRangeImage::CRangeImage(const std::vector<Eigen::Vector2d>& pts) : m_numPoints(pts.size())
 {
 	std::vector<float> m(kFreeSpaceBins, 0.0f);
 	for (const auto& q : pts)
@@ -87,15 +87,22 @@ bool CRangeImage::inFreeSpace(const Eigen::Vector2d& d, double margin, bool* kno
 	return d.norm() < f - margin;
 }
 
+std::shared_ptr<const CRangeImage> rangeImageOf(const TScan2D& scan)
+{
+	if (scan.rangeImage && scan.rangeImage->numPoints() == scan.points.size())
+		return scan.rangeImage;
+	return std::make_shared<const CRangeImage>(scan.points);
+}
+
 void CFreeSpaceViews::add(const TScan2D& scan, const mrpt::math::TPose2D& scanInRef)
 {
-	m_views.push_back({scanInRef, CRangeImage(scan.points)});
+	m_views.push_back({scanInRef, rangeImageOf(scan)});
 }
 
 bool CFreeSpaceViews::seenThrough(const Eigen::Vector2d& p, double margin) const
 {
 	for (const auto& v : m_views)
-		if (v.image.inFreeSpace(transformPoint(inverse(v.scanInRef), p), margin)) return true;
+		if (v.image->inFreeSpace(transformPoint(inverse(v.scanInRef), p), margin)) return true;
 	return false;
 }
 
@@ -120,8 +127,8 @@ double CFreeSpaceViews::scanViolation(const TScan2D& scan, const mrpt::math::TPo
 		inRef[i] = Eigen::Vector2d(scanInRef.x + c0 * pts[i].x() - s0 * pts[i].y(),
 								   scanInRef.y + s0 * pts[i].x() + c0 * pts[i].y());
 		for (size_t k = 0; k < m_views.size(); ++k)
-			if (m_views[k].image.inFreeSpace(toView[k].first * inRef[i] + toView[k].second,
-											 margin))
+			if (m_views[k].image->inFreeSpace(toView[k].first * inRef[i] + toView[k].second,
+											  margin))
 			{
 				viol[i] = 1;
 				break;

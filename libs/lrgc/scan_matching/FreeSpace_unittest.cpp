@@ -81,3 +81,20 @@ TEST(FreeSpace, bearingBinIsTheAtan2FormulaEverywhere)
 	}
 	EXPECT_GT(checked, 200000u);
 }
+
+TEST(FreeSpace, scansOwnRangeImageIsUsedOnlyWhileItMatchesThePoints)
+{
+	TScan2D s = wallScan();
+	s.rangeImage = std::make_shared<const CRangeImage>(s.points);
+	EXPECT_EQ(rangeImageOf(s), s.rangeImage);  // shared, not rebuilt
+	// Points changed without resetting the image: rebuilt from the points.
+	s.points.resize(s.points.size() / 2);
+	const auto img = rangeImageOf(s);
+	EXPECT_NE(img, s.rangeImage);
+	EXPECT_EQ(img->numPoints(), s.points.size());
+	// The half scan (bearings -40..0 deg) saw nothing to the left: unknown there.
+	bool known = true;
+	EXPECT_FALSE(img->inFreeSpace({2, 1}, 0.1, &known));
+	EXPECT_FALSE(known);
+	EXPECT_TRUE(s.rangeImage->inFreeSpace({2, 1}, 0.1, &known));
+}
