@@ -256,6 +256,7 @@ void removeBearingSector(lrgc::TScan2D& scan, double from_rad, double to_rad)
 								 return b >= from_rad && b <= to_rad;
 							 }),
 			  pts.end());
+	scan.rangeImage.reset();  // of the points before
 }
 
 std::optional<mrpt::math::TPose2D> sampleFreePose(const CSyntheticWorld& world,

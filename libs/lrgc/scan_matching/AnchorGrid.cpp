@@ -165,6 +165,35 @@ std::pair<int64_t, int64_t> ringRank(int64_t dx, int64_t dy)
 	if (std::abs(dy) == k) return {k, 2 * (dx + k) + (dy > 0)};
 	return {k, 2 * (2 * k + 1) + 2 * (dy + k - 1) + (dx > 0)};
 }
+/** Whether p comes before b in the ring walk around cell (cx, cy) (cells of side `cell`). */
+bool ringBefore(const Eigen::Vector2d& p, const Eigen::Vector2d& b, int64_t cx, int64_t cy,
+				double cell)
+{
+	return ringRank(CAnchorGrid::cellIndex(p.x(), cell) - cx,
+					CAnchorGrid::cellIndex(p.y(), cell) - cy) <
+		   ringRank(CAnchorGrid::cellIndex(b.x(), cell) - cx,
+					CAnchorGrid::cellIndex(b.y(), cell) - cy);
+}
+
+/** Distance [m] from q to the border of the block of rings 0..k around cell (cx, cy). */
+double ringGap(const Eigen::Vector2d& q, int64_t cx, int64_t cy, int64_t k, double cell)
+{
+	return std::min(std::min(q.x() - (cx - k) * cell, (cx + k + 1) * cell - q.x()),
+					std::min(q.y() - (cy - k) * cell, (cy + k + 1) * cell - q.y()));
+}
+
+/** False if every point of a ring side whose cells lie at least `gap` [m] from the query
+ * (the distance to the side's inner edge) is certainly farther than sqrt(far) [m], far a
+ * squared distance [m^2] at least the best one's: no point there can be nearer, tie or
+ * lower the second-nearest distance (when far is that distance). The
+ * slack covers the rounding of the cell indices and edges (relative ~1e-16 of the
+ * coordinates, which CAnchorGrid bounds by kMaxCoordinate). */
+bool mayMatter(double gap, double far)
+{
+	constexpr double kSlack_m = 1e-6;
+	const double lb = gap - kSlack_m;
+	return !(lb > 0 && lb * lb > far);
+}
 }  // namespace
 
 template <bool kBound>
@@ -197,11 +226,7 @@ int CAnchorGrid::nearestDense(const Eigen::Vector2d& q, double maxDist, double* 
 				continue;
 			}
 			if (kBound) second = std::min(second, d2);
-			if (d2 == best && bestIdx >= 0 &&
-				ringRank(cellIndex(pos[k].x(), m_cell) - cx,
-						 cellIndex(pos[k].y(), m_cell) - cy) <
-					ringRank(cellIndex(bestPos.x(), m_cell) - cx,
-							 cellIndex(bestPos.y(), m_cell) - cy))
+			if (d2 == best && bestIdx >= 0 && ringBefore(pos[k], bestPos, cx, cy, m_cell))
 				bestIdx = static_cast<int>(index[k]), bestPos = pos[k];
 		}
 	};
@@ -230,14 +255,18 @@ int CAnchorGrid::nearestDense(const Eigen::Vector2d& q, double maxDist, double* 
 			column(cx, cy, cy);
 		else
 		{
-			row(cy - k, cx - k, cx + k);
-			row(cy + k, cx - k, cx + k);
-			column(cx - k, cy - k + 1, cy + k - 1);
-			column(cx + k, cy - k + 1, cy + k - 1);
+			// A side of the ring whose points all lie farther than the second-nearest
+			// distance read so far (kBound; else the nearest) cannot change the nearest, its
+			// ties or `second`: skipped.
+			const double far = kBound ? second : best;
+			if (mayMatter(q.y() - (cy - k + 1) * m_cell, far)) row(cy - k, cx - k, cx + k);
+			if (mayMatter((cy + k) * m_cell - q.y(), far)) row(cy + k, cx - k, cx + k);
+			if (mayMatter(q.x() - (cx - k + 1) * m_cell, far))
+				column(cx - k, cy - k + 1, cy + k - 1);
+			if (mayMatter((cx + k) * m_cell - q.x(), far))
+				column(cx + k, cy - k + 1, cy + k - 1);
 		}
-		const double lb =
-			std::min(std::min(q.x() - (cx - k) * m_cell, (cx + k + 1) * m_cell - q.x()),
-					 std::min(q.y() - (cy - k) * m_cell, (cy + k + 1) * m_cell - q.y()));
+		const double lb = ringGap(q, cx, cy, k, m_cell);
 		if (lb * lb >= best)
 		{
 			unread = lb;
@@ -330,9 +359,7 @@ int CAnchorGrid::nearestRings(const Eigen::Vector2d& q, double maxDist, double* 
 			for (int64_t j = -k + 1; j <= k - 1; ++j)
 				visit(cx - k, cy + j), visit(cx + k, cy + j);
 		}
-		const double lb =
-			std::min(std::min(q.x() - (cx - k) * m_cell, (cx + k + 1) * m_cell - q.x()),
-					 std::min(q.y() - (cy - k) * m_cell, (cy + k + 1) * m_cell - q.y()));
+		const double lb = ringGap(q, cx, cy, k, m_cell);
 		if (lb * lb >= best)
 		{
 			unread = lb;

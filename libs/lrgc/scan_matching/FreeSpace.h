@@ -11,6 +11,7 @@
 #include <Eigen/Core>
 #include <mrpt/math/TPose2D.h>
 
+#include <memory>
 #include <vector>
 
 namespace lrgc
@@ -33,9 +34,19 @@ public:
 	 * around its bearing; *known (if given): all those bins hold a return. */
 	bool inFreeSpace(const Eigen::Vector2d& d, double margin, bool* known = nullptr) const;
 
+	/** Number of points binned: rangeImageOf's check against a scan changed since. */
+	size_t numPoints() const { return m_numPoints; }
+
 private:
-	std::vector<float> m_minRange;  // [m] per bearing bin; 0: no return (unknown)
+	/** [m] per bearing bin b, the nearest return of bins b - 1, b, b + 1 (the bins around
+	 * a bearing); 0: one of them holds no return (unknown). */
+	std::vector<float> m_nearest3;
+	size_t m_numPoints = 0;
 };
+
+/** The range image of scan.points: the scan's own (TScan2D::rangeImage) where it has one of
+ * as many points, else built now. */
+std::shared_ptr<const CRangeImage> rangeImageOf(const TScan2D& scan);
 
 class CFreeSpaceViews
 {
@@ -59,7 +70,7 @@ private:
 	struct TView
 	{
 		mrpt::math::TPose2D scanInRef;
-		CRangeImage image;
+		std::shared_ptr<const CRangeImage> image;
 	};
 	std::vector<TView> m_views;
 };

@@ -63,8 +63,8 @@ TEST(FreeSpace, bearingBinIsTheAtan2FormulaEverywhere)
 		{1, 1}, {-1, 1}, {-1, -1},   {1, -1}, {-5, 1e-300}, {-5, -1e-300}, {3, 1e-17}};
 	// Every bin border, on it and just either side of it (down to 1e-15 rad), at 3 ranges.
 	for (int b = 0; b <= 360; ++b)
-		for (const double off :
-			 {0.0, 1e-15, -1e-15, 1e-10, -1e-10, 1e-8, -1e-8, 1e-4, -1e-4, 0.5 * bin})
+		for (const double off : {0.0, 1e-15, -1e-15, 1e-10, -1e-10, 1e-8, -1e-8, 1.2e-5,
+								 -1.2e-5, 2e-5, -2e-5, 2.5e-5, -2.5e-5, 1e-4, -1e-4, 0.5 * bin})
 			for (const double r : {0.05, 3.7, 81.0})
 			{
 				const double t = b * bin - M_PI + off;
@@ -80,4 +80,21 @@ TEST(FreeSpace, bearingBinIsTheAtan2FormulaEverywhere)
 		++checked;
 	}
 	EXPECT_GT(checked, 200000u);
+}
+
+TEST(FreeSpace, scansOwnRangeImageIsUsedOnlyWhileItMatchesThePoints)
+{
+	TScan2D s = wallScan();
+	s.rangeImage = std::make_shared<const CRangeImage>(s.points);
+	EXPECT_EQ(rangeImageOf(s), s.rangeImage);  // shared, not rebuilt
+	// Points changed without resetting the image: rebuilt from the points.
+	s.points.resize(s.points.size() / 2);
+	const auto img = rangeImageOf(s);
+	EXPECT_NE(img, s.rangeImage);
+	EXPECT_EQ(img->numPoints(), s.points.size());
+	// The half scan (bearings -40..0 deg) saw nothing to the left: unknown there.
+	bool known = true;
+	EXPECT_FALSE(img->inFreeSpace({2, 1}, 0.1, &known));
+	EXPECT_FALSE(known);
+	EXPECT_TRUE(s.rangeImage->inFreeSpace({2, 1}, 0.1, &known));
 }

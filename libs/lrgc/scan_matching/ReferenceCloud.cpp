@@ -90,7 +90,7 @@ double CReferenceCloud::freeSpaceViolation(const TScan2D& scan,
 	// others, a railing's posts, a mixed pixel are porous, and the scan seeing past them is
 	// no sign of a wrong alignment (a glass-and-railings building: 30-60 % of the anchors of
 	// right matches, which were refused). The test is run only on violating anchors.
-	const CRangeImage img(pts);
+	const auto img = rangeImageOf(scan);
 	const auto refInScan = inverse(scanInRef);
 	const double c1 = std::cos(refInScan.phi), s1 = std::sin(refInScan.phi);
 	size_t known = 0, viol = 0;
@@ -100,7 +100,7 @@ double CReferenceCloud::freeSpaceViolation(const TScan2D& scan,
 		bool k = false;
 		const Eigen::Vector2d d(refInScan.x + c1 * a.pos.x() - s1 * a.pos.y(),
 								refInScan.y + s1 * a.pos.x() + c1 * a.pos.y());
-		const bool v = img.inFreeSpace(d, margin, &k);
+		const bool v = img->inFreeSpace(d, margin, &k);
 		known += k, viol += v && k && !m_views.seenThrough(a.pos, margin);
 	}
 	const double refToScan = known >= 20 ? static_cast<double>(viol) / known : 0.0;

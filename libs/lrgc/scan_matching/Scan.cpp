@@ -1,4 +1,5 @@
 #include <lrgc/scan_matching/Scan.h>
+#include <lrgc/scan_matching/FreeSpace.h>
 #include <lrgc/scan_matching/RangeDenoiser.h>
 
 #include <cmath>
@@ -118,6 +119,7 @@ TScan2D scanFromObservation(const mrpt::obs::CObservation2DRangeScan& obs,
 								 fs * rx + fc * ry + f * sweepMotion.y);
 	}
 	if (stats) *stats = st;
+	scan.rangeImage = std::make_shared<const CRangeImage>(scan.points);
 	return scan;
 }
 

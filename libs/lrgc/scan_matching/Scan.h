@@ -30,10 +30,13 @@
 
 #include <Eigen/Core>
 #include <cstddef>
+#include <memory>
 #include <vector>
 
 namespace lrgc
 {
+class CRangeImage;
+
 struct TScan2D
 {
 	/** Valid returns in the robot frame [m]. */
@@ -45,6 +48,11 @@ struct TScan2D
 	 * divided by sqrt(2h+1), the denoiser's window (RangeDenoiser.h); 0 for a laser below
 	 * kNoisyLaserStd_m (the gates as configured). */
 	double rangeNoiseStd = 0;
+	/** The free-space check's range image of `points` (CRangeImage, FreeSpace.h), built once
+	 * by scanFromObservation and shared by the copies, so that neither each check nor each
+	 * window patch holding the scan bins its points again; null: built where needed
+	 * (rangeImageOf). Whoever changes `points` resets it. */
+	std::shared_ptr<const CRangeImage> rangeImage;
 };
 
 /** Why readings of a scan were dropped. */

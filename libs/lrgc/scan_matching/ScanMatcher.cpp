@@ -189,7 +189,7 @@ std::optional<TScanMatch> CScanMatcher::match(const CReferenceCloud& ref, const 
 											  const mrpt::math::TPose2D& guess) const
 {
 	return matchPoints(ref, scan.points, guess, m_params.max_correspondence_dist_m, true,
-					   scan.rangeNoiseStd);
+					   scan.rangeNoiseStd, scan.rangeImage);
 }
 
 double CScanMatcher::rmsGate(double scanNoiseStd) const
@@ -199,21 +199,23 @@ double CScanMatcher::rmsGate(double scanNoiseStd) const
 
 namespace
 {
-/** CReferenceCloud::freeSpaceViolation of the scan points pts placed at scanInRef. */
+/** CReferenceCloud::freeSpaceViolation of the scan points pts (range image `image`, null:
+ * none yet) placed at scanInRef. */
 double violationOf(const CReferenceCloud& ref, const std::vector<Eigen::Vector2d>& pts,
+				   const std::shared_ptr<const CRangeImage>& image,
 				   const mrpt::math::TPose2D& scanInRef, double margin)
 {
 	TScan2D asScan;
 	asScan.points = pts;
+	asScan.rangeImage = image;
 	return ref.freeSpaceViolation(asScan, scanInRef, margin);
 }
 }  // namespace
 
-std::optional<TScanMatch> CScanMatcher::matchPoints(const CReferenceCloud& ref,
-													const std::vector<Eigen::Vector2d>& pts,
-													const mrpt::math::TPose2D& guess,
-													double gate0, bool check,
-													double scanNoiseStd) const
+std::optional<TScanMatch> CScanMatcher::matchPoints(
+	const CReferenceCloud& ref, const std::vector<Eigen::Vector2d>& pts,
+	const mrpt::math::TPose2D& guess, double gate0, bool check, double scanNoiseStd,
+	const std::shared_ptr<const CRangeImage>& image) const
 {
 	const auto& P = m_params;
 	if (ref.empty() || pts.size() < static_cast<size_t>(P.min_inliers)) return std::nullopt;
@@ -278,7 +280,8 @@ std::optional<TScanMatch> CScanMatcher::matchPoints(const CReferenceCloud& ref,
 	// (a violation is a share, never above 1: at max_free_space_violation 1 the check is off).
 	if (P.max_free_space_violation < 1)
 	{
-		m.freeSpaceViolation = violationOf(ref, pts, m.scanInRef, std::max(0.1, 4 * scale));
+		m.freeSpaceViolation =
+			violationOf(ref, pts, image, m.scanInRef, std::max(0.1, 4 * scale));
 		if (m.freeSpaceViolation > P.max_free_space_violation) return std::nullopt;
 	}
 	// Residuals of anchors closer than this share reference noise (the line fit neighbourhood
@@ -368,7 +371,7 @@ std::optional<TScanMatch> CScanMatcher::matchWide(
 	// Refine the winner with the whole scan, match()'s checks applying, and ask for a clear
 	// majority of the scan matched.
 	auto won = matchPoints(ref, scan.points, bestPose, m_params.max_correspondence_dist_m, true,
-						   scan.rangeNoiseStd);
+						   scan.rangeNoiseStd, scan.rangeImage);
 	if (!won || won->inlierFraction < m_params.wide_min_inlier_fraction) return std::nullopt;
 	// The guess's own hypothesis on the same footing (whole scan, plain gate, unchecked): the
 	// winner must explain clearly more of the scan than the guess's local optimum does.

@@ -96,10 +96,10 @@ public:
 							 const mrpt::math::TPose2D& scanInRef) const;
 
 private:
-	std::optional<TScanMatch> matchPoints(const CReferenceCloud& ref,
-										  const std::vector<Eigen::Vector2d>& pts,
-										  const mrpt::math::TPose2D& guess, double initialGate,
-										  bool check = true, double scanNoiseStd = 0) const;
+	std::optional<TScanMatch> matchPoints(
+		const CReferenceCloud& ref, const std::vector<Eigen::Vector2d>& pts,
+		const mrpt::math::TPose2D& guess, double initialGate, bool check = true,
+		double scanNoiseStd = 0, const std::shared_ptr<const CRangeImage>& image = {}) const;
 	/** The inlier RMS gate for a scan of range noise `scanNoiseStd` [m] (TScan2D::
 	 * rangeNoiseStd): max(max_rms_residual_m, 3 scanNoiseStd). The point-to-line residual of
 	 * two such scans is ~sqrt(2) scanNoiseStd, inliers reaching 2.4x that (Cauchy c).
