@@ -74,6 +74,10 @@ struct TMapBuilderStats
 	/** Scans whose pose was off their neighbours' odometry chain at the end of the run and
 	 * was settled onto it (settleIsolatedScans). */
 	size_t scansSettled = 0;
+	/** Keyframes whose scan matched nothing online (mid-run, linked by odometry), re-matched
+	 * at the end of the run against the map around them and moved (CKeyframeRematcher), and
+	 * those left on their odometry prior (no evidence, or the match confirmed the pose). */
+	size_t keyframesRematched = 0, keyframesLeftUnmatched = 0;
 	/** Keyframes' patch links that no pairwise match confirmed, among returns sparser than
 	 * the line fits' radius, whose covariance local registration widened (a hall's far
 	 * walls; CLocalRegistration::patchLinksWidened). */
@@ -237,6 +241,7 @@ private:
 		Eigen::Matrix3d registrationCov = Eigen::Matrix3d::Zero();
 		bool stepFromOdometry = false;
 		bool keyframe = false;  //!< the scan is its node's own (a new keyframe)
+		bool matched = true;    //!< its registration matched (TRegistration::matched)
 	};
 
 	// The story of one scan (CMetricMapBuilderLRGC.cpp), its steps in the paper's order.
@@ -268,6 +273,10 @@ private:
 	 * their neighbours (IsolatedScans.h), then every scan that is not a keyframe is placed
 	 * between its keyframes by its registration and the odometry (ScanSmoothing.h). */
 	void settleIsolatedScans();
+	/** End of the run, before the final optimisation: the keyframes whose scan matched
+	 * nothing online, re-matched against the map around them (KeyframeRematch.h); the other
+	 * scans hanging from a keyframe moved keep their place in the map. */
+	void rematchUnmatchedKeyframes();
 	/** Takes in what applying loop results did (links, closures, moved poses). */
 	void recordLoopUpdate(const TLoopUpdate& u);
 	bool isNewKeyframe(const mrpt::math::TPose2D& scanInMap) const;
@@ -359,6 +368,7 @@ private:
 	mrpt::math::TPose2D m_scanStep{0, 0, 0};
 	Eigen::Matrix3d m_scanStepCov = Eigen::Matrix3d::Identity();
 	bool m_scanStepFromOdometry = false;
+	bool m_scanMatched = true;  //!< the current scan's registration matched (TScanRecord)
 	/** The session being mapped (TKeyframe::session): 0 in a plain run, 1 once a saved map is
 	 * continued. */
 	size_t m_session = 0;
