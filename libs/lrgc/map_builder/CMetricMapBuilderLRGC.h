@@ -193,16 +193,18 @@ public:
 	 * ignored. */
 	void processObservation(const mrpt::obs::CObservation::Ptr& obs);
 
-	/** End of the run: final optimisation of the whole graph (paper 2.4, last paragraph). */
+	/** End of the run: the revisit sweep (CRevisitLinker), the re-match of the keyframes no
+	 * scan matched online (CKeyframeRematcher), final optimisation of the whole graph (paper
+	 * 2.4, last paragraph), then every scan placed between its keyframes. */
 	void finish();
 
 	/** A way to stop the long computations (StopToken.h), from any thread: once `stop` is
 	 * stopped, a loop search in hand or queued ends early and adds nothing, the scan
 	 * matches of the scan in hand (local registration, its wide rotational search, keyframe
-	 * reuse) end early and match nothing, and finish() ends its revisit sweep and final
-	 * optimisation at their next step, so that what was mapped can be saved at once (the
-	 * estimate as the loop closures left it). Kept across initialize(); from the mapping
-	 * thread, before or between scans. */
+	 * reuse) end early and match nothing, and finish() ends its revisit sweep, its re-match of
+	 * unmatched keyframes and its final optimisation at their next step, so that what was
+	 * mapped can be saved at once (the estimate as the loop closures left it). Kept across
+	 * initialize(); from the mapping thread, before or between scans. */
 	void setStopToken(const CStopToken& stop);
 
 	// --- results ---

@@ -132,9 +132,10 @@ void CMetricMapBuilderLRGC::rematchUnmatchedKeyframes()
 			candidates.push_back(s.node);
 	}
 	if (candidates.empty()) return;
-	const CKeyframeRematcher rematcher(
-		m_params.matcher, m_params.local.wide_search_angle, m_params.local.glitch_gate_chi2,
-		m_predictor->constantVelocityCov(), m_params.loop.link_noise);
+	CKeyframeRematcher rematcher(m_params.matcher, m_params.local.wide_search_angle,
+								 m_params.local.glitch_gate_chi2,
+								 m_predictor->constantVelocityCov(), m_params.loop.link_noise);
+	rematcher.setStopToken(m_stop);
 	const auto moved =
 		rematcher.rematch(m_graph, m_keyframes, candidates, m_pieceFirst.value_or(0));
 	// The other scans hanging from a moved keyframe were registered against the window's
@@ -144,6 +145,7 @@ void CMetricMapBuilderLRGC::rematchUnmatchedKeyframes()
 			if (s.node == node && !s.keyframe)
 				s.robotInNode = between(m_graph.pose(node), compose(before, s.robotInNode));
 	m_stats.keyframesRematched = moved.size();
+	m_stats.loopClosureLinks += moved.size();  // stats.json: loop_links' rematch_or_reuse
 	m_stats.keyframesLeftUnmatched = candidates.size() - moved.size();
 	MRPT_LOG_INFO_FMT("end of run: %zu of %zu unmatched keyframes re-matched", moved.size(),
 					  candidates.size());

@@ -66,6 +66,7 @@ std::vector<TRematchedKeyframe> CKeyframeRematcher::rematch(
 	{ runShared(helper, count, fn); };
 	for (const size_t k : candidates)
 	{
+		if (m_stop.stopRequested()) break;
 		const std::vector<size_t> near = neighboursOf(graph, k, split);
 		if (near.empty()) continue;
 		const size_t r = near.front();
@@ -99,7 +100,7 @@ void CKeyframeRematcher::relink(CPoseGraph& graph, const TKeyframes& keyframes, 
 	// a distinct hypothesis): the odometry that failed, and the window's links made in k's
 	// frame while k was off (its patch link to the next keyframe measures that keyframe
 	// against the window's map expressed at k's wrong pose). Each is disabled and replaced by
-	// the relative pose as it now stands at the constant-velocity noise (as local
+	// the relative pose as it now stands at the constant-velocity noise, same type (as local
 	// registration's odometry link after a wide-search override,
 	// CMetricMapBuilderLRGC::odometryLink): the graph stays joined, nothing pulls k back.
 	const std::vector<size_t> ids = graph.linksOf(k);  // a copy: links are added below
@@ -112,7 +113,7 @@ void CKeyframeRematcher::relink(CPoseGraph& graph, const TKeyframes& keyframes, 
 			!CScanMatcher::distinctHypotheses(l.toInFrom, now))
 			continue;
 		graph.setLinkEnabled(id, false);
-		graph.addLink({l.from, l.to, now, m_weakOdometryCov.inverse(), LinkType::Odometry});
+		graph.addLink({l.from, l.to, now, m_weakOdometryCov.inverse(), l.type});
 	}
 }
 

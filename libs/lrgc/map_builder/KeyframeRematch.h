@@ -23,16 +23,20 @@
  *      optimum at the current pose itself); no evidence, or a winner in the current pose's
  *      own basin (CScanMatcher::distinctHypotheses): k is left where it is;
  *   3. a winner moves k there and links it to r by a loop-closure link (robust in the final
- *      optimisation), and each odometry link of k that the new pose contradicts (chi2 under
- *      the link's covariance > glitch_gate_chi2) is down-weighted to the constant-velocity
- *      noise, as local registration does online after a wide-search override: the odometry
- *      that failed can no longer pull k back.
+ *      optimisation), and each odometry or window link of k that the new pose contradicts
+ *      (chi2 under the link's covariance > glitch_gate_chi2, or a distinct hypothesis) is
+ *      down-weighted to the constant-velocity noise at the relative pose as it now stands, as
+ *      local registration does online after a wide-search override: the odometry that
+ *      failed, and the patch link made in k's frame while k was off, can no longer pull k
+ *      back (in UnmatchedKeyframe's room, with the odometry links alone down-weighted, the
+ *      scans after the turn followed that patch link 81 deg off).
  * An unmatched keyframe without evidence stays on its odometry prior: the scan never bends the
  * map (issue 28 item 3). The final optimisation then places every keyframe.
  * Frames: poses (map <- robot); links (from <- to). Units: m, rad.
  */
 #pragma once
 
+#include <lrgc/common/StopToken.h>
 #include <lrgc/pose_graph/LinkNoise.h>
 #include <lrgc/pose_graph/PoseGraph.h>
 #include <lrgc/scan_matching/Keyframe.h>
@@ -64,10 +68,16 @@ public:
 
 	/** Re-matches each of `candidates` (nodes of `graph`, scans in `keyframes`) as above;
 	 * nodes below `split` and from it on are in frames of their own (a piece not joined):
-	 * no reference across it. Returns the keyframes moved. */
+	 * no reference across it. Returns the keyframes moved. Once `stop` (setStopToken) is
+	 * stopped, the re-match ends: the keyframes moved until then stay moved. */
 	std::vector<TRematchedKeyframe> rematch(CPoseGraph& graph, const TKeyframes& keyframes,
 											const std::vector<size_t>& candidates,
 											size_t split = 0) const;
+	void setStopToken(const CStopToken& stop)
+	{
+		m_stop = stop;
+		m_matcher.setStopToken(stop);
+	}
 
 private:
 	/** Step 3: k placed where `m` (r <- k) puts it, linked to r, its contradicted odometry
@@ -81,6 +91,7 @@ private:
 	double m_gateChi2;
 	Eigen::Matrix3d m_weakOdometryCov;
 	TLinkNoise m_linkNoise;
+	CStopToken m_stop;
 };
 
 }  // namespace lrgc
