@@ -132,6 +132,7 @@ void CMetricMapBuilderLRGC::followRobot(const mrpt::obs::CObservation2DRangeScan
 	m_scanStep = prediction.motion;
 	m_scanStepCov = prediction.cov;
 	m_scanStepFromOdometry = prediction.fromOdometry;
+	m_scanMatched = reg.matched;
 	const TPose2D step = between(m_lastScanInMap, reg.scanInMap);
 	m_pathSinceKeyframe += translationNorm(step);
 	m_turnSinceKeyframe += std::abs(step.phi);
@@ -252,7 +253,8 @@ void CMetricMapBuilderLRGC::recordScan(mrpt::Clock::time_point stamp, size_t nod
 									   const TPose2D& robotInNode, bool keyframe)
 {
 	m_scans.push_back({stamp, node, robotInNode, m_scanStep, m_scanStepCov,
-					   m_lastScanSmoothingCov, m_scanStepFromOdometry, keyframe});
+					   m_lastScanSmoothingCov, m_scanStepFromOdometry, keyframe,
+					   m_scanMatched});
 }
 
 // Steps 4-5 at a keyframe taken (CLoopClosing): the loop results due are applied, and a new

@@ -74,6 +74,10 @@ struct TMapBuilderStats
 	/** Scans whose pose was off their neighbours' odometry chain at the end of the run and
 	 * was settled onto it (settleIsolatedScans). */
 	size_t scansSettled = 0;
+	/** Keyframes whose scan matched nothing online (mid-run, linked by odometry), re-matched
+	 * at the end of the run against the map around them and moved (CKeyframeRematcher), and
+	 * those left on their odometry prior (no evidence, or the match confirmed the pose). */
+	size_t keyframesRematched = 0, keyframesLeftUnmatched = 0;
 	/** Keyframes' patch links that no pairwise match confirmed, among returns sparser than
 	 * the line fits' radius, whose covariance local registration widened (a hall's far
 	 * walls; CLocalRegistration::patchLinksWidened). */
@@ -189,16 +193,18 @@ public:
 	 * ignored. */
 	void processObservation(const mrpt::obs::CObservation::Ptr& obs);
 
-	/** End of the run: final optimisation of the whole graph (paper 2.4, last paragraph). */
+	/** End of the run: the revisit sweep (CRevisitLinker), the re-match of the keyframes no
+	 * scan matched online (CKeyframeRematcher), final optimisation of the whole graph (paper
+	 * 2.4, last paragraph), then every scan placed between its keyframes. */
 	void finish();
 
 	/** A way to stop the long computations (StopToken.h), from any thread: once `stop` is
 	 * stopped, a loop search in hand or queued ends early and adds nothing, the scan
 	 * matches of the scan in hand (local registration, its wide rotational search, keyframe
-	 * reuse) end early and match nothing, and finish() ends its revisit sweep and final
-	 * optimisation at their next step, so that what was mapped can be saved at once (the
-	 * estimate as the loop closures left it). Kept across initialize(); from the mapping
-	 * thread, before or between scans. */
+	 * reuse) end early and match nothing, and finish() ends its revisit sweep, its re-match of
+	 * unmatched keyframes and its final optimisation at their next step, so that what was
+	 * mapped can be saved at once (the estimate as the loop closures left it). Kept across
+	 * initialize(); from the mapping thread, before or between scans. */
 	void setStopToken(const CStopToken& stop);
 
 	// --- results ---
@@ -237,6 +243,7 @@ private:
 		Eigen::Matrix3d registrationCov = Eigen::Matrix3d::Zero();
 		bool stepFromOdometry = false;
 		bool keyframe = false;  //!< the scan is its node's own (a new keyframe)
+		bool matched = true;    //!< its registration matched (TRegistration::matched)
 	};
 
 	// The story of one scan (CMetricMapBuilderLRGC.cpp), its steps in the paper's order.
@@ -268,6 +275,10 @@ private:
 	 * their neighbours (IsolatedScans.h), then every scan that is not a keyframe is placed
 	 * between its keyframes by its registration and the odometry (ScanSmoothing.h). */
 	void settleIsolatedScans();
+	/** End of the run, before the final optimisation: the keyframes whose scan matched
+	 * nothing online, re-matched against the map around them (KeyframeRematch.h); the other
+	 * scans hanging from a keyframe moved keep their place in the map. */
+	void rematchUnmatchedKeyframes();
 	/** Takes in what applying loop results did (links, closures, moved poses). */
 	void recordLoopUpdate(const TLoopUpdate& u);
 	bool isNewKeyframe(const mrpt::math::TPose2D& scanInMap) const;
@@ -359,6 +370,7 @@ private:
 	mrpt::math::TPose2D m_scanStep{0, 0, 0};
 	Eigen::Matrix3d m_scanStepCov = Eigen::Matrix3d::Identity();
 	bool m_scanStepFromOdometry = false;
+	bool m_scanMatched = true;  //!< the current scan's registration matched (TScanRecord)
 	/** The session being mapped (TKeyframe::session): 0 in a plain run, 1 once a saved map is
 	 * continued. */
 	size_t m_session = 0;

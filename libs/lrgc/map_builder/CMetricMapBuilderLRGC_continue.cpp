@@ -94,6 +94,7 @@ void CMetricMapBuilderLRGC::resetState()
 	m_motionSinceKeyframe = TPose2D(0, 0, 0);
 	m_anchorOffset = TPose2D(0, 0, 0);
 	m_odometryTrustedSinceKeyframe = true;
+	m_scanMatched = true;
 	m_session = 0;
 	m_metricMapDirty = true;
 }

@@ -3,6 +3,7 @@
  * and continuing a saved map: CMetricMapBuilderLRGC_continue.cpp. */
 #include <lrgc/map_builder/CMetricMapBuilderLRGC.h>
 #include <lrgc/map_builder/IsolatedScans.h>
+#include <lrgc/map_builder/KeyframeRematch.h>
 #include <lrgc/map_builder/KeyframeReuse.h>
 #include <lrgc/map_builder/ScanSmoothing.h>
 #include <lrgc/local_registration/LocalRegistration.h>
@@ -17,6 +18,8 @@
 #include <mrpt/poses/CPose3D.h>
 #include <mrpt/poses/CPose3DPDFGaussian.h>
 #include <mrpt/poses/CPosePDF.h>
+
+#include <algorithm>
 
 namespace lrgc
 {
@@ -77,6 +80,7 @@ void CMetricMapBuilderLRGC::finish()
 		m_stats.revisitLinks = added;
 		MRPT_LOG_INFO_FMT("end of run: %zu revisit links re-matched", added);
 	}
+	if (m_loops) rematchUnmatchedKeyframes();
 	CPoseGraphOptimizer optimizer(m_params.optimizer);
 	optimizer.setStopToken(m_stop);
 	const auto report = optimizer.optimize(m_graph, 0, {}, m_frozenNodes);
@@ -107,6 +111,44 @@ void CMetricMapBuilderLRGC::setStopToken(const CStopToken& stop)
 	m_local->setStopToken(stop);
 	m_reuse->setStopToken(stop);
 	if (m_loops) m_loops->setStopToken(stop);
+}
+
+void CMetricMapBuilderLRGC::rematchUnmatchedKeyframes()
+{
+	// The keyframes a scan matched nothing for, mid-run: linked to the previous keyframe by
+	// odometry (not a session's or a piece's first), free to move (not frozen, not node 0).
+	std::vector<size_t> candidates;
+	for (const auto& s : m_scans)
+	{
+		if (!s.keyframe || s.matched || s.node == 0 || s.node < m_frozenNodes) continue;
+		const auto& ids = m_graph.linksOf(s.node);
+		if (std::any_of(ids.begin(), ids.end(),
+						[&](size_t id)
+						{
+							const TLink& l = m_graph.link(id);
+							return l.to == s.node && l.type == LinkType::Odometry &&
+								   m_graph.isLinkEnabled(id);
+						}))
+			candidates.push_back(s.node);
+	}
+	if (candidates.empty()) return;
+	CKeyframeRematcher rematcher(m_params.matcher, m_params.local.wide_search_angle,
+								 m_params.local.glitch_gate_chi2,
+								 m_predictor->constantVelocityCov(), m_params.loop.link_noise);
+	rematcher.setStopToken(m_stop);
+	const auto moved =
+		rematcher.rematch(m_graph, m_keyframes, candidates, m_pieceFirst.value_or(0));
+	// The other scans hanging from a moved keyframe were registered against the window's
+	// patch, not against the keyframe's pose: they keep their place in the map.
+	for (const auto& [node, before] : moved)
+		for (auto& s : m_scans)
+			if (s.node == node && !s.keyframe)
+				s.robotInNode = between(m_graph.pose(node), compose(before, s.robotInNode));
+	m_stats.keyframesRematched = moved.size();
+	m_stats.loopClosureLinks += moved.size();  // stats.json: loop_links' rematch_or_reuse
+	m_stats.keyframesLeftUnmatched = candidates.size() - moved.size();
+	MRPT_LOG_INFO_FMT("end of run: %zu of %zu unmatched keyframes re-matched", moved.size(),
+					  candidates.size());
 }
 
 void CMetricMapBuilderLRGC::settleIsolatedScans()

@@ -281,6 +281,8 @@ std::string statsJson(const TRunOutputsSnapshot& snapshot)
 	  << "  \"skipped_scans\": " << s.skippedScans << ",\n"
 	  << "  \"unmatched_scans\": " << s.unmatchedScans << ",\n"
 	  << "  \"scans_settled\": " << s.scansSettled << ",\n"
+	  << "  \"keyframes_rematched\": " << s.keyframesRematched << ",\n"
+	  << "  \"keyframes_left_unmatched\": " << s.keyframesLeftUnmatched << ",\n"
 	  << "  \"patch_links_widened\": " << s.patchLinksWidened << ",\n"
 	  << "  \"odometry_rejected\": " << s.odometryRejected << ",\n"
 	  << "  \"odometry_glitches_recovered\": " << s.glitchesRecovered << ",\n"

@@ -1,0 +1,120 @@
+#include <lrgc/map_builder/KeyframeRematch.h>
+
+#include <lrgc/common/HelperThread.h>
+#include <lrgc/common/SharedLoop.h>
+#include <lrgc/common/se2.h>
+#include <lrgc/scan_matching/ReferenceCloud.h>
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <functional>
+#include <limits>
+#include <optional>
+
+namespace lrgc
+{
+using mrpt::math::TPose2D;
+
+namespace
+{
+/** [m] The reference's keyframes lie within this of k's position: the robot's own path
+ * around k (a sparse log's scans 1 m apart: the three before and after) and the revisits
+ * there, as the end-of-run revisit sweep's region (3 radius_m, RevisitLinker.h). The
+ * position of an unmatched keyframe is its odometry step's, off by decimetres, well inside. */
+constexpr double kNeighbourRadius = 3.0;
+
+/** Nodes within kNeighbourRadius of k, on k's side of `split`, nearest first. */
+std::vector<size_t> neighboursOf(const CPoseGraph& g, size_t k, size_t split)
+{
+	std::vector<std::pair<double, size_t>> near;
+	const TPose2D pk = g.pose(k);
+	for (size_t j = 0; j < g.numNodes(); ++j)
+	{
+		if (j == k || (j < split) != (k < split)) continue;
+		const double d = translationNorm(between(g.pose(j), pk));
+		if (d < kNeighbourRadius) near.emplace_back(d, j);
+	}
+	std::sort(near.begin(), near.end());
+	std::vector<size_t> out;
+	for (const auto& [d, j] : near) out.push_back(j);
+	return out;
+}
+}  // namespace
+
+CKeyframeRematcher::CKeyframeRematcher(const TScanMatcherParams& matcher, double wideAngle,
+									   double gateChi2, const Eigen::Matrix3d& weakOdometryCov,
+									   const TLinkNoise& linkNoise)
+	: m_params(matcher),
+	  m_matcher(matcher),
+	  m_wideAngle(wideAngle),
+	  m_gateChi2(gateChi2),
+	  m_weakOdometryCov(weakOdometryCov),
+	  m_linkNoise(linkNoise)
+{
+}
+
+std::vector<TRematchedKeyframe> CKeyframeRematcher::rematch(
+	CPoseGraph& graph, const TKeyframes& keyframes, const std::vector<size_t>& candidates,
+	size_t split) const
+{
+	std::vector<TRematchedKeyframe> moved;
+	if (m_wideAngle <= 0) return moved;
+	// A second thread shares the reference's line fits and the wide search's starts
+	// (CSharedLoop: the same result on any number of threads).
+	CHelperThread helper;
+	const TParallelFor parallel = [&helper](size_t count, const std::function<void(size_t)>& fn)
+	{ runShared(helper, count, fn); };
+	for (const size_t k : candidates)
+	{
+		if (m_stop.stopRequested()) break;
+		const std::vector<size_t> near = neighboursOf(graph, k, split);
+		if (near.empty()) continue;
+		const size_t r = near.front();
+		std::vector<TScan2D> scans;
+		std::vector<TPose2D> inR;
+		for (const size_t j : near)
+		{
+			scans.push_back(keyframes[j].scan);
+			inR.push_back(between(graph.pose(r), graph.pose(j)));
+		}
+		const CReferenceCloud ref = CReferenceCloud::fromScans(scans, inR, m_params, parallel);
+		const TPose2D guess = between(graph.pose(r), graph.pose(k));
+		const auto m =
+			m_matcher.matchWide(ref, keyframes[k].scan, guess, m_wideAngle, parallel);
+		if (!m || !CScanMatcher::distinctHypotheses(guess, m->scanInRef)) continue;
+		moved.push_back({k, graph.pose(k)});
+		relink(graph, keyframes, k, r, *m);
+	}
+	return moved;
+}
+
+void CKeyframeRematcher::relink(CPoseGraph& graph, const TKeyframes& keyframes, size_t k,
+								size_t r, const TScanMatch& m) const
+{
+	graph.setPose(k, compose(graph.pose(r), m.scanInRef));
+	graph.addLink({r, k, m.scanInRef,
+				   linkInformation(m.cov, denoisedLoopLinkNoise(
+											  m_linkNoise, keyframes[k].scan.rangeNoiseStd)),
+				   LinkType::LoopClosure});
+	// The links of k the new pose contradicts (chi2 under the link's covariance > the gate, or
+	// a distinct hypothesis): the odometry that failed, and the window's links made in k's
+	// frame while k was off (its patch link to the next keyframe measures that keyframe
+	// against the window's map expressed at k's wrong pose). Each is disabled and replaced by
+	// the relative pose as it now stands at the constant-velocity noise, same type (as local
+	// registration's odometry link after a wide-search override,
+	// CMetricMapBuilderLRGC::odometryLink): the graph stays joined, nothing pulls k back.
+	const std::vector<size_t> ids = graph.linksOf(k);  // a copy: links are added below
+	for (const size_t id : ids)
+	{
+		const TLink l = graph.link(id);
+		if (l.type == LinkType::LoopClosure || !graph.isLinkEnabled(id)) continue;
+		const TPose2D now = between(graph.pose(l.from), graph.pose(l.to));
+		if (disagreementChi2(l.toInFrom, now, l.information.inverse()) <= m_gateChi2 &&
+			!CScanMatcher::distinctHypotheses(l.toInFrom, now))
+			continue;
+		graph.setLinkEnabled(id, false);
+		graph.addLink({l.from, l.to, now, m_weakOdometryCov.inverse(), l.type});
+	}
+}
+
+}  // namespace lrgc
