@@ -24,7 +24,8 @@ Eigen::Vector2d position(const TRecallKeyframe& k)
 	return {k.reference.x, k.reference.y};
 }
 
-/** d = truth^-1 (+) Z in translation [m], heading [rad] and chi2; no truth: not judged. */
+/** e = Z - truth in from's axes: translation [m], heading [rad] and chi2; no truth: not
+ * judged. */
 TAuditedLoopLink audit(const lrgc::TLink& l, const std::optional<TRecallJudge::TTruth>& truth,
 					   const TLoopRecallParams& p)
 {
@@ -34,10 +35,15 @@ TAuditedLoopLink audit(const lrgc::TLink& l, const std::optional<TRecallJudge::T
 	if (!truth) return a;
 	a.byRelation = truth->byRelation;
 	a.bridged = truth->bridged;
-	const auto d = lrgc::between(truth->toInFrom, l.toInFrom);
-	const Eigen::Vector3d e = lrgc::toVector(d);
-	a.offXY_m = lrgc::translationNorm(d);
-	a.offPhi_rad = std::abs(d.phi);
+	// The link's information is over (x, y, phi) of `to` in the axes of `from` (a scan match's
+	// covariance, lrgc/pose_graph/PoseGraph.h), so the error is the difference of the two poses
+	// in those axes; v(truth^-1 (+) Z) would turn it into the truth's own axes, which for a
+	// link turned by 90 deg reads the information with x and y swapped (doc/back-end.md).
+	const mrpt::math::TPose2D& z = l.toInFrom;
+	const mrpt::math::TPose2D& t = truth->toInFrom;
+	const Eigen::Vector3d e(z.x - t.x, z.y - t.y, mrpt::math::wrapToPi(z.phi - t.phi));
+	a.offXY_m = e.head<2>().norm();
+	a.offPhi_rad = std::abs(e.z());
 	a.chi2 = e.dot(l.information * e);
 	a.agrees = (a.offXY_m <= p.maxXY_m && a.offPhi_rad <= p.maxPhi_rad) || a.chi2 <= p.maxChi2;
 	return a;

@@ -70,6 +70,28 @@ TEST(LoopRecall, placesOfTenMetresAndTheLinksThatCloseThem)
 	EXPECT_NE(recallReport(r).find("not closed: keyframes 51-60"), std::string::npos);
 }
 
+// A link's information is over (x, y, phi) of `to` in the axes of `from`: a link turned by
+// 90 deg whose match knows only y (a corridor along from's x) and lies 0.31 m off along x
+// agrees (chi2 0.1). Judged in the truth's axes, as before stop 43, it read the information
+// with x and y swapped: chi2 961, a false closure.
+TEST(LoopRecall, aLinksInformationIsReadInTheAxesOfItsFromKeyframe)
+{
+	std::vector<TRecallKeyframe> kfs{{0.0, TPose2D(0, 0, 0)},
+									 {100.0, TPose2D(0, 0.5, M_PI / 2)}};
+	lrgc::CPoseGraph graph;
+	for (const auto& k : kfs) graph.addNode(k.reference);
+	lrgc::TLink l;
+	l.from = 0, l.to = 1, l.type = lrgc::LinkType::LoopClosure;
+	l.toInFrom = TPose2D(0.31, 0.5, M_PI / 2);  // the truth (0, 0.5, 90 deg), 0.31 m along x
+	l.information = Eigen::Vector3d(1, 1e4, 1e4).asDiagonal();
+	graph.addLink(l);
+	const TLoopRecall r = evaluateLoopRecall(graph, kfs);
+	ASSERT_EQ(r.loopLinks.size(), 1U);
+	EXPECT_NEAR(r.loopLinks[0].offXY_m, 0.31, 1e-9);
+	EXPECT_NEAR(r.loopLinks[0].chi2, 0.0961, 1e-9);
+	EXPECT_EQ(r.falseClosures, 0U);
+}
+
 TEST(LoopRecall, noRevisitWithinTheGapOrBeyondTheDistance)
 {
 	// Straight back without the pause: keyframe i at i s. Keyframe 60 (x = 1) lies 1.12 m
