@@ -167,19 +167,20 @@ void runOne(const TOptions& o, uint32_t seed)
 	const auto& st = builder.stats();
 	const auto& ls = builder.loopCloserStats();
 	std::printf(
-		"seed %u: %zu scans (%zu unmatched), %zu kf; short %zu, >2deg %zu (%.2f %%), >5deg "
+		"seed %u: %zu scans (%zu unmatched, %zu keyframes re-matched at the end), %zu kf; "
+		"short %zu, >2deg %zu (%.2f %%), >5deg "
 		"%zu; recall %zu / %zu, false %zu; searches %zu (filters %zu, match %zu, back-end "
 		"%zu), shed %zu, merged %zu, dropped %zu; far %zu (closed %zu); closures %zu; "
 		"rel err short %.4f m, long %.3f m (max %.2f); map worst %.2f m %.1f deg, odometry "
 		"worst %.1f m %.1f deg; clearance %.2f m; %.0f s\n",
-		seed, st.scans, st.unmatchedScans, st.keyframes, shortRel.shortCount,
-		shortRel.shortOver2deg, 100 * shortRel.shortOver2degShare(), shortRel.shortOver5deg,
-		recall.closed, recall.places.size(), recall.falseClosures, ls.attempts,
-		ls.rejectedByFilters, ls.rejectedByMatch, ls.rejectedByBackEnd, ls.searchesShed,
-		ls.searchesMerged, ls.droppedKeyframes.size(), ls.farSearches, ls.farClosures,
-		st.loopClosures, shortRel.trans_m.mean, longRel.trans_m.mean, longRel.trans_m.max,
-		err.maxXY, mrpt::RAD2DEG(err.maxPhi), odoErr.maxXY, mrpt::RAD2DEG(odoErr.maxPhi),
-		clearance, secs);
+		seed, st.scans, st.unmatchedScans, st.keyframesRematched, st.keyframes,
+		shortRel.shortCount, shortRel.shortOver2deg, 100 * shortRel.shortOver2degShare(),
+		shortRel.shortOver5deg, recall.closed, recall.places.size(), recall.falseClosures,
+		ls.attempts, ls.rejectedByFilters, ls.rejectedByMatch, ls.rejectedByBackEnd,
+		ls.searchesShed, ls.searchesMerged, ls.droppedKeyframes.size(), ls.farSearches,
+		ls.farClosures, st.loopClosures, shortRel.trans_m.mean, longRel.trans_m.mean,
+		longRel.trans_m.max, err.maxXY, mrpt::RAD2DEG(err.maxPhi), odoErr.maxXY,
+		mrpt::RAD2DEG(odoErr.maxPhi), clearance, secs);
 	if (o.num("places") != 0)
 		for (const auto& pl : recall.places)
 			if (!pl.closed)
