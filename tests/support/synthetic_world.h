@@ -201,8 +201,8 @@ struct TGlassAtriumShape
  * 8 m, a desk in each) along the south and north walls; a west hall with a 10 m opening in
  * the outer wall onto nothing (no returns) and a railed stairwell void along the east wall;
  * benches and plant tubs along the hall sides at seeded places. The halls' centre lines
- * form a loop of at least 5 m clearance: (m - hall / 2, officeDepth + hall / 2) to
- * (length - m + hall / 2, width - officeDepth - hall / 2). */
+ * form a loop (4.4 m clearance with the default shape): (m - hall / 2, officeDepth + hall / 2)
+ * to (length - m + hall / 2, width - officeDepth - hall / 2). */
 CSyntheticWorld makeGlassAtriumWorld(uint32_t seed, const TGlassAtriumShape& shape = {});
 
 /** People walking through the scene: `count` circles of radius 0.25 m at seeded places in
