@@ -182,6 +182,29 @@ CSyntheticWorld makeAlcoveGalleryWorld(double L = 80, double W = 8, double pitch
  * around the block: (22,12) - (78,12) - (78,45) - (22,45). */
 CSyntheticWorld makeGlassBuildingWorld(uint32_t seed, double glassReturn = 0.35);
 
+/** The shape of makeGlassAtriumWorld: a larger building of wide halls around an atrium. */
+struct TGlassAtriumShape
+{
+	double length = 160, width = 100;  //!< [m] outer walls, corners (0,0)-(length,width)
+	double officeDepth = 10;           //!< [m] offices along the south and north outer walls
+	double hall = 12;          //!< [m] hall between an office front and the atrium's railing
+	double glassReturn = 0.1;  //!< share of the beams a pane returns
+	double postSpacing = 0.12, postDiameter = 0.05;  //!< [m] the railings' posts
+};
+
+/** A large building of mixed returns for a long laser (issue 28, the 80 m SICK's log, at its
+ * scale): an atrium void (m, m)-(length - m, width - m), m = officeDepth + hall, railed on
+ * all four sides (posts of postDiameter every postSpacing, so that neighbouring beams
+ * alternate between a post a few metres off and the far side of the atrium 50-80 m off),
+ * with a column every 16 m (seeded offsets) along its edge and a railed bridge across its
+ * middle; glass-fronted offices (panes between 0.1 m mullions every 4 m, partitions every
+ * 8 m, a desk in each) along the south and north walls; a west hall with a 10 m opening in
+ * the outer wall onto nothing (no returns) and a railed stairwell void along the east wall;
+ * benches and plant tubs along the hall sides at seeded places. The halls' centre lines
+ * form a loop (4.4 m clearance with the default shape): (m - hall / 2, officeDepth + hall / 2)
+ * to (length - m + hall / 2, width - officeDepth - hall / 2). */
+CSyntheticWorld makeGlassAtriumWorld(uint32_t seed, const TGlassAtriumShape& shape = {});
+
 /** People walking through the scene: `count` circles of radius 0.25 m at seeded places in
  * `region`, each walking at a seeded 0.5-1.5 m/s in a straight line and bouncing off the
  * region's edges. at(t) [s] adds them to a copy of a world, leaving out anyone closer than

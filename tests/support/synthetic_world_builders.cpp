@@ -224,6 +224,64 @@ CSyntheticWorld makeGlassBuildingWorld(uint32_t seed, double glassReturn)
 	return w;
 }
 
+CSyntheticWorld makeGlassAtriumWorld(uint32_t seed, const TGlassAtriumShape& sh)
+{
+	CSyntheticWorld w;
+	std::mt19937 rng(seed);
+	std::uniform_real_distribution<double> u(0, 1);
+	const double L = sh.length, H = sh.width, d = sh.officeDepth, m = d + sh.hall;
+	ASSERT_(L > 2 * m + 20 && H > 2 * m + 20);
+	// Outer walls; a 10 m opening onto nothing in the west wall.
+	const double door = 0.5 * H;
+	w.addPolygon({{0, door + 5}, {0, H}, {L, H}, {L, 0}, {0, 0}, {0, door - 5}});
+	// Offices south and north: glass fronts, partitions about every 8 m, a desk in each.
+	const double x0 = m - 8, x1 = L - m + 8;
+	const int offices = std::max(1, int(std::lround((x1 - x0) / 8)));
+	for (const double front : {d, H - d})
+	{
+		const double back = front < H / 2 ? 0.0 : H;
+		addGlassFront(w, {x0, front}, {x1, front}, 4, sh.glassReturn);
+		for (int i = 0; i <= offices; ++i)
+		{
+			const double px = x0 + (x1 - x0) * i / offices;
+			w.addSegment({px, front}, {px, back});
+			if (i < offices)
+				w.addBox({px + 2 + 4 * u(rng), 0.5 * (front + back) + 2 * (u(rng) - 0.5)}, 0.8,
+						 0.4, u(rng));
+		}
+	}
+	// The atrium: railed on all four sides, a column every 16 m along its edge.
+	const std::vector<Eigen::Vector2d> edge{{m, m}, {L - m, m}, {L - m, H - m}, {m, H - m}};
+	for (size_t i = 0; i < 4; ++i)
+	{
+		const Eigen::Vector2d a = edge[i], b = edge[(i + 1) % 4];
+		w.addRailing(a, b, sh.postSpacing, sh.postDiameter);
+		const double len = (b - a).norm();
+		for (double t = 4 + 6 * u(rng); t < len - 2; t += 12 + 8 * u(rng))
+			w.addBox(a + t / len * (b - a), 0.35, 0.35);
+	}
+	// A railed bridge across the atrium's middle (north-south, 3 m wide, seeded place).
+	const double bx = 0.5 * L + 10 * (u(rng) - 0.5);
+	w.addRailing({bx - 1.5, m}, {bx - 1.5, H - m}, sh.postSpacing, sh.postDiameter);
+	w.addRailing({bx + 1.5, m}, {bx + 1.5, H - m}, sh.postSpacing, sh.postDiameter);
+	// East: a railed stairwell void along the outer wall, stairs (boxes) in it.
+	w.addRailing({L - 6, m - 4}, {L - 6, H - m + 4}, sh.postSpacing, sh.postDiameter);
+	for (int i = 0; i < 3; ++i) w.addBox({L - 3, m + 6 + 12 * i + 6 * u(rng)}, 1.5, 0.8);
+	// Benches and plant tubs along the halls' sides (1-2 m from a front or the railing).
+	for (double x = m + 4 * u(rng); x < L - m; x += 8 + 10 * u(rng))
+		for (const double y : {d + 1.2, m - 1.2, H - m + 1.2, H - d - 1.2})
+			if (u(rng) < 0.5)
+			{
+				if (u(rng) < 0.5)
+					w.addBox({x, y}, 1.0, 0.3);
+				else
+					w.addCircle({x, y}, 0.4, 12);
+			}
+	for (double y = m + 4 * u(rng); y < H - m; y += 8 + 10 * u(rng))
+		if (u(rng) < 0.6) w.addBox({m - 1.2, y}, 0.3, 1.0);
+	return w;
+}
+
 CCrowd::CCrowd(const TBox& region, int count, uint32_t seed) : m_region(region)
 {
 	ASSERT_(count >= 0);
