@@ -72,12 +72,18 @@ CLocalRegistration::CLocalRegistration(const TLocalRegistrationParams& p,
 
 CLocalRegistration::~CLocalRegistration() = default;  // the helper's jobs end first
 
-void CLocalRegistration::enterKeyframe(size_t node, bool reused, const CPoseGraph& graph)
+void CLocalRegistration::enterKeyframe(size_t node, bool reused, const CPoseGraph& graph,
+									   bool placedByMatch)
 {
 	if (const auto it = std::find(m_window.begin(), m_window.end(), node); it != m_window.end())
 		m_window.erase(it);
 	m_window.push_back(node);
 	while (m_window.size() > windowSize()) m_window.pop_front();
+	if (!placedByMatch) m_unplaced.push_back(node);
+	m_unplaced.erase(
+		std::remove_if(m_unplaced.begin(), m_unplaced.end(),
+					   [&](size_t n) { return !inWindow(n) || (n == node && placedByMatch); }),
+		m_unplaced.end());
 	if (reused) m_firstFree = graph.numNodes();
 	m_cloudNewest.reset();
 }
@@ -98,6 +104,34 @@ const CReferenceCloud& CLocalRegistration::windowCloud(const CPoseGraph& graph,
 	m_cloud = patchOf(scans, posesInMap, m_matcherParams);
 	m_cloudNewest = newest;
 	return m_cloud;
+}
+
+std::optional<TScanMatch> CLocalRegistration::withEvidence(const CPoseGraph& graph,
+														   const TKeyframes& keyframes,
+														   const TScan2D& scan,
+														   std::optional<TScanMatch> wide)
+{
+	if (!wide || std::none_of(m_unplaced.begin(), m_unplaced.end(),
+							  [&](size_t n) { return inWindow(n); }))
+		return wide;
+	// The window's patch without the keyframes no scan match placed, in the same frame (the
+	// newest keyframe's, *m_cloudNewest).
+	const TPose2D newestInMap = graph.pose(*m_cloudNewest);
+	std::vector<TScan2D> scans;
+	std::vector<TPose2D> inNewest;
+	for (const size_t node : m_window)
+	{
+		if (std::find(m_unplaced.begin(), m_unplaced.end(), node) != m_unplaced.end()) continue;
+		scans.push_back(keyframes[node].scan);
+		inNewest.push_back(between(newestInMap, graph.pose(node)));
+	}
+	if (scans.empty()) return std::nullopt;
+	const CReferenceCloud evidence =
+		CReferenceCloud::fromScans(scans, inNewest, m_matcherParams);
+	const auto held = m_matcher.match(evidence, scan, wide->scanInRef);
+	if (!held || CScanMatcher::distinctHypotheses(held->scanInRef, wide->scanInRef))
+		return std::nullopt;
+	return wide;
 }
 
 CReferenceCloud CLocalRegistration::patchOf(const std::vector<TScan2D>& scans,
@@ -156,6 +190,10 @@ TRegistration CLocalRegistration::registerScan(const CPoseGraph& graph,
 	{ return disagreementChi2(guess, m.scanInRef, priorCov + m.cov); };
 	std::optional<TScanMatch> match = m_matcher.match(cloud, scan, guess);
 	const bool disagrees = match && disagreement(*match) > m_params.glitch_gate_chi2;
+	// The prediction's match failed or contradicts it: the odometry's alternative, if any.
+	if ((!match || disagrees) && prediction.alternative)
+		if (auto alt = alternativeMatch(cloud, scan, newestInMap, priorInMap, prediction))
+			return placedByAlternative(reg, *alt, newestInMap, prediction);
 	// A pause in the scans, a large predicted turn or an odometry jump (the prior is then the
 	// constant-velocity one), and the plain match failed or contradicts the prior: the
 	// odometry may lag or jump, so the wide search decides and
@@ -178,7 +216,8 @@ TRegistration CLocalRegistration::registerScan(const CPoseGraph& graph,
 					  translationNorm(between(guess, match->scanInRef)) > kSecondOpinionShift);
 	if ((implausible || (suspect && (!match || disagrees))) && m_params.wide_search_angle > 0)
 	{
-		match = wideMatch(cloud, scan, guess, m_params.wide_search_angle, 0);
+		match = withEvidence(graph, keyframes, scan,
+							 wideMatch(cloud, scan, guess, m_params.wide_search_angle, 0));
 		reg.wideSearch = match.has_value();
 	}
 	// The plain match failed on a step nothing made suspect (and the wheels moved: else the
@@ -186,7 +225,8 @@ TRegistration CLocalRegistration::registerScan(const CPoseGraph& graph,
 	// far-turning step's wider), with the same evidence.
 	else if (!match && !standstill && m_params.wide_search_angle > 0)
 	{
-		match = retriedMatch(cloud, scan, guess, prediction);
+		match =
+			withEvidence(graph, keyframes, scan, retriedMatch(cloud, scan, guess, prediction));
 		reg.wideSearch = match.has_value();
 	}
 	// Wheels that did not turn at all are the one odometry reading to trust over a match
@@ -200,7 +240,8 @@ TRegistration CLocalRegistration::registerScan(const CPoseGraph& graph,
 	// search may overrule it, with the same evidence as above.
 	else if (suspect && match && m_params.wide_search_angle > 0)
 	{
-		if (auto wide = overrulingWideMatch(cloud, scan, guess, *match))
+		if (auto wide = withEvidence(graph, keyframes, scan,
+									 overrulingWideMatch(cloud, scan, guess, *match)))
 			match = std::move(wide), reg.wideSearch = true;
 	}
 	m_lastAccepted.reset();
@@ -245,6 +286,43 @@ std::optional<TRegistration> CLocalRegistration::stillRegistration(
 	reg.cov = rotateCovariance(m_lastAccepted->cov, nodeInMap.phi);
 	reg.matched = true;
 	return reg;
+}
+
+// The odometry read since the last scan that followed it says otherwise than the prediction
+// (an odometry glitch of one reading, a turn the jump test took for a jump: MotionPredictor.h),
+// and a match from there agrees with that odometry: it places the scan, as a plain match on
+// its prior would.
+TRegistration CLocalRegistration::placedByAlternative(TRegistration reg,
+													  const TScanMatch& match,
+													  const TPose2D& newestInMap,
+													  const TMotionPrediction& prediction)
+{
+	reg.alternativePrior = true;
+	m_lastAccepted.reset();
+	return placedByMatch(reg, match, newestInMap, followingAlternative(prediction));
+}
+
+std::optional<TScanMatch> CLocalRegistration::alternativeMatch(
+	const CReferenceCloud& cloud, const TScan2D& scan, const TPose2D& newestInMap,
+	const TPose2D& priorInMap, const TMotionPrediction& prediction)
+{
+	// (map <- last scan) = prior (+) motion^-1; the alternative from there, in the patch's
+	// frame.
+	const TPose2D lastInMap = compose(priorInMap, inverse(prediction.motion));
+	const TPose2D guess =
+		between(newestInMap, compose(lastInMap, prediction.alternative->motion));
+	// Only an alternative that turns the robot otherwise, as a glitch or a refused turn does
+	// (kSecondOpinionTurn): one that differs by a slip along a corridor, which a match from
+	// either prior confirms, placed ACES's scans by the odometry they had rejected (local
+	// registration alone 0.121 -> 0.179 m with every distinct alternative).
+	if (std::abs(mrpt::math::wrapToPi(guess.phi - between(newestInMap, priorInMap).phi)) <=
+		kSecondOpinionTurn)
+		return std::nullopt;
+	auto m = m_matcher.match(cloud, scan, guess);
+	if (!m || disagreementChi2(guess, m->scanInRef, prediction.alternative->cov + m->cov) >
+				  m_params.glitch_gate_chi2)
+		return std::nullopt;
+	return m;
 }
 
 std::optional<TScanMatch> CLocalRegistration::overrulingWideMatch(const CReferenceCloud& cloud,
@@ -293,6 +371,29 @@ std::optional<TScanMatch> CLocalRegistration::wideMatch(const CReferenceCloud& c
 		[this](size_t n, const std::function<void(size_t)>& fn) { parallelFor(n, fn); }, step);
 }
 
+// Two keyframes no scan match placed: their scans' match may not overrule the odometry between
+// them (an unmatched scan never bends the map, issue 28 item 3). The guess is their relative
+// pose as the odometry placed them.
+bool CLocalRegistration::overrulesOdometry(size_t newNode, size_t node, const TPose2D& guess,
+										   const TScanMatch& match,
+										   const TLink& odometryLink) const
+{
+	return isUnplaced(newNode) && isUnplaced(node) &&
+		   disagreementChi2(guess, match.scanInRef,
+							odometryLink.information.inverse() + match.cov) >
+			   m_params.glitch_gate_chi2;
+}
+
+// A disputed keyframe leaves the window: one of the two odometry readings is off, and a
+// one-reading glitch puts the older keyframe off (its step and the next read wrong, their sum
+// right); left in the patch, its scan where it is not would refuse every later match (free
+// space). If the newer reading was the glitch, the next keyframe disputes it in turn.
+void CLocalRegistration::leaveWindow(size_t node)
+{
+	m_window.erase(std::find(m_window.begin(), m_window.end(), node));
+	m_unplaced.erase(std::find(m_unplaced.begin(), m_unplaced.end(), node));
+}
+
 size_t CLocalRegistration::linkAndOptimize(CPoseGraph& graph, const TKeyframes& keyframes,
 										   const TLink& odometryLink)
 {
@@ -337,16 +438,23 @@ size_t CLocalRegistration::linkAndOptimize(CPoseGraph& graph, const TKeyframes& 
 		++added;
 	}
 	m_lastPatchMatch.reset();
+	std::vector<size_t> disputed;
 	for (size_t l = 0; l < links; ++l)
 	{
 		const auto& m = matches[l];
 		if (!confirms(m)) continue;
+		if (overrulesOdometry(newNode, nodes[l], guesses[l], *m, odometryLink))
+		{
+			disputed.push_back(nodes[l]);
+			continue;
+		}
 		graph.addLink(
 			{nodes[l], newNode, m->scanInRef,
 			 linkInformation(m->cov, m_params.link_noise, double(links) / pairwiseWeight),
 			 LinkType::ScanMatch});
 		++added;
 	}
+	for (const size_t node : disputed) leaveWindow(node);
 	// Node 0 anchors the map frame (gauge): it never moves; nor do keyframes the robot came
 	// back to (the map's), nor any node older than the last of those.
 	std::vector<size_t> freeNodes;

@@ -26,6 +26,15 @@
  * on a step nothing made suspect (the wheels moved) is retried by the same search over the
  * heading the odometry's error may span (retriedMatch), with the same evidence and a winner
  * that turns more than half a start step from the prior; else the prior stands.
+ * An unmatched scan never bends the map (issue 28 item 3): a keyframe no scan match placed
+ * (its prior kept) is no evidence. The wide search's winner, where such a keyframe is in the
+ * window, must hold against the patch of the others too (a plain match from it there lands in
+ * its basin): in the room world a glitched scan kept its prior 80 deg off, became a keyframe,
+ * and the next scan's wide search won on that keyframe's own points, taking every later scan
+ * 75 deg off with it. And two such keyframes' pairwise match may not overrule the odometry
+ * between them; the older leaves the window (a one-reading glitch puts it off, and left in the
+ * patch its scan refuses every later match). Where a scan was placed off its odometry, the
+ * next scans may follow the odometry since the last that was not (MotionPredictor.h).
  *
  * Cost per keyframe: one patch build, at most `max_pairwise_links` pairwise matches against
  * reference clouds cached per window keyframe, and a window solve; none depends on the map
@@ -73,6 +82,10 @@ struct TRegistration
 	bool matched = false;  //!< false: no acceptable match, the prior was kept
 	bool odometryRejected = false;  //!< the match disagrees with the prior beyond the gate
 	bool wideSearch = false;        //!< the match came from the wide rotational search
+	/** Matched from the prediction's alternative (TMotionPrediction::alternative), within its
+	 * gate: the scan followed that odometry (followingAlternative) rather than the prediction.
+	 */
+	bool alternativePrior = false;
 };
 
 /** A keyframe's patch link that no pairwise match confirmed, where the scan's returns are
@@ -114,7 +127,8 @@ public:
 	 * A new keyframe (just added to the graph), or with `reused` an existing one it came back
 	 * to: the window solve then holds every node older than the graph's newest fixed (they
 	 * belong to the map, and the grid's settled part stays settled). */
-	void enterKeyframe(size_t node, bool reused, const CPoseGraph& graph);
+	void enterKeyframe(size_t node, bool reused, const CPoseGraph& graph,
+					   bool placedByMatch = true);
 
 	/** The keyframe the window is anchored at (its newest entry); none before the first. */
 	std::optional<size_t> anchor() const
@@ -141,6 +155,7 @@ public:
 	void setWindowStart(size_t first, bool holdFirst = false)
 	{
 		m_window.clear();
+		m_unplaced.clear();
 		m_firstFree = holdFirst ? first + 1 : first;
 		m_cloudNewest.reset();
 		m_keyframeClouds.clear();
@@ -228,6 +243,18 @@ private:
 		const std::vector<mrpt::math::TPose2D>& guesses);
 	/** fn(i) for every i in [0, n), by this thread and the helper together (TParallelFor). */
 	void parallelFor(size_t n, const std::function<void(size_t)>& fn);
+	/** The plain match from the prediction's alternative (priorInMap: the prediction's), if
+	 * that is a distinct hypothesis and the match agrees with it within glitch_gate_chi2. */
+	std::optional<TScanMatch> alternativeMatch(const CReferenceCloud& cloud,
+											   const TScan2D& scan,
+											   const mrpt::math::TPose2D& newestInMap,
+											   const mrpt::math::TPose2D& priorInMap,
+											   const TMotionPrediction& prediction);
+	/** placedByMatch from the alternative's match, the scan following it (reg.alternativePrior,
+	 * followingAlternative). */
+	TRegistration placedByAlternative(TRegistration reg, const TScanMatch& match,
+									  const mrpt::math::TPose2D& newestInMap,
+									  const TMotionPrediction& prediction);
 	/** The wide search's second opinion on a suspect step's plain match that agrees with the
 	 * prior: its winner if it overrules the match (a distinct pose), else nullopt. */
 	std::optional<TScanMatch> overrulingWideMatch(const CReferenceCloud& cloud,
@@ -278,7 +305,28 @@ private:
 								const mrpt::math::TPose2D& newestInMap,
 								const TMotionPrediction& prediction);
 
-	CReferenceCloud m_cloud;              //!< window patch in the frame of node *m_cloudNewest
+	CReferenceCloud m_cloud;  //!< window patch in the frame of node *m_cloudNewest
+	/** The window's keyframes no scan match placed (enterKeyframe). */
+	std::vector<size_t> m_unplaced;
+	/** `wide` (a wide search's winner against the window's patch) if every window keyframe
+	 * was placed by a scan match, or if the patch of those that were holds it too (a plain
+	 * match from it there lands in its basin); else nullopt. */
+	std::optional<TScanMatch> withEvidence(const CPoseGraph& graph, const TKeyframes& keyframes,
+										   const TScan2D& scan, std::optional<TScanMatch> wide);
+	/** The pairwise match of keyframe newNode against window keyframe `node` from `guess`
+	 * contradicts the odometry (odometryLink's covariance) where neither was placed by a scan
+	 * match: not linked, and `node` leaves the window (leaveWindow). */
+	bool overrulesOdometry(size_t newNode, size_t node, const mrpt::math::TPose2D& guess,
+						   const TScanMatch& match, const TLink& odometryLink) const;
+	void leaveWindow(size_t node);
+	bool isUnplaced(size_t node) const
+	{
+		return std::find(m_unplaced.begin(), m_unplaced.end(), node) != m_unplaced.end();
+	}
+	bool inWindow(size_t node) const
+	{
+		return std::find(m_window.begin(), m_window.end(), node) != m_window.end();
+	}
 	std::optional<size_t> m_cloudNewest;  //!< reset whenever the window or its poses change
 	std::deque<size_t> m_window;  //!< the last K distinct keyframes entered, oldest first
 	size_t m_firstFree = 0;  //!< the window solve moves only nodes >= this (and never node 0)

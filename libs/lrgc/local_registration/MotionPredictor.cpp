@@ -6,6 +6,7 @@
 
 #include <mrpt/config/CConfigFileBase.h>
 #include <mrpt/core/bits_math.h>
+#include <mrpt/core/exceptions.h>
 #include <mrpt/system/datetime.h>
 
 #include <algorithm>
@@ -50,6 +51,7 @@ TMotionPrediction CMotionPredictor::predict(mrpt::Clock::time_point t) const
 			pred.motion = step;
 			pred.cov = odometryCov(pred.motion);
 			pred.fromOdometry = true;
+			pred.alternative = alternative(pred);
 			return pred;
 		}
 		pred.odometryJump = true;  // the odometry's frame changed: constant velocity below
@@ -67,7 +69,35 @@ TMotionPrediction CMotionPredictor::predict(mrpt::Clock::time_point t) const
 	}
 	pred.motion = {ratio * m_lastMotion.x, ratio * m_lastMotion.y, ratio * m_lastMotion.phi};
 	pred.cov = constantVelocityCov();
+	if (pred.odometryJump) pred.alternative = alternative(pred);
 	return pred;
+}
+
+std::optional<TOdometryAlternative> CMotionPredictor::alternative(
+	const TMotionPrediction& pred) const
+{
+	// Only where the last scan did not follow its odometry, or this step jumped; and not once
+	// the scan that did lies kAlternativeScans back (a lasting offset of the odometry, a wheel
+	// slip, is the prediction's case: the steps after it are right).
+	if (!m_odomNow || !m_odomAtAgreed || m_scansSinceAgreed > kAlternativeScans ||
+		(m_scansSinceAgreed == 0 && !pred.odometryJump))
+		return std::nullopt;
+	// (last <- new) = (agreed <- last)^-1 (+) (agreed <- new), the latter by the odometry.
+	const mrpt::math::TPose2D odometry = between(*m_odomAtAgreed, *m_odomNow);
+	return TOdometryAlternative{between(m_sinceAgreed, odometry), odometryCov(odometry)};
+}
+
+TMotionPrediction followingAlternative(const TMotionPrediction& p)
+{
+	ASSERT_(p.alternative.has_value());
+	TMotionPrediction q = p;
+	q.motion = p.alternative->motion;
+	q.cov = p.alternative->cov;
+	q.fromOdometry = true;
+	q.odometryJump = false;
+	q.odometryStep = mrpt::math::TPose2D(0, 0, 0);
+	q.alternative.reset();
+	return q;
 }
 
 bool CMotionPredictor::isJump(const mrpt::math::TPose2D& step, double dt) const
@@ -107,8 +137,20 @@ bool CMotionPredictor::clockJittered() const
 }
 
 void CMotionPredictor::commitScan(mrpt::Clock::time_point t,
-								  const mrpt::math::TPose2D& estimatedMotion)
+								  const mrpt::math::TPose2D& estimatedMotion,
+								  bool followedOdometry)
 {
+	if (m_odomNow && followedOdometry)
+	{
+		m_odomAtAgreed = m_odomNow;
+		m_sinceAgreed = mrpt::math::TPose2D(0, 0, 0);
+		m_scansSinceAgreed = 0;
+	}
+	else if (m_odomAtAgreed)
+	{
+		m_sinceAgreed = compose(m_sinceAgreed, estimatedMotion);
+		++m_scansSinceAgreed;
+	}
 	if (m_lastScanTime)
 	{
 		m_recentSteps.push_back(mrpt::system::timeDifference(*m_lastScanTime, t));

@@ -26,6 +26,22 @@
  * there. The largest steps between two scans of the benchmark logs are 0.95 m and 61 deg
  * (MIT-CSAIL, ACES), and the glitch search covers turns up to 90 deg.
  *
+ * A one-reading glitch (the odometry of one pose reads tens of degrees more turn, the next
+ * reading right again; or a step turning faster than the jump test allows, a sparse log's
+ * turn in place between two scans) leaves that scan placed off its odometry: by the jump's
+ * constant-velocity prior or by a wide search that overruled it; an unmatched jump keeps the
+ * constant-velocity pose, up to 135 deg off. The next step's odometry then undoes the glitch
+ * (or counts from the "new frame"), and composed onto the misplaced scan it predicts the next
+ * scan just as far off: its match then fails, or the wide search settles on a rotated twin of
+ * the place, and every later scan follows (the room world, a 135-175 deg turn in one step with
+ * a one-pose glitch of 40-120 deg: 20 of 48 runs ended with every later scan 40-180 deg off).
+ * So after a scan not placed where its odometry said, and at a jump, the prediction carries an
+ * alternative: the odometry read since the last scan that was, composed onto that scan's
+ * estimated pose and expressed from the last scan, with that odometry's noise. It is the
+ * prediction itself when the odometry came back (one glitched reading) and is offered for
+ * kAlternativeScans scans; the registration tries it when the prediction's match fails or
+ * contradicts it (CLocalRegistration::registerScan).
+ *
  * Constant velocity (no odometry): the last step's motion d_last over its interval dt_last,
  * times this scan's interval dt: d = d_last * dt / dt_last (bridges dropped scans and
  * irregular logging, ACES: 0.07-0.32 s). Only on a regular scan clock: logged timestamps can
@@ -49,6 +65,14 @@
 
 namespace lrgc
 {
+/** The odometry since the last scan placed in agreement with it (see the file comment), as a
+ * second hypothesis for a scan's motion. */
+struct TOdometryAlternative
+{
+	mrpt::math::TPose2D motion;  //!< (lastScan <- newScan) in the last scan's robot frame
+	Eigen::Matrix3d cov;         //!< of motion: odometryCov of the odometry it spans
+};
+
 struct TMotionPrediction
 {
 	mrpt::math::TPose2D motion;  //!< (lastScan <- newScan) in the last scan's robot frame
@@ -59,7 +83,14 @@ struct TMotionPrediction
 	bool odometryJump = false;
 	mrpt::math::TPose2D odometryStep{0, 0, 0};  //!< the odometry's step, where it jumped
 	double stepSeconds = 0;  //!< time since the last committed scan [s] (0 if unknown)
+	/** Where the last scan was not placed where its odometry said (an odometry jump, a wide
+	 * search overruling it) or this step is a jump: the odometry read since the last scan
+	 * that was (see the file comment). */
+	std::optional<TOdometryAlternative> alternative;
 };
+
+/** `p` with its alternative taken as the prediction: odometry, no jump, no alternative. */
+TMotionPrediction followingAlternative(const TMotionPrediction& p);
 
 class CMotionPredictor
 {
@@ -75,8 +106,12 @@ public:
 	TMotionPrediction predict(mrpt::Clock::time_point t) const;
 
 	/** The scan at time t was placed; `estimatedMotion` is (lastScan <- scan) as estimated.
-	 * Odometry read so far now counts from this scan. */
-	void commitScan(mrpt::Clock::time_point t, const mrpt::math::TPose2D& estimatedMotion);
+	 * Odometry read so far now counts from this scan. `followedOdometry`: the scan was placed
+	 * where its odometry prior said, matched within the prior's gate or unmatched on it (not
+	 * on a jump's constant-velocity prior, not overruled by a scan match); the next scans'
+	 * alternative counts from the last such scan. */
+	void commitScan(mrpt::Clock::time_point t, const mrpt::math::TPose2D& estimatedMotion,
+					bool followedOdometry = true);
 
 	bool hasOdometry() const { return m_odomNow.has_value(); }
 	/** The latest odometry pose (odom <- robot), nullopt before any odometry. */
@@ -100,6 +135,15 @@ private:
 	std::optional<mrpt::math::TPose2D> m_odomAtScan;  //!< (odom <- robot) at the last scan
 	std::optional<mrpt::Clock::time_point> m_lastScanTime;
 	mrpt::math::TPose2D m_lastMotion{0, 0, 0};  //!< estimated motion of the last step
+	/** (odom <- robot) at the last scan that followed its odometry (commitScan). */
+	std::optional<mrpt::math::TPose2D> m_odomAtAgreed;
+	/** (that scan <- last scan), as estimated, and the scans committed since it. */
+	mrpt::math::TPose2D m_sinceAgreed{0, 0, 0};
+	size_t m_scansSinceAgreed = 0;
+	/** The alternative is offered up to this many scans after the last that followed its
+	 * odometry (file comment). */
+	static constexpr size_t kAlternativeScans = 2;
+	std::optional<TOdometryAlternative> alternative(const TMotionPrediction& pred) const;
 	std::deque<double> m_recentSteps;  //!< the last kClockSteps scan intervals [s], any sign
 	static constexpr size_t kClockSteps = 50;
 	/** Odometry jump thresholds (file comment): [m], [m/s], [rad], [rad/s]. */

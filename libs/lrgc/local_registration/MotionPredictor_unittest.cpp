@@ -188,3 +188,38 @@ TEST(MotionPredictor, largeButPossibleStepsAreOdometry)
 		EXPECT_NEAR(p.motion.x, step.x, 1e-9);
 	}
 }
+
+// A one-reading glitch: the odometry of one scan reads 80 deg more turn, the scan is placed
+// off it (a wide search found the truth, 5 deg), and the next reading is right again (-75 deg
+// from the glitched one). The prediction is that -75 deg step from the scan as placed; the
+// alternative, the odometry since the last scan that followed it (10 deg in all), expressed
+// from the scan as placed: +5 deg. None while every scan follows its odometry, none once the
+// last that did lies more than two scans back.
+TEST(MotionPredictor, aScanPlacedOffItsOdometryLeavesTheOdometrySinceTheLastThatWasNot)
+{
+	CMotionPredictor predictor;
+	TPose2D odom(5.0, -3.0, 1.0);
+	for (int k = 0; k < 5; ++k)
+	{
+		odom = compose(odom, TPose2D(0.1, 0, 0));
+		predictor.addOdometryAbsolute(odom);
+		EXPECT_FALSE(predictor.predict(at(0.2 * k)).alternative.has_value());
+		predictor.commitScan(at(0.2 * k), TPose2D(0.1, 0, 0));
+	}
+	const TPose2D trueTurn(0, 0, mrpt::DEG2RAD(5));
+	predictor.addOdometryAbsolute(compose(odom, TPose2D(0, 0, mrpt::DEG2RAD(85))));
+	predictor.commitScan(at(1.0), trueTurn, false);  // placed off its odometry
+	odom = compose(odom, TPose2D(0, 0, mrpt::DEG2RAD(10)));
+	predictor.addOdometryAbsolute(odom);
+	const auto p = predictor.predict(at(1.2));
+	EXPECT_TRUE(p.fromOdometry);
+	EXPECT_NEAR(p.motion.phi, mrpt::DEG2RAD(-75), 1e-9);
+	ASSERT_TRUE(p.alternative.has_value());
+	EXPECT_NEAR(p.alternative->motion.phi, mrpt::DEG2RAD(5), 1e-9);
+	EXPECT_NEAR(p.alternative->cov(2, 2),
+				predictor.odometryCov(TPose2D(0, 0, 0.1745)).coeff(2, 2), 1e-4);
+	predictor.commitScan(at(1.2), trueTurn, false);  // two scans off their odometry
+	EXPECT_TRUE(predictor.predict(at(1.4)).alternative.has_value());
+	predictor.commitScan(at(1.4), trueTurn, false);  // three
+	EXPECT_FALSE(predictor.predict(at(1.6)).alternative.has_value());
+}

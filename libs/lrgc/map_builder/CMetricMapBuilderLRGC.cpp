@@ -72,8 +72,11 @@ void CMetricMapBuilderLRGC::processScan(const mrpt::obs::CObservation2DRangeScan
 	std::optional<TScan2D> scan = convertScan(*laser, sweep);
 	if (!scan) return;  // too few returns: skipped, with a warning
 	const TRegistration reg = registerLocally(*scan, prediction);
-	followRobot(*laser, *scan, prediction, sweep, reg);
-	recordRegistration(*laser, prediction, reg);
+	// Placed by the odometry's alternative (MotionPredictor.h): the scan followed that.
+	const TMotionPrediction followed =
+		reg.alternativePrior ? followingAlternative(prediction) : prediction;
+	followRobot(*laser, *scan, followed, sweep, reg);
+	recordRegistration(*laser, followed, reg);
 	CCpuTimer placement(m_stats.placementCpuSeconds);
 	placeScan(laser, observations, std::move(*scan), reg, m_stats.scans++);
 	m_metricMapDirty = true;
@@ -112,11 +115,17 @@ TRegistration CMetricMapBuilderLRGC::registerLocally(const TScan2D& scan,
 		m_lastScanInMap = m_predictor->odometryNow().value_or(TPose2D(0, 0, 0));
 		m_nextScanPrior = m_lastScanInMap;
 	}
+	const bool given = m_nextScanPrior || m_scans.empty();
 	const TPose2D priorInMap = m_nextScanPrior   ? *m_nextScanPrior
 							   : m_scans.empty() ? TPose2D(0, 0, 0)
 												 : compose(m_lastScanInMap, prediction.motion);
 	m_nextScanPrior.reset();
-	return m_local->registerScan(m_graph, m_keyframes, scan, priorInMap, prediction);
+	if (!given || !prediction.alternative)
+		return m_local->registerScan(m_graph, m_keyframes, scan, priorInMap, prediction);
+	// A given prior is not the last scan's pose composed with the motion: no alternative.
+	TMotionPrediction withoutAlternative = prediction;
+	withoutAlternative.alternative.reset();
+	return m_local->registerScan(m_graph, m_keyframes, scan, priorInMap, withoutAlternative);
 }
 
 // The robot moved to the registered pose: the motion model, the sweep estimator and the
@@ -136,7 +145,8 @@ void CMetricMapBuilderLRGC::followRobot(const mrpt::obs::CObservation2DRangeScan
 	const TPose2D step = between(m_lastScanInMap, reg.scanInMap);
 	m_pathSinceKeyframe += translationNorm(step);
 	m_turnSinceKeyframe += std::abs(step.phi);
-	m_predictor->commitScan(laser.timestamp, step);
+	m_predictor->commitScan(laser.timestamp, step,
+							prediction.fromOdometry && !reg.odometryRejected);
 	const double dt = stepSeconds(prediction);
 	m_sweep->observe(laser, scan, dt > 0 ? prediction.motion.phi / dt : 0.0, sweep.phi, step,
 					 reg.matched);
@@ -226,9 +236,13 @@ void CMetricMapBuilderLRGC::enterNewKeyframe(
 	size_t scanIndex)
 {
 	const std::optional<size_t> previous = m_local->anchor();
+	// A keyframe linked to the window that no scan match placed (its prior kept): no evidence
+	// for the wide search (LocalRegistration.h).
+	const bool placedByMatch =
+		reg.matched || !previous || m_pieceStartPending || m_sessionStartCov;
 	const size_t node =
 		addKeyframe(laser, observations, std::move(scan), reg.scanInMap, scanIndex);
-	m_local->enterKeyframe(node, false, m_graph);
+	m_local->enterKeyframe(node, false, m_graph, placedByMatch);
 	if (m_pieceStartPending)
 		m_pieceStartPending = false;  // a piece's first keyframe: linked to nothing
 	else if (m_sessionStartCov)
