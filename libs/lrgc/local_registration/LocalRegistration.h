@@ -25,7 +25,10 @@
  * walking by, a rotationally ambiguous place), and the prior is kept. A plain match that fails
  * on a step nothing made suspect (the wheels moved) is retried by the same search over the
  * heading the odometry's error may span (retriedMatch), with the same evidence and a winner
- * that turns more than half a start step from the prior; else the prior stands.
+ * that turns more than half a start step from the prior; else the prior stands. A plain
+ * match that is a loose fit (its residual scale kept the gate wide: the robot turning into
+ * ground the window has not seen) is refitted with the inlier gate first
+ * (CScanMatcher::refitLoose).
  *
  * Cost per keyframe: one patch build, at most `max_pairwise_links` pairwise matches against
  * reference clouds cached per window keyframe, and a window solve; none depends on the map
