@@ -189,6 +189,11 @@ TRegistration CLocalRegistration::registerScan(const CPoseGraph& graph,
 	auto disagreement = [&](const TScanMatch& m)
 	{ return disagreementChi2(guess, m.scanInRef, priorCov + m.cov); };
 	std::optional<TScanMatch> match = m_matcher.match(cloud, scan, guess);
+	// A loose fit against the patch (the robot turning into ground the window has not seen)
+	// is refitted with the inlier gate (CScanMatcher::refitLoose): a compromise between the
+	// unseen part and the shared walls would be confirmed by the pairwise matches started
+	// from it (sparse MIT-CSAIL 334 -> 335: patch and pairwise links both 6 deg off).
+	if (match) match = m_matcher.refitLoose(cloud, scan, *match);
 	const bool disagrees = match && disagreement(*match) > m_params.glitch_gate_chi2;
 	// The prediction's match failed or contradicts it: the odometry's alternative, if any.
 	if ((!match || disagrees) && prediction.alternative)

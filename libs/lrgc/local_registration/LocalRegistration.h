@@ -25,7 +25,10 @@
  * walking by, a rotationally ambiguous place), and the prior is kept. A plain match that fails
  * on a step nothing made suspect (the wheels moved) is retried by the same search over the
  * heading the odometry's error may span (retriedMatch), with the same evidence and a winner
- * that turns more than half a start step from the prior; else the prior stands.
+ * that turns more than half a start step from the prior; else the prior stands. A plain
+ * match that is a loose fit (its residual scale kept the gate wide: the robot turning into
+ * ground the window has not seen) is refitted with the inlier gate first
+ * (CScanMatcher::refitLoose).
  * An unmatched scan never bends the map (issue 28 item 3): a keyframe no scan match placed
  * (its prior kept) is no evidence. The wide search's winner, where such a keyframe is in the
  * window, must hold against the patch of the others too (a plain match from it there lands in

@@ -315,3 +315,44 @@ TEST(ScanMatcher, saysNoMatchInsteadOfReturningTheGuess)
 		CReferenceCloud::fromScan(simulateScan(room, TPose2D(5, 3, 0), laser, rng), params),
 		TScan2D{}, {}));
 }
+
+// CScanMatcher::refitLoose: a loose fit (residual scale that kept the gate at its start) of a
+// scan that shares an L corner with the reference and sees new ground besides is refitted
+// onto the corner; a fit that is not loose, or whose refit explains no more, is kept.
+TEST(ScanMatcher, refitLooseMovesACompromiseOntoTheSharedWalls)
+{
+	const TScanMatcherParams params;
+	const CScanMatcher matcher(params);
+	auto wall = [](std::vector<Eigen::Vector2d>& out, Eigen::Vector2d a, Eigen::Vector2d b)
+	{
+		const int n = static_cast<int>((b - a).norm() / 0.02);
+		for (int i = 0; i <= n; ++i) out.push_back(a + (b - a) * (double(i) / n));
+	};
+	std::vector<Eigen::Vector2d> refPts;
+	wall(refPts, {0, 0}, {4, 0});
+	wall(refPts, {4, 0}, {4, 3});
+	const CReferenceCloud ref(refPts, params);
+	TScan2D scan;  // at the reference's origin: the corner, and a wall the reference lacks
+	wall(scan.points, {2, 0}, {4, 0});
+	wall(scan.points, {4, 0}, {4, 3});
+	wall(scan.points, {1, 1.5}, {1, 4});
+	// A compromise 3 deg and 0.28 m off, loose: s = 0.06 m keeps the 0.5 m gate open.
+	TScanMatch loose;
+	loose.scanInRef = TPose2D(0.2, -0.2, 3 * kDeg);
+	loose.residualStd = 0.06;
+	const TScanMatch refit = matcher.refitLoose(ref, scan, loose);
+	EXPECT_LT(poseError(refit.scanInRef, TPose2D(0, 0, 0)).head<2>().norm(), 0.005);
+	EXPECT_LT(std::abs(refit.scanInRef.phi), 0.1 * kDeg);
+	EXPECT_GT(matcher.explainedFraction(ref, scan, refit.scanInRef),
+			  matcher.explainedFraction(ref, scan, loose.scanInRef) + 0.05);
+	// Not loose (4 * 2.385 * 0.03 m < 0.5 m): kept as it is.
+	TScanMatch tight = loose;
+	tight.residualStd = 0.03;
+	EXPECT_EQ(poseError(matcher.refitLoose(ref, scan, tight).scanInRef, tight.scanInRef).norm(),
+			  0.0);
+	// Loose, but already where the refit lands (it explains no more): kept.
+	TScanMatch right = loose;
+	right.scanInRef = TPose2D(0, 0, 0);
+	EXPECT_EQ(poseError(matcher.refitLoose(ref, scan, right).scanInRef, right.scanInRef).norm(),
+			  0.0);
+}

@@ -1,6 +1,7 @@
 /* Shared by CScanMatcher's unit tests on the synthetic world (ScanMatcher_unittest.cpp:
- * accuracy, consistency, corridors, outliers, rejection; ScanMatcher_wide_unittest.cpp: the
- * wide search): pose errors, perturbed guesses and pose pairs in a room world. */
+ * accuracy, consistency, corridors, outliers, rejection, a loose fit refitted;
+ * ScanMatcher_wide_unittest.cpp: the wide search): pose errors, perturbed guesses and pose
+ * pairs in a room world. */
 #pragma once
 
 #include <lrgc/common/se2.h>
