@@ -170,6 +170,19 @@ void CLocalRegistration::resizeWindowFor(const TMotionPrediction& prediction)
 	m_cloudNewest.reset();
 }
 
+// A loose fit against the patch (the robot turning into ground the window has not seen) is
+// refitted with the inlier gate (CScanMatcher::refitLoose): a compromise between the unseen
+// part and the shared walls would be confirmed by the pairwise matches started from it (sparse
+// MIT-CSAIL 334 -> 335: patch and pairwise links both 6 deg off).
+std::optional<TScanMatch> CLocalRegistration::plainMatch(const CReferenceCloud& cloud,
+														 const TScan2D& scan,
+														 const TPose2D& guess)
+{
+	std::optional<TScanMatch> match = m_matcher.match(cloud, scan, guess);
+	if (match) match = m_matcher.refitLoose(cloud, scan, *match);
+	return match;
+}
+
 TRegistration CLocalRegistration::registerScan(const CPoseGraph& graph,
 											   const TKeyframes& keyframes, const TScan2D& scan,
 											   const mrpt::math::TPose2D& priorInMap,
@@ -188,12 +201,7 @@ TRegistration CLocalRegistration::registerScan(const CPoseGraph& graph,
 	// Squared Mahalanobis distance between the prior and a match, 3 dof.
 	auto disagreement = [&](const TScanMatch& m)
 	{ return disagreementChi2(guess, m.scanInRef, priorCov + m.cov); };
-	std::optional<TScanMatch> match = m_matcher.match(cloud, scan, guess);
-	// A loose fit against the patch (the robot turning into ground the window has not seen)
-	// is refitted with the inlier gate (CScanMatcher::refitLoose): a compromise between the
-	// unseen part and the shared walls would be confirmed by the pairwise matches started
-	// from it (sparse MIT-CSAIL 334 -> 335: patch and pairwise links both 6 deg off).
-	if (match) match = m_matcher.refitLoose(cloud, scan, *match);
+	std::optional<TScanMatch> match = plainMatch(cloud, scan, guess);
 	const bool disagrees = match && disagreement(*match) > m_params.glitch_gate_chi2;
 	// The prediction's match failed or contradicts it: the odometry's alternative, if any.
 	if ((!match || disagrees) && prediction.alternative)

@@ -264,6 +264,10 @@ private:
 												  const TScan2D& scan,
 												  const mrpt::math::TPose2D& guess,
 												  const TScanMatch& plain);
+	/** The scan matched from `guess` (newest keyframe <- scan), a loose fit refitted
+	 * (CScanMatcher::refitLoose); nullopt if the match fails. */
+	std::optional<TScanMatch> plainMatch(const CReferenceCloud& cloud, const TScan2D& scan,
+										 const mrpt::math::TPose2D& guess);
 	/** A failed plain match retried (registerScan): matchWide over the heading the
 	 * odometry's error may span, kRetryAngle, or kRetryTurnAngle for a step turning more than
 	 * kRetryTurn, with starts kRetryStep apart (LocalRegistration.cpp); nullopt unless the
