@@ -287,7 +287,6 @@ TRegistration CLocalRegistration::placedByAlternative(TRegistration reg,
 													  const TMotionPrediction& prediction)
 {
 	reg.alternativePrior = true;
-	m_lastAccepted.reset();
 	return placedByMatch(reg, match, newestInMap, followingAlternative(prediction));
 }
 

@@ -247,7 +247,8 @@ private:
 	/** fn(i) for every i in [0, n), by this thread and the helper together (TParallelFor). */
 	void parallelFor(size_t n, const std::function<void(size_t)>& fn);
 	/** The plain match from the prediction's alternative (priorInMap: the prediction's), if
-	 * that is a distinct hypothesis and the match agrees with it within glitch_gate_chi2. */
+	 * that turns the robot otherwise than the prediction by more than glitch_min_turn and the
+	 * match agrees with it within glitch_gate_chi2. */
 	std::optional<TScanMatch> alternativeMatch(const CReferenceCloud& cloud,
 											   const TScan2D& scan,
 											   const mrpt::math::TPose2D& newestInMap,

@@ -40,7 +40,8 @@
  * estimated pose and expressed from the last scan, with that odometry's noise. It is the
  * prediction itself when the odometry came back (one glitched reading) and is offered for
  * kAlternativeScans scans; the registration tries it when the prediction's match fails or
- * contradicts it (CLocalRegistration::registerScan).
+ * contradicts it and the alternative turns the robot otherwise by more than glitch_min_turn
+ * (CLocalRegistration::registerScan).
  *
  * Constant velocity (no odometry): the last step's motion d_last over its interval dt_last,
  * times this scan's interval dt: d = d_last * dt / dt_last (bridges dropped scans and

@@ -115,17 +115,14 @@ TRegistration CMetricMapBuilderLRGC::registerLocally(const TScan2D& scan,
 		m_lastScanInMap = m_predictor->odometryNow().value_or(TPose2D(0, 0, 0));
 		m_nextScanPrior = m_lastScanInMap;
 	}
-	const bool given = m_nextScanPrior || m_scans.empty();
+	TMotionPrediction forScan = prediction;
+	// A given prior is not the last scan's pose composed with the motion: no alternative.
+	if (m_nextScanPrior || m_scans.empty()) forScan.alternative.reset();
 	const TPose2D priorInMap = m_nextScanPrior   ? *m_nextScanPrior
 							   : m_scans.empty() ? TPose2D(0, 0, 0)
 												 : compose(m_lastScanInMap, prediction.motion);
 	m_nextScanPrior.reset();
-	if (!given || !prediction.alternative)
-		return m_local->registerScan(m_graph, m_keyframes, scan, priorInMap, prediction);
-	// A given prior is not the last scan's pose composed with the motion: no alternative.
-	TMotionPrediction withoutAlternative = prediction;
-	withoutAlternative.alternative.reset();
-	return m_local->registerScan(m_graph, m_keyframes, scan, priorInMap, withoutAlternative);
+	return m_local->registerScan(m_graph, m_keyframes, scan, priorInMap, forScan);
 }
 
 // The robot moved to the registered pose: the motion model, the sweep estimator and the

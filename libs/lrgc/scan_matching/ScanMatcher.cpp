@@ -188,8 +188,7 @@ CScanMatcher::CScanMatcher(const TScanMatcherParams& p) : m_params(p)
 std::optional<TScanMatch> CScanMatcher::match(const CReferenceCloud& ref, const TScan2D& scan,
 											  const mrpt::math::TPose2D& guess) const
 {
-	return matchPoints(ref, scan.points, guess, m_params.max_correspondence_dist_m, true,
-					   scan.rangeNoiseStd, scan.rangeImage);
+	return matchPoints(ref, scan.points, guess, m_params.max_correspondence_dist_m, &scan);
 }
 
 namespace
@@ -209,8 +208,7 @@ TScanMatch CScanMatcher::refitLoose(const CReferenceCloud& ref, const TScan2D& s
 	const double inlierGate = rmsGate(scan.rangeNoiseStd);
 	// Loose: the gate never shrank below its start (it shrinks to 4 c = 4 kCauchy s).
 	if (4 * kCauchy * m.residualStd < gate0 || inlierGate >= gate0) return m;
-	const auto refit = matchPoints(ref, scan.points, m.scanInRef, inlierGate, true,
-								   scan.rangeNoiseStd, scan.rangeImage);
+	const auto refit = matchPoints(ref, scan.points, m.scanInRef, inlierGate, &scan);
 	if (refit && explainedFraction(ref, scan, refit->scanInRef) >=
 					 explainedFraction(ref, scan, m.scanInRef) + kRefitLead)
 		return *refit;
@@ -222,25 +220,10 @@ double CScanMatcher::rmsGate(double scanNoiseStd) const
 	return std::max(m_params.max_rms_residual_m, 3 * scanNoiseStd);
 }
 
-namespace
-{
-/** CReferenceCloud::freeSpaceViolation of the scan points pts (range image `image`, null:
- * none yet) placed at scanInRef. */
-double violationOf(const CReferenceCloud& ref, const std::vector<Eigen::Vector2d>& pts,
-				   const std::shared_ptr<const CRangeImage>& image,
-				   const mrpt::math::TPose2D& scanInRef, double margin)
-{
-	TScan2D asScan;
-	asScan.points = pts;
-	asScan.rangeImage = image;
-	return ref.freeSpaceViolation(asScan, scanInRef, margin);
-}
-}  // namespace
-
-std::optional<TScanMatch> CScanMatcher::matchPoints(
-	const CReferenceCloud& ref, const std::vector<Eigen::Vector2d>& pts,
-	const mrpt::math::TPose2D& guess, double gate0, bool check, double scanNoiseStd,
-	const std::shared_ptr<const CRangeImage>& image) const
+std::optional<TScanMatch> CScanMatcher::matchPoints(const CReferenceCloud& ref,
+													const std::vector<Eigen::Vector2d>& pts,
+													const mrpt::math::TPose2D& guess,
+													double gate0, const TScan2D* checked) const
 {
 	const auto& P = m_params;
 	if (ref.empty() || pts.size() < static_cast<size_t>(P.min_inliers)) return std::nullopt;
@@ -296,17 +279,17 @@ std::optional<TScanMatch> CScanMatcher::matchPoints(
 	m.iterations = it;
 	m.unobservableDims = info.unobservable;
 	// Unchecked (matchWide's alternatives): the converged pose and its inliers, no verdict.
-	if (!check) return m;
+	if (!checked) return m;
 	if (inliers < static_cast<size_t>(P.min_inliers) ||
-		m.inlierFraction < P.min_inlier_fraction || m.rmsResidual > rmsGate(scanNoiseStd) ||
-		info.unobservable > 1)
+		m.inlierFraction < P.min_inlier_fraction ||
+		m.rmsResidual > rmsGate(checked->rangeNoiseStd) || info.unobservable > 1)
 		return std::nullopt;
 	// Free-space consistency: aligned scan points must not sit where the reference saw through
 	// (a violation is a share, never above 1: at max_free_space_violation 1 the check is off).
 	if (P.max_free_space_violation < 1)
 	{
 		m.freeSpaceViolation =
-			violationOf(ref, pts, image, m.scanInRef, std::max(0.1, 4 * scale));
+			ref.freeSpaceViolation(*checked, m.scanInRef, std::max(0.1, 4 * scale));
 		if (m.freeSpaceViolation > P.max_free_space_violation) return std::nullopt;
 	}
 	// Residuals of anchors closer than this share reference noise (the line fit neighbourhood
@@ -375,7 +358,7 @@ std::optional<TScanMatch> CScanMatcher::matchWide(
 		if (m_stop.stopRequested()) return;
 		mrpt::math::TPose2D g = guess;
 		g.phi = mrpt::math::wrapToPi(guess.phi + (static_cast<int>(i) - n) * step);
-		if (auto m = matchPoints(ref, sub, g, 2 * m_params.max_correspondence_dist_m, false))
+		if (auto m = matchPoints(ref, sub, g, 2 * m_params.max_correspondence_dist_m))
 			starts[i] = {explainedFractionOf(ref, sub, m->scanInRef, tol), m->scanInRef};
 	};
 	if (parallel)
@@ -395,13 +378,13 @@ std::optional<TScanMatch> CScanMatcher::matchWide(
 			return std::nullopt;
 	// Refine the winner with the whole scan, match()'s checks applying, and ask for a clear
 	// majority of the scan matched.
-	auto won = matchPoints(ref, scan.points, bestPose, m_params.max_correspondence_dist_m, true,
-						   scan.rangeNoiseStd, scan.rangeImage);
+	auto won =
+		matchPoints(ref, scan.points, bestPose, m_params.max_correspondence_dist_m, &scan);
 	if (!won || won->inlierFraction < m_params.wide_min_inlier_fraction) return std::nullopt;
 	// The guess's own hypothesis on the same footing (whole scan, plain gate, unchecked): the
 	// winner must explain clearly more of the scan than the guess's local optimum does.
 	if (const auto atGuess =
-			matchPoints(ref, scan.points, guess, m_params.max_correspondence_dist_m, false);
+			matchPoints(ref, scan.points, guess, m_params.max_correspondence_dist_m);
 		atGuess && distinct(won->scanInRef, atGuess->scanInRef) &&
 		explainedFractionOf(ref, scan.points, won->scanInRef, tol) -
 				explainedFractionOf(ref, scan.points, atGuess->scanInRef, tol) <

@@ -109,10 +109,15 @@ public:
 							 const mrpt::math::TPose2D& scanInRef) const;
 
 private:
-	std::optional<TScanMatch> matchPoints(
-		const CReferenceCloud& ref, const std::vector<Eigen::Vector2d>& pts,
-		const mrpt::math::TPose2D& guess, double initialGate, bool check = true,
-		double scanNoiseStd = 0, const std::shared_ptr<const CRangeImage>& image = {}) const;
+	/** Matches the points `pts` (scan frame) from `guess` with the gate starting at
+	 * `initialGate` [m]. `checked`: the scan `pts` are all the points of, whose match is to
+	 * pass match()'s checks (its range noise for the RMS gate, its range image for the
+	 * free-space check) and get its covariance; null: unchecked, the converged pose and its
+	 * inliers only (matchWide's starts on a subsample). */
+	std::optional<TScanMatch> matchPoints(const CReferenceCloud& ref,
+										  const std::vector<Eigen::Vector2d>& pts,
+										  const mrpt::math::TPose2D& guess, double initialGate,
+										  const TScan2D* checked = nullptr) const;
 	/** The inlier RMS gate for a scan of range noise `scanNoiseStd` [m] (TScan2D::
 	 * rangeNoiseStd): max(max_rms_residual_m, 3 scanNoiseStd). The point-to-line residual of
 	 * two such scans is ~sqrt(2) scanNoiseStd, inliers reaching 2.4x that (Cauchy c).
