@@ -266,6 +266,7 @@ TLinkCalibration linkCalibration(const std::vector<TAuditedLoopLink>& links)
 std::string calibrationReport(const TLoopRecall& r)
 {
 	const TLinkCalibration c = linkCalibration(r.loopLinks);
+	if (c.links == 0) return "loop-link calibration: no judged loop link\n";
 	const auto axis = [](const char* name, const TLinkCalibration::TAxis& a) {
 		return mrpt::format("%s %.2f / %.2f / %.0f %%", name, a.median, a.mean, 100 * a.over99);
 	};
