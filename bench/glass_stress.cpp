@@ -19,17 +19,22 @@
  *
  * Run: build/bin/glass_stress world=atrium laps=3 seeds="1 2 3" [odo=2] [bias=1] [glass=0.1]
  *      [dropout=0.3] [period=0.7] [step=0.4] [loops=1] [hall=12] [length=160] [width=100]
- *      [ini=params.ini] [places=1]
+ *      [ini=params.ini] [places=1] [links=1]
  * (odo: odometry noise, times the default model; bias: the odometry turns that many times the
  * true turn; glass: share of beams a pane returns; dropout: TLaserSimParams::maxRangeDropRate;
  * period [s] and step [m] between scans; ini: lrgc's parameters; places=1 lists the revisited
- * places left unclosed. Seed s: world seed s (atrium), trajectory seed 60 + s, laser seed s.)
+ * places left unclosed; links=1 lists the kept loop links whose chi2 by the truth is above
+ * 16.27 (their error and claimed stds along the weak and strong axes, loop_recall.h). Seed s:
+ * world seed s (atrium), trajectory seed 60 + s, laser seed s.)
  */
 #include <lrgc/common/se2.h>
 #include <lrgc_apps/eval/loop_recall.h>
 #include <lrgc_apps/eval/relation_metric.h>
 
 #include <mrpt/config/CConfigFile.h>
+
+#include <Eigen/Eigenvalues>
+#include <Eigen/LU>
 
 #include <chrono>
 #include <cstdio>
@@ -52,7 +57,7 @@ struct TOptions
 		{"world", "atrium"}, {"laps", "3"},    {"seeds", "1"},     {"odo", "2"},
 		{"bias", "1"},       {"glass", "0.1"}, {"dropout", "0.3"}, {"period", "0.7"},
 		{"step", "0.4"},     {"loops", "1"},   {"hall", "12"},     {"length", "160"},
-		{"width", "100"},    {"ini", ""},      {"places", "0"}};
+		{"width", "100"},    {"ini", ""},      {"places", "0"},    {"links", "0"}};
 	double num(const std::string& k) const { return std::stod(kv.at(k)); }
 };
 
@@ -127,6 +132,26 @@ std::vector<ev::TRelation> relations(const std::vector<TPose2D>& truth, double p
 	return rel;
 }
 
+/** Kept loop links whose chi2 by the truth exceeds 16.27: error and claimed stds along the
+ * weak and strong axes of their translation covariance, and heading. */
+void printOverconfidentLinks(const ev::TLoopRecall& recall, const CMetricMapBuilderLRGC& b)
+{
+	for (const auto& l : recall.loopLinks)
+	{
+		if (!l.judged || l.chi2 <= 16.27) continue;
+		const Eigen::Matrix3d C = l.information.inverse();
+		const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(C.topLeftCorner<2, 2>());
+		const Eigen::Vector2d e = l.error.head<2>();
+		std::printf(
+			"  link %zu -> %zu (scans %zu -> %zu): chi2 %.1f, weak axis %.3f m off (std %.3f), "
+			"strong %.3f m (std %.3f), heading %.2f deg (std %.2f)\n",
+			l.from, l.to, b.keyframes()[l.from].scanIndex, b.keyframes()[l.to].scanIndex,
+			l.chi2, std::abs(es.eigenvectors().col(1).dot(e)), std::sqrt(es.eigenvalues()(1)),
+			std::abs(es.eigenvectors().col(0).dot(e)), std::sqrt(es.eigenvalues()(0)),
+			mrpt::RAD2DEG(l.error.z()), mrpt::RAD2DEG(std::sqrt(C(2, 2))));
+	}
+}
+
 void runOne(const TOptions& o, uint32_t seed)
 {
 	const bool atrium = o.kv.at("world") != "building";
@@ -191,6 +216,8 @@ void runOne(const TOptions& o, uint32_t seed)
 					"  not closed: keyframes %zu-%zu, true (%.1f, %.1f) to (%.1f, %.1f)\n",
 					pl.firstKeyframe, pl.lastKeyframe, a.x, a.y, b.x, b.y);
 			}
+	std::printf("  %s", ev::calibrationReport(recall).c_str());
+	if (o.num("links") != 0) printOverconfidentLinks(recall, builder);
 	for (const auto& l : recall.loopLinks)
 		if (l.judged && !l.agrees)
 			std::printf(

@@ -12,6 +12,7 @@
 #include <lrgc/common/se2.h>
 #include <lrgc/scan_matching/ReferenceCloud.h>
 #include <lrgc/scan_matching/ScanMatcher.h>
+#include <lrgc_apps/eval/loop_recall.h>
 #include <lrgc_apps/eval/trajectory_error.h>
 
 #include <algorithm>
@@ -110,6 +111,18 @@ size_t firstPoseAt(const std::vector<TPose2D>& truth, double x, double y)
 	return truth.size();
 }
 
+/** The kept loop links' calibration against the exact truth (lrgc_apps/eval/loop_recall.h,
+ * as lrgc-eval --loops reports it for real logs). */
+void printLoopCalibration(const CMetricMapBuilderLRGC& builder,
+						  const std::vector<TPose2D>& truth, double scanPeriod)
+{
+	std::vector<lrgc::apps::eval::TRecallKeyframe> kfs;
+	for (const auto& kf : builder.keyframes())
+		kfs.push_back({scanPeriod * double(kf.scanIndex), truth.at(kf.scanIndex)});
+	const auto recall = lrgc::apps::eval::evaluateLoopRecall(builder.graph(), kfs);
+	std::printf("  %s", lrgc::apps::eval::calibrationReport(recall).c_str());
+}
+
 void printFigures(const char* what, const TScanOutliers& o)
 {
 	std::printf(
@@ -153,6 +166,7 @@ TEST(CrowdedHall, everyScanFollowsTheMap)
 			"links widened, first 10 m of the first lap within %.3f m\n",
 			seed, err.size(), builder.stats().loopClosures, builder.stats().scansSettled,
 			builder.stats().patchLinksWidened, start);
+		printLoopCalibration(builder, tr.truePoses, opt.scanPeriod);
 		printFigures("all", all);
 		printFigures("lap 1", lap[0]);
 		printFigures("lap 2", lap[1]);

@@ -119,6 +119,7 @@ TEST(GlassBuilding, registrationAndLoopsSurviveMixedReturns)
 		recall.loopLinks.size() - recall.falseClosures, recall.falseClosures, st.loopClosures,
 		st.revisitLinks, ls.attempts, ls.rejectedByFilters, ls.rejectedByMatch,
 		ls.rejectedByBackEnd, ls.searchesShed);
+	std::printf("  %s", lrgc::apps::eval::calibrationReport(recall).c_str());
 	RecordProperty("short_relations", std::to_string(rel.shortCount));
 	RecordProperty("short_over_2deg_share", std::to_string(rel.shortOver2degShare()));
 	RecordProperty("short_over_5deg", std::to_string(rel.shortOver5deg));

@@ -9,6 +9,7 @@
  * loop with true links only, and end near the truth. */
 #include <gtest/gtest.h>
 #include <lrgc/common/se2.h>
+#include <lrgc_apps/eval/loop_recall.h>
 
 #include <chrono>
 #include <cmath>
@@ -208,6 +209,15 @@ TRun runHallLoop(const TLoopSetup& setup)
 			break;
 		}
 	run.links = auditLoopLinks(builder, truth, 0.3, 5 * M_PI / 180);
+	if (setup.loopClosing)  // the kept loop links' calibration (lrgc_apps/eval/loop_recall.h)
+	{
+		std::vector<lrgc::apps::eval::TRecallKeyframe> kfs;
+		for (const auto& kf : builder.keyframes())
+			kfs.push_back({opt.scanPeriod * double(kf.scanIndex), truth.at(kf.scanIndex)});
+		std::printf("  %s", lrgc::apps::eval::calibrationReport(
+								lrgc::apps::eval::evaluateLoopRecall(builder.graph(), kfs))
+								.c_str());
+	}
 	return run;
 }
 

@@ -3,6 +3,8 @@
 #include "eval/CEvalApp.h"
 #include "lrgc_apps/JsonString.h"
 
+#include <Eigen/LU>
+
 #include <mrpt/core/format.h>
 
 #include <cmath>
@@ -117,6 +119,48 @@ void jsonRelations(JsonOut& j, const char* key, const TRelationReport& r)
 	j.end(']').end('}');
 }
 
+/** linkCalibration and every judged loop link's error and claimed covariance (from's axes). */
+void jsonCalibration(JsonOut& j, const TLoopRecall& r)
+{
+	const TLinkCalibration c = linkCalibration(r.loopLinks);
+	const auto axis = [&j](const char* name, const TLinkCalibration::TAxis& a)
+	{
+		j.beginObject(name)
+			.num("median", a.median)
+			.num("mean", a.mean)
+			.num("over_6_63", a.over99)
+			.end('}');
+	};
+	j.beginObject("calibration").integer("links", c.links);
+	j.num("chi2_median", c.chi2Median).num("chi2_over_7_81", c.chi2Over95);
+	axis("weak", c.weak), axis("strong", c.strong), axis("heading", c.heading);
+	j.num("weak_std_median_m", c.weakStdMedian_m)
+		.num("strong_std_median_m", c.strongStdMedian_m)
+		.num("weak_error_median_m", c.weakErrMedian_m)
+		.end('}')
+		.beginArray("judged_links");
+	for (const auto& l : r.loopLinks)
+	{
+		if (!l.judged) continue;
+		const Eigen::Matrix3d C = l.information.inverse();
+		j.beginObject()
+			.integer("from", l.from)
+			.integer("to", l.to)
+			.num("ex_m", l.error.x(), "%.5f")
+			.num("ey_m", l.error.y(), "%.5f")
+			.num("ephi_rad", l.error.z(), "%.6f")
+			.num("cxx", C(0, 0), "%.4g")
+			.num("cxy", C(0, 1), "%.4g")
+			.num("cyy", C(1, 1), "%.4g")
+			.num("cxphi", C(0, 2), "%.4g")
+			.num("cyphi", C(1, 2), "%.4g")
+			.num("cphiphi", C(2, 2), "%.4g")
+			.num("chi2", l.chi2)
+			.end('}');
+	}
+	j.end(']');
+}
+
 void jsonLoops(JsonOut& j, const TEvalOptions& o, const TLoopRecall& r)
 {
 	j.beginObject("loops")
@@ -152,7 +196,9 @@ void jsonLoops(JsonOut& j, const TEvalOptions& o, const TLoopRecall& r)
 								   : l.bridged  ? "relations and a map bridge"
 												: "reference")
 				.end('}');
-	j.end(']').end('}');
+	j.end(']');
+	jsonCalibration(j, r);
+	j.end('}');
 }
 
 std::string statsLine(const char* what, const TErrorStats& s, const char* unit)
@@ -191,7 +237,7 @@ void CEvalApp::printReport(const TEvalResult& r, const TEvalOptions& o, std::ost
 	if (r.loops)
 		out << "loops of " << o.loopsDir << " against "
 			<< (o.reference.empty() ? o.relations + " alone" : o.reference) << "\n"
-			<< recallReport(*r.loops);
+			<< recallReport(*r.loops) << calibrationReport(*r.loops);
 	if (o.trajectory.empty()) return;
 	out << mrpt::format(
 		"trajectory %s: %zu poses over [%.6f, %.6f] s (%.1f s), %zu backward time jumps\n",

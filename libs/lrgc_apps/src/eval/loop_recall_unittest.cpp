@@ -5,6 +5,7 @@
 #include <lrgc_apps/eval/loop_recall.h>
 
 #include <cmath>
+#include <tuple>
 
 using namespace lrgc::apps::eval;
 using mrpt::math::TPose2D;
@@ -146,4 +147,37 @@ TEST(LoopRecall, aRelationNearBothEndsJudgesTheLinkInsteadOfTheReference)
 	const TLoopRecall far = evaluateLoopRecall(
 		run.graph, kfs, {}, truthFromRelations({r}, CTrajectory2D(ref), 0.5));
 	EXPECT_EQ(far.byRelation, 0U);
+}
+
+// linkCalibration: per-axis normalised errors in the link's own axes. Two links claim 1 m along
+// from's x (a corridor) and 1 cm across it and 0.01 rad in heading; one is 0.5 m off along the
+// corridor (honest: 0.25 along the weak axis), the other 0.05 m across it (25 along the strong
+// axis: over-confident there).
+TEST(LoopRecall, calibrationReadsEachAxisUnderItsOwnClaimedStd)
+{
+	TOutAndBack run;
+	for (const auto& [from, to, error] :
+		 {std::tuple(5, 35, TPose2D(0.5, 0, 0)), std::tuple(6, 34, TPose2D(0, 0.05, 0))})
+	{
+		lrgc::TLink l;
+		l.from = from, l.to = to, l.type = lrgc::LinkType::LoopClosure;
+		l.toInFrom =
+			lrgc::compose(lrgc::between(run.kfs[from].reference, run.kfs[to].reference), error);
+		l.information = Eigen::Vector3d(1, 1e4, 1e4).asDiagonal();
+		run.graph.addLink(l);
+	}
+	const TLoopRecall r = evaluateLoopRecall(run.graph, run.kfs);
+	ASSERT_EQ(r.loopLinks.size(), 2U);
+	const TLinkCalibration c = linkCalibration(r.loopLinks);
+	EXPECT_EQ(c.links, 2U);
+	// The errors are in from's axes, whose x the weak axis is.
+	EXPECT_NEAR(c.weak.mean, (0.25 + 0.0) / 2, 1e-6);
+	EXPECT_NEAR(c.strong.mean, (0.0 + 25.0) / 2, 1e-6);
+	EXPECT_NEAR(c.heading.mean, 0.0, 1e-9);
+	EXPECT_DOUBLE_EQ(c.strong.over99, 0.5);
+	EXPECT_DOUBLE_EQ(c.weak.over99, 0.0);
+	EXPECT_NEAR(c.weakStdMedian_m, 1.0, 1e-9);
+	EXPECT_NEAR(c.strongStdMedian_m, 0.01, 1e-9);
+	EXPECT_NE(calibrationReport(r).find("over 2 judged links"), std::string::npos)
+		<< calibrationReport(r);
 }

@@ -69,7 +69,34 @@ struct TAuditedLoopLink
 	bool byRelation = false;  //!< judged by a ground-truth relation, not the reference
 	bool judged = true;       //!< false: the truth is unknown (relation_truth.h)
 	bool bridged = false;     //!< by relations, the map bridging an end (relation_truth.h)
+	/** Z - truth in from's axes (x [m], y [m], phi [rad]) and the link's information over
+	 * them: the calibration of its claimed covariance (linkCalibration). */
+	Eigen::Vector3d error = Eigen::Vector3d::Zero();
+	Eigen::Matrix3d information = Eigen::Matrix3d::Identity();
 };
+
+/** How honest the judged loop links' covariances C = Omega^-1 are against their true errors
+ * e (in from's axes). A calibrated link has chi2 = e^T Omega e ~ chi2(3 dof): median 2.37,
+ * 5 % above 7.81. Per axis, the squared error normalised by the marginal variance along it,
+ * ~ chi2(1 dof) (median 0.455, 1 % above 6.63): the weak axis is the eigenvector of C's
+ * translation block with the larger eigenvalue (a corridor's length), the strong axis the
+ * other, and the heading. A median well above the calibrated one says the links claim too
+ * much along that axis. */
+struct TLinkCalibration
+{
+	struct TAxis
+	{
+		double median = 0, mean = 0;  //!< of the normalised squared error [-]
+		double over99 = 0;            //!< share above chi2(1 dof) 99 % (6.63) [-]
+	};
+	std::size_t links = 0;  //!< judged links
+	double chi2Median = 0;  //!< [-]
+	double chi2Over95 = 0;  //!< share above chi2(3 dof) 95 % (7.81) [-]
+	TAxis weak, strong, heading;
+	double weakStdMedian_m = 0, strongStdMedian_m = 0;  //!< claimed stds [m], medians
+	double weakErrMedian_m = 0;                         //!< |error| along the weak axis [m]
+};
+TLinkCalibration linkCalibration(const std::vector<TAuditedLoopLink>& links);
 
 /** A piece of revisited path. */
 struct TRevisitPlace
@@ -144,5 +171,8 @@ TRecallInputs loadRecallInputs(const std::string& outputDir, const std::string& 
 
 /** Text lines of the report: figures, the unclosed places, the false closures. */
 std::string recallReport(const TLoopRecall& r);
+
+/** One text line of linkCalibration over r's judged loop links. */
+std::string calibrationReport(const TLoopRecall& r);
 
 }  // namespace lrgc::apps::eval
