@@ -49,89 +49,6 @@ bool CLocalRegistration::overrulesOdometry(size_t newNode, size_t node, const TP
 			   m_params.glitch_gate_chi2;
 }
 
-// A pairwise match is evidence for the new keyframe's pose only where it stays in the basin
-// the other evidence puts the keyframe in: each match implies a pose of the keyframe in the map
-// (the window keyframe's pose composed with the match), and one a distinct hypothesis away
-// (CScanMatcher::distinctHypotheses: over 0.2 m or 3 deg) has slid along a corridor or turned
-// onto another wall of its one window scan. With the patch link the keyframe stands where the
-// patch match put it (the guesses start there): on the sparse logs every pairwise match that
-// left that basin was wrong by the dense runs (turned 3-106 deg, or slid 0.3-2.8 m along a
-// corridor). Without it (the patch match failed: the guesses are the prior's) the matches
-// vote (majorityBasin). A wrong pairwise link, even at pairwise_link_weight, bent the weaker
-// links next to it: sparse ACES 133 -> 139 read 41 deg off and took 2.6 deg from 138 -> 139
-// (no patch link), MIT-CSAIL 25 -> 37 read 17 deg off and took 2.1 deg from 24 -> 25.
-std::vector<std::optional<TPose2D>> CLocalRegistration::impliedPoses(
-	const CPoseGraph& graph, const std::vector<size_t>& nodes,
-	const std::vector<std::optional<TScanMatch>>& matches) const
-{
-	std::vector<std::optional<TPose2D>> implied(matches.size());
-	for (size_t l = 0; l < matches.size(); ++l)
-		if (matches[l] && matches[l]->inlierFraction >= m_params.min_link_inlier_fraction)
-			implied[l] = compose(graph.pose(nodes[l]), matches[l]->scanInRef);
-	return implied;
-}
-
-// The basin a strict majority of the implied poses agrees on (the previous anchor's first on
-// equal support); none on a tie.
-std::optional<TPose2D> CLocalRegistration::majorityBasin(
-	const std::vector<std::optional<TPose2D>>& implied)
-{
-	auto support = [&](const TPose2D& p)
-	{
-		return std::count_if(implied.begin(), implied.end(),
-							 [&](const auto& q)
-							 { return q && !CScanMatcher::distinctHypotheses(p, *q); });
-	};
-	const auto voters = std::count_if(implied.begin(), implied.end(),
-									  [](const auto& q) { return q.has_value(); });
-	std::optional<TPose2D> best;
-	std::ptrdiff_t bestSupport = 0;
-	for (const auto& p : implied)
-		if (p && support(*p) > bestSupport) best = p, bestSupport = support(*p);
-	if (2 * bestSupport <= voters) return std::nullopt;
-	return best;
-}
-
-std::vector<bool> CLocalRegistration::confirmingMatches(
-	const std::vector<std::optional<TPose2D>>& implied, const std::optional<TPose2D>& basin)
-{
-	std::vector<bool> ok(implied.size());
-	for (size_t l = 0; l < implied.size(); ++l)
-		ok[l] = implied[l] && !(basin && CScanMatcher::distinctHypotheses(*basin, *implied[l]));
-	return ok;
-}
-
-// A keyframe whose patch match failed from its prior, where its pairwise matches agree on a
-// basin: the patch match again, started there (a start the prior's error kept the plain match
-// and its retry from: sparse MIT-CSAIL 25, odometry 21 deg short of a turn, the plain match
-// 15 deg the other way at rms 0.104 m > 0.1; from the pairwise basin the patch match lands
-// 0.1 deg and 2 cm from the dense run). It must pass every check of a plain match and stay in
-// that basin. The patch is the one the scan was registered against: the window without the
-// new keyframe, in the previous anchor's frame, at the poses it had.
-bool CLocalRegistration::reseedPatchMatch(CPoseGraph& graph, const TKeyframes& keyframes,
-										  size_t from, size_t newNode, TPose2D& basin)
-{
-	std::vector<TScan2D> scans;
-	std::vector<TPose2D> inFrom;
-	for (const size_t node : m_window)
-	{
-		if (node == newNode) continue;
-		scans.push_back(keyframes[node].scan);
-		inFrom.push_back(between(graph.pose(from), graph.pose(node)));
-	}
-	const CReferenceCloud patch = CReferenceCloud::fromScans(scans, inFrom, m_matcherParams);
-	const TPose2D start = between(graph.pose(from), basin);
-	const auto match = plainMatch(patch, keyframes[newNode].scan, start);
-	if (!match || CScanMatcher::distinctHypotheses(start, match->scanInRef)) return false;
-	// The keyframe stands where the patch puts it, placed by a scan match.
-	m_lastPatchMatch = TPatchMatch{from, match->scanInRef, match->cov};
-	basin = compose(graph.pose(from), match->scanInRef);
-	graph.setPose(newNode, basin);
-	m_unplaced.erase(std::find(m_unplaced.begin(), m_unplaced.end(), newNode));
-	++m_keyframesReseeded;
-	return true;
-}
-
 // A disputed keyframe leaves the window: one of the two odometry readings is off, and a
 // one-reading glitch puts the older keyframe off (its step and the next read wrong, their sum
 // right); left in the patch, its scan where it is not would refuse every later match (free
@@ -157,8 +74,9 @@ size_t CLocalRegistration::linkAndOptimize(CPoseGraph& graph, const TKeyframes& 
 	// Scan to map: the keyframe's registration against the window patch, in the frame of
 	// the patch's reference node (the previous anchor). Without it (the patch match failed)
 	// the pairwise links keep their full weight: they are all the scans say then.
-	bool patchLink =
+	const bool patchLink =
 		m_params.patch_link && m_lastPatchMatch && m_lastPatchMatch->node == odometryLink.from;
+	const double pairwiseWeight = patchLink ? m_params.pairwise_link_weight : 1.0;
 	takeNewestCloud();  // the previous anchor's, prepared with the last patch
 	std::vector<size_t> nodes;
 	std::vector<TCloudPtr> refs;
@@ -171,17 +89,12 @@ size_t CLocalRegistration::linkAndOptimize(CPoseGraph& graph, const TKeyframes& 
 		guesses.push_back(between(graph.pose(node), graph.pose(newNode)));
 	}
 	const auto matches = matchAll(refs, keyframes[newNode].scan, guesses);
-	const auto implied = impliedPoses(graph, nodes, matches);
-	std::optional<TPose2D> basin =
-		patchLink ? std::optional<TPose2D>(graph.pose(newNode)) : majorityBasin(implied);
-	if (!patchLink && basin && m_params.patch_link && m_patchLinkable && isUnplaced(newNode))
-		patchLink = reseedPatchMatch(graph, keyframes, odometryLink.from, newNode, *basin);
-	const double pairwiseWeight = patchLink ? m_params.pairwise_link_weight : 1.0;
-	const std::vector<bool> confirms = confirmingMatches(implied, basin);
+	auto confirms = [&](const std::optional<TScanMatch>& m)
+	{ return m && m->inlierFraction >= m_params.min_link_inlier_fraction; };
 	if (patchLink)  // added before the pairwise links, as their ids have always been
 	{
 		Eigen::Matrix3d cov = m_lastPatchMatch->cov;
-		if (std::none_of(confirms.begin(), confirms.end(), [](bool c) { return c; }))
+		if (std::none_of(matches.begin(), matches.end(), confirms))
 			cov =
 				lonePatchLinkCov(cov, keyframes[newNode].scan, m_matcherParams.normal_radius_m);
 		m_patchLinksWidened += cov != m_lastPatchMatch->cov;
@@ -194,7 +107,7 @@ size_t CLocalRegistration::linkAndOptimize(CPoseGraph& graph, const TKeyframes& 
 	for (size_t l = 0; l < links; ++l)
 	{
 		const auto& m = matches[l];
-		if (!confirms[l]) continue;
+		if (!confirms(m)) continue;
 		if (overrulesOdometry(newNode, nodes[l], guesses[l], *m, odometryLink))
 		{
 			disputed.push_back(nodes[l]);
