@@ -7,6 +7,7 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <cmath>
 #include <mrpt/math/wrap2pi.h>
 
 namespace lrgc
@@ -79,17 +80,28 @@ const CReferenceCloud& CLocalRegistration::windowCloud(const CPoseGraph& graph,
 {
 	const size_t newest = m_window.back();
 	if (m_cloudNewest == newest) return m_cloud;
-	if (takePreparedWindow(graph)) return m_cloud;
-	std::vector<TScan2D> scans;
-	std::vector<TPose2D> posesInMap;
-	for (const size_t node : windowNodes())
+	if (!takePreparedWindow(graph))
 	{
-		scans.push_back(keyframes[node].scan);
-		posesInMap.push_back(graph.pose(node));
+		std::vector<TScan2D> scans;
+		std::vector<TPose2D> posesInMap;
+		for (const size_t node : windowNodes())
+		{
+			scans.push_back(keyframes[node].scan);
+			posesInMap.push_back(graph.pose(node));
+		}
+		m_cloud = patchOf(scans, posesInMap, patchParams());
+		m_cloudNewest = newest;
 	}
-	m_cloud = patchOf(scans, posesInMap, m_matcherParams);
-	m_cloudNewest = newest;
+	m_patchNoiseStd = m_patchNoise.add(std::sqrt(m_cloud.noiseVariance()));
 	return m_cloud;
+}
+
+TScanMatcherParams CLocalRegistration::patchParams() const
+{
+	TScanMatcherParams p = m_matcherParams;
+	p.ref_resolution_m = CReferenceCloud::cellForNoise(p.ref_resolution_m, m_patchNoiseStd,
+													   0.5 * p.normal_radius_m);
+	return p;
 }
 
 std::optional<TScanMatch> CLocalRegistration::withEvidence(const CPoseGraph& graph,
@@ -112,8 +124,7 @@ std::optional<TScanMatch> CLocalRegistration::withEvidence(const CPoseGraph& gra
 		inNewest.push_back(between(newestInMap, graph.pose(node)));
 	}
 	if (scans.empty()) return std::nullopt;
-	const CReferenceCloud evidence =
-		CReferenceCloud::fromScans(scans, inNewest, m_matcherParams);
+	const CReferenceCloud evidence = CReferenceCloud::fromScans(scans, inNewest, patchParams());
 	const auto held = m_matcher.match(evidence, scan, wide->scanInRef);
 	if (!held || CScanMatcher::distinctHypotheses(held->scanInRef, wide->scanInRef))
 		return std::nullopt;

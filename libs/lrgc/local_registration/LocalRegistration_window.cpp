@@ -22,6 +22,7 @@ void CLocalRegistration::prepareNextWindow(const CPoseGraph& graph, const TKeyfr
 {
 	auto job = std::make_shared<TPreparedWindow>();
 	job->nodes = windowNodes();
+	job->patchParams = patchParams();
 	for (const size_t node : job->nodes)
 	{
 		job->scans.push_back(keyframes[node].scan);
@@ -30,7 +31,7 @@ void CLocalRegistration::prepareNextWindow(const CPoseGraph& graph, const TKeyfr
 	m_helper.post(
 		[job, p = m_matcherParams]
 		{
-			buildPatch(*job, p, sharedFits(*job));
+			buildPatch(*job, job->patchParams, sharedFits(*job));
 			buildNewestCloud(*job, p);
 		});
 	m_prepared = job;
@@ -124,7 +125,7 @@ bool CLocalRegistration::takePreparedWindow(const CPoseGraph& graph)
 	const std::shared_ptr<TPreparedWindow> job = std::move(m_prepared);
 	m_prepared.reset();
 	// Unless the helper has it in hand (then this thread joins its line fits).
-	buildPatch(*job, m_matcherParams,
+	buildPatch(*job, job->patchParams,
 			   [this](size_t n, const std::function<void(size_t)>& fn) { parallelFor(n, fn); });
 	waitForPatch(*job);
 	// Bit for bit the window it was built from, else it is not the patch of this window (a

@@ -71,6 +71,13 @@ CReferenceCloud::CReferenceCloud(std::vector<Eigen::Vector2d> pointsInRef,
 	buildGrid(kNearestCellsPerFitCell * fitCell);
 }
 
+double CReferenceCloud::cellForNoise(double res, double sigma, double maxCell)
+{
+	double cell = res;
+	while (2 * cell <= sigma && 2 * cell <= maxCell) cell *= 2;
+	return cell;
+}
+
 CReferenceCloud CReferenceCloud::fromScan(const TScan2D& scan, const TScanMatcherParams& p)
 {
 	CReferenceCloud c(scan.points, p);

@@ -4,7 +4,9 @@
  *
  * Preparation (O(n log n) for n input points):
  *  1. Voxel reduction: points are averaged per square cell of side ref_resolution_m, so a patch
- *     of overlapping scans does not hold ten copies of each wall (and is denoised).
+ *     of overlapping scans does not hold ten copies of each wall (and is denoised). The
+ *     local registration's window patches widen the cell to their measured noise
+ *     (cellForNoise, CLocalRegistration::patchParams).
  *  2. Local line fit (Cox's "line segments" without segmentation): for every reduced point a
  *     weighted PCA of its neighbours within normal_radius_m (widened up to 4x where the data
  *     are sparse). A thin neighbourhood (thickness < 1/4 of its length along the line) makes a
@@ -143,6 +145,12 @@ public:
 	double pointVariance(size_t k) const { return m_noiseVar / m_count[k]; }
 	/** Estimated range noise variance of one raw input point along the surface normal [m^2]. */
 	double noiseVariance() const { return m_noiseVar; }
+	/** The voxel side [m] for points of noise std sigma [m] (noiseVariance()): the widest
+	 * res 2^k (k >= 0) not above sigma, nor above maxCell; res if none. A cell no wider
+	 * than the noise adds a quantisation variance (side^2 / 12) of at most a twelfth of the
+	 * noise's, and finer cells only split one noisy stretch of wall into more reduced points
+	 * that differ by noise alone: the fits read more points for the same line, and widen. */
+	static double cellForNoise(double res, double sigma, double maxCell);
 
 	/** Free-space consistency of an alignment, in both directions, as a fraction [0..1]:
 	 *  - scan -> ref: scan points (in scan order) lying, by more than margin [m], in front of

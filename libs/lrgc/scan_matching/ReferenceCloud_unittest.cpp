@@ -290,3 +290,15 @@ TEST(ReferenceCloud, aPorousSurfaceTheReferenceSawThroughIsNoViolation)
 			EXPECT_GT(v, 0.2) << "a wall every reference scan saw cannot be seen through";
 	}
 }
+
+TEST(ReferenceCloud, voxelSideFollowsTheNoiseInPowersOfTwo)
+{
+	// The widest res 2^k not above sigma, nor above maxCell; res when the noise is below 2 res.
+	EXPECT_DOUBLE_EQ(CReferenceCloud::cellForNoise(0.02, 0.0, 0.075), 0.02);
+	EXPECT_DOUBLE_EQ(CReferenceCloud::cellForNoise(0.02, 0.039, 0.075), 0.02);
+	EXPECT_DOUBLE_EQ(CReferenceCloud::cellForNoise(0.02, 0.04, 0.075), 0.04);
+	EXPECT_DOUBLE_EQ(CReferenceCloud::cellForNoise(0.02, 0.079, 0.075), 0.04);
+	EXPECT_DOUBLE_EQ(CReferenceCloud::cellForNoise(0.02, 0.5, 0.075), 0.04);  // maxCell
+	EXPECT_DOUBLE_EQ(CReferenceCloud::cellForNoise(0.02, 0.5, 0.2), 0.16);
+	EXPECT_DOUBLE_EQ(CReferenceCloud::cellForNoise(0.02, 0.5, 0.01), 0.02);  // never below res
+}
