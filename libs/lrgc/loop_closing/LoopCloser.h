@@ -258,6 +258,8 @@ private:
 	}
 
 	std::optional<TCandidates> gate(const CPoseGraph& graph, size_t newest);
+	/** The gate's step model from [LoopCloser] gate_fuse_links, gate_drift_xy_m2_per_m. */
+	TStepModel stepModel() const;
 	/** (newest <- node) with covariance for every node (gate_reuse_keyframes). */
 	std::vector<TRelativeUncertainty> relativeUncertainty(const CPoseGraph& graph,
 														  size_t newest);

@@ -16,6 +16,9 @@ void TLoopCloserParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& 
 	patch_max_travel_m = readDouble(c, s, "patch_max_travel_m", patch_max_travel_m);
 	requireParam(patch_max_travel_m >= 0, s, "patch_max_travel_m", "must be >= 0");
 	gate_sigma = readDouble(c, s, "gate_sigma", gate_sigma);
+	gate_fuse_links = readBool(c, s, "gate_fuse_links", gate_fuse_links);
+	gate_drift_xy_m2_per_m = readDouble(c, s, "gate_drift_xy_m2_per_m", gate_drift_xy_m2_per_m);
+	requireParam(gate_drift_xy_m2_per_m >= 0, s, "gate_drift_xy_m2_per_m", "must be >= 0");
 	overlap_radius_m = readDouble(c, s, "overlap_radius_m", overlap_radius_m);
 	window_sigmas = readDouble(c, s, "window_sigmas", window_sigmas);
 	max_window_xy_m = readDouble(c, s, "max_window_xy_m", max_window_xy_m);
@@ -71,6 +74,29 @@ void TLoopCloserParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& 
 							  gate_reuse_keyframes, old_map_exclusion_keyframes));
 }
 
+namespace
+{
+// [LoopCloser]'s far search keys, in saveToConfigFile's order.
+void saveFarSearch(mrpt::config::CConfigFileBase& c, const std::string& s,
+				   const TLoopCloserParams& p)
+{
+	writeValue(
+		c, s, "far_search_every_keyframes", uint64_t(p.far_search_every_keyframes),
+		"While the window is capped and finds no loop, search the whole old map (every "
+		"heading, coarse grid) every this many checks, on a lane of its own that never moves "
+		"the near searches' schedule; a place it proposes closes a loop only once a later "
+		"patch confirms it (0: never)");
+	writeValue(c, s, "far_window_xy_m", p.far_window_xy_m,
+			   "[m] Least half-window of that far search (window_sigmas sigma when larger, cut "
+			   "at the old map's extent), and the width of the rings it proposes places in");
+	writeValue(
+		c, s, "far_resolution_m", p.far_resolution_m,
+		"[m] Its grid cell (it proposes; the confirming searches run at full resolution)");
+	writeValue(c, s, "far_candidates", uint64_t(p.far_candidates),
+			   "Distinct places it proposes per ring of far_window_xy_m, at most");
+}
+}  // namespace
+
 void TLoopCloserParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
 										 const std::string& s) const
 {
@@ -86,6 +112,12 @@ void TLoopCloserParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
 		"[m] A patch spans at most this much path (at least patch_min_keyframes); 0: no cap");
 	writeValue(c, s, "gate_sigma", gate_sigma,
 			   "Mahalanobis gate on old poses' position relative to the current one");
+	writeValue(c, s, "gate_fuse_links", gate_fuse_links,
+			   "The gate walks each step once, its parallel links' information added across "
+			   "link types (false: by its single most certain link)");
+	writeValue(c, s, "gate_drift_xy_m2_per_m", gate_drift_xy_m2_per_m,
+			   "[m^2/m] Position variance the gate adds per metre of each step (drift scan "
+			   "matching's covariance does not hold)");
 	writeValue(c, s, "overlap_radius_m", overlap_radius_m,
 			   "[m] Poses closer than this can see the same walls");
 	writeValue(c, s, "window_sigmas", window_sigmas,
@@ -97,20 +129,7 @@ void TLoopCloserParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
 	writeValue(c, s, "confirm_above_sigma_m", confirm_above_sigma_m,
 			   "[m] Gate std above which a loop is closed only when a second, independent "
 			   "match agrees (0: never)");
-	writeValue(
-		c, s, "far_search_every_keyframes", uint64_t(far_search_every_keyframes),
-		"While the window is capped and finds no loop, search the whole old map (every "
-		"heading, coarse grid) every this many checks, on a lane of its own that never moves "
-		"the near searches' schedule; a place it proposes closes a loop only once a later "
-		"patch confirms it (0: never)");
-	writeValue(c, s, "far_window_xy_m", far_window_xy_m,
-			   "[m] Least half-window of that far search (window_sigmas sigma when larger, cut "
-			   "at the old map's extent), and the width of the rings it proposes places in");
-	writeValue(
-		c, s, "far_resolution_m", far_resolution_m,
-		"[m] Its grid cell (it proposes; the confirming searches run at full resolution)");
-	writeValue(c, s, "far_candidates", uint64_t(far_candidates),
-			   "Distinct places it proposes per ring of far_window_xy_m, at most");
+	saveFarSearch(c, s, *this);
 	writeValue(c, s, "consistent_chi2", consistent_chi2,
 			   "[chi2, 3 dof] A loop link this consistent is added without a full solve");
 	writeValue(c, s, "check_every", uint64_t(check_every),

@@ -10,6 +10,14 @@ namespace lrgc
 {
 using mrpt::math::TPose2D;
 
+TStepModel CLoopCloser::stepModel() const
+{
+	TStepModel m;
+	m.fuseParallelLinks = m_params.gate_fuse_links;
+	m.driftXY = m_params.gate_drift_xy_m2_per_m;
+	return m;
+}
+
 std::vector<TRelativeUncertainty> CLoopCloser::relativeUncertainty(const CPoseGraph& graph,
 																   size_t newest)
 {
@@ -26,7 +34,7 @@ std::vector<TRelativeUncertainty> CLoopCloser::relativeUncertainty(const CPoseGr
 	m_gateCache = TGateCache{newest,
 							 graph.numLinks(),
 							 {poses.begin(), poses.begin() + newest + 1},
-							 propagateUncertainty(graph, newest)};
+							 propagateUncertainty(graph, newest, {}, stepModel())};
 	return m_gateCache->labels;
 }
 
@@ -63,7 +71,8 @@ std::optional<std::vector<TRelativeUncertainty>> CLoopCloser::reuseGate(const CP
 	}
 	TUncertaintyLimits toAnchor;
 	toAnchor.stopAtNode = c.anchor;
-	std::vector<TRelativeUncertainty> out = propagateUncertainty(graph, newest, toAnchor);
+	std::vector<TRelativeUncertainty> out =
+		propagateUncertainty(graph, newest, toAnchor, stepModel());
 	if (out.back().node != c.anchor) return std::nullopt;  // not connected to the anchor
 	const TRelativeUncertainty anchorInNewest = out.back();
 	std::vector<char> reached(graph.numNodes(), 0);

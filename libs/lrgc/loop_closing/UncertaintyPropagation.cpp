@@ -6,6 +6,7 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <queue>
@@ -62,8 +63,65 @@ Eigen::Matrix3d inverseCovariance(const TPose2D& z, const Eigen::Matrix3d& covZ)
 	return J * covZ * J.transpose();
 }
 
+namespace
+{
+struct TStep
+{
+	size_t v;
+	LinkType type;
+	Eigen::Matrix3d covUV;
+};
+using TSteps = std::vector<std::pair<size_t, Eigen::Matrix3d>>;
+
+/** The steps from u to its unsettled neighbours v, as (v, covariance of (u <- v)) in `out`:
+ * every link a step of its own, or (model.fuseParallelLinks) one step per neighbour with the
+ * information of its links added across types, the link most certain in position standing for
+ * each type. `steps` and `out` are reused from node to node (no allocation once grown). */
+void stepsFrom(const CPoseGraph& g, size_t u, const std::vector<TLabel>& labels,
+			   const TStepModel& model, std::vector<TStep>& steps, TSteps& out)
+{
+	steps.clear();
+	out.clear();
+	const TPose2D& uInMap = g.pose(u);
+	for (size_t id : g.linksOf(u))
+	{
+		if (!g.isLinkEnabled(id)) continue;
+		const TLink& l = g.link(id);
+		const size_t v = l.from == u ? l.to : l.from;
+		if (labels[v].settled) continue;
+		const Eigen::Matrix3d covLink = l.information.inverse();
+		const Eigen::Matrix3d covUV =
+			l.from == u ? covLink : inverseCovariance(between(g.pose(v), uInMap), covLink);
+		auto same = std::find_if(steps.begin(), steps.end(),
+								 [&](const TStep& s) { return s.v == v && s.type == l.type; });
+		if (!model.fuseParallelLinks || same == steps.end())
+			steps.push_back({v, l.type, covUV});
+		else if (positionVariance(covUV) < positionVariance(same->covUV))
+			same->covUV = covUV;
+	}
+	for (size_t i = 0; i < steps.size(); ++i)
+	{
+		const size_t v = steps[i].v;
+		if (!model.fuseParallelLinks)
+		{
+			out.emplace_back(v, steps[i].covUV);
+			continue;
+		}
+		if (std::any_of(steps.begin(), steps.begin() + i,
+						[&](const TStep& s) { return s.v == v; }))
+			continue;  // fused with an earlier one
+		Eigen::Matrix3d info = Eigen::Matrix3d::Zero();
+		size_t types = 0;
+		for (size_t j = i; j < steps.size(); ++j)
+			if (steps[j].v == v) info += steps[j].covUV.inverse(), ++types;
+		out.emplace_back(v, types == 1 ? steps[i].covUV : Eigen::Matrix3d(info.inverse()));
+	}
+}
+}  // namespace
+
 std::vector<TRelativeUncertainty> propagateUncertainty(const CPoseGraph& g, size_t source,
-													   const TUncertaintyLimits& limits)
+													   const TUncertaintyLimits& limits,
+													   const TStepModel& model)
 {
 	if (source >= g.numNodes())
 		THROW_EXCEPTION_FMT(
@@ -82,6 +140,8 @@ std::vector<TRelativeUncertainty> propagateUncertainty(const CPoseGraph& g, size
 	queue.push({0.0, source});
 
 	std::vector<TRelativeUncertainty> out;
+	std::vector<TStep> stepScratch;
+	TSteps steps;
 	while (!queue.empty())
 	{
 		const auto [key, u] = queue.top();
@@ -98,19 +158,18 @@ std::vector<TRelativeUncertainty> propagateUncertainty(const CPoseGraph& g, size
 		const double cu = std::cos(uInMap.phi), su = std::sin(uInMap.phi);
 		const double cs = std::cos(uInSource.phi), ss = std::sin(uInSource.phi);
 		const Eigen::Matrix3d& covU = lu.cov;
-		for (size_t id : g.linksOf(u))
+		stepsFrom(g, u, labels, model, stepScratch, steps);
+		for (auto& [v, covUV] : steps)
 		{
-			if (!g.isLinkEnabled(id)) continue;
-			const TLink& l = g.link(id);
-			const size_t v = l.from == u ? l.to : l.from;
-			if (labels[v].settled) continue;
-			const Eigen::Matrix3d covLink = l.information.inverse();
-			// Linearise at the current estimate of the link's relative pose: v's position in
+			// Linearise at the current estimate of the step's relative pose: v's position in
 			// u's frame, between(pose(u), pose(v)), with u's cos/sin computed once.
 			const TPose2D& vInMap = g.pose(v);
 			const double dx = vInMap.x - uInMap.x, dy = vInMap.y - uInMap.y;
-			const Eigen::Matrix3d covUV =
-				l.from == u ? covLink : inverseCovariance(between(vInMap, uInMap), covLink);
+			if (model.driftXY > 0)
+			{
+				const double drift = model.driftXY * std::hypot(dx, dy);  // [m^2]
+				covUV(0, 0) += drift, covUV(1, 1) += drift;
+			}
 			const Eigen::Matrix3d covV =
 				compound(cs, ss, covU, cu * dx + su * dy, -su * dx + cu * dy, covUV);
 			const double keyV = positionVariance(covV);

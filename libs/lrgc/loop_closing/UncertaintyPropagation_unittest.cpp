@@ -181,3 +181,55 @@ TEST(UncertaintyPropagation, ChainingThroughANodeOnEveryPathEqualsTheWholePropag
 		}
 	}
 }
+
+// The loop closer's gate (TStepModel, issue 28 item 1): a step between two nodes is walked
+// once, with the information of its link types added; of two links of one type only the most
+// certain in position counts (they share their scans). Single links (the default) take the
+// odometry link here (smaller position variance) and its heading variance with it.
+TEST(UncertaintyPropagation, AFusedStepAddsTheInformationOfItsLinkTypes)
+{
+	const size_t n = 12;
+	CPoseGraph g = chain(n, false);  // odometry: (0.02, 0.03) m, 0.01 rad a step
+	const Eigen::Matrix3d scan = Eigen::Vector3d(0.05 * 0.05, 0.04 * 0.04, 0.001 * 0.001)
+									 .asDiagonal();  // more certain in heading only
+	for (size_t i = 0; i + 1 < n; ++i)
+	{
+		g.addLink({i, i + 1, {kStep, 0, 0}, scan.inverse(), LinkType::ScanMatch});
+		g.addLink({i, i + 1, {kStep, 0, 0}, (4 * scan).inverse(), LinkType::ScanMatch});
+	}
+	const Eigen::Matrix3d odo =
+		Eigen::Vector3d(kSx * kSx, kSy * kSy, kSphi * kSphi).asDiagonal();
+	const Eigen::Matrix3d fused = (odo.inverse() + scan.inverse()).inverse();
+	TStepModel model;
+	model.fuseParallelLinks = true;
+	const auto single = propagateUncertainty(g, 0);
+	const auto both = propagateUncertainty(g, 0, {}, model);
+	const auto at = [](const std::vector<TRelativeUncertainty>& res, size_t node)
+	{ return *std::find_if(res.begin(), res.end(), [&](auto& r) { return r.node == node; }); };
+	EXPECT_LT((at(single, 1).cov - odo).cwiseAbs().maxCoeff(), 1e-15);
+	EXPECT_LT((at(both, 1).cov - fused).cwiseAbs().maxCoeff(), 1e-15);
+	// Straight on: the fused heading variance adds up step by step, 100 times less than the
+	// odometry's, and the lateral variance its lever arms swing with it.
+	const double m = double(n - 1);
+	EXPECT_NEAR(at(both, n - 1).cov(2, 2), m * fused(2, 2), 1e-15);
+	EXPECT_NEAR(at(single, n - 1).cov(2, 2), m * odo(2, 2), 1e-15);
+	EXPECT_LT(at(both, n - 1).cov(1, 1), 0.5 * at(single, n - 1).cov(1, 1));
+}
+
+// The drift scan matching's covariance does not hold: driftXY [m^2 per m] of position variance
+// per metre of each step, in both axes of its frame; the heading is untouched.
+TEST(UncertaintyPropagation, DriftAddsPositionVarianceAlongThePath)
+{
+	const CPoseGraph g = chain(20, false);
+	TStepModel model;
+	model.driftXY = 5e-4;
+	const auto res = propagateUncertainty(g, 0, {}, model);
+	for (const auto& r : res)
+	{
+		const double k = double(r.node);
+		Eigen::Matrix3d expected = analyticChainCov(k);
+		expected(0, 0) += k * model.driftXY * kStep;
+		expected(1, 1) += k * model.driftXY * kStep;
+		EXPECT_LT((r.cov - expected).cwiseAbs().maxCoeff(), 1e-12) << "node " << r.node;
+	}
+}
