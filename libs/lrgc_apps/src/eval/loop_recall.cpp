@@ -4,6 +4,7 @@
 #include "lrgc_apps/SavedMap.h"
 #include "lrgc_apps/eval/trajectory.h"
 
+#include <lrgc/common/OrderStatistic.h>
 #include <lrgc/common/se2.h>
 #include <mrpt/core/format.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
@@ -213,12 +214,10 @@ TTruthBetween truthFromRelations(std::vector<TRelation> relations, CTrajectory2D
 
 namespace
 {
+/** [0 for none] The upper median of a copy of v (lrgc::upperMedian reorders its sample). */
 double median(std::vector<double> v)
 {
-	if (v.empty()) return 0;
-	const auto mid = v.begin() + v.size() / 2;
-	std::nth_element(v.begin(), mid, v.end());
-	return *mid;
+	return v.empty() ? 0 : lrgc::upperMedian(v);
 }
 
 TLinkCalibration::TAxis axisStats(const std::vector<double>& n2)
@@ -226,7 +225,11 @@ TLinkCalibration::TAxis axisStats(const std::vector<double>& n2)
 	TLinkCalibration::TAxis a;
 	if (n2.empty()) return a;
 	a.median = median(n2);
-	for (const double v : n2) a.mean += v / n2.size(), a.over99 += v > 6.63 ? 1.0 : 0.0;
+	for (const double v : n2)
+	{
+		a.mean += v / n2.size();
+		a.over99 += v > 6.63 ? 1.0 : 0.0;
+	}
 	a.over99 /= n2.size();
 	return a;
 }
@@ -257,8 +260,11 @@ TLinkCalibration linkCalibration(const std::vector<TAuditedLoopLink>& links)
 	if (chi2.empty()) return c;
 	c.chi2Median = median(chi2);
 	for (const double v : chi2) c.chi2Over95 += v > 7.81 ? 1.0 / chi2.size() : 0.0;
-	c.weak = axisStats(weak), c.strong = axisStats(strong), c.heading = axisStats(heading);
-	c.weakStdMedian_m = median(weakStd), c.strongStdMedian_m = median(strongStd);
+	c.weak = axisStats(weak);
+	c.strong = axisStats(strong);
+	c.heading = axisStats(heading);
+	c.weakStdMedian_m = median(weakStd);
+	c.strongStdMedian_m = median(strongStd);
 	c.weakErrMedian_m = median(weakErr);
 	return c;
 }
