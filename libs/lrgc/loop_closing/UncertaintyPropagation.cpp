@@ -92,9 +92,14 @@ void stepsFrom(const CPoseGraph& g, size_t u, const std::vector<TLabel>& labels,
 		const Eigen::Matrix3d covLink = l.information.inverse();
 		const Eigen::Matrix3d covUV =
 			l.from == u ? covLink : inverseCovariance(between(g.pose(v), uInMap), covLink);
+		if (!model.fuseParallelLinks)
+		{
+			out.emplace_back(v, covUV);  // every link a step of its own
+			continue;
+		}
 		auto same = std::find_if(steps.begin(), steps.end(),
 								 [&](const TStep& s) { return s.v == v && s.type == l.type; });
-		if (!model.fuseParallelLinks || same == steps.end())
+		if (same == steps.end())
 			steps.push_back({v, l.type, covUV});
 		else if (positionVariance(covUV) < positionVariance(same->covUV))
 			same->covUV = covUV;
@@ -102,18 +107,17 @@ void stepsFrom(const CPoseGraph& g, size_t u, const std::vector<TLabel>& labels,
 	for (size_t i = 0; i < steps.size(); ++i)
 	{
 		const size_t v = steps[i].v;
-		if (!model.fuseParallelLinks)
-		{
-			out.emplace_back(v, steps[i].covUV);
-			continue;
-		}
 		if (std::any_of(steps.begin(), steps.begin() + i,
 						[&](const TStep& s) { return s.v == v; }))
 			continue;  // fused with an earlier one
 		Eigen::Matrix3d info = Eigen::Matrix3d::Zero();
 		size_t types = 0;
 		for (size_t j = i; j < steps.size(); ++j)
-			if (steps[j].v == v) info += steps[j].covUV.inverse(), ++types;
+			if (steps[j].v == v)
+			{
+				info += steps[j].covUV.inverse();
+				++types;
+			}
 		out.emplace_back(v, types == 1 ? steps[i].covUV : Eigen::Matrix3d(info.inverse()));
 	}
 }
