@@ -23,6 +23,25 @@ namespace
  * position of an unmatched keyframe is its odometry step's, off by decimetres, well inside. */
 constexpr double kNeighbourRadius = 3.0;
 
+/** Keyframes whose indices differ by at most this are one visit of the place (the robot's
+ * path through it, placed by local registration alone): a sparse log's keyframes within
+ * kNeighbourRadius are 1 m apart (indices +- 3), the atrium's 0.4 m (+- 7); a gap of more
+ * than kVisitGap keyframes is the robot leaving and coming back. */
+constexpr size_t kVisitGap = 3;
+
+/** `near` (node ids) cut into visits: runs of indices no more than kVisitGap apart. */
+std::vector<std::vector<size_t>> visitsOf(std::vector<size_t> near)
+{
+	std::sort(near.begin(), near.end());
+	std::vector<std::vector<size_t>> visits;
+	for (const size_t j : near)
+	{
+		if (visits.empty() || j > visits.back().back() + kVisitGap) visits.emplace_back();
+		visits.back().push_back(j);
+	}
+	return visits;
+}
+
 /** Nodes within kNeighbourRadius of k, on k's side of `split`, nearest first. */
 std::vector<size_t> neighboursOf(const CPoseGraph& g, size_t k, size_t split)
 {
@@ -81,11 +100,47 @@ std::vector<TRematchedKeyframe> CKeyframeRematcher::rematch(
 		const TPose2D guess = between(graph.pose(r), graph.pose(k));
 		const auto m =
 			m_matcher.matchWide(ref, keyframes[k].scan, guess, m_wideAngle, parallel);
-		if (!m || !CScanMatcher::distinctHypotheses(guess, m->scanInRef)) continue;
+		if (!m || !CScanMatcher::distinctHypotheses(guess, m->scanInRef) ||
+			!visitsAgree(graph, keyframes, k, r, near, *m, parallel))
+			continue;
 		moved.push_back({k, graph.pose(k)});
 		relink(graph, keyframes, k, r, *m);
 	}
 	return moved;
+}
+
+/* Step 2's second opinion: the reference mixes every visit of the place, each placed by the
+ * map; where the map has two visits apart (laps not yet aligned there), the wide match wins on
+ * the visit that explains most of the scan, but the link is read in r's frame. So k's scan,
+ * matched from the winner against each visit alone (in r's frame), must stay there: a visit
+ * whose own match converges elsewhere (chi2 of the two poses under both covariances and twice
+ * the loop links' noise floor above m_gateChi2, or distinct hypotheses) says the map is no
+ * evidence at this place, and k stays where it is. A visit that does not match k's scan at
+ * all (too little of it in view) has no say. */
+bool CKeyframeRematcher::visitsAgree(const CPoseGraph& graph, const TKeyframes& keyframes,
+									 size_t k, size_t r, const std::vector<size_t>& near,
+									 const TScanMatch& m, const TParallelFor& parallel) const
+{
+	const auto visits = visitsOf(near);
+	if (visits.size() < 2) return true;
+	for (const auto& visit : visits)
+	{
+		std::vector<TScan2D> scans;
+		std::vector<TPose2D> inR;
+		for (const size_t j : visit)
+		{
+			scans.push_back(keyframes[j].scan);
+			inR.push_back(between(graph.pose(r), graph.pose(j)));
+		}
+		const CReferenceCloud ref = CReferenceCloud::fromScans(scans, inR, m_params, parallel);
+		const auto v = m_matcher.match(ref, keyframes[k].scan, m.scanInRef);
+		if (!v) continue;
+		const Eigen::Matrix3d C = m.cov + v->cov + 2 * m_linkNoise.floorCovariance();
+		if (CScanMatcher::distinctHypotheses(m.scanInRef, v->scanInRef) ||
+			disagreementChi2(m.scanInRef, v->scanInRef, C) > m_gateChi2)
+			return false;
+	}
+	return true;
 }
 
 void CKeyframeRematcher::relink(CPoseGraph& graph, const TKeyframes& keyframes, size_t k,

@@ -22,6 +22,13 @@
  *      majority of the scan matched, a clear lead over every other heading and over the local
  *      optimum at the current pose itself); no evidence, or a winner in the current pose's
  *      own basin (CScanMatcher::distinctHypotheses): k is left where it is;
+ *   2b. the map must agree with itself there: the reference's keyframes, cut into visits (runs
+ *      of indices at most kVisitGap apart: the robot's passes through the place), each match
+ *      k's scan alone from the winner; one that converges elsewhere (beyond glitch_gate_chi2
+ *      under both covariances and the loop links' floor) says the visits are not aligned at
+ *      this place, and the link, read in r's frame, would carry their offset: k is left where
+ *      it is (the glass atrium's corners, three laps 0.1-0.3 m apart, where every re-match
+ *      landed 0.34-0.57 m off the truth, doc/generalisation.md);
  *   3. a winner moves k there and links it to r by a loop-closure link (robust in the final
  *      optimisation), and each odometry or window link of k that the new pose contradicts
  *      (chi2 under the link's covariance > glitch_gate_chi2, or a distinct hypothesis) is
@@ -80,6 +87,11 @@ public:
 	}
 
 private:
+	/** Step 2's second opinion (KeyframeRematch.cpp): k's scan, matched from the winner `m`
+	 * (r <- k) against each visit of the place among `near` alone, stays there. */
+	bool visitsAgree(const CPoseGraph& graph, const TKeyframes& keyframes, size_t k, size_t r,
+					 const std::vector<size_t>& near, const TScanMatch& m,
+					 const TParallelFor& parallel) const;
 	/** Step 3: k placed where `m` (r <- k) puts it, linked to r, its contradicted odometry
 	 * weakened. */
 	void relink(CPoseGraph& graph, const TKeyframes& keyframes, size_t k, size_t r,

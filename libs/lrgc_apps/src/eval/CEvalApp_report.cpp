@@ -192,6 +192,7 @@ void jsonLoops(JsonOut& j, const TEvalOptions& o, const TLoopRecall& r)
 				.num("off_m", l.offXY_m)
 				.num("off_deg", l.offPhi_rad * 180 / M_PI)
 				.num("chi2", l.chi2)
+				.integer("relations", l.relations)
 				.text("judged_by", l.byRelation ? "relations"
 								   : l.bridged  ? "relations and a map bridge"
 												: "reference")

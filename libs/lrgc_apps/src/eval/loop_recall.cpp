@@ -38,6 +38,7 @@ TAuditedLoopLink audit(const lrgc::TLink& l, const std::optional<TRecallJudge::T
 	if (!truth) return a;
 	a.byRelation = truth->byRelation;
 	a.bridged = truth->bridged;
+	a.relations = truth->relations;
 	// The link's information is over (x, y, phi) of `to` in the axes of `from` (a scan match's
 	// covariance, lrgc/pose_graph/PoseGraph.h), so the error is the difference of the two poses
 	// in those axes; v(truth^-1 (+) Z) would turn it into the truth's own axes, which for a
@@ -308,9 +309,11 @@ std::string recallReport(const TLoopRecall& r)
 				"  false closure: keyframe %zu -> %zu, %.2f m, %.1f deg off, chi2 %.1f (by the "
 				"%s)\n",
 				l.from, l.to, l.offXY_m, l.offPhi_rad * 180 / M_PI, l.chi2,
-				l.byRelation ? "relations"
-				: l.bridged  ? "relations, a map bridge"
-							 : "reference");
+				!(l.byRelation || l.bridged)
+					? "reference"
+					: mrpt::format("relations: %zu on the path%s", l.relations,
+								   l.bridged ? ", a map bridge" : "")
+						  .c_str());
 	return s;
 }
 

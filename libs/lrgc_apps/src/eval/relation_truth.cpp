@@ -84,6 +84,8 @@ const std::map<std::size_t, mrpt::math::TPose2D>& CRelationTruth::reach(std::siz
 	// Breadth first: each node first reached by a path of fewest relations.
 	std::map<std::size_t, mrpt::math::TPose2D> poses{{node, mrpt::math::TPose2D(0, 0, 0)}};
 	std::deque<std::pair<std::size_t, std::size_t>> queue{{node, 0}};  // (node, hops)
+	auto& hopsTo = hopsCache_[node];
+	hopsTo[node] = 0;
 	while (!queue.empty())
 	{
 		const auto [n, hops] = queue.front();
@@ -91,7 +93,7 @@ const std::map<std::size_t, mrpt::math::TPose2D>& CRelationTruth::reach(std::siz
 		if (hops == p_.maxHops) continue;
 		for (const auto& e : edges_[n])
 			if (poses.emplace(e.to, lrgc::compose(poses.at(n), e.motion)).second)
-				queue.emplace_back(e.to, hops + 1);
+				queue.emplace_back(e.to, hops + 1), hopsTo[e.to] = hops + 1;
 	}
 	return reachCache_.emplace(node, std::move(poses)).first->second;
 }
@@ -107,6 +109,12 @@ std::optional<mrpt::math::TPose2D> CRelationTruth::between(std::size_t from,
 	if (it == poses.end()) return std::nullopt;
 	// (from <- to) = (from <- its anchor) (+) P(anchor -> anchor') (+) (to <- anchor')^-1
 	return lrgc::compose(lrgc::compose(fromBridge, it->second), lrgc::inverse(toBridge));
+}
+
+std::size_t CRelationTruth::relationsBetween(std::size_t from, std::size_t to) const
+{
+	if (!between(from, to)) return 0;  // also fills reach(from's anchor node)
+	return hopsCache_.at(anchor_[from]->first).at(anchor_[to]->first);
 }
 
 bool CRelationTruth::isRevisit(std::size_t i, double gap_s, double near_m) const
@@ -144,7 +152,8 @@ TLoopRecall evaluateLoopRecall(const lrgc::CPoseGraph& graph,
 		const auto d = truth.between(from, to);
 		if (!d) return std::optional<TRecallJudge::TTruth>();
 		const bool bridged = truth.bridged(from) || truth.bridged(to);
-		return std::optional<TRecallJudge::TTruth>({*d, !bridged, bridged});
+		return std::optional<TRecallJudge::TTruth>(
+			{*d, !bridged, bridged, truth.relationsBetween(from, to)});
 	};
 	return evaluateLoopRecall(graph, keyframes, judge, p);
 }

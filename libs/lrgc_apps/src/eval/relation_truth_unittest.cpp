@@ -66,6 +66,9 @@ TEST(RelationTruth, chainsOfRelationsJudgeTheLinksAndFindTheRevisits)
 	EXPECT_NEAR(d->y, expected.y, 1e-9);
 	EXPECT_NEAR(d->phi, expected.phi, 1e-9);
 	EXPECT_FALSE(truth.between(0, 30).has_value()) << "30 relations apart, over maxHops";
+	EXPECT_EQ(truth.relationsBetween(5, 54), 3U);
+	EXPECT_EQ(truth.relationsBetween(6, 55), 1U);
+	EXPECT_EQ(truth.relationsBetween(0, 30), 0U) << "no path";
 
 	run.link(6, 55, {0, 0, 0});       // the truth: closes the place
 	run.link(5, 54, {0.4, 0, 0});     // 0.4 m off: false, by the relations
@@ -77,6 +80,8 @@ TEST(RelationTruth, chainsOfRelationsJudgeTheLinksAndFindTheRevisits)
 	EXPECT_FALSE(r.loopLinks[1].agrees);
 	EXPECT_TRUE(r.loopLinks[1].judged && r.loopLinks[1].byRelation);
 	EXPECT_NEAR(r.loopLinks[1].offXY_m, 0.4, 1e-9);
+	EXPECT_EQ(r.loopLinks[1].relations, 3U);
+	EXPECT_NE(recallReport(r).find("(by the relations: 3 on the path)"), std::string::npos);
 	EXPECT_TRUE(r.loopLinks[2].agrees && r.loopLinks[2].bridged);
 	EXPECT_FALSE(r.loopLinks[2].byRelation);
 	EXPECT_FALSE(r.loopLinks[3].judged);

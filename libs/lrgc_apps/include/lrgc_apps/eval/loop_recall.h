@@ -66,9 +66,10 @@ struct TAuditedLoopLink
 	std::size_t from = 0, to = 0;                  //!< keyframes
 	double offXY_m = 0, offPhi_rad = 0, chi2 = 0;  //!< disagreement with the reference
 	bool agrees = false;
-	bool byRelation = false;  //!< judged by a ground-truth relation, not the reference
-	bool judged = true;       //!< false: the truth is unknown (relation_truth.h)
-	bool bridged = false;     //!< by relations, the map bridging an end (relation_truth.h)
+	bool byRelation = false;    //!< judged by a ground-truth relation, not the reference
+	bool judged = true;         //!< false: the truth is unknown (relation_truth.h)
+	bool bridged = false;       //!< by relations, the map bridging an end (relation_truth.h)
+	std::size_t relations = 0;  //!< relations on the judge's path (0: by a reference)
 	/** Z - truth in from's axes (x [m], y [m], phi [rad]) and the link's information over
 	 * them: the calibration of its claimed covariance (linkCalibration). */
 	Eigen::Vector3d error = Eigen::Vector3d::Zero();
@@ -134,6 +135,7 @@ struct TRecallJudge
 		mrpt::math::TPose2D toInFrom;
 		bool byRelation = false;
 		bool bridged = false;
+		std::size_t relations = 0;  //!< on the path of relations (0: by a reference)
 	};
 	std::function<bool(std::size_t)> isRevisit;
 	std::function<double(std::size_t)> step_m;

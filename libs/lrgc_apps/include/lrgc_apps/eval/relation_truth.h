@@ -52,6 +52,10 @@ public:
 
 	/** The true (from <- to) of two keyframes, or nothing (no anchor or no path). */
 	std::optional<mrpt::math::TPose2D> between(std::size_t from, std::size_t to) const;
+	/** How many relations the path of between(from, to) composes (0: no path, or one relation
+	 * timestamp anchors both): the judge's own error grows with it (each relation of a sparse
+	 * log is itself a chain, moved onto kept scans by bench/make-sparse-log). */
+	std::size_t relationsBetween(std::size_t from, std::size_t to) const;
 	/** Is keyframe i within near_m (by between) of a keyframe at least gap_s older? */
 	bool isRevisit(std::size_t i, double gap_s, double near_m) const;
 	/** Is keyframe i's anchor borrowed (bridged by the map)? */
@@ -77,6 +81,8 @@ private:
 	std::vector<bool> isBridged_;
 	std::map<std::size_t, std::vector<std::size_t>> keyframesAt_;  //!< anchor node -> keyframes
 	mutable std::map<std::size_t, std::map<std::size_t, mrpt::math::TPose2D>> reachCache_;
+	/** Per node reached by reach(node): the relations on its path. */
+	mutable std::map<std::size_t, std::map<std::size_t, std::size_t>> hopsCache_;
 	std::size_t own_ = 0, bridged_ = 0;
 };
 
