@@ -178,6 +178,7 @@ TRegistration CLocalRegistration::registerScan(const CPoseGraph& graph,
 	const Eigen::Matrix3d& priorCov = prediction.cov;
 	TRegistration reg{priorInMap, priorCov, false, false};
 	m_lastPatchMatch.reset();
+	m_patchLinkable = prediction.fromOdometry;
 	resizeWindowFor(prediction);
 	if (m_window.empty()) return reg;  // no keyframe of this session yet
 	if (auto still = stillRegistration(graph, prediction)) return *still;

@@ -29,6 +29,10 @@
  * match that is a loose fit (its residual scale kept the gate wide: the robot turning into
  * ground the window has not seen) is refitted with the inlier gate first
  * (CScanMatcher::refitLoose).
+ * A keyframe whose patch match failed from its (odometry) prior, where a strict majority of
+ * its pairwise matches agree on its pose, is matched against the patch again from there; if
+ * that passes every check it is placed there with its patch link (linkAndOptimize;
+ * LocalRegistration_links.cpp).
  * An unmatched scan never bends the map (issue 28 item 3): a keyframe no scan match placed
  * (its prior kept) is no evidence. The wide search's winner, where such a keyframe is in the
  * window, must hold against the patch of the others too (a plain match from it there lands in
@@ -172,6 +176,10 @@ public:
 	/** Patch links widened so far: no pairwise match confirmed them and the scan's returns
 	 * were sparser than the line fits' radius (linkAndOptimize, lonePatchLinkScale). */
 	size_t patchLinksWidened() const { return m_patchLinksWidened; }
+
+	/** Keyframes whose patch match failed and was found again from their pairwise matches'
+	 * basin (linkAndOptimize, reseedPatchMatch). */
+	size_t keyframesReseeded() const { return m_keyframesReseeded; }
 
 private:
 	/** K: window_size after a scan with an odometry prior, laser_only_window_size after one
@@ -343,6 +351,23 @@ private:
 	bool overrulesOdometry(size_t newNode, size_t node, const mrpt::math::TPose2D& guess,
 						   const TScanMatch& match, const TLink& odometryLink) const;
 	void leaveWindow(size_t node);
+	/** The new keyframe's pose in the map each pairwise match (against window keyframe
+	 * nodes[l]) implies; nullopt where it failed or matched under min_link_inlier_fraction. */
+	std::vector<std::optional<mrpt::math::TPose2D>> impliedPoses(
+		const CPoseGraph& graph, const std::vector<size_t>& nodes,
+		const std::vector<std::optional<TScanMatch>>& matches) const;
+	/** The basin (one of the poses) a strict majority of `implied` agrees on, if any. */
+	static std::optional<mrpt::math::TPose2D> majorityBasin(
+		const std::vector<std::optional<mrpt::math::TPose2D>>& implied);
+	/** The patch match of keyframe newNode, whose own failed, started in `basin` (in the map)
+	 * against the window's patch without it in the frame of `from`: if it passes and stays
+	 * in that basin, the keyframe is placed where it puts it, with it as its patch link. */
+	bool reseedPatchMatch(CPoseGraph& graph, const TKeyframes& keyframes, size_t from,
+						  size_t newNode, const mrpt::math::TPose2D& basin);
+	/** The last registered scan's prior came from odometry (a failed patch match may be run
+	 * again from the pairwise matches' basin). */
+	bool m_patchLinkable = false;
+	size_t m_keyframesReseeded = 0;
 	bool isUnplaced(size_t node) const
 	{
 		return std::find(m_unplaced.begin(), m_unplaced.end(), node) != m_unplaced.end();

@@ -322,3 +322,47 @@ TEST(LocalRegistration, lonePatchLinkCovWidensOnlyWhereReturnsAreSparse)
 	EXPECT_EQ(w(2, 2), cov(2, 2));
 	EXPECT_EQ(lonePatchLinkCov(cov, dense, 0.15), cov);
 }
+
+TEST(LocalRegistration, aKeyframeWhosePatchMatchFailedIsPlacedFromItsPairwiseMatchesBasin)
+{
+	// The keyframe's patch match failed (sparse MIT-CSAIL 25: from odometry 21 deg short of
+	// the turn it converged 15 deg the other way, rms 0.104 m > 0.1; here the registration
+	// is given no returns) and it enters the window at its prior, 0.3 m and 12 deg off. Its
+	// pairwise matches agree on the true pose; the patch match started there passes, so the
+	// keyframe gets its patch link (the pairwise links then down-weighted by
+	// pairwise_link_weight) and stands where the patch puts it.
+	const TKnownRun run;
+	const auto& truth = run.tr.truePoses;
+	TStageParams p;
+	CLocalRegistration local(p.local, p.matcher, p.optimizer, false);
+	CPoseGraph graph;
+	TKeyframes keyframes;
+	const size_t n = 8;
+	enterTrueWindow(run, n, local, graph, keyframes);
+	lrgc::TMotionPrediction pred;
+	pred.motion =
+		compose(between(truth[n - 1], truth[n]), TPose2D(0.1, 0.25, -12 * M_PI / 180));
+	pred.cov = CMotionPredictor().odometryCov(pred.motion);
+	pred.fromOdometry = true;
+	pred.stepSeconds = 0.2;
+	const TPose2D prior = compose(graph.pose(n - 1), pred.motion);
+	const TRegistration reg = local.registerScan(graph, keyframes, TScan2D{}, prior, pred);
+	ASSERT_FALSE(reg.matched);
+	graph.addNode(reg.scanInMap);
+	local.enterKeyframe(n, false, graph, false);
+	keyframes.push_back(run.keyframes[n]);
+	const size_t linksBefore = graph.numLinks();
+	local.linkAndOptimize(graph, keyframes,
+						  {n - 1, n, pred.motion, pred.cov.inverse(), LinkType::Odometry});
+	EXPECT_EQ(local.keyframesReseeded(), 1u);
+	ASSERT_GE(graph.numLinks(), linksBefore + 3);  // odometry, patch link, pairwise links
+	const TLink& patchLink = graph.link(linksBefore + 1);
+	EXPECT_EQ(patchLink.from, n - 1);
+	EXPECT_LT(positionError(between(truth[n - 1], truth[n]), patchLink.toInFrom), kTolXY);
+	const double floorPhiInfo = 1 / std::pow(p.local.link_noise.floor_phi, 2);
+	for (size_t id = linksBefore + 2; id < graph.numLinks(); ++id)
+		EXPECT_LT(graph.link(id).information(2, 2),
+				  p.local.pairwise_link_weight * floorPhiInfo * 1.0001);
+	EXPECT_LT(positionError(truth[n], graph.pose(n)), kTolXY);
+	EXPECT_LT(headingError(truth[n], graph.pose(n)), 0.2 * M_PI / 180);
+}

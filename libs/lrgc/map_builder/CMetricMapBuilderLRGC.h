@@ -82,6 +82,9 @@ struct TMapBuilderStats
 	 * the line fits' radius, whose covariance local registration widened (a hall's far
 	 * walls; CLocalRegistration::patchLinksWidened). */
 	size_t patchLinksWidened = 0;
+	/** Keyframes whose patch match failed from the prior and passed when started where their
+	 * pairwise matches agreed (CLocalRegistration::keyframesReseeded). */
+	size_t keyframesReseeded = 0;
 	size_t odometryRejected = 0;  //!< scans whose match disagreed with odometry beyond the gate
 	size_t glitchesRecovered = 0;  //!< of those, recovered by the wide rotational search
 	/** Odometry steps beyond any motion of the robot (a reset, a reboot, a re-based frame:

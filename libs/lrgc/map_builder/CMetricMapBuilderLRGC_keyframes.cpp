@@ -77,9 +77,13 @@ void CMetricMapBuilderLRGC::enterNewKeyframe(
 		linkSessionStart(node);  // to the old map, by a scan match
 	else if (previous)
 	{
+		const size_t reseeded = m_local->keyframesReseeded();
 		m_stats.scanMatchLinks +=
 			m_local->linkAndOptimize(m_graph, m_keyframes, odometryLink(*previous, node));
 		m_stats.patchLinksWidened = m_local->patchLinksWidened();
+		// Its patch match found again from its pairwise matches: placed by a scan match.
+		m_scanMatched = m_scanMatched || m_local->keyframesReseeded() > reseeded;
+		m_stats.keyframesReseeded = m_local->keyframesReseeded();
 		++m_stats.odometryLinks;
 		closeLoops(true);
 	}

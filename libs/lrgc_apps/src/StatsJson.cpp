@@ -284,6 +284,7 @@ std::string statsJson(const TRunOutputsSnapshot& snapshot)
 	  << "  \"keyframes_rematched\": " << s.keyframesRematched << ",\n"
 	  << "  \"keyframes_left_unmatched\": " << s.keyframesLeftUnmatched << ",\n"
 	  << "  \"patch_links_widened\": " << s.patchLinksWidened << ",\n"
+	  << "  \"keyframes_reseeded\": " << s.keyframesReseeded << ",\n"
 	  << "  \"odometry_rejected\": " << s.odometryRejected << ",\n"
 	  << "  \"odometry_glitches_recovered\": " << s.glitchesRecovered << ",\n"
 	  << "  \"odometry_jumps\": " << s.odometryJumps << ",\n"
