@@ -141,7 +141,9 @@ CReferenceCloud CLocalRegistration::patchOf(const std::vector<TScan2D>& scans,
 	std::vector<TPose2D> scansInNewest;
 	for (const TPose2D& pose : posesInMap)
 		scansInNewest.push_back(between(posesInMap.back(), pose));
-	return CReferenceCloud::fromScans(scans, scansInNewest, p, parallel);
+	CReferenceCloud patch = CReferenceCloud::fromScans(scans, scansInNewest, p, parallel);
+	patch.recordFitTerms();  // matched by every scan until the next keyframe
+	return patch;
 }
 
 // K depends on the prior (window_size with odometry, laser_only_window_size without): a change
