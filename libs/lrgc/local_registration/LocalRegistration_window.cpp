@@ -11,6 +11,19 @@
 
 namespace lrgc
 {
+namespace
+{
+/** A keyframe's own cloud, for the pairwise links of the next keyframes (up to
+ * max_pairwise_links matches): it records its noise model's fit terms. */
+std::shared_ptr<const CReferenceCloud> keyframeCloudOf(const TScan2D& scan,
+													   const TScanMatcherParams& p)
+{
+	CReferenceCloud cloud = CReferenceCloud::fromScan(scan, p);
+	cloud.recordFitTerms();
+	return std::make_shared<const CReferenceCloud>(std::move(cloud));
+}
+}  // namespace
+
 // After a keyframe's window solve: the helper builds the patch for the next scans from a copy
 // of the window (scans and poses), then the new keyframe's own cloud for the next pairwise
 // links, while the mapping thread goes on. Whoever comes first builds each: a helper not yet
@@ -112,11 +125,7 @@ TParallelFor CLocalRegistration::sharedFits(TPreparedWindow& job)
 void CLocalRegistration::buildNewestCloud(TPreparedWindow& job, const TScanMatcherParams& p)
 {
 	buildUnlessClaimed(job, job.newestCloud,
-					   [&]
-					   {
-						   return std::make_shared<const CReferenceCloud>(
-							   CReferenceCloud::fromScan(job.scans.back(), p));
-					   });
+					   [&] { return keyframeCloudOf(job.scans.back(), p); });
 }
 
 bool CLocalRegistration::takePreparedWindow(const CPoseGraph& graph)
@@ -157,8 +166,7 @@ CLocalRegistration::TCloudPtr CLocalRegistration::keyframeCloud(size_t node,
 {
 	for (const auto& [n, cloud] : m_keyframeClouds)
 		if (n == node) return cloud;
-	auto cloud = std::make_shared<const CReferenceCloud>(
-		CReferenceCloud::fromScan(keyframes[node].scan, m_matcherParams));
+	auto cloud = keyframeCloudOf(keyframes[node].scan, m_matcherParams);
 	cacheKeyframeCloud(node, cloud);
 	return cloud;
 }

@@ -29,6 +29,8 @@
 #include <Eigen/Core>
 #include <cstdint>
 #include <functional>
+#include <memory>
+#include <mutex>
 #include <utility>
 #include <vector>
 
@@ -142,6 +144,71 @@ public:
 				}
 			});
 	}
+	/** One of forEachFitTerm's calls: fn(point, b0, b1). */
+	struct TFitTerm
+	{
+		uint32_t point;
+		float b0, b1;
+	};
+	/** forEachFitTerm, on a cloud that records them (recordFitTerms()) with each anchor's
+	 * terms recorded at its first walk and replayed from then on: the same calls in the same
+	 * order, so the same sums. A match's covariance walks the fits of the anchors its pairs
+	 * use, and the next matches against the same cloud (the window patch: every scan until the
+	 * next keyframe, each match and its refit; a keyframe's cloud: the pairwise links of the
+	 * next keyframes) mostly the same ones; a replay reads 12 bytes a term instead of the
+	 * fit's grid cells, their distance tests and two divisions. Holds the cloud's record
+	 * locked while it lives (one per covariance; clouds are matched from several threads). */
+	class CFitTermReader
+	{
+	public:
+		template <class F>
+		void forEach(size_t j, F&& fn)
+		{
+			if (!m_rec) return m_cloud->forEachFitTerm(j, std::forward<F>(fn));
+			auto& rec = *m_rec;
+			if (rec.first.empty())
+			{
+				rec.first.assign(m_cloud->size(), kNotRecorded);
+				rec.end.resize(m_cloud->size());
+			}
+			if (rec.first[j] == kNotRecorded)
+			{
+				rec.first[j] = static_cast<uint32_t>(rec.terms.size());
+				m_cloud->forEachFitTerm(j,
+										[&](uint32_t k, float b0, float b1)
+										{
+											rec.terms.push_back(TFitTerm{k, b0, b1});
+											fn(k, b0, b1);
+										});
+				rec.end[j] = static_cast<uint32_t>(rec.terms.size());
+				return;
+			}
+			const TFitTerm* t = rec.terms.data();
+			for (uint32_t i = rec.first[j], e = rec.end[j]; i < e; ++i)
+				fn(t[i].point, t[i].b0, t[i].b1);
+		}
+
+	private:
+		friend class CReferenceCloud;
+		struct TRecord
+		{
+			std::mutex mutex;
+			std::vector<uint32_t> first, end;  //!< per anchor: its terms' range in `terms`
+			std::vector<TFitTerm> terms;
+		};
+		static constexpr uint32_t kNotRecorded = ~uint32_t(0);
+		CFitTermReader(const CReferenceCloud& cloud, TRecord* rec) : m_cloud(&cloud), m_rec(rec)
+		{
+			if (rec) m_lock = std::unique_lock<std::mutex>(rec->mutex);
+		}
+		const CReferenceCloud* m_cloud;
+		TRecord* m_rec;
+		std::unique_lock<std::mutex> m_lock;
+	};
+	CFitTermReader fitTermReader() const { return CFitTermReader(*this, m_fitTerms.get()); }
+	/** This cloud's fitTermReader() records the terms it reads: for a cloud matched many
+	 * times (memory: 12 bytes a term read); a cloud matched once gains nothing from it. */
+	void recordFitTerms() { m_fitTerms = std::make_shared<CFitTermReader::TRecord>(); }
 	double pointVariance(size_t k) const { return m_noiseVar / m_count[k]; }
 	/** Estimated range noise variance of one raw input point along the surface normal [m^2]. */
 	double noiseVariance() const { return m_noiseVar; }
@@ -207,6 +274,9 @@ private:
 	std::vector<TLineFit> m_lineFits;  // one per anchor (unused for POINT anchors)
 	CAnchorGrid m_rawGrid;
 	double m_noiseVar = 0;  // [m^2]
+	/** fitTermReader()'s record (recordFitTerms(); else none); shared by copies of the cloud
+	 * (the same fits). */
+	std::shared_ptr<CFitTermReader::TRecord> m_fitTerms;
 };
 
 }  // namespace lrgc

@@ -7,6 +7,8 @@
 #include <Eigen/Geometry>
 #include <cmath>
 #include <iostream>
+#include <tuple>
+#include <vector>
 
 #include "synthetic_world.h"
 
@@ -104,6 +106,51 @@ TEST(ReferenceCloud, fitTermsAreThoseOfAWeightedLeastSquaresLine)
 		EXPECT_NEAR(sumB1, 0.0, 1e-3);  // [1/m]
 	}
 	EXPECT_GT(lines, 100U);
+}
+
+TEST(ReferenceCloud, fitTermReaderReplaysForEachFitTermExactly)
+{
+	// The noise model's record (fitTermReader): a fit's terms at its first reading, then at
+	// every later one, are forEachFitTerm's, bit for bit and in its order; anchors read in a
+	// scattered order, some of them twice in one reader.
+	const auto world = makeRoomWorld(3);
+	std::mt19937 rng(12);
+	TLaserSimParams laser;
+	laser.rangeNoiseStd = 0.01;
+	const auto scan = simulateScan(world, TPose2D(4, 3, -0.4), laser, rng);
+	auto ref = CReferenceCloud::fromScan(scan, TScanMatcherParams());
+	ref.recordFitTerms();
+	using TTerms = std::vector<std::tuple<uint32_t, float, float>>;
+	auto direct = [&](size_t j)
+	{
+		TTerms t;
+		ref.forEachFitTerm(j,
+						   [&](uint32_t k, float b0, float b1) { t.emplace_back(k, b0, b1); });
+		return t;
+	};
+	auto viaReader = [](CReferenceCloud::CFitTermReader& reader, size_t j)
+	{
+		TTerms t;
+		reader.forEach(j, [&](uint32_t k, float b0, float b1) { t.emplace_back(k, b0, b1); });
+		return t;
+	};
+	// A copy shares the record; a cloud that records nothing walks its fits at every reading.
+	const CReferenceCloud copy = ref,
+						  unrecorded = CReferenceCloud::fromScan(scan, TScanMatcherParams());
+	size_t compared = 0;
+	for (int pass = 0; pass < 3; ++pass)
+	{
+		auto reader = (pass == 0 ? ref : pass == 1 ? copy : unrecorded).fitTermReader();
+		for (size_t i = 0; i < ref.size(); ++i)
+		{
+			const size_t j = (i * 7919 + 13) % ref.size();
+			const TTerms expected = direct(j);
+			ASSERT_EQ(viaReader(reader, j), expected) << "anchor " << j << ", pass " << pass;
+			if (i % 3 == 0) ASSERT_EQ(viaReader(reader, j), expected);
+			compared += !expected.empty();
+		}
+	}
+	EXPECT_GT(compared, 200U);
 }
 
 TEST(ReferenceCloud, nearestIsExactWithinTheGate)

@@ -64,9 +64,8 @@ Eigen::Matrix3d psdMaxOnSubspace(const Eigen::Matrix3d& A, const Eigen::Matrix3d
 Eigen::Matrix3d modelScoreCovariance(const CReferenceCloud& ref,
 									 const std::vector<TCorrespondence>& corr)
 {
-	// Per reference point used, in order of first use (touched): g_k (LINE fit terms) at
-	// slot[k], and G_k (POINT anchors) at pointSlot[slot[k]] for the few points that are one.
-	// A match uses a few hundred of a patch's thousands of points.
+	// Per reference point used (a few hundred of a patch's thousands), in order of first use
+	// (touched): g_k (LINE fit terms) at slot[k], G_k (POINT anchors) at pointSlot[slot[k]].
 	constexpr uint32_t kUnused = ~uint32_t(0);
 	std::vector<uint32_t> slot(ref.size(), kUnused);
 	std::vector<uint32_t> touched, pointSlot;
@@ -95,6 +94,7 @@ Eigen::Matrix3d modelScoreCovariance(const CReferenceCloud& ref,
 	};
 	Eigen::Matrix3d Bscan = Eigen::Matrix3d::Zero();
 	double sumW2e2 = 0, sumW2 = 0, rows = 0;
+	auto fitTerms = ref.fitTermReader();
 	for (const auto& k : corr)
 	{
 		sumW2e2 += k.w * k.w * k.sqNorm();
@@ -104,12 +104,12 @@ Eigen::Matrix3d modelScoreCovariance(const CReferenceCloud& ref,
 			Bscan += k.w * k.w * k.J0 * k.J0.transpose();
 			rows += 1;
 			const double u = ref.anchors()[k.anchor].u + k.tOff;  // line coordinate of q
-			ref.forEachFitTerm(k.anchor,
-							   [&](uint32_t point, float b0, float b1)
-							   {
-								   const double beta = b0 + u * b1;
-								   g[use(point)] += k.w * beta * k.J0;
-							   });
+			fitTerms.forEach(k.anchor,
+							 [&](uint32_t point, float b0, float b1)
+							 {
+								 const double beta = b0 + u * b1;
+								 g[use(point)] += k.w * beta * k.J0;
+							 });
 			continue;
 		}
 		Bscan += k.w * k.w * (k.J0 * k.J0.transpose() + k.J1 * k.J1.transpose());
