@@ -6,7 +6,6 @@
 #include <unistd.h>
 
 #include <chrono>
-#include <csignal>
 #include <ctime>
 
 namespace lrgc::apps
@@ -25,14 +24,6 @@ constexpr double kSameRequestSeconds = 0.25;
 extern "C" void countBrokenPipe(int)
 {
 	g_brokenPipes.fetch_add(1);
-}
-
-/** The destructor's wake-up: a signal this process sent to the watcher thread itself
- * (pthread_kill: SI_TKILL from our own pid); a user's or a service manager's comes by kill()
- * (SI_USER) or from the terminal (SI_KERNEL). */
-bool isWakeUp(const siginfo_t& info)
-{
-	return info.si_code == SI_TKILL && info.si_pid == ::getpid();
 }
 }  // namespace
 
@@ -54,17 +45,15 @@ CStopSignalWatcher::CStopSignalWatcher()
 	m_thread = std::thread(
 		[this]
 		{
-			const timespec poll = {0, 200 * 1000 * 1000};  // to notice a broken pipe
+			const timespec poll = {0, 200 * 1000 * 1000};  // to notice m_quit
 			std::chrono::steady_clock::time_point first;
 			while (!m_quit)
 			{
-				siginfo_t info{};
-				if (sigtimedwait(&m_set, &info, &poll) < 0)
+				if (sigtimedwait(&m_set, nullptr, &poll) < 0)
 				{  // time-out or EINTR; a broken pipe is seen here
 					if (g_brokenPipes.load() > 0) m_source.requestStop();
 					continue;
 				}
-				if (isWakeUp(info)) continue;  // m_quit is set
 				const auto now = std::chrono::steady_clock::now();
 				m_source.requestStop();
 				if (m_signals.fetch_add(1) == 0)
@@ -79,13 +68,7 @@ CStopSignalWatcher::CStopSignalWatcher()
 CStopSignalWatcher::~CStopSignalWatcher()
 {
 	m_quit = true;
-	// Woken at once: waiting out its poll kept every run up to 0.2 s longer (the process's
-	// wall came in steps of 0.2 s after the watcher's start).
-	if (m_thread.joinable())
-	{
-		pthread_kill(m_thread.native_handle(), SIGHUP);
-		m_thread.join();
-	}
+	if (m_thread.joinable()) m_thread.join();
 	const timespec now = {0, 0};
 	while (sigtimedwait(&m_set, nullptr, &now) > 0) ++m_signals;  // taken, not left pending
 	pthread_sigmask(SIG_SETMASK, &m_oldMask, nullptr);
