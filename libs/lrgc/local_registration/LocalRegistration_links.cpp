@@ -81,7 +81,7 @@ std::optional<TPose2D> CLocalRegistration::majorityBasin(
 	std::optional<TPose2D> best;
 	std::ptrdiff_t bestSupport = 0;
 	for (const auto& p : implied)
-		if (p && support(*p) > bestSupport) best = p, bestSupport = support(*p);
+		if (const auto n = p ? support(*p) : 0; n > bestSupport) best = p, bestSupport = n;
 	if (2 * bestSupport <= voters) return std::nullopt;
 	return best;
 }

@@ -58,6 +58,20 @@ std::vector<size_t> neighboursOf(const CPoseGraph& g, size_t k, size_t split)
 	for (const auto& [d, j] : near) out.push_back(j);
 	return out;
 }
+/** The scans of keyframes `nodes` as one reference cloud, in node r's frame (r <- j). */
+CReferenceCloud cloudOf(const CPoseGraph& g, const TKeyframes& keyframes,
+						const std::vector<size_t>& nodes, size_t r, const TScanMatcherParams& p,
+						const TParallelFor& parallel)
+{
+	std::vector<TScan2D> scans;
+	std::vector<TPose2D> inR;
+	for (const size_t j : nodes)
+	{
+		scans.push_back(keyframes[j].scan);
+		inR.push_back(between(g.pose(r), g.pose(j)));
+	}
+	return CReferenceCloud::fromScans(scans, inR, p, parallel);
+}
 }  // namespace
 
 CKeyframeRematcher::CKeyframeRematcher(const TScanMatcherParams& matcher, double wideAngle,
@@ -89,14 +103,7 @@ std::vector<TRematchedKeyframe> CKeyframeRematcher::rematch(
 		const std::vector<size_t> near = neighboursOf(graph, k, split);
 		if (near.empty()) continue;
 		const size_t r = near.front();
-		std::vector<TScan2D> scans;
-		std::vector<TPose2D> inR;
-		for (const size_t j : near)
-		{
-			scans.push_back(keyframes[j].scan);
-			inR.push_back(between(graph.pose(r), graph.pose(j)));
-		}
-		const CReferenceCloud ref = CReferenceCloud::fromScans(scans, inR, m_params, parallel);
+		const CReferenceCloud ref = cloudOf(graph, keyframes, near, r, m_params, parallel);
 		const TPose2D guess = between(graph.pose(r), graph.pose(k));
 		const auto m =
 			m_matcher.matchWide(ref, keyframes[k].scan, guess, m_wideAngle, parallel);
@@ -125,14 +132,7 @@ bool CKeyframeRematcher::visitsAgree(const CPoseGraph& graph, const TKeyframes& 
 	if (visits.size() < 2) return true;
 	for (const auto& visit : visits)
 	{
-		std::vector<TScan2D> scans;
-		std::vector<TPose2D> inR;
-		for (const size_t j : visit)
-		{
-			scans.push_back(keyframes[j].scan);
-			inR.push_back(between(graph.pose(r), graph.pose(j)));
-		}
-		const CReferenceCloud ref = CReferenceCloud::fromScans(scans, inR, m_params, parallel);
+		const CReferenceCloud ref = cloudOf(graph, keyframes, visit, r, m_params, parallel);
 		const auto v = m_matcher.match(ref, keyframes[k].scan, m.scanInRef);
 		if (!v) continue;
 		const Eigen::Matrix3d C = m.cov + v->cov + 2 * m_linkNoise.floorCovariance();

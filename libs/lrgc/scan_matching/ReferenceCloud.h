@@ -153,11 +153,12 @@ public:
 	/** forEachFitTerm, on a cloud that records them (recordFitTerms()) with each anchor's
 	 * terms recorded at its first walk and replayed from then on: the same calls in the same
 	 * order, so the same sums. A match's covariance walks the fits of the anchors its pairs
-	 * use, and the next matches against the same cloud (the window patch: every scan until the
-	 * next keyframe, each match and its refit; a keyframe's cloud: the pairwise links of the
-	 * next keyframes) mostly the same ones; a replay reads 12 bytes a term instead of the
-	 * fit's grid cells, their distance tests and two divisions. Holds the cloud's record
-	 * locked while it lives (one per covariance; clouds are matched from several threads). */
+	 * use, and the next matches against the same cloud mostly the same ones (a keyframe's own
+	 * cloud: the pairwise links of the next keyframes; the window patch would gain too, but
+	 * does not record: CLocalRegistration::patchOf); a replay reads 12 bytes a term instead
+	 * of the fit's grid cells, their distance tests and two divisions. Holds the cloud's
+	 * record locked while it lives (one per covariance; clouds are matched from several
+	 * threads). */
 	class CFitTermReader
 	{
 	public:

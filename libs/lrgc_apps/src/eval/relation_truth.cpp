@@ -77,25 +77,27 @@ CRelationTruth::CRelationTruth(const std::vector<TRelation>& relations,
 		if (anchor_[i]) keyframesAt_[anchor_[i]->first].push_back(i);
 }
 
-const std::map<std::size_t, mrpt::math::TPose2D>& CRelationTruth::reach(std::size_t node) const
+const std::map<std::size_t, CRelationTruth::TReached>& CRelationTruth::reach(
+	std::size_t node) const
 {
 	const auto cached = reachCache_.find(node);
 	if (cached != reachCache_.end()) return cached->second;
 	// Breadth first: each node first reached by a path of fewest relations.
-	std::map<std::size_t, mrpt::math::TPose2D> poses{{node, mrpt::math::TPose2D(0, 0, 0)}};
-	std::deque<std::pair<std::size_t, std::size_t>> queue{{node, 0}};  // (node, hops)
-	auto& hopsTo = hopsCache_[node];
-	hopsTo[node] = 0;
+	std::map<std::size_t, TReached> reached{{node, {mrpt::math::TPose2D(0, 0, 0), 0}}};
+	std::deque<std::size_t> queue{node};
 	while (!queue.empty())
 	{
-		const auto [n, hops] = queue.front();
+		const TReached at = reached.at(queue.front());
+		const std::size_t n = queue.front();
 		queue.pop_front();
-		if (hops == p_.maxHops) continue;
+		if (at.relations == p_.maxHops) continue;
 		for (const auto& e : edges_[n])
-			if (poses.emplace(e.to, lrgc::compose(poses.at(n), e.motion)).second)
-				queue.emplace_back(e.to, hops + 1), hopsTo[e.to] = hops + 1;
+			if (reached
+					.emplace(e.to, TReached{lrgc::compose(at.pose, e.motion), at.relations + 1})
+					.second)
+				queue.push_back(e.to);
 	}
-	return reachCache_.emplace(node, std::move(poses)).first->second;
+	return reachCache_.emplace(node, std::move(reached)).first->second;
 }
 
 std::optional<mrpt::math::TPose2D> CRelationTruth::between(std::size_t from,
@@ -104,23 +106,23 @@ std::optional<mrpt::math::TPose2D> CRelationTruth::between(std::size_t from,
 	if (!anchor_.at(from) || !anchor_.at(to)) return std::nullopt;
 	const auto& [fromNode, fromBridge] = *anchor_[from];
 	const auto& [toNode, toBridge] = *anchor_[to];
-	const auto& poses = reach(fromNode);
-	const auto it = poses.find(toNode);
-	if (it == poses.end()) return std::nullopt;
+	const auto& reached = reach(fromNode);
+	const auto it = reached.find(toNode);
+	if (it == reached.end()) return std::nullopt;
 	// (from <- to) = (from <- its anchor) (+) P(anchor -> anchor') (+) (to <- anchor')^-1
-	return lrgc::compose(lrgc::compose(fromBridge, it->second), lrgc::inverse(toBridge));
+	return lrgc::compose(lrgc::compose(fromBridge, it->second.pose), lrgc::inverse(toBridge));
 }
 
 std::size_t CRelationTruth::relationsBetween(std::size_t from, std::size_t to) const
 {
-	if (!between(from, to)) return 0;  // also fills reach(from's anchor node)
-	return hopsCache_.at(anchor_[from]->first).at(anchor_[to]->first);
+	if (!between(from, to)) return 0;
+	return reach(anchor_[from]->first).at(anchor_[to]->first).relations;
 }
 
 bool CRelationTruth::isRevisit(std::size_t i, double gap_s, double near_m) const
 {
 	if (!anchor_.at(i)) return false;
-	for (const auto& [node, pose] : reach(anchor_[i]->first))
+	for (const auto& [node, reached] : reach(anchor_[i]->first))
 	{
 		const auto at = keyframesAt_.find(node);
 		if (at == keyframesAt_.end()) continue;

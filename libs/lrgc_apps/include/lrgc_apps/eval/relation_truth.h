@@ -70,8 +70,14 @@ private:
 		std::size_t to;
 		mrpt::math::TPose2D motion;  //!< (this node <- to)
 	};
-	/** P(node -> m) of every node m within maxHops relations (fewest relations). */
-	const std::map<std::size_t, mrpt::math::TPose2D>& reach(std::size_t node) const;
+	/** A node reached from another: P(from -> it), by a path of `relations` relations. */
+	struct TReached
+	{
+		mrpt::math::TPose2D pose;
+		std::size_t relations;
+	};
+	/** Every node m within maxHops relations of `node`, by its path of fewest relations. */
+	const std::map<std::size_t, TReached>& reach(std::size_t node) const;
 
 	TRelationTruthParams p_;
 	std::vector<double> keyframeTime_;
@@ -80,9 +86,7 @@ private:
 	std::vector<std::optional<std::pair<std::size_t, mrpt::math::TPose2D>>> anchor_;
 	std::vector<bool> isBridged_;
 	std::map<std::size_t, std::vector<std::size_t>> keyframesAt_;  //!< anchor node -> keyframes
-	mutable std::map<std::size_t, std::map<std::size_t, mrpt::math::TPose2D>> reachCache_;
-	/** Per node reached by reach(node): the relations on its path. */
-	mutable std::map<std::size_t, std::map<std::size_t, std::size_t>> hopsCache_;
+	mutable std::map<std::size_t, std::map<std::size_t, TReached>> reachCache_;
 	std::size_t own_ = 0, bridged_ = 0;
 };
 
