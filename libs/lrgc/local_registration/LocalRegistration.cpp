@@ -36,6 +36,20 @@ const double kRetryTurn = mrpt::DEG2RAD(10.0);
  * with twice the gate, 1 m: 2.9 deg at 20 m). */
 const double kRetryStep = mrpt::DEG2RAD(2.5);
 
+/** [rad] The wide search's second opinion on a suspect step's plain match that agrees with the
+ * prior (overrulingWideMatch) explores the heading within +- kOverruleAngle of the prior only:
+ * half a right angle. The odometry errs by a share of the turn, or stalls in it (sparse
+ * MIT-CSAIL: -2.6 deg read where the robot turned -27; the right overrules on the sparse
+ * variants moved the match by 5-24 deg), while a building's aliases of a matched pose lie a
+ * right angle or two away: after 80-105 deg turns at corridor junctions the plain match agreed
+ * with the prior and the search's winner turned it 80-91 deg further, laying the scan onto the
+ * corridor the window had seen rather than the one it looks into (sparse variants of Intel and
+ * Killian with 1.5 m or 80 deg between scans: five such overrules; Killian's map turned round,
+ * 72 m mean; doc/generalisation.md). A prior farther off than this is not agreed with by a
+ * plain match; the full search (wide_search_angle) stays for a step whose plain match fails or
+ * disagrees. */
+const double kOverruleAngle = mrpt::DEG2RAD(45.0);
+
 /** A step the wheels did not make: under 1 mm and 1 mrad (encoder ticks round to zero). */
 bool isZeroStep(const mrpt::math::TPose2D& motion)
 {
@@ -341,7 +355,8 @@ std::optional<TScanMatch> CLocalRegistration::overrulingWideMatch(const CReferen
 	if (m_matcher.explainedFraction(cloud, scan, plain.scanInRef) >
 		1 - m_matcherParams.wide_ambiguity_margin)
 		return std::nullopt;
-	auto wide = wideMatch(cloud, scan, guess, m_params.wide_search_angle, 0);
+	auto wide =
+		wideMatch(cloud, scan, guess, std::min(kOverruleAngle, m_params.wide_search_angle), 0);
 	if (!wide) return std::nullopt;
 	// The plain match's own basin: nothing to overrule.
 	if (!CScanMatcher::distinctHypotheses(plain.scanInRef, wide->scanInRef))

@@ -270,7 +270,9 @@ private:
 									  const mrpt::math::TPose2D& newestInMap,
 									  const TMotionPrediction& prediction);
 	/** The wide search's second opinion on a suspect step's plain match that agrees with the
-	 * prior: its winner if it overrules the match (a distinct pose), else nullopt. */
+	 * prior: its winner if it overrules the match (a distinct pose), else nullopt. It searches
+	 * within half a right angle of the prior only (kOverruleAngle, LocalRegistration.cpp): a
+	 * building's aliases of the match lie a right angle away. */
 	std::optional<TScanMatch> overrulingWideMatch(const CReferenceCloud& cloud,
 												  const TScan2D& scan,
 												  const mrpt::math::TPose2D& guess,
