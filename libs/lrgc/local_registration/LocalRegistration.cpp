@@ -43,6 +43,18 @@ const double kRetryStep = mrpt::DEG2RAD(2.5);
  * the bound's ratio was at most 0.9998 (ACES, MIT-CSAIL, the synthetic logs). */
 constexpr double kPriorAloneAgrees = 1 - 1e-6;
 
+/** The prior's covariance P is positive definite and far from singular (its LDLT pivots
+ * within 1e9 of each other), as the bound above needs (a singular P's solve is no bound),
+ * with P's rounding (~1e-7 relative at most) well inside kPriorAloneAgrees's margin. The
+ * motion models' P are diagonal with positive floors. */
+bool boundsTheDisagreement(const Eigen::Matrix3d& P)
+{
+	const Eigen::LDLT<Eigen::Matrix3d> ldlt(P);
+	const Eigen::Vector3d D = ldlt.vectorD();
+	return ldlt.info() == Eigen::Success && D.minCoeff() > 1e-9 * D.maxCoeff() &&
+		   D.minCoeff() > 0;
+}
+
 /** A step the wheels did not make: under 1 mm and 1 mrad (encoder ticks round to zero). */
 bool isZeroStep(const mrpt::math::TPose2D& motion)
 {
@@ -272,8 +284,9 @@ TRegistration CLocalRegistration::registerScan(const CPoseGraph& graph,
 bool CLocalRegistration::disagreesWith(const TPose2D& guess, const Eigen::Matrix3d& priorCov,
 									   const TScanMatch& m) const
 {
-	if (m.deferredCov && disagreementChi2(guess, m.scanInRef, priorCov) <=
-							 kPriorAloneAgrees * m_params.glitch_gate_chi2)
+	if (m.deferredCov && boundsTheDisagreement(priorCov) &&
+		disagreementChi2(guess, m.scanInRef, priorCov) <=
+			kPriorAloneAgrees * m_params.glitch_gate_chi2)
 		return false;
 	return disagreementChi2(guess, m.scanInRef, priorCov + m.covariance().get()) >
 		   m_params.glitch_gate_chi2;
