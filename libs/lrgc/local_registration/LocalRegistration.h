@@ -86,8 +86,11 @@ namespace lrgc
 struct TRegistration
 {
 	mrpt::math::TPose2D scanInMap;  //!< (map <- robot at the scan)
-	Eigen::Matrix3d cov;   //!< of the scan pose relative to the newest keyframe, map axes
-	bool matched = false;  //!< false: no acceptable match, the prior was kept
+	/** Of the scan pose relative to the newest keyframe, map axes. A plain match's is
+	 * deferred (CScanMatcher::matchDeferred): the window's helper thread computes it while the
+	 * mapping thread goes on, and get() waits for it (or computes it) where it is read. */
+	CLazyCovariance cov;
+	bool matched = false;           //!< false: no acceptable match, the prior was kept
 	bool odometryRejected = false;  //!< the match disagrees with the prior beyond the gate
 	bool wideSearch = false;        //!< the match came from the wide rotational search
 	/** Matched from the prediction's alternative (TMotionPrediction::alternative), within its
@@ -116,6 +119,11 @@ struct TRegistration
  * scans between them match 5-10 cm sideways, all to one side, claiming 1.5-2.5 cm; scan
  * 1137 stayed 0.070 m off, 0.038 m above its neighbours). */
 Eigen::Matrix3d lonePatchLinkCov(const Eigen::Matrix3d& cov, const TScan2D& scan, double r);
+/** lonePatchLinkCov in two steps, for a covariance known later: d / r of `scan` (1 where it
+ * does not widen), then `cov` widened by it; lonePatchLinkCov(cov, scan, r) is
+ * widenedPosition(cov, sparseReturnsRatio(scan, r)), bit for bit. */
+double sparseReturnsRatio(const TScan2D& scan, double r);
+Eigen::Matrix3d widenedPosition(const Eigen::Matrix3d& cov, double ratio);
 
 class CLocalRegistration
 {
@@ -280,7 +288,8 @@ private:
 	/** The scan matched from `guess` (newest keyframe <- scan), a loose fit refitted
 	 * (CScanMatcher::refitLoose); nullopt if the match fails. */
 	std::optional<TScanMatch> plainMatch(const CReferenceCloud& cloud, const TScan2D& scan,
-										 const mrpt::math::TPose2D& guess);
+										 const mrpt::math::TPose2D& guess,
+										 const TCloudPtr& deferOn = {});
 	/** A failed plain match retried (registerScan): matchWide over the heading the
 	 * odometry's error may span, kRetryAngle, or kRetryTurnAngle for a step turning more than
 	 * kRetryTurn, with starts kRetryStep apart (LocalRegistration.cpp); nullopt unless the
@@ -307,7 +316,7 @@ private:
 	{
 		size_t node;
 		mrpt::math::TPose2D scanInNode;
-		Eigen::Matrix3d cov;
+		CLazyCovariance cov;
 	};
 	std::optional<TPatchMatch> m_lastPatchMatch;
 	/** The last scan's registration if it was an accepted plain match (not refused by the
@@ -318,6 +327,11 @@ private:
 	 * that match moved by the odometry step (reuse_match_when_still); else nullopt. */
 	std::optional<TRegistration> stillRegistration(const CPoseGraph& graph,
 												   const TMotionPrediction& prediction);
+	/** `m` (newest keyframe <- scan) disagrees with the prior `guess` of covariance
+	 * `priorCov` beyond glitch_gate_chi2 (the match's deferred covariance read only where the
+	 * prior's alone cannot prove agreement). */
+	bool disagreesWith(const mrpt::math::TPose2D& guess, const Eigen::Matrix3d& priorCov,
+					   const TScanMatch& m) const;
 	/** `reg` (its odometryRejected and wideSearch set) placed by `match` against the patch of
 	 * the newest keyframe at newestInMap; remembers the match for the patch link and for a
 	 * scan that stands still. */
@@ -325,7 +339,9 @@ private:
 								const mrpt::math::TPose2D& newestInMap,
 								const TMotionPrediction& prediction);
 
-	CReferenceCloud m_cloud;  //!< window patch in the frame of node *m_cloudNewest
+	/** The window patch in the frame of node *m_cloudNewest; shared, for a deferred match
+	 * covariance reads it after the patch is replaced. */
+	TCloudPtr m_cloud;
 	/** The window patches' noise (CReferenceCloud::noiseVariance, as a std [m]): the median
 	 * of the last patches' (a running median: CRangeNoiseEstimate), and the patches' voxel
 	 * side follows it (patchParams). One patch's is not the laser's: a cluttered or blurred

@@ -16,11 +16,20 @@ namespace lrgc
 // The reasoning and the measurements: LocalRegistration.h.
 Eigen::Matrix3d lonePatchLinkCov(const Eigen::Matrix3d& cov, const TScan2D& scan, double r)
 {
-	if (scan.points.size() < 2 || r <= 0) return cov;
+	return widenedPosition(cov, sparseReturnsRatio(scan, r));
+}
+
+double sparseReturnsRatio(const TScan2D& scan, double r)
+{
+	if (scan.points.size() < 2 || r <= 0) return 1;
 	std::vector<double> d(scan.points.size() - 1);
 	for (size_t i = 1; i < scan.points.size(); ++i)
 		d[i - 1] = (scan.points[i] - scan.points[i - 1]).norm();
-	const double ratio = upperMedian(d) / r;
+	return std::max(1.0, upperMedian(d) / r);
+}
+
+Eigen::Matrix3d widenedPosition(const Eigen::Matrix3d& cov, double ratio)
+{
 	if (ratio <= 1) return cov;
 	const Eigen::DiagonalMatrix<double, 3> D(ratio, ratio, 1.0);
 	return D * cov * D;
@@ -108,7 +117,7 @@ bool CLocalRegistration::reseedPatchMatch(CPoseGraph& graph, const TKeyframes& k
 	}
 	const CReferenceCloud patch = CReferenceCloud::fromScans(scans, inFrom, m_matcherParams);
 	const TPose2D start = between(graph.pose(from), basin);
-	const auto match = plainMatch(patch, keyframes[newNode].scan, start);
+	const auto match = plainMatch(patch, keyframes[newNode].scan, start);  // cov at once
 	if (!match || CScanMatcher::distinctHypotheses(start, match->scanInRef)) return false;
 	// The keyframe stands where the patch puts it, placed by a scan match.
 	m_lastPatchMatch = TPatchMatch{from, match->scanInRef, match->cov};
@@ -168,11 +177,12 @@ size_t CLocalRegistration::linkAndOptimize(CPoseGraph& graph, const TKeyframes& 
 	{ return m && m->inlierFraction >= m_params.min_link_inlier_fraction; };
 	if (patchLink)  // added before the pairwise links, as their ids have always been
 	{
-		Eigen::Matrix3d cov = m_lastPatchMatch->cov;
+		const Eigen::Matrix3d& matched = m_lastPatchMatch->cov.get();  // the helper's, likely
+		Eigen::Matrix3d cov = matched;
 		if (std::none_of(matches.begin(), matches.end(), confirms))
 			cov =
 				lonePatchLinkCov(cov, keyframes[newNode].scan, m_matcherParams.normal_radius_m);
-		m_patchLinksWidened += cov != m_lastPatchMatch->cov;
+		m_patchLinksWidened += cov != matched;
 		graph.addLink({m_lastPatchMatch->node, newNode, m_lastPatchMatch->scanInNode,
 					   linkInformation(cov, m_params.patch_link_noise), LinkType::ScanMatch});
 		++added;

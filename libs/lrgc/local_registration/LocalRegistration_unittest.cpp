@@ -281,8 +281,8 @@ TEST(LocalRegistration, helperThreadLeavesEveryResultBitForBit)
 		for (const size_t node : local.window()) ref.enterKeyframe(node, false, refGraph);
 		const TRegistration refReg = ref.registerScan(refGraph, keyframes, scan, prior, pred);
 		const TRegistration reg = local.registerScan(graph, keyframes, scan, prior, pred);
-		ASSERT_TRUE(same(reg.scanInMap, refReg.scanInMap) && reg.cov == refReg.cov &&
-					reg.matched == refReg.matched)
+		ASSERT_TRUE(same(reg.scanInMap, refReg.scanInMap) &&
+					reg.cov.get() == refReg.cov.get() && reg.matched == refReg.matched)
 			<< "keyframe " << n << ": registration differs from a fresh one";
 
 		keyframes.push_back(run.keyframes[n]);

@@ -146,7 +146,7 @@ bool CLocalRegistration::takePreparedWindow(const CPoseGraph& graph)
 		const TPose2D& then = job->posesInMap[i];
 		if (!(now.x == then.x && now.y == then.y && now.phi == then.phi)) return false;
 	}
-	m_cloud = std::move(job->patch.value);
+	m_cloud = std::make_shared<const CReferenceCloud>(std::move(job->patch.value));
 	m_cloudNewest = job->nodes.back();
 	return true;
 }

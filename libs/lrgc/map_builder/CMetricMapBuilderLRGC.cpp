@@ -150,9 +150,13 @@ void CMetricMapBuilderLRGC::followRobot(const mrpt::obs::CObservation2DRangeScan
 					 reg.matched);
 	m_lastScanInMap = reg.scanInMap;
 	m_lastScanCov = reg.cov;
-	m_lastScanSmoothingCov =
-		reg.matched ? lonePatchLinkCov(reg.cov, scan, m_params.matcher.normal_radius_m)
-					: reg.cov;
+	// lonePatchLinkCov's widening, on the covariance when it is known (a deferred one).
+	const double widening =
+		reg.matched ? sparseReturnsRatio(scan, m_params.matcher.normal_radius_m) : 1.0;
+	m_lastScanSmoothingCov = widening <= 1
+								 ? reg.cov
+								 : reg.cov.then([widening](const Eigen::Matrix3d& c)
+												{ return widenedPosition(c, widening); });
 }
 
 // Bookkeeping of step 2: unmatched scans, odometry glitches, the sweep estimate.

@@ -30,6 +30,7 @@
 #include <lrgc/map_builder/LaserSelector.h>
 #include <lrgc/map_builder/MapBuilderParams.h>
 #include <lrgc/map_builder/Trajectory.h>
+#include <lrgc/scan_matching/DeferredCovariance.h>
 #include <lrgc/scan_matching/Keyframe.h>
 #include <lrgc/scan_matching/RangeDenoiser.h>
 #include <lrgc/pose_graph/PoseGraph.h>
@@ -242,8 +243,9 @@ private:
 		 * came from odometry (settleIsolatedScans). */
 		mrpt::math::TPose2D step{0, 0, 0};
 		Eigen::Matrix3d stepCov = Eigen::Matrix3d::Identity();  //!< of `step` (its model)
-		/** TRegistration::cov, widened where returns are sparse (m_lastScanSmoothingCov). */
-		Eigen::Matrix3d registrationCov = Eigen::Matrix3d::Zero();
+		/** TRegistration::cov, widened where returns are sparse (m_lastScanSmoothingCov);
+		 * deferred ones settled a few scans later (recordScan). */
+		CLazyCovariance registrationCov{Eigen::Matrix3d::Zero()};
 		bool stepFromOdometry = false;
 		bool keyframe = false;  //!< the scan is its node's own (a new keyframe)
 		bool matched = true;    //!< its registration matched (TRegistration::matched)
@@ -342,14 +344,16 @@ private:
 	CPoseGraph m_graph;
 	TKeyframes m_keyframes;
 	std::vector<TScanRecord> m_scans;
+	/** m_scans below this index hold known registration covariances (recordScan). */
+	size_t m_scansSettled = 0;
 	TMapBuilderStats m_stats;
 	CLaserSelector m_lasers;  //!< the laser the map is built from, its range limits
 
 	mrpt::math::TPose2D m_lastScanInMap{0, 0, 0};
-	Eigen::Matrix3d m_lastScanCov = Eigen::Matrix3d::Zero();
+	CLazyCovariance m_lastScanCov{Eigen::Matrix3d::Zero()};  //!< TRegistration::cov
 	/** m_lastScanCov of a matched scan widened as a lone patch match's (lonePatchLinkCov):
 	 * what the end of the run's smoothing weighs its registration by (TScanRecord). */
-	Eigen::Matrix3d m_lastScanSmoothingCov = Eigen::Matrix3d::Zero();
+	CLazyCovariance m_lastScanSmoothingCov{Eigen::Matrix3d::Zero()};
 	std::optional<mrpt::math::TPose2D> m_nextScanPrior;  //!< from initialize(x0)
 	/** Set by startSessionAt(): the next scan starts a session; the covariance of its pose. */
 	std::optional<Eigen::Matrix3d> m_sessionStartCov;

@@ -81,11 +81,12 @@ void CMetricMapBuilderLRGC::resetState()
 	m_graph = CPoseGraph();
 	m_keyframes.clear();
 	m_scans.clear();
+	m_scansSettled = 0;
 	m_stats = {};
 	m_lasers = CLaserSelector(m_params.builder);
 	m_lastScanInMap = TPose2D(0, 0, 0);
-	m_lastScanCov.setZero();
-	m_lastScanSmoothingCov.setZero();
+	m_lastScanCov = CLazyCovariance(Eigen::Matrix3d::Zero());
+	m_lastScanSmoothingCov = CLazyCovariance(Eigen::Matrix3d::Zero());
 	m_nextScanPrior.reset();
 	m_sessionStartCov.reset();
 	m_pieceFirst.reset();

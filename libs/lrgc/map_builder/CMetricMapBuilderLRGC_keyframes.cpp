@@ -101,6 +101,12 @@ void CMetricMapBuilderLRGC::recordScan(mrpt::Clock::time_point stamp, size_t nod
 	m_scans.push_back({stamp, node, robotInNode, m_scanStep, m_scanStepCov,
 					   m_lastScanSmoothingCov, m_scanStepFromOdometry, keyframe,
 					   m_scanMatched});
+	// The records' deferred covariances (a plain match's, TRegistration::cov) settled
+	// kSettleLag scans behind, long computed by then: a record keeps a matrix, not the
+	// match's pairs and patch. The values are the same whenever they are settled.
+	constexpr size_t kSettleLag = 8;
+	for (; m_scansSettled + kSettleLag < m_scans.size(); ++m_scansSettled)
+		m_scans[m_scansSettled].registrationCov.settle();
 }
 
 // The scan that moves the robot's anchor from keyframe a to an existing keyframe c measures
@@ -117,8 +123,8 @@ void CMetricMapBuilderLRGC::linkReused(const TReusedKeyframe& c, const TRegistra
 	const TPose2D aInMap = m_graph.pose(a);
 	const TPose2D scanInA = between(aInMap, reg.scanInMap);
 	const TPose2D z = compose(scanInA, inverse(c.scanInNode));
-	const Eigen::Matrix3d covA = rotateCovariance(reg.cov, -aInMap.phi);  // map axes -> a's
-	const Eigen::Matrix3d covC = rotateCovariance(c.cov, z.phi);          // c's axes -> a's
+	const Eigen::Matrix3d covA = rotateCovariance(reg.cov.get(), -aInMap.phi);  // map -> a's
+	const Eigen::Matrix3d covC = rotateCovariance(c.cov, z.phi);  // c's axes -> a's
 	m_graph.addLink({a, c.node, z, linkInformation(covA + covC, m_params.loop.link_noise),
 					 LinkType::LoopClosure});
 	++m_stats.loopClosureLinks;

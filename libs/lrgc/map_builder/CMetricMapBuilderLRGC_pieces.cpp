@@ -100,8 +100,8 @@ TPose2D CMetricMapBuilderLRGC::joinPiece(size_t node, const TPose2D& nodeInMap,
 	const TPose2D pieceInMap = compose(j.nodeInMap, inverse(nodeInPiece));
 	for (size_t i = first; i < n; ++i) m_graph.setPose(i, compose(pieceInMap, m_graph.pose(i)));
 	m_lastScanInMap = compose(pieceInMap, m_lastScanInMap);
-	m_lastScanCov = rotateCovariance(m_lastScanCov, pieceInMap.phi);
-	m_lastScanSmoothingCov = rotateCovariance(m_lastScanSmoothingCov, pieceInMap.phi);
+	m_lastScanCov = rotateCovariance(m_lastScanCov.get(), pieceInMap.phi);
+	m_lastScanSmoothingCov = rotateCovariance(m_lastScanSmoothingCov.get(), pieceInMap.phi);
 	m_graph.addLink(j.link);
 	m_reuse->noteLoopLink(n - 1);
 	m_reuse->setFirstCandidate(0);

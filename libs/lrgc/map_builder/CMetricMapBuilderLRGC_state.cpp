@@ -43,7 +43,7 @@ mrpt::poses::CPose3DPDFGaussian::Ptr gaussian3D(const TPose2D& p, const Eigen::M
 mrpt::poses::CPose3DPDF::Ptr CMetricMapBuilderLRGC::getCurrentPoseEstimation() const
 {
 	const auto lock = lockMap();
-	return gaussian3D(m_lastScanInMap, m_lastScanCov);
+	return gaussian3D(m_lastScanInMap, m_lastScanCov.get());
 }
 
 void CMetricMapBuilderLRGC::getCurrentlyBuiltMap(mrpt::maps::CSimpleMap& out_map) const
@@ -157,7 +157,7 @@ void CMetricMapBuilderLRGC::settleIsolatedScans()
 	steps.reserve(m_scans.size());
 	for (const auto& s : m_scans)
 		steps.push_back({compose(m_graph.pose(s.node), s.robotInNode), s.step, s.stepCov,
-						 s.registrationCov, s.stepFromOdometry, s.keyframe});
+						 s.registrationCov.get(), s.stepFromOdometry, s.keyframe});
 	const auto settled = lrgc::settleIsolatedScans(steps);
 	for (const auto& [i, pose] : settled) steps[i].pose = pose;
 	m_stats.scansSettled = settled.size();

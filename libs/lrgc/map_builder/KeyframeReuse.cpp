@@ -29,7 +29,7 @@ void CKeyframeReuse::noteLoopLink(size_t node)
 
 std::optional<TReusedKeyframe> CKeyframeReuse::reusableKeyframe(
 	const CPoseGraph& graph, const TKeyframes& keyframes, const TScan2D& scan,
-	const TPose2D& scanInMap, const Eigen::Matrix3d& scanCov, size_t anchor,
+	const TPose2D& scanInMap, const CLazyCovariance& scanCov, size_t anchor,
 	const std::deque<size_t>& window) const
 {
 	const size_t newest = graph.numNodes() - 1;
@@ -65,7 +65,7 @@ std::optional<TReusedKeyframe> CKeyframeReuse::reusableKeyframe(
 		return std::nullopt;
 	// scanCov in c's axes, plus the match's, plus the floor of scans taken at other times.
 	const Eigen::Matrix3d C =
-		rotateCovariance(scanCov, -cInMap.phi) + m->cov + m_floor.floorCovariance();
+		rotateCovariance(scanCov.get(), -cInMap.phi) + m->cov + m_floor.floorCovariance();
 	if (disagreementChi2(guess, m->scanInRef, C) > m_params.gate_chi2) return std::nullopt;
 	return TReusedKeyframe{*best, m->scanInRef, m->cov};
 }

@@ -71,10 +71,11 @@ public:
 	/** The existing keyframe to anchor `scan` at instead of making it a new keyframe, if one
 	 * covers `scanInMap` and may be trusted. anchor: the keyframe the robot is at (not a
 	 * candidate); window: the local window's keyframes; scanCov: covariance of the scan's
-	 * registered pose [map axes]. Keyframes in the window are not candidates. */
+	 * registered pose [map axes], read only where a candidate's match is found (it may be a
+	 * deferred one, TRegistration::cov). Keyframes in the window are not candidates. */
 	std::optional<TReusedKeyframe> reusableKeyframe(
 		const CPoseGraph& graph, const TKeyframes& keyframes, const TScan2D& scan,
-		const mrpt::math::TPose2D& scanInMap, const Eigen::Matrix3d& scanCov, size_t anchor,
+		const mrpt::math::TPose2D& scanInMap, const CLazyCovariance& scanCov, size_t anchor,
 		const std::deque<size_t>& window) const;
 
 private:

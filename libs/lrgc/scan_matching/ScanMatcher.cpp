@@ -22,6 +22,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "ScanMatcherDetail.h"
 
@@ -178,6 +179,24 @@ double weighAndAccumulate(std::vector<TCorrespondence>& corr, double scale,
 	Hout = H, gOut = g, HspurOut = Hspur;
 	return sw > 0 ? std::sqrt(swl / sw) : 1.0;
 }
+/** m.cov = detail::poseCovariance(ref, corr, info, c, cluster, unobservableStd), or with
+ * `deferOn` (ref, shared) that same call on the same inputs later (m.deferredCov,
+ * DeferredCovariance.h), m.cov NaN meanwhile. */
+void setCovariance(TScanMatch& m, const CReferenceCloud& ref,
+				   std::vector<TCorrespondence>&& corr, const detail::TScaledInfo& info,
+				   double c, double cluster, double unobservableStd,
+				   const std::shared_ptr<const CReferenceCloud>& deferOn)
+{
+	if (!deferOn)
+	{
+		m.cov = detail::poseCovariance(ref, corr, info, c, cluster, unobservableStd);
+		return;
+	}
+	m.cov.setConstant(std::numeric_limits<double>::quiet_NaN());
+	m.deferredCov = std::make_shared<CDeferredCovariance>(
+		[ref = deferOn, corr = std::move(corr), info, c, cluster, u = unobservableStd]
+		{ return detail::poseCovariance(*ref, corr, info, c, cluster, u); });
+}
 }  // namespace
 
 CScanMatcher::CScanMatcher(const TScanMatcherParams& p) : m_params(p)
@@ -191,6 +210,15 @@ std::optional<TScanMatch> CScanMatcher::match(const CReferenceCloud& ref, const 
 	return matchPoints(ref, scan.points, guess, m_params.max_correspondence_dist_m, &scan);
 }
 
+std::optional<TScanMatch> CScanMatcher::matchDeferred(
+	const std::shared_ptr<const CReferenceCloud>& ref, const TScan2D& scan,
+	const mrpt::math::TPose2D& guess) const
+{
+	ASSERT_(ref);
+	return matchPoints(*ref, scan.points, guess, m_params.max_correspondence_dist_m, &scan,
+					   ref);
+}
+
 namespace
 {
 /** [0..1] The refit of a loose fit must explain this much more of the scan (share of its
@@ -202,13 +230,15 @@ constexpr double kRefitLead = 0.05;
 }  // namespace
 
 TScanMatch CScanMatcher::refitLoose(const CReferenceCloud& ref, const TScan2D& scan,
-									const TScanMatch& m) const
+									const TScanMatch& m,
+									const std::shared_ptr<const CReferenceCloud>& deferOn) const
 {
+	ASSERT_(!deferOn || deferOn.get() == &ref);
 	const double gate0 = m_params.max_correspondence_dist_m;
 	const double inlierGate = rmsGate(scan.rangeNoiseStd);
 	// Loose: the gate never shrank below its start (it shrinks to 4 c = 4 kCauchy s).
 	if (4 * kCauchy * m.residualStd < gate0 || inlierGate >= gate0) return m;
-	const auto refit = matchPoints(ref, scan.points, m.scanInRef, inlierGate, &scan);
+	const auto refit = matchPoints(ref, scan.points, m.scanInRef, inlierGate, &scan, deferOn);
 	if (refit && explainedFraction(ref, scan, refit->scanInRef) >=
 					 explainedFraction(ref, scan, m.scanInRef) + kRefitLead)
 		return *refit;
@@ -220,10 +250,10 @@ double CScanMatcher::rmsGate(double scanNoiseStd) const
 	return std::max(m_params.max_rms_residual_m, 3 * scanNoiseStd);
 }
 
-std::optional<TScanMatch> CScanMatcher::matchPoints(const CReferenceCloud& ref,
-													const std::vector<Eigen::Vector2d>& pts,
-													const mrpt::math::TPose2D& guess,
-													double gate0, const TScan2D* checked) const
+std::optional<TScanMatch> CScanMatcher::matchPoints(
+	const CReferenceCloud& ref, const std::vector<Eigen::Vector2d>& pts,
+	const mrpt::math::TPose2D& guess, double gate0, const TScan2D* checked,
+	const std::shared_ptr<const CReferenceCloud>& deferOn) const
 {
 	const auto& P = m_params;
 	if (ref.empty() || pts.size() < static_cast<size_t>(P.min_inliers)) return std::nullopt;
@@ -295,8 +325,8 @@ std::optional<TScanMatch> CScanMatcher::matchPoints(const CReferenceCloud& ref,
 	// Residuals of anchors closer than this share reference noise (the line fit neighbourhood
 	// is up to 4 normal_radius_m wide where sparse).
 	const double cluster = std::max(0.5, 2 * P.normal_radius_m);
-	m.cov =
-		detail::poseCovariance(ref, corr, info, kCauchy * scale, cluster, P.unobservable_std_m);
+	setCovariance(m, ref, std::move(corr), info, kCauchy * scale, cluster, P.unobservable_std_m,
+				  deferOn);
 	return m;
 }
 

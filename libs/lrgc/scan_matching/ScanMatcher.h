@@ -22,6 +22,7 @@
 #pragma once
 
 #include <lrgc/common/StopToken.h>
+#include <lrgc/scan_matching/DeferredCovariance.h>
 #include <lrgc/scan_matching/ScanMatcherParams.h>
 #include <lrgc/scan_matching/ReferenceCloud.h>
 #include <lrgc/scan_matching/Scan.h>
@@ -31,6 +32,7 @@
 #include <Eigen/Core>
 #include <cmath>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <vector>
 
@@ -39,8 +41,17 @@ namespace lrgc
 struct TScanMatch
 {
 	mrpt::math::TPose2D scanInRef;  //!< (ref <- scan)
-	/** Covariance of (x [m], y [m], phi [rad]) of scanInRef, in the ref frame. */
+	/** Covariance of (x [m], y [m], phi [rad]) of scanInRef, in the ref frame. NaN where the
+	 * match deferred it (deferredCov; CScanMatcher::matchDeferred): read covariance() then. */
 	Eigen::Matrix3d cov = Eigen::Matrix3d::Identity();
+	/** Non-null: cov is computed later, on whichever thread asks first (DeferredCovariance.h),
+	 * shared by the match's copies. */
+	std::shared_ptr<CDeferredCovariance> deferredCov;
+	/** cov, or the deferred one (computed or waited for on get()). */
+	CLazyCovariance covariance() const
+	{
+		return deferredCov ? CLazyCovariance(deferredCov) : CLazyCovariance(cov);
+	}
 	double inlierFraction = 0;  //!< inlier points / scan points
 	/** Free-space inconsistency (CReferenceCloud::freeSpaceViolation): the share of points
 	 * of either side lying where the other side's beams passed. A wrong alignment has many.
@@ -68,6 +79,12 @@ public:
 	 * RMS too large, or geometry degenerate in more than one direction. Never the guess. */
 	std::optional<TScanMatch> match(const CReferenceCloud& ref, const TScan2D& scan,
 									const mrpt::math::TPose2D& guessScanInRef) const;
+	/** match(), its covariance deferred (TScanMatch::deferredCov): computed from the same
+	 * pairs by the same code when asked for, so the same bits. `ref` is shared because that
+	 * computation reads it. */
+	std::optional<TScanMatch> matchDeferred(const std::shared_ptr<const CReferenceCloud>& ref,
+											const TScan2D& scan,
+											const mrpt::math::TPose2D& guessScanInRef) const;
 
 	/** `m`, a match of `scan` against `ref` (match()), refitted if it is a loose fit: one
 	 * whose residual scale s kept the gate at max_correspondence_dist_m (4 * 2.385 s >= it).
@@ -78,9 +95,10 @@ public:
 	 * max_rms_residual_m) where the robot turned -37.1 deg (s 0.012 m, 54 %), 6 deg off.
 	 * The refit starts from m with the gate a match's inliers must keep (max_rms_residual_m,
 	 * or 3x a noisy laser's noise) and wins if it explains kRefitLead (0.05) more of the scan
-	 * (ScanMatcher.cpp); else m. */
-	TScanMatch refitLoose(const CReferenceCloud& ref, const TScan2D& scan,
-						  const TScanMatch& m) const;
+	 * (ScanMatcher.cpp); else m. With `deferOn` (ref, shared) the refit's covariance is
+	 * deferred as matchDeferred's. */
+	TScanMatch refitLoose(const CReferenceCloud& ref, const TScan2D& scan, const TScanMatch& m,
+						  const std::shared_ptr<const CReferenceCloud>& deferOn = {}) const;
 
 	/** For odometry glitches: starts match() from headings guess.phi + k * wide_search_step
 	 * over [-searchAngle_rad, +searchAngle_rad] and returns the best converged match, refined
@@ -113,11 +131,12 @@ private:
 	 * `initialGate` [m]. `checked`: the scan `pts` are all the points of, whose match is to
 	 * pass match()'s checks (its range noise for the RMS gate, its range image for the
 	 * free-space check) and get its covariance; null: unchecked, the converged pose and its
-	 * inliers only (matchWide's starts on a subsample). */
-	std::optional<TScanMatch> matchPoints(const CReferenceCloud& ref,
-										  const std::vector<Eigen::Vector2d>& pts,
-										  const mrpt::math::TPose2D& guess, double initialGate,
-										  const TScan2D* checked = nullptr) const;
+	 * inliers only (matchWide's starts on a subsample). `deferOn` (ref, shared): the
+	 * covariance deferred (TScanMatch::deferredCov). */
+	std::optional<TScanMatch> matchPoints(
+		const CReferenceCloud& ref, const std::vector<Eigen::Vector2d>& pts,
+		const mrpt::math::TPose2D& guess, double initialGate, const TScan2D* checked = nullptr,
+		const std::shared_ptr<const CReferenceCloud>& deferOn = {}) const;
 	/** The inlier RMS gate for a scan of range noise `scanNoiseStd` [m] (TScan2D::
 	 * rangeNoiseStd): max(max_rms_residual_m, 3 scanNoiseStd). The point-to-line residual of
 	 * two such scans is ~sqrt(2) scanNoiseStd, inliers reaching 2.4x that (Cauchy c).
