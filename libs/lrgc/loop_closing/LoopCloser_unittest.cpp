@@ -49,7 +49,8 @@ TEST(LoopCloserPatch, turningOnTheSpotAddsNoPath)
 // far search's correlations leave it as it was.
 TEST(LoopCloserPatch, anAmbiguousNearCorrelationGrowsThePatch)
 {
-	const TLoopCloserParams p;
+	TLoopCloserParams p;
+	p.patch_keyframes_per_ambiguity = 10;  // off by default
 	TCorrelationVerdict ambiguous;
 	ambiguous.rejection = TCorrelationVerdict::Reason::Ambiguous;
 	TCorrelationVerdict lowScore;
