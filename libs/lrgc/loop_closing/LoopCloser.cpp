@@ -26,6 +26,9 @@ namespace
 /** Re-matching after a closure takes every this many patch keyframes: neighbours 0.3 m apart
  * see the same walls, so every second one adds nearly all the information at half the cost. */
 constexpr size_t kRematchStride = 2;
+/** Keyframes of one pass through a place lie at most this many indices apart within its
+ * reference radius (a pass's keyframes are consecutive; 3 allows a few turned away). */
+constexpr size_t kVisitGap = 3;
 
 /** Index in `candidates` of the node nearest to `pose` (map frame) and its distance [m]; the
  * first on ties. */
@@ -129,6 +132,7 @@ std::optional<TLoopClosure> CLoopCloser::process(CPoseGraph& graph, const TScanR
 	if (attemptDue(window))
 		if (auto lc = searchNear(graph, scans, *candidates, window))
 		{
+			m_ambiguityGrowth = 0;
 			collectFarStep();
 			if (!m_farHeld.empty()) dropFarHeld(m_stats.farUnconfirmed);
 			if (m_far) ++m_stats.farSearchesClosedOut, m_far.reset();  // the old map moved
@@ -182,7 +186,7 @@ auto CLoopCloser::correlateAndMatch(const CPoseGraph& graph, const TScanRefs& sc
 {
 	const auto corr = correlatePatch(graph, scans, c, w);
 	if (!corr || stopped()) return std::nullopt;
-	auto match = matchLoopLink(graph, scans, c, corr->patchInMap);
+	auto match = matchLoopLink(graph, scans, c, corr->patchInMap, w.check);
 	if (!match || stopped()) return std::nullopt;
 	match->score = corr->score;
 	match->ambiguity = corr->ambiguity;
@@ -223,6 +227,7 @@ std::optional<TCorrelationResult> CLoopCloser::correlatePatch(const CPoseGraph& 
 	progress();
 	if (verdict.accepted()) return corr;
 	++m_stats.rejectedByFilters;
+	m_ambiguityGrowth = grownAfter(m_params, m_ambiguityGrowth, verdict, !w.far && !w.check);
 	m_lastRejection = verdict.message();
 	return std::nullopt;
 }
@@ -231,7 +236,7 @@ std::optional<TCorrelationResult> CLoopCloser::correlatePatch(const CPoseGraph& 
 // scans near the nearest candidate j; the result is the loop link j -> newest, vetted when
 // the gate's covariance agrees with it (the back-end's bound, 3 Phi, before its own test).
 auto CLoopCloser::matchLoopLink(const CPoseGraph& graph, const TScanRefs& scans,
-								const TCandidates& c, const TPose2D& corrected)
+								const TCandidates& c, const TPose2D& corrected, bool oneVisit)
 	-> std::optional<TLoopMatch>
 {
 	CCpuTimer matchTimer(m_stats.matchCpuSeconds);
@@ -239,7 +244,8 @@ auto CLoopCloser::matchLoopLink(const CPoseGraph& graph, const TScanRefs& scans,
 	const size_t oldIndex = nearestCandidate(graph, c.nodes, corrected).first;
 	const size_t oldNode = c.nodes[oldIndex];
 	const TPose2D guessInOld = between(graph.pose(oldNode), corrected);
-	const CReferenceCloud reference = oldScansNear(graph, scans, c, oldNode, corrected);
+	const CReferenceCloud reference =
+		oldScansNear(graph, scans, c, oldNode, corrected, oneVisit);
 	++work().matches;
 	progress();
 	const auto match = m_matcher.match(reference, *scans[newest], guessInOld);
@@ -262,17 +268,25 @@ auto CLoopCloser::matchLoopLink(const CPoseGraph& graph, const TScanRefs& scans,
 // The reference of step 3's match: the candidates within 2 overlap radii of the corrected
 // pose, in old node's frame, cropped to the points the new scan can reach at the correlated
 // pose (a few cm off): correspondence gate plus the widest line fit, with margin to spare.
+// With `oneVisit` (a far place's check: the map is tens of metres wrong there, and keyframes of
+// another corridor may lie where it has the place) only the pass through the place that holds
+// oldNode (visitAround): on LargeLoop's 117 m return a drifted side of the loop lay on the
+// first corridor in the map, and its scans failed the true place's match by free space
+// (0.3-0.8 of the scan) for 30 keyframes after the correlation had found it (score 0.995).
 CReferenceCloud CLoopCloser::oldScansNear(const CPoseGraph& graph, const TScanRefs& scans,
 										  const TCandidates& c, size_t oldNode,
-										  const TPose2D& corrected)
+										  const TPose2D& corrected, bool oneVisit)
 {
 	const TPose2D oldInMap = graph.pose(oldNode);
+	std::vector<size_t> near;
+	for (const size_t j : c.nodes)
+		if (translationNorm(between(graph.pose(j), corrected)) <= 2 * m_params.overlap_radius_m)
+			near.push_back(j);
+	if (oneVisit) near = visitAround(near, oldNode, kVisitGap);
 	std::vector<TScan2D> refScans;
 	std::vector<TPose2D> refInOld;
-	for (const size_t j : c.nodes)
+	for (const size_t j : near)
 	{
-		if (translationNorm(between(graph.pose(j), corrected)) > 2 * m_params.overlap_radius_m)
-			continue;
 		refScans.push_back(*scans[j]);
 		work().matchRefPoints += scans[j]->points.size();
 		refInOld.push_back(between(oldInMap, graph.pose(j)));
@@ -286,6 +300,20 @@ CReferenceCloud CLoopCloser::oldScansNear(const CPoseGraph& graph, const TScanRe
 	if (m_params.match_ref_resolution_m > 0)
 		refParams.ref_resolution_m = m_params.match_ref_resolution_m;
 	return CReferenceCloud::fromScansNear(refScans, refInOld, refParams, scanInOld, cropMargin);
+}
+
+// The nodes of `nodes` on the pass through `node`: sorted, the run around `node` whose
+// consecutive indices differ by at most maxGap (none if `node` is not among them).
+std::vector<size_t> CLoopCloser::visitAround(std::vector<size_t> nodes, size_t node,
+											 size_t maxGap)
+{
+	std::sort(nodes.begin(), nodes.end());
+	const auto at = std::lower_bound(nodes.begin(), nodes.end(), node);
+	if (at == nodes.end() || *at != node) return {};
+	auto first = at, last = at + 1;
+	while (first != nodes.begin() && *first - *(first - 1) <= maxGap) --first;
+	while (last != nodes.end() && *last - *(last - 1) <= maxGap) ++last;
+	return {first, last};
 }
 
 // Paper 2.2: after the loop is closed, rerun with new scan matches between the newly linked

@@ -81,6 +81,21 @@ public:
 	 * (path: the straight steps between consecutive nodes, map frame); at least 1. Caps the
 	 * patch ([LoopCloser] patch_max_travel_m). */
 	static size_t keyframesWithinTravel(const CPoseGraph& graph, double travel);
+	/** The near search's patch size [keyframes] (paper 2.4): patch_min_keyframes, plus
+	 * patch_keyframes_per_m per metre of the gate's position std `sigmaXY`, plus
+	 * `ambiguityGrowth`; at most old_map_exclusion_keyframes (before patch_max_travel_m). */
+	static size_t patchKeyframes(const TLoopCloserParams& p, double sigmaXY,
+								 size_t ambiguityGrowth);
+	/** The patch's growth for ambiguity after a correlation's `verdict`: up by
+	 * patch_keyframes_per_ambiguity (at most old_map_exclusion_keyframes) when a near search
+	 * was rejected as ambiguous, else as it was. A closure resets it to 0. */
+	static size_t grownAfter(const TLoopCloserParams& p, size_t growth,
+							 const TCorrelationVerdict& verdict, bool nearSearch);
+	/** Of `nodes` (keyframe indices, any order), sorted, the run around `node` whose
+	 * consecutive indices differ by at most `maxGap`: the pass through a place that holds
+	 * `node` (empty if `node` is not among them). The far check's loop-link reference. */
+	static std::vector<size_t> visitAround(std::vector<size_t> nodes, size_t node,
+										   size_t maxGap);
 	/** Counts a search for `keyframe` deferred by the caller (CLoopClosingWorker's
 	 * backlog). */
 	void countShed(size_t keyframe)
@@ -157,6 +172,7 @@ private:
 	{
 		double xy = 0, theta = 0;
 		size_t patchSize = 0, patchFirst = 0;
+		size_t grownByAmbiguity = 0;  //!< of patchSize - patch_min, asked for by ambiguity
 		/** Where the window is centred (map <- newest) if not at the newest pose. */
 		std::optional<mrpt::math::TPose2D> centre;
 		bool far = false;    //!< the far search's coarse grid (m_farCorrelator)
@@ -194,10 +210,11 @@ private:
 	void countedSearch(const std::function<void(TCorrelationEffort&)>& search);
 	std::optional<TLoopMatch> matchLoopLink(const CPoseGraph& graph, const TScanRefs& scans,
 											const TCandidates& c,
-											const mrpt::math::TPose2D& corrected);
+											const mrpt::math::TPose2D& corrected,
+											bool oneVisit);
 	CReferenceCloud oldScansNear(const CPoseGraph& graph, const TScanRefs& scans,
 								 const TCandidates& c, size_t oldNode,
-								 const mrpt::math::TPose2D& corrected);
+								 const mrpt::math::TPose2D& corrected, bool oneVisit);
 	/** Whether a held loop link a and a later one b imply the same pose of b's new node. */
 	static bool matchesAgree(const CPoseGraph& g, const TLink& a, const TLink& b);
 	/** True (and the rejection named) once a stop is requested. */
@@ -243,8 +260,7 @@ private:
 										  const mrpt::math::TPose2D& centre);
 	std::optional<TLoopClosure> confirmFar(CPoseGraph& graph, const TScanRefs& scans,
 										   const TCandidates& all, const TSearchWindow& w);
-	/** Whether a held far place's patch shares no keyframe with the patch of `w`
-	 * (farHeldBefore). */
+	/** Whether a held far place can be confirmed by a patch within `w`'s (farHeldBefore). */
 	bool farHeldReady(const TSearchWindow& w) const;
 	/** Ends the far search under way for a later one (merged when the later window, of
 	 * half-side `laterHalfXY` [m] around the newest keyframe, holds every place it has not
@@ -307,6 +323,9 @@ private:
 	size_t m_keyframesSinceCheck = 0;
 	bool m_onKnownGround = false;     //!< the last check added a link that agreed with the map
 	size_t m_checksSinceAttempt = 0;  //!< for attempt_stride
+	/** Keyframes the near patch grows by: patch_keyframes_per_ambiguity per near correlation
+	 * rejected as ambiguous since the last closure. */
+	size_t m_ambiguityGrowth = 0;
 	/** The far search under way (its steps, LoopCloser_far.cpp): the patch of keyframe `newest`
 	 * (its frame), the coarse old-map grid and where the patch may stand, then the places to
 	 * check. */
@@ -335,8 +354,11 @@ private:
 		size_t tries = 0;
 	};
 	std::vector<TFarHeld> m_farHeld;
-	/** Whether `h`'s patch ends before the patch of `w` starts (shares no keyframe with it). */
-	static bool farHeldBefore(const TFarHeld& h, const TSearchWindow& w);
+	/** Whether at least patch_min_keyframes of `w`'s patch come after `h`'s newest keyframe:
+	 * a patch of its own to confirm `h` (confirmingWindow). */
+	bool farHeldBefore(const TFarHeld& h, const TSearchWindow& w) const;
+	/** `w` with its patch cut to the keyframes after `h`'s newest: shares none with `h`'s. */
+	static TSearchWindow confirmingWindow(const TFarHeld& h, const TSearchWindow& w);
 	void dropFarHeldIf(const std::function<bool(const TFarHeld&)>& drop, size_t& counter);
 	size_t m_checksSinceFar = 0;  //!< capped checks since the last far search started
 	/** The last process()'s capped check that found nothing, for farStep(): every old node

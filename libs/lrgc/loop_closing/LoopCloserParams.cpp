@@ -13,6 +13,8 @@ void TLoopCloserParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& 
 		readCount(c, s, "old_map_exclusion_keyframes", old_map_exclusion_keyframes);
 	patch_min_keyframes = readCount(c, s, "patch_min_keyframes", patch_min_keyframes);
 	patch_keyframes_per_m = readDouble(c, s, "patch_keyframes_per_m", patch_keyframes_per_m);
+	patch_keyframes_per_ambiguity =
+		readCount(c, s, "patch_keyframes_per_ambiguity", patch_keyframes_per_ambiguity);
 	patch_max_travel_m = readDouble(c, s, "patch_max_travel_m", patch_max_travel_m);
 	requireParam(patch_max_travel_m >= 0, s, "patch_max_travel_m", "must be >= 0");
 	gate_sigma = readDouble(c, s, "gate_sigma", gate_sigma);
@@ -107,6 +109,9 @@ void TLoopCloserParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
 	writeValue(
 		c, s, "patch_keyframes_per_m", patch_keyframes_per_m,
 		"[1/m] Patch growth per metre of position std (capped at old_map_exclusion_keyframes)");
+	writeValue(c, s, "patch_keyframes_per_ambiguity", uint64_t(patch_keyframes_per_ambiguity),
+			   "Patch growth per near correlation rejected as ambiguous since the last "
+			   "closure (capped at old_map_exclusion_keyframes; 0: off)");
 	writeValue(
 		c, s, "patch_max_travel_m", patch_max_travel_m,
 		"[m] A patch spans at most this much path (at least patch_min_keyframes); 0: no cap");

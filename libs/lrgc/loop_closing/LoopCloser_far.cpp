@@ -280,11 +280,25 @@ auto CLoopCloser::matchAround(const CPoseGraph& graph, const TScanRefs& scans,
 	return correlateAndMatch(graph, scans, all, around);
 }
 
-// Whether the held place's patch (its link's newest keyframe and those before it) ends before
-// the patch of `w` starts: the later patch is evidence of its own.
-bool CLoopCloser::farHeldBefore(const TFarHeld& h, const TSearchWindow& w)
+// Whether patch_min_keyframes or more of `w`'s patch come after the held place's patch (its
+// link's newest keyframe and those before it): a patch as large as any near search's, and
+// evidence of its own. Waiting for all of `w`'s patch (up to old_map_exclusion_keyframes, as
+// large as the gate's sigma asks) to clear the held one confirmed LargeLoop's 117 m return
+// 5-10 m of path too late.
+bool CLoopCloser::farHeldBefore(const TFarHeld& h, const TSearchWindow& w) const
 {
-	return h.match.link.to < w.patchFirst;
+	const size_t newest = w.patchFirst + w.patchSize - 1;
+	return newest >= h.match.link.to + m_params.patch_min_keyframes;
+}
+
+// The patch of `w` from the keyframe after the held place's newest on.
+auto CLoopCloser::confirmingWindow(const TFarHeld& h, const TSearchWindow& w) -> TSearchWindow
+{
+	TSearchWindow c = w;
+	const size_t newest = w.patchFirst + w.patchSize - 1;
+	c.patchFirst = std::max(w.patchFirst, h.match.link.to + 1);
+	c.patchSize = newest + 1 - c.patchFirst;
+	return c;
 }
 
 bool CLoopCloser::farHeldReady(const TSearchWindow& w) const
@@ -315,7 +329,8 @@ std::optional<TLoopClosure> CLoopCloser::confirmFar(CPoseGraph& graph, const TSc
 				const TLink& l = m_farHeld[i].match.link;
 				const TPose2D implied = compose(compose(graph.pose(l.from), l.toInFrom),
 												between(graph.pose(l.to), graph.pose(newest)));
-				if (auto m = matchAround(graph, scans, all, w, implied);
+				const TSearchWindow own = confirmingWindow(m_farHeld[i], w);
+				if (auto m = matchAround(graph, scans, all, own, implied);
 					m && matchesAgree(graph, l, m->link))
 					agreeing.emplace_back(i, *m);
 			}
@@ -331,13 +346,14 @@ std::optional<TLoopClosure> CLoopCloser::confirmFar(CPoseGraph& graph, const TSc
 		return std::nullopt;
 	}
 	const TLoopMatch held = m_farHeld[agreeing[0].first].match;
+	const TSearchWindow own = confirmingWindow(m_farHeld[agreeing[0].first], w);
 	m_farHeld.erase(m_farHeld.begin() + std::ptrdiff_t(agreeing[0].first));
 	dropFarHeld(m_stats.farUnconfirmed);  // the places the patch did not confirm
 	if (m_far) ++m_stats.farSearchesClosedOut, m_far.reset();  // the old map is about to move
 	std::vector<size_t> vettedLinks;
 	const size_t heldId = graph.addLink(held.link);
 	if (held.vetted) vettedLinks.push_back(heldId);
-	auto lc = addAndClose(graph, scans, all, w, agreeing[0].second, heldId, vettedLinks);
+	auto lc = addAndClose(graph, scans, all, own, agreeing[0].second, heldId, vettedLinks);
 	if (!lc) return std::nullopt;
 	++m_stats.farClosures;
 	lc->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

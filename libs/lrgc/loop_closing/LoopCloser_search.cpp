@@ -26,16 +26,38 @@ auto CLoopCloser::searchWindow(const CPoseGraph& graph, const TCandidates& c) co
 					  2 * m_correlator.params().resolution_m, m_params.max_window_xy_m);
 	w.theta = std::clamp(m_params.window_sigmas * c.sigmaTheta, mrpt::DEG2RAD(2.0),
 						 m_params.max_window_phi);
-	w.patchSize =
-		std::min<size_t>(m_params.old_map_exclusion_keyframes,
-						 m_params.patch_min_keyframes +
-							 static_cast<size_t>(m_params.patch_keyframes_per_m * c.sigmaXY));
+	w.patchSize = patchKeyframes(m_params, c.sigmaXY, m_ambiguityGrowth);
 	if (m_params.patch_max_travel_m > 0)
 		w.patchSize = std::max(
 			m_params.patch_min_keyframes,
 			std::min(w.patchSize, keyframesWithinTravel(graph, m_params.patch_max_travel_m)));
+	w.grownByAmbiguity =
+		std::min(w.patchSize - m_params.patch_min_keyframes, m_ambiguityGrowth);
 	w.patchFirst = newest + 1 - std::min(w.patchSize, newest + 1);
 	return w;
+}
+
+// patch_min_keyframes + patch_keyframes_per_m sigma + the growth for ambiguity, at most
+// old_map_exclusion_keyframes.
+size_t CLoopCloser::patchKeyframes(const TLoopCloserParams& p, double sigmaXY,
+								   size_t ambiguityGrowth)
+{
+	return std::min<size_t>(p.old_map_exclusion_keyframes,
+							p.patch_min_keyframes +
+								static_cast<size_t>(p.patch_keyframes_per_m * sigmaXY) +
+								ambiguityGrowth);
+}
+
+// The growth after a correlation's verdict: patch_keyframes_per_ambiguity more for a near
+// search rejected as ambiguous (paper 2.4: a patch that is not distinctive within its window
+// may be in a larger one), at most old_map_exclusion_keyframes; unchanged otherwise. The far
+// search's correlations (its coarse grid, its checks) have windows of their own.
+size_t CLoopCloser::grownAfter(const TLoopCloserParams& p, size_t growth,
+							   const TCorrelationVerdict& verdict, bool nearSearch)
+{
+	if (!nearSearch || verdict.rejection != TCorrelationVerdict::Reason::Ambiguous)
+		return growth;
+	return std::min(growth + p.patch_keyframes_per_ambiguity, p.old_map_exclusion_keyframes);
 }
 
 // How many of the newest keyframes lie within `travel` [m] of path (the sum of the straight
@@ -55,11 +77,13 @@ size_t CLoopCloser::keyframesWithinTravel(const CPoseGraph& graph, double travel
 }
 
 // A patch grown with the uncertainty overlaps the last attempt's almost entirely: while it is
-// large, correlate only every attempt_stride * (patch - patch_min) checks.
+// large, correlate only every attempt_stride * (patch - patch_min) checks. The keyframes
+// added for ambiguity do not count: they make an attempt decisive, not rarer.
 bool CLoopCloser::attemptDue(const TSearchWindow& w)
 {
 	if (double(++m_checksSinceAttempt) <=
-		m_params.attempt_stride * double(w.patchSize - m_params.patch_min_keyframes))
+		m_params.attempt_stride *
+			double(w.patchSize - w.grownByAmbiguity - m_params.patch_min_keyframes))
 		return false;
 	m_checksSinceAttempt = 0;
 	return true;

@@ -1,6 +1,7 @@
-/* CLoopCloser::keyframesWithinTravel, the path-length cap of the loop closer's patch
- * ([LoopCloser] patch_max_travel_m): keyframes 1 m apart (sparse scans) and 0.35 m apart
- * (dense logs), and turns on the spot, which add keyframes but no path. */
+/* CLoopCloser's patch: keyframesWithinTravel, the path-length cap ([LoopCloser]
+ * patch_max_travel_m: keyframes 1 m apart (sparse scans) and 0.35 m apart (dense logs), and
+ * turns on the spot, which add keyframes but no path); its growth for ambiguity; and the far
+ * check's reference (visitAround). */
 #include <gtest/gtest.h>
 #include <lrgc/loop_closing/LoopCloser.h>
 #include <lrgc/loop_closing/LoopCloserParams.h>
@@ -41,4 +42,47 @@ TEST(LoopCloserPatch, turningOnTheSpotAddsNoPath)
 	for (int i = 1; i <= 5; ++i) g.addNode(TPose2D(29, 0, 0.5 * i));
 	// 5 turned keyframes at the same place, then 25 within 24 m along the line.
 	EXPECT_EQ(CLoopCloser::keyframesWithinTravel(g, 24.0), 30u);
+}
+
+// [LoopCloser] patch_keyframes_per_ambiguity: a near correlation rejected as ambiguous grows
+// the next patch by 10 keyframes, up to old_map_exclusion_keyframes; other rejections and the
+// far search's correlations leave it as it was.
+TEST(LoopCloserPatch, anAmbiguousNearCorrelationGrowsThePatch)
+{
+	TLoopCloserParams p;
+	p.patch_keyframes_per_ambiguity = 10;  // off by default
+	TCorrelationVerdict ambiguous;
+	ambiguous.rejection = TCorrelationVerdict::Reason::Ambiguous;
+	TCorrelationVerdict lowScore;
+	lowScore.rejection = TCorrelationVerdict::Reason::LowScore;
+	size_t growth = CLoopCloser::grownAfter(p, 0, ambiguous, true);
+	EXPECT_EQ(growth, p.patch_keyframes_per_ambiguity);
+	EXPECT_EQ(CLoopCloser::grownAfter(p, growth, lowScore, true), growth);
+	EXPECT_EQ(CLoopCloser::grownAfter(p, growth, ambiguous, false), growth) << "far search";
+	for (int i = 0; i < 10; ++i) growth = CLoopCloser::grownAfter(p, growth, ambiguous, true);
+	EXPECT_EQ(growth, p.old_map_exclusion_keyframes);
+	// The calibrated gate's 0.5 m std asks for 10 + 8 * 0.5 = 14 keyframes; two ambiguous
+	// rejections make it 34, the cap 40.
+	EXPECT_EQ(CLoopCloser::patchKeyframes(p, 0.5, 0), 14u);
+	EXPECT_EQ(CLoopCloser::patchKeyframes(p, 0.5, 2 * p.patch_keyframes_per_ambiguity), 34u);
+	EXPECT_EQ(CLoopCloser::patchKeyframes(p, 0.5, growth), p.old_map_exclusion_keyframes);
+}
+
+// The far check's loop-link reference is the pass through the matched old keyframe: keyframes
+// 106-135 (the first corridor) and 918-954 (another side of the loop, which the drift laid on
+// it in the map) are both near the place; only the first pass is the place's.
+TEST(LoopCloserFarCheck, theReferenceIsThePassThroughTheMatchedKeyframe)
+{
+	std::vector<size_t> near;
+	for (size_t j = 954; j >= 918; --j) near.push_back(j);
+	for (size_t j = 135; j >= 106; --j) near.push_back(j);
+	near.push_back(110);  // a duplicate is harmless
+	const auto visit = CLoopCloser::visitAround(near, 120, 3);
+	ASSERT_FALSE(visit.empty());
+	EXPECT_EQ(visit.front(), 106u);
+	EXPECT_EQ(visit.back(), 135u);
+	// A gap of up to 3 indices (keyframes turned away) stays one pass; 4 splits it.
+	EXPECT_EQ(CLoopCloser::visitAround({10, 13, 16, 20}, 13, 3),
+			  (std::vector<size_t>{10, 13, 16}));
+	EXPECT_TRUE(CLoopCloser::visitAround({10, 13}, 12, 3).empty()) << "not a candidate";
 }
