@@ -221,9 +221,10 @@ std::optional<TCorrelationResult> CLoopCloser::correlatePatch(const CPoseGraph& 
 	for (CPatchCorrelator* correlatorUsed :
 		 {&m_correlator, &m_farCorrelator, &m_farCheckCorrelator})
 		correlatorUsed->setScanNoise(noise);
-	// The near search's link carries a corridor's slide (carryRidge); the far search keeps
-	// the paper's filter 2 (its places are confirmed by a later, disjoint patch instead).
-	m_correlator.setStraightRidges(true);
+	// [LoopCloser] corridor_ridges: the near search's link carries a corridor's slide
+	// (carryRidge); the far search keeps the paper's filter 2 (its places are confirmed by a
+	// later, disjoint patch instead).
+	m_correlator.setStraightRidges(m_params.corridor_ridges);
 	const CPatchCorrelator& correlator = correlatorFor(w);
 	const CCorrelationGrid grid =
 		correlator.makeGrid(pm.oldMap, 3 * correlator.params().blur_sigma_m);
