@@ -64,6 +64,19 @@ double gateInnovationChi2(const TRelativeUncertainty& iFromJ, const TPose2D& z,
 	const Eigen::Vector3d e = toVector(between(z, inverse(P)));
 	return e.dot(S.ldlt().solve(e));
 }
+
+/** A link's information with a doubt D [map frame] added to its covariance, the link read in
+ * the frame of its old node (heading theta_j [rad]):
+ *     (Omega^-1 + A D A^T)^-1,  A = diag(R(theta_j)^T, 1). */
+Eigen::Matrix3d withDoubt(const Eigen::Matrix3d& info, const Eigen::Matrix3d& doubt,
+						  double thetaJ)
+{
+	if (doubt.isZero()) return info;
+	Eigen::Matrix3d A = Eigen::Matrix3d::Identity();
+	A.topLeftCorner<2, 2>() << std::cos(thetaJ), std::sin(thetaJ), -std::sin(thetaJ),
+		std::cos(thetaJ);
+	return (info.inverse() + A * doubt * A.transpose()).inverse();
+}
 }  // namespace
 
 void CLoopCloser::setStopToken(const CStopToken& stop)
@@ -186,8 +199,9 @@ auto CLoopCloser::correlateAndMatch(const CPoseGraph& graph, const TScanRefs& sc
 {
 	const auto corr = correlatePatch(graph, scans, c, w);
 	if (!corr || stopped()) return std::nullopt;
-	auto match = matchLoopLink(graph, scans, c, corr->patchInMap, w.check);
+	auto match = matchLoopLink(graph, scans, c, seedOnRidge(*corr, w, graph), w.check);
 	if (!match || stopped()) return std::nullopt;
+	if (!corr->ridgeAxis.isZero()) carryRidge(graph, c, *corr, *match);
 	match->score = corr->score;
 	match->ambiguity = corr->ambiguity;
 	return match;
@@ -211,6 +225,10 @@ std::optional<TCorrelationResult> CLoopCloser::correlatePatch(const CPoseGraph& 
 	for (CPatchCorrelator* correlatorUsed :
 		 {&m_correlator, &m_farCorrelator, &m_farCheckCorrelator})
 		correlatorUsed->setScanNoise(noise);
+	// [LoopCloser] corridor_ridges: the near search's link carries a corridor's slide
+	// (carryRidge); the far search keeps the paper's filter 2 (its places are confirmed by a
+	// later, disjoint patch instead).
+	m_correlator.setStraightRidges(m_params.corridor_ridges);
 	const CPatchCorrelator& correlator = correlatorFor(w);
 	const CCorrelationGrid grid =
 		correlator.makeGrid(pm.oldMap, 3 * correlator.params().blur_sigma_m);
@@ -230,6 +248,45 @@ std::optional<TCorrelationResult> CLoopCloser::correlatePatch(const CPoseGraph& 
 	m_ambiguityGrowth = grownAfter(m_params, m_ambiguityGrowth, verdict, !w.far && !w.check);
 	m_lastRejection = verdict.message();
 	return std::nullopt;
+}
+
+// Where the best peak is a straight ridge (TCorrelationResult::ridgeAxis: a corridor's slide,
+// look-alikes along it), the correlation says little along it: the best pose there is the
+// first among near-equals. The gate's prediction (the window's centre c) is the better guess
+// along it, so the scan match starts from its projection onto the ridge's line, within the
+// ridge's extent (b the best pose, a the axis, L the half-length; map frame):
+//     t = clamp(a . (c - b), -L, L),  seed = (b + t a, theta_b).
+TPose2D CLoopCloser::seedOnRidge(const TCorrelationResult& corr, const TSearchWindow& w,
+								 const CPoseGraph& graph) const
+{
+	TPose2D seed = corr.patchInMap;
+	if (corr.ridgeAxis.isZero()) return seed;
+	const TPose2D centre = w.centre.value_or(graph.pose(graph.numNodes() - 1));
+	const Eigen::Vector2d d(centre.x - seed.x, centre.y - seed.y);
+	const double t =
+		std::clamp(corr.ridgeAxis.dot(d), -corr.ridgeHalfLength, corr.ridgeHalfLength);
+	seed.x += t * corr.ridgeAxis.x();
+	seed.y += t * corr.ridgeAxis.y();
+	return seed;
+}
+
+// The scan match seeded on a ridge keeps the ridge's doubt along it, and where it starts on
+// the wrong one of two look-alike places along the ridge it converges a few centimetres off
+// across it too: the correlation's own spread C_corr and the ridge's C_ridge (map frame,
+// TCorrelationResult::ridgeCovariance) are rotated into the old node j's frame, the link's,
+// and added to the match's:
+//     C_link = C_match + A (C_corr + C_ridge) A^T,  A = diag(R(theta_j)^T, 1),
+// and the link is vetted against the gate again with it.
+void CLoopCloser::carryRidge(const CPoseGraph& graph, const TCandidates& c,
+							 const TCorrelationResult& corr, TLoopMatch& m) const
+{
+	m.doubt = corr.cov + corr.ridgeCovariance();
+	m.info = withDoubt(m.info, m.doubt, graph.pose(m.link.from).phi);
+	m.link.information = m.info;
+	const size_t index =
+		size_t(std::find(c.nodes.begin(), c.nodes.end(), m.link.from) - c.nodes.begin());
+	m.vetted = gateInnovationChi2(c.relative[index], m.link.toInFrom, m.info) <
+			   3 * m_optimizer.params().dcs_phi;
 }
 
 // Step 3: the correlation's pose seeds a scan match of the newest keyframe against the old
@@ -318,9 +375,12 @@ std::vector<size_t> CLoopCloser::visitAround(std::vector<size_t> nodes, size_t n
 
 // Paper 2.2: after the loop is closed, rerun with new scan matches between the newly linked
 // poses. Each patch keyframe is matched against its nearest old candidate, now that the
-// poses are topologically correct.
+// poses are topologically correct. A closure seeded on a ridge (`doubt`, carryRidge) placed
+// them only across it: each re-match starts from that placement and keeps its doubt (tight
+// re-matches along a corridor slid by the closure locked the slide in: the atrium's seed 3
+// with the default gate, 12 links 0.4-0.5 m along the hall).
 size_t CLoopCloser::rematch(CPoseGraph& graph, const TScanRefs& scans, const TCandidates& c,
-							size_t patchFirst, size_t newest)
+							size_t patchFirst, size_t newest, const Eigen::Matrix3d& doubt)
 {
 	size_t added = 0;
 	for (size_t k = patchFirst; k < newest && !m_stop.stopRequested(); k += kRematchStride)
@@ -335,8 +395,10 @@ size_t CLoopCloser::rematch(CPoseGraph& graph, const TScanRefs& scans, const TCa
 		// The closure's solve has just placed both poses: a re-match that lands far from
 		// them (chi2 of e = v(Z^-1 (+) (X_nearest^-1 (+) X_k)) above 3 Phi, DCS's bound)
 		// converged to another wall, and would add a wrong link of its own.
-		const Eigen::Matrix3d info = linkInformation(
-			m->cov, denoisedLoopLinkNoise(m_params.link_noise, scans[k]->rangeNoiseStd));
+		const Eigen::Matrix3d info = withDoubt(
+			linkInformation(
+				m->cov, denoisedLoopLinkNoise(m_params.link_noise, scans[k]->rangeNoiseStd)),
+			doubt, graph.pose(nearest).phi);
 		const Eigen::Vector3d e =
 			linkResidual(graph.pose(nearest), graph.pose(k), m->scanInRef);
 		if (e.dot(info * e) > 3 * m_optimizer.params().dcs_phi)

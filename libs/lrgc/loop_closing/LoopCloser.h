@@ -190,6 +190,9 @@ private:
 		Eigen::Matrix3d info;
 		bool vetted = false;
 		double score = 0, ambiguity = 0;  //!< of the correlation that seeded it
+		/** The correlation's doubt a ridge leaves (carryRidge) [map frame; m^2, rad^2]: the
+		 * re-matches after the closure, seeded by it, carry it too. Zero without a ridge. */
+		Eigen::Matrix3d doubt = Eigen::Matrix3d::Zero();
 	};
 
 	// The steps of process(), in order.
@@ -208,6 +211,12 @@ private:
 								const TCandidates& c, TSearchWindow& w) const;
 	/** Runs `search` with its work counted as it goes (the worker's published progress). */
 	void countedSearch(const std::function<void(TCorrelationEffort&)>& search);
+	/** Step 3's seed: the correlation's pose, moved along a ridge to the gate's prediction. */
+	mrpt::math::TPose2D seedOnRidge(const TCorrelationResult& corr, const TSearchWindow& w,
+									const CPoseGraph& graph) const;
+	/** A ridge's doubt added to the loop link's covariance (and the link vetted again). */
+	void carryRidge(const CPoseGraph& graph, const TCandidates& c,
+					const TCorrelationResult& corr, TLoopMatch& m) const;
 	std::optional<TLoopMatch> matchLoopLink(const CPoseGraph& graph, const TScanRefs& scans,
 											const TCandidates& c,
 											const mrpt::math::TPose2D& corrected,
@@ -282,7 +291,7 @@ private:
 	std::optional<std::vector<TRelativeUncertainty>> reuseGate(const CPoseGraph& graph,
 															   size_t newest) const;
 	size_t rematch(CPoseGraph& graph, const TScanRefs& scans, const TCandidates& c,
-				   size_t patchFirst, size_t newest);
+				   size_t patchFirst, size_t newest, const Eigen::Matrix3d& doubt);
 
 	TLoopCloserParams m_params;
 	TScanMatcherParams m_matcherParams;

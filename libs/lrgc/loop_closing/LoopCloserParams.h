@@ -125,6 +125,16 @@ struct TLoopCloserParams : public mrpt::config::CLoadableOptions
 	 * the heading step is resolution / patch radius, so 40 m returns (ACES) would need
 	 * ~900 headings over +-30 deg; far returns are also the noisiest. */
 	double patch_max_range_m = 12.0;
+	/** The near search's correlation takes rivals on one straight line through its best pose
+	 * (the same heading and place across it, inside the window) as the best peak's own: a
+	 * corridor's slide, whose look-alikes agree on all but the position along it. The loop
+	 * link then carries that doubt in its covariance (CPatchCorrelator::setStraightRidges,
+	 * CLoopCloser::carryRidge). With the calibrated gate it closes the glass atrium's
+	 * ambiguous true places (recall 253 -> 256 of 316 over seeds 1-4, false 2 -> 1), but
+	 * LoopClosingWorker.aBudgetPerSpacingTravelledClosesTheLoopASlowRobotRevisits fails with
+	 * it (no closure on its ring) and sparse Killian gains a false link: off by default
+	 * (doc/generalisation.md, "A corridor's slide"). */
+	bool corridor_ridges = false;
 	/** While the patch is larger than patch_min_keyframes (large uncertainty), correlate only
 	 * once every attempt_stride * (patch - patch_min_keyframes) checks: consecutive large
 	 * patches are nearly the same evidence, and a large window is the costly case (Killian:

@@ -120,7 +120,7 @@ std::optional<TLoopClosure> CLoopCloser::addAndClose(
 			return std::nullopt;
 		}
 		lc.optimized = true;
-		lc.rematchLinks = rematch(graph, scans, c, w.patchFirst, lc.newNode);
+		lc.rematchLinks = rematch(graph, scans, c, w.patchFirst, lc.newNode, m.doubt);
 		if (lc.rematchLinks > 0) optimize(graph), ++m_stats.optimizations;
 	}
 	++m_stats.accepted;

@@ -12,7 +12,9 @@
  *     for branch and bound (a weaker rival cannot fail filter 2: ambiguity reported inf),
  *     stopping at the first pose that reaches the floor (its existence alone fails filter 2;
  *     the strongest rival is not needed), floor 0 and the exact rival for the exhaustive
- *     reference.
+ *     reference. A rival on the best peak's ridge (TRidgeRule: a corridor's slide) joins the
+ *     best's cluster and the search goes on; a straight ridge's extent is reported with the
+ *     result, filter 3 then judges the spread across it.
  *  5. Covariance (pose_grid.cpp): the response is sampled on a lattice around the best pose,
  * weighted w = exp(-(S_best - S) / (cluster_score_scale S_best)), and its weighted covariance
  * is taken, plus the lattice's own discretisation (step^2/12). First lattice: the pose grid
@@ -207,24 +209,87 @@ bool joinedAbove(const TPoseGridProblem& pb, const detail::TSearchHit& from,
 	return true;
 }
 
-/** Step 4's search, outside the best cluster. A noisy laser's peak is wide (setScanNoise): a
- * rival that the poses scoring at least s(best) / min_ambiguity join to the best without a
- * valley lies on the best peak's ridge (a corridor's), whose extent is filter 3's to judge.
- * Its cluster then joins the best's, and the search goes on for a peak of its own. */
+/** How step 4 treats a rival as good as s(best) / min_ambiguity or better. */
+enum class TRidgeRule
+{
+	None,  //!< it is the rival (the paper's filter 2)
+	/** A noisy laser's (setScanNoise): the peak is as wide as the noise; a rival that the
+	 * poses scoring at least s(best) / min_ambiguity join to the best without a valley
+	 * (joinedAbove) lies on the best peak's ridge, its cluster joins the best's, and filter 3
+	 * judges the ridge's extent. */
+	AnyJoined,
+	/** The loop closer's near search (setStraightRidges) for every other laser: a rival on
+	 * one straight line through the best pose (heading within
+	 * max_std_phi of the best's, within cluster_radius_m of the line from the best to the
+	 * first such rival), a cluster radius or more inside the window's border, belongs to the
+	 * best's peak, with a valley between them or not: a slide along a corridor, whose
+	 * look-alikes (the next bay, door or column along it) agree with the best on the heading
+	 * and on the place across the corridor. How far along the line they reach is the loop
+	 * link's doubt (TCorrelationResult::ridgeCovariance). A rival off that line stays the
+	 * rival (filter 2), and so does one near the border: the line may go on outside the
+	 * window, the true place with it. */
+	Straight
+};
+
+/** The rivals joined to the best pose (TRidgeRule::Straight): the ridge's axis and extent. */
+struct TRidge
+{
+	Eigen::Vector2d axis = Eigen::Vector2d::Zero();  //!< unit, map frame; zero: none joined
+	double halfLength = 0;                           //!< [m] farthest joined rival + radius
+	double maxDeltaTheta = 0;                        //!< [rad] of the joined rivals
+};
+
+/** Whether `rival` may join the straight ridge `ridge` of `best` (see TRidgeRule::Straight);
+ * extends the ridge if so. */
+bool joinStraightRidge(const TPatchCorrelatorParams& prm, const TGridSpec& spec, int halfCells,
+					   const detail::TSearchHit& best, const detail::TSearchHit& rival,
+					   TRidge& ridge)
+{
+	// A rival within a cluster radius of the window's border may have the ridge go on outside
+	// it (the true place beyond the window): the ridge's extent is not known, it stays a rival.
+	const int border = halfCells - int(std::ceil(prm.cluster_radius_m / spec.res));
+	if (std::max(std::abs(rival.i), std::abs(rival.j)) > border ||
+		std::max(std::abs(best.i), std::abs(best.j)) > border)
+		return false;
+	const double dTheta = mrpt::math::wrapToPi(spec.theta(rival.a) - spec.theta(best.a));
+	const Eigen::Vector2d d(double(rival.i - best.i) * spec.res,
+							double(rival.j - best.j) * spec.res);
+	if (std::abs(dTheta) > prm.max_std_phi || d.norm() < spec.res) return false;
+	if (ridge.axis.isZero()) ridge.axis = d.normalized();
+	const double across = std::abs(ridge.axis.x() * d.y() - ridge.axis.y() * d.x());
+	if (across > prm.cluster_radius_m) return false;
+	ridge.halfLength =
+		std::max(ridge.halfLength, std::abs(ridge.axis.dot(d)) + prm.cluster_radius_m);
+	ridge.maxDeltaTheta = std::max(ridge.maxDeltaTheta, std::abs(dTheta));
+	return true;
+}
+
+/** Step 4's search, outside the best cluster. A rival on the best peak's ridge (TRidgeRule)
+ * has its cluster join the best's, and the search goes on for a peak of its own; the straight
+ * ridge's extent is returned in `ridge`. */
 template <class Search>
 detail::TSearchHit searchRival(const Search& search, const TPatchCorrelatorParams& prm,
-							   bool ridgeRivals, const TPoseGridProblem& pb,
+							   TRidgeRule rule, const TPoseGridProblem& pb,
 							   const TGridSpec& spec, const detail::TSearchHit& best,
-							   int64_t floor)
+							   int64_t floor, TRidge& ridge)
 {
 	detail::TExclusionZone cluster;
 	cluster.discs.push_back(bestCluster(prm, spec, pb.numAngles, best));
 	detail::TSearchHit rival = search(floor, cluster, true);
 	const auto joinFloor =
 		static_cast<int64_t>(std::ceil(double(best.score) / prm.min_ambiguity - 1e-9));
+	const auto joins = [&](const detail::TSearchHit& r)
+	{
+		if (rule == TRidgeRule::None) return false;
+		if (rule == TRidgeRule::AnyJoined) return joinedAbove(pb, best, r, joinFloor);
+		if (r.score < joinFloor) return false;  // it cannot fail filter 2 (exhaustive search)
+		TRidge grown = ridge;
+		if (!joinStraightRidge(prm, spec, pb.halfCells, best, r, grown)) return false;
+		ridge = grown;
+		return true;
+	};
 	size_t ridgeEvaluations = 0;
-	for (int grown = 0; ridgeRivals && rival.found && !rival.stopped &&
-						grown < kMaxRidgeDiscs && joinedAbove(pb, best, rival, joinFloor);
+	for (int grown = 0; rival.found && !rival.stopped && grown < kMaxRidgeDiscs && joins(rival);
 		 ++grown)
 	{
 		ridgeEvaluations += rival.evaluations;
@@ -298,13 +363,29 @@ std::string TCorrelationVerdict::message() const
 TCorrelationVerdict TCorrelationResult::checkFilters(const TPatchCorrelatorParams& p) const
 {
 	using R = TCorrelationVerdict::Reason;
-	const double stdXY = std::sqrt(std::max(cov(0, 0), cov(1, 1)));
+	// Along a straight ridge (ridgeAxis) the position is the ridge's extent, which the loop
+	// link carries (ridgeCovariance); filter 3 judges the spread across it.
+	const Eigen::Vector2d across(-ridgeAxis.y(), ridgeAxis.x());
+	const double stdXY = ridgeAxis.isZero()
+							 ? std::sqrt(std::max(cov(0, 0), cov(1, 1)))
+							 : std::sqrt(across.dot(cov.topLeftCorner<2, 2>() * across));
 	const double stdTh = std::sqrt(cov(2, 2));
 	if (score < p.min_score) return {R::LowScore, score, p.min_score};
 	if (ambiguity < p.min_ambiguity) return {R::Ambiguous, ambiguity, p.min_ambiguity};
 	if (stdXY > p.max_std_xy_m) return {R::SpreadXY, stdXY, p.max_std_xy_m};
 	if (stdTh > p.max_std_phi) return {R::SpreadTheta, stdTh, p.max_std_phi};
 	return {};
+}
+
+Eigen::Matrix3d TCorrelationResult::ridgeCovariance() const
+{
+	Eigen::Matrix3d c = Eigen::Matrix3d::Zero();
+	if (ridgeAxis.isZero()) return c;
+	// The true pose may lie anywhere on the ridge: its far end at 2 sigma.
+	const double halfStd = ridgeHalfLength / 2;
+	c.topLeftCorner<2, 2>() = halfStd * halfStd * ridgeAxis * ridgeAxis.transpose();
+	c(2, 2) = std::pow(ridgeMaxDeltaTheta / 2, 2);
+	return c;
 }
 
 CPatchCorrelator::CPatchCorrelator(const TPatchCorrelatorParams& params)
@@ -383,8 +464,12 @@ std::optional<TCorrelationResult> CPatchCorrelator::run(
 		exhaustive ? 0
 				   : static_cast<int64_t>(
 						 std::ceil(double(best.score) / m_params.min_ambiguity - 1e-9));
+	TRidge ridge;
+	const TRidgeRule rule = m_ridgeRivals      ? TRidgeRule::AnyJoined
+							: m_straightRidges ? TRidgeRule::Straight
+											   : TRidgeRule::None;
 	const detail::TSearchHit rival =
-		searchRival(search, m_params, m_ridgeRivals, pb, spec, best, floor2);
+		searchRival(search, m_params, rule, pb, spec, best, floor2, ridge);
 	if (rival.stopped) return std::nullopt;  // a rival not found is no evidence then
 	res.ambiguity = std::numeric_limits<double>::infinity();
 	if (rival.found)
@@ -398,6 +483,9 @@ std::optional<TCorrelationResult> CPatchCorrelator::run(
 
 	// Step 5: the spread of the best cluster.
 	res.cov = clusterCovariance(m_params, grid, pts, spec, best.a, best.i, best.j, best.score);
+	res.ridgeAxis = ridge.axis;
+	res.ridgeHalfLength = ridge.halfLength;
+	res.ridgeMaxDeltaTheta = ridge.maxDeltaTheta;
 	return res;
 }
 

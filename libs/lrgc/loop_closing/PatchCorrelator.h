@@ -76,6 +76,17 @@ struct TCorrelationResult
 	/** Best cluster's peak, then the rival when known (outside the cluster; see ambiguity). */
 	std::vector<TCorrelationPeak> clusterPeaks;
 
+	/** Rivals on one straight ridge through the best pose (a corridor's slide, joined to it
+	 * without a valley; noise-free lasers, see CPatchCorrelator::correlate) belong to the best
+	 * peak: the ridge's unit axis [map frame] (zero: none), its half-length from the best
+	 * pose [m] and the rivals' largest heading difference [rad]. Filter 3 then judges the
+	 * spread across the axis; ridgeCovariance() is what the position along it is worth. */
+	Eigen::Vector2d ridgeAxis = Eigen::Vector2d::Zero();
+	double ridgeHalfLength = 0, ridgeMaxDeltaTheta = 0;
+	/** Covariance of the pose along the ridge [map frame; m^2, rad^2]: its half-length at 2
+	 * sigma along the axis, half the heading difference as a std; zero without a ridge. */
+	Eigen::Matrix3d ridgeCovariance() const;
+
 	size_t patchCells = 0;   //!< N: distinct patch cells scored
 	double angularStep = 0;  //!< dtheta of the pose grid [rad]
 	size_t posesScored = 0;  //!< exact scores + block bounds evaluated (search effort)
@@ -130,6 +141,13 @@ public:
 	 * best's and the rival search goes on (up to 8 times), leaving the ridge's extent to filter
 	 * 3. sigma is 0 unless the laser is noisy (kNoisyLaserStd_m): the configured values. */
 	void setScanNoise(double sigma);
+	/** Whether rivals on one straight line through the best pose join its peak
+	 * (TCorrelationResult::ridgeAxis; PatchCorrelator.cpp, TRidgeRule::Straight): the loop
+	 * closer's near search, whose link carries the ridge's doubt. Off (the paper's filter 2
+	 * for every rival) unless set; a noisy laser's own ridge rule (setScanNoise) comes first.
+	 */
+	void setStraightRidges(bool on) { m_straightRidges = on; }
+
 	/** Searches end early once `stop` is stopped and then find nothing (std::nullopt). */
 	void setStopToken(const CStopToken& stop) { m_stop = stop; }
 	const CStopToken& stopToken() const { return m_stop; }
@@ -183,6 +201,7 @@ private:
 	TPatchCorrelatorParams m_params;      //!< as used: m_configured scaled by setScanNoise
 	/** A noisy laser's (setScanNoise): rivals on the best peak's ridge join its cluster. */
 	bool m_ridgeRivals = false;
+	bool m_straightRidges = false;  //!< setStraightRidges()
 	CStopToken m_stop;
 };
 

@@ -145,7 +145,9 @@ Stats evaluate(const std::string& log, int maxLoops)
 	};
 
 	const lrgc::TPatchCorrelatorParams prm;
-	const lrgc::CPatchCorrelator corr(prm);
+	lrgc::CPatchCorrelator corr(prm);
+	corr.setStraightRidges(true);  // as the loop closer's near search: no displaced window
+								   // may pass as a corridor's slide either
 	std::mt19937 rng(11);
 	std::uniform_real_distribution<double> u(-1, 1);
 	Stats st;

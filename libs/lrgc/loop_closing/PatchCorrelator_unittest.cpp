@@ -204,35 +204,63 @@ World corridor(double period)
 }
 }  // namespace
 
-TEST(PatchCorrelator, RepeatedDoorsAreRejectedAsAmbiguous)
+// Doors every 3 m along a corridor: every copy of the patch lies on one straight ridge through
+// the truth (the same heading, the same place across the corridor). Where the copies lie
+// inside the window, the ridge is the best peak's own: the correlation fixes the pose across
+// the corridor and the heading, and says how far along it the doubt reaches
+// (TCorrelationResult::ridgeCovariance). Where a copy lies within a cluster radius of the
+// window's border, the ridge may go on outside the window: it stays the rival, and filter 2
+// rejects the patch as ambiguous.
+TEST(PatchCorrelator, RepeatedDoorsAreOneRidgeInsideTheWindowAndAmbiguousAtItsBorder)
 {
 	std::mt19937 rng(5);
 	const TPatchCorrelatorParams prm;
-	const CPatchCorrelator corr(prm);
+	CPatchCorrelator corr(prm);
+	corr.setStraightRidges(true);  // the loop closer's near search
 	const World w = corridor(3.0);
 	const CCorrelationGrid map = corr.makeGrid(rasterise(w), 0.5);
 	const TPose2D truth(0.4, 0.1, 0.02);
 	const Points patch = makePatch(w, truth, 10, rng, 5.0);
-	// The window covers the copies of the patch 3 m before and after the truth.
-	// The exact rival (exhaustive search) is the next door, nearly as good as the truth.
-	const auto ex = corr.correlateExhaustive(map, patch, truth, 3.5, 0.05);
+	// A window of 3.2 m: the copies 3 m before and after lie at its border. The exact rival
+	// (exhaustive search) is the next door, nearly as good as the truth.
+	const auto ex = corr.correlateExhaustive(map, patch, truth, 3.2, 0.05);
 	ASSERT_TRUE(ex.has_value());
 	ASSERT_EQ(ex->clusterPeaks.size(), 2u);
 	EXPECT_LT(ex->ambiguity, 1.05);
 	const double shift = std::abs(ex->clusterPeaks[1].patchInMap.x - ex->patchInMap.x);
 	EXPECT_NEAR(shift, 3.0, 0.1) << "the rival is the next door";
 	// Branch and bound stops at the first rival that fails the filter: the same verdict.
-	const auto r = corr.correlate(map, patch, truth, 3.5, 0.05);
+	const auto r = corr.correlate(map, patch, truth, 3.2, 0.05);
 	ASSERT_TRUE(r.has_value());
 	ASSERT_EQ(r->clusterPeaks.size(), 2u);
 	EXPECT_LT(r->ambiguity, prm.min_ambiguity);
 	const auto v = r->checkFilters(prm);
 	EXPECT_EQ(v.rejection, Reason::Ambiguous) << v.message();
-	// With a window too small to hold a copy, the same patch is unambiguous and accepted.
+	// A window of 4 m holds both copies: one ridge along the corridor (x), accepted; the
+	// position across it (y) and the heading are the truth's, the doubt along it reaches both
+	// doors (half-length >= 3 m, the far end at 2 sigma).
+	const auto ridge = corr.correlate(map, patch, truth, 4.0, 0.05);
+	ASSERT_TRUE(ridge.has_value());
+	EXPECT_TRUE(ridge->passesFilters(prm)) << ridge->checkFilters(prm).message();
+	EXPECT_NEAR(std::abs(ridge->ridgeAxis.x()), 1.0, 1e-3);
+	EXPECT_GE(ridge->ridgeHalfLength, 3.0);
+	const Eigen::Matrix3d C = ridge->ridgeCovariance();
+	EXPECT_GE(std::sqrt(C(0, 0)), 1.5) << "along the corridor";
+	EXPECT_LT(std::sqrt(C(1, 1)), 1e-6) << "across the corridor";
+	EXPECT_NEAR(ridge->patchInMap.y, truth.y, 1.5 * prm.resolution_m);
+	EXPECT_LE(std::abs(angleDiff(ridge->patchInMap.phi, truth.phi)), prm.max_std_phi);
+	// With a window too small to hold a copy, the same patch is unambiguous and accepted, and
+	// no ridge reaches past a cluster radius of the window's border.
 	const auto local = corr.correlate(map, patch, truth, 1.0, 0.05);
 	ASSERT_TRUE(local.has_value());
 	EXPECT_TRUE(local->passesFilters(prm)) << local->checkFilters(prm).message();
+	EXPECT_TRUE(local->ridgeAxis.isZero());
 	EXPECT_LE(std::abs(local->patchInMap.x - truth.x), 1.5 * prm.resolution_m);
+	// Without straight ridges (the far search's correlators) the doors are rivals.
+	const auto paper = CPatchCorrelator(prm).correlate(map, patch, truth, 4.0, 0.05);
+	ASSERT_TRUE(paper.has_value());
+	EXPECT_EQ(paper->checkFilters(prm).rejection, Reason::Ambiguous);
+	EXPECT_TRUE(paper->ridgeAxis.isZero());
 }
 
 // The k best distinct poses (the far loop search's candidates): in the corridor of repeated
