@@ -359,18 +359,13 @@ CReferenceCloud CLoopCloser::oldScansNear(const CPoseGraph& graph, const TScanRe
 	return CReferenceCloud::fromScansNear(refScans, refInOld, refParams, scanInOld, cropMargin);
 }
 
-// The nodes of `nodes` on the pass through `node`: sorted, the run around `node` whose
-// consecutive indices differ by at most maxGap (none if `node` is not among them).
+// The visit of `nodes` (visitsOf, PoseGraph.h) that holds `node`; none if it is not among them.
 std::vector<size_t> CLoopCloser::visitAround(std::vector<size_t> nodes, size_t node,
 											 size_t maxGap)
 {
-	std::sort(nodes.begin(), nodes.end());
-	const auto at = std::lower_bound(nodes.begin(), nodes.end(), node);
-	if (at == nodes.end() || *at != node) return {};
-	auto first = at, last = at + 1;
-	while (first != nodes.begin() && *first - *(first - 1) <= maxGap) --first;
-	while (last != nodes.end() && *last - *(last - 1) <= maxGap) ++last;
-	return {first, last};
+	for (std::vector<size_t>& visit : visitsOf(std::move(nodes), maxGap))
+		if (std::binary_search(visit.begin(), visit.end(), node)) return std::move(visit);
+	return {};
 }
 
 // Paper 2.2: after the loop is closed, rerun with new scan matches between the newly linked

@@ -91,9 +91,9 @@ public:
 	 * was rejected as ambiguous, else as it was. A closure resets it to 0. */
 	static size_t grownAfter(const TLoopCloserParams& p, size_t growth,
 							 const TCorrelationVerdict& verdict, bool nearSearch);
-	/** Of `nodes` (keyframe indices, any order), sorted, the run around `node` whose
-	 * consecutive indices differ by at most `maxGap`: the pass through a place that holds
-	 * `node` (empty if `node` is not among them). The far check's loop-link reference. */
+	/** The visit of `nodes` (visitsOf, PoseGraph.h: runs of keyframe indices at most `maxGap`
+	 * apart) that holds `node`: the pass through the place (empty if `node` is not among
+	 * them). The far check's loop-link reference. */
 	static std::vector<size_t> visitAround(std::vector<size_t> nodes, size_t node,
 										   size_t maxGap);
 	/** Counts a search for `keyframe` deferred by the caller (CLoopClosingWorker's

@@ -1,6 +1,7 @@
 /* Global correlation (Gutmann & Konolige 2000, section 2.3): patch preparation, the pose
  * grid, the best pose and its rival, the best cluster's covariance, and the three filters.
- * The searches themselves are in correlation_search.cpp.
+ * The searches themselves are in correlation_search.cpp, step 4's rival search and its ridge
+ * rules in rival_search.cpp.
  *
  * Steps of one query:
  *  1. Reduce the patch to its distinct cells (resolution in the patch frame, centroid of the
@@ -31,6 +32,7 @@
 
 #include "correlation_search.h"
 #include "pose_grid.h"
+#include "rival_search.h"
 
 #include <algorithm>
 #include <cmath>
@@ -42,9 +44,12 @@ namespace lrgc
 namespace
 {
 using detail::appendBaseCells;
+using detail::bestCluster;
 using detail::clusterCovariance;
 using detail::TGridSpec;
 using detail::TPoseGridProblem;
+using detail::TRidge;
+using detail::TRidgeRule;
 
 // Step 1: centroids of the distinct cells of the patch, in a fixed pseudo-random order (so
 // that early-abandoned bounds see a spatially mixed sample of points first).
@@ -138,9 +143,6 @@ void preparePoseGrid(const CCorrelationGrid& grid, const std::vector<Eigen::Vect
 	pb.prepare();
 }
 
-/** Step 4: rivals found on the best peak's ridge, whose clusters join the best's, at most. */
-constexpr int kMaxRidgeDiscs = 8;
-
 /** The translations (i, j) of the pose grid that put the patch's origin within the region:
  * |t_c + (i, j) res - q| <= radius for some point q (any, without points), and
  * max(|i|, |j|) > ceil(beyondXY / res) when beyondXY > 0; a pyramid of as many levels as the
@@ -172,132 +174,6 @@ void restrictOrigins(const TOriginRegion& origins, const TGridSpec& spec, TPoseG
 					level0[size_t(i + W) * size_t(n) + size_t(j + W)] = 1;
 	}
 	pb.setAllowed(std::move(level0), pb.grid->numLevels());
-}
-
-/** Step 4's exclusion zone: the best pose's cluster, the headings within cluster_radius_phi_deg
- * and the cells within cluster_radius_m of it [cells^2]. */
-detail::TExclusionDisc bestCluster(const TPatchCorrelatorParams& prm, const TGridSpec& spec,
-								   int numAngles, const detail::TSearchHit& best)
-{
-	detail::TExclusionDisc zone;
-	zone.inAngle.resize(size_t(numAngles));
-	for (int a = 0; a < numAngles; ++a)
-		zone.inAngle[size_t(a)] =
-			std::abs(mrpt::math::wrapToPi(spec.theta(a) - spec.theta(best.a))) <=
-			prm.cluster_radius_phi + 1e-12;
-	zone.ci = best.i, zone.cj = best.j;
-	zone.r2 = std::pow(prm.cluster_radius_m / spec.res, 2) + 1e-9;
-	return zone;
-}
-
-/** True if every pose on the straight path from `from` to `to` in the pose grid (headings and
- * cells interpolated, one sample per cell or heading step) scores at least `floor`: `to` lies
- * on a ridge of `from`'s peak, not on a peak of its own (no valley between them). */
-bool joinedAbove(const TPoseGridProblem& pb, const detail::TSearchHit& from,
-				 const detail::TSearchHit& to, int64_t floor)
-{
-	const int steps = std::max(
-		{std::abs(to.a - from.a), std::abs(to.i - from.i), std::abs(to.j - from.j), 1});
-	for (int k = 1; k < steps; ++k)
-	{
-		const double t = double(k) / steps;
-		const auto at = [t](int x0, int x1) { return int(std::lround(x0 + t * (x1 - x0))); };
-		if (detail::scoreAt(pb, 0, at(from.a, to.a), at(from.i, to.i), at(from.j, to.j)) <
-			floor)
-			return false;
-	}
-	return true;
-}
-
-/** How step 4 treats a rival as good as s(best) / min_ambiguity or better. */
-enum class TRidgeRule
-{
-	None,  //!< it is the rival (the paper's filter 2)
-	/** A noisy laser's (setScanNoise): the peak is as wide as the noise; a rival that the
-	 * poses scoring at least s(best) / min_ambiguity join to the best without a valley
-	 * (joinedAbove) lies on the best peak's ridge, its cluster joins the best's, and filter 3
-	 * judges the ridge's extent. */
-	AnyJoined,
-	/** The loop closer's near search (setStraightRidges) for every other laser: a rival on
-	 * one straight line through the best pose (heading within
-	 * max_std_phi of the best's, within cluster_radius_m of the line from the best to the
-	 * first such rival), a cluster radius or more inside the window's border, belongs to the
-	 * best's peak, with a valley between them or not: a slide along a corridor, whose
-	 * look-alikes (the next bay, door or column along it) agree with the best on the heading
-	 * and on the place across the corridor. How far along the line they reach is the loop
-	 * link's doubt (TCorrelationResult::ridgeCovariance). A rival off that line stays the
-	 * rival (filter 2), and so does one near the border: the line may go on outside the
-	 * window, the true place with it. */
-	Straight
-};
-
-/** The rivals joined to the best pose (TRidgeRule::Straight): the ridge's axis and extent. */
-struct TRidge
-{
-	Eigen::Vector2d axis = Eigen::Vector2d::Zero();  //!< unit, map frame; zero: none joined
-	double halfLength = 0;                           //!< [m] farthest joined rival + radius
-	double maxDeltaTheta = 0;                        //!< [rad] of the joined rivals
-};
-
-/** Whether `rival` may join the straight ridge `ridge` of `best` (see TRidgeRule::Straight);
- * extends the ridge if so. */
-bool joinStraightRidge(const TPatchCorrelatorParams& prm, const TGridSpec& spec, int halfCells,
-					   const detail::TSearchHit& best, const detail::TSearchHit& rival,
-					   TRidge& ridge)
-{
-	// A rival within a cluster radius of the window's border may have the ridge go on outside
-	// it (the true place beyond the window): the ridge's extent is not known, it stays a rival.
-	const int border = halfCells - int(std::ceil(prm.cluster_radius_m / spec.res));
-	if (std::max(std::abs(rival.i), std::abs(rival.j)) > border ||
-		std::max(std::abs(best.i), std::abs(best.j)) > border)
-		return false;
-	const double dTheta = mrpt::math::wrapToPi(spec.theta(rival.a) - spec.theta(best.a));
-	const Eigen::Vector2d d(double(rival.i - best.i) * spec.res,
-							double(rival.j - best.j) * spec.res);
-	if (std::abs(dTheta) > prm.max_std_phi || d.norm() < spec.res) return false;
-	if (ridge.axis.isZero()) ridge.axis = d.normalized();
-	const double across = std::abs(ridge.axis.x() * d.y() - ridge.axis.y() * d.x());
-	if (across > prm.cluster_radius_m) return false;
-	ridge.halfLength =
-		std::max(ridge.halfLength, std::abs(ridge.axis.dot(d)) + prm.cluster_radius_m);
-	ridge.maxDeltaTheta = std::max(ridge.maxDeltaTheta, std::abs(dTheta));
-	return true;
-}
-
-/** Step 4's search, outside the best cluster. A rival on the best peak's ridge (TRidgeRule)
- * has its cluster join the best's, and the search goes on for a peak of its own; the straight
- * ridge's extent is returned in `ridge`. */
-template <class Search>
-detail::TSearchHit searchRival(const Search& search, const TPatchCorrelatorParams& prm,
-							   TRidgeRule rule, const TPoseGridProblem& pb,
-							   const TGridSpec& spec, const detail::TSearchHit& best,
-							   int64_t floor, TRidge& ridge)
-{
-	detail::TExclusionZone cluster;
-	cluster.discs.push_back(bestCluster(prm, spec, pb.numAngles, best));
-	detail::TSearchHit rival = search(floor, cluster, true);
-	const auto joinFloor =
-		static_cast<int64_t>(std::ceil(double(best.score) / prm.min_ambiguity - 1e-9));
-	const auto joins = [&](const detail::TSearchHit& r)
-	{
-		if (rule == TRidgeRule::None) return false;
-		if (rule == TRidgeRule::AnyJoined) return joinedAbove(pb, best, r, joinFloor);
-		if (r.score < joinFloor) return false;  // it cannot fail filter 2 (exhaustive search)
-		TRidge grown = ridge;
-		if (!joinStraightRidge(prm, spec, pb.halfCells, best, r, grown)) return false;
-		ridge = grown;
-		return true;
-	};
-	size_t ridgeEvaluations = 0;
-	for (int grown = 0; rival.found && !rival.stopped && grown < kMaxRidgeDiscs && joins(rival);
-		 ++grown)
-	{
-		ridgeEvaluations += rival.evaluations;
-		cluster.discs.push_back(bestCluster(prm, spec, pb.numAngles, rival));
-		rival = search(floor, cluster, true);
-	}
-	rival.evaluations += ridgeEvaluations;
-	return rival;
 }
 
 /** Steps 1 and 2 of a query: the patch's distinct cells and the pose grid over the window. */
@@ -469,7 +345,7 @@ std::optional<TCorrelationResult> CPatchCorrelator::run(
 							: m_straightRidges ? TRidgeRule::Straight
 											   : TRidgeRule::None;
 	const detail::TSearchHit rival =
-		searchRival(search, m_params, rule, pb, spec, best, floor2, ridge);
+		detail::searchRival(search, m_params, rule, pb, spec, best, floor2, ridge);
 	if (rival.stopped) return std::nullopt;  // a rival not found is no evidence then
 	res.ambiguity = std::numeric_limits<double>::infinity();
 	if (rival.found)

@@ -29,19 +29,6 @@ constexpr double kNeighbourRadius = 3.0;
  * than kVisitGap keyframes is the robot leaving and coming back. */
 constexpr size_t kVisitGap = 3;
 
-/** `near` (node ids) cut into visits: runs of indices no more than kVisitGap apart. */
-std::vector<std::vector<size_t>> visitsOf(std::vector<size_t> near)
-{
-	std::sort(near.begin(), near.end());
-	std::vector<std::vector<size_t>> visits;
-	for (const size_t j : near)
-	{
-		if (visits.empty() || j > visits.back().back() + kVisitGap) visits.emplace_back();
-		visits.back().push_back(j);
-	}
-	return visits;
-}
-
 /** Nodes within kNeighbourRadius of k, on k's side of `split`, nearest first. */
 std::vector<size_t> neighboursOf(const CPoseGraph& g, size_t k, size_t split)
 {
@@ -128,7 +115,7 @@ bool CKeyframeRematcher::visitsAgree(const CPoseGraph& graph, const TKeyframes& 
 									 size_t k, size_t r, const std::vector<size_t>& near,
 									 const TScanMatch& m, const TParallelFor& parallel) const
 {
-	const auto visits = visitsOf(near);
+	const auto visits = visitsOf(near, kVisitGap);
 	if (visits.size() < 2) return true;
 	for (const auto& visit : visits)
 	{

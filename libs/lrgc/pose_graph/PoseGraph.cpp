@@ -196,4 +196,16 @@ CPoseGraph CPoseGraph::fromMrpt(const mrpt::graphs::CNetworkOfPoses2DInf& net,
 	return g;
 }
 
+std::vector<std::vector<size_t>> visitsOf(std::vector<size_t> nodes, size_t maxGap)
+{
+	std::sort(nodes.begin(), nodes.end());
+	std::vector<std::vector<size_t>> visits;
+	for (const size_t j : nodes)
+	{
+		if (visits.empty() || j > visits.back().back() + maxGap) visits.emplace_back();
+		visits.back().push_back(j);
+	}
+	return visits;
+}
+
 }  // namespace lrgc

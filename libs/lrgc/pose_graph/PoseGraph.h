@@ -93,4 +93,9 @@ private:
 	size_t m_lowestMoved = SIZE_MAX;               // see takeLowestMovedNode()
 };
 
+/** Node ids (keyframes, any order) cut into the robot's passes through a place: sorted, runs
+ * whose consecutive ids differ by at most `maxGap` (a pass's keyframes are consecutive, a few
+ * turned away leave small gaps; a larger gap is the robot leaving and coming back). */
+std::vector<std::vector<size_t>> visitsOf(std::vector<size_t> nodes, size_t maxGap);
+
 }  // namespace lrgc
