@@ -142,7 +142,7 @@ public:
 	 * 3. sigma is 0 unless the laser is noisy (kNoisyLaserStd_m): the configured values. */
 	void setScanNoise(double sigma);
 	/** Whether rivals on one straight line through the best pose join its peak
-	 * (TCorrelationResult::ridgeAxis; PatchCorrelator.cpp, TRidgeRule::Straight): the loop
+	 * (TCorrelationResult::ridgeAxis; rival_search.h, TRidgeRule::Straight): the loop
 	 * closer's near search, whose link carries the ridge's doubt. Off (the paper's filter 2
 	 * for every rival) unless set; a noisy laser's own ridge rule (setScanNoise) comes first.
 	 */
