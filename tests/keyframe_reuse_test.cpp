@@ -104,6 +104,7 @@ TEST(KeyframeReuse, drivingTheRingAgainAddsFewKeyframes)
 	const TRun with = runThreeTurns(true);
 	RecordProperty("keyframes_without", std::to_string(without.stats.keyframes));
 	RecordProperty("keyframes_with", std::to_string(with.stats.keyframes));
+	RecordProperty("later_keyframes_with", std::to_string(with.laterKeyframes));
 	RecordProperty("rms_without_mm", std::to_string(1000 * without.error.rmsXY));
 	RecordProperty("rms_with_mm", std::to_string(1000 * with.error.rmsXY));
 	// Without reuse every turn adds as many keyframes as the first.

@@ -90,6 +90,7 @@ TEST(PerceptualAliasing, identicalRoomsSearchWindowsSpanningARoomKeepNoFalseLoop
 	expectNoFalseLoopInTheMap(r);
 	RecordProperty("false_links_rejected", std::to_string(r.links.disabledFalse));
 	RecordProperty("correlations", std::to_string(r.loop.attempts));
+	RecordProperty("true_links_rejected", std::to_string(r.links.disabledTrue));
 	// The scenario does produce aliased candidates here (seen: links one room period off
 	// that passed the correlation filters and the scan match): they must all have ended
 	// disabled by the robust back-end, none in the map. If this count drops to zero the

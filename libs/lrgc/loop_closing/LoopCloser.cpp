@@ -140,7 +140,10 @@ std::optional<TLoopClosure> CLoopCloser::process(CPoseGraph& graph, const TScanR
 	const size_t newest = graph.numNodes() - 1;
 	const auto candidates = timedGate(graph, newest);
 	if (!candidates || stopped()) return std::nullopt;
-	TSearchWindow window = searchWindow(graph, *candidates);
+	// The near search starts with the sigma's patch (correlateGrownOnAmbiguity grows it);
+	// the far search takes the patch as grown so far.
+	TSearchWindow window = searchWindow(graph, *candidates, 0, true);
+	TSearchWindow farWindow = searchWindow(graph, *candidates, m_ambiguityGrowth, true);
 	const bool capped = windowCapped(*candidates);
 	if (attemptDue(window))
 		if (auto lc = searchNear(graph, scans, *candidates, window))
@@ -152,7 +155,7 @@ std::optional<TLoopClosure> CLoopCloser::process(CPoseGraph& graph, const TScanR
 			return lc;
 		}
 	if (!capped || stopped()) return std::nullopt;
-	return searchBeyond(graph, scans, *candidates, window);
+	return searchBeyond(graph, scans, *candidates, farWindow);
 }
 
 // Steps 2-4 in the window.
@@ -197,7 +200,7 @@ auto CLoopCloser::correlateAndMatch(const CPoseGraph& graph, const TScanRefs& sc
 									const TCandidates& c, TSearchWindow& w)
 	-> std::optional<TLoopMatch>
 {
-	const auto corr = correlatePatch(graph, scans, c, w);
+	const auto corr = correlateGrownOnAmbiguity(graph, scans, c, w);
 	if (!corr || stopped()) return std::nullopt;
 	auto match = matchLoopLink(graph, scans, c, seedOnRidge(*corr, w, graph), w.check);
 	if (!match || stopped()) return std::nullopt;
@@ -215,6 +218,7 @@ std::optional<TCorrelationResult> CLoopCloser::correlatePatch(const CPoseGraph& 
 															  TSearchWindow& w)
 {
 	CCpuTimer correlateTimer(m_stats.correlateCpuSeconds);
+	m_lastVerdict = TCorrelationVerdict{};  // none: an empty old map runs no correlation
 	const TPatchAndMap pm = patchAndOldMap(graph, scans, c, w);
 	if (pm.oldMap.empty()) return std::nullopt;
 	++m_stats.attempts;
@@ -243,11 +247,36 @@ std::optional<TCorrelationResult> CLoopCloser::correlatePatch(const CPoseGraph& 
 								   correlator.params().min_score};
 	correlateTimer.stop();
 	progress();
+	m_lastVerdict = verdict;
 	if (verdict.accepted()) return corr;
 	++m_stats.rejectedByFilters;
-	m_ambiguityGrowth = grownAfter(m_params, m_ambiguityGrowth, verdict, !w.far && !w.check);
 	m_lastRejection = verdict.message();
 	return std::nullopt;
+}
+
+// Step 2 with the growth for ambiguity ([LoopCloser] patch_keyframes_per_ambiguity; paper
+// 2.4: a patch that is not distinctive within its window may be in a larger one). The sigma's
+// patch is correlated first; rejected as ambiguous, it counts towards the growth and the
+// grown patch (the sigma's plus the growth since the last closure, at most
+// old_map_exclusion_keyframes) is correlated at once, its result taken if it passes the
+// filters. patch_max_travel_m does not cap it: that cap keeps attempt_stride's wait short on
+// sparse scans, and the grown patch adds no wait. Where the sigma's patch closes, the grown
+// one is never tried: it may span a stretch the old map holds worse (a slipping corridor,
+// rooms laid with drift).
+std::optional<TCorrelationResult> CLoopCloser::correlateGrownOnAmbiguity(
+	const CPoseGraph& graph, const TScanRefs& scans, const TCandidates& c, TSearchWindow& w)
+{
+	auto corr = correlatePatch(graph, scans, c, w);
+	const bool near = !w.far && !w.check;
+	if (corr || stopped() || !near) return corr;
+	const TCorrelationVerdict first = m_lastVerdict;
+	m_ambiguityGrowth = grownAfter(m_params, m_ambiguityGrowth, first, near);
+	TSearchWindow grown = searchWindow(graph, c, m_ambiguityGrowth, false);
+	if (!retriesGrown(m_params, first, near, w.patchSize, grown.patchSize)) return corr;
+	++m_stats.grownRetries;
+	corr = correlatePatch(graph, scans, c, grown);
+	if (corr) w = grown;
+	return corr;
 }
 
 // Where the best peak is a straight ridge (TCorrelationResult::ridgeAxis: a corridor's slide,

@@ -91,6 +91,12 @@ public:
 	 * was rejected as ambiguous, else as it was. A closure resets it to 0. */
 	static size_t grownAfter(const TLoopCloserParams& p, size_t growth,
 							 const TCorrelationVerdict& verdict, bool nearSearch);
+	/** Whether a near correlation of the sigma's patch (`sigmaPatch` keyframes) rejected with
+	 * `verdict` is tried again, in the same check, with the patch grown for ambiguity
+	 * (`grownPatch` keyframes): only when it was rejected as ambiguous and the grown patch is
+	 * larger (patch_keyframes_per_ambiguity > 0). */
+	static bool retriesGrown(const TLoopCloserParams& p, const TCorrelationVerdict& verdict,
+							 bool nearSearch, size_t sigmaPatch, size_t grownPatch);
 	/** The visit of `nodes` (visitsOf, PoseGraph.h: runs of keyframe indices at most `maxGap`
 	 * apart) that holds `node`: the pass through the place (empty if `node` is not among
 	 * them). The far check's loop-link reference. */
@@ -198,7 +204,8 @@ private:
 	// The steps of process(), in order.
 	bool checkDue();
 	std::optional<TCandidates> timedGate(const CPoseGraph& graph, size_t newest);
-	TSearchWindow searchWindow(const CPoseGraph& graph, const TCandidates& c) const;
+	TSearchWindow searchWindow(const CPoseGraph& graph, const TCandidates& c,
+							   size_t ambiguityGrowth, bool capTravel) const;
 	bool attemptDue(const TSearchWindow& w);
 	std::optional<TLoopClosure> searchNear(CPoseGraph& graph, const TScanRefs& scans,
 										   const TCandidates& c, TSearchWindow& w);
@@ -207,6 +214,10 @@ private:
 	std::optional<TCorrelationResult> correlatePatch(const CPoseGraph& graph,
 													 const TScanRefs& scans,
 													 const TCandidates& c, TSearchWindow& w);
+	std::optional<TCorrelationResult> correlateGrownOnAmbiguity(const CPoseGraph& graph,
+																const TScanRefs& scans,
+																const TCandidates& c,
+																TSearchWindow& w);
 	TPatchAndMap patchAndOldMap(const CPoseGraph& graph, const TScanRefs& scans,
 								const TCandidates& c, TSearchWindow& w) const;
 	/** Runs `search` with its work counted as it goes (the worker's published progress). */
@@ -332,9 +343,12 @@ private:
 	size_t m_keyframesSinceCheck = 0;
 	bool m_onKnownGround = false;     //!< the last check added a link that agreed with the map
 	size_t m_checksSinceAttempt = 0;  //!< for attempt_stride
-	/** Keyframes the near patch grows by: patch_keyframes_per_ambiguity per near correlation
-	 * rejected as ambiguous since the last closure. */
+	/** Keyframes the grown near patch adds to the sigma's: patch_keyframes_per_ambiguity per
+	 * check whose sigma patch was rejected as ambiguous since the last closure. */
 	size_t m_ambiguityGrowth = 0;
+	/** The filters' verdict on the last correlation (correlatePatch; Accepted when none ran).
+	 */
+	TCorrelationVerdict m_lastVerdict;
 	/** The far search under way (its steps, LoopCloser_far.cpp): the patch of keyframe `newest`
 	 * (its frame), the coarse old-map grid and where the patch may stand, then the places to
 	 * check. */

@@ -111,8 +111,8 @@ void TLoopCloserParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
 		c, s, "patch_keyframes_per_m", patch_keyframes_per_m,
 		"[1/m] Patch growth per metre of position std (capped at old_map_exclusion_keyframes)");
 	writeValue(c, s, "patch_keyframes_per_ambiguity", uint64_t(patch_keyframes_per_ambiguity),
-			   "Patch growth per near correlation rejected as ambiguous since the last "
-			   "closure (capped at old_map_exclusion_keyframes; 0: off)");
+			   "Keyframes the patch tried after an ambiguous one grows by per such check since "
+			   "the last closure (capped at old_map_exclusion_keyframes; 0: off)");
 	writeValue(
 		c, s, "patch_max_travel_m", patch_max_travel_m,
 		"[m] A patch spans at most this much path (at least patch_min_keyframes); 0: no cap");

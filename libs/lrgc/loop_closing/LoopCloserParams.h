@@ -18,15 +18,17 @@ struct TLoopCloserParams : public mrpt::config::CLoadableOptions
 		40;                            //!< m: newest keyframes left out of the old map (m > K)
 	size_t patch_min_keyframes = 10;   //!< patch size at zero uncertainty
 	double patch_keyframes_per_m = 8;  //!< patch growth per metre of position std [1/m]
-	/** Keyframes the patch grows by each time a near correlation is rejected as ambiguous
-	 * (paper 2.4: a patch must be distinctive within its window; where it is not, a larger
-	 * one may be), back to 0 at the next closure, the patch at most
-	 * old_map_exclusion_keyframes. The calibrated gate's small sigma makes the sigma-grown
-	 * patch 10-18 keyframes where railings and glass need more (GlassBuilding 16 / 21 -> 20 /
-	 * 21); the added keyframes do not lengthen attempt_stride's wait. 0: off (the default:
-	 * with 10 KeyframeReuse's ring keeps making keyframes on its later turns, 72 against 47,
-	 * the grown patch spanning its slipping corridor; doc/generalisation.md, glass_stress). */
-	size_t patch_keyframes_per_ambiguity = 0;
+	/** Keyframes the grown patch adds to the sigma's for each check whose sigma patch was
+	 * rejected as ambiguous since the last closure (paper 2.4: a patch must be distinctive
+	 * within its window; where it is not, a larger one may be), the patch at most
+	 * old_map_exclusion_keyframes. The grown patch is a second try in the same check, made
+	 * only after the sigma's patch was rejected as ambiguous; the sigma's is always tried
+	 * first. The calibrated gate's small sigma makes the sigma's patch 10-18 keyframes where
+	 * railings and glass need more (GlassBuilding 16 / 21 without, 21 / 21 with); tried
+	 * first instead (stop 46), the grown patch spanned KeyframeReuse's slipping corridor and
+	 * PerceptualAliasing's drifted rooms and scored wrong where the sigma's closes
+	 * (doc/generalisation.md, glass_stress). 0: off. */
+	size_t patch_keyframes_per_ambiguity = 10;
 	/** [m] A patch spans at most this much of the robot's path (but at least
 	 * patch_min_keyframes keyframes); 0: no cap. Dense logs' keyframes lie 0.3-0.5 m apart,
 	 * so their patches (10-40 keyframes: 3-20 m) rarely reach it; sparse scans' lie 1 m
@@ -40,19 +42,19 @@ struct TLoopCloserParams : public mrpt::config::CLoadableOptions
 	 * node with the smaller position variance (UncertaintyPropagation.h, TStepModel). With
 	 * single links the odometry link's 1.7 deg a step compounds: one lap of the glass atrium
 	 * (392 m) gave the start a std of 24 / 50 m and 33 deg where the online map was 0.4 m and
-	 * 0.6 deg off. Off by default: with it (and gate_drift_xy_m2_per_m 5e-4) the gate is
-	 * calibrated against the truth on every log measured, but the smaller sigma also shrinks
-	 * the patch (patch_keyframes_per_m), and GlassBuilding no longer closes 90 % of its
-	 * places unless the patch grows for ambiguity (patch_keyframes_per_ambiguity), which
-	 * KeyframeReuse's ring does not bear (doc/generalisation.md, glass_stress). */
-	bool gate_fuse_links = false;
+	 * 0.6 deg off. With gate_drift_xy_m2_per_m 5e-4 the gate is calibrated against the truth
+	 * on every log measured; its smaller sigma also shrinks the patch (patch_keyframes_per_m),
+	 * which patch_keyframes_per_ambiguity makes up for among railings and glass
+	 * (doc/generalisation.md, glass_stress). false: the single most certain link. */
+	bool gate_fuse_links = true;
 	/** [m^2 per m] Position variance the gate adds to each step per metre of its length, in
 	 * both axes of the step's frame: the drift scan matching's covariance does not hold (a
 	 * corridor's slide along itself, a scale error). With fused links and none, the gate
 	 * claimed 0.3 m where MIT Killian's return was 1.9 m off along its corridor; 5e-4 (a
 	 * random walk of 2.2 cm per sqrt(m)) put the true place inside the window at 99.3-100 %
-	 * of the checks at a revisit on the eight shared logs and the glass worlds. 0: none. */
-	double gate_drift_xy_m2_per_m = 0;
+	 * of the checks at a revisit on the eight shared logs and the glass worlds. 0: none (for
+	 * single links, whose gate is already wider than the drift). */
+	double gate_drift_xy_m2_per_m = 0.0005;
 	double overlap_radius_m = 3.0;  //!< [m] poses this close can see the same walls
 	double window_sigmas = 3.0;     //!< search half-window in standard deviations [-]
 	double max_window_xy_m = 15.0;  //!< [m] cap of the translational search half-window

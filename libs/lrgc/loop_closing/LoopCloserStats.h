@@ -16,6 +16,9 @@ struct TLoopCloserStats
 	size_t attempts = 0;  //!< correlations run
 	size_t accepted = 0;  //!< links added
 	size_t rejectedByFilters = 0, rejectedByMatch = 0, rejectedByBackEnd = 0;
+	/** Near correlations tried again with the patch grown for ambiguity ([LoopCloser]
+	 * patch_keyframes_per_ambiguity); each is also counted in attempts. */
+	size_t grownRetries = 0;
 	/** Matches held until a later, independent one agrees (the gate's std above
 	 * [LoopCloser] confirm_above_sigma_m), and those dropped because the next disagreed or
 	 * none came. */

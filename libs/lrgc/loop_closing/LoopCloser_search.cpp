@@ -16,9 +16,11 @@ using mrpt::math::TPose2D;
 // sigma, capped; the patch grows linearly with sigma, so a large loop is closed only on strong
 // evidence, but spans at most patch_max_travel_m of the robot's path (never fewer than
 // patch_min_keyframes keyframes): where keyframes lie a metre apart (sparse scans) a patch of
-// 40 keyframes would be 40 m of corridor, matched once in 15 checks.
-auto CLoopCloser::searchWindow(const CPoseGraph& graph, const TCandidates& c) const
-	-> TSearchWindow
+// 40 keyframes would be 40 m of corridor, matched once in 15 checks (`capTravel`; the grown
+// patch, which adds no wait, is not capped). `ambiguityGrowth` more keyframes for the grown
+// patch (correlateGrownOnAmbiguity), 0 for the sigma's.
+auto CLoopCloser::searchWindow(const CPoseGraph& graph, const TCandidates& c,
+							   size_t ambiguityGrowth, bool capTravel) const -> TSearchWindow
 {
 	const size_t newest = graph.numNodes() - 1;
 	TSearchWindow w;
@@ -26,13 +28,12 @@ auto CLoopCloser::searchWindow(const CPoseGraph& graph, const TCandidates& c) co
 					  2 * m_correlator.params().resolution_m, m_params.max_window_xy_m);
 	w.theta = std::clamp(m_params.window_sigmas * c.sigmaTheta, mrpt::DEG2RAD(2.0),
 						 m_params.max_window_phi);
-	w.patchSize = patchKeyframes(m_params, c.sigmaXY, m_ambiguityGrowth);
-	if (m_params.patch_max_travel_m > 0)
+	w.patchSize = patchKeyframes(m_params, c.sigmaXY, ambiguityGrowth);
+	if (capTravel && m_params.patch_max_travel_m > 0)
 		w.patchSize = std::max(
 			m_params.patch_min_keyframes,
 			std::min(w.patchSize, keyframesWithinTravel(graph, m_params.patch_max_travel_m)));
-	w.grownByAmbiguity =
-		std::min(w.patchSize - m_params.patch_min_keyframes, m_ambiguityGrowth);
+	w.grownByAmbiguity = std::min(w.patchSize - m_params.patch_min_keyframes, ambiguityGrowth);
 	w.patchFirst = newest + 1 - std::min(w.patchSize, newest + 1);
 	return w;
 }
@@ -58,6 +59,16 @@ size_t CLoopCloser::grownAfter(const TLoopCloserParams& p, size_t growth,
 	if (!nearSearch || verdict.rejection != TCorrelationVerdict::Reason::Ambiguous)
 		return growth;
 	return std::min(growth + p.patch_keyframes_per_ambiguity, p.old_map_exclusion_keyframes);
+}
+
+// The grown patch is tried after an ambiguous near correlation, when it is larger than the
+// one rejected (old_map_exclusion_keyframes may cap both).
+bool CLoopCloser::retriesGrown(const TLoopCloserParams& p, const TCorrelationVerdict& verdict,
+							   bool nearSearch, size_t sigmaPatch, size_t grownPatch)
+{
+	return p.patch_keyframes_per_ambiguity > 0 && nearSearch &&
+		   verdict.rejection == TCorrelationVerdict::Reason::Ambiguous &&
+		   grownPatch > sigmaPatch;
 }
 
 // How many of the newest keyframes lie within `travel` [m] of path (the sum of the straight

@@ -1,6 +1,7 @@
 /* CLoopCloser's patch: keyframesWithinTravel, the path-length cap ([LoopCloser]
  * patch_max_travel_m: keyframes 1 m apart (sparse scans) and 0.35 m apart (dense logs), and
- * turns on the spot, which add keyframes but no path); its growth for ambiguity; and the far
+ * turns on the spot, which add keyframes but no path); its growth for ambiguity, tried after an
+ * ambiguous sigma patch; and the far
  * check's reference (visitAround). */
 #include <gtest/gtest.h>
 #include <lrgc/loop_closing/LoopCloser.h>
@@ -50,7 +51,7 @@ TEST(LoopCloserPatch, turningOnTheSpotAddsNoPath)
 TEST(LoopCloserPatch, anAmbiguousNearCorrelationGrowsThePatch)
 {
 	TLoopCloserParams p;
-	p.patch_keyframes_per_ambiguity = 10;  // off by default
+	p.patch_keyframes_per_ambiguity = 10;  // the default
 	TCorrelationVerdict ambiguous;
 	ambiguous.rejection = TCorrelationVerdict::Reason::Ambiguous;
 	TCorrelationVerdict lowScore;
@@ -66,6 +67,27 @@ TEST(LoopCloserPatch, anAmbiguousNearCorrelationGrowsThePatch)
 	EXPECT_EQ(CLoopCloser::patchKeyframes(p, 0.5, 0), 14u);
 	EXPECT_EQ(CLoopCloser::patchKeyframes(p, 0.5, 2 * p.patch_keyframes_per_ambiguity), 34u);
 	EXPECT_EQ(CLoopCloser::patchKeyframes(p, 0.5, growth), p.old_map_exclusion_keyframes);
+}
+
+// The grown patch is a second try in the same check, never the first: it is correlated only
+// after the sigma's patch of a near search was rejected as ambiguous, and only when it is
+// larger (the caps may leave it the same size).
+TEST(LoopCloserPatch, theGrownPatchIsTriedOnlyAfterAnAmbiguousSigmaPatch)
+{
+	TLoopCloserParams p;
+	ASSERT_GT(p.patch_keyframes_per_ambiguity, 0u) << "on by default";
+	TCorrelationVerdict ambiguous, lowScore, spread, accepted;
+	ambiguous.rejection = TCorrelationVerdict::Reason::Ambiguous;
+	lowScore.rejection = TCorrelationVerdict::Reason::LowScore;
+	spread.rejection = TCorrelationVerdict::Reason::SpreadXY;
+	EXPECT_TRUE(CLoopCloser::retriesGrown(p, ambiguous, true, 14, 24));
+	EXPECT_FALSE(CLoopCloser::retriesGrown(p, accepted, true, 14, 24)) << "accepted";
+	EXPECT_FALSE(CLoopCloser::retriesGrown(p, lowScore, true, 14, 24)) << "low score";
+	EXPECT_FALSE(CLoopCloser::retriesGrown(p, spread, true, 14, 24)) << "spread";
+	EXPECT_FALSE(CLoopCloser::retriesGrown(p, ambiguous, false, 14, 24)) << "far search";
+	EXPECT_FALSE(CLoopCloser::retriesGrown(p, ambiguous, true, 40, 40)) << "at the cap";
+	p.patch_keyframes_per_ambiguity = 0;
+	EXPECT_FALSE(CLoopCloser::retriesGrown(p, ambiguous, true, 14, 24)) << "off";
 }
 
 // The far check's loop-link reference is the pass through the matched old keyframe: keyframes

@@ -117,6 +117,7 @@ std::string loopClosingJson(const TMapBuilderStats& s, const TLoopCloserStats& l
 	j << "  \"loop_closing\": {\"attempts\": " << lcs.attempts
 	  << ", \"accepted\": " << lcs.accepted
 	  << ", \"rejected_by_filters\": " << lcs.rejectedByFilters
+	  << ", \"grown_retries\": " << lcs.grownRetries
 	  << ", \"rejected_by_match\": " << lcs.rejectedByMatch
 	  << ", \"rejected_by_back_end\": " << lcs.rejectedByBackEnd
 	  << ", \"held_for_confirmation\": " << lcs.heldForConfirmation
