@@ -195,7 +195,7 @@ double scanPoints(const Eigen::Vector2d* p, const Eigen::Vector2d* end,
 #if defined(__SSE2__)
 	const __m128d qv = _mm_loadu_pd(q.data());
 	__m128d farMin = _mm_set1_pd(std::numeric_limits<double>::infinity());
-	for (__m128d bestv = _mm_set1_pd(best); k + 1 < end; k += 2)
+	for (__m128d bestv = _mm_set1_pd(best); end - k >= 2; k += 2)
 	{
 		const __m128d a = _mm_sub_pd(_mm_loadu_pd(k[0].data()), qv),
 					  b = _mm_sub_pd(_mm_loadu_pd(k[1].data()), qv);
@@ -215,7 +215,7 @@ double scanPoints(const Eigen::Vector2d* p, const Eigen::Vector2d* end,
 	double far = std::min(lanes[0], lanes[1]);
 #else
 	double far = std::numeric_limits<double>::infinity();
-	for (; k + 1 < end; k += 2)
+	for (; end - k >= 2; k += 2)
 	{
 		const double d0 = (k[0] - q).squaredNorm(), d1 = (k[1] - q).squaredNorm();
 		if (d0 > best && d1 > best)
@@ -302,12 +302,13 @@ int CAnchorGrid::nearestDense(const Eigen::Vector2d& q, double maxDist, double* 
 	const int64_t cx = cellIndex(q.x(), m_cell), cy = cellIndex(q.y(), m_cell);
 	TNearest<kBound> n{cx, cy, m_cell, maxDist * maxDist};
 	// Cells (ix, y0..y1) of the column table, (x0..x1, iy) of the row table, clipped to the
-	// box (an empty run if none).
+	// box (an empty run if none, still pointing into its table: no pointer arithmetic starts
+	// from null).
 	auto column = [&](int64_t ix, int64_t y0, int64_t y1)
 	{
 		const int64_t dx = ix - m_x0, dy0 = std::max<int64_t>(y0 - m_y0, 0),
 					  dy1 = std::min(y1 - m_y0, m_ny - 1);
-		if (dx < 0 || dx >= m_nx || dy0 > dy1) return TRun{nullptr, nullptr, 0, 0};
+		if (dx < 0 || dx >= m_nx || dy0 > dy1) return TRun{m_pos.data(), m_index.data(), 0, 0};
 		return TRun{m_pos.data(), m_index.data(), m_start[dx * m_ny + dy0],
 					m_start[dx * m_ny + dy1 + 1]};
 	};
@@ -315,7 +316,8 @@ int CAnchorGrid::nearestDense(const Eigen::Vector2d& q, double maxDist, double* 
 	{
 		const int64_t dy = iy - m_y0, dx0 = std::max<int64_t>(x0 - m_x0, 0),
 					  dx1 = std::min(x1 - m_x0, m_nx - 1);
-		if (dy < 0 || dy >= m_ny || dx0 > dx1) return TRun{nullptr, nullptr, 0, 0};
+		if (dy < 0 || dy >= m_ny || dx0 > dx1)
+			return TRun{m_rowPos.data(), m_rowIndex.data(), 0, 0};
 		return TRun{m_rowPos.data(), m_rowIndex.data(), m_rowStart[dy * m_nx + dx0],
 					m_rowStart[dy * m_nx + dx1 + 1]};
 	};
