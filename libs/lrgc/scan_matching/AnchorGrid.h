@@ -153,6 +153,9 @@ private:
 	template <bool kBound>
 	int nearestDense(const Eigen::Vector2d& q, double maxDist, double* d2Out,
 					 double* boundOut) const;
+	struct TRun;  // nearestDense's runs of points (AnchorGrid.cpp)
+	template <bool kBound>
+	struct TNearest;  // nearestDense's running answer (AnchorGrid.cpp)
 	/** Fills the dense table from the key-sorted m_index; false if the box is too large. */
 	bool buildDense(const std::vector<Eigen::Vector2d>& points, bool rowMajor);
 
