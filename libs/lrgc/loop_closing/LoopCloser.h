@@ -97,12 +97,6 @@ public:
 	 * larger (patch_keyframes_per_ambiguity > 0). */
 	static bool retriesGrown(const TLoopCloserParams& p, const TCorrelationVerdict& verdict,
 							 bool nearSearch, size_t sigmaPatch, size_t grownPatch);
-	/** The patch's points [newest keyframe's frame]: those of keyframes first..newest within
-	 * `maxRange` [m] of the newest keyframe and of their own (LoopCloser_search.cpp); `radius`
-	 * receives the largest range from the newest keyframe (0 if none). */
-	static std::vector<Eigen::Vector2d> patchPoints(const CPoseGraph& graph,
-													const TScanRefs& scans, size_t first,
-													double maxRange, double& radius);
 	/** The visit of `nodes` (visitsOf, PoseGraph.h: runs of keyframe indices at most `maxGap`
 	 * apart) that holds `node`: the pass through the place (empty if `node` is not among
 	 * them). The far check's loop-link reference. */

@@ -123,10 +123,9 @@ struct TLoopCloserParams : public mrpt::config::CLoadableOptions
 	 * around: many views fill the walls' voxels densely, and the line fits' cost grows with
 	 * the voxels per neighbourhood. 0: [ScanMatcher] ref_resolution_m. */
 	double match_ref_resolution_m = 0.03;
-	/** [m] Patch points farther from the newest keyframe, or from the keyframe that saw them,
-	 * are left out of the correlation: the heading step is resolution / patch radius, so 40 m
-	 * returns (ACES) would need ~900 headings over +-30 deg; far returns are also the noisiest
-	 * (CLoopCloser::patchPoints). */
+	/** [m] Patch points farther from the newest keyframe are left out of the correlation:
+	 * the heading step is resolution / patch radius, so 40 m returns (ACES) would need
+	 * ~900 headings over +-30 deg; far returns are also the noisiest. */
 	double patch_max_range_m = 12.0;
 	/** The near search's correlation takes rivals on one straight line through its best pose
 	 * (the same heading and place across it, inside the window) as the best peak's own: a

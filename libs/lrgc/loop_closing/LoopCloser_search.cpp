@@ -100,48 +100,31 @@ bool CLoopCloser::attemptDue(const TSearchWindow& w)
 	return true;
 }
 
-// The patch: the points of keyframes first..newest within maxRange of the newest keyframe and
-// of their own, in the newest keyframe's frame. A keyframe 8-16 m back along the path sees the
-// newest's surroundings from up to 28 m, through railings and glass, where mixed pixels and far
-// returns lie: in the glass atrium (glass_stress, calibrated gate) the share of a 40-keyframe
-// patch's points within a cell of the old map fell to 0.74-0.78 against 0.92-0.94 for the
-// newest 11 keyframes, and the first return's 7.8 m look-alike won (seed 3; doc/
-// generalisation.md).
-std::vector<Eigen::Vector2d> CLoopCloser::patchPoints(const CPoseGraph& graph,
-													  const TScanRefs& scans, size_t first,
-													  double maxRange, double& radius)
+// The patch: the points of keyframes patchFirst..newest within patch_max_range_m, in the newest
+// keyframe's frame. The old map: the candidates' points the patch can reach from inside the
+// window [map frame]. A window wider than the old map can be (max_window_xy_m lifted) gains
+// nothing: beyond the farthest old point plus the patch radius and the blur's reach (p(m) > 0
+// up to 3.53 sigma; 4 sigma and two cells of margin), no patch point meets the map, so
+// w.xy shrinks to that.
+auto CLoopCloser::patchAndOldMap(const CPoseGraph& graph, const TScanRefs& scans,
+								 const TCandidates& c, TSearchWindow& w) const -> TPatchAndMap
 {
 	const size_t newest = graph.numNodes() - 1;
 	const TPose2D newestInMap = graph.pose(newest);
-	std::vector<Eigen::Vector2d> patch;
-	radius = 0;
-	for (size_t k = first; k <= newest; ++k)
+	TPatchAndMap pm;
+	double patchRadius = 0;
+	for (size_t k = w.patchFirst; k <= newest; ++k)
 	{
 		const CPointTransform kInNewest(between(newestInMap, graph.pose(k)));
 		for (const auto& p : scans[k]->points)
 		{
 			const Eigen::Vector2d q = kInNewest(p);
 			const double range = q.norm();
-			if (range > maxRange || p.norm() > maxRange) continue;
-			patch.push_back(q);
-			radius = std::max(radius, range);
+			if (range > m_params.patch_max_range_m) continue;
+			pm.patch.push_back(q);
+			patchRadius = std::max(patchRadius, range);
 		}
 	}
-	return patch;
-}
-
-// The patch (patchPoints, within patch_max_range_m). The old map: the candidates' points the
-// patch can reach from inside the window [map frame]. A window wider than the old map can be
-// (max_window_xy_m lifted) gains nothing: beyond the farthest old point plus the patch radius
-// and the blur's reach (p(m) > 0 up to 3.53 sigma; 4 sigma and two cells of margin), no patch
-// point meets the map, so w.xy shrinks to that.
-auto CLoopCloser::patchAndOldMap(const CPoseGraph& graph, const TScanRefs& scans,
-								 const TCandidates& c, TSearchWindow& w) const -> TPatchAndMap
-{
-	const TPose2D newestInMap = graph.pose(graph.numNodes() - 1);
-	TPatchAndMap pm;
-	double patchRadius = 0;
-	pm.patch = patchPoints(graph, scans, w.patchFirst, m_params.patch_max_range_m, patchRadius);
 	const TPose2D centreInMap = w.centre.value_or(newestInMap);
 	const Eigen::Vector2d centre(centreInMap.x, centreInMap.y);
 	const CPatchCorrelator& correlator = correlatorFor(w);

@@ -1,8 +1,8 @@
 /* CLoopCloser's patch: keyframesWithinTravel, the path-length cap ([LoopCloser]
  * patch_max_travel_m: keyframes 1 m apart (sparse scans) and 0.35 m apart (dense logs), and
  * turns on the spot, which add keyframes but no path); its growth for ambiguity, tried after an
- * ambiguous sigma patch; the far check's reference (visitAround); the patch's points
- * (patchPoints). */
+ * ambiguous sigma patch; and the far
+ * check's reference (visitAround). */
 #include <gtest/gtest.h>
 #include <lrgc/loop_closing/LoopCloser.h>
 #include <lrgc/loop_closing/LoopCloserParams.h>
@@ -107,23 +107,4 @@ TEST(LoopCloserFarCheck, theReferenceIsThePassThroughTheMatchedKeyframe)
 	EXPECT_EQ(CLoopCloser::visitAround({10, 13, 16, 20}, 13, 3),
 			  (std::vector<size_t>{10, 13, 16}));
 	EXPECT_TRUE(CLoopCloser::visitAround({10, 13}, 12, 3).empty()) << "not a candidate";
-}
-
-// The patch keeps a point within patch_max_range_m of the newest keyframe and of its own: a
-// keyframe 20 m back sees the newest's surroundings through railings and glass, where mixed
-// pixels and far returns lie (the glass atrium's first return: a 7.8 m look-alike won).
-TEST(LoopCloserPatch, aPointIsInThePatchWithinRangeOfTheNewestAndOfItsOwnKeyframe)
-{
-	const CPoseGraph g = straightLine(3, 10.0);  // keyframes at x = 0, 10, 20 m
-	TScan2D old, mid, newest;
-	old.points = {{21, 1}, {7, 0}};  // x 21 (1 m from the newest, 21 m from its own); x 7
-	mid.points = {{11, 0}, {5, 2}};  // x 21 (11 m from its own); x 15
-	newest.points = {{3, 0}, {-9, 0}, {13, 0}};  // x 23; x 11; x 33 (13 m from it)
-	const TScanRefs scans{&old, &mid, &newest};
-	double radius = 0;
-	const auto patch = CLoopCloser::patchPoints(g, scans, 0, 12.0, radius);
-	const std::vector<Eigen::Vector2d> expected{{1, 0}, {-5, 2}, {3, 0}, {-9, 0}};
-	EXPECT_EQ(patch, expected);  // the newest's frame; x 7 is 13 m from the newest
-	EXPECT_DOUBLE_EQ(radius, 9.0);
-	EXPECT_EQ(CLoopCloser::patchPoints(g, scans, 2, 12.0, radius).size(), 2u);
 }
