@@ -24,7 +24,9 @@
  * true turn; glass: share of beams a pane returns; dropout: TLaserSimParams::maxRangeDropRate;
  * period [s] and step [m] between scans; ini: lrgc's parameters; places=1 lists the revisited
  * places left unclosed; links=1 lists the kept loop links whose chi2 by the truth is above
- * 16.27 (their error and claimed stds along the weak and strong axes, loop_recall.h). Seed s:
+ * 16.27 (their error and claimed stds along the weak and strong axes, loop_recall.h);
+ * turns=D lists consecutive keyframes whose relative heading in the final graph is off the
+ * truth's by more than D deg (with loops=0: local registration's own steps). Seed s:
  * world seed s (atrium), trajectory seed 60 + s, laser seed s.)
  */
 #include <lrgc/common/se2.h>
@@ -57,7 +59,8 @@ struct TOptions
 		{"world", "atrium"}, {"laps", "3"},    {"seeds", "1"},     {"odo", "2"},
 		{"bias", "1"},       {"glass", "0.1"}, {"dropout", "0.3"}, {"period", "0.7"},
 		{"step", "0.4"},     {"loops", "1"},   {"hall", "12"},     {"length", "160"},
-		{"width", "100"},    {"ini", ""},      {"places", "0"},    {"links", "0"}};
+		{"width", "100"},    {"ini", ""},      {"places", "0"},    {"links", "0"},
+		{"turns", "0"}};
 	double num(const std::string& k) const { return std::stod(kv.at(k)); }
 };
 
@@ -152,6 +155,27 @@ void printOverconfidentLinks(const ev::TLoopRecall& recall, const CMetricMapBuil
 	}
 }
 
+/** Consecutive keyframes (k-1, k) whose relative heading in the graph is off the truth's by
+ * more than `maxDeg`: where registration turned the map. */
+void printTurnedSteps(const CMetricMapBuilderLRGC& b, const TTrajectory& tr, double maxDeg)
+{
+	const auto& kf = b.keyframes();
+	for (size_t k = 1; k < kf.size(); ++k)
+	{
+		const TPose2D est = lrgc::between(b.graph().pose(k - 1), b.graph().pose(k));
+		const TPose2D tru = lrgc::between(tr.truePoses.at(kf[k - 1].scanIndex),
+										  tr.truePoses.at(kf[k].scanIndex));
+		const double off = mrpt::RAD2DEG(mrpt::math::wrapToPi(est.phi - tru.phi));
+		if (std::abs(off) <= maxDeg) continue;
+		const auto& t = tr.truePoses.at(kf[k].scanIndex);
+		std::printf(
+			"  turned: keyframes %zu -> %zu (scans %zu -> %zu), %.2f deg off (true turn %.1f "
+			"deg, step %.2f m off), at (%.1f, %.1f, %.0f deg)\n",
+			k - 1, k, kf[k - 1].scanIndex, kf[k].scanIndex, off, mrpt::RAD2DEG(tru.phi),
+			std::hypot(est.x - tru.x, est.y - tru.y), t.x, t.y, mrpt::RAD2DEG(t.phi));
+	}
+}
+
 void runOne(const TOptions& o, uint32_t seed)
 {
 	const bool atrium = o.kv.at("world") != "building";
@@ -218,6 +242,7 @@ void runOne(const TOptions& o, uint32_t seed)
 			}
 	std::printf("  %s", ev::calibrationReport(recall).c_str());
 	if (o.num("links") != 0) printOverconfidentLinks(recall, builder);
+	if (o.num("turns") != 0) printTurnedSteps(builder, tr, o.num("turns"));
 	for (const auto& l : recall.loopLinks)
 		if (l.judged && !l.agrees)
 			std::printf(

@@ -26,9 +26,13 @@
  * on a step nothing made suspect (the wheels moved) is retried by the same search over the
  * heading the odometry's error may span (retriedMatch), with the same evidence and a winner
  * that turns more than half a start step from the prior; else the prior stands. A plain
- * match that is a loose fit (its residual scale kept the gate wide: the robot turning into
- * ground the window has not seen) is refitted with the inlier gate first
- * (CScanMatcher::refitLoose).
+ * match that contradicts the prior where it could not place the scan on its own (a suspect
+ * step, or one the second opinion is asked on) is first matched again from the prior's
+ * position at its own heading (headingFirstMatch): started a few degrees off, a match among
+ * railings and far returns finds the heading but slides along the hall (the glass atrium's
+ * turns in place). A plain match that is a loose fit (its residual scale kept the gate wide:
+ * the robot turning into ground the window has not seen) is refitted with the inlier gate
+ * first (CScanMatcher::refitLoose).
  * A keyframe whose patch match failed from its (odometry) prior, where a strict majority of
  * its pairwise matches agree on its pose, is matched against the patch again from there; if
  * that passes every check it is placed there with its patch link (linkAndOptimize;
@@ -285,6 +289,13 @@ private:
 												  const TScan2D& scan,
 												  const mrpt::math::TPose2D& guess,
 												  const TScanMatch& plain);
+	/** A plain match that disagrees with the prior (`disagrees`), matched again from the
+	 * prior's position (`guess`) at the match's heading; that match if it agrees with the
+	 * prior and `plain` explains less than wide_ambiguity_margin more of the scan, else
+	 * nullopt (LocalRegistration.cpp). */
+	std::optional<TScanMatch> headingFirstMatch(
+		const CReferenceCloud& cloud, const TScan2D& scan, const mrpt::math::TPose2D& guess,
+		const TScanMatch& plain, const std::function<bool(const TScanMatch&)>& disagrees);
 	/** The scan matched from `guess` (newest keyframe <- scan), a loose fit refitted
 	 * (CScanMatcher::refitLoose); nullopt if the match fails. */
 	std::optional<TScanMatch> plainMatch(const CReferenceCloud& cloud, const TScan2D& scan,

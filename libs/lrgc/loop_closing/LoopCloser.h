@@ -232,9 +232,11 @@ private:
 											const TCandidates& c,
 											const mrpt::math::TPose2D& corrected,
 											bool oneVisit);
+	std::vector<size_t> oldNodesNear(const CPoseGraph& graph, const TCandidates& c,
+									 const mrpt::math::TPose2D& corrected) const;
 	CReferenceCloud oldScansNear(const CPoseGraph& graph, const TScanRefs& scans,
-								 const TCandidates& c, size_t oldNode,
-								 const mrpt::math::TPose2D& corrected, bool oneVisit);
+								 size_t oldNode, const std::vector<size_t>& near,
+								 const mrpt::math::TPose2D& corrected);
 	/** Whether a held loop link a and a later one b imply the same pose of b's new node. */
 	static bool matchesAgree(const CPoseGraph& g, const TLink& a, const TLink& b);
 	/** True (and the rejection named) once a stop is requested. */
