@@ -1,7 +1,7 @@
 /* CLoopCloser, step 4 (see LoopCloser.h): a loop match held until an independent one agrees
  * where the gate is very uncertain, then the link added and, where it disagrees with the
  * current estimate, the whole graph solved with robust loop links (paper 2.2: the patch
- * keyframes then re-matched, rematch() in LoopCloser.cpp). */
+ * keyframes then re-matched, rematch() in LoopCloser_match.cpp). */
 #include <lrgc/common/CpuTime.h>
 #include <lrgc/common/se2.h>
 #include <lrgc/loop_closing/LoopCloser.h>
