@@ -102,6 +102,13 @@ public:
 	 * them). The far check's loop-link reference. */
 	static std::vector<size_t> visitAround(std::vector<size_t> nodes, size_t node,
 										   size_t maxGap);
+	/** The references step 3's loop-link match tries, in order, as keyframe lists: the
+	 * keyframes `near` the place (oldNodesNear) and, if they hold several passes, the pass
+	 * through `oldNode` alone (visitAround with `maxGap`), tried when the first is refused;
+	 * with `oneVisit` (the far check) only that pass. */
+	static std::vector<std::vector<size_t>> loopMatchReferences(std::vector<size_t> near,
+																size_t oldNode, bool oneVisit,
+																size_t maxGap);
 	/** Counts a search for `keyframe` deferred by the caller (CLoopClosingWorker's
 	 * backlog). */
 	void countShed(size_t keyframe)

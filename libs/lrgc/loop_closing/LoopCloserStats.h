@@ -19,6 +19,11 @@ struct TLoopCloserStats
 	/** Near correlations tried again with the patch grown for ambiguity ([LoopCloser]
 	 * patch_keyframes_per_ambiguity); each is also counted in attempts. */
 	size_t grownRetries = 0;
+	/** Loop links whose scan match, refused against every pass through the place, was tried
+	 * again against the pass holding the nearest old keyframe alone
+	 * (CLoopCloser::matchLoopLink), and those of them that matched (a retry that fails counts
+	 * in rejectedByMatch too). */
+	size_t onePassRetries = 0, onePassMatched = 0;
 	/** Matches held until a later, independent one agrees (the gate's std above
 	 * [LoopCloser] confirm_above_sigma_m), and those dropped because the next disagreed or
 	 * none came. */

@@ -196,6 +196,8 @@ void CLoopCloser::addFarCounts(const TLoopCloserStats& s)
 	m_stats.attempts += s.attempts;
 	m_stats.rejectedByFilters += s.rejectedByFilters;
 	m_stats.rejectedByMatch += s.rejectedByMatch;
+	m_stats.onePassRetries += s.onePassRetries;
+	m_stats.onePassMatched += s.onePassMatched;
 	m_stats.heldForConfirmation += s.heldForConfirmation;
 	m_stats.farSearches += s.farSearches;
 	m_stats.farRings += s.farRings;

@@ -134,9 +134,8 @@ auto CLoopCloser::matchLoopLink(const CPoseGraph& graph, const TScanRefs& scans,
 	const size_t oldIndex = nearestCandidate(graph, c.nodes, corrected).first;
 	const size_t oldNode = c.nodes[oldIndex];
 	const TPose2D guessInOld = between(graph.pose(oldNode), corrected);
-	std::vector<size_t> near = oldNodesNear(graph, c, corrected);
-	std::vector<size_t> visit = visitAround(near, oldNode, kVisitGap);
-	if (oneVisit) near = std::move(visit), visit.clear();
+	const std::vector<std::vector<size_t>> references =
+		loopMatchReferences(oldNodesNear(graph, c, corrected), oldNode, oneVisit, kVisitGap);
 	auto matchAgainst = [&](const std::vector<size_t>& nodes)
 	{
 		const CReferenceCloud reference = oldScansNear(graph, scans, oldNode, nodes, corrected);
@@ -144,9 +143,14 @@ auto CLoopCloser::matchLoopLink(const CPoseGraph& graph, const TScanRefs& scans,
 		progress();
 		return m_matcher.match(reference, *scans[newest], guessInOld);
 	};
-	std::optional<TScanMatch> match = matchAgainst(near);
-	// Refused against several passes (visit is a part of near): the pass through oldNode alone.
-	if (!match && !visit.empty() && visit.size() < near.size()) match = matchAgainst(visit);
+	std::optional<TScanMatch> match = matchAgainst(references.front());
+	// Refused against several passes: the pass through oldNode alone.
+	if (!match && references.size() > 1)
+	{
+		++m_stats.onePassRetries;
+		match = matchAgainst(references.back());
+		if (match) ++m_stats.onePassMatched;
+	}
 	if (!match)
 	{
 		++m_stats.rejectedByMatch;
@@ -205,6 +209,19 @@ CReferenceCloud CLoopCloser::oldScansNear(const CPoseGraph& graph, const TScanRe
 	if (m_params.match_ref_resolution_m > 0)
 		refParams.ref_resolution_m = m_params.match_ref_resolution_m;
 	return CReferenceCloud::fromScansNear(refScans, refInOld, refParams, scanInOld, cropMargin);
+}
+
+// Step 3's references in the order tried: every pass near the place, then the pass through
+// oldNode alone if that is a part of them (a one-pass place, or oldNode outside `near`, has
+// one).
+std::vector<std::vector<size_t>> CLoopCloser::loopMatchReferences(std::vector<size_t> near,
+																  size_t oldNode, bool oneVisit,
+																  size_t maxGap)
+{
+	std::vector<size_t> visit = visitAround(near, oldNode, maxGap);
+	if (oneVisit) return {std::move(visit)};
+	if (visit.empty() || visit.size() == near.size()) return {std::move(near)};
+	return {std::move(near), std::move(visit)};
 }
 
 // The visit of `nodes` (visitsOf, PoseGraph.h) that holds `node`; none if it is not among them.

@@ -2,7 +2,7 @@
  * patch_max_travel_m: keyframes 1 m apart (sparse scans) and 0.35 m apart (dense logs), and
  * turns on the spot, which add keyframes but no path); its growth for ambiguity, tried after an
  * ambiguous sigma patch; and the far
- * check's reference (visitAround). */
+ * check's reference (visitAround); the loop link's references in the order tried. */
 #include <gtest/gtest.h>
 #include <lrgc/loop_closing/LoopCloser.h>
 #include <lrgc/loop_closing/LoopCloserParams.h>
@@ -107,4 +107,29 @@ TEST(LoopCloserFarCheck, theReferenceIsThePassThroughTheMatchedKeyframe)
 	EXPECT_EQ(CLoopCloser::visitAround({10, 13, 16, 20}, 13, 3),
 			  (std::vector<size_t>{10, 13, 16}));
 	EXPECT_TRUE(CLoopCloser::visitAround({10, 13}, 12, 3).empty()) << "not a candidate";
+}
+
+// Step 3's loop-link match is refused against both passes through a place (keyframes 0-8 and
+// 44-46 on sparse MIT-CSAIL, laid down a metre apart before the loop closed): it is tried again
+// against the pass holding the matched old keyframe alone. One pass near the place, or the far
+// check (only the matched pass), leaves one reference.
+TEST(LoopCloserMatch, aMatchRefusedAgainstTwoPassesIsTriedOnThePassOfTheMatchedKeyframe)
+{
+	const std::vector<size_t> twoPasses = {0, 1, 2, 3, 5, 6, 7, 8, 44, 45, 46};
+	const auto refs = CLoopCloser::loopMatchReferences(twoPasses, 45, false, 3);
+	ASSERT_EQ(refs.size(), 2u);
+	EXPECT_EQ(refs.front(), twoPasses) << "every pass first";
+	EXPECT_EQ(refs.back(), (std::vector<size_t>{44, 45, 46}));
+	EXPECT_EQ(CLoopCloser::loopMatchReferences(twoPasses, 2, false, 3).back(),
+			  (std::vector<size_t>{0, 1, 2, 3, 5, 6, 7, 8}));
+
+	const std::vector<size_t> onePass = {44, 45, 46};
+	EXPECT_EQ(CLoopCloser::loopMatchReferences(onePass, 45, false, 3),
+			  (std::vector<std::vector<size_t>>{onePass}));
+	EXPECT_EQ(CLoopCloser::loopMatchReferences(twoPasses, 45, true, 3),
+			  (std::vector<std::vector<size_t>>{{44, 45, 46}}))
+		<< "far check";
+	EXPECT_EQ(CLoopCloser::loopMatchReferences(twoPasses, 20, false, 3),
+			  (std::vector<std::vector<size_t>>{twoPasses}))
+		<< "matched keyframe not among them";
 }

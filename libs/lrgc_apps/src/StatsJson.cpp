@@ -119,6 +119,8 @@ std::string loopClosingJson(const TMapBuilderStats& s, const TLoopCloserStats& l
 	  << ", \"rejected_by_filters\": " << lcs.rejectedByFilters
 	  << ", \"grown_retries\": " << lcs.grownRetries
 	  << ", \"rejected_by_match\": " << lcs.rejectedByMatch
+	  << ", \"one_pass_retries\": " << lcs.onePassRetries
+	  << ", \"one_pass_matched\": " << lcs.onePassMatched
 	  << ", \"rejected_by_back_end\": " << lcs.rejectedByBackEnd
 	  << ", \"held_for_confirmation\": " << lcs.heldForConfirmation
 	  << ", \"unconfirmed\": " << lcs.unconfirmed
