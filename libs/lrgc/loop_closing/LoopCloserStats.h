@@ -19,6 +19,9 @@ struct TLoopCloserStats
 	/** Near correlations tried again with the patch grown for ambiguity ([LoopCloser]
 	 * patch_keyframes_per_ambiguity); each is also counted in attempts. */
 	size_t grownRetries = 0;
+	/** Grown patches not correlated: they added fewer than [LoopCloser]
+	 * patch_grown_min_new_cells of the sigma's patch's cells. */
+	size_t grownSkipped = 0;
 	/** Matches held until a later, independent one agrees (the gate's std above
 	 * [LoopCloser] confirm_above_sigma_m), and those dropped because the next disagreed or
 	 * none came. */
