@@ -160,9 +160,20 @@ std::optional<TCorrelationResult> CLoopCloser::correlatePatch(const CPoseGraph& 
 															  const TCandidates& c,
 															  TSearchWindow& w)
 {
+	CCpuTimer patchTimer(m_stats.correlateCpuSeconds);
+	const TPatchAndMap pm = patchAndOldMap(graph, scans, c, w);
+	patchTimer.stop();
+	return correlatePrepared(graph, scans, w, pm);
+}
+
+std::optional<TCorrelationResult> CLoopCloser::correlatePrepared(const CPoseGraph& graph,
+																 const TScanRefs& scans,
+																 const TSearchWindow& w,
+																 const TPatchAndMap& pm)
+{
 	CCpuTimer correlateTimer(m_stats.correlateCpuSeconds);
 	m_lastVerdict = TCorrelationVerdict{};  // none: an empty old map runs no correlation
-	const TPatchAndMap pm = patchAndOldMap(graph, scans, c, w);
+	m_lastPatchCells = 0;
 	if (pm.oldMap.empty()) return std::nullopt;
 	++m_stats.attempts;
 	++work().correlations;
@@ -183,7 +194,10 @@ std::optional<TCorrelationResult> CLoopCloser::correlatePatch(const CPoseGraph& 
 	std::optional<TCorrelationResult> corr;
 	countedSearch(
 		[&](TCorrelationEffort& effort)
-		{ corr = correlator.correlate(grid, pm.patch, centre, w.xy, w.theta, &effort); });
+		{
+			corr = correlator.correlate(grid, pm.patch, centre, w.xy, w.theta, &effort);
+			m_lastPatchCells = effort.patchCells;
+		});
 	const TCorrelationVerdict verdict =
 		corr ? corr->checkFilters(correlator.params())
 			 : TCorrelationVerdict{TCorrelationVerdict::Reason::LowScore, 0,
@@ -205,7 +219,9 @@ std::optional<TCorrelationResult> CLoopCloser::correlatePatch(const CPoseGraph& 
 // filters. patch_max_travel_m does not cap it: that cap keeps attempt_stride's wait short on
 // sparse scans, and the grown patch adds no wait. Where the sigma's patch closes, the grown
 // one is never tried: it may span a stretch the old map holds worse (a slipping corridor,
-// rooms laid with drift).
+// rooms laid with drift). Nor is it tried when it adds too few cells to the sigma's patch
+// (patch_grown_min_new_cells): where keyframes lie a metre or more apart, the keyframes
+// added lie beyond patch_max_range_m, and the second try would be the first again, as dear.
 std::optional<TCorrelationResult> CLoopCloser::correlateGrownOnAmbiguity(
 	const CPoseGraph& graph, const TScanRefs& scans, const TCandidates& c, TSearchWindow& w)
 {
@@ -213,11 +229,21 @@ std::optional<TCorrelationResult> CLoopCloser::correlateGrownOnAmbiguity(
 	const bool near = !w.far && !w.check;
 	if (corr || stopped() || !near) return corr;
 	const TCorrelationVerdict first = m_lastVerdict;
+	const size_t firstCells = m_lastPatchCells;
 	m_ambiguityGrowth = grownAfter(m_params, m_ambiguityGrowth, first, near);
 	TSearchWindow grown = searchWindow(graph, c, m_ambiguityGrowth, false);
 	if (!retriesGrown(m_params, first, near, w.patchSize, grown.patchSize)) return corr;
+	CCpuTimer patchTimer(m_stats.correlateCpuSeconds);
+	const TPatchAndMap pm = patchAndOldMap(graph, scans, c, grown);
+	const size_t grownCells = m_correlator.patchCells(pm.patch);
+	patchTimer.stop();
+	if (!grownAddsCells(m_params, firstCells, grownCells))
+	{
+		++m_stats.grownSkipped;
+		return corr;
+	}
 	++m_stats.grownRetries;
-	corr = correlatePatch(graph, scans, c, grown);
+	corr = correlatePrepared(graph, scans, grown, pm);
 	if (corr) w = grown;
 	return corr;
 }

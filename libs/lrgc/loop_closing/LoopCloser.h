@@ -97,6 +97,11 @@ public:
 	 * larger (patch_keyframes_per_ambiguity > 0). */
 	static bool retriesGrown(const TLoopCloserParams& p, const TCorrelationVerdict& verdict,
 							 bool nearSearch, size_t sigmaPatch, size_t grownPatch);
+	/** Whether a grown patch of `grownCells` distinct cells adds enough to the sigma's patch
+	 * of `sigmaCells` (a subset of them) to be correlated: at least
+	 * patch_grown_min_new_cells sigmaCells new cells (fewer: the same correlation again). */
+	static bool grownAddsCells(const TLoopCloserParams& p, size_t sigmaCells,
+							   size_t grownCells);
 	/** The visit of `nodes` (visitsOf, PoseGraph.h: runs of keyframe indices at most `maxGap`
 	 * apart) that holds `node`: the pass through the place (empty if `node` is not among
 	 * them). The far check's loop-link reference. */
@@ -221,6 +226,11 @@ private:
 	std::optional<TCorrelationResult> correlatePatch(const CPoseGraph& graph,
 													 const TScanRefs& scans,
 													 const TCandidates& c, TSearchWindow& w);
+	/** correlatePatch's search with the patch and old map `pm` of `w` built. */
+	std::optional<TCorrelationResult> correlatePrepared(const CPoseGraph& graph,
+														const TScanRefs& scans,
+														const TSearchWindow& w,
+														const TPatchAndMap& pm);
 	std::optional<TCorrelationResult> correlateGrownOnAmbiguity(const CPoseGraph& graph,
 																const TScanRefs& scans,
 																const TCandidates& c,
@@ -358,6 +368,7 @@ private:
 	/** The filters' verdict on the last correlation (correlatePatch; Accepted when none ran).
 	 */
 	TCorrelationVerdict m_lastVerdict;
+	size_t m_lastPatchCells = 0;  //!< distinct cells of the last correlation's patch
 	/** The far search under way (its steps, LoopCloser_far.cpp): the patch of keyframe `newest`
 	 * (its frame), the coarse old-map grid and where the patch may stand, then the places to
 	 * check. */

@@ -15,6 +15,10 @@ void TLoopCloserParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& 
 	patch_keyframes_per_m = readDouble(c, s, "patch_keyframes_per_m", patch_keyframes_per_m);
 	patch_keyframes_per_ambiguity =
 		readCount(c, s, "patch_keyframes_per_ambiguity", patch_keyframes_per_ambiguity);
+	patch_grown_min_new_cells =
+		readDouble(c, s, "patch_grown_min_new_cells", patch_grown_min_new_cells);
+	requireParam(patch_grown_min_new_cells >= 0, s, "patch_grown_min_new_cells",
+				 "must be >= 0");
 	patch_max_travel_m = readDouble(c, s, "patch_max_travel_m", patch_max_travel_m);
 	requireParam(patch_max_travel_m >= 0, s, "patch_max_travel_m", "must be >= 0");
 	gate_sigma = readDouble(c, s, "gate_sigma", gate_sigma);
@@ -113,6 +117,8 @@ void TLoopCloserParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
 	writeValue(c, s, "patch_keyframes_per_ambiguity", uint64_t(patch_keyframes_per_ambiguity),
 			   "Keyframes the patch tried after an ambiguous one grows by per such check since "
 			   "the last closure (capped at old_map_exclusion_keyframes; 0: off)");
+	writeValue(c, s, "patch_grown_min_new_cells", patch_grown_min_new_cells,
+			   "Share of the first patch's cells the grown one must add (0: always tried)");
 	writeValue(
 		c, s, "patch_max_travel_m", patch_max_travel_m,
 		"[m] A patch spans at most this much path (at least patch_min_keyframes); 0: no cap");

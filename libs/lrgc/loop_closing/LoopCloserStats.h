@@ -24,6 +24,9 @@ struct TLoopCloserStats
 	 * (CLoopCloser::matchLoopLink), and those of them that matched (a retry that fails counts
 	 * in rejectedByMatch too). */
 	size_t onePassRetries = 0, onePassMatched = 0;
+	/** Grown patches not correlated: they added fewer than [LoopCloser]
+	 * patch_grown_min_new_cells of the sigma's patch's cells. */
+	size_t grownSkipped = 0;
 	/** Matches held until a later, independent one agrees (the gate's std above
 	 * [LoopCloser] confirm_above_sigma_m), and those dropped because the next disagreed or
 	 * none came. */

@@ -71,6 +71,15 @@ bool CLoopCloser::retriesGrown(const TLoopCloserParams& p, const TCorrelationVer
 		   grownPatch > sigmaPatch;
 }
 
+// patch_grown_min_new_cells: the grown patch's cells hold the sigma's (its keyframes are more
+// of the newest, in the same frame); the rest are new.
+bool CLoopCloser::grownAddsCells(const TLoopCloserParams& p, size_t sigmaCells,
+								 size_t grownCells)
+{
+	const double added = double(grownCells) - double(sigmaCells);
+	return added >= p.patch_grown_min_new_cells * double(sigmaCells);
+}
+
 // How many of the newest keyframes lie within `travel` [m] of path (the sum of the straight
 // steps between consecutive keyframes, map frame) back from the newest; at least 1.
 size_t CLoopCloser::keyframesWithinTravel(const CPoseGraph& graph, double travel)

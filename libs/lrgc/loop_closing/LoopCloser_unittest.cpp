@@ -90,6 +90,22 @@ TEST(LoopCloserPatch, theGrownPatchIsTriedOnlyAfterAnAmbiguousSigmaPatch)
 	EXPECT_FALSE(CLoopCloser::retriesGrown(p, ambiguous, true, 14, 24)) << "off";
 }
 
+// The grown patch is correlated only when it adds cells to the sigma's: on MIT Killian's b80
+// variant (keyframes 1.5 m apart) the keyframes it adds lie beyond patch_max_range_m and its
+// cells were the sigma's (1088 -> 1088) or 2 % more (1044 -> 1067), rejected as ambiguous
+// again at the same cost; the grown patches that passed the filters added 39 % (sparse ACES,
+// 1235 -> 1720) and more.
+TEST(LoopCloserPatch, aGrownPatchIsCorrelatedOnlyWhenItAddsCells)
+{
+	TLoopCloserParams p;
+	EXPECT_FALSE(CLoopCloser::grownAddsCells(p, 1088, 1088));
+	EXPECT_FALSE(CLoopCloser::grownAddsCells(p, 1044, 1067));
+	EXPECT_TRUE(CLoopCloser::grownAddsCells(p, 1235, 1720));
+	EXPECT_TRUE(CLoopCloser::grownAddsCells(p, 1000, 1200)) << "the share itself";
+	p.patch_grown_min_new_cells = 0;
+	EXPECT_TRUE(CLoopCloser::grownAddsCells(p, 1088, 1088)) << "0: always";
+}
+
 // The far check's loop-link reference is the pass through the matched old keyframe: keyframes
 // 106-135 (the first corridor) and 918-954 (another side of the loop, which the drift laid on
 // it in the map) are both near the place; only the first pass is the place's.

@@ -51,6 +51,19 @@ using detail::TPoseGridProblem;
 using detail::TRidge;
 using detail::TRidgeRule;
 
+// The key of the patch cell (of `resolution`) that holds p: cx in the high 32 bits, cy's low
+// 32 bits below, built on unsigned values (a left shift of a negative int64_t is undefined
+// behaviour); the same bits, and the same order, as the signed expression gave.
+int64_t cellKey(const Eigen::Vector2d& p, double resolution)
+{
+	if (!p.allFinite()) THROW_EXCEPTION("CPatchCorrelator: a patch point is not finite");
+	const int64_t cx = static_cast<int64_t>(std::floor(p.x() / resolution));
+	const int64_t cy = static_cast<int64_t>(std::floor(p.y() / resolution));
+	const uint64_t key =
+		(static_cast<uint64_t>(cx) << 32) ^ (static_cast<uint64_t>(cy) & 0xffffffffu);
+	return static_cast<int64_t>(key);
+}
+
 // Step 1: centroids of the distinct cells of the patch, in a fixed pseudo-random order (so
 // that early-abandoned bounds see a spatially mixed sample of points first).
 std::vector<Eigen::Vector2d> distinctCells(const std::vector<Eigen::Vector2d>& pts,
@@ -63,18 +76,7 @@ std::vector<Eigen::Vector2d> distinctCells(const std::vector<Eigen::Vector2d>& p
 	};
 	std::vector<Item> items;
 	items.reserve(pts.size());
-	for (const auto& p : pts)
-	{
-		if (!p.allFinite()) THROW_EXCEPTION("CPatchCorrelator: a patch point is not finite");
-		const int64_t cx = static_cast<int64_t>(std::floor(p.x() / resolution));
-		const int64_t cy = static_cast<int64_t>(std::floor(p.y() / resolution));
-		// Key: cx in the high 32 bits, cy's low 32 bits below, built on unsigned values
-		// (a left shift of a negative int64_t is undefined behaviour); the same bits, and
-		// the same order, as the signed expression gave.
-		const uint64_t key =
-			(static_cast<uint64_t>(cx) << 32) ^ (static_cast<uint64_t>(cy) & 0xffffffffu);
-		items.push_back({static_cast<int64_t>(key), p});
-	}
+	for (const auto& p : pts) items.push_back({cellKey(p, resolution), p});
 	std::sort(items.begin(), items.end(),
 			  [](const Item& a, const Item& b)
 			  {
@@ -276,6 +278,15 @@ void CPatchCorrelator::setScanNoise(double sigma)
 	m_params.cluster_radius_m = std::max(m_configured.cluster_radius_m, 16 * sigma);
 	m_params.max_std_xy_m = std::max(m_configured.max_std_xy_m, 6 * sigma);
 	m_ridgeRivals = sigma > 0;
+}
+
+size_t CPatchCorrelator::patchCells(const std::vector<Eigen::Vector2d>& patchPoints) const
+{
+	std::vector<int64_t> keys;
+	keys.reserve(patchPoints.size());
+	for (const auto& p : patchPoints) keys.push_back(cellKey(p, m_params.resolution_m));
+	std::sort(keys.begin(), keys.end());
+	return size_t(std::unique(keys.begin(), keys.end()) - keys.begin());
 }
 
 CCorrelationGrid CPatchCorrelator::makeGrid(const std::vector<Eigen::Vector2d>& pointsInMap,

@@ -152,6 +152,10 @@ public:
 	void setStopToken(const CStopToken& stop) { m_stop = stop; }
 	const CStopToken& stopToken() const { return m_stop; }
 
+	/** N: the distinct cells (of resolution_m, in the patch frame) that `patchPoints` occupy,
+	 * the cells a search scores (TCorrelationEffort::patchCells). */
+	size_t patchCells(const std::vector<Eigen::Vector2d>& patchPoints) const;
+
 	/** The old-map grid with this correlator's resolution and blur; `margin` [m] around the
 	 * points' bounding box (at least 3 sigma keeps the blur of edge walls). */
 	CCorrelationGrid makeGrid(const std::vector<Eigen::Vector2d>& pointsInMap,

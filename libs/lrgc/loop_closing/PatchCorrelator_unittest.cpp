@@ -123,6 +123,28 @@ TEST(PatchCorrelator, StoppedSearchFindsNothing)
 	EXPECT_FALSE(corr.correlateExhaustive(map, patch, truth, 0.5, 0.1).has_value());
 }
 
+// patchCells() counts the cells a search scores (the loop closer weighs a grown patch by
+// them before correlating it): points repeated, as a keyframe seeing only what the patch
+// holds, add none.
+TEST(PatchCorrelator, PatchCellsAreTheCellsASearchScores)
+{
+	std::mt19937 rng(11);
+	CPatchCorrelator corr;
+	const World w = randomWorld(rng, 12, 10);
+	const CCorrelationGrid map = corr.makeGrid(rasterise(w), 0.5);
+	const TPose2D truth(6, 6, 0.3);
+	const Points patch = makePatch(w, truth, 8, rng);
+	TCorrelationEffort effort;
+	corr.correlate(map, patch, truth, 0.5, 0.1, &effort);
+	EXPECT_EQ(corr.patchCells(patch), effort.patchCells);
+	EXPECT_LT(corr.patchCells(patch), patch.size()) << "8 views of the same walls share cells";
+	Points twice = patch;
+	twice.insert(twice.end(), patch.begin(), patch.end());
+	EXPECT_EQ(corr.patchCells(twice), corr.patchCells(patch));
+	// Cells of 5 cm: x in [0, 0.05), [0.05, 0.1) and [-0.05, 0).
+	EXPECT_EQ(corr.patchCells({{0.01, 0.01}, {0.04, 0.02}, {0.06, 0.01}, {-0.01, 0.01}}), 3u);
+}
+
 // A full-circle window has ~1000 headings here, so branch and bound bounds blocks of headings
 // from their middle heading (correlation_search.cpp, headingBlockBound); the result must
 // still be the exhaustive one, the rival included.

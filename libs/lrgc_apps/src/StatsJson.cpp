@@ -118,6 +118,7 @@ std::string loopClosingJson(const TMapBuilderStats& s, const TLoopCloserStats& l
 	  << ", \"accepted\": " << lcs.accepted
 	  << ", \"rejected_by_filters\": " << lcs.rejectedByFilters
 	  << ", \"grown_retries\": " << lcs.grownRetries
+	  << ", \"grown_skipped\": " << lcs.grownSkipped
 	  << ", \"rejected_by_match\": " << lcs.rejectedByMatch
 	  << ", \"one_pass_retries\": " << lcs.onePassRetries
 	  << ", \"one_pass_matched\": " << lcs.onePassMatched
