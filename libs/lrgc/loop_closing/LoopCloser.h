@@ -102,6 +102,15 @@ public:
 	 * patch_grown_min_new_cells sigmaCells new cells (fewer: the same correlation again). */
 	static bool grownAddsCells(const TLoopCloserParams& p, size_t sigmaCells,
 							   size_t grownCells);
+	/** The patch's points [newest keyframe's frame]: those of keyframes first..newest within
+	 * `maxRange` [m] of the newest keyframe, less an older keyframe's points it saw farther
+	 * than `maxRange` away through a gap (a beam within two returned more than `farGap` [m]
+	 * nearer; 0: none left out) (LoopCloser_search.cpp); `radius` receives the largest range
+	 * from the newest keyframe (0 if none). */
+	static std::vector<Eigen::Vector2d> patchPoints(const CPoseGraph& graph,
+													const TScanRefs& scans, size_t first,
+													double maxRange, double farGap,
+													double& radius);
 	/** The visit of `nodes` (visitsOf, PoseGraph.h: runs of keyframe indices at most `maxGap`
 	 * apart) that holds `node`: the pass through the place (empty if `node` is not among
 	 * them). The far check's loop-link reference. */

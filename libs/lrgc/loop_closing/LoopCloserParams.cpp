@@ -49,6 +49,8 @@ void TLoopCloserParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& 
 	match_ref_resolution_m = readDouble(c, s, "match_ref_resolution_m", match_ref_resolution_m);
 	requireParam(match_ref_resolution_m >= 0, s, "match_ref_resolution_m", "must be >= 0");
 	patch_max_range_m = readDouble(c, s, "patch_max_range_m", patch_max_range_m);
+	patch_far_gap_m = readDouble(c, s, "patch_far_gap_m", patch_far_gap_m);
+	requireParam(patch_far_gap_m >= 0, s, "patch_far_gap_m", "must be >= 0");
 	corridor_ridges = readBool(c, s, "corridor_ridges", corridor_ridges);
 	attempt_stride = readDouble(c, s, "attempt_stride", attempt_stride);
 	requireParam(attempt_stride >= 0, s, "attempt_stride", "must be >= 0");
@@ -158,6 +160,8 @@ void TLoopCloserParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
 	writeValue(c, s, "patch_max_range_m", patch_max_range_m,
 			   "[m] Patch points farther than this from the newest keyframe are left out of "
 			   "the correlation");
+	writeValue(c, s, "patch_far_gap_m", patch_far_gap_m,
+			   "[m] Old keyframes' far points seen through a gap this deep: left out");
 	writeValue(c, s, "corridor_ridges", corridor_ridges,
 			   "The near search takes look-alikes on one straight line through its best pose "
 			   "as a corridor's slide, carried by the loop link's covariance");

@@ -137,6 +137,12 @@ struct TLoopCloserParams : public mrpt::config::CLoadableOptions
 	 * the heading step is resolution / patch radius, so 40 m returns (ACES) would need
 	 * ~900 headings over +-30 deg; far returns are also the noisiest. */
 	double patch_max_range_m = 12.0;
+	/** [m] An older keyframe's patch point it saw farther than patch_max_range_m away is left
+	 * out where a beam within two of it returned more than this nearer: seen through a gap
+	 * (between a railing's posts, past a glass pane's frame), where the far side's returns,
+	 * mixed pixels and panes' returns are what no keyframe near the place sees alike (the
+	 * glass atrium's first-return false closure, CLoopCloser::patchPoints). 0: kept. */
+	double patch_far_gap_m = 0.5;
 	/** The near search's correlation takes rivals on one straight line through its best pose
 	 * (the same heading and place across it, inside the window) as the best peak's own: a
 	 * corridor's slide, whose look-alikes agree on all but the position along it. The loop

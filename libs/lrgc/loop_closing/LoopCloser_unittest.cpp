@@ -1,8 +1,8 @@
 /* CLoopCloser's patch: keyframesWithinTravel, the path-length cap ([LoopCloser]
  * patch_max_travel_m: keyframes 1 m apart (sparse scans) and 0.35 m apart (dense logs), and
  * turns on the spot, which add keyframes but no path); its growth for ambiguity, tried after an
- * ambiguous sigma patch; and the far
- * check's reference (visitAround); the loop link's references in the order tried. */
+ * ambiguous sigma patch, and only when it adds cells; the far check's reference (visitAround);
+ * the loop link's references in the order tried; the patch's points (patchPoints). */
 #include <gtest/gtest.h>
 #include <lrgc/loop_closing/LoopCloser.h>
 #include <lrgc/loop_closing/LoopCloserParams.h>
@@ -148,4 +148,27 @@ TEST(LoopCloserMatch, aMatchRefusedAgainstTwoPassesIsTriedOnThePassOfTheMatchedK
 	EXPECT_EQ(CLoopCloser::loopMatchReferences(twoPasses, 20, false, 3),
 			  (std::vector<std::vector<size_t>>{twoPasses}))
 		<< "matched keyframe not among them";
+// The patch keeps the points within patch_max_range_m of the newest keyframe; of an older
+// keyframe's, those it saw beyond that range through a gap (a beam within two returned more
+// than patch_far_gap_m nearer: between a railing's posts) are left out, a far wall seen along
+// itself is kept.
+TEST(LoopCloserPatch, anOlderKeyframesFarPointSeenThroughAGapIsLeftOut)
+{
+	const CPoseGraph g = straightLine(2, 10.0);  // keyframes at x = 0 and 10 m
+	TScan2D old, newest;
+	// Beam order, in the old keyframe's frame: a point 21 m off between posts at 6 m; two
+	// returns 25 m off (20.6 m from the newest: out of range); a far wall seen along itself,
+	// 20.5-20.8 m off (10.5-10.8 m from the newest), its neighbours as far.
+	old.points = {{6, 1.75}, {21, 2},     {6, 2.25},   {15, 20},
+				  {15, 20},  {20.5, 0.5}, {20.625, 1}, {20.75, 1.5}};
+	newest.points = {{3, 0}, {-13, 0}};  // x 13; x -3 (13 m from it)
+	const TScanRefs scans{&old, &newest};
+	double radius = 0;
+	const auto patch = CLoopCloser::patchPoints(g, scans, 0, 12.0, 0.5, radius);
+	const std::vector<Eigen::Vector2d> expected{{-4, 1.75},  {-4, 2.25},   {10.5, 0.5},
+												{10.625, 1}, {10.75, 1.5}, {3, 0}};
+	EXPECT_EQ(patch, expected);  // the newest's frame; (21, 2) seen between the posts
+	EXPECT_NEAR(radius, std::hypot(10.75, 1.5), 1e-12);
+	EXPECT_EQ(CLoopCloser::patchPoints(g, scans, 0, 12.0, 0.0, radius).size(), 7u) << "0: kept";
+	EXPECT_EQ(CLoopCloser::patchPoints(g, scans, 1, 12.0, 0.5, radius).size(), 1u);
 }
