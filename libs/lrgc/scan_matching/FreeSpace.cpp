@@ -109,40 +109,62 @@ bool CFreeSpaceViews::seenThrough(const Eigen::Vector2d& p, double margin) const
 double CFreeSpaceViews::scanViolation(const TScan2D& scan, const mrpt::math::TPose2D& scanInRef,
 									  double margin) const
 {
-	const auto& pts = scan.points;
-	if (pts.empty() || m_views.empty()) return 0;
-	std::vector<char> viol(pts.size(), 0);
-	std::vector<Eigen::Vector2d> inRef(pts.size());
-	// (view <- ref) as rotation + translation, computed once per view.
-	std::vector<std::pair<Eigen::Matrix2d, Eigen::Vector2d>> toView;
-	for (const auto& v : m_views)
+	CScanViolation v(*this, scan, scanInRef, margin);
+	v.flag(0, v.size());
+	return v.share();
+}
+
+CScanViolation::CScanViolation(const CFreeSpaceViews& views, const TScan2D& scan,
+							   const mrpt::math::TPose2D& scanInRef, double margin)
+	: m_views(views),
+	  m_pts(scan.points),
+	  m_margin(margin),
+	  m_c0(std::cos(scanInRef.phi)),
+	  m_s0(std::sin(scanInRef.phi)),
+	  m_scanInRef(scanInRef)
+{
+	if (m_pts.empty() || views.m_views.empty()) return;  // size() 0: share() is 0
+	m_viol.assign(m_pts.size(), 0);
+	m_inRef.resize(m_pts.size());
+	for (const auto& v : views.m_views)
 	{
 		const auto inv = inverse(v.scanInRef);
 		const double c = std::cos(inv.phi), s = std::sin(inv.phi);
-		toView.push_back({(Eigen::Matrix2d() << c, -s, s, c).finished(), {inv.x, inv.y}});
+		m_toView.push_back({(Eigen::Matrix2d() << c, -s, s, c).finished(), {inv.x, inv.y}});
 	}
-	const double c0 = std::cos(scanInRef.phi), s0 = std::sin(scanInRef.phi);
-	for (size_t i = 0; i < pts.size(); ++i)
+}
+
+void CScanViolation::flag(size_t begin, size_t end)
+{
+	const auto& views = m_views.m_views;
+	for (size_t i = begin; i < end; ++i)
 	{
-		inRef[i] = Eigen::Vector2d(scanInRef.x + c0 * pts[i].x() - s0 * pts[i].y(),
-								   scanInRef.y + s0 * pts[i].x() + c0 * pts[i].y());
-		for (size_t k = 0; k < m_views.size(); ++k)
-			if (m_views[k].image->inFreeSpace(toView[k].first * inRef[i] + toView[k].second,
-											  margin))
+		m_inRef[i] = Eigen::Vector2d(m_scanInRef.x + m_c0 * m_pts[i].x() - m_s0 * m_pts[i].y(),
+									 m_scanInRef.y + m_s0 * m_pts[i].x() + m_c0 * m_pts[i].y());
+		for (size_t k = 0; k < views.size(); ++k)
+			if (views[k].image->inFreeSpace(m_toView[k].first * m_inRef[i] + m_toView[k].second,
+											m_margin))
 			{
-				viol[i] = 1;
+				m_viol[i] = 1;
 				break;
 			}
 	}
+}
+
+double CScanViolation::share() const
+{
+	const size_t n = m_viol.size();
+	if (n == 0) return 0;
 	size_t count = 0;
-	for (size_t i = 0; i < pts.size(); ++i)
+	for (size_t i = 0; i < n; ++i)
 	{
-		const bool prev = i > 0 && viol[i - 1] && (inRef[i] - inRef[i - 1]).norm() < kWallGap_m;
+		const bool prev =
+			i > 0 && m_viol[i - 1] && (m_inRef[i] - m_inRef[i - 1]).norm() < kWallGap_m;
 		const bool next =
-			i + 1 < pts.size() && viol[i + 1] && (inRef[i] - inRef[i + 1]).norm() < kWallGap_m;
-		count += viol[i] && (prev || next);
+			i + 1 < n && m_viol[i + 1] && (m_inRef[i] - m_inRef[i + 1]).norm() < kWallGap_m;
+		count += m_viol[i] && (prev || next);
 	}
-	return static_cast<double>(count) / pts.size();
+	return static_cast<double>(count) / n;
 }
 
 }  // namespace lrgc

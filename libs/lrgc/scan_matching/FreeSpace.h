@@ -54,10 +54,11 @@ public:
 	/** Adds the view of `scan`, taken at scanInRef (ref <- scan). */
 	void add(const TScan2D& scan, const mrpt::math::TPose2D& scanInRef);
 	bool empty() const { return m_views.empty(); }
+	size_t size() const { return m_views.size(); }
 
 	/** Share [0..1] of `scan`'s points (placed at scanInRef) lying in the free space of some
 	 * view, counted only when a neighbour in scan order within kWallGap_m does too (walls, not
-	 * isolated spurious returns). 0 without views. */
+	 * isolated spurious returns). 0 without views. (CScanViolation, all points at once.) */
 	double scanViolation(const TScan2D& scan, const mrpt::math::TPose2D& scanInRef,
 						 double margin) const;
 
@@ -67,12 +68,42 @@ public:
 	bool seenThrough(const Eigen::Vector2d& p, double margin) const;
 
 private:
+	friend class CScanViolation;
 	struct TView
 	{
 		mrpt::math::TPose2D scanInRef;
 		std::shared_ptr<const CRangeImage> image;
 	};
 	std::vector<TView> m_views;
+};
+
+/** CFreeSpaceViews::scanViolation in parts, so that the points' tests (a scan's points times
+ * the views: a window patch has 15) can run on several threads: flag() ranges of the points,
+ * each point in one range, in any order and on any threads, then share(). Each point's flag
+ * is the same test whichever range and thread computes it, so share() is scanViolation's
+ * value bit for bit. The object must outlive the flag() calls; views and scan are read, not
+ * copied. */
+class CScanViolation
+{
+public:
+	CScanViolation(const CFreeSpaceViews& views, const TScan2D& scan,
+				   const mrpt::math::TPose2D& scanInRef, double margin);
+	/** Number of the scan's points (flag()'s index range). */
+	size_t size() const { return m_viol.size(); }
+	/** Tests points [begin, end) against the views. */
+	void flag(size_t begin, size_t end);
+	/** The share of flagged points with a flagged neighbour within kWallGap_m (all flagged). */
+	double share() const;
+
+private:
+	const CFreeSpaceViews& m_views;
+	const std::vector<Eigen::Vector2d>& m_pts;
+	double m_margin, m_c0, m_s0;
+	mrpt::math::TPose2D m_scanInRef;
+	/** (view <- ref) as rotation and translation, per view. */
+	std::vector<std::pair<Eigen::Matrix2d, Eigen::Vector2d>> m_toView;
+	std::vector<char> m_viol;
+	std::vector<Eigen::Vector2d> m_inRef;  //!< the points in ref
 };
 
 }  // namespace lrgc

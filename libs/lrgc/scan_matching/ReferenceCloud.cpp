@@ -90,12 +90,11 @@ CReferenceCloud CReferenceCloud::fromScan(const TScan2D& scan, const TScanMatche
 }
 
 double CReferenceCloud::freeSpaceViolation(const TScan2D& scan,
-										   const mrpt::math::TPose2D& scanInRef,
-										   double margin) const
+										   const mrpt::math::TPose2D& scanInRef, double margin,
+										   const TParallelFor& parallel) const
 {
-	const auto& pts = scan.points;
-	if (pts.empty()) return 0;
-	const double scanToRef = m_views.scanViolation(scan, scanInRef, margin);
+	if (scan.points.empty()) return 0;
+	CScanViolation scanToRef(m_views, scan, scanInRef, margin);
 	// ref -> scan: LINE anchors in front of the scan's own returns, but for those the
 	// reference's own views saw through too: a pane that returns some beams and passes the
 	// others, a railing's posts, a mixed pixel are porous, and the scan seeing past them is
@@ -103,19 +102,48 @@ double CReferenceCloud::freeSpaceViolation(const TScan2D& scan,
 	// right matches, which were refused). The test is run only on violating anchors.
 	const auto img = rangeImageOf(scan);
 	const auto refInScan = inverse(scanInRef);
+	// Parts 0..kFreeSpaceParts-1: ranges of the scan's points; the next ones: of the anchors.
+	constexpr size_t kParts = kFreeSpaceParts;
+	std::pair<size_t, size_t> counts[kParts];
+	const size_t nPts = scanToRef.size(), nAnchors = m_anchors.size();
+	auto part = [&](size_t i)
+	{
+		if (i < kParts)
+			scanToRef.flag(i * nPts / kParts, (i + 1) * nPts / kParts);
+		else
+			counts[i - kParts] =
+				anchorsInFreeSpace(*img, refInScan, margin, (i - kParts) * nAnchors / kParts,
+								   (i - kParts + 1) * nAnchors / kParts);
+	};
+	// In parts only for a cloud of several views (a window patch): one scan's cloud (a
+	// pairwise link's) is tested in a few microseconds, less than a job for another thread.
+	if (parallel && m_views.size() > 1)
+		parallel(2 * kParts, part);
+	else
+		for (size_t i = 0; i < 2 * kParts; ++i) part(i);
+	size_t known = 0, viol = 0;
+	for (const auto& [k, v] : counts) known += k, viol += v;
+	const double refToScan = known >= 20 ? static_cast<double>(viol) / known : 0.0;
+	return std::max(scanToRef.share(), refToScan);
+}
+
+std::pair<size_t, size_t> CReferenceCloud::anchorsInFreeSpace(
+	const CRangeImage& img, const mrpt::math::TPose2D& refInScan, double margin, size_t begin,
+	size_t end) const
+{
 	const double c1 = std::cos(refInScan.phi), s1 = std::sin(refInScan.phi);
 	size_t known = 0, viol = 0;
-	for (const auto& a : m_anchors)
+	for (size_t i = begin; i < end; ++i)
 	{
+		const TAnchor& a = m_anchors[i];
 		if (!a.isLine) continue;
 		bool k = false;
 		const Eigen::Vector2d d(refInScan.x + c1 * a.pos.x() - s1 * a.pos.y(),
 								refInScan.y + s1 * a.pos.x() + c1 * a.pos.y());
-		const bool v = img->inFreeSpace(d, margin, &k);
+		const bool v = img.inFreeSpace(d, margin, &k);
 		known += k, viol += v && k && !m_views.seenThrough(a.pos, margin);
 	}
-	const double refToScan = known >= 20 ? static_cast<double>(viol) / known : 0.0;
-	return std::max(scanToRef, refToScan);
+	return {known, viol};
 }
 
 CReferenceCloud CReferenceCloud::fromScansWhere(

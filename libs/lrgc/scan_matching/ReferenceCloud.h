@@ -228,9 +228,12 @@ public:
 	 *  - ref -> scan: LINE anchors lying in front of the scan's own returns, over the LINE
 	 *    anchors inside the scan's observed rays; an anchor that lies in the free space of one
 	 *    of the reference's own views (a porous surface: glass, a railing) never counts.
-	 * Returns the larger. A wrong alignment moves walls into space the other side saw empty. */
+	 * Returns the larger. A wrong alignment moves walls into space the other side saw empty.
+	 * `parallel`, if given, runs the two directions' tests in parts on a cloud of several
+	 * views (kFreeSpaceParts ranges of the scan's points, as many of the anchors; flags and
+	 * integer counts, so the same value on any threads). */
 	double freeSpaceViolation(const TScan2D& scan, const mrpt::math::TPose2D& scanInRef,
-							  double margin) const;
+							  double margin, const TParallelFor& parallel = {}) const;
 
 	/** Calls fn(index) for every usable anchor within radius [m] of q. */
 	template <class F>
@@ -240,6 +243,14 @@ public:
 	}
 
 private:
+	/** Parts per direction of a parallel freeSpaceViolation: a window patch's check is
+	 * 0.1-0.5 ms (a scan's points times 15 views, and ~5000 anchors), one job for the
+	 * window's helper, which idles during the plain match. */
+	static constexpr size_t kFreeSpaceParts = 2;
+	/** freeSpaceViolation's ref -> scan test on anchors [begin, end): (known, violating). */
+	std::pair<size_t, size_t> anchorsInFreeSpace(const CRangeImage& img,
+												 const mrpt::math::TPose2D& refInScan,
+												 double margin, size_t begin, size_t end) const;
 	/** Indexes the usable anchors at their current positions in m_grid, cells of side `cell`
 	 * [m] (radiusOnly: CAnchorGrid's). */
 	void buildGrid(double cell, bool radiusOnly = false);

@@ -341,6 +341,43 @@ TEST(ReferenceCloud, aPorousSurfaceTheReferenceSawThroughIsNoViolation)
 	}
 }
 
+// The free-space check in parts (the window's helper takes some): the same value bit for bit
+// whatever order the parts run in, for alignments that violate in either direction or not.
+TEST(ReferenceCloud, freeSpaceCheckInPartsIsTheSameInAnyOrder)
+{
+	const auto world = makeRoomWorld(4);
+	std::mt19937 rng(9);
+	std::vector<TScan2D> scans;
+	std::vector<TPose2D> poses;
+	for (int k = 0; k < 6; ++k)
+	{
+		poses.emplace_back(3 + 0.3 * k, 3.5 - 0.1 * k, 0.07 * k);
+		scans.push_back(simulateScan(world, poses.back(), {}, rng));
+	}
+	const TScanMatcherParams p;
+	const auto ref = CReferenceCloud::fromScans(scans, poses, p);
+	const TPose2D truth(4.1, 3.0, 0.3);
+	const TScan2D scan = simulateScan(world, truth, {}, rng);
+	size_t parts = 0;
+	const TParallelFor reversed = [&](size_t n, const std::function<void(size_t)>& fn)
+	{
+		parts = n;
+		for (size_t i = n; i-- > 0;) fn(i);
+	};
+	size_t violating = 0;
+	for (const TPose2D& at :
+		 {truth, TPose2D(4.6, 3.0, 0.3), TPose2D(4.1, 3.0, 0.9), TPose2D(3.5, 2.6, -0.4)})
+	{
+		const double serial = ref.freeSpaceViolation(scan, at, 0.1);
+		const double inParts = ref.freeSpaceViolation(scan, at, 0.1, reversed);
+		EXPECT_EQ(serial, inParts) << at.asString();
+		violating += serial > 0.05;
+	}
+	EXPECT_EQ(parts, 4U);      // both directions, two parts each
+	EXPECT_GE(violating, 2U);  // the check was not trivially 0
+	EXPECT_LT(ref.freeSpaceViolation(scan, truth, 0.1), 0.05);
+}
+
 TEST(ReferenceCloud, voxelSideFollowsTheNoiseInPowersOfTwo)
 {
 	// The widest res 2^k not above sigma, nor above maxCell; res when the noise is below 2 res.

@@ -318,8 +318,8 @@ std::optional<TScanMatch> CScanMatcher::matchPoints(
 	// (a violation is a share, never above 1: at max_free_space_violation 1 the check is off).
 	if (P.max_free_space_violation < 1)
 	{
-		m.freeSpaceViolation =
-			ref.freeSpaceViolation(*checked, m.scanInRef, std::max(0.1, 4 * scale));
+		m.freeSpaceViolation = ref.freeSpaceViolation(
+			*checked, m.scanInRef, std::max(0.1, 4 * scale), m_freeSpaceParallel);
 		if (m.freeSpaceViolation > P.max_free_space_violation) return std::nullopt;
 	}
 	// Residuals of anchors closer than this share reference noise (the line fit neighbourhood

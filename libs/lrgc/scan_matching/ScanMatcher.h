@@ -74,6 +74,13 @@ public:
 	/** Once `stop` is stopped, match() and matchWide() end before their next iteration or
 	 * start and find nothing. */
 	void setStopToken(const CStopToken& stop) { m_stop = stop; }
+	/** A checked match's free-space test runs its parts by `parallel`
+	 * (CReferenceCloud::freeSpaceViolation; the same value on any threads). It may be called
+	 * from any thread matching, also from within another `parallel` loop. */
+	void setFreeSpaceParallel(TParallelFor parallel)
+	{
+		m_freeSpaceParallel = std::move(parallel);
+	}
 
 	/** Local match from guessScanInRef (ref <- scan). nullopt: too few inliers, no convergence,
 	 * RMS too large, or geometry degenerate in more than one direction. Never the guess. */
@@ -145,6 +152,7 @@ private:
 
 	TScanMatcherParams m_params;
 	CStopToken m_stop;
+	TParallelFor m_freeSpaceParallel;
 };
 
 }  // namespace lrgc
