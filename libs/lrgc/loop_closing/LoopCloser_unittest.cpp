@@ -148,6 +148,8 @@ TEST(LoopCloserMatch, aMatchRefusedAgainstTwoPassesIsTriedOnThePassOfTheMatchedK
 	EXPECT_EQ(CLoopCloser::loopMatchReferences(twoPasses, 20, false, 3),
 			  (std::vector<std::vector<size_t>>{twoPasses}))
 		<< "matched keyframe not among them";
+}
+
 // The patch keeps the points within patch_max_range_m of the newest keyframe; of an older
 // keyframe's, those it saw beyond that range through a gap (a beam within two returned more
 // than patch_far_gap_m nearer: between a railing's posts) are left out, a far wall seen along
