@@ -116,6 +116,15 @@ public:
 	 * them). The far check's loop-link reference. */
 	static std::vector<size_t> visitAround(std::vector<size_t> nodes, size_t node,
 										   size_t maxGap);
+	/** The chi2 of a re-match `z` (node j in node i's frame, information `info`) against the
+	 * solve's poses xi, xj: the larger of the back end's reading (translation in z's axes) and
+	 * the reading in i's axes, where the matcher's covariance is given, with `solveCov` (the
+	 * solve's own error between the two) added. rematch() refuses a re-match above 3 Phi. */
+	static double rematchDisagreementChi2(const mrpt::math::TPose2D& xi,
+										  const mrpt::math::TPose2D& xj,
+										  const mrpt::math::TPose2D& z,
+										  const Eigen::Matrix3d& info,
+										  const Eigen::Matrix3d& solveCov);
 	/** The references step 3's loop-link match tries, in order, as keyframe lists: the
 	 * keyframes `near` the place (oldNodesNear) and, if they hold several passes, the pass
 	 * through `oldNode` alone (visitAround with `maxGap`), tried when the first is refused;

@@ -5,6 +5,39 @@
 
 namespace lrgc
 {
+namespace
+{
+// [LoopCloser]'s keys of the re-match's check against the closure's solve.
+void loadRematchCheck(const mrpt::config::CConfigFileBase& c, const std::string& s,
+					  TLoopCloserParams& p)
+{
+	p.rematch_solve_std_m = readDouble(c, s, "rematch_solve_std_m", p.rematch_solve_std_m);
+	requireParam(p.rematch_solve_std_m >= 0, s, "rematch_solve_std_m", "must be >= 0");
+	p.rematch_solve_std = readDegrees(c, s, "rematch_solve_std_deg", p.rematch_solve_std);
+	requireParam(p.rematch_solve_std >= 0, s, "rematch_solve_std_deg", "must be >= 0");
+}
+
+// [LoopCloser]'s keys of which points the patch keeps.
+void savePatchPoints(mrpt::config::CConfigFileBase& c, const std::string& s,
+					 const TLoopCloserParams& p)
+{
+	writeValue(c, s, "patch_max_range_m", p.patch_max_range_m,
+			   "[m] Patch points farther than this from the newest keyframe are left out of "
+			   "the correlation");
+	writeValue(c, s, "patch_far_gap_m", p.patch_far_gap_m,
+			   "[m] Old keyframes' far points seen through a gap this deep: left out");
+}
+
+void saveRematchCheck(mrpt::config::CConfigFileBase& c, const std::string& s,
+					  const TLoopCloserParams& p)
+{
+	writeValue(c, s, "rematch_solve_std_m", p.rematch_solve_std_m,
+			   "[m] The closure's solve's own error a re-match is allowed, in x and y");
+	writeDegrees(c, s, "rematch_solve_std_deg", p.rematch_solve_std,
+				 "[deg] The closure's solve's own error a re-match is allowed, in heading");
+}
+}  // namespace
+
 void TLoopCloserParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
 										   const std::string& s)
 {
@@ -51,6 +84,7 @@ void TLoopCloserParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& 
 	patch_max_range_m = readDouble(c, s, "patch_max_range_m", patch_max_range_m);
 	patch_far_gap_m = readDouble(c, s, "patch_far_gap_m", patch_far_gap_m);
 	requireParam(patch_far_gap_m >= 0, s, "patch_far_gap_m", "must be >= 0");
+	loadRematchCheck(c, s, *this);
 	corridor_ridges = readBool(c, s, "corridor_ridges", corridor_ridges);
 	attempt_stride = readDouble(c, s, "attempt_stride", attempt_stride);
 	requireParam(attempt_stride >= 0, s, "attempt_stride", "must be >= 0");
@@ -157,11 +191,8 @@ void TLoopCloserParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
 	writeValue(c, s, "match_ref_resolution_m", match_ref_resolution_m,
 			   "[m] Voxel side of the loop link's reference cloud, built from every old scan "
 			   "around (0: [ScanMatcher] ref_resolution_m)");
-	writeValue(c, s, "patch_max_range_m", patch_max_range_m,
-			   "[m] Patch points farther than this from the newest keyframe are left out of "
-			   "the correlation");
-	writeValue(c, s, "patch_far_gap_m", patch_far_gap_m,
-			   "[m] Old keyframes' far points seen through a gap this deep: left out");
+	savePatchPoints(c, s, *this);
+	saveRematchCheck(c, s, *this);
 	writeValue(c, s, "corridor_ridges", corridor_ridges,
 			   "The near search takes look-alikes on one straight line through its best pose "
 			   "as a corridor's slide, carried by the loop link's covariance");

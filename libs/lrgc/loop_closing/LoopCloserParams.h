@@ -143,6 +143,12 @@ struct TLoopCloserParams : public mrpt::config::CLoadableOptions
 	 * mixed pixels and panes' returns are what no keyframe near the place sees alike (the
 	 * glass atrium's first-return false closure, CLoopCloser::patchPoints). 0: kept. */
 	double patch_far_gap_m = 0.5;
+	/** A re-match after a closure (CLoopCloser::rematch) is refused where it disagrees with the
+	 * closure's solve, read in its old keyframe's axes with the solve's own error between the
+	 * two keyframes added: this std [m] in x and y, rematch_solve_std [rad] in heading (key
+	 * rematch_solve_std_deg). */
+	double rematch_solve_std_m = 0.15;
+	double rematch_solve_std = mrpt::DEG2RAD(1.0);  //!< [rad] (key rematch_solve_std_deg)
 	/** The near search's correlation takes rivals on one straight line through its best pose
 	 * (the same heading and place across it, inside the window) as the best peak's own: a
 	 * corridor's slide, whose look-alikes agree on all but the position along it. The loop
