@@ -283,8 +283,8 @@ private:
 									  const TMotionPrediction& prediction);
 	/** The wide search's second opinion on a suspect step's plain match that agrees with the
 	 * prior: its winner if it overrules the match (a distinct pose), else nullopt. It searches
-	 * within half a right angle of the prior only (kOverruleAngle, LocalRegistration.cpp): a
-	 * building's aliases of the match lie a right angle away. */
+	 * within half a right angle of the prior only (kOverruleAngle, LocalRegistration_wide.cpp):
+	 * a building's aliases of the match lie a right angle away. */
 	std::optional<TScanMatch> overrulingWideMatch(const CReferenceCloud& cloud,
 												  const TScan2D& scan,
 												  const mrpt::math::TPose2D& guess,
@@ -292,7 +292,7 @@ private:
 	/** A plain match that disagrees with the prior (`disagrees`), matched again from the
 	 * prior's position (`guess`) at the match's heading; that match if it agrees with the
 	 * prior and `plain` explains less than wide_ambiguity_margin more of the scan, else
-	 * nullopt (LocalRegistration.cpp). */
+	 * nullopt (LocalRegistration_wide.cpp). */
 	std::optional<TScanMatch> headingFirstMatch(
 		const CReferenceCloud& cloud, const TScan2D& scan, const mrpt::math::TPose2D& guess,
 		const TScanMatch& plain, const std::function<bool(const TScanMatch&)>& disagrees);
@@ -303,7 +303,7 @@ private:
 										 const TCloudPtr& deferOn = {});
 	/** A failed plain match retried (registerScan): matchWide over the heading the
 	 * odometry's error may span, kRetryAngle, or kRetryTurnAngle for a step turning more than
-	 * kRetryTurn, with starts kRetryStep apart (LocalRegistration.cpp); nullopt unless the
+	 * kRetryTurn, with starts kRetryStep apart (LocalRegistration_wide.cpp); nullopt unless the
 	 * winner turns more than kRetryStep / 2 from the guess. */
 	std::optional<TScanMatch> retriedMatch(const CReferenceCloud& cloud, const TScan2D& scan,
 										   const mrpt::math::TPose2D& guess,
