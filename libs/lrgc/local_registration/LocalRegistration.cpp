@@ -26,24 +26,6 @@ namespace
 const double kSecondOpinionTurn = mrpt::DEG2RAD(10.0);
 /** [m] ... or shifts it by more than this (0 to 2 matches per benchmark log beyond it). */
 constexpr double kSecondOpinionShift = 0.3;
-/** [-] Share of glitch_gate_chi2 below which the prior's covariance alone proves that a plain
- * match agrees with the prior (registerScan): the bound d^T (P + C)^-1 d <= d^T P^-1 d holds
- * exactly, and this margin keeps the rounding of the two LDLT solves (relative ~1e-16 times
- * P's condition number) from deciding otherwise than main's test with C. On the shared logs
- * the bound's ratio was at most 0.9998 (ACES, MIT-CSAIL, the synthetic logs). */
-constexpr double kPriorAloneAgrees = 1 - 1e-6;
-
-/** The prior's covariance P is positive definite and far from singular (its LDLT pivots
- * within 1e9 of each other), as the bound above needs (a singular P's solve is no bound),
- * with P's rounding (~1e-7 relative at most) well inside kPriorAloneAgrees's margin. The
- * motion models' P are diagonal with positive floors. */
-bool boundsTheDisagreement(const Eigen::Matrix3d& P)
-{
-	const Eigen::LDLT<Eigen::Matrix3d> ldlt(P);
-	const Eigen::Vector3d D = ldlt.vectorD();
-	return ldlt.info() == Eigen::Success && D.minCoeff() > 1e-9 * D.maxCoeff() &&
-		   D.minCoeff() > 0;
-}
 
 /** The match turns the robot by more than kSecondOpinionTurn against `guess`, or shifts it by
  * more than kSecondOpinionShift. */
@@ -339,14 +321,14 @@ TRegistration CLocalRegistration::registerScan(const CPoseGraph& graph,
 // gate. A plain match's covariance C is deferred (the helper computes it for the links and the
 // scan's record, DeferredCovariance.h), and most scans do not need it here: for C positive
 // semidefinite (P + C)^-1 <= P^-1, so d^T (P + C)^-1 d <= d^T P^-1 d, and the prior's
-// covariance P alone proves agreement (98 % of the scans on ACES and simul, 92 % on
-// MIT-CSAIL, 78 % on range_030_bearing_015); the others compute C at once.
+// covariance P alone proves agreement (agreesWhateverTheOtherCovariance, se2.h; 98 % of the
+// scans on ACES and simul, 92 % on MIT-CSAIL, 78 % on range_030_bearing_015); the others
+// compute C at once.
 bool CLocalRegistration::disagreesWith(const TPose2D& guess, const Eigen::Matrix3d& priorCov,
 									   const TScanMatch& m) const
 {
-	if (m.deferredCov && boundsTheDisagreement(priorCov) &&
-		disagreementChi2(guess, m.scanInRef, priorCov) <=
-			kPriorAloneAgrees * m_params.glitch_gate_chi2)
+	if (m.deferredCov && agreesWhateverTheOtherCovariance(guess, m.scanInRef, priorCov,
+														  m_params.glitch_gate_chi2))
 		return false;
 	return disagreementChi2(guess, m.scanInRef, priorCov + m.covariance().get()) >
 		   m_params.glitch_gate_chi2;
