@@ -153,11 +153,16 @@ struct TLoopCloserParams : public mrpt::config::CLoadableOptions
 	 * (the same heading and place across it, inside the window) as the best peak's own: a
 	 * corridor's slide, whose look-alikes agree on all but the position along it. The loop
 	 * link then carries that doubt in its covariance (CPatchCorrelator::setStraightRidges,
-	 * CLoopCloser::carryRidge). With the calibrated gate it closes the glass atrium's
-	 * ambiguous true places (recall 253 -> 256 of 316 over seeds 1-4, false 2 -> 1), but
-	 * LoopClosingWorker.aBudgetPerSpacingTravelledClosesTheLoopASlowRobotRevisits fails with
-	 * it (no closure on its ring) and sparse Killian gains a false link: off by default
-	 * (doc/generalisation.md, "A corridor's slide"). */
+	 * CLoopCloser::carryRidge). Only a ridge whose first step reaches the window's centre (the
+	 * gate's prediction) within a cluster radius is taken (rival_search.cpp,
+	 * ridgeReachesCentre): without that, a ridge 8.9 m from the prediction put a loop link
+	 * 5.6 m along a corridor from the truth on SparseScans.TurnsOfEightyDegrees. On, the glass
+	 * atrium closes 72 / 73 / 72 / 74 of 79 places (seeds 1-4; off 71 / 70 / 70 / 69), no false
+	 * link, and the e2e tests of stop 49 pass; off by default still because the harsh sparse
+	 * Intel b80 s2 maps worse on two worker schedules of three (0.068 -> 0.089 m, schedule
+	 * chaos: no ridge link in it) and LiveSickSavedMap.ContinuesASavedMapWithLiveScans failed
+	 * 3 runs of 4 with it on a loaded machine (doc/generalisation.md, "A ridge must reach the
+	 * prediction"). */
 	bool corridor_ridges = false;
 	/** While the patch is larger than patch_min_keyframes (large uncertainty), correlate only
 	 * once every attempt_stride * (patch - patch_min_keyframes) checks: consecutive large

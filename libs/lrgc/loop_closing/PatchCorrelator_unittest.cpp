@@ -285,6 +285,75 @@ TEST(PatchCorrelator, RepeatedDoorsAreOneRidgeInsideTheWindowAndAmbiguousAtItsBo
 	EXPECT_TRUE(paper->ridgeAxis.isZero());
 }
 
+namespace
+{
+// Doors every 3 m in a corridor (walls at y = +-1, as corridor()) from x = -20 to -5, a plain
+// wall to x = -3, then a hall 5 m wide (walls at y = +-2.5) to x = 20: the doors' look-alikes
+// end at x = -5.
+World doorsThenHall()
+{
+	World w;
+	const double door = 0.9, end = -3;
+	for (const double y : {-1.0, 1.0})
+	{
+		const double s = y > 0 ? 1 : -1;
+		double x = -20;
+		for (; x + 3.0 <= end + 1e-9; x += 3.0)
+		{
+			w.push_back({{x, y}, {x + 3.0 - door, y}});
+			w.push_back({{x + 3.0 - door, y}, {x + 3.0 - door, y + 0.4 * s}});
+			w.push_back({{x + 3.0, y}, {x + 3.0, y + 0.4 * s}});
+		}
+		w.push_back({{x, y}, {end, y}});
+		w.push_back({{end, y}, {end, 2.5 * s}});
+		w.push_back({{end, 2.5 * s}, {20, 2.5 * s}});
+	}
+	return w;
+}
+}  // namespace
+
+// A straight ridge is the robot's corridor slide only where its first step reaches the
+// window's centre (the gate's prediction) within a cluster radius: the first 300 scans of
+// SparseScans.TurnsOfEightyDegrees had a ridge of +-3.7 m 8.9 m from the prediction, and its
+// link, seeded at the ridge's end, landed 5.6 m along the corridor from the truth. Here the
+// doors' look-alikes lie 3 m apart west of x = -5; a window centred 8.5 m east of the truth
+// holds the truth and its look-alikes 3 m east and west; the prediction lies 5.5 m or more
+// from the best pose (a look-alike or the truth), beyond the first step's reach (3.5 m and a
+// cluster radius): the look-alike is the rival (ambiguous). Centred 0.5 m from the truth, the
+// same look-alikes are the ridge of the robot's corridor, accepted. One heading (the window
+// +-0.005 rad, less than a step): the rule's premise, look-alikes at the best's heading, holds
+// by construction.
+TEST(PatchCorrelator, AStraightRidgeThatDoesNotReachThePredictionIsAmbiguous)
+{
+	std::mt19937 rng(7);
+	const TPatchCorrelatorParams prm;
+	CPatchCorrelator corr(prm);
+	corr.setStraightRidges(true);
+	const World w = doorsThenHall();
+	const CCorrelationGrid map = corr.makeGrid(rasterise(w), 0.5);
+	const TPose2D truth(-10.6, 0.1, 0.02);
+	const Points patch = makePatch(w, truth, 10, rng, 4.0);
+	const TPose2D far(truth.x + 8.5, truth.y, truth.phi);
+	const auto away = corr.correlate(map, patch, far, 10.0, 0.005);
+	ASSERT_TRUE(away.has_value());
+	EXPECT_LT(std::abs(std::remainder(away->patchInMap.x - truth.x, 3.0)), 0.1)
+		<< "the best pose is the truth or a door's look-alike";
+	const auto v = away->checkFilters(prm);
+	EXPECT_EQ(v.rejection, Reason::Ambiguous) << v.message();
+	EXPECT_TRUE(away->ridgeAxis.isZero());
+	ASSERT_EQ(away->clusterPeaks.size(), 2u);
+	const TPose2D rival = away->clusterPeaks[1].patchInMap;
+	EXPECT_NEAR(std::abs(rival.x - away->patchInMap.x), 3.0, 0.2) << "the look-alike";
+	EXPECT_NEAR(rival.y, away->patchInMap.y, 1.5 * prm.resolution_m);
+
+	const TPose2D near(truth.x + 0.5, truth.y, truth.phi);
+	const auto ridge = corr.correlate(map, patch, near, 4.0, 0.005);
+	ASSERT_TRUE(ridge.has_value());
+	EXPECT_TRUE(ridge->passesFilters(prm)) << ridge->checkFilters(prm).message();
+	EXPECT_NEAR(std::abs(ridge->ridgeAxis.x()), 1.0, 1e-3);
+	EXPECT_GE(ridge->ridgeHalfLength, 3.0);
+}
+
 // The k best distinct poses (the far loop search's candidates): in the corridor of repeated
 // doors, the truth, then each door 3 m away; peak 1 is correlate()'s best and peak 2 the
 // exhaustive search's exact rival (the best pose outside peak 1's cluster).

@@ -55,6 +55,24 @@ bool joinStraightRidge(const TPatchCorrelatorParams& prm, const TGridSpec& spec,
 	ridge.maxDeltaTheta = std::max(ridge.maxDeltaTheta, std::abs(dTheta));
 	return true;
 }
+
+/** Whether the straight ridge `ridge` of `best` reaches the window's centre (the gate's
+ * prediction, cell (0, 0)) along its axis a, within a cluster radius r of its end (L its
+ * half-length, b the best pose's cell offset; grid frame, m):
+ *     |a . (0 - b res)| <= L + r.
+ * Only then is the prediction the guess along the ridge that the loop link is seeded at
+ * (CLoopCloser::seedOnRidge, which clamps it to +-L); a prediction beyond the ridge's end
+ * says the look-alikes lie elsewhere along the corridor than the robot, and the true place
+ * may be a stretch the patch matches less well (the first 300 scans of
+ * SparseScans.TurnsOfEightyDegrees: a ridge of +-3.7 m 8.9 m from the prediction, its link,
+ * seeded at the ridge's end, 5.6 m along the corridor from the truth, chi2 19.2 with the
+ * ridge's doubt). */
+bool ridgeReachesCentre(const TPatchCorrelatorParams& prm, const TGridSpec& spec,
+						const TSearchHit& best, const TRidge& ridge)
+{
+	const Eigen::Vector2d toCentre(-double(best.i) * spec.res, -double(best.j) * spec.res);
+	return std::abs(ridge.axis.dot(toCentre)) <= ridge.halfLength + prm.cluster_radius_m;
+}
 }  // namespace
 
 /** Step 4's exclusion zone: the best pose's cluster, the headings within cluster_radius_phi_deg
@@ -89,6 +107,10 @@ TSearchHit searchRival(const TRivalSearch& search, const TPatchCorrelatorParams&
 		if (r.score < joinFloor) return false;  // it cannot fail filter 2 (exhaustive search)
 		TRidge grown = ridge;
 		if (!joinStraightRidge(prm, spec, pb.halfCells, best, r, grown)) return false;
+		// The first rival joined sets the ridge's axis and first step: the window's centre
+		// beyond its reach, the look-alikes lie away from where the robot is predicted, and
+		// the rival stays the rival (filter 2), at the paper's cost.
+		if (ridge.axis.isZero() && !ridgeReachesCentre(prm, spec, best, grown)) return false;
 		ridge = grown;
 		return true;
 	};

@@ -35,7 +35,10 @@ enum class TRidgeRule
 	 * corridor. How far along the line they reach is the loop link's doubt
 	 * (TCorrelationResult::ridgeCovariance). A rival off that line stays the rival (filter 2),
 	 * and so does one near the border: the line may go on outside the window, the true place
-	 * with it. */
+	 * with it. So does the first rival on the line where its step leaves the window's centre
+	 * (the gate's prediction) more than a cluster radius beyond the ridge's reach: look-alikes
+	 * along a corridor away from where the robot is predicted, the true place perhaps a
+	 * stretch the patch matches less well (and no further rival search is spent on them). */
 	Straight
 };
 
