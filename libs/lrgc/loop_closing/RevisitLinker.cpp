@@ -157,11 +157,12 @@ std::optional<CRevisitLinker::TCandidate> CRevisitLinker::candidate(
 	c.guess = between(sw.graph.pose(c.old), pk);
 	if (same)
 	{
-		c.reference = CReferenceCloud::fromScan(keyframes[c.old].scan, m_matcherParams);
+		c.reference = std::make_shared<const CReferenceCloud>(
+			CReferenceCloud::fromScan(keyframes[c.old].scan, m_matcherParams));
 		return c;
 	}
-	c.reference =
-		oldRegion(sw, keyframes, k, c.old, keyframes[k].scan.points, c.guess, parallel, true);
+	c.reference = std::make_shared<const CReferenceCloud>(
+		oldRegion(sw, keyframes, k, c.old, keyframes[k].scan.points, c.guess, parallel, true));
 	return c;
 }
 
@@ -183,19 +184,27 @@ CRevisitLinker::TPatch CRevisitLinker::patchOf(const TSweep& sw, const TKeyframe
 		for (const auto& p : keyframes[q].scan.points) out.patch.points.push_back(toK(p));
 	}
 	// The patch matcher's free-space check is off (a patch is not one scan's rays): no views.
-	out.region = oldRegion(sw, keyframes, k, old, out.patch.points, at, parallel, false);
+	out.region = std::make_shared<const CReferenceCloud>(
+		oldRegion(sw, keyframes, k, old, out.patch.points, at, parallel, false));
 	return out;
 }
 
 /* The patch, started where k's scan matched, must stay there: chi2 <= gate_chi2 under both
  * covariances and twice the link noise floor. (Started at the guess instead, a patch whose
  * guess is 0.8 m off along a corridor stays in the guess's basin and refuses a true match:
- * doc/generalisation.md.) */
+ * doc/generalisation.md.) The patch match's covariance (a walk over the whole patch's fit
+ * neighbourhoods, 0.1-0.2 G instructions on range_030_bearing_015) is deferred, and computed
+ * only where the scan match's covariance and the floor alone do not prove agreement
+ * (agreesWhateverTheOtherCovariance): the same verdicts. */
 bool CRevisitLinker::patchAgrees(const TPatch& p, const TScanMatch& m) const
 {
-	const auto mp = m_patchMatcher.match(p.region, p.patch, m.scanInRef);
+	const auto mp = m_patchMatcher.matchDeferred(p.region, p.patch, m.scanInRef);
 	if (!mp) return false;
-	const Eigen::Matrix3d C = m.cov + mp->cov + 2 * m_linkNoise.floorCovariance();
+	const Eigen::Matrix3d floor2 = 2 * m_linkNoise.floorCovariance();
+	if (agreesWhateverTheOtherCovariance(m.scanInRef, mp->scanInRef, m.cov + floor2,
+										 m_params.gate_chi2))
+		return true;
+	const Eigen::Matrix3d C = m.cov + mp->covariance().get() + floor2;
 	return disagreementChi2(m.scanInRef, mp->scanInRef, C) <= m_params.gate_chi2;
 }
 
@@ -216,18 +225,20 @@ std::vector<TPose2D> restartOffsets(double sxy, double sphi)
  * converges, agrees with the guess as the match must, lies apart from the match
  * (CScanMatcher::distinctHypotheses, and chi2 > gate_chi2 under both covariances and the
  * link noise floor) and explains at least `explained` of the scan
- * (CScanMatcher::explainedFraction): the place is then ambiguous for this scan. */
+ * (CScanMatcher::explainedFraction): the place is then ambiguous for this scan. Most starts
+ * converge back onto the match: their covariance is deferred and never computed. */
 bool CRevisitLinker::rivalFrom(const TScan2D& scan, const TCandidate& c, const TScanMatch& m,
 							   const Eigen::Matrix3d& prior, double explained,
 							   const TPose2D& offset) const
 {
-	const auto a = m_matcher.match(c.reference, scan, compose(c.guess, offset));
-	if (!a || !CScanMatcher::distinctHypotheses(m.scanInRef, a->scanInRef) ||
-		disagreementChi2(c.guess, a->scanInRef, prior + a->cov) > m_params.gate_chi2)
+	const auto a = m_matcher.matchDeferred(c.reference, scan, compose(c.guess, offset));
+	if (!a || !CScanMatcher::distinctHypotheses(m.scanInRef, a->scanInRef)) return false;
+	const Eigen::Matrix3d& aCov = a->covariance().get();
+	if (disagreementChi2(c.guess, a->scanInRef, prior + aCov) > m_params.gate_chi2)
 		return false;
-	const Eigen::Matrix3d C = m.cov + a->cov + 2 * m_linkNoise.floorCovariance();
+	const Eigen::Matrix3d C = m.cov + aCov + 2 * m_linkNoise.floorCovariance();
 	return disagreementChi2(m.scanInRef, a->scanInRef, C) > m_params.gate_chi2 &&
-		   m_matcher.explainedFraction(c.reference, scan, a->scanInRef) >= explained;
+		   m_matcher.explainedFraction(*c.reference, scan, a->scanInRef) >= explained;
 }
 
 /* The second opinion on a match that passed the gates (see the header): k's patch agrees
@@ -248,7 +259,7 @@ bool CRevisitLinker::passesChecks(const TSweep& sw, const TKeyframes& keyframes,
 	if (m_params.ambiguity_check)
 	{
 		starts = restartOffsets(m_params.prior_std_xy_m, m_params.prior_std_phi);
-		explained = m_matcher.explainedFraction(c.reference, scan, m.scanInRef);
+		explained = m_matcher.explainedFraction(*c.reference, scan, m.scanInRef);
 	}
 	std::vector<char> refuses(starts.size() + 1, 0);
 	parallel(refuses.size(),
@@ -284,7 +295,7 @@ size_t CRevisitLinker::linkRevisits(CPoseGraph& graph, const TKeyframes& keyfram
 	{
 		const auto c = candidate(sw, keyframes, k, parallel);
 		if (!c) continue;
-		const auto m = m_matcher.match(c->reference, keyframes[k].scan, c->guess);
+		const auto m = m_matcher.match(*c->reference, keyframes[k].scan, c->guess);
 		if (!m || m->inlierFraction < m_params.min_inlier_fraction) continue;
 		if (disagreementChi2(c->guess, m->scanInRef, prior + m->cov) > m_params.gate_chi2 ||
 			!passesChecks(sw, keyframes, k, *c, *m, prior, parallel))

@@ -29,6 +29,7 @@
 #include <mrpt/config/CLoadableOptions.h>
 #include <mrpt/core/bits_math.h>
 
+#include <memory>
 #include <optional>
 #include <utility>
 #include <vector>
@@ -55,7 +56,8 @@ private:
 	{
 		size_t old = 0;             //!< the old keyframe the link starts from
 		mrpt::math::TPose2D guess;  //!< (old <- k) by the current poses
-		CReferenceCloud reference;  //!< in old's frame
+		/** In old's frame; shared, so that a check's match may defer its covariance. */
+		std::shared_ptr<const CReferenceCloud> reference;
 	};
 	std::vector<std::pair<size_t, double>> oldNear(const TSweep& sw, size_t k,
 												   double reach) const;
@@ -66,7 +68,7 @@ private:
 	struct TPatch
 	{
 		TScan2D patch;
-		CReferenceCloud region;
+		std::shared_ptr<const CReferenceCloud> region;
 	};
 	TPatch patchOf(const TSweep& sw, const TKeyframes& keyframes, size_t k, size_t old,
 				   const mrpt::math::TPose2D& at, const TParallelFor& parallel) const;

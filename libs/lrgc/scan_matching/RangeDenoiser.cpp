@@ -1,6 +1,7 @@
 #include <lrgc/scan_matching/RangeDenoiser.h>
 
 #include <lrgc/common/OrderStatistic.h>
+#include <lrgc/scan_matching/Scan.h>
 
 #include <algorithm>
 #include <cmath>
@@ -11,10 +12,19 @@ namespace
 {
 constexpr double kMaxSurfaceStep_m = 1.0;
 
-bool returned(const mrpt::obs::CObservation2DRangeScan& obs, size_t i)
+/** Reading i, of range r, is a return. */
+bool returned(const mrpt::obs::CObservation2DRangeScan& obs, size_t i, double r)
 {
-	const double r = obs.getScanRange(i);
 	return obs.getScanRangeValidity(i) && std::isfinite(r) && r > 0 && r < obs.maxRange;
+}
+
+/** Each reading's range, read once (MRPT's accessors are calls, and the loops below read each
+ * reading up to three times). */
+std::vector<float> rangesOf(const mrpt::obs::CObservation2DRangeScan& obs)
+{
+	std::vector<float> r(obs.getScanSize());
+	for (size_t i = 0; i < r.size(); ++i) r[i] = obs.getScanRange(i);
+	return r;
 }
 
 /** Prefix sums over the valid returns of c = cos(a), s = sin(a) (a: the beam's bearing) and
@@ -22,6 +32,10 @@ bool returned(const mrpt::obs::CObservation2DRangeScan& obs, size_t i)
 struct TPrefixSums
 {
 	std::vector<double> y1{0}, cc{0}, cs{0}, ss{0}, cy{0}, sy{0}, yy{0};
+	void reserve(size_t n)
+	{
+		for (auto* v : {&y1, &cc, &cs, &ss, &cy, &sy, &yy}) v->reserve(n + 1);
+	}
 	void add(double c, double s, double y)
 	{
 		y1.push_back(y1.back() + y);
@@ -97,13 +111,15 @@ TLineFit lineAt(const TPrefixSums& s, size_t k, size_t h, double sigma)
 double rangeNoiseStd(const mrpt::obs::CObservation2DRangeScan& obs)
 {
 	std::vector<double> d;
-	const size_t n = obs.getScanSize();
+	const std::vector<float> r = rangesOf(obs);
+	const size_t n = r.size();
+	std::vector<char> ok(n);
+	for (size_t i = 0; i < n; ++i) ok[i] = returned(obs, i, r[i]);
 	d.reserve(n);
 	for (size_t i = 1; i + 1 < n; ++i)
 	{
-		if (!returned(obs, i - 1) || !returned(obs, i) || !returned(obs, i + 1)) continue;
-		const double a = obs.getScanRange(i - 1), b = obs.getScanRange(i),
-					 c = obs.getScanRange(i + 1);
+		if (!ok[i - 1] || !ok[i] || !ok[i + 1]) continue;
+		const double a = r[i - 1], b = r[i], c = r[i + 1];
 		// A jump of more than kMaxSurfaceStep_m between neighbours is an edge (or a pane's
 		// far side), not noise on one surface.
 		if (std::abs(b - a) < kMaxSurfaceStep_m && std::abs(c - b) < kMaxSurfaceStep_m)
@@ -132,21 +148,21 @@ std::vector<float> denoisedRanges(const mrpt::obs::CObservation2DRangeScan& obs,
 	const double targetStd = kDenoiseTargetStd_m;
 	const int maxHalfWindow = kDenoiseMaxHalfWindow;
 	if (window) *window = 1;
-	const size_t n = obs.getScanSize();
-	std::vector<float> out(n);
-	for (size_t i = 0; i < n; ++i) out[i] = obs.getScanRange(i);
+	const std::vector<float> measured = rangesOf(obs);
+	std::vector<float> out = measured;
+	const size_t n = out.size();
 	if (!(sigma > kNoisyLaserStd_m)) return out;
 	const double ratio = sigma / targetStd;
 	const size_t h =
 		size_t(std::clamp(std::ceil((ratio * ratio - 1) / 2), 1.0, double(maxHalfWindow)));
+	const TBeamDirections& beams = beamDirections(obs);
 	std::vector<size_t> ray;  // valid list index -> ray index
+	ray.reserve(n);
 	TPrefixSums s;
+	s.reserve(n);
 	for (size_t i = 0; i < n; ++i)
-		if (returned(obs, i))
-		{
-			const double a = obs.getScanAngle(i);
-			ray.push_back(i), s.add(std::cos(a), std::sin(a), 1.0 / obs.getScanRange(i));
-		}
+		if (returned(obs, i, measured[i]))
+			ray.push_back(i), s.add(beams.cos[i], beams.sin[i], 1.0 / measured[i]);
 	const size_t m = ray.size();
 	if (m < 2 * h + 1) return out;
 	if (window) *window = 2 * h + 1;
@@ -158,11 +174,11 @@ std::vector<float> denoisedRanges(const mrpt::obs::CObservation2DRangeScan& obs,
 		// |(A, B)|. The fit of 1 / r is biased: E[1 / (r + e)] = (1 + sigma^2 / r^2) / r to
 		// second order for range noise e of std sigma, so r = rf + sigma^2 / rf corrects the
 		// fitted rf (0.036 m at 2.5 m for sigma = 0.3 m).
-		const double a = obs.getScanAngle(ray[k]);
-		const double inv = best.A * std::cos(a) + best.B * std::sin(a);
+		const size_t i = ray[k];
+		const double inv = best.A * beams.cos[i] + best.B * beams.sin[i];
 		if (!(inv > 0) || inv < 0.2 * std::hypot(best.A, best.B)) continue;
 		const double rf = 1.0 / inv, r = rf + sigma * sigma / rf;
-		const double r0 = obs.getScanRange(ray[k]);
+		const double r0 = measured[i];
 		if (std::abs(r - r0) <= 3 * sigma) out[ray[k]] = float(r);
 	}
 	return out;

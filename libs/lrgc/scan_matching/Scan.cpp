@@ -28,12 +28,31 @@ mrpt::obs::CObservation2DRangeScan::Ptr applyRangeLimits(
 	return out;
 }
 
+const TBeamDirections& beamDirections(const mrpt::obs::CObservation2DRangeScan& obs)
+{
+	// One geometry per thread: a log's laser (two lasers alternating recompute each time,
+	// as every scan did before).
+	thread_local TBeamDirections beams;
+	const size_t n = obs.getScanSize();
+	if (beams.n == n && beams.aperture == obs.aperture && beams.rightToLeft == obs.rightToLeft)
+		return beams;
+	beams.n = n, beams.aperture = obs.aperture, beams.rightToLeft = obs.rightToLeft;
+	beams.angle.resize(n), beams.cos.resize(n), beams.sin.resize(n);
+	for (size_t i = 0; i < n; ++i)
+	{
+		const double a = obs.getScanAngle(i);
+		beams.angle[i] = a, beams.cos[i] = std::cos(a), beams.sin[i] = std::sin(a);
+	}
+	return beams;
+}
+
 namespace
 {
-/** Counts reading i in `st` if it is not a return; true if it is one (kept as a point). */
-bool isReturn(const mrpt::obs::CObservation2DRangeScan& obs, size_t i, TScanConversionStats& st)
+/** Counts reading i (range `r`) in `st` if it is not a return; true if it is one (kept as a
+ * point). */
+bool isReturn(const mrpt::obs::CObservation2DRangeScan& obs, size_t i, double r,
+			  TScanConversionStats& st)
 {
-	const double r = obs.getScanRange(i);
 	if (!obs.getScanRangeValidity(i))
 	{
 		++st.invalidFlag;
@@ -70,7 +89,8 @@ std::vector<float> sweepFractions(const mrpt::obs::CObservation2DRangeScan& obs)
 	TScanConversionStats st;
 	const size_t n = obs.getScanSize();
 	for (size_t i = 0; i < n; ++i)
-		if (isReturn(obs, i, st)) out.push_back(float(sweepFraction(i, n)));
+		if (isReturn(obs, i, obs.getScanRange(i), st))
+			out.push_back(float(sweepFraction(i, n)));
 	return out;
 }
 
@@ -99,13 +119,14 @@ TScan2D scanFromObservation(const mrpt::obs::CObservation2DRangeScan& obs,
 		denoised = denoisedRanges(obs, rangeNoise, &window);
 		scan.rangeNoiseStd = rangeNoise / std::sqrt(double(window));
 	}
+	// Beam angles in the sensor frame [rad]: -aperture/2 .. +aperture/2 (rightToLeft).
+	const TBeamDirections& beams = beamDirections(obs);
 	for (size_t i = 0; i < n; ++i)
 	{
-		if (!isReturn(obs, i, st)) continue;
-		const double r = denoised.empty() ? obs.getScanRange(i) : denoised[i];
-		// Beam angle in the sensor frame [rad]: -aperture/2 .. +aperture/2 (rightToLeft).
-		const double a = obs.getScanAngle(i);
-		const double px = r * std::cos(a), py = r * std::sin(a);
+		const double measured = obs.getScanRange(i);
+		if (!isReturn(obs, i, measured, st)) continue;
+		const double r = denoised.empty() ? measured : denoised[i];
+		const double px = r * beams.cos[i], py = r * beams.sin[i];
 		const double rx = sx + sc * px - ss * py, ry = sy + ss * px + sc * py;
 		if (!deskew)
 		{

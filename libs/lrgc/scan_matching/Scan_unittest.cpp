@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <tuple>
 
 using namespace lrgc;
 
@@ -80,4 +81,30 @@ TEST(ScanDeskew, zeroMotionLeavesTheScanAsIs)
 	ASSERT_EQ(a.points.size(), b.points.size());
 	for (size_t i = 0; i < a.points.size(); ++i) EXPECT_EQ(a.points[i], b.points[i]);
 	EXPECT_LT(worstOffWalls(a), 1e-4);
+}
+
+// beamDirections keeps getScanAngle(i) and its cosine and sine, bit for bit, and follows a
+// change of geometry (beam count, aperture, direction).
+TEST(ScanBeams, beamDirectionsAreTheScansOwnBearings)
+{
+	for (const auto& [n, aperture, rightToLeft] :
+		 {std::tuple<size_t, float, bool>{181, float(M_PI), true},
+		  {361, float(M_PI), false},
+		  {181, float(M_PI), true},
+		  {1081, float(1.5 * M_PI), true}})
+	{
+		mrpt::obs::CObservation2DRangeScan obs;
+		obs.aperture = aperture;
+		obs.rightToLeft = rightToLeft;
+		obs.resizeScanAndAssign(n, 1.0f, true);
+		const TBeamDirections& beams = beamDirections(obs);
+		ASSERT_EQ(beams.angle.size(), n);
+		for (size_t i = 0; i < n; ++i)
+		{
+			const double a = obs.getScanAngle(i);
+			EXPECT_EQ(beams.angle[i], a);
+			EXPECT_EQ(beams.cos[i], std::cos(a));
+			EXPECT_EQ(beams.sin[i], std::sin(a));
+		}
+	}
 }
