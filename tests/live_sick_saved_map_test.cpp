@@ -233,8 +233,9 @@ TEST_F(LiveSickSavedMap, ContinuesASavedMapWithLiveScans)
 	EXPECT_EQ(static_cast<long>(graph.nodes.size()), keyframes);
 	const TRows live = readTum(d.out + "/trajectory.tum");
 	ASSERT_EQ(static_cast<long>(live.size()), scans);
-	const long received = jsonInt(readTextFile(d.out + "/live.json"), "scans", "\"received\"");
-	expectLocated(poseErrors(live, m_truth, first, static_cast<size_t>(received)));
+	// Paired by index only where every scan served arrived: a scan lost on the way (15 of 135
+	// in one run on a loaded machine) shifts the index pairing by the scans lost.
+	expectLocated(poseErrors(live, m_truth, first, emu.scansServed()));
 	GTEST_LOG_(INFO) << "keyframes " << oldKeyframes << " -> " << keyframes;
 }
 
