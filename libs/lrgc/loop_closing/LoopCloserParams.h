@@ -158,11 +158,11 @@ struct TLoopCloserParams : public mrpt::config::CLoadableOptions
 	 * ridgeReachesCentre): without that, a ridge 8.9 m from the prediction put a loop link
 	 * 5.6 m along a corridor from the truth on SparseScans.TurnsOfEightyDegrees. On, the glass
 	 * atrium closes 72 / 73 / 72 / 74 of 79 places (seeds 1-4; off 71 / 70 / 70 / 69), no false
-	 * link, and the e2e tests of stop 49 pass. On by default on this branch only, for the lead
-	 * to weigh: the harsh sparse Intel b80 s2 maps worse on two worker schedules of three
-	 * (0.068 -> 0.089 m, schedule chaos: no ridge link in it) and
-	 * LiveSickSavedMap.ContinuesASavedMapWithLiveScans failed 3 runs of 4 with it on a loaded
-	 * machine (doc/generalisation.md, "A ridge must reach the prediction"). */
+	 * link, and the e2e tests of stop 49 pass. Against it: the harsh sparse Intel b80 s2 maps
+	 * worse on two worker schedules of three (0.068 -> 0.089 m, schedule chaos: no ridge link
+	 * in it). LiveSickSavedMap.ContinuesASavedMapWithLiveScans's failures on a loaded machine
+	 * are the scans' arrival stamps', the same with it off (doc/generalisation.md, "The live
+	 * test and the failed ridge match"). */
 	bool corridor_ridges = true;
 	/** While the patch is larger than patch_min_keyframes (large uncertainty), correlate only
 	 * once every attempt_stride * (patch - patch_min_keyframes) checks: consecutive large
