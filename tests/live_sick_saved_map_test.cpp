@@ -198,9 +198,12 @@ TEST_F(LiveSickSavedMap, LocalisesLiveScansOnASavedMap)
 	EXPECT_FALSE(fs::exists(d.out + "/.timing.csv.stream"));
 	EXPECT_EQ(fs::last_write_time(m_dir + "/sena/map.simplemap.gz"), mapBefore);
 
-	const size_t tail = live.size();  // the localised scans are the last ones received
-	expectLocated(poseErrors(live, m_truth, first + emu.scansServed() - tail,
-							 static_cast<size_t>(received)));
+	// The localised scans are the last ones received; paired by index only where every scan
+	// served arrived (one run on a loaded machine lost the last of 112: the index pairing put
+	// each pose one scan off, 0.3-0.97 m; 56 of 56 within 0.1 m of the nearest truth pose).
+	const size_t tail = live.size();
+	expectLocated(
+		poseErrors(live, m_truth, first + emu.scansServed() - tail, emu.scansServed()));
 }
 
 // --initial-map: a map of SENA's first 60 % is continued with live scans from 40 % to the
