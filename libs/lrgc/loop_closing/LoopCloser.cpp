@@ -143,22 +143,9 @@ auto CLoopCloser::correlateAndMatch(const CPoseGraph& graph, const TScanRefs& sc
 									const TCandidates& c, TSearchWindow& w)
 	-> std::optional<TLoopMatch>
 {
-	const size_t sigmaPatch = w.patchSize;
-	auto corr = correlateGrownOnAmbiguity(graph, scans, c, w);
+	const auto corr = correlateGrownOnAmbiguity(graph, scans, c, w);
 	if (!corr || stopped()) return std::nullopt;
 	auto match = matchLoopLink(graph, scans, c, seedOnRidge(*corr, w, graph), w.check);
-	// A ridge taken from the sigma's patch whose match failed was the ambiguity filter 2
-	// refuses without corridor_ridges: it grows the patch and the grown one is tried, as
-	// main's ambiguous verdict does (the grown patch's own ridge is not grown again).
-	if (!match && !stopped() && !corr->ridgeAxis.isZero() && w.patchSize == sigmaPatch)
-	{
-		const TCorrelationVerdict ambiguous{TCorrelationVerdict::Reason::Ambiguous,
-											corr->ambiguity,
-											m_correlator.params().min_ambiguity};
-		corr = correlateGrown(graph, scans, c, w, ambiguous, m_lastPatchCells);
-		if (!corr || stopped()) return std::nullopt;
-		match = matchLoopLink(graph, scans, c, seedOnRidge(*corr, w, graph), w.check);
-	}
 	if (!match || stopped()) return std::nullopt;
 	if (!corr->ridgeAxis.isZero()) carryRidge(graph, c, *corr, *match);
 	match->score = corr->score;
@@ -239,19 +226,10 @@ std::optional<TCorrelationResult> CLoopCloser::correlateGrownOnAmbiguity(
 	const CPoseGraph& graph, const TScanRefs& scans, const TCandidates& c, TSearchWindow& w)
 {
 	auto corr = correlatePatch(graph, scans, c, w);
-	if (corr || stopped() || w.far || w.check) return corr;
-	return correlateGrown(graph, scans, c, w, m_lastVerdict, m_lastPatchCells);
-}
-
-// The near search's second try after the sigma's patch (`firstCells` distinct cells) was
-// rejected with `first`: the growth counted, the grown patch correlated where it is larger
-// and adds cells; `w` becomes the grown window where its correlation passes the filters.
-std::optional<TCorrelationResult> CLoopCloser::correlateGrown(
-	const CPoseGraph& graph, const TScanRefs& scans, const TCandidates& c, TSearchWindow& w,
-	const TCorrelationVerdict& first, size_t firstCells)
-{
-	std::optional<TCorrelationResult> corr;
 	const bool near = !w.far && !w.check;
+	if (corr || stopped() || !near) return corr;
+	const TCorrelationVerdict first = m_lastVerdict;
+	const size_t firstCells = m_lastPatchCells;
 	m_ambiguityGrowth = grownAfter(m_params, m_ambiguityGrowth, first, near);
 	TSearchWindow grown = searchWindow(graph, c, m_ambiguityGrowth, false);
 	if (!retriesGrown(m_params, first, near, w.patchSize, grown.patchSize)) return corr;

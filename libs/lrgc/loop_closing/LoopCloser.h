@@ -253,11 +253,6 @@ private:
 																const TScanRefs& scans,
 																const TCandidates& c,
 																TSearchWindow& w);
-	std::optional<TCorrelationResult> correlateGrown(const CPoseGraph& graph,
-													 const TScanRefs& scans,
-													 const TCandidates& c, TSearchWindow& w,
-													 const TCorrelationVerdict& first,
-													 size_t firstCells);
 	TPatchAndMap patchAndOldMap(const CPoseGraph& graph, const TScanRefs& scans,
 								const TCandidates& c, TSearchWindow& w) const;
 	/** Runs `search` with its work counted as it goes (the worker's published progress). */
