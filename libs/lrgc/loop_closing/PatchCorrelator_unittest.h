@@ -1,5 +1,6 @@
 /* Shared by CPatchCorrelator's unit tests (PatchCorrelator_unittest.cpp: the queries, their
- * filters, rivals and peaks; PatchCorrelator_search_unittest.cpp: the search core of
+ * filters, rivals and peaks; PatchCorrelator_corridor_unittest.cpp: doors and featureless
+ * corridors, straight ridges; PatchCorrelator_search_unittest.cpp: the search core of
  * correlation_search.h): synthetic segment worlds with known poses.
  *
  * A small generator of their own (tests/support/synthetic_world models a whole laser and
@@ -12,6 +13,7 @@
 
 #include <lrgc/common/se2.h>
 #include <mrpt/math/TPose2D.h>
+#include <mrpt/math/wrap2pi.h>
 
 #include <Eigen/Core>
 #include <algorithm>
@@ -44,6 +46,58 @@ inline World randomWorld(std::mt19937& rng, double size, int n)
 		const Eigen::Vector2d a(pos(rng), pos(rng));
 		const double t = ang(rng), l = len(rng);
 		w.push_back({a, a + l * Eigen::Vector2d(std::cos(t), std::sin(t))});
+	}
+	return w;
+}
+
+inline double angleDiff(double a, double b)
+{
+	return std::abs(mrpt::math::wrapToPi(a - b));
+}
+
+// One bay of a wall at y with a door: the wall from x to the door, then the door (`door` m)
+// to x + period, with 0.4 m jambs at both of its sides, away from the corridor's axis y = 0.
+inline void pushDoorBay(World& w, double x, double y, double period, double door)
+{
+	const double s = y > 0 ? 1 : -1;
+	w.push_back({{x, y}, {x + period - door, y}});
+	w.push_back({{x + period - door, y}, {x + period - door, y + 0.4 * s}});
+	w.push_back({{x + period, y}, {x + period, y + 0.4 * s}});
+}
+
+// Corridor along x (walls at y = +-1) from -20 to 20 m; with `period` > 0, a 0.9 m door
+// every `period` metres in both walls, each with 0.4 m jambs.
+inline World corridor(double period)
+{
+	World w;
+	const double x0 = -20, x1 = 20, door = 0.9;
+	for (const double y : {-1.0, 1.0})
+	{
+		if (period <= 0)
+		{
+			w.push_back({{x0, y}, {x1, y}});
+			continue;
+		}
+		for (double x = x0; x < x1; x += period) pushDoorBay(w, x, y, period, door);
+	}
+	return w;
+}
+
+// Doors every 3 m in a corridor (walls at y = +-1, as corridor()) from x = -20 to -5, a plain
+// wall to x = -3, then a hall 5 m wide (walls at y = +-2.5) to x = 20: the doors' look-alikes
+// end at x = -5.
+inline World doorsThenHall()
+{
+	World w;
+	const double door = 0.9, end = -3;
+	for (const double y : {-1.0, 1.0})
+	{
+		const double s = y > 0 ? 1 : -1;
+		double x = -20;
+		for (; x + 3.0 <= end + 1e-9; x += 3.0) pushDoorBay(w, x, y, 3.0, door);
+		w.push_back({{x, y}, {end, y}});
+		w.push_back({{end, y}, {end, 2.5 * s}});
+		w.push_back({{end, 2.5 * s}, {20, 2.5 * s}});
 	}
 	return w;
 }
