@@ -140,4 +140,3 @@ TEST(PatchCorrelator, FeaturelessCorridorIsRejectedForItsSpreadAlongTheAxis)
 	ASSERT_TRUE(d.has_value());
 	EXPECT_FALSE(d->passesFilters(TPatchCorrelatorParams{}));
 }
-
