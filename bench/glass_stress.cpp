@@ -19,14 +19,15 @@
  *
  * Run: build/bin/glass_stress world=atrium laps=3 seeds="1 2 3" [odo=2] [bias=1] [glass=0.1]
  *      [dropout=0.3] [period=0.7] [step=0.4] [loops=1] [hall=12] [length=160] [width=100]
- *      [ini=params.ini] [places=1] [links=1]
+ *      [ini=params.ini] [places=1] [links=1] [turns=2] [around=K]
  * (odo: odometry noise, times the default model; bias: the odometry turns that many times the
  * true turn; glass: share of beams a pane returns; dropout: TLaserSimParams::maxRangeDropRate;
  * period [s] and step [m] between scans; ini: lrgc's parameters; places=1 lists the revisited
  * places left unclosed; links=1 lists the kept loop links whose chi2 by the truth is above
  * 16.27 (their error and claimed stds along the weak and strong axes, loop_recall.h);
  * turns=D lists consecutive keyframes whose relative heading in the final graph is off the
- * truth's by more than D deg (with loops=0: local registration's own steps). Seed s:
+ * truth's by more than D deg (with loops=0: local registration's own steps); around=K lists
+ * every link with an end in keyframes K-4 .. K+4, what it claims against the truth. Seed s:
  * world seed s (atrium), trajectory seed 60 + s, laser seed s.)
  */
 #include <lrgc/common/se2.h>
@@ -60,7 +61,7 @@ struct TOptions
 		{"bias", "1"},       {"glass", "0.1"}, {"dropout", "0.3"}, {"period", "0.7"},
 		{"step", "0.4"},     {"loops", "1"},   {"hall", "12"},     {"length", "160"},
 		{"width", "100"},    {"ini", ""},      {"places", "0"},    {"links", "0"},
-		{"turns", "0"}};
+		{"turns", "0"},      {"around", "-1"}};
 	double num(const std::string& k) const { return std::stod(kv.at(k)); }
 };
 
@@ -176,6 +177,43 @@ void printTurnedSteps(const CMetricMapBuilderLRGC& b, const TTrajectory& tr, dou
 	}
 }
 
+/** Every link (enabled or not) with an end in keyframes [k - 4, k + 4]: its type, what it
+ * claims against the truth (the error of toInFrom, in the from node's frame) and its stds, the
+ * chi2 of that error by its information, and the final graph's error over the same pair. */
+void printLinksAround(const CMetricMapBuilderLRGC& b, const TTrajectory& tr, size_t k)
+{
+	const auto& kf = b.keyframes();
+	const auto& g = b.graph();
+	for (size_t id = 0; id < g.numLinks(); ++id)
+	{
+		const auto& l = g.link(id);
+		const auto near = [k](size_t n) { return n + 4 >= k && n <= k + 4; };
+		if (!near(l.from) && !near(l.to)) continue;
+		const TPose2D tru = lrgc::between(tr.truePoses.at(kf[l.from].scanIndex),
+										  tr.truePoses.at(kf[l.to].scanIndex));
+		const TPose2D est = lrgc::between(g.pose(l.from), g.pose(l.to));
+		const Eigen::Vector3d e(l.toInFrom.x - tru.x, l.toInFrom.y - tru.y,
+								mrpt::math::wrapToPi(l.toInFrom.phi - tru.phi));
+		const Eigen::Matrix3d C = l.information.inverse();
+		std::printf(
+			"  link %zu %s %zu -> %zu%s: claims (%.3f, %.3f, %.2f deg), off (%.3f, %.3f, %.2f "
+			"deg), std (%.3f, %.3f, %.2f deg), chi2 %.1f; graph off (%.3f, %.3f, %.2f deg)\n",
+			id, lrgc::toString(l.type), l.from, l.to, g.isLinkEnabled(id) ? "" : " (disabled)",
+			l.toInFrom.x, l.toInFrom.y, mrpt::RAD2DEG(l.toInFrom.phi), e.x(), e.y(),
+			mrpt::RAD2DEG(e.z()), std::sqrt(C(0, 0)), std::sqrt(C(1, 1)),
+			mrpt::RAD2DEG(std::sqrt(C(2, 2))), e.dot(l.information * e), est.x - tru.x,
+			est.y - tru.y, mrpt::RAD2DEG(mrpt::math::wrapToPi(est.phi - tru.phi)));
+	}
+	const TPose2D& t0 = tr.truePoses.front();
+	for (size_t n = k >= 4 ? k - 4 : 0; n <= k + 4 && n < kf.size(); ++n)
+	{
+		const TPose2D d =
+			lrgc::between(tr.truePoses.at(kf[n].scanIndex), lrgc::compose(t0, g.pose(n)));
+		std::printf("  keyframe %zu (scan %zu): %.3f m, %.2f deg off the truth\n", n,
+					kf[n].scanIndex, std::hypot(d.x, d.y), mrpt::RAD2DEG(d.phi));
+	}
+}
+
 void runOne(const TOptions& o, uint32_t seed)
 {
 	const bool atrium = o.kv.at("world") != "building";
@@ -243,6 +281,11 @@ void runOne(const TOptions& o, uint32_t seed)
 	std::printf("  %s", ev::calibrationReport(recall).c_str());
 	if (o.num("links") != 0) printOverconfidentLinks(recall, builder);
 	if (o.num("turns") != 0) printTurnedSteps(builder, tr, o.num("turns"));
+	if (o.num("around") >= 0)
+	{
+		std::printf("  map worst at scan %zu\n", err.worstIndex);
+		printLinksAround(builder, tr, size_t(o.num("around")));
+	}
 	for (const auto& l : recall.loopLinks)
 		if (l.judged && !l.agrees)
 			std::printf(
