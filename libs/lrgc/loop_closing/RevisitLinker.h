@@ -80,6 +80,8 @@ private:
 	bool rivalFrom(const TScan2D& scan, const TCandidate& c, const TScanMatch& m,
 				   const Eigen::Matrix3d& prior, double explained,
 				   const mrpt::math::TPose2D& offset) const;
+	/** Whether the match fixes its heading at its own position to max_heading_std. */
+	bool fixesItsHeading(const TScanMatch& m) const;
 	bool passesChecks(const TSweep& sw, const TKeyframes& keyframes, size_t k,
 					  const TCandidate& c, const TScanMatch& m, const Eigen::Matrix3d& prior,
 					  const TParallelFor& parallel) const;

@@ -229,6 +229,7 @@ TEST(RevisitLinker, parametersRoundTripAndUnknownKeysAreRejected)
 	p.any_heading = false;
 	p.patch_check_keyframes = 4;
 	p.ambiguity_check = false;
+	p.max_heading_std = mrpt::DEG2RAD(2.5);
 	mrpt::config::CConfigFileMemory saved;
 	p.saveToConfigFile(saved, "RevisitLinker");
 	// Through the text, as a user's .ini (MRPT 2.5.8's in-memory config keeps padded keys).
@@ -242,6 +243,7 @@ TEST(RevisitLinker, parametersRoundTripAndUnknownKeysAreRejected)
 	EXPECT_FALSE(q.any_heading);
 	EXPECT_EQ(q.patch_check_keyframes, 4U);
 	EXPECT_FALSE(q.ambiguity_check);
+	EXPECT_NEAR(q.max_heading_std, mrpt::DEG2RAD(2.5), 1e-12);
 	mrpt::config::CConfigFileMemory bad("[RevisitLinker]\nradious = 2\n");
 	EXPECT_THROW(q.loadFromConfigFile(bad, "RevisitLinker"), std::exception);
 	mrpt::config::CConfigFileMemory zero("[RevisitLinker]\nstride = 0\n");
