@@ -49,6 +49,10 @@ public:
 	/** Nodes below `split` and nodes from it on are in frames of their own (a session mapped
 	 * as a piece not joined to the map): no pair across it is linked. 0: one frame. */
 	void setSplit(size_t split) { m_split = split; }
+	/** Whether the match fixes its heading at its own position (the heading's std with the
+	 * translation held, 1 / sqrt(Omega_phiphi)) to max_heading_std; a revisit match that does
+	 * not is never linked. */
+	bool fixesItsHeading(const TScanMatch& m) const;
 
 private:
 	struct TSweep;
@@ -80,8 +84,6 @@ private:
 	bool rivalFrom(const TScan2D& scan, const TCandidate& c, const TScanMatch& m,
 				   const Eigen::Matrix3d& prior, double explained,
 				   const mrpt::math::TPose2D& offset) const;
-	/** Whether the match fixes its heading at its own position to max_heading_std. */
-	bool fixesItsHeading(const TScanMatch& m) const;
 	bool passesChecks(const TSweep& sw, const TKeyframes& keyframes, size_t k,
 					  const TCandidate& c, const TScanMatch& m, const Eigen::Matrix3d& prior,
 					  const TParallelFor& parallel) const;
