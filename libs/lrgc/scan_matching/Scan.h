@@ -90,8 +90,9 @@ mrpt::obs::CObservation2DRangeScan::Ptr applyRangeLimits(
 	size_t* marked = nullptr);
 
 /** Largest TScan2D::matchStride [points]: MRPT's range_030_bearing_015.rawlog (361 beams,
- * 0.32 m noise, denoised over 41 rays) keeps 91 points a match, a point every 2 degrees; its
- * ATE with strides 1 to 4 stays within the run-to-run spread (doc/architecture.md, stop 50). */
+ * 0.30 m Gaussian range noise, denoised over 41 rays) keeps 91 points a match, a point every 2
+ * degrees; its ATE with strides 1 to 4 stays within the run-to-run spread (doc/architecture.md,
+ * stop 50). */
 constexpr size_t kMaxDenoisedMatchStride = 4;
 
 /** The matchStride of a scan denoised over `window` = 2h+1 rays (RangeDenoiser.h; 1: as
