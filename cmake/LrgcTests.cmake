@@ -60,3 +60,24 @@ function(lrgc_discover_tests target)
   file(WRITE "${file}" "${script}")
   set_property(DIRECTORY APPEND PROPERTY TEST_INCLUDE_FILES "${file}")
 endfunction()
+
+# The test executables compiled as unity builds: CI builds on a fresh machine with no compiler
+# cache, and each test file spends most of its compile parsing the same MRPT, Eigen and
+# GoogleTest headers, so 8 test files per translation unit parse them once. Files whose
+# file-local names clash with another's are compiled alone (SKIP_UNITY_BUILD_INCLUSION, listed
+# per target). The libraries and programs are not unity builds: their code is the product.
+option(LRGC_UNITY_TESTS "Compile the test executables 8 files per translation unit" ON)
+function(lrgc_unity_tests target)
+  if(NOT LRGC_UNITY_TESTS)
+    return()
+  endif()
+  set_target_properties(${target} PROPERTIES UNITY_BUILD ON UNITY_BUILD_BATCH_SIZE 8)
+  # GCC warns of a fixture in an anonymous namespace "in another file": in a unity build every
+  # test file is an included one.
+  if(CMAKE_CXX_COMPILER_ID STREQUAL "GNU")
+    target_compile_options(${target} PRIVATE -Wno-subobject-linkage)
+  endif()
+  foreach(f ${ARGN})
+    set_source_files_properties(${f} PROPERTIES SKIP_UNITY_BUILD_INCLUSION ON)
+  endforeach()
+endfunction()
