@@ -46,7 +46,7 @@ if(LAUNCHER)
 endif()
 step("configuring the consumer" ${CMAKE_COMMAND} -S "${SOURCE_DIR}/tests/consumer"
      -B "${WORK_DIR}/build" -DCMAKE_PREFIX_PATH=${prefix} -DCMAKE_BUILD_TYPE=Release ${launcher}
-     -DLRGC_CHECK_HEADERS=${prefix}/include -DLRGC_SOURCE_TREE=${SOURCE_DIR})
+     -DLRGC_CHECK_HEADERS=${prefix}/include)
 step("building the consumer" ${CMAKE_COMMAND} --build "${WORK_DIR}/build" --parallel 2)
 step("map_rawlog" "${WORK_DIR}/build/map_rawlog" "${RAWLOG}")
 message("${step_output}")
