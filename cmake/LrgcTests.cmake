@@ -65,7 +65,7 @@ endfunction()
 # cache, and each test file spends most of its compile parsing the same MRPT, Eigen and
 # GoogleTest headers, so 8 test files per translation unit parse them once. Files whose
 # file-local names clash with another's are compiled alone (SKIP_UNITY_BUILD_INCLUSION, listed
-# per target). The libraries and programs are not unity builds: their code is the product.
+# per target). The libraries are unity builds too (LRGC_UNITY_LIBS, CMakeLists.txt).
 option(LRGC_UNITY_TESTS "Compile the test executables 8 files per translation unit" ON)
 function(lrgc_unity_tests target)
   if(NOT LRGC_UNITY_TESTS)
