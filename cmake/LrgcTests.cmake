@@ -45,8 +45,15 @@ function(lrgc_discover_tests target)
   set(keyword "if")
   while(relabels)
     list(POP_FRONT relabels other regex)
+    # A fresh checkout has no CTest cost data, so ctest -j starts tests in the order of their
+    # COST: the realdata tests (10-60 s each) first, so that none is left running alone at
+    # the end.
+    set(cost "")
+    if(other STREQUAL "realdata")
+      set(cost " COST 100")
+    endif()
     string(APPEND script "  ${keyword}(t MATCHES [==[${regex}]==])\n"
-      "    set_tests_properties(\"\${t}\" PROPERTIES LABELS ${other})\n")
+      "    set_tests_properties(\"\${t}\" PROPERTIES LABELS ${other}${cost})\n")
     set(keyword "elseif")
   endwhile()
   if(keyword STREQUAL "elseif")
