@@ -93,7 +93,7 @@ endfunction()
 #
 # A unit-test binary as a few CTest tests instead of one per test: every CTest test is a process,
 # and starting one that links MRPT (about 300 shared libraries) costs ~0.3 CPU s, more than
-# most unit tests (the three unit binaries: 39 CPU s run whole, 143 CPU s as 366 processes).
+# most unit tests (the three unit binaries: 39 CPU s run whole, 143 CPU s as 357 processes).
 # The binary's tests run as `n` GoogleTest shards (GTEST_TOTAL_SHARDS / GTEST_SHARD_INDEX),
 # CTest tests TARGET/shard_K_of_N labelled `label`; each SEPARATE filter (GoogleTest's
 # --gtest_filter syntax) is one more CTest test, TARGET/LABEL, labelled with its own label and
