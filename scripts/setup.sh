@@ -4,7 +4,13 @@
 set -euo pipefail
 PACKAGES=(
   build-essential cmake git pkg-config
-  libmrpt-dev mrpt-apps mrpt-common          # MRPT 2.5: libraries, icp-slam & co, datasets
+  # MRPT 2.5: the -dev packages of the modules lrgc builds against (CMakeLists.txt's
+  # find_package(MRPT COMPONENTS ...); not the libmrpt-dev metapackage, whose other modules
+  # bring ROS 1, Boost and ICU headers: 115 packages more), icp-slam & co, the datasets
+  libmrpt-slam-dev libmrpt-maps-dev libmrpt-obs-dev libmrpt-graphs-dev libmrpt-graphslam-dev
+  libmrpt-io-dev libmrpt-config-dev libmrpt-poses-dev libmrpt-system-dev libmrpt-math-dev
+  libmrpt-serialization-dev libmrpt-img-dev libmrpt-opengl-dev libmrpt-hwdrivers-dev
+  mrpt-apps mrpt-common
   libeigen3-dev libsuitesparse-dev libopencv-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   socat                                       # pseudo-terminals for the serial-laser tests
