@@ -24,8 +24,6 @@ using namespace lrgc::test;
 
 namespace
 {
-constexpr size_t kSessionAEnd = 1474, kSessionBStart = 2934;
-const TOdometryMove kMoveB{37.0, -12.0, 130.0 * M_PI / 180.0};
 
 struct TAcesSessionA
 {

@@ -6,16 +6,23 @@
 #include <lrgc_apps/eval/trajectory.h>
 
 #include <algorithm>
+#include <cmath>
 #include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "app_runner.h"
+#include "carmen_split.h"
 
 namespace lrgc::test
 {
 namespace eval = lrgc::apps::eval;
+
+/** Issue 29's two ACES sessions: A = scans [0, kSessionAEnd), B from scan kSessionBStart, B's
+ * odometry moved by kMoveB (+37 m, -12 m, 130 deg) into a frame of its own. */
+constexpr size_t kSessionAEnd = 1474, kSessionBStart = 2934;
+inline const TOdometryMove kMoveB{37.0, -12.0, 130.0 * M_PI / 180.0};
 
 /** The first and last stamps of a trajectory.tum [s]. */
 inline std::pair<double, double> span(const std::string& tum)

@@ -32,12 +32,12 @@ struct TLoopShape
 	double L = 100, H = 50;
 	double returnTo = 75;
 };
-constexpr double kCorridor = 2.4;     // [m] corridor width
-constexpr double kHall = 10;          // [m] half side of the corner halls
-constexpr double kTurnBias = 1.08;    // odometry turn / true turn
-constexpr double kDoor = 1.0;         // [m] width of a door into a side room
-constexpr double kRoom = 3.0;         // [m] width of a side room along the corridor
-constexpr double kRoomSpacing = 6.0;  // [m] least distance between two doors on one side
+constexpr double kLoopCorridor = 2.4;  // [m] corridor width
+constexpr double kHall = 10;           // [m] half side of the corner halls
+constexpr double kTurnBias = 1.08;     // odometry turn / true turn
+constexpr double kDoor = 1.0;          // [m] width of a door into a side room
+constexpr double kLoopRoom = 3.0;      // [m] width of a side room along the corridor
+constexpr double kRoomSpacing = 6.0;   // [m] least distance between two doors on one side
 
 /** A wall from a to b (axis-aligned) with a doorway of width `door` centred at `door_at`
  * (a point on the wall), or no doorway if door <= 0. */
@@ -69,7 +69,7 @@ CSyntheticWorld makeHallLoopWorld(uint32_t seed, const TLoopShape& shape)
 		const Eigen::Vector2d p00 = c - sx - sy, p10 = c + sx - sy, p11 = c + sx + sy,
 							  p01 = c - sx + sy;
 		auto door = [&](const Eigen::Vector2d& dir)
-		{ return (dir == toNext || dir == toPrev) ? kCorridor : 0.0; };
+		{ return (dir == toNext || dir == toPrev) ? kLoopCorridor : 0.0; };
 		wallWithDoor(w, p00, p10, c - sy, door({0, -1}));
 		wallWithDoor(w, p10, p11, c + sx, door({1, 0}));
 		wallWithDoor(w, p11, p01, c + sy, door({0, 1}));
@@ -88,7 +88,8 @@ CSyntheticWorld makeHallLoopWorld(uint32_t seed, const TLoopShape& shape)
 		const double len = (e - s).norm();
 		for (const double side : {-1.0, 1.0})
 		{
-			const Eigen::Vector2d wall = 0.5 * kCorridor * side * n;  // corridor axis -> wall
+			const Eigen::Vector2d wall =
+				0.5 * kLoopCorridor * side * n;  // corridor axis -> wall
 			double from = 0;  // along the corridor [m], where the current wall piece starts
 			for (double t = 3 + 8 * u(rng); t < len - 3; t += kRoomSpacing + 8 * u(rng))
 			{
@@ -96,8 +97,8 @@ CSyntheticWorld makeHallLoopWorld(uint32_t seed, const TLoopShape& shape)
 				const Eigen::Vector2d out = side * depth * n;
 				const Eigen::Vector2d d0 = s + (t - 0.5 * kDoor) * d + wall;
 				const Eigen::Vector2d d1 = s + (t + 0.5 * kDoor) * d + wall;
-				const Eigen::Vector2d r0 = s + (t - 0.5 * kRoom) * d + wall;
-				const Eigen::Vector2d r1 = s + (t + 0.5 * kRoom) * d + wall;
+				const Eigen::Vector2d r0 = s + (t - 0.5 * kLoopRoom) * d + wall;
+				const Eigen::Vector2d r1 = s + (t + 0.5 * kLoopRoom) * d + wall;
 				w.addSegment(s + from * d + wall, d0);
 				const std::vector<Eigen::Vector2d> room{d0, r0, r0 + out, r1 + out, r1, d1};
 				for (size_t k = 0; k + 1 < room.size(); ++k) w.addSegment(room[k], room[k + 1]);
@@ -108,7 +109,7 @@ CSyntheticWorld makeHallLoopWorld(uint32_t seed, const TLoopShape& shape)
 		for (double t = 3 + 6 * u(rng); t < len - 2; t += 4 + 8 * u(rng))
 		{
 			const double side = u(rng) < 0.5 ? -1.0 : 1.0;
-			w.addBox(s + t * d + side * (0.5 * kCorridor - 0.15) * n, 0.15, 0.15);
+			w.addBox(s + t * d + side * (0.5 * kLoopCorridor - 0.15) * n, 0.15, 0.15);
 		}
 	}
 	return w;
@@ -132,7 +133,7 @@ TTrajectory hallLoop(double turnBias, uint32_t noiseSeed, bool returns, const TL
 	return tr;
 }
 
-struct TRun
+struct TLargeLoopRun
 {
 	TTrajectoryError error;
 	double headingErrorAtReturn = 0;  //!< [rad] when first back at the start (x = 20 m, y = 0)
@@ -164,7 +165,7 @@ struct TLoopSetup
 	TLoopShape shape;             //!< the loop's size
 };
 
-TRun runHallLoop(const TLoopSetup& setup)
+TLargeLoopRun runHallLoop(const TLoopSetup& setup)
 {
 	const auto world = makeHallLoopWorld(setup.worldSeed, setup.shape);
 	const TTrajectory tr =
@@ -191,7 +192,7 @@ TRun runHallLoop(const TLoopSetup& setup)
 	CMetricMapBuilderLRGC builder(p);
 	builder.setMinLoggingLevel(mrpt::system::LVL_ERROR);  // every hall scan is skipped
 	feedBuilder(builder, world, tr, opt);
-	TRun run;
+	TLargeLoopRun run;
 	run.stats = builder.stats();
 	run.loopStats = builder.loopCloserStats();
 	// Scans from the middle of a hall saw nothing and were skipped: compare the others, each
@@ -232,9 +233,9 @@ TRun runHallLoop(const TLoopSetup& setup)
 }
 
 /** The run without loop closing (the same for every test). */
-const TRun& drifted()
+const TLargeLoopRun& drifted()
 {
-	static const TRun run = []
+	static const TLargeLoopRun run = []
 	{
 		TLoopSetup s;
 		s.loopClosing = false;
@@ -243,9 +244,9 @@ const TRun& drifted()
 	return run;
 }
 
-void expectClosedCorrectly(const TRun& on)
+void expectClosedCorrectly(const TLargeLoopRun& on)
 {
-	const TRun& off = drifted();
+	const TLargeLoopRun& off = drifted();
 	::testing::Test::RecordProperty("heading_drift_deg",
 									std::to_string(mrpt::RAD2DEG(off.headingErrorAtReturn)));
 	::testing::Test::RecordProperty("final_off_m", std::to_string(off.error.finalXY));
@@ -300,23 +301,23 @@ TEST(LargeLoop, aLookAlikeInAWideWindowIsHeldAndDropped)
 	s.maxWindowXY = 30, s.maxWindowTheta = mrpt::DEG2RAD(60.0);
 	s.patchMaxTravel = 0;
 	s.confirmAboveSigma = 0;
-	const TRun unconfirmed = runHallLoop(s);
+	const TLargeLoopRun unconfirmed = runHallLoop(s);
 	EXPECT_GT(unconfirmed.links.enabledFalse, 0U) << "the look-alike must be there to refuse";
 	s.confirmAboveSigma = 5;
-	const TRun confirmed = runHallLoop(s);
+	const TLargeLoopRun confirmed = runHallLoop(s);
 	EXPECT_GE(confirmed.loopStats.unconfirmed, 1U);
 	expectClosedCorrectly(confirmed);
 }
 
 /** The hall loop with odometry turning `turnBias` times too much, without and with loop
  * closing: the drift must be tens of metres, and no false loop link may be kept. */
-std::pair<TRun, TRun> farRun(TLoopSetup s)
+std::pair<TLargeLoopRun, TLargeLoopRun> farRun(TLoopSetup s)
 {
 	TLoopSetup off = s;
 	off.loopClosing = false;
-	const TRun drifted = runHallLoop(off);
+	const TLargeLoopRun drifted = runHallLoop(off);
 	EXPECT_GT(drifted.error.finalXY, 20.0) << "the loop must drift by tens of metres";
-	const TRun on = runHallLoop(s);
+	const TLargeLoopRun on = runHallLoop(s);
 	const auto& l = on.loopStats;
 	std::cout << "turn bias " << s.turnBias << ", noise seed " << s.noiseSeed << ": drifted "
 			  << drifted.error.finalXY << " m (" << mrpt::RAD2DEG(drifted.headingErrorAtReturn)
@@ -377,9 +378,9 @@ TEST(LargeLoop, theFarSearchMovesNoMapWhereItClosesNothing)
 	TLoopSetup s;
 	s.turnBias = 1.25;
 	s.returns = false;
-	const TRun on = runHallLoop(s);
+	const TLargeLoopRun on = runHallLoop(s);
 	s.farSearchEvery = std::numeric_limits<size_t>::max();  // never due: off
-	const TRun off = runHallLoop(s);
+	const TLargeLoopRun off = runHallLoop(s);
 	EXPECT_GE(on.loopStats.farSearches, 3U) << "the far search must run";
 	EXPECT_EQ(on.loopStats.farClosures, 0U);
 	EXPECT_EQ(off.loopStats.farSearches, 0U);
@@ -400,7 +401,7 @@ TEST(LargeLoop, theFarSearchAcceptsNoLookAlikeWhereNothingIsRevisited)
 	s.farSearchEvery = 25;
 	s.workerBudget = 0;
 	s.returns = false;
-	const TRun on = runHallLoop(s);
+	const TLargeLoopRun on = runHallLoop(s);
 	const auto& l = on.loopStats;
 	std::cout << "no return: far searches " << l.farSearches << ", candidates "
 			  << l.farCandidates << ", confirmed " << l.farConfirmed << ", held "
@@ -444,7 +445,7 @@ TEST(LargeLoop, aLoopMoreThan100mOffAcceptsNoLookAlike)
 	s.turnBias = 1.25;
 	s.shape = {200, 100, 135};
 	s.returns = false;
-	const TRun on = runHallLoop(s);
+	const TLargeLoopRun on = runHallLoop(s);
 	const auto& l = on.loopStats;
 	std::cout << "no return: far searches " << l.farSearches << " (rings " << l.farRings
 			  << "), candidates " << l.farCandidates << ", confirmed " << l.farConfirmed

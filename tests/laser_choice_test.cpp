@@ -31,7 +31,7 @@ long statsCount(const std::string& stats, const std::string& key)
 	return std::stol(m[1]);
 }
 
-size_t countOf(const std::string& text, const std::string& what)
+size_t countOfLaser(const std::string& text, const std::string& what)
 {
 	size_t n = 0;
 	for (size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1))
@@ -70,14 +70,14 @@ std::string twoLaserLog(size_t* frontScans)
 	return log;
 }
 
-struct TRun
+struct TLaserChoiceRun
 {
 	int exitCode;
 	std::string output, stats;
 };
 
-TRun runSlam(const std::string& log, const std::string& out,
-			 std::vector<std::string> extra = {})
+TLaserChoiceRun runSlam(const std::string& log, const std::string& out,
+						std::vector<std::string> extra = {})
 {
 	std::vector<std::string> args{"--input", log, "--out", out, "--quiet"};
 	args.insert(args.end(), extra.begin(), extra.end());
@@ -89,9 +89,9 @@ TRun runSlam(const std::string& log, const std::string& out,
  * scan; a label the log lacks maps nothing and names the lasers it has. */
 void checkLaserChoice(const std::string& log, size_t frontScans, const std::string& dir)
 {
-	const TRun byDefault = runSlam(log, dir + "/default");
+	const TLaserChoiceRun byDefault = runSlam(log, dir + "/default");
 	EXPECT_EQ(byDefault.exitCode, 0) << byDefault.output;
-	EXPECT_EQ(countOf(byDefault.output, "a second laser"), 1u) << byDefault.output;
+	EXPECT_EQ(countOfLaser(byDefault.output, "a second laser"), 1u) << byDefault.output;
 	EXPECT_NE(byDefault.output.find("warning: a second laser: mapping 'REAR_LASER' (the first "
 									"seen), ignoring the scans of 'LASER'"),
 			  std::string::npos)
@@ -104,7 +104,7 @@ void checkLaserChoice(const std::string& log, size_t frontScans, const std::stri
 			  std::string::npos)
 		<< byDefault.stats;
 
-	const TRun front = runSlam(log, dir + "/front", {"--laser", "LASER"});
+	const TLaserChoiceRun front = runSlam(log, dir + "/front", {"--laser", "LASER"});
 	EXPECT_EQ(front.exitCode, 0) << front.output;
 	EXPECT_EQ(front.output.find("second laser"), std::string::npos) << front.output;
 	EXPECT_EQ(statsCount(front.stats, "scans"), long(frontScans)) << front.stats;
@@ -113,15 +113,16 @@ void checkLaserChoice(const std::string& log, size_t frontScans, const std::stri
 							   "\"ignored_scans\": {\"REAR_LASER\": 1}"),
 			  std::string::npos)
 		<< front.stats;
-	EXPECT_EQ(countOf(readTextFile(dir + "/front/trajectory.tum"), "\n"), frontScans);
+	EXPECT_EQ(countOfLaser(readTextFile(dir + "/front/trajectory.tum"), "\n"), frontScans);
 
 	// The same choice from the .ini.
 	writeTextFile(dir + "/front.ini", "[MapBuilder]\nlaser_label = LASER\n");
-	const TRun fromIni = runSlam(log, dir + "/front-ini", {"--config", dir + "/front.ini"});
+	const TLaserChoiceRun fromIni =
+		runSlam(log, dir + "/front-ini", {"--config", dir + "/front.ini"});
 	EXPECT_EQ(fromIni.exitCode, 0) << fromIni.output;
 	EXPECT_EQ(statsCount(fromIni.stats, "scans"), long(frontScans)) << fromIni.stats;
 
-	const TRun none = runSlam(log, dir + "/none", {"--laser", "TOP_LASER"});
+	const TLaserChoiceRun none = runSlam(log, dir + "/none", {"--laser", "TOP_LASER"});
 	EXPECT_EQ(none.exitCode, 1) << none.output;
 	EXPECT_NE(none.output.find("has no scan of laser 'TOP_LASER' (--laser, [MapBuilder] "
 							   "laser_label); its lasers: LASER (" +

@@ -32,6 +32,7 @@
 #include <thread>
 
 #include "app_runner.h"
+#include "archive_gz.h"
 #include "child_process.h"
 #include "live_sick_run.h"
 #include "lms1xx_emulator.h"
@@ -62,14 +63,6 @@ size_t countCapturedScans(const std::string& path, size_t* raysMismatch)
 		}
 	}
 	return scans;
-}
-
-template <class T>
-void readArchiveGz(const std::string& path, T& obj)
-{
-	mrpt::io::CFileGZInputStream f(path);
-	auto arch = mrpt::serialization::archiveFrom(f);
-	arch >> obj;
 }
 
 void expectSameTrajectory(const std::string& liveTum, const std::string& replayTum)

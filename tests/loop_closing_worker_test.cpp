@@ -29,15 +29,20 @@ using lrgc::TLRGCParams;
 
 namespace
 {
-constexpr double W = 20, H = 14;  // [m] ring size
+constexpr double kWorkerRingW = 20, kWorkerRingH = 14;  // [m] ring size
 
-TTrajectory slippingRing()
+TTrajectory workerSlippingRing()
 {
-	TTrajectory tr = makeTrajectory(
-		{{4, 1}, {W - 1, 1}, {W - 1, H - 1}, {1, H - 1}, {1, 1}, {W - 1, 1}, {W - 1, 6}}, 0.2,
-		TOdometryNoise{}, 11);
+	TTrajectory tr = makeTrajectory({{4, 1},
+									 {kWorkerRingW - 1, 1},
+									 {kWorkerRingW - 1, kWorkerRingH - 1},
+									 {1, kWorkerRingH - 1},
+									 {1, 1},
+									 {kWorkerRingW - 1, 1},
+									 {kWorkerRingW - 1, 6}},
+									0.2, TOdometryNoise{}, 11);
 	for (size_t k = 0; k < tr.odometryIncrements.size(); ++k)
-		if (tr.truePoses[k].y > H - 2)
+		if (tr.truePoses[k].y > kWorkerRingH - 2)
 		{
 			tr.odometryIncrements[k].x *= 1.09;
 			tr.odometryIncrements[k].y *= 1.09;
@@ -46,7 +51,7 @@ TTrajectory slippingRing()
 	return tr;
 }
 
-struct TRun
+struct TWorkerRun
 {
 	lrgc::TTrajectory trajectory;
 	lrgc::TMapBuilderStats stats;
@@ -54,13 +59,13 @@ struct TRun
 	lrgc::TLoopCloserStats loop;
 };
 
-TRun mapRing(
+TWorkerRun mapRing(
 	const TLRGCParams& p, std::chrono::milliseconds extraDelay,
 	const std::function<void(const CMetricMapBuilderLRGC&, std::atomic<bool>&)>& reader = {},
 	double scanPeriod = 0.2)
 {
-	const auto world = makeRingCorridorWorld(W, H, 2.0, 5, 4);
-	const TTrajectory tr = slippingRing();
+	const auto world = makeRingCorridorWorld(kWorkerRingW, kWorkerRingH, 2.0, 5, 4);
+	const TTrajectory tr = workerSlippingRing();
 	TSyntheticRunOptions opt;
 	opt.laser.maxRange = 6;
 	opt.scanPeriod = scanPeriod;
@@ -76,8 +81,8 @@ TRun mapRing(
 			trajectoryError(builder.trajectory(), tr.truePoses), builder.loopCloserStats()};
 }
 
-void expectSameTrajectory(const lrgc::TTrajectory& a, const lrgc::TTrajectory& b,
-						  const char* what)
+void expectSameWorkerTrajectory(const lrgc::TTrajectory& a, const lrgc::TTrajectory& b,
+								const char* what)
 {
 	ASSERT_EQ(a.size(), b.size()) << what;
 	for (size_t i = 0; i < a.size(); ++i)
@@ -93,18 +98,18 @@ TEST(LoopClosingWorker, offlineResultsDoNotDependOnTheWorkersSpeed)
 {
 	TLRGCParams p;
 	p.loop.result_delay_keyframes = 2;
-	const TRun normal = mapRing(p, std::chrono::milliseconds(0));
-	const TRun slow = mapRing(p, std::chrono::milliseconds(15));
+	const TWorkerRun normal = mapRing(p, std::chrono::milliseconds(0));
+	const TWorkerRun slow = mapRing(p, std::chrono::milliseconds(15));
 	p.loop.background = false;
-	const TRun inlineRun = mapRing(p, std::chrono::milliseconds(0));
+	const TWorkerRun inlineRun = mapRing(p, std::chrono::milliseconds(0));
 
 	EXPECT_GT(normal.stats.loopClosures, 0U);
 	EXPECT_LT(normal.error.finalXY, 0.3);
 	// The slowed worker was not done when its results were due: the mapping thread waited.
 	EXPECT_GT(slow.stats.loopResultWaits, 0U);
 	EXPECT_EQ(inlineRun.stats.loopResultWaits, 0U);
-	expectSameTrajectory(normal.trajectory, slow.trajectory, "slowed worker");
-	expectSameTrajectory(normal.trajectory, inlineRun.trajectory, "no worker thread");
+	expectSameWorkerTrajectory(normal.trajectory, slow.trajectory, "slowed worker");
+	expectSameWorkerTrajectory(normal.trajectory, inlineRun.trajectory, "no worker thread");
 	EXPECT_EQ(normal.stats.loopClosureLinks, slow.stats.loopClosureLinks);
 	EXPECT_EQ(normal.stats.loopClosureLinks, inlineRun.stats.loopClosureLinks);
 }
@@ -113,9 +118,9 @@ TEST(LoopClosingWorker, aSlowWorkerNeverStallsTheMappingThreadInLiveMode)
 {
 	TLRGCParams p;
 	p.loop.apply_when_ready = true;
-	const TRun live = mapRing(p, std::chrono::milliseconds(50));
+	const TWorkerRun live = mapRing(p, std::chrono::milliseconds(50));
 	EXPECT_EQ(live.stats.loopResultWaits, 0U);
-	EXPECT_EQ(live.stats.scans, slippingRing().truePoses.size());
+	EXPECT_EQ(live.stats.scans, workerSlippingRing().truePoses.size());
 }
 
 TEST(MapBuilderThreads, gettersAreSafeWhileMapping)
@@ -146,11 +151,11 @@ TEST(MapBuilderThreads, gettersAreSafeWhileMapping)
 			++reads;
 		}
 	};
-	const TRun alone = mapRing(p, std::chrono::milliseconds(0));
-	const TRun read = mapRing(p, std::chrono::milliseconds(0), reader);
+	const TWorkerRun alone = mapRing(p, std::chrono::milliseconds(0));
+	const TWorkerRun read = mapRing(p, std::chrono::milliseconds(0), reader);
 	EXPECT_GT(reads, 10U);
 	EXPECT_EQ(inconsistent, 0U);
-	expectSameTrajectory(alone.trajectory, read.trajectory, "with a reader thread");
+	expectSameWorkerTrajectory(alone.trajectory, read.trajectory, "with a reader thread");
 }
 
 namespace
@@ -219,10 +224,10 @@ TEST(LoopClosingWorker, aModelledWorkerDelaysCostlyResultsAndShedsSearchesWhatev
 	TLRGCParams p;
 	p.loop.worker_budget_ms = 0.2;
 	p.loop.max_backlog_keyframes = 6;
-	const TRun normal = mapRing(p, std::chrono::milliseconds(0));
-	const TRun slow = mapRing(p, std::chrono::milliseconds(15));
+	const TWorkerRun normal = mapRing(p, std::chrono::milliseconds(0));
+	const TWorkerRun slow = mapRing(p, std::chrono::milliseconds(15));
 	p.loop.background = false;
-	const TRun inlineRun = mapRing(p, std::chrono::milliseconds(0));
+	const TWorkerRun inlineRun = mapRing(p, std::chrono::milliseconds(0));
 
 	EXPECT_GT(normal.stats.loopResultDelayMax, p.loop.result_delay_keyframes);
 	EXPECT_GT(normal.loop.searchesShed, 0U);
@@ -232,8 +237,8 @@ TEST(LoopClosingWorker, aModelledWorkerDelaysCostlyResultsAndShedsSearchesWhatev
 	EXPECT_TRUE(
 		std::is_sorted(normal.loop.shedKeyframes.begin(), normal.loop.shedKeyframes.end()));
 	EXPECT_EQ(normal.loop.shedKeyframes, slow.loop.shedKeyframes);
-	expectSameTrajectory(normal.trajectory, slow.trajectory, "slowed worker");
-	expectSameTrajectory(normal.trajectory, inlineRun.trajectory, "no worker thread");
+	expectSameWorkerTrajectory(normal.trajectory, slow.trajectory, "slowed worker");
+	expectSameWorkerTrajectory(normal.trajectory, inlineRun.trajectory, "no worker thread");
 	EXPECT_EQ(normal.stats.loopClosureLinks, slow.stats.loopClosureLinks);
 }
 
@@ -247,7 +252,7 @@ TEST(LoopClosingWorker, searchesShedWhileBehindLieInTheNextSearchsPatch)
 	TLRGCParams p;
 	p.loop.worker_budget_ms = 0.2;
 	p.loop.max_backlog_keyframes = 6;
-	const TRun run = mapRing(p, std::chrono::milliseconds(0));
+	const TWorkerRun run = mapRing(p, std::chrono::milliseconds(0));
 	const auto& shed = run.loop.shedKeyframes;
 	ASSERT_GT(shed.size(), 0U) << "the worker must fall behind for this test";
 	size_t longest = 1, current = 1;
@@ -294,10 +299,11 @@ TEST(LoopClosingWorker, aBudgetPerSpacingTravelledClosesTheLoopASlowRobotRevisit
 	// (0.05 m at the end with the per-keyframe budget).
 	p.revisits.enabled = false;
 	p.loop.worker_budget_span = 0;  // main: the same budget per keyframe whatever the travel
-	const TRun perKeyframe = mapRing(p, std::chrono::milliseconds(0), {}, kSlowScanPeriod);
+	const TWorkerRun perKeyframe =
+		mapRing(p, std::chrono::milliseconds(0), {}, kSlowScanPeriod);
 	p.loop.worker_budget_span = kBudgetSpan;
-	const TRun perSecond = mapRing(p, std::chrono::milliseconds(0), {}, kSlowScanPeriod);
-	const TRun slow = mapRing(p, std::chrono::milliseconds(15), {}, kSlowScanPeriod);
+	const TWorkerRun perSecond = mapRing(p, std::chrono::milliseconds(0), {}, kSlowScanPeriod);
+	const TWorkerRun slow = mapRing(p, std::chrono::milliseconds(15), {}, kSlowScanPeriod);
 	::testing::Test::RecordProperty("deferred_per_keyframe",
 									std::to_string(perKeyframe.loop.searchesShed));
 	::testing::Test::RecordProperty("error_per_keyframe_m",
@@ -312,12 +318,12 @@ TEST(LoopClosingWorker, aBudgetPerSpacingTravelledClosesTheLoopASlowRobotRevisit
 	EXPECT_LT(perSecond.loop.searchesShed, perKeyframe.loop.searchesShed);
 	EXPECT_GT(perSecond.stats.loopClosures, 0U);
 	EXPECT_LT(perSecond.error.finalXY, 0.3);
-	for (const TRun* run : {&perKeyframe, &perSecond})
+	for (const TWorkerRun* run : {&perKeyframe, &perSecond})
 	{  // deferred, never lost: each merged into a later search (the run's end searches too)
 		EXPECT_EQ(run->loop.searchesMerged, run->loop.searchesShed);
 		EXPECT_TRUE(run->loop.droppedKeyframes.empty());
 	}
-	expectSameTrajectory(perSecond.trajectory, slow.trajectory, "slowed worker");
+	expectSameWorkerTrajectory(perSecond.trajectory, slow.trajectory, "slowed worker");
 }
 
 // Issue 28: dense scans keep the per-keyframe schedule. At 5 scans per second the ring's
@@ -331,15 +337,16 @@ TEST(LoopClosingWorker, denseKeyframesKeepThePerKeyframeBudget)
 	p.loop.worker_budget_ms = 0.2;  // far behind: the schedule decides which searches run
 	p.loop.max_backlog_keyframes = 6;
 	ASSERT_GT(p.loop.worker_budget_span, 1.0);
-	const TRun perSpan = mapRing(p, std::chrono::milliseconds(0));
+	const TWorkerRun perSpan = mapRing(p, std::chrono::milliseconds(0));
 	p.loop.worker_budget_span = 0;
-	const TRun perKeyframe = mapRing(p, std::chrono::milliseconds(0));
+	const TWorkerRun perKeyframe = mapRing(p, std::chrono::milliseconds(0));
 	ASSERT_GT(perKeyframe.loop.searchesShed, 0U) << "the worker must fall behind for this test";
 	EXPECT_EQ(perSpan.loop.shedKeyframes, perKeyframe.loop.shedKeyframes);
-	expectSameTrajectory(perSpan.trajectory, perKeyframe.trajectory, "budget per spacing");
+	expectSameWorkerTrajectory(perSpan.trajectory, perKeyframe.trajectory,
+							   "budget per spacing");
 	// The check can fail: a span below the keyframes' own (0.5: 2-2.6x the budget) moves it.
 	p.loop.worker_budget_span = 0.5;
-	const TRun moreBudget = mapRing(p, std::chrono::milliseconds(0));
+	const TWorkerRun moreBudget = mapRing(p, std::chrono::milliseconds(0));
 	EXPECT_NE(moreBudget.loop.shedKeyframes, perKeyframe.loop.shedKeyframes);
 }
 

@@ -28,6 +28,7 @@
 
 #include "aces_sessions.h"
 #include "app_runner.h"
+#include "archive_gz.h"
 #include "carmen_split.h"
 #include "live_sick_run.h"
 #include "room_log.h"
@@ -37,16 +38,6 @@ using namespace lrgc::test;
 
 namespace
 {
-constexpr size_t kSessionAEnd = 1474, kSessionBStart = 2934;
-const TOdometryMove kMoveB{37.0, -12.0, 130.0 * M_PI / 180.0};
-
-template <class T>
-void readArchiveGz(const std::string& path, T& obj)
-{
-	mrpt::io::CFileGZInputStream f(path);
-	auto arch = mrpt::serialization::archiveFrom(f);
-	arch >> obj;
-}
 
 /** The ACES scans [first, end) mapped alone into dir/name (B's odometry moved by kMoveB). */
 void mapSession(const std::string& dir, const std::string& name, size_t first, size_t end)

@@ -21,11 +21,11 @@ using lrgc::TLRGCParams;
 
 namespace
 {
-constexpr double W = 30, H = 20;     // [m] the ring's outer walls
-constexpr double kCorridor = 5;      // [m] its corridors' width
+constexpr double kNoisyRingW = 30, kNoisyRingH = 20;  // [m] the ring's outer walls
+constexpr double kRingCorridor = 5;                   // [m] its corridors' width
 constexpr double kSlip = 1.09;       // odometry translation / true, on the north corridor
 constexpr double kRangeNoise = 0.3;  // [m] range_030_bearing_015.rawlog's
-constexpr double kPeriod = 0.2;      // [s] between scans (TSyntheticRunOptions' default)
+constexpr double kRingPeriod = 0.2;  // [s] between scans (TSyntheticRunOptions' default)
 
 /** Seeds of a run: the boxes' places, the laser's noise, the odometry's noise. */
 struct TRingSeeds
@@ -36,12 +36,17 @@ struct TRingSeeds
 /** 1.25 laps along the corridors' centre lines, 0.2 m steps, the north corridor slipping. */
 TTrajectory slippingNoisyRing(uint32_t seed)
 {
-	const double c = kCorridor / 2;
-	TTrajectory tr = makeTrajectory(
-		{{6, c}, {W - c, c}, {W - c, H - c}, {c, H - c}, {c, c}, {W - c, c}, {W - c, 8}}, 0.2,
-		TOdometryNoise{}, seed);
+	const double c = kRingCorridor / 2;
+	TTrajectory tr = makeTrajectory({{6, c},
+									 {kNoisyRingW - c, c},
+									 {kNoisyRingW - c, kNoisyRingH - c},
+									 {c, kNoisyRingH - c},
+									 {c, c},
+									 {kNoisyRingW - c, c},
+									 {kNoisyRingW - c, 8}},
+									0.2, TOdometryNoise{}, seed);
 	for (size_t k = 0; k < tr.odometryIncrements.size(); ++k)
-		if (tr.truePoses[k].y > H - kCorridor)
+		if (tr.truePoses[k].y > kNoisyRingH - kRingCorridor)
 		{
 			tr.odometryIncrements[k].x *= kSlip;
 			tr.odometryIncrements[k].y *= kSlip;
@@ -52,12 +57,12 @@ TTrajectory slippingNoisyRing(uint32_t seed)
 
 /** Loop recall over the revisited places by lrgc-eval --loops's definition
  * (lrgc_apps/eval/loop_recall.h), the truth exact. */
-lrgc::apps::eval::TLoopRecall loopRecall(const CMetricMapBuilderLRGC& builder,
-										 const std::vector<mrpt::math::TPose2D>& truth)
+lrgc::apps::eval::TLoopRecall ringLoopRecall(const CMetricMapBuilderLRGC& builder,
+											 const std::vector<mrpt::math::TPose2D>& truth)
 {
 	std::vector<lrgc::apps::eval::TRecallKeyframe> kfs;
 	for (const auto& kf : builder.keyframes())
-		kfs.push_back({kPeriod * double(kf.scanIndex), truth.at(kf.scanIndex)});
+		kfs.push_back({kRingPeriod * double(kf.scanIndex), truth.at(kf.scanIndex)});
 	return lrgc::apps::eval::evaluateLoopRecall(builder.graph(), kfs);
 }
 class NoisyRing : public ::testing::TestWithParam<TRingSeeds>
@@ -68,11 +73,12 @@ class NoisyRing : public ::testing::TestWithParam<TRingSeeds>
 TEST_P(NoisyRing, mapsAndClosesTheLoopWithRangeNoiseOf30cm)
 {
 	const TRingSeeds seeds = GetParam();
-	const auto world = makeRingCorridorWorld(W, H, kCorridor, seeds.world, 12);
+	const auto world =
+		makeRingCorridorWorld(kNoisyRingW, kNoisyRingH, kRingCorridor, seeds.world, 12);
 	const TTrajectory tr = slippingNoisyRing(seeds.odometry);
 	EXPECT_GT(minClearance(world, tr.truePoses), 1.5);
 	TSyntheticRunOptions opt;
-	opt.scanPeriod = kPeriod;
+	opt.scanPeriod = kRingPeriod;
 	opt.laserSeed = seeds.laser;
 	opt.laser.maxRange = 30;
 	opt.laser.rangeNoiseStd = kRangeNoise;
@@ -80,7 +86,7 @@ TEST_P(NoisyRing, mapsAndClosesTheLoopWithRangeNoiseOf30cm)
 	feedBuilder(builder, world, tr, opt);
 	const TTrajectoryError err = trajectoryError(builder.trajectory(), tr.truePoses);
 	const TLoopLinkAudit links = auditLoopLinks(builder, tr.truePoses, 0.3, 5 * M_PI / 180);
-	const auto recall = loopRecall(builder, tr.truePoses);
+	const auto recall = ringLoopRecall(builder, tr.truePoses);
 	const auto& st = builder.stats();
 	std::printf(
 		"[ noisy ring ] %zu scans, %zu unmatched; position rms %.3f m, max %.3f m, final "

@@ -24,7 +24,7 @@ using namespace lrgc::test;
 
 namespace
 {
-size_t lineCount(const std::string& s)
+size_t messageLineCount(const std::string& s)
 {
 	return std::count(s.begin(), s.end(), '\n');
 }
@@ -87,7 +87,7 @@ TEST(SlamMessages, ConfigErrorsAreOneLineNamingFileKeyAndWhatToDo)
 			runProcess(binaryPath("lrgc-slam"), {"--input", dir + "/none.rawlog", "--config",
 												 dir + "/bad.ini", "--out", dir + "/out"});
 		EXPECT_EQ(r.exitCode, 2) << r.output;
-		EXPECT_EQ(lineCount(r.output), 1u) << r.output;
+		EXPECT_EQ(messageLineCount(r.output), 1u) << r.output;
 		for (const auto& text : c.expected)
 			EXPECT_NE(r.output.find(text), std::string::npos) << text << " in:\n" << r.output;
 		expectNoBannerNorBacktrace(r.output);
@@ -96,7 +96,7 @@ TEST(SlamMessages, ConfigErrorsAreOneLineNamingFileKeyAndWhatToDo)
 		runProcess(binaryPath("lrgc-slam"), {"--input", dir + "/none.rawlog", "--config",
 											 dir + "/missing.ini", "--out", dir + "/out"});
 	EXPECT_EQ(r.exitCode, 2) << r.output;
-	EXPECT_EQ(lineCount(r.output), 1u) << r.output;
+	EXPECT_EQ(messageLineCount(r.output), 1u) << r.output;
 	EXPECT_NE(r.output.find("--config '" + dir + "/missing.ini': no such file"),
 			  std::string::npos)
 		<< r.output;
@@ -172,7 +172,8 @@ TEST(SlamMessages, OldKeyNamesAreWarningsNamingTheNewKey)
 		r.output.find("warning: [LoopCloser] apply_when_ready is no longer a key: ignored"),
 		std::string::npos)
 		<< r.output;
-	EXPECT_EQ(lineCount(r.output), 51u) << r.output;  // 50 old keys, then the input's error
+	EXPECT_EQ(messageLineCount(r.output), 51u)
+		<< r.output;  // 50 old keys, then the input's error
 	EXPECT_EQ(r.output.find("further warnings"), std::string::npos) << r.output;
 }
 
@@ -189,7 +190,7 @@ TEST(SlamMessages, WriteDefaultConfigOntoAFolderIsRefusedInOneLine)
 			if (force) args.push_back("--force");
 			const auto r = runProcess(binaryPath("lrgc-slam"), args);
 			EXPECT_EQ(r.exitCode, 2) << r.output;
-			EXPECT_EQ(lineCount(r.output), 1u) << r.output;
+			EXPECT_EQ(messageLineCount(r.output), 1u) << r.output;
 			EXPECT_NE(r.output.find("is a directory; name a file"), std::string::npos)
 				<< r.output;
 			expectNoBannerNorBacktrace(r.output);
@@ -202,7 +203,7 @@ TEST(SlamMessages, WriteDefaultConfigOntoAFolderIsRefusedInOneLine)
 	const auto r = runProcess(binaryPath("lrgc-slam"),
 							  {"--write-default-config", dir + "/missing/lrgc.ini"});
 	EXPECT_EQ(r.exitCode, 2) << r.output;
-	EXPECT_EQ(lineCount(r.output), 1u) << r.output;
+	EXPECT_EQ(messageLineCount(r.output), 1u) << r.output;
 	EXPECT_NE(r.output.find("'" + dir + "/missing' is not a directory"), std::string::npos)
 		<< r.output;
 }
@@ -230,7 +231,7 @@ TEST(SlamMessages, WriteDefaultConfigReplacesAFileOnlyWithForce)
 	r = runProcess(binaryPath("lrgc-slam"),
 				   {"--input", dir + "/none.rawlog", "--out", dir + "/out", "--force"});
 	EXPECT_EQ(r.exitCode, 2) << r.output;
-	EXPECT_EQ(lineCount(r.output), 1u) << r.output;
+	EXPECT_EQ(messageLineCount(r.output), 1u) << r.output;
 }
 
 TEST(SlamMessages, UsageErrorsAreOneLineAndHelpListsEveryOption)
@@ -259,7 +260,7 @@ TEST(SlamMessages, UsageErrorsAreOneLineAndHelpListsEveryOption)
 	r = runProcess(binaryPath("lrgc-slam"), {"--version"});
 	EXPECT_EQ(r.exitCode, 0) << r.output;
 	EXPECT_EQ(r.output.rfind("lrgc-slam ", 0), 0u) << r.output;
-	EXPECT_EQ(lineCount(r.output), 1u) << r.output;
+	EXPECT_EQ(messageLineCount(r.output), 1u) << r.output;
 	// Every program answers --version with the same version.
 	const std::string version = r.output.substr(std::string("lrgc-slam").size());
 	for (const char* program : {"lrgc-eval", "lrgc-plot"})
@@ -314,6 +315,6 @@ TEST(SlamMessages, LiveWithoutTheLiveProgramIsOneLineNamingWhereItLooked)
 							 0),
 			  0u)
 		<< r.output;
-	EXPECT_EQ(lineCount(r.output), 1u) << r.output;
+	EXPECT_EQ(messageLineCount(r.output), 1u) << r.output;
 	EXPECT_FALSE(fs::exists(dir + "/out"));
 }

@@ -22,6 +22,7 @@
 #include <sstream>
 
 #include "app_runner.h"
+#include "archive_gz.h"
 #include "test_data.h"
 
 namespace fs = std::filesystem;
@@ -71,14 +72,6 @@ protected:
 	static inline TProcessResult s_result;
 	static inline double s_childCpu = 0;  //!< the run's CPU time, seen from outside [s]
 };
-
-template <class T>
-void readArchiveGz(const std::string& path, T& obj)
-{
-	mrpt::io::CFileGZInputStream f(path);
-	auto arch = mrpt::serialization::archiveFrom(f);
-	arch >> obj;
-}
 
 size_t countLines(const std::string& path)
 {
