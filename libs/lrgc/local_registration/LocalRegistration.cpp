@@ -89,6 +89,27 @@ bool matchOverrules(const TScanMatch& m, bool wide, const mrpt::math::TPose2D& g
 	return disagrees(m) && (wide || !onlyReversesTheWheels(guess, prediction, m, disagrees));
 }
 
+/** `won` (a wide search's winner), unless it disagrees with the prior only by putting the robot
+ * behind the last scan against the wheels' clear forward step (onlyReversesTheWheels). The wide
+ * search looks for a heading the plain match could not reach (a glitch, a failed match's
+ * odometry heading error); a winner at the prior's heading but behind the last scan is an alias
+ * along the hall, and the prior stands (registerScan: the plain match where it agreed, else no
+ * match). glass_stress's atrium, seed 2, scan 2331 (east hall, lap 3): the plain match failed,
+ * the retry's winner (heading 1.4 deg from the prior's, inside its 1.7 deg std) put the robot
+ * 0.85 m behind the last scan against the wheels' 0.42 m forward, its odometry link was
+ * replaced by that and its keyframe placed 1.25 m back; the patch it blurred failed the next
+ * three scans' matches, which then hung on the odometry's 2.4 deg error (the map's worst
+ * pose, 1.27 m, and its three 10 s relations over 2 deg). */
+std::optional<TScanMatch> forwardWinner(std::optional<TScanMatch> won,
+										const mrpt::math::TPose2D& guess,
+										const TMotionPrediction& prediction,
+										const std::function<bool(const TScanMatch&)>& disagrees)
+{
+	if (won && disagrees(*won) && onlyReversesTheWheels(guess, prediction, *won, disagrees))
+		return std::nullopt;
+	return won;
+}
+
 /** A step the wheels did not make: under 1 mm and 1 mrad (encoder ticks round to zero). */
 bool isZeroStep(const mrpt::math::TPose2D& motion)
 {
@@ -281,10 +302,16 @@ TRegistration CLocalRegistration::registerScan(const CPoseGraph& graph,
 	// one step, the map's tail 10 m off). The wide search gives the second opinion, with the
 	// same standard of evidence.
 	const bool implausible = disagreed && farFrom(guess, *match);
+	// A wide search's winner is not taken where all it disputes is the wheels' clear forward
+	// step, reversed (onlyReversesTheWheels): the search is for a heading the plain match
+	// missed, and it found an alias behind the last scan (forwardWinner).
+	auto forward = [&](std::optional<TScanMatch> won)
+	{ return forwardWinner(std::move(won), guess, prediction, disagrees); };
 	if ((implausible || (suspect && (!match || disagreed))) && m_params.wide_search_angle > 0)
 	{
-		match = withEvidence(graph, keyframes, scan,
-							 wideMatch(cloud, scan, guess, m_params.wide_search_angle, 0));
+		match =
+			withEvidence(graph, keyframes, scan,
+						 forward(wideMatch(cloud, scan, guess, m_params.wide_search_angle, 0)));
 		reg.wideSearch = match.has_value();
 	}
 	// The plain match failed on a step nothing made suspect (and the wheels moved: else the
@@ -292,8 +319,8 @@ TRegistration CLocalRegistration::registerScan(const CPoseGraph& graph,
 	// far-turning step's wider), with the same evidence.
 	else if (!match && !standstill && m_params.wide_search_angle > 0)
 	{
-		match =
-			withEvidence(graph, keyframes, scan, retriedMatch(cloud, scan, guess, prediction));
+		match = withEvidence(graph, keyframes, scan,
+							 forward(retriedMatch(cloud, scan, guess, prediction)));
 		reg.wideSearch = match.has_value();
 	}
 	// Wheels that did not turn at all are the one odometry reading to trust over a match
@@ -308,7 +335,7 @@ TRegistration CLocalRegistration::registerScan(const CPoseGraph& graph,
 	else if (suspect && match && m_params.wide_search_angle > 0)
 	{
 		if (auto wide = withEvidence(graph, keyframes, scan,
-									 overrulingWideMatch(cloud, scan, guess, *match)))
+									 forward(overrulingWideMatch(cloud, scan, guess, *match))))
 			match = std::move(wide), reg.wideSearch = true;
 	}
 	m_lastAccepted.reset();
