@@ -208,6 +208,22 @@ bool CRevisitLinker::patchAgrees(const TPatch& p, const TScanMatch& m) const
 	return disagreementChi2(m.scanInRef, mp->scanInRef, C) <= m_params.gate_chi2;
 }
 
+/* Every check after the match (the gate against the guess, the patch's agreement, the rivals'
+ * distinctness) is read under the match's own covariance, so a match loose enough passes them
+ * all by its looseness alone. Any wall the scan matched fixes its heading once its position is
+ * fixed: the heading's std with the translation held, 1 / sqrt(Omega_phiphi) of the match's
+ * information, is a fraction of a degree for every true revisit link (Killian's corridors
+ * included, whose heading alone is loose, 2-4.5 deg, only through the slide along the
+ * corridor it goes with). A match that leaves it above max_heading_std matched a blob, not a
+ * wall: harsh Intel b80's 83 -> 227 and 83 -> 229 (half the scan matched against a region seen
+ * from behind, 2.3-7.8 deg; kept 6.7 and 13.7 deg off the truth). */
+bool CRevisitLinker::fixesItsHeading(const TScanMatch& m) const
+{
+	if (m_params.max_heading_std <= 0) return true;
+	const double s = m_params.max_heading_std;
+	return m.cov.inverse()(2, 2) * s * s >= 1;
+}
+
 namespace
 {
 /** The ambiguity check's starts, as offsets from the guess (guess's frame): 1 and 2 prior
@@ -297,6 +313,7 @@ size_t CRevisitLinker::linkRevisits(CPoseGraph& graph, const TKeyframes& keyfram
 		if (!c) continue;
 		const auto m = m_matcher.match(*c->reference, keyframes[k].scan, c->guess);
 		if (!m || m->inlierFraction < m_params.min_inlier_fraction) continue;
+		if (!fixesItsHeading(*m)) continue;
 		if (disagreementChi2(c->guess, m->scanInRef, prior + m->cov) > m_params.gate_chi2 ||
 			!passesChecks(sw, keyframes, k, *c, *m, prior, parallel))
 			continue;

@@ -49,6 +49,10 @@ public:
 	/** Nodes below `split` and nodes from it on are in frames of their own (a session mapped
 	 * as a piece not joined to the map): no pair across it is linked. 0: one frame. */
 	void setSplit(size_t split) { m_split = split; }
+	/** Whether the match fixes its heading at its own position (the heading's std with the
+	 * translation held, 1 / sqrt(Omega_phiphi)) to max_heading_std; a revisit match that does
+	 * not is never linked. */
+	bool fixesItsHeading(const TScanMatch& m) const;
 
 private:
 	struct TSweep;

@@ -17,6 +17,7 @@ void TRevisitLinkerParams::loadFromConfigFile(const mrpt::config::CConfigFileBas
 	stride = readCount(c, s, "stride", stride);
 	patch_check_keyframes = readCount(c, s, "patch_check_keyframes", patch_check_keyframes);
 	ambiguity_check = readBool(c, s, "ambiguity_check", ambiguity_check);
+	max_heading_std = readDegrees(c, s, "max_heading_std_deg", max_heading_std);
 	min_inlier_fraction = readDouble(c, s, "min_inlier_fraction", min_inlier_fraction);
 	gate_chi2 = readDouble(c, s, "gate_chi2", gate_chi2);
 	prior_std_xy_m = readDouble(c, s, "prior_std_xy_m", prior_std_xy_m);
@@ -28,6 +29,7 @@ void TRevisitLinkerParams::loadFromConfigFile(const mrpt::config::CConfigFileBas
 	requireParam(min_inlier_fraction > 0 && min_inlier_fraction <= 1, s, "min_inlier_fraction",
 				 "must be in (0, 1]");
 	requireParam(gate_chi2 > 0, s, "gate_chi2", "must be > 0");
+	requireParam(max_heading_std >= 0, s, "max_heading_std_deg", "must be >= 0");
 	requireParam(prior_std_xy_m > 0, s, "prior_std_xy_m", "must be > 0");
 	requireParam(prior_std_phi > 0, s, "prior_std_phi_deg", "must be > 0");
 }
@@ -51,6 +53,8 @@ void TRevisitLinkerParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
 			   "A match must agree with that of the keyframe +- this many (0: not checked)");
 	writeValue(c, s, "ambiguity_check", ambiguity_check,
 			   "A match must explain more of the scan than any other optimum within the prior");
+	writeDegrees(c, s, "max_heading_std_deg", max_heading_std,
+				 "[deg] A match must fix the heading at its position to this std (0: any)");
 	writeValue(c, s, "min_inlier_fraction", min_inlier_fraction,
 			   "Least fraction of the keyframe's points matched");
 	writeValue(c, s, "gate_chi2", gate_chi2,

@@ -41,6 +41,12 @@ struct TRevisitLinkerParams : public mrpt::config::CLoadableOptions
 	/** A match is kept only if no other local optimum within the prior explains as much of
 	 * the scan (RevisitLinker.cpp, rivalFrom). */
 	bool ambiguity_check = true;
+	/** [rad] (key max_heading_std_deg) A match whose heading at its own position (the
+	 * heading's std with the translation held: 1 / sqrt(Omega_phiphi) of the match's
+	 * information) is looser than this matched no wall and is refused (RevisitLinker.cpp,
+	 * fixesItsHeading); 0: no bound. True links on the sparse and harsh logs: under 0.75 deg;
+	 * the two false ones of harsh Intel b80: 2.3-7.8 deg (doc/generalisation.md). */
+	double max_heading_std = mrpt::DEG2RAD(1.5);
 	double min_inlier_fraction = 0.5;  //!< least fraction of k's points matched
 	double gate_chi2 = 16.27;          //!< [chi2, 3 dof] agreement of the match with the guess
 	double prior_std_xy_m = 0.3;       //!< [m] std of the guess (loop-closed map)

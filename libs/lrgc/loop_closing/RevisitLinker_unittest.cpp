@@ -219,6 +219,41 @@ TEST(RevisitLinker, scansOfAnotherPlaceAreNotLinked)
 			<< run.graph.link(id).from << " -> " << run.graph.link(id).to;
 }
 
+// Harsh Intel b80's false revisit links (83 -> 227, 83 -> 229) were matches that fixed no
+// heading: with their position held the heading's std was 2.3-7.8 deg, and every later check,
+// read under that loose covariance, passed. A corridor's true link is loose in heading only
+// through the slide it goes with: held at its position it is a fraction of a degree. So the
+// bound reads the heading's std with the translation held (1 / sqrt(Omega_phiphi)), not the
+// heading's marginal std: a bound on the marginal one would refuse the corridor.
+TEST(RevisitLinker, aMatchMustFixItsHeadingAtItsPositionNotAlone)
+{
+	const TStageParams defaults;
+	const auto deg = [](double d) { return mrpt::DEG2RAD(d); };
+	TScanMatch blob;  // 5 cm and 2.3 deg, uncorrelated: no wall fixes the heading
+	blob.cov = Eigen::Vector3d(0.05 * 0.05, 0.05 * 0.05, deg(2.3) * deg(2.3)).asDiagonal();
+	TScanMatch wall;  // 1 cm and 0.5 deg
+	wall.cov = Eigen::Vector3d(1e-4, 1e-4, deg(0.5) * deg(0.5)).asDiagonal();
+	// A corridor along x: 0.5 m of slide, heading 3 deg alone but 0.985 correlated with the
+	// slide, so held at its position the heading's std is 3 * sqrt(1 - 0.985^2) = 0.52 deg.
+	TScanMatch corridor;
+	const double sx = 0.5, sphi = deg(3), rho = 0.985;
+	corridor.cov << sx * sx, 0, rho * sx * sphi, 0, 0.02 * 0.02, 0, rho * sx * sphi, 0,
+		sphi * sphi;
+	ASSERT_GT(std::sqrt(corridor.cov(2, 2)), deg(1.5)) << "loose in heading alone";
+
+	const TRevisitLinkerParams p = testParams();
+	ASSERT_NEAR(p.max_heading_std, deg(1.5), 1e-12) << "the default bound";
+	const CRevisitLinker linker(p, defaults.matcher, defaults.loop.link_noise);
+	EXPECT_FALSE(linker.fixesItsHeading(blob));
+	EXPECT_TRUE(linker.fixesItsHeading(wall));
+	EXPECT_TRUE(linker.fixesItsHeading(corridor));
+
+	TRevisitLinkerParams off = testParams();
+	off.max_heading_std = 0;  // no bound
+	EXPECT_TRUE(
+		CRevisitLinker(off, defaults.matcher, defaults.loop.link_noise).fixesItsHeading(blob));
+}
+
 TEST(RevisitLinker, parametersRoundTripAndUnknownKeysAreRejected)
 {
 	TRevisitLinkerParams p;
@@ -229,6 +264,7 @@ TEST(RevisitLinker, parametersRoundTripAndUnknownKeysAreRejected)
 	p.any_heading = false;
 	p.patch_check_keyframes = 4;
 	p.ambiguity_check = false;
+	p.max_heading_std = mrpt::DEG2RAD(2.5);
 	mrpt::config::CConfigFileMemory saved;
 	p.saveToConfigFile(saved, "RevisitLinker");
 	// Through the text, as a user's .ini (MRPT 2.5.8's in-memory config keeps padded keys).
@@ -242,6 +278,7 @@ TEST(RevisitLinker, parametersRoundTripAndUnknownKeysAreRejected)
 	EXPECT_FALSE(q.any_heading);
 	EXPECT_EQ(q.patch_check_keyframes, 4U);
 	EXPECT_FALSE(q.ambiguity_check);
+	EXPECT_NEAR(q.max_heading_std, mrpt::DEG2RAD(2.5), 1e-12);
 	mrpt::config::CConfigFileMemory bad("[RevisitLinker]\nradious = 2\n");
 	EXPECT_THROW(q.loadFromConfigFile(bad, "RevisitLinker"), std::exception);
 	mrpt::config::CConfigFileMemory zero("[RevisitLinker]\nstride = 0\n");

@@ -70,6 +70,41 @@ CAnchorGrid::CAnchorGrid(const std::vector<Eigen::Vector2d>& points,
 		k = m;
 	}
 	buildBitmap(points);
+	buildColumns(points);
+}
+
+void CAnchorGrid::buildColumns(const std::vector<Eigen::Vector2d>& points)
+{
+	// For a box as wide (in cells) as the dense table may be large: 4 bytes a column.
+	const double columns = double(m_bx1 - m_bx0) + 1;
+	if (columns > double(std::max(kDenseMinCells, kDenseCellsPerPoint * m_index.size())))
+		return;
+	// The occupied cells in m_pos's (key) order, each with its run, bucketed by column
+	// (counting sort) and sorted by iy within it (the key order puts iy < 0 after iy >= 0).
+	std::vector<std::pair<size_t, TColumnCell>> cells;
+	const auto cellOf = [&](uint32_t k)
+	{
+		const Eigen::Vector2d& p = points[m_index[k]];
+		return std::pair{cellIndex(p.x(), m_cell), cellIndex(p.y(), m_cell)};
+	};
+	for (uint32_t k = 0; k < m_index.size();)
+	{
+		const auto [ix, iy] = cellOf(k);
+		uint32_t m = k + 1;
+		while (m < m_index.size() && cellOf(m) == std::pair{ix, iy}) ++m;
+		cells.push_back({static_cast<size_t>(ix - m_bx0), TColumnCell{iy, k, m}});
+		k = m;
+	}
+	const size_t nCols = static_cast<size_t>(columns);
+	m_colFirst.assign(nCols + 1, 0);
+	for (const auto& c : cells) ++m_colFirst[c.first + 1];
+	for (size_t i = 0; i < nCols; ++i) m_colFirst[i + 1] += m_colFirst[i];
+	std::vector<uint32_t> next(m_colFirst.begin(), m_colFirst.end() - 1);
+	m_colCells.resize(cells.size());
+	for (const auto& c : cells) m_colCells[next[c.first]++] = c.second;
+	for (size_t i = 0; i < nCols; ++i)
+		std::sort(m_colCells.begin() + m_colFirst[i], m_colCells.begin() + m_colFirst[i + 1],
+				  [](const TColumnCell& a, const TColumnCell& b) { return a.iy < b.iy; });
 }
 
 void CAnchorGrid::buildBitmap(const std::vector<Eigen::Vector2d>& points)

@@ -7,7 +7,9 @@
  * per point (far stray returns): then through an open-addressing hash table of the occupied
  * cells (Fibonacci hashing, linear probing), with a bitmap of the occupied cells over the box
  * (1 bit per cell) so that the many empty cells a search visits cost a bit test, not a hash
- * probe. Both give the same runs in the same order.
+ * probe, and for the radius queries a directory of the occupied cells column by column (a
+ * column's cells y0..y1 found by one binary search and read as one run, or two where the key
+ * order wraps at iy = 0). Both modes give the same points in the same order.
  * nearest() searches ring by ring around the query's cell with an exact stopping rule;
  * forEachWithin() visits the cells that overlap the query disc column by column (ix, then iy),
  * a column being one run of the dense table. Frames: whatever frame the points are in.
@@ -129,6 +131,12 @@ private:
 	}
 	/** Hashed mode: the occupied cells' bitmap over the box (none if the box is too large). */
 	void buildBitmap(const std::vector<Eigen::Vector2d>& points);
+	/** Hashed mode: the column directory (none if the box is too wide). */
+	void buildColumns(const std::vector<Eigen::Vector2d>& points);
+	/** Hashed mode with the column directory: forEachRun's cells (ix, y0..y1) of a column ix
+	 * of the box, in iy order, as runs (cells that follow each other in m_pos as one). */
+	template <class F>
+	void visitColumn(int64_t ix, int64_t y0, int64_t y1, F&& visit) const;
 
 	// A hash slot: an occupied cell -> the run [start, start + count) of m_pos / m_index.
 	struct TCell
@@ -190,6 +198,16 @@ private:
 	// Hashed mode: bit i m_ny + j of m_occupied is set if cell (m_x0 + i, m_y0 + j) holds a
 	// point.
 	std::vector<uint64_t> m_occupied;
+	// Hashed mode's column directory: column m_bx0 + i holds the occupied cells
+	// [m_colFirst[i], m_colFirst[i + 1]) of m_colCells, by iy, each with its run [b, e) of
+	// m_pos.
+	struct TColumnCell
+	{
+		int64_t iy;
+		uint32_t b, e;
+	};
+	std::vector<uint32_t> m_colFirst;
+	std::vector<TColumnCell> m_colCells;
 	// Dense table: cell (m_x0 + i, m_y0 + j) holds the run [m_start[i m_ny + j], m_start[.. +
 	// 1])
 	std::vector<uint32_t> m_start;
@@ -240,10 +258,39 @@ void CAnchorGrid::forEachRun(const Eigen::Vector2d& q, double radius, F&& visit)
 			visit(m_start[dx * m_ny + dy0], m_start[dx * m_ny + dy1 + 1]);
 		return;
 	}
+	if (!m_colFirst.empty())
+	{
+		for (int64_t ix = x0; ix <= x1; ++ix) visitColumn(ix, y0, y1, visit);
+		return;
+	}
 	for (int64_t ix = x0; ix <= x1; ++ix)
 		for (int64_t iy = y0; iy <= y1; ++iy)
 			if (maybeOccupied(ix, iy))
 				if (const TCell* c = findCell(ix, iy)) visit(c->start, c->start + c->count);
+}
+
+template <class F>
+void CAnchorGrid::visitColumn(int64_t ix, int64_t y0, int64_t y1, F&& visit) const
+{
+	const size_t col = static_cast<size_t>(ix - m_bx0);
+	const TColumnCell* c = m_colCells.data() + m_colFirst[col];
+	const TColumnCell* const end = m_colCells.data() + m_colFirst[col + 1];
+	c = std::lower_bound(c, end, y0,
+						 [](const TColumnCell& cell, int64_t y) { return cell.iy < y; });
+	if (c == end || c->iy > y1) return;
+	// The cells' runs in iy order, those that follow each other in m_pos as one: the same
+	// points in the same order as cell by cell.
+	uint32_t b = c->b, e = c->e;
+	for (++c; c != end && c->iy <= y1; ++c)
+	{
+		if (c->b != e)
+		{
+			visit(b, e);
+			b = c->b;
+		}
+		e = c->e;
+	}
+	visit(b, e);
 }
 
 }  // namespace lrgc

@@ -250,6 +250,34 @@ TEST(AnchorGrid, forEachRunFilteredIsForEachPointWithinDenseHashedOrAbsurd)
 	}
 }
 
+TEST(AnchorGrid, hashedRadiusQueryReadsAColumnAsOneRun)
+{
+	// A far stray return makes the grid hashed; the line fits' radius queries then read a
+	// column's occupied cells through the column directory as one run (two where the cells
+	// straddle iy = 0, whose keys sort after the others'), not cell by cell (main: a run per
+	// occupied cell, ~10 per column here). A stray too far for the directory (more columns
+	// than kDenseCellsPerPoint per point) reads cell by cell.
+	const TCloud c = randomCloud(20000, 21);  // 160 usable points / m^2
+	for (const double strayX : {5000.0, 1e6})
+	{
+		TCloud stray = c;
+		stray.pts.emplace_back(strayX, 0), stray.usable.push_back(true);
+		const CAnchorGrid grid(stray.pts, stray.usable, 0.1);
+		ASSERT_FALSE(grid.isDense());
+		for (const Eigen::Vector2d& q : {Eigen::Vector2d(1.03, 2.2), Eigen::Vector2d(-2, 0.04)})
+		{
+			size_t runs = 0, points = 0;
+			grid.forEachRun(q, 0.6, [&](uint32_t b, uint32_t e) { ++runs, points += e - b; });
+			const size_t columns = 13;  // cells x within 0.6 m of q: at most 13 of 0.1 m
+			if (strayX < 1e5)
+				EXPECT_LE(runs, q.y() > 0.6 ? columns : 2 * columns);
+			else
+				EXPECT_GT(runs, 2 * columns);
+			EXPECT_GT(points, 150u);  // the query's box: ~1.44 m^2
+		}
+	}
+}
+
 TEST(AnchorGrid, cellIndexIsFloorOfTheRatio)
 {
 	for (const double v : {0.0, -0.0, 0.1, -0.1, 0.3, -0.3, 0.29999999999999999, 1e-300,

@@ -2,6 +2,7 @@
 #include <lrgc/scan_matching/FreeSpace.h>
 #include <lrgc/scan_matching/RangeDenoiser.h>
 
+#include <algorithm>
 #include <cmath>
 
 namespace lrgc
@@ -94,6 +95,12 @@ std::vector<float> sweepFractions(const mrpt::obs::CObservation2DRangeScan& obs)
 	return out;
 }
 
+size_t denoisedMatchStride(size_t window)
+{
+	return std::clamp<size_t>((window - std::min<size_t>(window, 1)) / 2, 1,
+							  kMaxDenoisedMatchStride);
+}
+
 TScan2D scanFromObservation(const mrpt::obs::CObservation2DRangeScan& obs,
 							TScanConversionStats* stats, const mrpt::math::TPose2D& sweepMotion,
 							double rangeNoise)
@@ -118,6 +125,7 @@ TScan2D scanFromObservation(const mrpt::obs::CObservation2DRangeScan& obs,
 		size_t window = 1;
 		denoised = denoisedRanges(obs, rangeNoise, &window);
 		scan.rangeNoiseStd = rangeNoise / std::sqrt(double(window));
+		scan.matchStride = denoisedMatchStride(window);
 	}
 	// Beam angles in the sensor frame [rad]: -aperture/2 .. +aperture/2 (rightToLeft).
 	const TBeamDirections& beams = beamDirections(obs);

@@ -48,6 +48,12 @@ struct TScan2D
 	 * divided by sqrt(2h+1), the denoiser's window (RangeDenoiser.h); 0 for a laser below
 	 * kNoisyLaserStd_m (the gates as configured). */
 	double rangeNoiseStd = 0;
+	/** A scan match pairs every matchStride-th point (CScanMatcher::match): 1 but for a
+	 * denoised scan (denoisedMatchStride): its neighbouring returns come from windows of rays
+	 * that are mostly the same, so their noise is mostly the same, and matching them all
+	 * buys little precision for its cost. The free-space check and the reference clouds built
+	 * from the scan use all the points. */
+	size_t matchStride = 1;
 	/** The free-space check's range image of `points` (CRangeImage, FreeSpace.h), built once
 	 * by scanFromObservation and shared by the copies, so that neither each check nor each
 	 * window patch holding the scan bins its points again; null: built where needed
@@ -82,6 +88,17 @@ struct TRangeLimits
 mrpt::obs::CObservation2DRangeScan::Ptr applyRangeLimits(
 	const mrpt::obs::CObservation2DRangeScan::Ptr& obs, const TRangeLimits& limits,
 	size_t* marked = nullptr);
+
+/** Largest TScan2D::matchStride [points]: MRPT's range_030_bearing_015.rawlog (361 beams,
+ * 0.30 m Gaussian range noise, denoised over 41 rays) keeps 91 points a match, a point every 2
+ * degrees; its ATE with strides 1 to 4 stays within the run-to-run spread (doc/architecture.md,
+ * stop 50). */
+constexpr size_t kMaxDenoisedMatchStride = 4;
+
+/** The matchStride of a scan denoised over `window` = 2h+1 rays (RangeDenoiser.h; 1: as
+ * measured): min(h, kMaxDenoisedMatchStride), at least 1. Returns k rays apart share
+ * 2h+1-k of their window's rays: at k <= h more than half. */
+size_t denoisedMatchStride(size_t window);
 
 /** Converts an MRPT laser observation; never throws on bad ranges (they are counted).
  * `rangeNoise`: the laser's range noise std [m] (CRangeNoiseEstimate); above

@@ -199,6 +199,24 @@ void setCovariance(TScanMatch& m, const CReferenceCloud& ref,
 }
 }  // namespace
 
+namespace
+{
+/** The points a match of `scan` pairs: all of scan.points, or for a denoised scan
+ * (TScan2D::matchStride k > 1) every k-th of them, copied into `strided`; k shrinks so that at
+ * least 2 min_inliers points remain (a scan with few returns is matched whole). */
+const std::vector<Eigen::Vector2d>& matchedPoints(const TScan2D& scan, int minInliers,
+												  std::vector<Eigen::Vector2d>& strided)
+{
+	const size_t n = scan.points.size();
+	const size_t k = std::min(scan.matchStride, n / (2 * static_cast<size_t>(minInliers)));
+	if (k <= 1) return scan.points;
+	strided.clear();
+	strided.reserve(n / k + 1);
+	for (size_t i = 0; i < n; i += k) strided.push_back(scan.points[i]);
+	return strided;
+}
+}  // namespace
+
 CScanMatcher::CScanMatcher(const TScanMatcherParams& p) : m_params(p)
 {
 	m_params.validate();
@@ -207,7 +225,9 @@ CScanMatcher::CScanMatcher(const TScanMatcherParams& p) : m_params(p)
 std::optional<TScanMatch> CScanMatcher::match(const CReferenceCloud& ref, const TScan2D& scan,
 											  const mrpt::math::TPose2D& guess) const
 {
-	return matchPoints(ref, scan.points, guess, m_params.max_correspondence_dist_m, &scan);
+	std::vector<Eigen::Vector2d> strided;
+	return matchPoints(ref, matchedPoints(scan, m_params.min_inliers, strided), guess,
+					   m_params.max_correspondence_dist_m, &scan);
 }
 
 std::optional<TScanMatch> CScanMatcher::matchDeferred(
@@ -215,8 +235,9 @@ std::optional<TScanMatch> CScanMatcher::matchDeferred(
 	const mrpt::math::TPose2D& guess) const
 {
 	ASSERT_(ref);
-	return matchPoints(*ref, scan.points, guess, m_params.max_correspondence_dist_m, &scan,
-					   ref);
+	std::vector<Eigen::Vector2d> strided;
+	return matchPoints(*ref, matchedPoints(scan, m_params.min_inliers, strided), guess,
+					   m_params.max_correspondence_dist_m, &scan, ref);
 }
 
 namespace
@@ -238,7 +259,9 @@ TScanMatch CScanMatcher::refitLoose(const CReferenceCloud& ref, const TScan2D& s
 	const double inlierGate = rmsGate(scan.rangeNoiseStd);
 	// Loose: the gate never shrank below its start (it shrinks to 4 c = 4 kCauchy s).
 	if (4 * kCauchy * m.residualStd < gate0 || inlierGate >= gate0) return m;
-	const auto refit = matchPoints(ref, scan.points, m.scanInRef, inlierGate, &scan, deferOn);
+	std::vector<Eigen::Vector2d> strided;
+	const auto refit = matchPoints(ref, matchedPoints(scan, m_params.min_inliers, strided),
+								   m.scanInRef, inlierGate, &scan, deferOn);
 	if (refit && explainedFraction(ref, scan, refit->scanInRef) >=
 					 explainedFraction(ref, scan, m.scanInRef) + kRefitLead)
 		return *refit;

@@ -83,7 +83,9 @@ public:
 	}
 
 	/** Local match from guessScanInRef (ref <- scan). nullopt: too few inliers, no convergence,
-	 * RMS too large, or geometry degenerate in more than one direction. Never the guess. */
+	 * RMS too large, or geometry degenerate in more than one direction. Never the guess.
+	 * A denoised scan is matched on every TScan2D::matchStride-th point (its inlier fraction
+	 * a share of those), its free-space check on all. */
 	std::optional<TScanMatch> match(const CReferenceCloud& ref, const TScan2D& scan,
 									const mrpt::math::TPose2D& guessScanInRef) const;
 	/** match(), its covariance deferred (TScanMatch::deferredCov): computed from the same
@@ -135,7 +137,8 @@ public:
 
 private:
 	/** Matches the points `pts` (scan frame) from `guess` with the gate starting at
-	 * `initialGate` [m]. `checked`: the scan `pts` are all the points of, whose match is to
+	 * `initialGate` [m]. `checked`: the scan `pts` are the points of (all, or every
+	 * TScan2D::matchStride-th), whose match is to
 	 * pass match()'s checks (its range noise for the RMS gate, its range image for the
 	 * free-space check) and get its covariance; null: unchecked, the converged pose and its
 	 * inliers only (matchWide's starts on a subsample). `deferOn` (ref, shared): the

@@ -356,3 +356,35 @@ TEST(ScanMatcher, refitLooseMovesACompromiseOntoTheSharedWalls)
 	EXPECT_EQ(poseError(matcher.refitLoose(ref, scan, right).scanInRef, right.scanInRef).norm(),
 			  0.0);
 }
+
+// A denoised scan (TScan2D::matchStride 4) is matched on every fourth point: the same pose,
+// iterations and inlier share, bit for bit, as the scan cut to those points, and not those of
+// the whole scan. (Stop 50, doc/architecture.md: on main every point was matched.)
+TEST(ScanMatcher, aDenoisedScanIsMatchedOnEveryMatchStrideThPoint)
+{
+	std::mt19937 rng(31);
+	const TScanMatcherParams params;
+	const CScanMatcher matcher(params);
+	const auto world = makeRoomWorld(31);
+	const auto [a, b] = roomPosePair(world, rng, 0.3, 10 * kDeg);
+	const auto ref =
+		CReferenceCloud::fromScan(simulateScan(world, a, TLaserSimParams{}, rng), params);
+	TScan2D scan = simulateScan(world, b, TLaserSimParams{}, rng);
+	ASSERT_GE(scan.points.size(), 8u * params.min_inliers);  // so the stride is not shrunk
+	const TPose2D guess = perturb(between(a, b), 0.05, 2 * kDeg, rng);
+	TScan2D cut = scan;  // the same range image: the free-space check's other half
+	cut.points.clear();
+	for (size_t i = 0; i < scan.points.size(); i += 4) cut.points.push_back(scan.points[i]);
+	const auto whole = matcher.match(ref, scan, guess);
+	scan.matchStride = 4;
+	const auto strided = matcher.match(ref, scan, guess);
+	const auto ofCut = matcher.match(ref, cut, guess);
+	ASSERT_TRUE(whole && strided && ofCut);
+	EXPECT_EQ(strided->scanInRef.x, ofCut->scanInRef.x);
+	EXPECT_EQ(strided->scanInRef.y, ofCut->scanInRef.y);
+	EXPECT_EQ(strided->scanInRef.phi, ofCut->scanInRef.phi);
+	EXPECT_EQ(strided->iterations, ofCut->iterations);
+	EXPECT_EQ(strided->inlierFraction, ofCut->inlierFraction);
+	EXPECT_NE(strided->scanInRef.x, whole->scanInRef.x);
+	EXPECT_LT(translationNorm(between(strided->scanInRef, between(a, b))), 0.01);
+}

@@ -1,6 +1,6 @@
 /* scanFromObservation's de-skewing (Scan.h): a scan taken while the robot turns, converted
  * with the motion over its sweep, lands on the walls as seen from the middle beam's pose; and
- * without it, the scan is visibly bent. */
+ * without it, the scan is visibly bent. A denoised scan's match stride. */
 #include <gtest/gtest.h>
 #include <lrgc/scan_matching/Scan.h>
 
@@ -107,4 +107,20 @@ TEST(ScanBeams, beamDirectionsAreTheScansOwnBearings)
 			EXPECT_EQ(beams.sin[i], std::sin(a));
 		}
 	}
+}
+
+// A noisy laser's scan (0.3 m, denoised over 2h+1 = 37 rays here) is matched on every
+// kMaxDenoisedMatchStride-th point, a quiet one's on all (TScan2D::matchStride).
+TEST(ScanMatchStride, aDenoisedScanIsMatchedOnEveryFourthPoint)
+{
+	EXPECT_EQ(denoisedMatchStride(1), 1u);
+	EXPECT_EQ(denoisedMatchStride(3), 1u);
+	EXPECT_EQ(denoisedMatchStride(5), 2u);
+	EXPECT_EQ(denoisedMatchStride(7), 3u);
+	EXPECT_EQ(denoisedMatchStride(41), kMaxDenoisedMatchStride);
+	const auto obs = turningScan(0, 0);
+	EXPECT_EQ(scanFromObservation(obs, nullptr, {0, 0, 0}, 0.3).matchStride,
+			  kMaxDenoisedMatchStride);
+	EXPECT_EQ(scanFromObservation(obs, nullptr, {0, 0, 0}, 0.02).matchStride, 1u);
+	EXPECT_EQ(scanFromObservation(obs).matchStride, 1u);
 }
