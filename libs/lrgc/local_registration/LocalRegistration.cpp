@@ -28,7 +28,9 @@ const double kSecondOpinionTurn = mrpt::DEG2RAD(10.0);
 constexpr double kSecondOpinionShift = 0.3;
 
 /** The match turns the robot by more than kSecondOpinionTurn against `guess`, or shifts it by
- * more than kSecondOpinionShift. */
+ * more than kSecondOpinionShift. People or a repetitive scene (a hall's pillar rows) can pull
+ * a plain match into another basin, and one such scan turns every later scan with it (a
+ * 70 x 45 m hall with 25 people: 23 deg in one step, the map's tail 10 m off). */
 bool farFrom(const mrpt::math::TPose2D& guess, const TScanMatch& m)
 {
 	return std::abs(mrpt::math::wrapToPi(m.scanInRef.phi - guess.phi)) > kSecondOpinionTurn ||
@@ -89,6 +91,13 @@ bool matchOverrules(const TScanMatch& m, bool wide, const mrpt::math::TPose2D& g
 	return disagrees(m) && (wide || !onlyReversesTheWheels(guess, prediction, m, disagrees));
 }
 
+/** A step the wheels did not make: under 1 mm and 1 mrad (encoder ticks round to zero). */
+bool isZeroStep(const mrpt::math::TPose2D& motion)
+{
+	return translationNorm(motion) < 1e-3 && std::abs(motion.phi) < 1e-3;
+}
+}  // namespace
+
 /** `won` (a wide search's winner), unless it disagrees with the prior only by putting the robot
  * behind the last scan against the wheels' clear forward step (onlyReversesTheWheels). The wide
  * search looks for a heading the plain match could not reach (a glitch, a failed match's
@@ -109,13 +118,6 @@ std::optional<TScanMatch> forwardWinner(std::optional<TScanMatch> won,
 		return std::nullopt;
 	return won;
 }
-
-/** A step the wheels did not make: under 1 mm and 1 mrad (encoder ticks round to zero). */
-bool isZeroStep(const mrpt::math::TPose2D& motion)
-{
-	return translationNorm(motion) < 1e-3 && std::abs(motion.phi) < 1e-3;
-}
-}  // namespace
 
 CLocalRegistration::CLocalRegistration(const TLocalRegistrationParams& p,
 									   const TScanMatcherParams& matcher,
@@ -277,10 +279,10 @@ TRegistration CLocalRegistration::registerScan(const CPoseGraph& graph,
 	std::optional<TScanMatch> match = plainMatch(cloud, scan, guess, m_cloud);
 	// A pause in the scans, a large predicted turn or an odometry jump (the prior is then the
 	// constant-velocity one), and the plain match failed or contradicts the prior: the
-	// odometry may lag or jump, so the wide search decides and
-	// may overrule the prior, but only with evidence an aliased scene cannot fake (matchWide:
-	// a clear majority of the scan matched, a clear lead over every other heading and over
-	// the prior's own optimum). A doubtful case keeps the prior, not a contradicting match.
+	// odometry may lag or jump, so the wide search decides and may overrule the prior, but
+	// only with evidence an aliased scene cannot fake (matchWide: a clear majority of the scan
+	// matched, a clear lead over every other heading and over the prior's own optimum). A
+	// doubtful case keeps the prior, not a contradicting match.
 	const bool suspect = std::abs(prediction.motion.phi) > m_params.glitch_min_turn ||
 						 prediction.stepSeconds > m_params.glitch_min_gap_s ||
 						 prediction.odometryJump;
@@ -295,23 +297,19 @@ TRegistration CLocalRegistration::registerScan(const CPoseGraph& graph,
 		if (auto alt = alternativeMatch(cloud, scan, newestInMap, priorInMap, prediction))
 			return placedByAlternative(reg, *alt, newestInMap, prediction);
 	const bool standstill = isZeroStep(prediction.motion);
-	// Nothing made the odometry suspect, yet the match turns the robot by more than
-	// kSecondOpinionTurn against it, or shifts it by more than kSecondOpinionShift: people or a
-	// repetitive scene (a hall's pillar rows) can pull a plain match into another basin, and
-	// one such scan turns every later scan with it (a 70 x 45 m hall with 25 people: 23 deg in
-	// one step, the map's tail 10 m off). The wide search gives the second opinion, with the
-	// same standard of evidence.
+	// Nothing made the odometry suspect, yet the match is far from it (farFrom: another basin,
+	// people or a hall's pillar rows): the wide search's second opinion, with the same
+	// evidence.
 	const bool implausible = disagreed && farFrom(guess, *match);
-	// A wide search's winner is not taken where all it disputes is the wheels' clear forward
-	// step, reversed (onlyReversesTheWheels): the search is for a heading the plain match
-	// missed, and it found an alias behind the last scan (forwardWinner).
-	auto forward = [&](std::optional<TScanMatch> won)
-	{ return forwardWinner(std::move(won), guess, prediction, disagrees); };
+	// A wide winner, unless it only reverses the wheels' step (forwardWinner), with evidence.
+	auto second = [&](std::optional<TScanMatch> won)
+	{
+		return withEvidence(graph, keyframes, scan,
+							forwardWinner(std::move(won), guess, prediction, disagrees));
+	};
 	if ((implausible || (suspect && (!match || disagreed))) && m_params.wide_search_angle > 0)
 	{
-		match =
-			withEvidence(graph, keyframes, scan,
-						 forward(wideMatch(cloud, scan, guess, m_params.wide_search_angle, 0)));
+		match = second(wideMatch(cloud, scan, guess, m_params.wide_search_angle, 0));
 		reg.wideSearch = match.has_value();
 	}
 	// The plain match failed on a step nothing made suspect (and the wheels moved: else the
@@ -319,8 +317,7 @@ TRegistration CLocalRegistration::registerScan(const CPoseGraph& graph,
 	// far-turning step's wider), with the same evidence.
 	else if (!match && !standstill && m_params.wide_search_angle > 0)
 	{
-		match = withEvidence(graph, keyframes, scan,
-							 forward(retriedMatch(cloud, scan, guess, prediction)));
+		match = second(retriedMatch(cloud, scan, guess, prediction));
 		reg.wideSearch = match.has_value();
 	}
 	// Wheels that did not turn at all are the one odometry reading to trust over a match
@@ -334,8 +331,7 @@ TRegistration CLocalRegistration::registerScan(const CPoseGraph& graph,
 	// search may overrule it, with the same evidence as above.
 	else if (suspect && match && m_params.wide_search_angle > 0)
 	{
-		if (auto wide = withEvidence(graph, keyframes, scan,
-									 forward(overrulingWideMatch(cloud, scan, guess, *match))))
+		if (auto wide = second(overrulingWideMatch(cloud, scan, guess, *match)))
 			match = std::move(wide), reg.wideSearch = true;
 	}
 	m_lastAccepted.reset();
