@@ -3,7 +3,7 @@
 # gtest_discover_tests for one test binary, every test labelled `label`, except those whose
 # CTest name matches a RELABEL regex: they get that RELABEL's label instead (the first match
 # wins). The labels (README.md, "Tests and benchmarks"):
-#   unit      fast tests of one class or function: `ctest -L unit` runs in under two minutes
+#   unit      fast tests of one class or function, run in shards (lrgc_batched_tests, below)
 #   e2e       the whole app or the whole builder on fixtures, Debian's SENA log, synthetic worlds
 #   realdata  reads the shared benchmark logs (../shared/datasets); skips where they are absent
 #   live      live mapping through MRPT's real laser drivers against an emulator (20-45 s each)
@@ -45,8 +45,15 @@ function(lrgc_discover_tests target)
   set(keyword "if")
   while(relabels)
     list(POP_FRONT relabels other regex)
+    # A fresh checkout has no CTest cost data, so ctest -j starts tests in the order of their
+    # COST: the realdata tests (10-60 s each) first, so that none is left running alone at
+    # the end.
+    set(cost "")
+    if(other STREQUAL "realdata")
+      set(cost " COST 100")
+    endif()
     string(APPEND script "  ${keyword}(t MATCHES [==[${regex}]==])\n"
-      "    set_tests_properties(\"\${t}\" PROPERTIES LABELS ${other})\n")
+      "    set_tests_properties(\"\${t}\" PROPERTIES LABELS ${other}${cost})\n")
     set(keyword "elseif")
   endwhile()
   if(keyword STREQUAL "elseif")
@@ -59,4 +66,64 @@ function(lrgc_discover_tests target)
   set(file "${CMAKE_CURRENT_BINARY_DIR}/${target}_labels.cmake")
   file(WRITE "${file}" "${script}")
   set_property(DIRECTORY APPEND PROPERTY TEST_INCLUDE_FILES "${file}")
+endfunction()
+
+# The test executables compiled as unity builds: CI builds on a fresh machine with no compiler
+# cache, and each test file spends most of its compile parsing the same MRPT, Eigen and
+# GoogleTest headers, so 8 test files per translation unit parse them once. Files whose
+# file-local names clash with another's are compiled alone (SKIP_UNITY_BUILD_INCLUSION, listed
+# per target). The libraries are unity builds too (LRGC_UNITY_LIBS, CMakeLists.txt).
+option(LRGC_UNITY_TESTS "Compile the test executables 8 files per translation unit" ON)
+function(lrgc_unity_tests target)
+  if(NOT LRGC_UNITY_TESTS)
+    return()
+  endif()
+  set_target_properties(${target} PROPERTIES UNITY_BUILD ON UNITY_BUILD_BATCH_SIZE 8)
+  # GCC warns of a fixture in an anonymous namespace "in another file": in a unity build every
+  # test file is an included one.
+  if(CMAKE_CXX_COMPILER_ID STREQUAL "GNU")
+    target_compile_options(${target} PRIVATE -Wno-subobject-linkage)
+  endif()
+  foreach(f ${ARGN})
+    set_source_files_properties(${f} PROPERTIES SKIP_UNITY_BUILD_INCLUSION ON)
+  endforeach()
+endfunction()
+
+# lrgc_batched_tests(TARGET LABEL label SHARDS n [SEPARATE label gtest-filter]... [PROPERTIES ...])
+#
+# A unit-test binary as a few CTest tests instead of one per test: every CTest test is a process,
+# and starting one that links MRPT (about 300 shared libraries) costs ~0.3 CPU s, more than
+# most unit tests (the three unit binaries: 39 CPU s run whole, 143 CPU s as 357 processes).
+# The binary's tests run as `n` GoogleTest shards (GTEST_TOTAL_SHARDS / GTEST_SHARD_INDEX),
+# CTest tests TARGET/shard_K_of_N labelled `label`; each SEPARATE filter (GoogleTest's
+# --gtest_filter syntax) is one more CTest test, TARGET/LABEL, labelled with its own label and
+# left out of the shards; it counts as skipped when its tests skip (e.g. no ../shared data).
+# A shard's output names each test and its result; one test alone: `bin/TARGET --gtest_filter=X.y`.
+function(lrgc_batched_tests target)
+  cmake_parse_arguments(PARSE_ARGV 1 arg "" "LABEL;SHARDS" "SEPARATE;PROPERTIES")
+  list(LENGTH arg_SEPARATE n)
+  math(EXPR odd "${n} % 2")
+  if(NOT arg_LABEL OR NOT arg_SHARDS OR odd)
+    message(FATAL_ERROR "lrgc_batched_tests(${target}): needs LABEL, SHARDS and label/filter pairs")
+  endif()
+  set(separated "")
+  while(arg_SEPARATE)
+    list(POP_FRONT arg_SEPARATE label filter)
+    add_test(NAME ${target}/${label} COMMAND ${target} --gtest_filter=${filter})
+    set_tests_properties(${target}/${label} PROPERTIES LABELS ${label}
+      SKIP_REGULAR_EXPRESSION "\\[  SKIPPED \\]" ${arg_PROPERTIES})
+    string(APPEND separated ":${filter}")
+  endwhile()
+  set(rest "")
+  if(separated)
+    string(SUBSTRING "${separated}" 1 -1 separated)
+    set(rest --gtest_filter=-${separated})
+  endif()
+  math(EXPR last "${arg_SHARDS} - 1")
+  foreach(k RANGE ${last})
+    set(name ${target}/shard_${k}_of_${arg_SHARDS})
+    add_test(NAME ${name} COMMAND ${target} ${rest})
+    set_tests_properties(${name} PROPERTIES LABELS ${arg_LABEL}
+      ENVIRONMENT "GTEST_TOTAL_SHARDS=${arg_SHARDS};GTEST_SHARD_INDEX=${k}" ${arg_PROPERTIES})
+  endforeach()
 endfunction()

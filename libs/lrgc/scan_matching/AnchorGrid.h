@@ -149,6 +149,11 @@ private:
 		return (static_cast<uint64_t>(static_cast<uint32_t>(ix)) << 32) |
 			   static_cast<uint32_t>(iy);
 	}
+	/** The slot a key's probe starts at (Fibonacci hashing; linear probing from there). */
+	uint64_t homeSlot(uint64_t key) const
+	{
+		return (key * 0x9E3779B97F4A7C15ULL) >> 40 & m_mask;
+	}
 	const TCell* findCell(int64_t ix, int64_t iy) const;
 	/** nearest() and nearestWithBound(): with kBound, *boundOut gets the bound (the searches
 	 * then also keep the second-nearest distance they read). */

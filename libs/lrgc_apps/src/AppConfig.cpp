@@ -27,12 +27,6 @@ std::string trimmed(const std::string& s)
 	return s.substr(a, s.find_last_not_of(" \t\r") - a + 1);
 }
 
-bool sameName(const std::string& a, const std::string& b)
-{
-	return a.size() == b.size() && std::equal(a.begin(), a.end(), b.begin(),
-											  [](unsigned char x, unsigned char y)
-											  { return std::tolower(x) == std::tolower(y); });
-}
 // A UTF-8 byte order mark (some editors write one) is no part of the first line; MRPT's
 // parser skips it too.
 std::string withoutByteOrderMark(const std::string& line)
@@ -78,6 +72,13 @@ std::optional<std::pair<size_t, std::string>> parserLineOf(const std::string& me
 }
 }  // namespace
 
+bool sameIniName(const std::string& a, const std::string& b)
+{
+	return a.size() == b.size() && std::equal(a.begin(), a.end(), b.begin(),
+											  [](unsigned char x, unsigned char y)
+											  { return std::tolower(x) == std::tolower(y); });
+}
+
 std::optional<size_t> iniLineOf(const std::string& path, const std::string& section,
 								const std::string& key)
 {
@@ -95,12 +96,12 @@ std::optional<size_t> iniLineOf(const std::string& path, const std::string& sect
 		{
 			const size_t close = line.find(']');
 			current = trimmed(line.substr(1, close == std::string::npos ? close : close - 1));
-			if (key.empty() && sameName(current, section)) return n;
+			if (key.empty() && sameIniName(current, section)) return n;
 			continue;
 		}
 		const size_t eq = line.find('=');
-		if (!key.empty() && eq != std::string::npos && sameName(current, section) &&
-			sameName(trimmed(line.substr(0, eq)), key))
+		if (!key.empty() && eq != std::string::npos && sameIniName(current, section) &&
+			sameIniName(trimmed(line.substr(0, eq)), key))
 			last = n;
 	}
 	return last;

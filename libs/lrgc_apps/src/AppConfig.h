@@ -41,6 +41,10 @@ TAppConfig loadAppConfig(const TSlamCommandLine& cl);
  * section, key or value. */
 TAppConfig loadAppConfig(const std::string& path);
 
+/** Whether two .ini section or key names are the same name: as MRPT's CConfigFile compares
+ * them, without letter case (checked on MRPT 2.5.8). */
+bool sameIniName(const std::string& a, const std::string& b);
+
 /** The 1-based line of `path` that sets `key` in `section` (the last one: MRPT's CConfigFile
  * reads the last of repeated keys), or, for an empty `key`, the first that opens `section`;
  * names compare as CConfigFile's do, without letter case (both checked on MRPT 2.5.8).

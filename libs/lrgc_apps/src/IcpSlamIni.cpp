@@ -20,13 +20,6 @@ namespace
 {
 const char* const kSection = "MappingApplication";
 
-bool sameName(const std::string& a, const std::string& b)
-{
-	return a.size() == b.size() && std::equal(a.begin(), a.end(), b.begin(),
-											  [](unsigned char x, unsigned char y)
-											  { return std::tolower(x) == std::tolower(y); });
-}
-
 std::string where(const std::string& path, const std::string& key)
 {
 	const auto line = iniLineOf(path, kSection, key);
@@ -65,7 +58,7 @@ bool isIcpSlamIni(const std::string& path)
 		const size_t a = line.find_first_not_of(" \t");
 		if (a == std::string::npos || line[a] != '[') continue;
 		const size_t b = line.find(']', a);
-		if (b != std::string::npos && sameName(line.substr(a + 1, b - a - 1), kSection))
+		if (b != std::string::npos && sameIniName(line.substr(a + 1, b - a - 1), kSection))
 			return true;
 	}
 	return false;
@@ -97,7 +90,7 @@ TIcpSlamRun readIcpSlamIni(const std::string& path, const std::string& rawlogOve
 	ini->getAllSections(sections);
 	for (const auto& section : sections)
 	{
-		if (!sameName(section, kSection))
+		if (!sameIniName(section, kSection))
 		{
 			run.ignored.push_back("[" + section + "]");
 			continue;
@@ -105,8 +98,8 @@ TIcpSlamRun readIcpSlamIni(const std::string& path, const std::string& rawlogOve
 		std::vector<std::string> keys;
 		ini->getAllKeys(section, keys);
 		for (const auto& key : keys)
-			if (!sameName(key, "rawlog_file") && !sameName(key, "rawlog_offset") &&
-				!sameName(key, "logOutput_dir"))
+			if (!sameIniName(key, "rawlog_file") && !sameIniName(key, "rawlog_offset") &&
+				!sameIniName(key, "logOutput_dir"))
 				run.ignored.push_back(key);
 	}
 	return run;
