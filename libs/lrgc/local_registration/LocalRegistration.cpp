@@ -41,14 +41,25 @@ bool farFrom(const mrpt::math::TPose2D& guess, const TScanMatch& m)
  * sigma along it; a pose behind the last scan's by more than this many of the match's. */
 constexpr double kClearStep = 2.0;
 
+/** [-] onlyReversesTheWheels: the registered step (last scan <- scan, in the last scan's frame)
+ * must also be behind the last scan by more than this part of the wheels' step length, along
+ * the step's direction u (a match a few cm behind in a turn disputes the step's offset across
+ * u, not its direction). Glass atrium seed 2, scan 2331 (glass_stress): 0.848 m behind on a
+ * 0.419 m straight step (2.0 of it): refused. Sparse Killian (bench/make-sparse-log, seed 1),
+ * a 47.5 deg turn: the retry's winner 0.03 m behind on a 0.533 m step (0.05 of it), 0.40 m
+ * across it, passed the kClearStep test only by its match sigma along u (under 1.5 cm): kept
+ * (helper kink22). */
+constexpr double kReversedPart = 0.5;
+
 /** The match disagrees with the prior only by putting the robot behind its previous pose,
  * against a step the wheels clearly rolled forward: the odometry's step is longer than
  * kClearStep of its sigma along its direction u; the registered step (last scan <- scan, the
  * last scan at guess (+) motion^-1, both in the last scan's frame) has a component along u
- * below -kClearStep of the match's own sigma along u; and the match slid along u to the
- * odometry's step agrees with the prior (`disagrees` false: its heading and its offset across
- * u are not in question). Wheels that slip read more than the robot travelled, a late reading
- * less, then more; neither turns forward travel into backward, an alias along a corridor does.
+ * below -kClearStep of the match's own sigma along u and below -kReversedPart of the wheels'
+ * step length; and the match slid along u to the odometry's step agrees with the prior
+ * (`disagrees` false: its heading and its offset across u are not in question). Wheels that
+ * slip read more than the robot travelled, a late reading less, then more; neither turns
+ * forward travel into backward, an alias along a corridor does.
  * On dense Killian's long corridor (scans 7924-7951, 0.086 m per scan, no turn) 8 of 27 plain
  * matches, confident (C_xx 5e-5 .. 1e-3 m^2) and 0.09-0.30 m short of the prior (repeating
  * doors), put the robot 0.003-0.21 m behind the last scan; with this rule 4 scans there keep
@@ -56,12 +67,6 @@ constexpr double kClearStep = 2.0;
  * On Intel, ACES and MIT-CSAIL no match that rejects the odometry does: 3 are behind by 1-6 mm
  * on steps of 1-2 cm (under kClearStep) in turns, and dispute the heading too; ACES's late
  * readings register 2-5 times the odometry's step, forward. */
-/** [-] ... and behind it by more than this part of the wheels' step length. Atrium seed 2
- * scan 2331: 0.85 m behind on a 0.42 m step (refused). Sparse Killian (bench/make-sparse-log,
- * seed 1, 47.5 deg turn): a retry's winner 0.03 m behind on a 0.54 m step, 0.40 m across it,
- * is no reversal (kept: kink22). */
-constexpr double kReversedPart = 0.5;
-
 bool onlyReversesTheWheels(const mrpt::math::TPose2D& guess,
 						   const TMotionPrediction& prediction, const TScanMatch& m,
 						   const std::function<bool(const TScanMatch&)>& disagrees)
