@@ -472,3 +472,51 @@ TEST(LocalRegistration, aWideWinnerThatOnlyReversesTheWheelsForwardStepIsRefused
 	velocity.fromOdometry = false;
 	EXPECT_TRUE(forwardWinner(behind, guess, velocity, disagrees));
 }
+
+TEST(LocalRegistration, aWideWinnerBesideTheWheelsTurningStepIsKept)
+{
+	// Sparse Killian (bench/make-sparse-log, seed 1; issue 28, helper kink22): in a 47.5 deg
+	// turn the wheels stepped (0.493, 0.203) m, 0.533 m; the retry's winner turned 45 deg to
+	// (0.126, -0.382) m from the last scan: 0.03 m behind it along the wheels' step, 0.40 m
+	// across, and sure of itself along the step (under 1.5 cm std: 1 cm here). It disputes
+	// where across the turn the robot went, not that it went forward: kept (kReversedPart),
+	// where the atrium's 0.848 m behind on a 0.419 m straight step (the test above) is refused.
+	lrgc::TMotionPrediction step;
+	const double deg = M_PI / 180;
+	step.motion = TPose2D(0.493, 0.203, 47.5 * deg);
+	step.cov = CMotionPredictor().odometryCov(step.motion);  // 0.105 m, 6.8 deg std
+	step.fromOdometry = true;
+	step.stepSeconds = 1.0;
+	const TPose2D last(5.0, 2.0, 0.3);  // the last scan, in the newest keyframe's frame
+	const TPose2D guess = compose(last, step.motion);
+	const auto disagrees = [&](const TScanMatch& m)
+	{ return disagreementChi2(guess, m.scanInRef, step.cov + m.cov) > 16.27; };
+	const auto winner = [&](const TPose2D& inLast)
+	{
+		TScanMatch m;
+		m.scanInRef = compose(last, inLast);
+		m.cov = Eigen::Vector3d(0.01 * 0.01, 0.01 * 0.01, std::pow(0.2 * M_PI / 180, 2))
+					.asDiagonal();
+		return m;
+	};
+	const TScanMatch beside = winner(TPose2D(0.126, -0.382, 45 * deg));
+	ASSERT_TRUE(disagrees(beside));
+	// What made it look like a reversal before kReversedPart: behind by more than twice its
+	// sigma along the step, and slid along the step onto the wheels' length it agrees with the
+	// prior (its offset across, 0.40 m at 0.105 m std, and its heading pass the gate).
+	const Eigen::Vector2d u = Eigen::Vector2d(0.493, 0.203).normalized();
+	const double along = u.dot(Eigen::Vector2d(0.126, -0.382));
+	ASSERT_LT(along, -2 * 0.01);
+	ASSERT_GT(along, -0.05);
+	const double slide = std::hypot(0.493, 0.203) - along;
+	ASSERT_FALSE(
+		disagrees(winner(TPose2D(0.126 + slide * u.x(), -0.382 + slide * u.y(), 45 * deg))));
+	const auto kept = forwardWinner(beside, guess, step, disagrees);
+	ASSERT_TRUE(kept) << "a winner beside the turn's step was refused as a reversal";
+	EXPECT_EQ(kept->scanInRef, beside.scanInRef);
+	// The same winner well behind (0.30 m along -u, more than half the step): refused.
+	const TScanMatch behind =
+		winner(TPose2D(0.126 - 0.27 * u.x(), -0.382 - 0.27 * u.y(), 45 * deg));
+	ASSERT_TRUE(disagrees(behind));
+	EXPECT_FALSE(forwardWinner(behind, guess, step, disagrees));
+}
