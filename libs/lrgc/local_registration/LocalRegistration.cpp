@@ -41,25 +41,28 @@ bool farFrom(const mrpt::math::TPose2D& guess, const TScanMatch& m)
  * sigma along it; a pose behind the last scan's by more than this many of the match's. */
 constexpr double kClearStep = 2.0;
 
-/** [-] onlyReversesTheWheels: the registered step (last scan <- scan, in the last scan's frame)
- * must also be behind the last scan by more than this part of the wheels' step length, along
- * the step's direction u (a match a few cm behind in a turn disputes the step's offset across
- * u, not its direction). Glass atrium seed 2, scan 2331 (glass_stress): 0.848 m behind on a
- * 0.419 m straight step (2.0 of it): refused. Sparse Killian (bench/make-sparse-log, seed 1),
- * a 47.5 deg turn: the retry's winner 0.03 m behind on a 0.533 m step (0.05 of it), 0.40 m
+/** [-] forwardWinner's onlyReversesTheWheels: a wide search's winner, to be refused, must
+ * also put the scan behind the last scan (the registered step last scan <- scan, in the last
+ * scan's frame) by more than this part of the wheels' step length, along the step's direction
+ * u (a match a few cm behind in a turn disputes the step's offset across u, not its
+ * direction). Glass atrium seed 2, scan 2331 (glass_stress): 0.848 m behind on a 0.419 m
+ * straight step (2.0 of it): refused. Sparse Killian (bench/make-sparse-log, seed 1), a
+ * 47.5 deg turn: the retry's winner 0.03 m behind on a 0.533 m step (0.05 of it), 0.40 m
  * across it, passed the kClearStep test only by its match sigma along u (under 1.5 cm): kept
- * (helper kink22). */
+ * (helper kink22). Only for the winner: matchOverrules (a plain match, which still places the
+ * scan) keeps main's test (0); with 0.5 there dense Killian's trajectory changed (kink23). */
 constexpr double kReversedPart = 0.5;
 
 /** The match disagrees with the prior only by putting the robot behind its previous pose,
  * against a step the wheels clearly rolled forward: the odometry's step is longer than
  * kClearStep of its sigma along its direction u; the registered step (last scan <- scan, the
  * last scan at guess (+) motion^-1, both in the last scan's frame) has a component along u
- * below -kClearStep of the match's own sigma along u and below -kReversedPart of the wheels'
- * step length; and the match slid along u to the odometry's step agrees with the prior
- * (`disagrees` false: its heading and its offset across u are not in question). Wheels that
- * slip read more than the robot travelled, a late reading less, then more; neither turns
- * forward travel into backward, an alias along a corridor does.
+ * below -kClearStep of the match's own sigma along u and below -reversedPart of the wheels'
+ * step length (forwardWinner: kReversedPart; matchOverrules: 0); and the match slid along u
+ * to the odometry's step agrees with the prior (`disagrees` false: its heading and its offset
+ * across u are not in question). Wheels that slip read more than the robot travelled, a late
+ * reading less, then more; neither turns forward travel into backward, an alias along a
+ * corridor does.
  * On dense Killian's long corridor (scans 7924-7951, 0.086 m per scan, no turn) 8 of 27 plain
  * matches, confident (C_xx 5e-5 .. 1e-3 m^2) and 0.09-0.30 m short of the prior (repeating
  * doors), put the robot 0.003-0.21 m behind the last scan; with this rule 4 scans there keep
@@ -69,7 +72,8 @@ constexpr double kReversedPart = 0.5;
  * readings register 2-5 times the odometry's step, forward. */
 bool onlyReversesTheWheels(const mrpt::math::TPose2D& guess,
 						   const TMotionPrediction& prediction, const TScanMatch& m,
-						   const std::function<bool(const TScanMatch&)>& disagrees)
+						   const std::function<bool(const TScanMatch&)>& disagrees,
+						   double reversedPart)
 {
 	if (!prediction.fromOdometry) return false;
 	const Eigen::Vector2d t(prediction.motion.x, prediction.motion.y);
@@ -84,9 +88,9 @@ bool onlyReversesTheWheels(const mrpt::math::TPose2D& guess,
 	// Clearly behind: by more than kClearStep of the match's own sigma along u.
 	const Eigen::Matrix2d C = m.covariance().get().topLeftCorner<2, 2>();
 	if (along >= -kClearStep * std::sqrt(u.dot(C * u))) return false;
-	// ... and by a fair part of the wheels' step (kReversedPart): a winner a few cm behind in a
-	// turn disputes the step's offset across u, not its direction.
-	if (along >= -kReversedPart * length) return false;
+	// ... and by `reversedPart` of the wheels' step (kReversedPart for a wide winner: one a few
+	// cm behind in a turn disputes the step's offset across u, not its direction).
+	if (along >= -reversedPart * length) return false;
 	TScanMatch slid = m;
 	const double slide = length - along;
 	slid.scanInRef = compose(
@@ -102,7 +106,8 @@ bool matchOverrules(const TScanMatch& m, bool wide, const mrpt::math::TPose2D& g
 					const TMotionPrediction& prediction,
 					const std::function<bool(const TScanMatch&)>& disagrees)
 {
-	return disagrees(m) && (wide || !onlyReversesTheWheels(guess, prediction, m, disagrees));
+	return disagrees(m) &&
+		   (wide || !onlyReversesTheWheels(guess, prediction, m, disagrees, 0.0));
 }
 
 /** A step the wheels did not make: under 1 mm and 1 mrad (encoder ticks round to zero). */
@@ -128,7 +133,8 @@ std::optional<TScanMatch> forwardWinner(std::optional<TScanMatch> won,
 										const TMotionPrediction& prediction,
 										const std::function<bool(const TScanMatch&)>& disagrees)
 {
-	if (won && disagrees(*won) && onlyReversesTheWheels(guess, prediction, *won, disagrees))
+	if (won && disagrees(*won) &&
+		onlyReversesTheWheels(guess, prediction, *won, disagrees, kReversedPart))
 		return std::nullopt;
 	return won;
 }
