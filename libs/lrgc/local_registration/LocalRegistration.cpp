@@ -28,7 +28,9 @@ const double kSecondOpinionTurn = mrpt::DEG2RAD(10.0);
 constexpr double kSecondOpinionShift = 0.3;
 
 /** The match turns the robot by more than kSecondOpinionTurn against `guess`, or shifts it by
- * more than kSecondOpinionShift. */
+ * more than kSecondOpinionShift. People or a repetitive scene (a hall's pillar rows) can pull
+ * a plain match into another basin, and one such scan turns every later scan with it (a
+ * 70 x 45 m hall with 25 people: 23 deg in one step, the map's tail 10 m off). */
 bool farFrom(const mrpt::math::TPose2D& guess, const TScanMatch& m)
 {
 	return std::abs(mrpt::math::wrapToPi(m.scanInRef.phi - guess.phi)) > kSecondOpinionTurn ||
@@ -39,14 +41,28 @@ bool farFrom(const mrpt::math::TPose2D& guess, const TScanMatch& m)
  * sigma along it; a pose behind the last scan's by more than this many of the match's. */
 constexpr double kClearStep = 2.0;
 
+/** [-] forwardWinner's onlyReversesTheWheels: a wide search's winner, to be refused, must
+ * also put the scan behind the last scan (the registered step last scan <- scan, in the last
+ * scan's frame) by more than this part of the wheels' step length, along the step's direction
+ * u (a match a few cm behind in a turn disputes the step's offset across u, not its
+ * direction). Glass atrium seed 2, scan 2331 (glass_stress): 0.848 m behind on a 0.419 m
+ * straight step (2.0 of it): refused. Sparse Killian (bench/make-sparse-log, seed 1), a
+ * 47.5 deg turn: the retry's winner 0.03 m behind on a 0.533 m step (0.05 of it), 0.40 m
+ * across it, passed the kClearStep test only by its match sigma along u (under 1.5 cm): kept
+ * (helper kink22). Only for the winner: matchOverrules (a plain match, which still places the
+ * scan) keeps main's test (0); with 0.5 there dense Killian's trajectory changed (kink23). */
+constexpr double kReversedPart = 0.5;
+
 /** The match disagrees with the prior only by putting the robot behind its previous pose,
  * against a step the wheels clearly rolled forward: the odometry's step is longer than
  * kClearStep of its sigma along its direction u; the registered step (last scan <- scan, the
  * last scan at guess (+) motion^-1, both in the last scan's frame) has a component along u
- * below -kClearStep of the match's own sigma along u; and the match slid along u to the
- * odometry's step agrees with the prior (`disagrees` false: its heading and its offset across
- * u are not in question). Wheels that slip read more than the robot travelled, a late reading
- * less, then more; neither turns forward travel into backward, an alias along a corridor does.
+ * below -kClearStep of the match's own sigma along u and below -reversedPart of the wheels'
+ * step length (forwardWinner: kReversedPart; matchOverrules: 0); and the match slid along u
+ * to the odometry's step agrees with the prior (`disagrees` false: its heading and its offset
+ * across u are not in question). Wheels that slip read more than the robot travelled, a late
+ * reading less, then more; neither turns forward travel into backward, an alias along a
+ * corridor does.
  * On dense Killian's long corridor (scans 7924-7951, 0.086 m per scan, no turn) 8 of 27 plain
  * matches, confident (C_xx 5e-5 .. 1e-3 m^2) and 0.09-0.30 m short of the prior (repeating
  * doors), put the robot 0.003-0.21 m behind the last scan; with this rule 4 scans there keep
@@ -56,7 +72,8 @@ constexpr double kClearStep = 2.0;
  * readings register 2-5 times the odometry's step, forward. */
 bool onlyReversesTheWheels(const mrpt::math::TPose2D& guess,
 						   const TMotionPrediction& prediction, const TScanMatch& m,
-						   const std::function<bool(const TScanMatch&)>& disagrees)
+						   const std::function<bool(const TScanMatch&)>& disagrees,
+						   double reversedPart)
 {
 	if (!prediction.fromOdometry) return false;
 	const Eigen::Vector2d t(prediction.motion.x, prediction.motion.y);
@@ -71,6 +88,9 @@ bool onlyReversesTheWheels(const mrpt::math::TPose2D& guess,
 	// Clearly behind: by more than kClearStep of the match's own sigma along u.
 	const Eigen::Matrix2d C = m.covariance().get().topLeftCorner<2, 2>();
 	if (along >= -kClearStep * std::sqrt(u.dot(C * u))) return false;
+	// ... and by `reversedPart` of the wheels' step (kReversedPart for a wide winner: one a few
+	// cm behind in a turn disputes the step's offset across u, not its direction).
+	if (along >= -reversedPart * length) return false;
 	TScanMatch slid = m;
 	const double slide = length - along;
 	slid.scanInRef = compose(
@@ -86,7 +106,8 @@ bool matchOverrules(const TScanMatch& m, bool wide, const mrpt::math::TPose2D& g
 					const TMotionPrediction& prediction,
 					const std::function<bool(const TScanMatch&)>& disagrees)
 {
-	return disagrees(m) && (wide || !onlyReversesTheWheels(guess, prediction, m, disagrees));
+	return disagrees(m) &&
+		   (wide || !onlyReversesTheWheels(guess, prediction, m, disagrees, 0.0));
 }
 
 /** A step the wheels did not make: under 1 mm and 1 mrad (encoder ticks round to zero). */
@@ -95,6 +116,28 @@ bool isZeroStep(const mrpt::math::TPose2D& motion)
 	return translationNorm(motion) < 1e-3 && std::abs(motion.phi) < 1e-3;
 }
 }  // namespace
+
+/** `won` (a wide search's winner), unless it disagrees with the prior only by putting the robot
+ * behind the last scan against the wheels' clear forward step (onlyReversesTheWheels). The wide
+ * search looks for a heading the plain match could not reach (a glitch, a failed match's
+ * odometry heading error); a winner at the prior's heading but behind the last scan is an alias
+ * along the hall, and the prior stands (registerScan: the plain match where it agreed, else no
+ * match). glass_stress's atrium, seed 2, scan 2331 (east hall, lap 3): the plain match failed,
+ * the retry's winner (heading 1.4 deg from the prior's, inside its 1.7 deg std) put the robot
+ * 0.85 m behind the last scan against the wheels' 0.42 m forward, its odometry link was
+ * replaced by that and its keyframe placed 1.25 m back; the patch it blurred failed the next
+ * three scans' matches, which then hung on the odometry's 2.4 deg error (the map's worst
+ * pose, 1.27 m, and its three 10 s relations over 2 deg). */
+std::optional<TScanMatch> forwardWinner(std::optional<TScanMatch> won,
+										const mrpt::math::TPose2D& guess,
+										const TMotionPrediction& prediction,
+										const std::function<bool(const TScanMatch&)>& disagrees)
+{
+	if (won && disagrees(*won) &&
+		onlyReversesTheWheels(guess, prediction, *won, disagrees, kReversedPart))
+		return std::nullopt;
+	return won;
+}
 
 CLocalRegistration::CLocalRegistration(const TLocalRegistrationParams& p,
 									   const TScanMatcherParams& matcher,
@@ -256,10 +299,10 @@ TRegistration CLocalRegistration::registerScan(const CPoseGraph& graph,
 	std::optional<TScanMatch> match = plainMatch(cloud, scan, guess, m_cloud);
 	// A pause in the scans, a large predicted turn or an odometry jump (the prior is then the
 	// constant-velocity one), and the plain match failed or contradicts the prior: the
-	// odometry may lag or jump, so the wide search decides and
-	// may overrule the prior, but only with evidence an aliased scene cannot fake (matchWide:
-	// a clear majority of the scan matched, a clear lead over every other heading and over
-	// the prior's own optimum). A doubtful case keeps the prior, not a contradicting match.
+	// odometry may lag or jump, so the wide search decides and may overrule the prior, but
+	// only with evidence an aliased scene cannot fake (matchWide: a clear majority of the scan
+	// matched, a clear lead over every other heading and over the prior's own optimum). A
+	// doubtful case keeps the prior, not a contradicting match.
 	const bool suspect = std::abs(prediction.motion.phi) > m_params.glitch_min_turn ||
 						 prediction.stepSeconds > m_params.glitch_min_gap_s ||
 						 prediction.odometryJump;
@@ -274,17 +317,19 @@ TRegistration CLocalRegistration::registerScan(const CPoseGraph& graph,
 		if (auto alt = alternativeMatch(cloud, scan, newestInMap, priorInMap, prediction))
 			return placedByAlternative(reg, *alt, newestInMap, prediction);
 	const bool standstill = isZeroStep(prediction.motion);
-	// Nothing made the odometry suspect, yet the match turns the robot by more than
-	// kSecondOpinionTurn against it, or shifts it by more than kSecondOpinionShift: people or a
-	// repetitive scene (a hall's pillar rows) can pull a plain match into another basin, and
-	// one such scan turns every later scan with it (a 70 x 45 m hall with 25 people: 23 deg in
-	// one step, the map's tail 10 m off). The wide search gives the second opinion, with the
-	// same standard of evidence.
+	// Nothing made the odometry suspect, yet the match is far from it (farFrom: another basin,
+	// people or a hall's pillar rows): the wide search's second opinion, with the same
+	// evidence.
 	const bool implausible = disagreed && farFrom(guess, *match);
+	// A wide winner, unless it only reverses the wheels' step (forwardWinner), with evidence.
+	auto second = [&](std::optional<TScanMatch> won)
+	{
+		return withEvidence(graph, keyframes, scan,
+							forwardWinner(std::move(won), guess, prediction, disagrees));
+	};
 	if ((implausible || (suspect && (!match || disagreed))) && m_params.wide_search_angle > 0)
 	{
-		match = withEvidence(graph, keyframes, scan,
-							 wideMatch(cloud, scan, guess, m_params.wide_search_angle, 0));
+		match = second(wideMatch(cloud, scan, guess, m_params.wide_search_angle, 0));
 		reg.wideSearch = match.has_value();
 	}
 	// The plain match failed on a step nothing made suspect (and the wheels moved: else the
@@ -292,8 +337,7 @@ TRegistration CLocalRegistration::registerScan(const CPoseGraph& graph,
 	// far-turning step's wider), with the same evidence.
 	else if (!match && !standstill && m_params.wide_search_angle > 0)
 	{
-		match =
-			withEvidence(graph, keyframes, scan, retriedMatch(cloud, scan, guess, prediction));
+		match = second(retriedMatch(cloud, scan, guess, prediction));
 		reg.wideSearch = match.has_value();
 	}
 	// Wheels that did not turn at all are the one odometry reading to trust over a match
@@ -307,8 +351,7 @@ TRegistration CLocalRegistration::registerScan(const CPoseGraph& graph,
 	// search may overrule it, with the same evidence as above.
 	else if (suspect && match && m_params.wide_search_angle > 0)
 	{
-		if (auto wide = withEvidence(graph, keyframes, scan,
-									 overrulingWideMatch(cloud, scan, guess, *match)))
+		if (auto wide = second(overrulingWideMatch(cloud, scan, guess, *match)))
 			match = std::move(wide), reg.wideSearch = true;
 	}
 	m_lastAccepted.reset();
