@@ -57,8 +57,8 @@ void wallWithDoor(CSyntheticWorld& w, const Eigen::Vector2d& a, const Eigen::Vec
 CSyntheticWorld makeHallLoopWorld(uint32_t seed, const TLoopShape& shape)
 {
 	CSyntheticWorld w;
-	const double L = shape.L, H = shape.H;
-	const std::vector<Eigen::Vector2d> corners{{0, 0}, {L, 0}, {L, H}, {0, H}};
+	const double L = shape.L, height = shape.H;
+	const std::vector<Eigen::Vector2d> corners{{0, 0}, {L, 0}, {L, height}, {0, height}};
 	// Halls: square, doorways where the corridors to the neighbouring corners enter.
 	for (size_t i = 0; i < 4; ++i)
 	{
@@ -121,8 +121,8 @@ CSyntheticWorld makeHallLoopWorld(uint32_t seed, const TLoopShape& shape)
  * from `noiseSeed`). */
 TTrajectory hallLoop(double turnBias, uint32_t noiseSeed, bool returns, const TLoopShape& shape)
 {
-	const double L = shape.L, H = shape.H;
-	std::vector<Eigen::Vector2d> around{{20, 0}, {L, 0}, {L, H}, {0, H}};
+	const double L = shape.L, height = shape.H;
+	std::vector<Eigen::Vector2d> around{{20, 0}, {L, 0}, {L, height}, {0, height}};
 	if (returns)
 		around.insert(around.end(), {{0, 0}, {shape.returnTo, 0}});
 	else
