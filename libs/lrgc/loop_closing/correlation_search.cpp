@@ -48,7 +48,7 @@ int64_t boundedSum(const TPoseGridProblem& pb, int h, int a, int i, int j, int64
 	const int32_t* box = pb.bbox.data() + 4 * size_t(a);
 	const bool inside = box[0] + dx >= 0 && box[1] + dx < g.stride() && box[2] + dy >= 0 &&
 						box[3] + dy < g.rows();
-	constexpr int kChunk = 32;
+	constexpr int kChunk = 64;
 	int64_t sum = 0;
 	if (inside)
 	{  // every lookup is in range: a plain gather
