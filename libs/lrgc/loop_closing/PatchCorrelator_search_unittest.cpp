@@ -87,6 +87,52 @@ TEST(PatchCorrelator, HeadingBlockBoundIsAtLeastEveryScoreOfItsBlock)
 	EXPECT_GT(tightBlocks, 250) << "the bound must prune, not just be 255 N";
 }
 
+// Step 5's lattices of scores (detail::scoreLattice, summed point by point) equal scoreAt pose
+// by pose: lattices well inside the grid (every lookup in range), at and beyond its edges
+// (checked lookups), with unit and wider strides and several sizes.
+TEST(PatchCorrelator, ScoreLatticeEqualsScoreAtEveryPose)
+{
+	std::mt19937 rng(4242);
+	std::uniform_real_distribution<double> inRoom(2.5, 9.5), ang(-M_PI, M_PI);
+	const CPatchCorrelator corr;
+	const World w = randomWorld(rng, 12, 10);
+	const CCorrelationGrid map = corr.makeGrid(rasterise(w), 0.5);
+	const TPose2D robot(inRoom(rng), inRoom(rng), ang(rng));
+	const Points patch = makePatch(w, robot, 8, rng);
+	lrgc::detail::TPoseGridProblem pb;
+	pb.grid = &map;
+	pb.numPoints = int(patch.size());
+	pb.numAngles = 9;
+	appendBaseCells(pb, map, robot, patch, -4, 0.01);
+	pb.prepare();
+	const int far = map.width() + map.height();
+	std::uniform_int_distribution<int> angle(0, pb.numAngles - 1), near(-6, 6), wide(-far, far),
+		stride(1, 4), half(1, 4);
+	int onMap = 0, offMap = 0;
+	std::vector<int64_t> lattice;
+	for (int trial = 0; trial < 200; ++trial)
+	{
+		const int a = angle(rng), s = trial % 3 == 0 ? 1 : stride(rng), n = half(rng);
+		const bool atEdge = trial % 2 == 1;
+		const int i = atEdge ? wide(rng) : near(rng), j = atEdge ? wide(rng) : near(rng);
+		lrgc::detail::scoreLattice(pb, a, i, j, s, n, lattice);
+		ASSERT_EQ(lattice.size(), size_t((2 * n + 1) * (2 * n + 1)));
+		bool allPositive = true;
+		for (int u = -n; u <= n; ++u)
+			for (int v = -n; v <= n; ++v)
+			{
+				const int64_t expected = lrgc::detail::scoreAt(pb, 0, a, i + u * s, j + v * s);
+				ASSERT_EQ(lattice[size_t((u + n) * (2 * n + 1) + (v + n))], expected)
+					<< "heading " << a << ", centre (" << i << ", " << j << "), stride " << s
+					<< ", pose (" << u << ", " << v << ")";
+				allPositive = allPositive && expected > 0;
+			}
+		(allPositive ? onMap : offMap) += 1;
+	}
+	EXPECT_GT(onMap, 50) << "lattices on the map, every score positive";
+	EXPECT_GT(offMap, 50) << "lattices partly or wholly off the map";
+}
+
 // The far search's peaks in one best-first pass (detail::searchPeaks) are exactly those of
 // the exhaustive search run again and again, each time with the clusters of the peaks before
 // excluded and, after the first, the floor at 0.6 of its score: with and without a region the

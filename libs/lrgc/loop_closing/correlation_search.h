@@ -116,6 +116,14 @@ struct TSearchHit
 /** S(a, i, j) at pyramid level h (h = 0: the exact score). */
 int64_t scoreAt(const TPoseGridProblem& pb, int level, int a, int i, int j);
 
+/** The exact scores S(a, i + u s, j + v s) of the (2n + 1)^2 lattice |u|, |v| <= n around
+ * (i, j) at heading a, in out[(u + n) (2n + 1) + (v + n)]: the same sums as scoreAt pose by
+ * pose, taken point by point (each point's lattice cells read in one go, not one gather over
+ * every point per pose). Reads pb's grid, numPoints and baseCells only (prepare() not
+ * needed). Step 5's covariance samples such lattices. */
+void scoreLattice(const TPoseGridProblem& pb, int a, int i, int j, int s, int n,
+				  std::vector<int64_t>& out);
+
 /** Upper bound of S over headings [a0, a1] x translations [i0, i0 + 2^h) x [j0, j0 + 2^h),
  * or -1 once it is known to be below `required`. */
 int64_t blockBound(const TPoseGridProblem& pb, int a0, int a1, int h, int i0, int j0,

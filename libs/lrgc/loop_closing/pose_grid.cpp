@@ -38,24 +38,28 @@ Eigen::Matrix3d sampledCovariance(const TPatchCorrelatorParams& prm,
 	for (int t = -nTh; t <= nTh; ++t)
 		appendBaseCells(grid, pts, spec.center, spec.theta(a) + t * strideTh * spec.dtheta,
 						local.baseCells);
-	local.prepare();
+	// scoreLattice reads the base cells alone: no prepare() (bounding boxes, linear offsets).
 	const double scale = prm.cluster_score_scale * double(std::max<int64_t>(bestScore, 1));
 	const double qXY = strideXY * spec.res, qTh = strideTh * spec.dtheta;
 	double wsum = 0;
 	Eigen::Vector3d m1 = Eigen::Vector3d::Zero();
 	Eigen::Matrix3d m2 = Eigen::Matrix3d::Zero();
+	const size_t side = size_t(2 * nXY + 1);
+	std::vector<int64_t> scores;
 	for (int t = -nTh; t <= nTh; ++t)
+	{
+		detail::scoreLattice(local, t + nTh, i, j, strideXY, nXY, scores);
 		for (int u = -nXY; u <= nXY; ++u)
 			for (int v = -nXY; v <= nXY; ++v)
 			{
-				const int64_t s =
-					detail::scoreAt(local, 0, t + nTh, i + u * strideXY, j + v * strideXY);
+				const int64_t s = scores[size_t(u + nXY) * side + size_t(v + nXY)];
 				const double w = std::exp(double(s - bestScore) / scale);
 				const Eigen::Vector3d d(u * qXY, v * qXY, t * qTh);
 				wsum += w;
 				m1 += w * d;
 				m2 += w * d * d.transpose();
 			}
+	}
 	m1 /= wsum;
 	Eigen::Matrix3d cov = m2 / wsum - m1 * m1.transpose();
 	cov.diagonal() += Eigen::Vector3d(qXY * qXY, qXY * qXY, qTh * qTh) / 12.0;
