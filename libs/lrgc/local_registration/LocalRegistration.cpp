@@ -50,7 +50,7 @@ constexpr double kClearStep = 2.0;
  * 47.5 deg turn: the retry's winner 0.03 m behind on a 0.533 m step (0.05 of it), 0.40 m
  * across it, passed the kClearStep test only by its match sigma along u (under 1.5 cm): kept
  * (helper kink22). Only for the winner: matchOverrules (a plain match, which still places the
- * scan) keeps main's test (0); with 0.5 there dense Killian's trajectory changed (kink23). */
+ * scan) asks for no part of the step (0); with 0.5 there dense Killian's trajectory changed. */
 constexpr double kReversedPart = 0.5;
 
 /** The match disagrees with the prior only by putting the robot behind its previous pose,
