@@ -137,10 +137,10 @@ Eigen::Matrix3d widenedPosition(const Eigen::Matrix3d& cov, double ratio);
  * putting the robot behind the last scan against the wheels' clear forward step (more than
  * 2 sigma of the odometry along it; behind by more than 2 of the match's sigma and by more
  * than half the wheels' step length; the match slid to the odometry's step agreeing with the
- * prior by `disagrees`): then none, and the prior stands. The wide search is for a heading the plain match could not reach; a winner that
- * disputes only the direction of travel is an alias along a hall (glass_stress's atrium, seed
- * 2, scan 2331: the retry's winner 0.85 m behind the last scan against the wheels' 0.42 m
- * forward, LocalRegistration.cpp). */
+ * prior by `disagrees`): then none, and the prior stands. The wide search is for a heading the
+ * plain match could not reach; a winner that disputes only the direction of travel is an alias
+ * along a hall (glass_stress's atrium, seed 2, scan 2331: the retry's winner 0.85 m behind the
+ * last scan against the wheels' 0.42 m forward, LocalRegistration.cpp). */
 std::optional<TScanMatch> forwardWinner(
 	std::optional<TScanMatch> won, const mrpt::math::TPose2D& guess,
 	const TMotionPrediction& prediction,
