@@ -41,6 +41,27 @@ void appendBaseCells(lrgc::detail::TPoseGridProblem& pb, const CCorrelationGrid&
 		}
 	}
 }
+
+/** A room of segments (randomWorld: 12 m, 10 segments), its grid by `corr` (its resolution
+ * and blur, `margin` [m] around the walls), a robot pose in it and the patch `scans` scans
+ * from there see. */
+struct TRoomPatch
+{
+	World world;
+	CCorrelationGrid map;
+	TPose2D robot;
+	Points patch;
+};
+TRoomPatch roomPatch(std::mt19937& rng, const CPatchCorrelator& corr, double margin, int scans)
+{
+	std::uniform_real_distribution<double> inRoom(2.5, 9.5), ang(-M_PI, M_PI);
+	TRoomPatch r;
+	r.world = randomWorld(rng, 12, 10);
+	r.map = corr.makeGrid(rasterise(r.world), margin);
+	r.robot = TPose2D(inRoom(rng), inRoom(rng), ang(rng));
+	r.patch = makePatch(r.world, r.robot, scans, rng);
+	return r;
+}
 }  // namespace
 
 // The bound of a node spanning several headings (branch and bound over the full circle) is at
@@ -49,12 +70,10 @@ void appendBaseCells(lrgc::detail::TPoseGridProblem& pb, const CCorrelationGrid&
 TEST(PatchCorrelator, HeadingBlockBoundIsAtLeastEveryScoreOfItsBlock)
 {
 	std::mt19937 rng(99);
-	std::uniform_real_distribution<double> inRoom(2.5, 9.5), ang(-M_PI, M_PI);
-	const CPatchCorrelator corr;
-	const World w = randomWorld(rng, 12, 10);
-	const CCorrelationGrid map = corr.makeGrid(rasterise(w), 0.5);
-	const TPose2D robot(inRoom(rng), inRoom(rng), ang(rng));
-	const Points patch = makePatch(w, robot, 8, rng);
+	const TRoomPatch room = roomPatch(rng, CPatchCorrelator(), 0.5, 8);
+	const CCorrelationGrid& map = room.map;
+	const TPose2D& robot = room.robot;
+	const Points& patch = room.patch;
 	double maxR = 0;
 	for (const auto& p : patch) maxR = std::max(maxR, p.norm());
 	const double res = map.resolution(), dtheta = res / maxR;
@@ -93,12 +112,10 @@ TEST(PatchCorrelator, HeadingBlockBoundIsAtLeastEveryScoreOfItsBlock)
 TEST(PatchCorrelator, ScoreLatticeEqualsScoreAtEveryPose)
 {
 	std::mt19937 rng(4242);
-	std::uniform_real_distribution<double> inRoom(2.5, 9.5), ang(-M_PI, M_PI);
-	const CPatchCorrelator corr;
-	const World w = randomWorld(rng, 12, 10);
-	const CCorrelationGrid map = corr.makeGrid(rasterise(w), 0.5);
-	const TPose2D robot(inRoom(rng), inRoom(rng), ang(rng));
-	const Points patch = makePatch(w, robot, 8, rng);
+	const TRoomPatch room = roomPatch(rng, CPatchCorrelator(), 0.5, 8);
+	const CCorrelationGrid& map = room.map;
+	const TPose2D& robot = room.robot;
+	const Points& patch = room.patch;
 	lrgc::detail::TPoseGridProblem pb;
 	pb.grid = &map;
 	pb.numPoints = int(patch.size());
@@ -141,16 +158,15 @@ TEST(PatchCorrelator, ScoreLatticeEqualsScoreAtEveryPose)
 TEST(PatchCorrelator, PeaksInOnePassEqualRepeatedExhaustiveSearches)
 {
 	std::mt19937 rng(777);
-	std::uniform_real_distribution<double> inRoom(2.5, 9.5), ang(-M_PI, M_PI);
 	TPatchCorrelatorParams prm;
 	prm.resolution_m = 0.2, prm.blur_sigma_m = 0.2;
 	const CPatchCorrelator corr(prm);
 	for (int trial = 0; trial < 4; ++trial)
 	{
-		const World w = randomWorld(rng, 12, 10);
-		const CCorrelationGrid map = corr.makeGrid(rasterise(w), 0.6);
-		const TPose2D robot(inRoom(rng), inRoom(rng), ang(rng));
-		const Points patch = makePatch(w, robot, 6, rng);
+		const TRoomPatch room = roomPatch(rng, corr, 0.6, 6);
+		const CCorrelationGrid& map = room.map;
+		const TPose2D& robot = room.robot;
+		const Points& patch = room.patch;
 		lrgc::detail::TPoseGridProblem pb;
 		pb.grid = &map;
 		pb.numPoints = int(patch.size());
