@@ -1,8 +1,8 @@
 /* forwardWinner (LocalRegistration.h, issue 28's rule A): a wide search's winner that disputes
- * the odometry only by putting the robot behind the last scan, against the wheels' clear forward
- * step and by more than half of it, is refused and the prior stands (the glass atrium's alias
- * along a railed hall); a winner a few cm behind in a turn, across the step, is kept (sparse
- * Killian). */
+ * the odometry only by putting the robot behind the last scan, against the wheels' clear
+ * forward step and by more than half of it, is refused and the prior stands (the glass atrium's
+ * alias along a railed hall); a winner a few cm behind in a turn, across the step, is kept
+ * (sparse Killian). */
 #include <gtest/gtest.h>
 #include <lrgc/local_registration/LocalRegistration.h>
 #include <lrgc/local_registration/MotionPredictor.h>
