@@ -14,17 +14,20 @@ using mrpt::math::TPose2D;
 
 namespace
 {
-constexpr double kHalfX = 4.0, kHalfY = 3.0;  // [m] rectangular room, centred at the origin
-const Eigen::Vector2d kRobotAt(0.7, -0.4);    // [m] the robot turns in place here (off centre)
+constexpr double kRoomHalfX = 4.0,
+				 kRoomHalfY = 3.0;          // [m] rectangular room, centred at the origin
+const Eigen::Vector2d kRobotAt(0.7, -0.4);  // [m] the robot turns in place here (off centre)
 constexpr size_t kBeams = 361;
 
 /** Range from kRobotAt along direction a [rad] (room frame) to the walls. */
-double rangeToWalls(double a)
+double rangeFromRobot(double a)
 {
 	const double c = std::cos(a), s = std::sin(a);
 	double r = 1e9;
-	if (std::abs(c) > 1e-12) r = std::min(r, ((c > 0 ? kHalfX : -kHalfX) - kRobotAt.x()) / c);
-	if (std::abs(s) > 1e-12) r = std::min(r, ((s > 0 ? kHalfY : -kHalfY) - kRobotAt.y()) / s);
+	if (std::abs(c) > 1e-12)
+		r = std::min(r, ((c > 0 ? kRoomHalfX : -kRoomHalfX) - kRobotAt.x()) / c);
+	if (std::abs(s) > 1e-12)
+		r = std::min(r, ((s > 0 ? kRoomHalfY : -kRoomHalfY) - kRobotAt.y()) / s);
 	return r;
 }
 
@@ -44,7 +47,7 @@ mrpt::obs::CObservation2DRangeScan scanWhileTurning(Heading heading, double tau,
 	{
 		const double t = (double(i) / (kBeams - 1) - 0.5) * tau;
 		const double beam = -M_PI / 2 + M_PI * double(i) / (kBeams - 1);
-		obs.setScanRange(i, static_cast<float>(rangeToWalls(beam + heading(t)) + noise(rng)));
+		obs.setScanRange(i, static_cast<float>(rangeFromRobot(beam + heading(t)) + noise(rng)));
 		obs.setScanRangeValidity(i, true);
 	}
 	return obs;

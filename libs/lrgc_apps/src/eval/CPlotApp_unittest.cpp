@@ -6,6 +6,8 @@
 #include "eval/plot_inputs.h"
 #include <mrpt/core/exceptions.h>
 #include <mrpt/img/CImage.h>
+#include <error_of.h>
+#include <io_test_files.h>
 #include <test_data.h>
 
 #include <cmath>
@@ -15,34 +17,19 @@
 
 using namespace lrgc::apps::eval;
 
+using lrgc::test::errorOf;
+using lrgc::test::writeFileBytes;
+
 namespace
 {
-void writeFile(const std::string& path, const std::string& text)
-{
-	std::ofstream(path, std::ios::binary) << text;
-}
-
-std::string errorOf(const std::function<void()>& f)
-{
-	try
-	{
-		f();
-	}
-	catch (const std::exception& e)
-	{
-		return mrpt::exception_to_str(e);
-	}
-	return "";
-}
-
 /** A 200 x 100 free map at 0.1 m/pixel with its lower-left corner at (-10, -5) m. */
 void writeMap(const std::string& dir)
 {
 	std::string pgm = "P5\n200 100\n255\n" + std::string(200 * 100, static_cast<char>(254));
-	writeFile(dir + "/map.pgm", pgm);
-	writeFile(dir + "/map.yaml",
-			  "image: map.pgm\nresolution: 0.1\norigin: [-10.0, -5.0, 0.0]\nnegate: 0\n"
-			  "occupied_thresh: 0.65\nfree_thresh: 0.196\n");
+	writeFileBytes(dir + "/map.pgm", pgm);
+	writeFileBytes(dir + "/map.yaml",
+				   "image: map.pgm\nresolution: 0.1\norigin: [-10.0, -5.0, 0.0]\nnegate: 0\n"
+				   "occupied_thresh: 0.65\nfree_thresh: 0.196\n");
 }
 }  // namespace
 
@@ -57,11 +44,11 @@ TEST(PlotInputs, RosMapYaml)
 	EXPECT_DOUBLE_EQ(info.origin.y, -5);
 	EXPECT_FALSE(info.negate);
 
-	writeFile(dir + "/bad.yaml", "image: m.pgm\nresolution: 0.05\norigin: [1, 2]\n");
+	writeFileBytes(dir + "/bad.yaml", "image: m.pgm\nresolution: 0.05\norigin: [1, 2]\n");
 	EXPECT_NE(errorOf([&] { loadRosMapYaml(dir + "/bad.yaml"); })
 				  .find("bad.yaml:3: origin must be [x, y, yaw], got 2 numbers"),
 			  std::string::npos);
-	writeFile(dir + "/nores.yaml", "image: m.pgm\norigin: [1, 2, 0]\n");
+	writeFileBytes(dir + "/nores.yaml", "image: m.pgm\norigin: [1, 2, 0]\n");
 	EXPECT_NE(errorOf([&] { loadRosMapYaml(dir + "/nores.yaml"); }).find("no 'resolution:'"),
 			  std::string::npos);
 }
@@ -69,10 +56,10 @@ TEST(PlotInputs, RosMapYaml)
 TEST(PlotInputs, GraphFileAndLoopClosureEdges)
 {
 	const std::string dir = lrgc::test::makeTempDir("plot_graph");
-	writeFile(dir + "/g.graph",
-			  "VERTEX_SE2 0 0 0 0\nVERTEX_SE2 1 1 0 0\nVERTEX_SE2 20 2 0 0\nFIX 0\n"
-			  "EDGE_SE2 0 1 1 0 0 1 0 0 1 0 1\nEDGE_SE2 1 20 1 0 0 1 0 0 1 0 1\n"
-			  "EDGE_SE2 20 0 1 0 0 1 0 0 1 0 1\n");
+	writeFileBytes(dir + "/g.graph",
+				   "VERTEX_SE2 0 0 0 0\nVERTEX_SE2 1 1 0 0\nVERTEX_SE2 20 2 0 0\nFIX 0\n"
+				   "EDGE_SE2 0 1 1 0 0 1 0 0 1 0 1\nEDGE_SE2 1 20 1 0 0 1 0 0 1 0 1\n"
+				   "EDGE_SE2 20 0 1 0 0 1 0 0 1 0 1\n");
 	const auto g = loadGraphFile(dir + "/g.graph");
 	EXPECT_EQ(g.vertices.size(), 3u);
 	EXPECT_DOUBLE_EQ(g.vertices.at(20).x, 2);
@@ -82,11 +69,11 @@ TEST(PlotInputs, GraphFileAndLoopClosureEdges)
 	EXPECT_EQ(loops[1].first, 20u);
 	EXPECT_EQ(loopClosureEdges(g, 19).size(), 1u);
 
-	writeFile(dir + "/bad.graph", "VERTEX_SE2 0 0 0 0\nVERTEX_SE2 1.5 0 0 0\n");
+	writeFileBytes(dir + "/bad.graph", "VERTEX_SE2 0 0 0 0\nVERTEX_SE2 1.5 0 0 0\n");
 	EXPECT_NE(errorOf([&] { loadGraphFile(dir + "/bad.graph"); })
 				  .find("bad.graph:2: VERTEX_SE2: vertex id 1.5"),
 			  std::string::npos);
-	writeFile(dir + "/bad2.graph", "EDGE_SE2 0 1 0\n");
+	writeFileBytes(dir + "/bad2.graph", "EDGE_SE2 0 1 0\n");
 	EXPECT_NE(
 		errorOf([&] { loadGraphFile(dir + "/bad2.graph"); }).find("bad2.graph:1: EDGE_SE2"),
 		std::string::npos);
@@ -98,22 +85,22 @@ TEST(PlotInputs, TypedGraphGivesTheLoopLinksByType)
 {
 	const std::string dir = lrgc::test::makeTempDir("plot_lrgc");
 	const std::string info = " 1 0 0 1 0 1 ";
-	writeFile(dir + "/graph.lrgc",
-			  "LRGC_POSE_GRAPH 1\nNODE 0 0 0 0\nNODE 1 1 0 0\nNODE 2 2 0 0\nNODE 3 3 0 0\n"
-			  "LINK 0 1 1 0 0" +
-				  info +
-				  "Odometry 1\n"
-				  "LINK 0 3 3 0 0" +
-				  info +
-				  "ScanMatch 1\n"
-				  "LINK 1 2 1 0 0" +
-				  info +
-				  "LoopClosure 1\n"
-				  "LINK 0 2 2 0 0" +
-				  info +
-				  "LoopClosure 0\n"
-				  "LINK 3 0 -3 0 0" +
-				  info + "LoopClosure 1\n");
+	writeFileBytes(dir + "/graph.lrgc",
+				   "LRGC_POSE_GRAPH 1\nNODE 0 0 0 0\nNODE 1 1 0 0\nNODE 2 2 0 0\nNODE 3 3 0 0\n"
+				   "LINK 0 1 1 0 0" +
+					   info +
+					   "Odometry 1\n"
+					   "LINK 0 3 3 0 0" +
+					   info +
+					   "ScanMatch 1\n"
+					   "LINK 1 2 1 0 0" +
+					   info +
+					   "LoopClosure 1\n"
+					   "LINK 0 2 2 0 0" +
+					   info +
+					   "LoopClosure 0\n"
+					   "LINK 3 0 -3 0 0" +
+					   info + "LoopClosure 1\n");
 	const auto g = loadGraphFile(dir + "/graph.lrgc");
 	EXPECT_EQ(g.vertices.size(), 4u);
 	EXPECT_DOUBLE_EQ(g.vertices.at(3).x, 3);
@@ -127,19 +114,21 @@ TEST(PlotInputs, TypedGraphGivesTheLoopLinksByType)
 TEST(PlotInputs, TimingCsv)
 {
 	const std::string dir = lrgc::test::makeTempDir("plot_timing");
-	writeFile(dir + "/t.csv", "scan_index,timestamp,latency_ms\n0,100.5,3.25\n1,100.7,4\n");
+	writeFileBytes(dir + "/t.csv",
+				   "scan_index,timestamp,latency_ms\n0,100.5,3.25\n1,100.7,4\n");
 	const auto t = loadTimingCsv(dir + "/t.csv");
 	ASSERT_EQ(t.size(), 2u);
 	EXPECT_EQ(t[1].scanIndex, 1u);
 	EXPECT_DOUBLE_EQ(t[0].timestamp, 100.5);
 	EXPECT_DOUBLE_EQ(t[0].latency_ms, 3.25);
 	// --localize's timing.csv: two more columns.
-	writeFile(dir + "/l.csv",
-			  "scan_index,timestamp,latency_ms,replay_wait_ms,cpu_ms\n"
-			  "0,100.5,3.25,0,3.1\n");
+	writeFileBytes(dir + "/l.csv",
+				   "scan_index,timestamp,latency_ms,replay_wait_ms,cpu_ms\n"
+				   "0,100.5,3.25,0,3.1\n");
 	ASSERT_EQ(loadTimingCsv(dir + "/l.csv").size(), 1u);
 	EXPECT_DOUBLE_EQ(loadTimingCsv(dir + "/l.csv")[0].latency_ms, 3.25);
-	writeFile(dir + "/bad.csv", "scan_index,timestamp,latency_ms\n0,100.5,3.25\n1,100.7\n");
+	writeFileBytes(dir + "/bad.csv",
+				   "scan_index,timestamp,latency_ms\n0,100.5,3.25\n1,100.7\n");
 	EXPECT_NE(errorOf([&] { loadTimingCsv(dir + "/bad.csv"); }).find("bad.csv:3: expected"),
 			  std::string::npos);
 }
@@ -152,11 +141,12 @@ TEST(PlotApp, DrawsTrajectoryAndLoopLinksWhereTheMapSays)
 	std::ostringstream tum;
 	for (int i = 0; i <= 120; ++i)
 		tum << 100 + 0.1 * i << " " << -6 + 0.1 * i << " 2 0 0 0 0 1\n";
-	writeFile(dir + "/t.tum", tum.str());
-	writeFile(dir + "/g.graph",
-			  "VERTEX_SE2 0 -6 -2 0\nVERTEX_SE2 30 6 -2 0\nEDGE_SE2 0 30 12 0 0 1 0 0 1 0 1\n");
-	writeFile(dir + "/timing.csv",
-			  "scan_index,timestamp,latency_ms\n0,100,2\n1,100.1,3\n2,100.2,40\n");
+	writeFileBytes(dir + "/t.tum", tum.str());
+	writeFileBytes(
+		dir + "/g.graph",
+		"VERTEX_SE2 0 -6 -2 0\nVERTEX_SE2 30 6 -2 0\nEDGE_SE2 0 30 12 0 0 1 0 0 1 0 1\n");
+	writeFileBytes(dir + "/timing.csv",
+				   "scan_index,timestamp,latency_ms\n0,100,2\n1,100.1,3\n2,100.2,40\n");
 	TPlotOptions o;
 	o.mapYaml = dir + "/map.yaml";
 	o.trajectory = dir + "/t.tum";

@@ -3,15 +3,17 @@
 #include <gtest/gtest.h>
 #include <lrgc_apps/eval/trajectory.h>
 #include <mrpt/core/exceptions.h>
+#include <error_of.h>
 
 #include <cmath>
 #include <string>
 
 using namespace lrgc::apps::eval;
+using lrgc::test::errorOf;
 
 namespace
 {
-constexpr double kDeg = M_PI / 180.0;
+constexpr double kRadPerDeg = M_PI / 180.0;
 
 std::string tumLine(double t, double x, double y, double yaw)
 {
@@ -20,34 +22,19 @@ std::string tumLine(double t, double x, double y, double yaw)
 				  std::sin(yaw / 2), std::cos(yaw / 2));
 	return buf;
 }
-
-/** The message of the exception thrown by f, or "" if none. */
-template <typename F>
-std::string errorOf(F&& f)
-{
-	try
-	{
-		f();
-	}
-	catch (const std::exception& e)
-	{
-		return mrpt::exception_to_str(e);
-	}
-	return "";
-}
 }  // namespace
 
 TEST(Trajectory, ParsesTumWithYawFromQuaternionAndComments)
 {
-	const std::string text = "# t x y z qx qy qz qw\n\n" + tumLine(1.5, 1, 2, 30 * kDeg) +
-							 tumLine(2.5, -1, 0.5, -170 * kDeg);
+	const std::string text = "# t x y z qx qy qz qw\n\n" + tumLine(1.5, 1, 2, 30 * kRadPerDeg) +
+							 tumLine(2.5, -1, 0.5, -170 * kRadPerDeg);
 	const auto tr = CTrajectory2D::parse(text, "mem.tum");
 	ASSERT_EQ(tr.size(), 2u);
 	EXPECT_DOUBLE_EQ(tr.poses()[0].t, 1.5);
 	EXPECT_DOUBLE_EQ(tr.poses()[0].pose.x, 1);
 	EXPECT_DOUBLE_EQ(tr.poses()[0].pose.y, 2);
-	EXPECT_NEAR(tr.poses()[0].pose.phi, 30 * kDeg, 1e-9);
-	EXPECT_NEAR(tr.poses()[1].pose.phi, -170 * kDeg, 1e-9);
+	EXPECT_NEAR(tr.poses()[0].pose.phi, 30 * kRadPerDeg, 1e-9);
+	EXPECT_NEAR(tr.poses()[1].pose.phi, -170 * kRadPerDeg, 1e-9);
 	EXPECT_EQ(tr.poses()[0].line, 3u);
 	EXPECT_EQ(tr.poses()[1].line, 4u);
 }
@@ -122,18 +109,19 @@ TEST(Trajectory, InterpolatesLinearlyBetweenNeighbours)
 	EXPECT_EQ(p->how, TPoseLookup::Interpolated);
 	EXPECT_NEAR(p->pose.x, 0.5, 1e-12);
 	EXPECT_NEAR(p->pose.y, 1.0, 1e-12);
-	EXPECT_NEAR(p->pose.phi, 22.5 * kDeg, 1e-12);
+	EXPECT_NEAR(p->pose.phi, 22.5 * kRadPerDeg, 1e-12);
 }
 
 TEST(Trajectory, InterpolatesHeadingAcrossPlusMinusPi)
 {
 	// 170 deg -> -170 deg is a +20 deg turn through 180, not -340 deg through 0.
-	const auto tr = CTrajectory2D::parse(
-		"0 0 0 " + std::to_string(170 * kDeg) + "\n1 0 0 " + std::to_string(-170 * kDeg) + "\n",
-		"t");
-	EXPECT_NEAR(tr.poseAt(0.25)->pose.phi, 175 * kDeg, 1e-6);
+	const auto tr =
+		CTrajectory2D::parse("0 0 0 " + std::to_string(170 * kRadPerDeg) + "\n1 0 0 " +
+								 std::to_string(-170 * kRadPerDeg) + "\n",
+							 "t");
+	EXPECT_NEAR(tr.poseAt(0.25)->pose.phi, 175 * kRadPerDeg, 1e-6);
 	EXPECT_NEAR(std::abs(tr.poseAt(0.5)->pose.phi), M_PI, 1e-6);
-	EXPECT_NEAR(tr.poseAt(0.75)->pose.phi, -175 * kDeg, 1e-6);
+	EXPECT_NEAR(tr.poseAt(0.75)->pose.phi, -175 * kRadPerDeg, 1e-6);
 }
 
 TEST(Trajectory, OutsideTimeSpanGivesNothing)
