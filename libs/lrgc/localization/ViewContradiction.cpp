@@ -24,7 +24,14 @@ std::vector<std::vector<size_t>> CViewContradiction::passesOf(std::vector<size_t
 	}
 	std::vector<std::vector<size_t>> kept;
 	for (auto& p : passes)
-		if (p.size() >= kMinPassKeyframes) kept.push_back(std::move(p));
+		for (size_t b = 0; b + kMinPassKeyframes <= p.size();)
+		{
+			// At most kMaxPassKeyframes, but a remainder too short to ask joins this one.
+			size_t e = std::min(p.size(), b + kMaxPassKeyframes);
+			if (p.size() - e < kMinPassKeyframes) e = p.size();
+			kept.emplace_back(p.begin() + long(b), p.begin() + long(e));
+			b = e;
+		}
 	return kept;
 }
 

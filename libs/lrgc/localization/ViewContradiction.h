@@ -31,6 +31,11 @@ public:
 	 * a row); passes of fewer than kMinPassKeyframes near the scan (one that only grazed the
 	 * place, whose few views cover too little of it to contradict anything) are not asked. */
 	static constexpr size_t kPassGap = 2, kMinPassKeyframes = 3;
+	/** A long pass is asked in parts of at most this many keyframes (a remainder shorter
+	 * than kMinPassKeyframes joins the last part): on MIT Killian, where the robot stood and
+	 * turned for seconds, 20 keyframes of one pass near the scan disagreed among themselves
+	 * as passes do (3 false kidnaps). 6 delayed Intel's kidnap detection 1.1 -> 5.0 s. */
+	static constexpr size_t kMaxPassKeyframes = 10;
 	/** Pass clouds kept for the next scans (the passes of the current reference). */
 	static constexpr size_t kMaxCachedPasses = 32;
 
@@ -44,7 +49,8 @@ public:
 	bool contradictsEveryPass(const TScan2D& scan, const mrpt::math::TPose2D& pose,
 							  const std::vector<size_t>& nodes, double margin, double fraction);
 
-	/** `nodes` split into passes (see kPassGap, kMinPassKeyframes), each in index order. */
+	/** `nodes` split into passes (see kPassGap, kMinPassKeyframes, kMaxPassKeyframes), each
+	 * in index order. */
 	static std::vector<std::vector<size_t>> passesOf(std::vector<size_t> nodes);
 
 private:

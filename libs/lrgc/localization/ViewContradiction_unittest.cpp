@@ -57,12 +57,24 @@ void mapTwoPasses(CPoseGraph& map, TKeyframes& keyframes, std::mt19937& rng)
 }
 }  // namespace
 
-TEST(ViewContradiction, passesAreRunsOfKeyframeIndicesOfAtLeastThree)
+TEST(ViewContradiction, passesAreRunsOfKeyframeIndicesOfThreeToTen)
 {
 	const auto passes = CViewContradiction::passesOf({12, 0, 1, 2, 4, 30, 31, 10, 11});
 	ASSERT_EQ(passes.size(), 2U);  // 0-4 (gaps of at most 2), 10-12; 30-31 too few
 	EXPECT_EQ(passes[0], (std::vector<size_t>{0, 1, 2, 4}));
 	EXPECT_EQ(passes[1], (std::vector<size_t>{10, 11, 12}));
+	// A long pass in parts of at most kMaxPassKeyframes; a remainder too short joins the last.
+	std::vector<size_t> run25(25), run12(12);
+	for (size_t i = 0; i < 25; ++i) run25[i] = 100 + i;
+	for (size_t i = 0; i < 12; ++i) run12[i] = 200 + i;
+	const auto parts25 = CViewContradiction::passesOf(run25);
+	ASSERT_EQ(parts25.size(), 3U);
+	EXPECT_EQ(parts25[0].size(), 10U);
+	EXPECT_EQ(parts25[2].front(), 120U);
+	EXPECT_EQ(parts25[2].size(), 5U);
+	const auto parts12 = CViewContradiction::passesOf(run12);
+	ASSERT_EQ(parts12.size(), 1U);
+	EXPECT_EQ(parts12[0].size(), 12U);
 }
 
 // Both doors shut now: against the two passes joined, the scan's door 1 lies where pass A saw
