@@ -50,6 +50,7 @@ CLocalizer::CLocalizer(const CPoseGraph& map, const TKeyframes& keyframes,
 	  m_keyframes(keyframes),
 	  m_params(params),
 	  m_lp(localization),
+	  m_views(m_map, m_keyframes, params.matcher),
 	  m_global(map, keyframes, searchCorrelator(params.correlator, localization)),
 	  m_predictor(std::make_unique<CMotionPredictor>(params.motion)),
 	  m_worker(m_global, localization.search_budget_ms_per_s, backgroundSearch)
@@ -333,10 +334,14 @@ bool CLocalizer::track(const TScan2D& scan, mrpt::Clock::time_point t, bool& con
 								 m_params.loop.link_noise.floorCovariance()) <= m_lp.gate_chi2;
 		if (good) pose = compose(m_refInMap, m->scanInRef);
 		// Contradicted: no match, and the scan at the prior puts walls where the map's
-		// beams passed (a wrong place, not a room the map saw only from its door).
-		contradicted = !(m && m->inlierFraction >= m_lp.min_inlier_fraction) &&
-					   m_ref.freeSpaceViolation(scan, guess, kContradictionMargin) >=
-						   kContradictionFraction;
+		// beams passed (a wrong place, not a room the map saw only from its door), for
+		// every pass of the keyframes near it on its own (not a place changed between passes).
+		contradicted =
+			!(m && m->inlierFraction >= m_lp.min_inlier_fraction) &&
+			m_ref.freeSpaceViolation(scan, guess, kContradictionMargin) >=
+				kContradictionFraction &&
+			m_views.contradictsEveryPass(scan, prior, m_refNodes, kContradictionMargin,
+										 kContradictionFraction);
 	}
 	if (!good)
 		if (const auto local = matchRecent(scan, prior)) pose = *local, ++m_stats.recentMatches;

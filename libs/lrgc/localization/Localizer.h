@@ -32,6 +32,7 @@
 #include <lrgc/localization/GlobalSearchWorker.h>
 #include <lrgc/localization/LocalizationParams.h>
 #include <lrgc/localization/StartFinder.h>
+#include <lrgc/localization/ViewContradiction.h>
 #include <lrgc/map_builder/MapBuilderParams.h>
 #include <lrgc/map_builder/Trajectory.h>
 #include <lrgc/scan_matching/ReferenceCloud.h>
@@ -106,7 +107,9 @@ public:
 	 * least this fraction of its points (or of the map's) lie more than kContradictionMargin
 	 * [m] inside space the other side's beams crossed (CReferenceCloud::freeSpaceViolation).
 	 * Measured on Intel's second half: 0.38-0.51 for 10 scans after a 25 m kidnap; rooms the
-	 * map saw only from their doors 0-0.03. */
+	 * map saw only from their doors 0-0.03. The joined cloud first, then each pass of its
+	 * keyframes on its own (CViewContradiction): a scan that agrees with one pass is where it
+	 * is thought to be, in a place that changed between the map's passes. */
 	static constexpr double kContradictionFraction = 0.3, kContradictionMargin = 0.2;
 	/** Largest patch of a kidnap's whole-map search [keyframes]; past it the attempts back
 	 * off (CStartFinder). Intel: a 25 m kidnap was found with 1 keyframe; whole-map attempts
@@ -176,6 +179,7 @@ private:
 	TKeyframes m_keyframes;
 	TLRGCParams m_params;
 	TLocalizationParams m_lp;
+	CViewContradiction m_views;  //!< of m_map and m_keyframes (declared after them)
 	CGlobalLocalizer m_global;
 	CScanMatcher m_matcher;
 	CStopToken m_stop;
