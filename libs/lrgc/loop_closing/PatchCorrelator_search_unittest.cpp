@@ -232,3 +232,78 @@ TEST(PatchCorrelator, PeaksInOnePassEqualRepeatedExhaustiveSearches)
 		}
 	}
 }
+
+namespace
+{
+/** S at level h by the definition: the plain sum over `cells` (one heading's (cx, cy) pairs,
+ * in their original order), out-of-grid lookups 0. */
+int64_t plainSum(const CCorrelationGrid& g, const std::vector<int32_t>& cells, int h, int i,
+				 int j)
+{
+	int64_t sum = 0;
+	for (size_t k = 0; k < cells.size(); k += 2)
+	{
+		const int64_t x = int64_t(cells[k]) + i + g.pad(),
+					  y = int64_t(cells[k + 1]) + j + g.pad();
+		if (x >= 0 && x < g.stride() && y >= 0 && y < g.rows())
+			sum += g.levelData(h)[y * g.stride() + x];
+	}
+	return sum;
+}
+}  // namespace
+
+// prepare() reorders each heading's points (interleaved, so that a bound's first chunks sample
+// the whole patch) and keeps int32 offsets: the points of each heading stay the same set, and
+// scoreAt at every level equals the plain sum in the original order, inside the grid (the
+// unchecked gather) and across its edges. A point whose offset exceeds int32 drops the
+// offsets, and the checked path still gives the plain sum.
+TEST(PatchCorrelator, ScoreAtAfterReorderingEqualsThePlainSum)
+{
+	std::mt19937 rng(2024);
+	const TRoomPatch room = roomPatch(rng, CPatchCorrelator(), 0.5, 8);
+	const CCorrelationGrid& map = room.map;
+	for (const bool huge : {false, true})
+	{
+		lrgc::detail::TPoseGridProblem pb;
+		pb.grid = &map;
+		pb.numPoints = int(room.patch.size());
+		pb.numAngles = 7;
+		appendBaseCells(pb, map, room.robot, room.patch, -3, 0.02);
+		if (huge) pb.baseCells[1] = 1 << 30;  // heading 0, point 0: far beyond the grid
+		const std::vector<int32_t> original = pb.baseCells;
+		pb.prepare();
+		ASSERT_EQ(pb.linear.empty(), huge);
+		ASSERT_GT(pb.numPoints, 2 * lrgc::detail::TPoseGridProblem::kInterleave);
+		EXPECT_NE(pb.baseCells, original) << "the points are reordered";
+		const size_t n = 2 * size_t(pb.numPoints);
+		std::vector<std::vector<int32_t>> heading(size_t(pb.numAngles));
+		for (int a = 0; a < pb.numAngles; ++a)
+		{
+			heading[size_t(a)].assign(original.begin() + a * n, original.begin() + (a + 1) * n);
+			using Pair = std::pair<int32_t, int32_t>;
+			std::vector<Pair> before, after;
+			for (size_t k = 0; k < n; k += 2)
+			{
+				before.emplace_back(original[a * n + k], original[a * n + k + 1]);
+				after.emplace_back(pb.baseCells[a * n + k], pb.baseCells[a * n + k + 1]);
+			}
+			std::sort(before.begin(), before.end()), std::sort(after.begin(), after.end());
+			ASSERT_EQ(before, after) << "heading " << a << ": the same points";
+		}
+		const int far = map.width() + map.height();
+		std::uniform_int_distribution<int> level(0, map.numLevels() - 1),
+			angle(0, pb.numAngles - 1), near(-6, 6), wide(-far, far);
+		int nonZero = 0;
+		for (int trial = 0; trial < 400; ++trial)
+		{
+			const int h = level(rng), a = angle(rng);
+			const int i = trial % 2 ? wide(rng) : near(rng),
+					  j = trial % 2 ? wide(rng) : near(rng);
+			const int64_t s = lrgc::detail::scoreAt(pb, h, a, i, j);
+			ASSERT_EQ(s, plainSum(map, heading[size_t(a)], h, i, j))
+				<< "level " << h << ", heading " << a << ", (" << i << ", " << j << ")";
+			nonZero += s > 0;
+		}
+		EXPECT_GT(nonZero, 150);
+	}
+}

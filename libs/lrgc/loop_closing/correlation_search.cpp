@@ -46,13 +46,13 @@ int64_t boundedSum(const TPoseGridProblem& pb, int h, int a, int i, int j, int64
 	const int dx = i + g.pad(), dy = j + g.pad();
 	const size_t first = size_t(a) * size_t(pb.numPoints);
 	const int32_t* box = pb.bbox.data() + 4 * size_t(a);
-	const bool inside = box[0] + dx >= 0 && box[1] + dx < g.stride() && box[2] + dy >= 0 &&
-						box[3] + dy < g.rows();
+	const bool inside = !pb.linear.empty() && box[0] + dx >= 0 && box[1] + dx < g.stride() &&
+						box[2] + dy >= 0 && box[3] + dy < g.rows();
 	constexpr int kChunk = 64;
 	int64_t sum = 0;
 	if (inside)
 	{  // every lookup is in range: a plain gather
-		const int64_t* lin = pb.linear.data() + first;
+		const int32_t* lin = pb.linear.data() + first;
 		const uint8_t* base = data + int64_t(dy) * g.stride() + dx;
 		for (int k0 = 0; k0 < pb.numPoints; k0 += kChunk)
 		{
@@ -361,10 +361,36 @@ void TPoseGridProblem::prepare()
 			b[2] = std::min(b[2], c[2 * k + 1]), b[3] = std::max(b[3], c[2 * k + 1]);
 		}
 	}
+	interleavePoints();
 	const int64_t stride = grid->stride();
+	// int32 offsets: half the index stream of the gather. An offset beyond int32 (a patch
+	// far outside a huge grid) leaves `linear` empty, and every sum takes the checked path.
 	linear.resize(size_t(numAngles) * size_t(numPoints));
 	for (size_t k = 0; k < linear.size(); ++k)
-		linear[k] = int64_t(baseCells[2 * k + 1]) * stride + baseCells[2 * k];
+	{
+		const int64_t v = int64_t(baseCells[2 * k + 1]) * stride + baseCells[2 * k];
+		if (v < std::numeric_limits<int32_t>::min() || v > std::numeric_limits<int32_t>::max())
+		{
+			linear.clear();
+			return;
+		}
+		linear[k] = static_cast<int32_t>(v);
+	}
+}
+
+void TPoseGridProblem::interleavePoints()
+{
+	if (numPoints <= kInterleave) return;
+	std::vector<int32_t> block(2 * size_t(numPoints));
+	for (int a = 0; a < numAngles; ++a)
+	{
+		int32_t* c = baseCells.data() + 2 * size_t(a) * size_t(numPoints);
+		size_t n = 0;
+		for (int r = 0; r < kInterleave; ++r)
+			for (int k = r; k < numPoints; k += kInterleave)
+				block[n++] = c[2 * k], block[n++] = c[2 * k + 1];
+		std::copy(block.begin(), block.end(), c);
+	}
 }
 
 // Level h from h - 1 (s = 2^(h-1)): a block of 2^h is allowed when one of its four blocks of

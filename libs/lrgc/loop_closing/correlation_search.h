@@ -33,8 +33,15 @@ struct TPoseGridProblem
 	 * maxY), and the row-major offsets cy * stride + cx of every base cell (the same at all
 	 * levels), so that blocks whose lookups all fall inside the grid need no bound checks. */
 	std::vector<int32_t> bbox;
-	std::vector<int64_t> linear;
+	std::vector<int32_t> linear;
+	/** Also reorders each heading's base cells (interleavePoints): every score is a sum over
+	 * the points, the same in any order. */
 	void prepare();
+	/** Each heading's points in the order 0, s, 2s, ..., 1, 1 + s, ... (s = kInterleave), so
+	 * that a bound's first chunks sample the whole patch, not one wall: a node that cannot
+	 * reach the required score is abandoned after fewer points. */
+	void interleavePoints();
+	static constexpr int kInterleave = 8;
 	/** Translations the search may take, as a pyramid over the side() x side() translations
 	 * (row (i + W), column (j + W)): allowed[h] is non-zero where some translation of the
 	 * block [i, i + 2^h) x [j, j + 2^h) is allowed (setAllowed). Empty: every translation. */
