@@ -7,6 +7,7 @@
 
 #include "PatchCorrelator_unittest.h"
 #include "correlation_search.h"
+#include "pose_grid.h"
 
 #include <algorithm>
 #include <cmath>
@@ -23,23 +24,21 @@ using namespace lrgc::test;
 
 namespace
 {
-/** A pose-grid problem's base cells (map cells, per heading then per point): heading a
- * (0 .. numAngles - 1) turns the patch to robot.phi + (a + a0) dtheta [rad], placed at robot.
- */
-void appendBaseCells(lrgc::detail::TPoseGridProblem& pb, const CCorrelationGrid& map,
-					 const TPose2D& robot, const Points& patch, int a0, double dtheta)
+/** A pose-grid problem on `map` (grid, numPoints, numAngles and its base cells: map cells,
+ * per heading then per point): heading a (0 .. numAngles - 1) turns the patch to
+ * robot.phi + (a + a0) dtheta [rad], placed at robot. Not prepared. */
+lrgc::detail::TPoseGridProblem problemOf(const CCorrelationGrid& map, const TPose2D& robot,
+										 const Points& patch, int numAngles, int a0,
+										 double dtheta)
 {
+	lrgc::detail::TPoseGridProblem pb;
+	pb.grid = &map;
+	pb.numPoints = int(patch.size());
+	pb.numAngles = numAngles;
 	for (int a = 0; a < pb.numAngles; ++a)
-	{
-		const double th = robot.phi + (a + a0) * dtheta, c = std::cos(th), sn = std::sin(th);
-		for (const auto& p : patch)
-		{
-			const Eigen::Vector2i cell = map.cellOf(
-				{robot.x + c * p.x() - sn * p.y(), robot.y + sn * p.x() + c * p.y()});
-			pb.baseCells.push_back(cell.x());
-			pb.baseCells.push_back(cell.y());
-		}
-	}
+		lrgc::detail::appendBaseCells(map, patch, robot, robot.phi + (a + a0) * dtheta,
+									  pb.baseCells);
+	return pb;
 }
 
 /** A room of segments (randomWorld: 12 m, 10 segments), its grid by `corr` (its resolution
@@ -77,13 +76,9 @@ TEST(PatchCorrelator, HeadingBlockBoundIsAtLeastEveryScoreOfItsBlock)
 	double maxR = 0;
 	for (const auto& p : patch) maxR = std::max(maxR, p.norm());
 	const double res = map.resolution(), dtheta = res / maxR;
-	lrgc::detail::TPoseGridProblem pb;
-	pb.grid = &map;
-	pb.numPoints = int(patch.size());
+	lrgc::detail::TPoseGridProblem pb = problemOf(map, robot, patch, 200, -100, dtheta);
 	pb.halfCells = 40;
-	pb.numAngles = 200;
 	pb.cellsPerAngleStep = maxR * dtheta / res;
-	appendBaseCells(pb, map, robot, patch, -100, dtheta);
 	pb.prepare();
 	std::uniform_int_distribution<int> level(0, 4), angle(0, pb.numAngles - 1), cell(-40, 30);
 	int tightBlocks = 0;
@@ -116,11 +111,7 @@ TEST(PatchCorrelator, ScoreLatticeEqualsScoreAtEveryPose)
 	const CCorrelationGrid& map = room.map;
 	const TPose2D& robot = room.robot;
 	const Points& patch = room.patch;
-	lrgc::detail::TPoseGridProblem pb;
-	pb.grid = &map;
-	pb.numPoints = int(patch.size());
-	pb.numAngles = 9;
-	appendBaseCells(pb, map, robot, patch, -4, 0.01);
+	lrgc::detail::TPoseGridProblem pb = problemOf(map, robot, patch, 9, -4, 0.01);
 	pb.prepare();
 	const int far = map.width() + map.height();
 	std::uniform_int_distribution<int> angle(0, pb.numAngles - 1), near(-6, 6), wide(-far, far),
@@ -167,16 +158,13 @@ TEST(PatchCorrelator, PeaksInOnePassEqualRepeatedExhaustiveSearches)
 		const CCorrelationGrid& map = room.map;
 		const TPose2D& robot = room.robot;
 		const Points& patch = room.patch;
-		lrgc::detail::TPoseGridProblem pb;
-		pb.grid = &map;
-		pb.numPoints = int(patch.size());
-		pb.halfCells = trial < 2 ? 20 : 8;
-		pb.numAngles = trial < 2 ? 60 : 300;
+		const int numAngles = trial < 2 ? 60 : 300;
 		double maxR = 0;
 		for (const auto& p : patch) maxR = std::max(maxR, p.norm());
-		const double dtheta = 2 * M_PI / pb.numAngles;
+		const double dtheta = 2 * M_PI / numAngles;
+		lrgc::detail::TPoseGridProblem pb = problemOf(map, robot, patch, numAngles, 0, dtheta);
+		pb.halfCells = trial < 2 ? 20 : 8;
 		pb.cellsPerAngleStep = maxR * dtheta / map.resolution();
-		appendBaseCells(pb, map, robot, patch, 0, dtheta);
 		pb.prepare();
 		if (trial % 2 == 1)
 		{  // translations allowed only in two discs of 5 cells
@@ -264,11 +252,7 @@ TEST(PatchCorrelator, ScoreAtAfterReorderingEqualsThePlainSum)
 	const CCorrelationGrid& map = room.map;
 	for (const bool huge : {false, true})
 	{
-		lrgc::detail::TPoseGridProblem pb;
-		pb.grid = &map;
-		pb.numPoints = int(room.patch.size());
-		pb.numAngles = 7;
-		appendBaseCells(pb, map, room.robot, room.patch, -3, 0.02);
+		lrgc::detail::TPoseGridProblem pb = problemOf(map, room.robot, room.patch, 7, -3, 0.02);
 		if (huge) pb.baseCells[1] = 1 << 30;  // heading 0, point 0: far beyond the grid
 		const std::vector<int32_t> original = pb.baseCells;
 		pb.prepare();
