@@ -335,6 +335,7 @@ bool CLocalizer::track(const TScan2D& scan, mrpt::Clock::time_point t, bool& con
 			good = isGoodMatch(m, guess, priorCov);
 		}
 		if (good) pose = compose(m_refInMap, m->scanInRef);
+		m_lastMapGood = good && m->inlierFraction >= kKeepInlierFraction;
 		// Contradicted: no match, and the scan at the prior puts walls where the map's
 		// beams passed (a wrong place, not a room the map saw only from its door), for
 		// every pass of the keyframes near it on its own (not a place changed between passes).
@@ -345,6 +346,8 @@ bool CLocalizer::track(const TScan2D& scan, mrpt::Clock::time_point t, bool& con
 			m_views.contradictsEveryPass(scan, prior, m_refNodes, kContradictionMargin,
 										 kContradictionFraction);
 	}
+	else
+		m_lastMapGood = false;
 	if (!good)
 		if (const auto local = matchRecent(scan, prior)) pose = *local, ++m_stats.recentMatches;
 	m_driftCov = good ? Eigen::Matrix3d::Zero() : priorCov;
@@ -426,8 +429,8 @@ bool CLocalizer::referenceNear(const TPose2D& pose, bool mayKeep)
 	const size_t nearest = nodes.front();
 	std::sort(nodes.begin(), nodes.end());
 	m_refExact = nodes == m_refNodes;
-	if (m_refExact ||
-		(mayKeep && stillCovers(m_refNodes, nodes, nearest, m_lp.track_keep_share)))
+	if (m_refExact || (mayKeep && m_lastMapGood &&
+					   stillCovers(m_refNodes, nodes, nearest, m_lp.track_keep_share)))
 		return true;
 	m_refExact = true;
 	m_refNodes = nodes;
