@@ -14,6 +14,7 @@ void TLocalizationParams::loadFromConfigFile(const mrpt::config::CConfigFileBase
 	patch_max_range_m = readDouble(c, s, "patch_max_range_m", patch_max_range_m);
 	track_radius_m = readDouble(c, s, "track_radius_m", track_radius_m);
 	track_max_keyframes = readCount(c, s, "track_max_keyframes", track_max_keyframes);
+	track_keep_share = readDouble(c, s, "track_keep_share", track_keep_share);
 	min_inlier_fraction = readDouble(c, s, "min_inlier_fraction", min_inlier_fraction);
 	gate_chi2 = readDouble(c, s, "gate_chi2", gate_chi2);
 	lost_after = readCount(c, s, "lost_after", lost_after);
@@ -24,6 +25,8 @@ void TLocalizationParams::loadFromConfigFile(const mrpt::config::CConfigFileBase
 	requireParam(patch_max_range_m > 0, s, "patch_max_range_m", "must be > 0 m");
 	requireParam(track_radius_m > 0, s, "track_radius_m", "must be > 0 m");
 	requireParam(track_max_keyframes >= 1, s, "track_max_keyframes", "must be >= 1");
+	requireParam(track_keep_share >= 0 && track_keep_share <= 1, s, "track_keep_share",
+				 "must be in [0, 1]");
 	requireParam(min_inlier_fraction >= 0 && min_inlier_fraction <= 1, s, "min_inlier_fraction",
 				 "must be in [0, 1]");
 	requireParam(gate_chi2 > 0, s, "gate_chi2", "must be > 0");
@@ -46,6 +49,9 @@ void TLocalizationParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
 			   "tracking reference");
 	writeValue(c, s, "track_max_keyframes", uint64_t(track_max_keyframes),
 			   "--localize: at most this many (the nearest)");
+	writeValue(c, s, "track_keep_share", track_keep_share,
+			   "--localize: the reference is kept while it holds the nearest keyframe and this "
+			   "share of the near ones [0..1]; 1: rebuilt whenever one joins");
 	writeValue(c, s, "min_inlier_fraction", min_inlier_fraction,
 			   "--localize: a good match has this fraction of the scan matched [0..1]");
 	writeValue(c, s, "gate_chi2", gate_chi2,

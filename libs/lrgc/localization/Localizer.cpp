@@ -321,18 +321,21 @@ bool CLocalizer::track(const TScan2D& scan, mrpt::Clock::time_point t, bool& con
 	TPose2D pose = prior;
 	bool good = false;
 	contradicted = false;
-	if (referenceNear(prior))
+	if (referenceNear(prior, true))
 	{
-		const TPose2D guess = between(m_refInMap, prior);
-		const auto m = m_matcher.match(m_ref, scan, guess);
-		// The map's scans were taken at other times (people, doors) and its passes agree to
-		// about the loop links' noise floor, not to the match covariance alone.
-		good =
-			m && m->inlierFraction >= m_lp.min_inlier_fraction &&
-			disagreementChi2(guess, m->scanInRef,
-							 rotateCovariance(priorCov, -m_refInMap.phi) + m->cov +
-								 m_params.loop.link_noise.floorCovariance()) <= m_lp.gate_chi2;
+		TPose2D guess = between(m_refInMap, prior);
+		auto m = m_matcher.match(m_ref, scan, guess);
+		good = isGoodMatch(m, guess, priorCov);
+		// A kept reference (track_keep_share) that fails the scan: the scan is matched, and
+		// judged contradicted or not, against the keyframes near the prior themselves.
+		if (!good && !m_refExact && referenceNear(prior, false))
+		{
+			guess = between(m_refInMap, prior);
+			m = m_matcher.match(m_ref, scan, guess);
+			good = isGoodMatch(m, guess, priorCov);
+		}
 		if (good) pose = compose(m_refInMap, m->scanInRef);
+		m_lastMapGood = good && m->inlierFraction >= kKeepInlierFraction;
 		// Contradicted: no match, and the scan at the prior puts walls where the map's
 		// beams passed (a wrong place, not a room the map saw only from its door), for
 		// every pass of the keyframes near it on its own (not a place changed between passes).
@@ -343,6 +346,8 @@ bool CLocalizer::track(const TScan2D& scan, mrpt::Clock::time_point t, bool& con
 			m_views.contradictsEveryPass(scan, prior, m_refNodes, kContradictionMargin,
 										 kContradictionFraction);
 	}
+	else
+		m_lastMapGood = false;
 	if (!good)
 		if (const auto local = matchRecent(scan, prior)) pose = *local, ++m_stats.recentMatches;
 	m_driftCov = good ? Eigen::Matrix3d::Zero() : priorCov;
@@ -385,7 +390,31 @@ void CLocalizer::keepRecent(const TScan2D& scan, const TPose2D& pose)
 	m_recentCloud.reset();
 }
 
-bool CLocalizer::referenceNear(const TPose2D& pose)
+bool CLocalizer::stillCovers(const std::vector<size_t>& current,
+							 const std::vector<size_t>& near, size_t nearest, double share)
+{
+	// Both sorted. The reference must hold the nearest keyframe (the scan is matched where it
+	// is best seen) and share * |near| of the keyframes near the pose now.
+	if (current.empty() || !std::binary_search(current.begin(), current.end(), nearest))
+		return false;
+	size_t common = 0;
+	for (const size_t i : near)
+		common += std::binary_search(current.begin(), current.end(), i) ? 1 : 0;
+	return static_cast<double>(common) >= share * static_cast<double>(near.size());
+}
+
+bool CLocalizer::isGoodMatch(const std::optional<TScanMatch>& m, const TPose2D& guess,
+							 const Eigen::Matrix3d& priorCov) const
+{
+	// The map's scans were taken at other times (people, doors) and its passes agree to
+	// about the loop links' noise floor, not to the match covariance alone.
+	return m && m->inlierFraction >= m_lp.min_inlier_fraction &&
+		   disagreementChi2(guess, m->scanInRef,
+							rotateCovariance(priorCov, -m_refInMap.phi) + m->cov +
+								m_params.loop.link_noise.floorCovariance()) <= m_lp.gate_chi2;
+}
+
+bool CLocalizer::referenceNear(const TPose2D& pose, bool mayKeep)
 {
 	std::vector<std::pair<double, size_t>> near;
 	for (size_t i = 0; i < m_map.numNodes(); ++i)
@@ -399,7 +428,11 @@ bool CLocalizer::referenceNear(const TPose2D& pose)
 	for (const auto& [d, i] : near) nodes.push_back(i);
 	const size_t nearest = nodes.front();
 	std::sort(nodes.begin(), nodes.end());
-	if (nodes == m_refNodes) return true;
+	m_refExact = nodes == m_refNodes;
+	if (m_refExact || (mayKeep && m_lastMapGood &&
+					   stillCovers(m_refNodes, nodes, nearest, m_lp.track_keep_share)))
+		return true;
+	m_refExact = true;
 	m_refNodes = nodes;
 	m_refInMap = m_map.pose(nearest);
 	std::vector<TScan2D> scans;

@@ -116,6 +116,16 @@ public:
 	 * with 16-32 keyframes cost 6-10 s each, and where they kept failing (a stretch the first
 	 * half's map barely covers) they cost 40 s of modelled work. */
 	static constexpr size_t kKidnapPatchKeyframes = 8;
+	/** Whether the reference built from the keyframes `current` still serves a pose whose
+	 * near keyframes are `near` (both sorted; `nearest` the nearest of them): it holds
+	 * `nearest` and at least share * |near| of `near` ([Localization] track_keep_share). */
+	/** ... and only while the last scan matched it well: a good match with at least this
+	 * fraction of its points matched. Where the map is partial (Intel's second half on the
+	 * first half's map: 30 % poor matches) the reference is then built as before; keeping it
+	 * there regardless put that run's relation error at 0.10 m (0.0334 at share 0.75). */
+	static constexpr double kKeepInlierFraction = 0.8;
+	static bool stillCovers(const std::vector<size_t>& current, const std::vector<size_t>& near,
+							size_t nearest, double share);
 
 	/** The map: node i of `map` at its pose with keyframes[i]'s scan (copied).
 	 * `backgroundSearch` off: global searches run on the caller's thread (same results). */
@@ -168,8 +178,12 @@ private:
 	/** Matches the scan (map, else recent scans); true if the map match is good.
 	 * `contradicted`: see kContradictionFraction. */
 	bool track(const TScan2D& scan, mrpt::Clock::time_point t, bool& contradicted);
-	/** The reference cloud of the map keyframes near `pose`; false if there are none. */
-	bool referenceNear(const mrpt::math::TPose2D& pose);
+	/** The reference cloud of the map keyframes near `pose`; false if there are none.
+	 * `mayKeep`: the current one is kept while it still covers them (stillCovers). */
+	bool referenceNear(const mrpt::math::TPose2D& pose, bool mayKeep);
+	/** A tracking match is good: enough inliers and within gate_chi2 of the prior. */
+	bool isGoodMatch(const std::optional<TScanMatch>& m, const mrpt::math::TPose2D& guess,
+					 const Eigen::Matrix3d& priorCov) const;
 	/** The prior matched against the recent scans; nullopt if that fails too. */
 	std::optional<mrpt::math::TPose2D> matchRecent(const TScan2D& scan,
 												   const mrpt::math::TPose2D& prior);
@@ -203,6 +217,8 @@ private:
 	size_t m_poorInARow = 0;
 	size_t m_contradictedInARow = 0;  //!< scans contradicting the map (track())
 	std::vector<size_t> m_refNodes;   //!< keyframes of the current reference cloud
+	bool m_lastMapGood = false;       //!< the last scan matched the reference well (keep it)
+	bool m_refExact = false;          //!< m_refNodes are the keyframes near the last pose asked
 	CReferenceCloud m_ref;
 	mrpt::math::TPose2D m_refInMap{0, 0, 0};
 	/** The log's own recent scans with their map poses, for matchRecent(). */
