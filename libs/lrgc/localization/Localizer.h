@@ -116,14 +116,15 @@ public:
 	 * with 16-32 keyframes cost 6-10 s each, and where they kept failing (a stretch the first
 	 * half's map barely covers) they cost 40 s of modelled work. */
 	static constexpr size_t kKidnapPatchKeyframes = 8;
+	/** The tracking reference is kept (stillCovers) only while the last scan matched it well:
+	 * a good match with at least this fraction of its points matched. Where the map is
+	 * partial (Intel's second half on the first half's map: 30 % poor matches) the reference
+	 * is then built as before; keeping it there regardless put that run's relation error at
+	 * 0.10 m (0.0334 at share 0.75). */
+	static constexpr double kKeepInlierFraction = 0.8;
 	/** Whether the reference built from the keyframes `current` still serves a pose whose
 	 * near keyframes are `near` (both sorted; `nearest` the nearest of them): it holds
 	 * `nearest` and at least share * |near| of `near` ([Localization] track_keep_share). */
-	/** ... and only while the last scan matched it well: a good match with at least this
-	 * fraction of its points matched. Where the map is partial (Intel's second half on the
-	 * first half's map: 30 % poor matches) the reference is then built as before; keeping it
-	 * there regardless put that run's relation error at 0.10 m (0.0334 at share 0.75). */
-	static constexpr double kKeepInlierFraction = 0.8;
 	static bool stillCovers(const std::vector<size_t>& current, const std::vector<size_t>& near,
 							size_t nearest, double share);
 

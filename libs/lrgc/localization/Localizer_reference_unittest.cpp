@@ -16,7 +16,7 @@ TEST(LocalizerReference, keptWhileItHoldsTheNearestKeyframeAndTheShareOfTheNearO
 	EXPECT_FALSE(CLocalizer::stillCovers(current, moved, 16, 0.8));
 	// The nearest keyframe is new: built again whatever the share.
 	EXPECT_FALSE(CLocalizer::stillCovers(current, moved, 18, 0.0));
-	// Half the near ones held is enough at 0.5, not 7 of 16.
+	// 4 of 8 near ones held is enough at 0.5, 3 of 8 is not.
 	const std::vector<size_t> far{14, 15, 16, 17, 18, 19, 20, 21};
 	EXPECT_TRUE(CLocalizer::stillCovers(current, far, 15, 0.5));
 	const std::vector<size_t> farther{15, 16, 17, 18, 19, 20, 21, 22};
