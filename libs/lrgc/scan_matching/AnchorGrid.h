@@ -166,9 +166,11 @@ private:
 	template <bool kBound>
 	int nearestDense(const Eigen::Vector2d& q, double maxDist, double* d2Out,
 					 double* boundOut) const;
-	struct TRun;  // nearestDense's runs of points (AnchorGrid.cpp)
+	struct TRun;  // nearestDense's runs of points (AnchorGrid_queries.cpp)
 	template <bool kBound>
-	struct TNearest;  // nearestDense's running answer (AnchorGrid.cpp)
+	struct TNearest;  // nearestDense's running answer (AnchorGrid_queries.cpp)
+	template <bool kBound>
+	struct TNearestSoFar;  // the plain searches' running answer (AnchorGrid_queries.cpp)
 	/** Fills the dense table from the key-sorted m_index; false if the box is too large. */
 	bool buildDense(const std::vector<Eigen::Vector2d>& points, bool rowMajor);
 

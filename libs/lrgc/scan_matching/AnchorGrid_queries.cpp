@@ -121,6 +121,29 @@ bool mayMatter(double gap, double far)
 }
 }  // namespace
 
+/** The nearest point read so far (strictly nearer wins: of equal distances the first read
+ * stays) and, with kBound, the least squared distance [m^2] of the other points read. The
+ * plain searches' running answer (nearestByScan, nearestRings); nearestDense's TNearest adds
+ * the ring walk's tie rule. */
+template <bool kBound>
+struct CAnchorGrid::TNearestSoFar
+{
+	double best;  //!< [m^2] maxDist^2 until a point is nearer
+	double second = std::numeric_limits<double>::infinity();
+	int idx = -1;
+
+	void offer(double d2, uint32_t index)
+	{
+		if (d2 < best)
+		{
+			if (kBound && idx >= 0) second = std::min(second, best);
+			best = d2, idx = static_cast<int>(index);
+		}
+		else if (kBound)
+			second = std::min(second, d2);
+	}
+};
+
 /** A run [b, e) of points (pos) and their indices in the input (index). */
 struct CAnchorGrid::TRun
 {
@@ -234,22 +257,11 @@ template <bool kBound>
 int CAnchorGrid::nearestByScan(const Eigen::Vector2d& q, double maxDist, double* d2Out,
 							   double* boundOut) const
 {
-	double best = maxDist * maxDist, second = std::numeric_limits<double>::infinity();
-	int bestIdx = -1;
-	for (size_t k = 0; k < m_pos.size(); ++k)
-	{
-		const double d2 = (m_pos[k] - q).squaredNorm();
-		if (d2 < best)
-		{
-			if (kBound && bestIdx >= 0) second = std::min(second, best);
-			best = d2, bestIdx = static_cast<int>(m_index[k]);
-		}
-		else if (kBound)
-			second = std::min(second, d2);
-	}
-	if (kBound) *boundOut = std::sqrt(second);  // every point read
-	if (bestIdx >= 0 && d2Out) *d2Out = best;
-	return bestIdx;
+	TNearestSoFar<kBound> n{maxDist * maxDist};
+	for (size_t k = 0; k < m_pos.size(); ++k) n.offer((m_pos[k] - q).squaredNorm(), m_index[k]);
+	if (kBound) *boundOut = std::sqrt(n.second);  // every point read
+	if (n.idx >= 0 && d2Out) *d2Out = n.best;
+	return n.idx;
 }
 
 template <bool kBound>
@@ -280,22 +292,11 @@ int CAnchorGrid::nearestRings(const Eigen::Vector2d& q, double maxDist, double* 
 	// every unvisited point is at least `lb` away (distance from q to the border of the
 	// visited block), so the search stops once the best distance is <= lb or lb >= maxDist.
 	const int64_t cx = cellIndex(q.x(), m_cell), cy = cellIndex(q.y(), m_cell);
-	double best = maxDist * maxDist, second = std::numeric_limits<double>::infinity();
-	int bestIdx = -1;
+	TNearestSoFar<kBound> n{maxDist * maxDist};
 	auto visit = [&](int64_t ix, int64_t iy)
 	{
 		const auto [b, e] = cellRun(ix, iy);
-		for (uint32_t k = b; k < e; ++k)
-		{
-			const double d2 = (m_pos[k] - q).squaredNorm();
-			if (d2 < best)
-			{
-				if (kBound && bestIdx >= 0) second = std::min(second, best);
-				best = d2, bestIdx = static_cast<int>(m_index[k]);
-			}
-			else if (kBound)
-				second = std::min(second, d2);
-		}
+		for (uint32_t k = b; k < e; ++k) n.offer((m_pos[k] - q).squaredNorm(), m_index[k]);
 	};
 	// Bounded twice: by maxDist (the stopping rule) and by the box (after ring `last`, every
 	// occupied cell has been visited), whatever maxDist.
@@ -312,15 +313,15 @@ int CAnchorGrid::nearestRings(const Eigen::Vector2d& q, double maxDist, double* 
 				visit(cx - k, cy + j), visit(cx + k, cy + j);
 		}
 		const double lb = ringGap(q, cx, cy, k, m_cell);
-		if (lb * lb >= best)
+		if (lb * lb >= n.best)
 		{
 			unread = lb;
 			break;
 		}
 	}
-	if (kBound) *boundOut = std::min(std::sqrt(second), unread);
-	if (bestIdx >= 0 && d2Out) *d2Out = best;
-	return bestIdx;
+	if (kBound) *boundOut = std::min(std::sqrt(n.second), unread);
+	if (n.idx >= 0 && d2Out) *d2Out = n.best;
+	return n.idx;
 }
 
 template int CAnchorGrid::nearestImpl<false>(const Eigen::Vector2d&, double, double*,
