@@ -241,11 +241,21 @@ TEST(SlamMessages, UsageErrorsAreOneLineAndHelpListsEveryOption)
 	EXPECT_EQ(r.output,
 			  "lrgc-slam: unknown argument '--inptu'; lrgc-slam --help lists the options\n");
 
+	for (const char* bad : {"0", "-1", "ten", "10s", "nan", "inf"})
+	{
+		r = runProcess(binaryPath("lrgc-slam"),
+					   {"--input", "x", "--out", "y", "--progress-interval", bad});
+		EXPECT_EQ(r.exitCode, 2) << bad << ": " << r.output;
+		EXPECT_EQ(r.output, std::string("lrgc-slam: --progress-interval needs a number of "
+										"seconds above 0, not '") +
+								bad + "'\n");
+	}
+
 	r = runProcess(binaryPath("lrgc-slam"), {"--help"});
 	EXPECT_EQ(r.exitCode, 0) << r.output;
-	for (const char* option :
-		 {"--input", "--config", "--out", "--quiet", "--save-rawlog", "--live",
-		  "--write-default-config", "--force", "--verbose", "--help", "--version"})
+	for (const char* option : {"--input", "--config", "--out", "--quiet", "--save-rawlog",
+							   "--live", "--write-default-config", "--force", "--verbose",
+							   "--help", "--version", "--progress-interval"})
 		EXPECT_NE(r.output.find(option), std::string::npos) << option << " not in:\n"
 															<< r.output;
 	// The synopsis (the lines before "Options:") shows --laser with the runs that take it.

@@ -7,7 +7,8 @@
  *
  * The log: Debian's SENA rawlog driven 40 times (one loop each, timestamps shifted), so that
  * the run is mid-way, closing loops and optimising with CHOLMOD, when the signal comes. No
- * timing is asserted: the test waits for the run's first progress line before signalling. */
+ * timing is asserted: the test waits for a progress line reporting three laps mapped before
+ * signalling (the run prints one a second: --progress-interval 1). */
 #include <gtest/gtest.h>
 #include <lrgc_apps/io/LogReader.h>
 #include <mrpt/io/CFileGZOutputStream.h>
@@ -17,7 +18,9 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
+#include <regex>
 #include <thread>
 
 #include <filesystem>
@@ -32,8 +35,36 @@ using namespace lrgc::test;
 namespace
 {
 // 9000 scans: minutes of mapping here (about 70 scans/s on 2 busy cores), so that the run is
-// still going at its first progress line on a machine many times faster.
+// still going when the signal comes on a machine many times faster.
 constexpr int kLaps = 40;
+// The runs print a progress line every second (--progress-interval 1); the signal comes at the
+// first that reports this many scans: three laps, so the first laps' loops are closed and the
+// graph optimised (CHOLMOD, METIS) several times by then.
+constexpr size_t kScansBeforeSignal = 700;
+const std::vector<std::string> kProgressEverySecond = {"--progress-interval", "1"};
+
+// The most scans a "progress: P% N scans" line of `text` reports (0 if none).
+size_t scansReported(const std::string& text)
+{
+	size_t most = 0;
+	const std::regex re("progress: [0-9.]+% ([0-9]+) scans");
+	for (auto it = std::sregex_iterator(text.begin(), text.end(), re);
+		 it != std::sregex_iterator(); ++it)
+		most = std::max<size_t>(most, std::stoul((*it)[1].str()));
+	return most;
+}
+
+// Waits until the run reports kScansBeforeSignal scans; false on time-out or an exit first.
+bool waitForMidRun(CChildProcess& app)
+{
+	for (size_t from = 0; app.waitForOutput("progress: ", 600, from);)
+	{
+		const std::string out = app.output();
+		if (scansReported(out) >= kScansBeforeSignal) return true;
+		from = out.rfind("progress: ") + 1;
+	}
+	return false;
+}
 
 // SENA `laps` times over, as one layout-1 rawlog (gzip): each lap's timestamps are shifted
 // past the previous lap's, its odometry increments continue from where the last lap ended.
@@ -114,15 +145,14 @@ TStoppedRun runAndStop(const std::string& name, int sig, int count, bool toGroup
 	const std::string log = dir + "/sena-x40.rawlog";
 	writeRepeatedSena(log, kLaps);
 	r.outDir = dir + "/out";
-	const std::vector<std::string> args = {"--input", log, "--out", r.outDir};
+	std::vector<std::string> args = {"--input", log, "--out", r.outDir};
+	args.insert(args.end(), kProgressEverySecond.begin(), kProgressEverySecond.end());
 	std::vector<std::string> grouped = {binaryPath("lrgc-slam")};
 	grouped.insert(grouped.end(), args.begin(), args.end());
 	// setsid(1), not being a group leader here, calls setsid() and execs lrgc-slam: same pid.
 	CChildProcess app(toGroup ? "/usr/bin/setsid" : binaryPath("lrgc-slam"),
 					  toGroup ? grouped : args, dir + "/console.txt");
-	// The first progress line comes after 10 s of mapping: by then the run has closed the
-	// first lap's loop and optimised (CHOLMOD, METIS) several times.
-	if (!app.waitForOutput("progress: ", 600))
+	if (!waitForMidRun(app))
 	{
 		r.output = app.output();
 		return r;
@@ -155,13 +185,14 @@ std::optional<int> runIntoClosedPipe(const std::string& log, const std::string& 
 		::close(fds[0]);
 		::close(fds[1]);
 		::execl(program.c_str(), program.c_str(), "--input", log.c_str(), "--out",
-				outDir.c_str(), static_cast<char*>(nullptr));
+				outDir.c_str(), kProgressEverySecond[0].c_str(),
+				kProgressEverySecond[1].c_str(), static_cast<char*>(nullptr));
 		::_exit(127);
 	}
 	::close(fds[1]);
 	std::string seen;
 	char buf[512];
-	for (ssize_t n; seen.find("progress: ") == std::string::npos &&
+	for (ssize_t n; scansReported(seen) < kScansBeforeSignal &&
 					(n = ::read(fds[0], buf, sizeof(buf))) > 0;)
 		seen.append(buf, static_cast<size_t>(n));
 	::close(fds[0]);  // the reader goes away: the next line written raises SIGPIPE
@@ -315,9 +346,10 @@ TEST(SlamSignals, OneSignalDeliveredTwiceByTimeoutStillSavesTheMaps)
 	const std::string log = dir + "/sena-x40.rawlog";
 	writeRepeatedSena(log, kLaps);
 	CChildProcess app("/usr/bin/setsid",
-					  {binaryPath("lrgc-slam"), "--input", log, "--out", dir + "/out"},
+					  {binaryPath("lrgc-slam"), "--input", log, "--out", dir + "/out",
+					   kProgressEverySecond[0], kProgressEverySecond[1]},
 					  dir + "/console.txt");
-	ASSERT_TRUE(app.waitForOutput("progress: ", 600)) << app.output();
+	ASSERT_TRUE(waitForMidRun(app)) << app.output();
 	app.signal(SIGINT);
 	std::this_thread::sleep_for(std::chrono::milliseconds(20));
 	::kill(-app.pid(), SIGINT);
@@ -342,7 +374,8 @@ TEST(SlamSignals, SigintDuringANonConvergingScanMatchSavesAtOnce)
 		binaryPath("lrgc-slam"),
 		{"--input", senaRawlogPath(), "--out", dir + "/out", "--config", dir + "/endless.ini"},
 		dir + "/console.txt");
-	std::this_thread::sleep_for(std::chrono::seconds(10));  // by then in an endless match
+	// By then in an endless match: the first scans' match starts within a second of the start.
+	std::this_thread::sleep_for(std::chrono::seconds(4));
 	const auto t0 = std::chrono::steady_clock::now();
 	app.signal(SIGINT);
 	const auto status = app.waitExit(30);

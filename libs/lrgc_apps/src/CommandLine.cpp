@@ -1,6 +1,9 @@
 #include "CommandLine.h"
 
+#include <cmath>
+#include <exception>
 #include <filesystem>
+#include <string>
 #include <system_error>
 
 namespace lrgc::apps
@@ -24,6 +27,25 @@ bool parseSavedMapOption(const std::vector<std::string>& args, size_t& i, TSlamC
 						  kSeeHelp);
 	*dst = args[++i];
 	return true;
+}
+
+// --progress-interval SECONDS: a positive, finite number of seconds.
+double progressInterval(const std::string& value)
+{
+	size_t used = 0;
+	double s = 0;
+	try
+	{
+		s = std::stod(value, &used);
+	}
+	catch (const std::exception&)
+	{
+		used = 0;
+	}
+	if (used != value.size() || !std::isfinite(s) || s <= 0)
+		throw CUsageError("--progress-interval needs a number of seconds above 0, not '" +
+						  value + "'");
+	return s;
 }
 
 // --merge MAP_A MAP_B: two values, each a folder or a file, never an option.
@@ -176,6 +198,12 @@ TSlamCommandLine parseSlamCommandLine(const std::vector<std::string>& args)
 			cl.expert = true;
 		else if (a == "--quiet" || a == "-q")
 			cl.quiet = true;
+		else if (a == "--progress-interval")
+		{
+			std::string seconds;
+			value(seconds);
+			cl.progressInterval = progressInterval(seconds);
+		}
 		else if (a == "--verbose" || a == "-v")
 			cl.verbose = true;
 		else if (a == "--help" || a == "-h")
@@ -209,7 +237,9 @@ std::string slamUsage()
 		   "Options: -i --input, -c --config, -o --out, -q --quiet (no progress), -v "
 		   "--verbose\n"
 		   "(on an error, also its details: source location, call stack), --force (replace an\n"
-		   "existing FILE.ini), -h --help, --version (print the version and exit).\n"
+		   "existing FILE.ini), -h --help, --version (print the version and exit),\n"
+		   "--progress-interval SECONDS (between progress lines when stderr is no terminal;\n"
+		   "default 10).\n"
 		   "FILE: MRPT rawlog (.rawlog, plain or gzip, both layouts) or CARMEN log\n"
 		   "(.clf/.log, optionally .gz); the format is detected from the content.\n"
 		   "Outputs in DIR: map.gridmap.gz map.png map.pgm map.yaml map.simplemap.gz "

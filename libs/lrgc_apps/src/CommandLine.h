@@ -1,7 +1,7 @@
 /* Command line of lrgc-slam.
  *
  *   lrgc-slam --input FILE [--config FILE.ini] --out DIR [--laser LABEL] [--quiet]
- *             [--save-rawlog OUT.rawlog]
+ *             [--save-rawlog OUT.rawlog] [--progress-interval SECONDS]
  *   lrgc-slam --input FILE --save-rawlog OUT.rawlog          (convert only)
  *   lrgc-slam --live SENSORS.ini [--config FILE.ini] --out DIR [--quiet]   (live sensors)
  *   lrgc-slam --input FILE --initial-map MAP --out DIR     (continue MAP: DIR or .simplemap)
@@ -42,6 +42,9 @@ struct TSlamCommandLine
 	bool force = false;   //!< --write-default-config may replace an existing file
 	bool expert = false;  //!< --write-default-config writes every key, not the user's few
 	bool quiet = false;
+	/** [s] --progress-interval: seconds between progress lines when stderr is not a
+	 * terminal (logs, pipes, CI); a terminal's bar is redrawn every 0.2 s whatever this is. */
+	double progressInterval = 10.0;
 	bool verbose = false;  //!< errors with their details (source location, call stack)
 	bool help = false;
 	bool version = false;

@@ -76,7 +76,7 @@ int CSlamApp::runMerge(const TSlamCommandLine& cl)
 	}
 	report("lrgc-slam: " + mergingMessage(*in, builder));
 	CKeyframeReplay replay(in->b);
-	CProgress progress(m_err, cl.quiet);
+	CProgress progress(m_err, cl.quiet, cl.progressInterval);
 	CRunClock clock;
 	TRunSummary run;
 	run.input = in->b.path;

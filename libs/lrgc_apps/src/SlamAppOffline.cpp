@@ -130,7 +130,7 @@ int CSlamApp::runOffline(const TSlamCommandLine& cl)
 			reportError(e);
 			return kExitInputError;
 		}
-	CProgress progress(m_err, cl.quiet);
+	CProgress progress(m_err, cl.quiet, cl.progressInterval);
 	CRunClock clock;
 	TRunSummary run;
 	run.input = cl.input;
