@@ -61,6 +61,8 @@ CLocalizer::CLocalizer(const CPoseGraph& map, const TKeyframes& keyframes,
 	TScanMatcherParams mp = params.matcher;
 	mp.max_free_space_violation = params.local.max_free_space_violation;
 	m_matcher = CScanMatcher(mp);
+	mp.max_free_space_violation = 1;  // checked pass by pass instead (matchReference)
+	m_trackMatcher = CScanMatcher(mp);
 	m_finder = std::make_unique<CStartFinder>(m_global, m_params, m_lp);
 }
 
@@ -71,6 +73,7 @@ void CLocalizer::setStopToken(const CStopToken& stop)
 	m_stop = stop;
 	m_global.setStopToken(stop);
 	m_matcher.setStopToken(stop);
+	m_trackMatcher.setStopToken(stop);
 	if (m_finder) m_finder->setStopToken(stop);
 }
 
@@ -324,14 +327,14 @@ bool CLocalizer::track(const TScan2D& scan, mrpt::Clock::time_point t, bool& con
 	if (referenceNear(prior, true))
 	{
 		TPose2D guess = between(m_refInMap, prior);
-		auto m = m_matcher.match(m_ref, scan, guess);
+		auto m = matchReference(scan, guess);
 		good = isGoodMatch(m, guess, priorCov);
 		// A kept reference (track_keep_share) that fails the scan: the scan is matched, and
 		// judged contradicted or not, against the keyframes near the prior themselves.
 		if (!good && !m_refExact && referenceNear(prior, false))
 		{
 			guess = between(m_refInMap, prior);
-			m = m_matcher.match(m_ref, scan, guess);
+			m = matchReference(scan, guess);
 			good = isGoodMatch(m, guess, priorCov);
 		}
 		if (good) pose = compose(m_refInMap, m->scanInRef);
@@ -357,6 +360,30 @@ bool CLocalizer::track(const TScan2D& scan, mrpt::Clock::time_point t, bool& con
 	keepRecent(scan, pose);
 	++(good ? m_stats.goodMatches : m_stats.poorMatches);
 	return good;
+}
+
+std::optional<TScanMatch> CLocalizer::matchReference(const TScan2D& scan, const TPose2D& guess)
+{
+	auto m = m_trackMatcher.match(m_ref, scan, guess);
+	const double limit = m_matcher.params().max_free_space_violation;
+	if (!m || limit >= 1) return m;
+	// The margin CScanMatcher gives its own check: 4 residual stds, at least 0.1 m.
+	const double margin = std::max(0.1, 4 * m->residualStd);
+	m->freeSpaceViolation = m_ref.freeSpaceViolation(scan, m->scanInRef, margin);
+	if (refusedByFreeSpace(*m, limit, m_views, scan, compose(m_refInMap, m->scanInRef),
+						   m_refNodes, margin))
+		return std::nullopt;
+	return m;
+}
+
+bool CLocalizer::refusedByFreeSpace(const TScanMatch& m, double limit,
+									CViewContradiction& views, const TScan2D& scan,
+									const TPose2D& poseInMap, const std::vector<size_t>& nodes,
+									double margin)
+{
+	if (m.freeSpaceViolation <= limit) return false;
+	return m.inlierFraction < kKeepInlierFraction || m.rmsResidual > kChangedPlaceRms_m ||
+		   views.contradictsEveryPass(scan, poseInMap, nodes, margin, limit);
 }
 
 std::optional<TPose2D> CLocalizer::matchRecent(const TScan2D& scan, const TPose2D& prior)

@@ -116,6 +116,10 @@ public:
 	 * with 16-32 keyframes cost 6-10 s each, and where they kept failing (a stretch the first
 	 * half's map barely covers) they cost 40 s of modelled work. */
 	static constexpr size_t kKidnapPatchKeyframes = 8;
+	/** [m] A match the joined reference's free-space check refuses stands (matchReference)
+	 * only if it fits tightly: at least kKeepInlierFraction of the scan matched, with an rms
+	 * residual under this. */
+	static constexpr double kChangedPlaceRms_m = 0.03;
 	/** The tracking reference is kept (stillCovers) only while the last scan matched it well:
 	 * a good match with at least this fraction of its points matched. Where the map is
 	 * partial (Intel's second half on the first half's map: 30 % poor matches) the reference
@@ -127,6 +131,15 @@ public:
 	 * `nearest` and at least share * |near| of `near` ([Localization] track_keep_share). */
 	static bool stillCovers(const std::vector<size_t>& current, const std::vector<size_t>& near,
 							size_t nearest, double share);
+
+	/** Whether a tracking match whose free-space violation against the joined reference
+	 * (m.freeSpaceViolation) is above `limit` must be refused (matchReference): unless it fits
+	 * tightly (kKeepInlierFraction, kChangedPlaceRms_m) and agrees with some pass of `nodes` on
+	 * its own (views.contradictsEveryPass at `poseInMap`, `margin` [m]). Below the limit:
+	 * never. */
+	static bool refusedByFreeSpace(const TScanMatch& m, double limit, CViewContradiction& views,
+								   const TScan2D& scan, const mrpt::math::TPose2D& poseInMap,
+								   const std::vector<size_t>& nodes, double margin);
 
 	/** The map: node i of `map` at its pose with keyframes[i]'s scan (copied).
 	 * `backgroundSearch` off: global searches run on the caller's thread (same results). */
@@ -182,6 +195,13 @@ private:
 	/** The reference cloud of the map keyframes near `pose`; false if there are none.
 	 * `mayKeep`: the current one is kept while it still covers them (stillCovers). */
 	bool referenceNear(const mrpt::math::TPose2D& pose, bool mayKeep);
+	/** The scan matched against the tracking reference (m_ref) from `guess`. Its free-space
+	 * check is asked as a kidnap's is: a match the joined reference refuses (more than
+	 * [LocalRegistration] max_free_space_violation of the scan where some pass's beams went
+	 * through) stands unless it contradicts each pass of the reference's keyframes on its own
+	 * (CViewContradiction): a place changed between the map's passes is not a wrong match. */
+	std::optional<TScanMatch> matchReference(const TScan2D& scan,
+											 const mrpt::math::TPose2D& guess);
 	/** A tracking match is good: enough inliers and within gate_chi2 of the prior. */
 	bool isGoodMatch(const std::optional<TScanMatch>& m, const mrpt::math::TPose2D& guess,
 					 const Eigen::Matrix3d& priorCov) const;
@@ -197,6 +217,7 @@ private:
 	CViewContradiction m_views;  //!< of m_map and m_keyframes (declared after them)
 	CGlobalLocalizer m_global;
 	CScanMatcher m_matcher;
+	CScanMatcher m_trackMatcher;  //!< m_matcher without its free-space check: matchReference
 	CStopToken m_stop;
 	std::unique_ptr<CMotionPredictor> m_predictor;
 	/** Searching for the start or relocalising: the probe, fed the scans since then. */

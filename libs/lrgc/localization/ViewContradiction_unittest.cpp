@@ -2,6 +2,7 @@
  * place still is. Fails on main (56adc76), whose kidnap rule asked the joined cloud only. */
 #include <gtest/gtest.h>
 #include <lrgc/common/se2.h>
+#include <lrgc/localization/Localizer.h>
 #include <lrgc/localization/ViewContradiction.h>
 #include <lrgc/scan_matching/ScanMatcherParams.h>
 
@@ -108,4 +109,51 @@ TEST(ViewContradiction, aPlaceThatChangedBetweenPassesIsNoContradictionAWrongPla
 	const TScan2D elsewhere = simulateScan(corridor, TPose2D(0, 0, 0), {}, rng);
 	EXPECT_GE(joined.freeSpaceViolation(elsewhere, here, margin), fraction);
 	EXPECT_TRUE(views.contradictsEveryPass(elsewhere, here, near, margin, fraction));
+}
+
+// Tracking's free-space verdict (CLocalizer::refusedByFreeSpace; does not build on main, whose
+// tracking took the joined reference's check as final): the scan with both doors shut, at the
+// right pose, is refused by the joined cloud yet stands, fitting tightly and agreeing with each
+// pass; the same violation with a loose fit, too few points matched, or in a corridor elsewhere
+// is refused. ACES localised on its own map: 298 -> 129 poor matches, no false kidnap.
+TEST(ViewContradiction, trackingKeepsATightMatchInAPlaceThatChangedBetweenPasses)
+{
+	std::mt19937 rng(5);
+	CPoseGraph map;
+	TKeyframes keyframes;
+	mapTwoPasses(map, keyframes, rng);
+	const TScanMatcherParams p;
+	const double margin = 0.2, limit = 0.3;
+	const TPose2D here(0.05, 0.05, 0.02);
+	const TScan2D bothShut = simulateScan(roomWithTwoDoors(false, false), here, {}, rng);
+	const std::vector<size_t> near{0, 1, 2, 6, 7, 8};
+	CViewContradiction views(map, keyframes, p);
+
+	TScanMatch tight;
+	tight.inlierFraction = 0.9;
+	tight.rmsResidual = 0.01;
+	tight.freeSpaceViolation = 0.4;  // the joined cloud's word (measured in the test above)
+	EXPECT_FALSE(
+		CLocalizer::refusedByFreeSpace(tight, limit, views, bothShut, here, near, margin));
+
+	TScanMatch loose = tight;
+	loose.rmsResidual = 2 * CLocalizer::kChangedPlaceRms_m;
+	EXPECT_TRUE(
+		CLocalizer::refusedByFreeSpace(loose, limit, views, bothShut, here, near, margin));
+	TScanMatch partial = tight;
+	partial.inlierFraction = CLocalizer::kKeepInlierFraction - 0.1;
+	EXPECT_TRUE(
+		CLocalizer::refusedByFreeSpace(partial, limit, views, bothShut, here, near, margin));
+
+	CSyntheticWorld corridor;
+	corridor.addSegment({-5, 1}, {25, 1});
+	corridor.addSegment({-5, -1}, {25, -1});
+	const TScan2D elsewhere = simulateScan(corridor, TPose2D(0, 0, 0), {}, rng);
+	EXPECT_TRUE(
+		CLocalizer::refusedByFreeSpace(tight, limit, views, elsewhere, here, near, margin));
+	// Under the limit the joined check passed: nothing more is asked.
+	TScanMatch agreeing = loose;
+	agreeing.freeSpaceViolation = 0.1;
+	EXPECT_FALSE(
+		CLocalizer::refusedByFreeSpace(agreeing, limit, views, elsewhere, here, near, margin));
 }
