@@ -367,8 +367,7 @@ std::optional<TScanMatch> CLocalizer::matchReference(const TScan2D& scan, const 
 	auto m = m_trackMatcher.match(m_ref, scan, guess);
 	const double limit = m_matcher.params().max_free_space_violation;
 	if (!m || limit >= 1) return m;
-	// The margin CScanMatcher gives its own check: 4 residual stds, at least 0.1 m.
-	const double margin = std::max(0.1, 4 * m->residualStd);
+	const double margin = CScanMatcher::freeSpaceMargin(m->residualStd);  // as the matcher's
 	m->freeSpaceViolation = m_ref.freeSpaceViolation(scan, m->scanInRef, margin);
 	if (refusedByFreeSpace(*m, limit, m_views, scan, compose(m_refInMap, m->scanInRef),
 						   m_refNodes, margin))

@@ -56,6 +56,14 @@ void mapTwoPasses(CPoseGraph& map, TKeyframes& keyframes, std::mt19937& rng)
 		keyframes.push_back(std::move(kf));
 	}
 }
+/** A scan in a corridor 2 m wide: a robot carried off, somewhere else than the room. */
+TScan2D corridorScan(std::mt19937& rng)
+{
+	CSyntheticWorld corridor;
+	corridor.addSegment({-5, 1}, {25, 1});
+	corridor.addSegment({-5, -1}, {25, -1});
+	return simulateScan(corridor, TPose2D(0, 0, 0), {}, rng);
+}
 }  // namespace
 
 TEST(ViewContradiction, passesAreRunsOfKeyframeIndicesOfThreeToTen)
@@ -103,10 +111,7 @@ TEST(ViewContradiction, aPlaceThatChangedBetweenPassesIsNoContradictionAWrongPla
 	CViewContradiction views(map, keyframes, p);
 	EXPECT_FALSE(views.contradictsEveryPass(bothShut, here, near, margin, fraction));
 
-	CSyntheticWorld corridor;
-	corridor.addSegment({-5, 1}, {25, 1});
-	corridor.addSegment({-5, -1}, {25, -1});
-	const TScan2D elsewhere = simulateScan(corridor, TPose2D(0, 0, 0), {}, rng);
+	const TScan2D elsewhere = corridorScan(rng);
 	EXPECT_GE(joined.freeSpaceViolation(elsewhere, here, margin), fraction);
 	EXPECT_TRUE(views.contradictsEveryPass(elsewhere, here, near, margin, fraction));
 }
@@ -145,10 +150,7 @@ TEST(ViewContradiction, trackingKeepsATightMatchInAPlaceThatChangedBetweenPasses
 	EXPECT_TRUE(
 		CLocalizer::refusedByFreeSpace(partial, limit, views, bothShut, here, near, margin));
 
-	CSyntheticWorld corridor;
-	corridor.addSegment({-5, 1}, {25, 1});
-	corridor.addSegment({-5, -1}, {25, -1});
-	const TScan2D elsewhere = simulateScan(corridor, TPose2D(0, 0, 0), {}, rng);
+	const TScan2D elsewhere = corridorScan(rng);
 	EXPECT_TRUE(
 		CLocalizer::refusedByFreeSpace(tight, limit, views, elsewhere, here, near, margin));
 	// Under the limit the joined check passed: nothing more is asked.

@@ -342,7 +342,7 @@ std::optional<TScanMatch> CScanMatcher::matchPoints(
 	if (P.max_free_space_violation < 1)
 	{
 		m.freeSpaceViolation = ref.freeSpaceViolation(
-			*checked, m.scanInRef, std::max(0.1, 4 * scale), m_freeSpaceParallel);
+			*checked, m.scanInRef, freeSpaceMargin(scale), m_freeSpaceParallel);
 		if (m.freeSpaceViolation > P.max_free_space_violation) return std::nullopt;
 	}
 	// Residuals of anchors closer than this share reference noise (the line fit neighbourhood

@@ -30,6 +30,7 @@
 #include <mrpt/math/TPose2D.h>
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <memory>
@@ -125,6 +126,10 @@ public:
 										double searchAngle_rad,
 										const TParallelFor& parallel = {},
 										double step_rad = 0) const;
+
+	/** [m] The margin of a match's free-space check (CReferenceCloud::freeSpaceViolation):
+	 * 4 robust residual stds `residualStd` [m] of the match, at least 0.1 m. */
+	static double freeSpaceMargin(double residualStd) { return std::max(0.1, 4 * residualStd); }
 
 	/** Whether two poses are distinct hypotheses for matchWide (farther apart than 0.2 m or
 	 * 3 deg), not one basin. */
