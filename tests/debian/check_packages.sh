@@ -2,8 +2,9 @@
 # The Debian packages of a built tree (cmake/DebianPackages.cmake), checked as Debian would:
 # cpack -G DEB into a temporary folder, then per package its contents (dpkg-deb -c), its
 # dependencies (no -dev package in lrgc's), lintian (no error; skipped if not installed), the
-# programs of lrgc run from the unpacked package (--help, --version), and a find_package(lrgc)
-# project (tests/consumer) built against the unpacked liblrgc-dev.
+# programs of lrgc run from the unpacked package (--help, --version), the development files
+# unpacked the very files `cmake --install` installs (those consumer_find_package builds
+# against), and a find_package(lrgc) project (tests/consumer) configured against them.
 # Usage: check_packages.sh BUILD_DIR WORK_DIR. Prints "SKIP: ..." where dpkg-deb is absent.
 set -euo pipefail
 build=$(cd "$1" && pwd)
@@ -12,13 +13,18 @@ command -v dpkg-deb >/dev/null || { echo "SKIP: dpkg-deb not installed"; exit 0;
 fail() { echo "FAIL: $*" >&2; exit 1; }
 
 rm -rf "$work" && mkdir -p "$work"
+work=$(cd "$work" && pwd)
 (cd "$work" && cpack -G DEB --config "$build/CPackConfig.cmake" -B "$work" >cpack.log 2>&1) ||
   fail "cpack failed: $(tail -5 "$work/cpack.log")"
 run=$(ls "$work"/lrgc_*_*.deb) || fail "no lrgc_*.deb"
 dev=$(ls "$work"/liblrgc-dev_*_*.deb) || fail "no liblrgc-dev_*.deb"
 arch=$(dpkg-architecture -qDEB_HOST_MULTIARCH 2>/dev/null || gcc -print-multiarch)
 
-contents() { dpkg-deb -c "$1" | awk '{print $6}' | sed 's|^\./|/|'; }
+# Each package's file list, read once (dpkg-deb -c unpacks the whole xz archive each time).
+for deb in "$run" "$dev"; do
+  dpkg-deb -c "$deb" | awk '{print $6}' | sed 's|^\./|/|' >"$deb.contents"
+done
+contents() { cat "$1.contents"; }
 has() { grep -qx "$2" <(contents "$1") || fail "$(basename "$1") lacks $2"; }
 hasnot() { ! grep -qE "$2" <(contents "$1") || fail "$(basename "$1") holds $2: $(contents "$1" | grep -E "$2" | head -3)"; }
 
@@ -74,19 +80,27 @@ grep -q "sensors file '$work/no-sensors.ini' does not exist" <<<"$live_err" ||
 grep -q 'libmrpt-hwdrivers2.5' <<<"$depends" || fail "lrgc's dependencies lack MRPT's hwdrivers: $depends"
 "$work/root/usr/bin/calibrate-sweep-time" --help </dev/null | grep -q "scan_sweep_time_s" ||
   fail "installed calibrate-sweep-time --help"
-# liblrgc-dev as shipped: tests/consumer finds lrgc in the unpacked packages (both, as apt
-# would install them) and maps SENA through the packaged static libraries.
+# liblrgc-dev as shipped: the two packages unpacked (as apt would install both) hold, byte for
+# byte, every file `cmake --install` puts under a prefix but the programs (stripped in the
+# package, run above): headers, static libraries, CMake package files, the default .ini; and
+# find_package(lrgc) resolves there (lrgcTargets.cmake fails if a library it names is absent).
+# consumer_find_package builds tests/consumer against such an install, every header alone, and
+# maps SENA with it: building it here again compiled the same source against the same files
+# (doc/architecture.md, "CI cost", session 57).
 dpkg-deb -x "$dev" "$work/root"
-launcher=()
-[ -n "${CMAKE_CXX_COMPILER_LAUNCHER:-}" ] && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER="$CMAKE_CXX_COMPILER_LAUNCHER")
+cmake --install "$build" --prefix "$work/install" >"$work/install.log" 2>&1 ||
+  fail "cmake --install: $(tail -5 "$work/install.log")"
+compared=0
+while IFS= read -r -d '' f; do
+  rel=${f#"$work/install/"}
+  case "$rel" in bin/* | libexec/*) continue ;; esac
+  cmp -s "$f" "$work/root/usr/$rel" || fail "the packages' /usr/$rel is not what cmake --install installs"
+  compared=$((compared + 1))
+done < <(find "$work/install" -type f -print0)
+[ "$compared" -gt 50 ] || fail "only $compared installed files compared"
 cmake -S "$(dirname "$0")/../consumer" -B "$work/consumer" -DCMAKE_PREFIX_PATH="$work/root/usr" \
-  -DCMAKE_BUILD_TYPE=Release "${launcher[@]}" >"$work/consumer.log" 2>&1 ||
+  -DCMAKE_BUILD_TYPE=Release >"$work/consumer.log" 2>&1 ||
   fail "find_package(lrgc) in the unpacked packages: $(tail -5 "$work/consumer.log")"
-cmake --build "$work/consumer" >>"$work/consumer.log" 2>&1 ||
-  fail "building against liblrgc-dev: $(tail -5 "$work/consumer.log")"
-sena="/usr/share/mrpt/datasets/2006-01ENE-21-SENA_Telecom Faculty_one_loop_only.rawlog"
-if [ -f "$sena" ]; then
-  "$work/consumer/map_rawlog" "$sena" </dev/null | grep -qE "keyframes [0-9]+ scans 22[0-9]" ||
-    fail "the consumer built against liblrgc-dev did not map SENA"
-fi
+grep -q "^lrgc_DIR:PATH=$work/root/usr/lib/$arch/cmake/lrgc$" "$work/consumer/CMakeCache.txt" ||
+  fail "find_package(lrgc) did not find the unpacked packages' lrgc: $(grep '^lrgc_DIR' "$work/consumer/CMakeCache.txt")"
 echo "OK: $(basename "$run") and $(basename "$dev")"

@@ -60,6 +60,7 @@
  */
 #pragma once
 
+#include <lrgc/pose_graph/PoseGraphOptimizer.h>
 #include <lrgc/common/HelperThread.h>
 #include <lrgc/common/SharedLoop.h>
 #include <lrgc/local_registration/LocalRegistrationParams.h>
@@ -68,7 +69,6 @@
 #include <lrgc/pose_graph/LinkNoise.h>
 #include <lrgc/local_registration/MotionPredictor.h>
 #include <lrgc/pose_graph/PoseGraph.h>
-#include <lrgc/pose_graph/PoseGraphOptimizer.h>
 #include <lrgc/scan_matching/ReferenceCloud.h>
 #include <lrgc/scan_matching/ScanMatcher.h>
 #include <mrpt/config/CLoadableOptions.h>

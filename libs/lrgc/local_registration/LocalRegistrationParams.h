@@ -3,9 +3,9 @@
  * internals. */
 #pragma once
 
+#include <lrgc/pose_graph/LinkNoise.h>
 #include <mrpt/config/CLoadableOptions.h>
 #include <mrpt/core/bits_math.h>
-#include <lrgc/pose_graph/LinkNoise.h>
 
 #include <cmath>
 #include <cstddef>

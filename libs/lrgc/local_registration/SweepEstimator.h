@@ -28,8 +28,8 @@
  */
 #pragma once
 
-#include <lrgc/local_registration/SweepEstimatorParams.h>
 #include <lrgc/scan_matching/ReferenceCloud.h>
+#include <lrgc/local_registration/SweepEstimatorParams.h>
 #include <lrgc/scan_matching/Scan.h>
 #include <lrgc/scan_matching/ScanMatcherParams.h>
 

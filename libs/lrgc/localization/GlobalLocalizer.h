@@ -13,8 +13,8 @@
  */
 #pragma once
 
-#include <lrgc/loop_closing/CorrelationGrid.h>
 #include <lrgc/loop_closing/PatchCorrelator.h>
+#include <lrgc/loop_closing/CorrelationGrid.h>
 #include <lrgc/scan_matching/Keyframe.h>
 #include <lrgc/pose_graph/PoseGraph.h>
 

@@ -28,10 +28,10 @@
  */
 #pragma once
 
+#include <lrgc/localization/StartFinder.h>
 #include <lrgc/localization/GlobalLocalizer.h>
 #include <lrgc/localization/GlobalSearchWorker.h>
 #include <lrgc/localization/LocalizationParams.h>
-#include <lrgc/localization/StartFinder.h>
 #include <lrgc/localization/ViewContradiction.h>
 #include <lrgc/map_builder/MapBuilderParams.h>
 #include <lrgc/map_builder/Trajectory.h>

@@ -12,8 +12,8 @@
  * <- probe frame), and so the map pose of every scan the probe saw. */
 #pragma once
 
-#include <lrgc/localization/GlobalLocalizer.h>
 #include <lrgc/localization/LocalizationParams.h>
+#include <lrgc/localization/GlobalLocalizer.h>
 #include <lrgc/map_builder/CMetricMapBuilderLRGC.h>
 
 #include <memory>

@@ -13,10 +13,10 @@
  */
 #pragma once
 
+#include <lrgc/scan_matching/ScanMatcherParams.h>
 #include <lrgc/pose_graph/PoseGraph.h>
 #include <lrgc/scan_matching/Keyframe.h>
 #include <lrgc/scan_matching/ReferenceCloud.h>
-#include <lrgc/scan_matching/ScanMatcherParams.h>
 
 #include <map>
 #include <utility>

@@ -39,13 +39,13 @@
  */
 #pragma once
 
+#include <lrgc/loop_closing/UncertaintyPropagation.h>
 #include <lrgc/loop_closing/LoopCloserParams.h>
 #include <lrgc/loop_closing/LoopCloserStats.h>
 #include <lrgc/loop_closing/LoopClosure.h>
 #include <lrgc/scan_matching/Keyframe.h>
 #include <lrgc/pose_graph/LinkNoise.h>
 #include <lrgc/loop_closing/PatchCorrelator.h>
-#include <lrgc/loop_closing/UncertaintyPropagation.h>
 #include <lrgc/pose_graph/PoseGraph.h>
 #include <lrgc/pose_graph/PoseGraphOptimizer.h>
 #include <lrgc/scan_matching/ScanMatcher.h>

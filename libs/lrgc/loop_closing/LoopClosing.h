@@ -15,8 +15,8 @@
  */
 #pragma once
 
-#include <lrgc/common/StopToken.h>
 #include <lrgc/loop_closing/LoopCloserParams.h>
+#include <lrgc/common/StopToken.h>
 #include <lrgc/loop_closing/LoopCloserStats.h>
 #include <lrgc/loop_closing/LoopClosure.h>
 #include <lrgc/loop_closing/PatchCorrelatorParams.h>

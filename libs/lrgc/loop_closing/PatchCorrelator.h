@@ -21,8 +21,8 @@
  */
 #pragma once
 
-#include <lrgc/common/StopToken.h>
 #include <lrgc/loop_closing/CorrelationGrid.h>
+#include <lrgc/common/StopToken.h>
 #include <lrgc/loop_closing/PatchCorrelatorParams.h>
 #include <mrpt/math/TPose2D.h>
 

@@ -19,8 +19,8 @@
  */
 #pragma once
 
-#include <lrgc/common/StopToken.h>
 #include <lrgc/loop_closing/RevisitLinkerParams.h>
+#include <lrgc/common/StopToken.h>
 #include <lrgc/scan_matching/Keyframe.h>
 #include <lrgc/pose_graph/LinkNoise.h>
 #include <lrgc/pose_graph/PoseGraph.h>

@@ -24,10 +24,10 @@
  */
 #pragma once
 
+#include <lrgc/map_builder/LaserSelector.h>
 #include <lrgc/common/StopToken.h>
 #include <lrgc/loop_closing/LoopCloserStats.h>
 #include <lrgc/map_builder/IncrementalGrid.h>
-#include <lrgc/map_builder/LaserSelector.h>
 #include <lrgc/map_builder/MapBuilderParams.h>
 #include <lrgc/map_builder/Trajectory.h>
 #include <lrgc/scan_matching/DeferredCovariance.h>

@@ -43,10 +43,10 @@
  */
 #pragma once
 
+#include <lrgc/scan_matching/Keyframe.h>
 #include <lrgc/common/StopToken.h>
 #include <lrgc/pose_graph/LinkNoise.h>
 #include <lrgc/pose_graph/PoseGraph.h>
-#include <lrgc/scan_matching/Keyframe.h>
 #include <lrgc/scan_matching/ScanMatcher.h>
 #include <mrpt/math/TPose2D.h>
 

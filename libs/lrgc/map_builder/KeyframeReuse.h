@@ -28,11 +28,11 @@
  */
 #pragma once
 
+#include <lrgc/scan_matching/ScanMatcher.h>
 #include <lrgc/map_builder/KeyframeReuseParams.h>
 #include <lrgc/scan_matching/Keyframe.h>
 #include <lrgc/pose_graph/LinkNoise.h>
 #include <lrgc/pose_graph/PoseGraph.h>
-#include <lrgc/scan_matching/ScanMatcher.h>
 
 #include <Eigen/Core>
 #include <deque>

@@ -3,8 +3,8 @@
  * lrgc .ini, or an unknown key in a known one, is an error. */
 #pragma once
 
-#include <lrgc/common/params_io.h>
 #include <lrgc/local_registration/LocalRegistrationParams.h>
+#include <lrgc/common/params_io.h>
 #include <lrgc/local_registration/MotionPredictorParams.h>
 #include <lrgc/local_registration/SweepEstimatorParams.h>
 #include <lrgc/map_builder/KeyframeReuseParams.h>

@@ -22,8 +22,8 @@
  */
 #pragma once
 
-#include <lrgc/pose_graph/PoseGraph.h>
 #include <lrgc/pose_graph/PoseGraphOptimizerParams.h>
+#include <lrgc/pose_graph/PoseGraph.h>
 #include <mrpt/graphs/CNetworkOfPoses.h>
 
 namespace lrgc

@@ -22,8 +22,8 @@
  */
 #pragma once
 
-#include <lrgc/scan_matching/AnchorGrid.h>
 #include <lrgc/scan_matching/FreeSpace.h>
+#include <lrgc/scan_matching/AnchorGrid.h>
 #include <mrpt/math/TPose2D.h>
 
 #include <Eigen/Core>

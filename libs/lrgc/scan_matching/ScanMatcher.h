@@ -21,8 +21,8 @@
  */
 #pragma once
 
-#include <lrgc/common/StopToken.h>
 #include <lrgc/scan_matching/DeferredCovariance.h>
+#include <lrgc/common/StopToken.h>
 #include <lrgc/scan_matching/ScanMatcherParams.h>
 #include <lrgc/scan_matching/ReferenceCloud.h>
 #include <lrgc/scan_matching/Scan.h>

@@ -4,8 +4,8 @@
  * only: an empty trajectory and a blank grid would pass for a map. */
 #pragma once
 
-#include "lrgc_apps/JsonString.h"
 #include "lrgc_apps/RunStats.h"
+#include "lrgc_apps/JsonString.h"
 
 #include <lrgc/map_builder/CMetricMapBuilderLRGC.h>
 #include <mrpt/maps/CSimpleMap.h>

@@ -7,8 +7,8 @@
  * keyframes and their poses only (CMetricMapBuilderLRGC::initialize links them anew). */
 #pragma once
 
-#include <lrgc/map_builder/CMetricMapBuilderLRGC.h>
 #include <lrgc_apps/io/PoseGraphText.h>
+#include <lrgc/map_builder/CMetricMapBuilderLRGC.h>
 #include <mrpt/maps/CSimpleMap.h>
 
 #include <optional>

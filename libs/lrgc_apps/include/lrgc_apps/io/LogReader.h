@@ -19,8 +19,8 @@
  */
 #pragma once
 
-#include <lrgc_apps/io/LogReaderOptions.h>
 #include <lrgc_apps/io/RawlogConversion.h>
+#include <lrgc_apps/io/LogReaderOptions.h>
 #include <mrpt/core/Clock.h>
 #include <mrpt/obs/CActionCollection.h>
 #include <mrpt/obs/CObservation.h>
