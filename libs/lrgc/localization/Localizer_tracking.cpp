@@ -140,11 +140,16 @@ bool CLocalizer::isGoodMatch(const std::optional<TScanMatch>& m, const TPose2D& 
 
 bool CLocalizer::referenceNear(const TPose2D& pose, bool mayKeep)
 {
+	// Distances in the map frame: |t(X_i^-1 (+) X)| = |t(X) - t(X_i)|, no rotation needed; the
+	// squared distance orders the nodes as the distance does (this runs over every map node
+	// for every scan: Killian's 5279).
 	std::vector<std::pair<double, size_t>> near;
+	const double r2 = m_lp.track_radius_m * m_lp.track_radius_m;
 	for (size_t i = 0; i < m_map.numNodes(); ++i)
-		if (const double d = translationNorm(between(m_map.pose(i), pose));
-			d <= m_lp.track_radius_m)
-			near.emplace_back(d, i);
+	{
+		const double dx = pose.x - m_map.pose(i).x, dy = pose.y - m_map.pose(i).y;
+		if (const double d2 = dx * dx + dy * dy; d2 <= r2) near.emplace_back(d2, i);
+	}
 	if (near.empty()) return false;
 	std::sort(near.begin(), near.end());
 	near.resize(std::min(near.size(), m_lp.track_max_keyframes));
