@@ -154,7 +154,7 @@ bool CLocalizer::referenceNear(const TPose2D& pose, bool mayKeep)
 	std::sort(near.begin(), near.end());
 	near.resize(std::min(near.size(), m_lp.track_max_keyframes));
 	std::vector<size_t> nodes;
-	for (const auto& [d, i] : near) nodes.push_back(i);
+	for (const auto& [d2, i] : near) nodes.push_back(i);
 	const size_t nearest = nodes.front();
 	std::sort(nodes.begin(), nodes.end());
 	m_refExact = nodes == m_refNodes;
