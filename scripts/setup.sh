@@ -3,7 +3,7 @@
 # Runs apt-get as root, or through sudo when not root.
 set -euo pipefail
 PACKAGES=(
-  build-essential cmake git pkg-config
+  build-essential cmake ninja-build git pkg-config
   # MRPT 2.5: the -dev packages of the modules lrgc builds against (CMakeLists.txt's
   # find_package(MRPT COMPONENTS ...); not the libmrpt-dev metapackage, whose other modules
   # bring ROS 1, Boost and ICU headers: 115 packages more), icp-slam & co, the datasets
