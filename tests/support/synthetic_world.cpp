@@ -173,17 +173,32 @@ std::optional<TBeamHit> CSyntheticWorld::castBeam(const Eigen::Vector2d& o, doub
 	return std::nullopt;
 }
 
+namespace
+{
+/** Euclidean distance [m] from p to segment seg. */
+double distanceTo(const TSegment& seg, const Eigen::Vector2d& p)
+{
+	const Eigen::Vector2d e = seg.b - seg.a;
+	const double L2 = e.squaredNorm();
+	const double s = L2 > 0 ? std::clamp((p - seg.a).dot(e) / L2, 0.0, 1.0) : 0.0;
+	return (seg.a + s * e - p).norm();
+}
+}  // namespace
+
 double CSyntheticWorld::distanceToNearest(const Eigen::Vector2d& p) const
 {
 	double best = std::numeric_limits<double>::infinity();
-	for (const auto& seg : m_segments)
-	{
-		const Eigen::Vector2d e = seg.b - seg.a;
-		const double L2 = e.squaredNorm();
-		const double s = L2 > 0 ? std::clamp((p - seg.a).dot(e) / L2, 0.0, 1.0) : 0.0;
-		best = std::min(best, (seg.a + s * e - p).norm());
-	}
+	for (const auto& seg : m_segments) best = std::min(best, distanceTo(seg, p));
 	return best;
+}
+
+CSyntheticWorld CSyntheticWorld::within(const Eigen::Vector2d& origin, double range) const
+{
+	constexpr double kRounding = 1e-3;  // [m]
+	CSyntheticWorld near;
+	for (const auto& seg : m_segments)
+		if (distanceTo(seg, origin) < range + kRounding) near.m_segments.push_back(seg);
+	return near;
 }
 
 namespace
@@ -221,8 +236,11 @@ lrgc::TScan2D simulateScan(const CSyntheticWorld& world,
 	const auto sensorInWorld = lrgc::compose(robotInWorld, laser.sensorInRobot);
 	const Eigen::Vector2d origin(sensorInWorld.x, sensorInWorld.y);
 	const double fov = laser.fov_deg * M_PI / 180;
+	// Whether the beams draw the mixed-return numbers is the whole world's property, not the
+	// nearby segments'.
 	const bool mixed =
 		world.hasSeeThrough() || laser.mixedPixelRate > 0 || laser.maxRangeDropRate > 0;
+	const CSyntheticWorld near = world.within(origin, laser.maxRange);
 	std::normal_distribution<double> noise(0.0, laser.rangeNoiseStd);
 	std::uniform_real_distribution<double> u01(0.0, 1.0);
 	for (int i = 0; i < laser.beams; ++i)
@@ -234,8 +252,8 @@ lrgc::TScan2D simulateScan(const CSyntheticWorld& world,
 		std::array<double, 4> draw{0, 1, 0, 1};
 		if (mixed)
 			for (auto& x : draw) x = u01(rng);
-		const auto r0 = mixed ? mixedReturn(world, origin, sensorInWorld.phi + a, laser, draw)
-							  : world.castRay(origin, sensorInWorld.phi + a, laser.maxRange);
+		const auto r0 = mixed ? mixedReturn(near, origin, sensorInWorld.phi + a, laser, draw)
+							  : near.castRay(origin, sensorInWorld.phi + a, laser.maxRange);
 		if (!r0 || uDrop < laser.dropRate) continue;
 		double r = *r0 + n;
 		if (uOut < laser.outlierRate) r = laser.minRange + uOutR * (*r0 - laser.minRange);

@@ -94,6 +94,12 @@ public:
 	bool hasSeeThrough() const;
 	/** Euclidean distance [m] from p to the nearest segment (infinity if empty). */
 	double distanceToNearest(const Eigen::Vector2d& p) const;
+	/** The segments that come within `range` [m] of `origin` (1 mm more, for rounding), in
+	 * this world's order. A ray from origin meets a segment at t >= the segment's distance
+	 * (|d| = 1), so castBeam(origin, ., maxRange <= range, .) finds the same crossings, in the
+	 * same order, here and in the result: the same hit bit for bit, at the cost of the nearby
+	 * segments only (simulateScan in a 320 m loop: ray casting was 31 % of a test's CPU). */
+	CSyntheticWorld within(const Eigen::Vector2d& origin, double range) const;
 
 private:
 	std::vector<TSegment> m_segments;

@@ -183,3 +183,36 @@ TEST(SyntheticWorld, maxRangeDropoutsRiseWithRangeAndGrazing)
 	EXPECT_LT(n1, 1500U);
 	EXPECT_GT(n1, 1200U);
 }
+
+TEST(SyntheticWorld, theSegmentsWithinRangeCastTheSameBeams)
+{
+	// A large world of solid walls, glass and railings; from anywhere in it, every beam cast
+	// against the segments within its range hits what it hits against the whole world, bit
+	// for bit (simulateScan casts against those only).
+	const auto world = makeGlassAtriumWorld(3);
+	const TBox box = world.bounds();
+	std::mt19937 rng(5);
+	std::uniform_real_distribution<double> u01(0.0, 1.0);
+	size_t hits = 0, fewer = 0;
+	for (int k = 0; k < 200; ++k)
+	{
+		const Eigen::Vector2d o = box.min + (box.max - box.min).cwiseProduct(
+												Eigen::Vector2d(u01(rng), u01(rng)));
+		const double range = 2 + 38 * u01(rng);
+		const CSyntheticWorld near = world.within(o, range);
+		fewer += near.segments().size() < world.segments().size();
+		for (int b = 0; b < 90; ++b)
+		{
+			const double angle = 2 * M_PI * u01(rng), draw = u01(rng);
+			const auto all = world.castBeam(o, angle, range, draw);
+			const auto some = near.castBeam(o, angle, range, draw);
+			ASSERT_EQ(all.has_value(), some.has_value()) << k << " " << b;
+			if (!all) continue;
+			++hits;
+			ASSERT_EQ(all->range, some->range);
+			ASSERT_EQ(all->cosIncidence, some->cosIncidence);
+		}
+	}
+	EXPECT_GT(hits, 5000U);
+	EXPECT_GT(fewer, 150U) << "the test must leave segments out";
+}
