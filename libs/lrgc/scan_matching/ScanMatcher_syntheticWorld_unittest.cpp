@@ -196,8 +196,8 @@ TEST(SyntheticWorld, theSegmentsWithinRangeCastTheSameBeams)
 	size_t hits = 0, fewer = 0;
 	for (int k = 0; k < 200; ++k)
 	{
-		const Eigen::Vector2d o = box.min + (box.max - box.min).cwiseProduct(
-												Eigen::Vector2d(u01(rng), u01(rng)));
+		const Eigen::Vector2d o =
+			box.min + (box.max - box.min).cwiseProduct(Eigen::Vector2d(u01(rng), u01(rng)));
 		const double range = 2 + 38 * u01(rng);
 		const CSyntheticWorld near = world.within(o, range);
 		fewer += near.segments().size() < world.segments().size();
