@@ -291,3 +291,49 @@ TEST(PatchCorrelator, ScoreAtAfterReorderingEqualsThePlainSum)
 		EXPECT_GT(nonZero, 150);
 	}
 }
+
+// The children of one split bounded in one pass (siblingSums) give what each would alone:
+// the sum at its level, heading and translation when it reaches the score asked of it, -1
+// when it does not; on and off the grid (the checked path), with 1 to 4 children.
+TEST(PatchCorrelator, SiblingSumsEqualTheSumsOneByOne)
+{
+	std::mt19937 rng(77);
+	const TRoomPatch room = roomPatch(rng, CPatchCorrelator(), 0.5, 8);
+	const CCorrelationGrid& map = room.map;
+	lrgc::detail::TPoseGridProblem pb = problemOf(map, room.robot, room.patch, 9, -4, 0.02);
+	pb.prepare();
+	const int far = map.width() + map.height();
+	std::uniform_int_distribution<int> level(0, map.numLevels() - 1),
+		angle(0, pb.numAngles - 1), count(1, 4), near(-6, 6), wide(-far, far);
+	std::uniform_real_distribution<double> share(0.0, 1.0);
+	int reached = 0, dropped = 0;
+	for (int trial = 0; trial < 600; ++trial)
+	{
+		const int h = level(rng), a = angle(rng), n = count(rng);
+		const int i0 = trial % 3 ? near(rng) : wide(rng),
+				  j0 = trial % 3 ? near(rng) : wide(rng);
+		const int half = 1 << std::max(0, h - 1);
+		int i[4], j[4];
+		int64_t required[4], out[4];
+		for (int c = 0; c < n; ++c)
+		{
+			i[c] = i0 + (c / 2) * half, j[c] = j0 + (c % 2) * half;
+			if (trial % 7 == 0 && c == n - 1) i[c] = wide(rng), j[c] = wide(rng);  // far apart
+			const int64_t s = lrgc::detail::scoreAt(pb, h, a, i[c], j[c]);
+			required[c] =
+				static_cast<int64_t>(share(rng) * 2 * double(std::max<int64_t>(s, 1)));
+		}
+		lrgc::detail::siblingSums(pb, h, a, n, i, j, required, out);
+		for (int c = 0; c < n; ++c)
+		{
+			const int64_t s = lrgc::detail::scoreAt(pb, h, a, i[c], j[c]);
+			ASSERT_EQ(out[c], s >= required[c] ? s : -1)
+				<< "trial " << trial << ", child " << c << " of " << n << ": level " << h
+				<< ", heading " << a << ", (" << i[c] << ", " << j[c] << "), required "
+				<< required[c];
+			(s >= required[c] ? reached : dropped) += 1;
+		}
+	}
+	EXPECT_GT(reached, 200);
+	EXPECT_GT(dropped, 200);
+}

@@ -19,7 +19,10 @@
  * anyway, and pruned nodes are the majority). Translations outside an allowed region (the far
  * loop search's old path) are pruned block by block from a pyramid of allowed blocks, before
  * any bound. The k best distinct poses (searchPeaks) take the same nodes best-first from a
- * priority queue instead of depth first, so that one pass yields them all.
+ * priority queue instead of depth first, so that one pass yields them all. The (up to four)
+ * translation children of a split read one level at one heading a few cells apart, so their
+ * bounds are summed in one pass over the points (siblingSums): the gathers' cache misses, not
+ * the additions, are the bounds' cost, and the four lookups of a point share lines.
  */
 #include "correlation_search.h"
 
@@ -83,6 +86,37 @@ int64_t boundedSum(const TPoseGridProblem& pb, int h, int a, int i, int j, int64
 	return sum;
 }
 
+int ceilLog2(int64_t v)
+{
+	int k = 0;
+	while ((int64_t(1) << k) < v) ++k;
+	return k;
+}
+
+/* What the bound of a node spanning headings [a0, a1] reads: for one heading, level h at
+ * (i0, j0). For several, at any heading of the block a patch point lies within M = ceil(c d)
+ * cells of where it lies at the middle heading am (c: cells the farthest point moves per
+ * heading step, d = max(am - a0, a1 - am); the chord is at most the arc). So every score of the
+ * node is at most the sum over points of the max over the (2^h + 2M)-cell square at
+ * base_am + (i0 - M, j0 - M): one lookup in level H, 2^H >= 2^h + 2M. Without such a level,
+ * or with c unknown: `trivial`, the bound 255 N. */
+struct TBoundLookup
+{
+	bool trivial = false;
+	int level = 0, a = 0, i = 0, j = 0;
+};
+TBoundLookup boundLookup(const TPoseGridProblem& pb, int a0, int a1, int h, int i0, int j0)
+{
+	if (a0 == a1) return {false, h, a0, i0, j0};
+	if (pb.cellsPerAngleStep < 0) return {true};
+	const int am = a0 + (a1 - a0) / 2;
+	const int d = std::max(am - a0, a1 - am);
+	const int M = static_cast<int>(std::ceil(pb.cellsPerAngleStep * d + 1e-6));
+	const int H = ceilLog2((int64_t(1) << h) + 2 * int64_t(M));
+	if (H > pb.grid->numLevels() - 1) return {true};
+	return {false, H, am, i0 - M, j0 - M};
+}
+
 struct Best
 {
 	int64_t score;
@@ -102,13 +136,6 @@ struct Node
 	int64_t bound;
 	int64_t minIndex;
 };
-
-int ceilLog2(int64_t v)
-{
-	int k = 0;
-	while ((int64_t(1) << k) < v) ++k;
-	return k;
-}
 
 class BranchAndBound
 {
@@ -245,19 +272,30 @@ private:
 	template <class Nodes>
 	void consider(int a0, int a1, int h, int i0, int j0, Nodes& out)
 	{
+		int64_t idx = 0, req = 0;
+		if (!admit(a0, a1, h, i0, j0, idx, req)) return;
+		const int64_t b = blockBound(m_pb, a0, a1, h, i0, j0, req);
+		if (b >= 0) out.push_back({a0, a1, h, i0, j0, b, idx});
+	}
+
+	// The checks before a node's bound: false if it can be pruned without one (a block not
+	// allowed or excluded, or a score it must reach above 255 N); else counts the evaluation
+	// and gives the node's smallest index and the score its bound must reach.
+	bool admit(int a0, int a1, int h, int i0, int j0, int64_t& idx, int64_t& req)
+	{
 		const int W = m_pb.halfCells;
 		const int i1 = std::min(W, i0 + (1 << h) - 1), j1 = std::min(W, j0 + (1 << h) - 1);
-		if (!m_pb.blockAllowed(h, i0, j0) || blockExcluded(a0, a1, i0, i1, j0, j1)) return;
-		const int64_t idx = m_pb.linearIndex(a0, i0, j0);  // the block's smallest index
-		if (m_best.required(idx) > int64_t(255) * m_pb.numPoints) return;
+		if (!m_pb.blockAllowed(h, i0, j0) || blockExcluded(a0, a1, i0, i1, j0, j1))
+			return false;
+		idx = m_pb.linearIndex(a0, i0, j0);  // the block's smallest index
+		if (m_best.required(idx) > int64_t(255) * m_pb.numPoints) return false;
 		if (++m_evaluations % TPoseGridProblem::kProgressEvaluations == 0)
 		{
 			if (m_pb.onEvaluations) m_pb.onEvaluations();
 			if (m_pb.stop.stopRequested()) m_done = m_stopped = true;
 		}
-		const int64_t req = m_best.required(idx);
-		const int64_t b = blockBound(m_pb, a0, a1, h, i0, j0, req);
-		if (b >= 0) out.push_back({a0, a1, h, i0, j0, b, idx});
+		req = m_best.required(idx);
+		return true;
 	}
 
 	struct Children
@@ -295,7 +333,9 @@ private:
 	}
 
 	// The children of a node, each bounded (those that can be pruned already left out):
-	// the heading range and the translation block halved, whichever is not single.
+	// the heading range and the translation block halved, whichever is not single. The (up
+	// to four) translations of one heading range read one level at one heading: bounded in
+	// one pass (siblingSums).
 	void split(const Node& n, Children& children)
 	{
 		const int W = m_pb.halfCells;
@@ -308,12 +348,32 @@ private:
 		{
 			const int ca0 = part == 0 ? n.a0 : aSplit, ca1 = part == 0 ? aSplit - 1 : n.a1;
 			if (ca0 > ca1) continue;
+			int ci[4], cj[4], m = 0;
+			int64_t idx[4], req[4], bound[4];
 			for (int di = 0; di < (n.h > 0 ? 2 : 1); ++di)
 				for (int dj = 0; dj < (n.h > 0 ? 2 : 1); ++dj)
 				{
-					const int ci = n.i0 + di * half, cj = n.j0 + dj * half;
-					if (ci <= W && cj <= W) consider(ca0, ca1, h, ci, cj, children);
+					ci[m] = n.i0 + di * half, cj[m] = n.j0 + dj * half;
+					if (ci[m] <= W && cj[m] <= W &&
+						admit(ca0, ca1, h, ci[m], cj[m], idx[m], req[m]))
+						++m;
 				}
+			if (m == 0) continue;
+			const TBoundLookup at = boundLookup(m_pb, ca0, ca1, h, ci[0], cj[0]);
+			if (at.trivial)
+				std::fill(bound, bound + m, int64_t(255) * m_pb.numPoints);
+			else if (m == 1)
+				bound[0] = boundedSum(m_pb, at.level, at.a, at.i, at.j, req[0]);
+			else
+			{
+				int li[4], lj[4];  // the same shift for every child
+				for (int c = 0; c < m; ++c)
+					li[c] = at.i + ci[c] - ci[0], lj[c] = at.j + cj[c] - cj[0];
+				siblingSums(m_pb, at.level, at.a, m, li, lj, req, bound);
+			}
+			for (int c = 0; c < m; ++c)
+				if (bound[c] >= 0)
+					children.push_back({ca0, ca1, h, ci[c], cj[c], bound[c], idx[c]});
 		}
 	}
 
@@ -327,24 +387,65 @@ private:
 };
 }  // namespace
 
-// Bound of a node spanning headings [a0, a1]: for one heading, level h at (i0, j0). For
-// several, at any heading of the block a patch point lies within M = ceil(c d) cells of where
-// it lies at the middle heading am (c: cells the farthest point moves per heading step,
-// d = max(am - a0, a1 - am); the chord is at most the arc). So every score of the node is at
-// most the sum over points of the max over the (2^h + 2M)-cell square at
-// base_am + (i0 - M, j0 - M): one lookup in level H, 2^H >= 2^h + 2M. Without such a level,
-// or with c unknown: the trivial bound 255 N.
+// The n lookups of a point share cache lines: fetched once for all n nodes instead of once
+// per node (the sums are bound by those fetches, not by the additions). A node dropped keeps
+// its lane, unread.
+void siblingSums(const TPoseGridProblem& pb, int h, int a, int n, const int* i, const int* j,
+				 const int64_t* required, int64_t* out)
+{
+	const CCorrelationGrid& g = *pb.grid;
+	const int32_t* box = pb.bbox.data() + 4 * size_t(a);
+	const uint8_t* base[4] = {};
+	int node[4] = {};  // the node in each lane
+	int lanes = 0;
+	for (int c = 0; c < n; ++c)
+	{
+		const int dx = i[c] + g.pad(), dy = j[c] + g.pad();
+		const bool inside = !pb.linear.empty() && box[0] + dx >= 0 &&
+							box[1] + dx < g.stride() && box[2] + dy >= 0 &&
+							box[3] + dy < g.rows();
+		if (!inside)
+		{
+			out[c] = boundedSum(pb, h, a, i[c], j[c], required[c]);
+			continue;
+		}
+		base[lanes] = g.levelData(h) + int64_t(dy) * g.stride() + dx;
+		node[lanes++] = c;
+	}
+	for (int l = lanes; l < 4; ++l) base[l] = base[0];  // spare lanes re-read lane 0
+	const int32_t* lin = pb.linear.data() + size_t(a) * size_t(pb.numPoints);
+	int64_t sum[4] = {0, 0, 0, 0};
+	bool alive[4] = {};
+	for (int l = 0; l < lanes; ++l) alive[l] = true;
+	int numAlive = lanes;
+	constexpr int kChunk = 64;
+	for (int k0 = 0; k0 < pb.numPoints && numAlive > 0; k0 += kChunk)
+	{
+		const int k1 = std::min(pb.numPoints, k0 + kChunk);
+		uint32_t part[4] = {0, 0, 0, 0};
+		for (int k = k0; k < k1; ++k)
+		{
+			const int32_t o = lin[k];
+			part[0] += base[0][o], part[1] += base[1][o];
+			part[2] += base[2][o], part[3] += base[3][o];
+		}
+		const int64_t toCome = int64_t(255) * (pb.numPoints - k1);
+		for (int l = 0; l < lanes; ++l)
+		{
+			if (!alive[l]) continue;
+			sum[l] += part[l];
+			if (sum[l] + toCome < required[node[l]]) alive[l] = false, --numAlive;
+		}
+	}
+	for (int l = 0; l < lanes; ++l) out[node[l]] = alive[l] ? sum[l] : -1;
+}
+
 int64_t blockBound(const TPoseGridProblem& pb, int a0, int a1, int h, int i0, int j0,
 				   int64_t required)
 {
-	if (a0 == a1) return boundedSum(pb, h, a0, i0, j0, required);
-	if (pb.cellsPerAngleStep < 0) return int64_t(255) * pb.numPoints;
-	const int am = a0 + (a1 - a0) / 2;
-	const int d = std::max(am - a0, a1 - am);
-	const int M = static_cast<int>(std::ceil(pb.cellsPerAngleStep * d + 1e-6));
-	const int H = ceilLog2((int64_t(1) << h) + 2 * int64_t(M));
-	if (H > pb.grid->numLevels() - 1) return int64_t(255) * pb.numPoints;
-	return boundedSum(pb, H, am, i0 - M, j0 - M, required);
+	const TBoundLookup at = boundLookup(pb, a0, a1, h, i0, j0);
+	if (at.trivial) return int64_t(255) * pb.numPoints;
+	return boundedSum(pb, at.level, at.a, at.i, at.j, required);
 }
 
 int64_t scoreAt(const TPoseGridProblem& pb, int level, int a, int i, int j)

@@ -131,6 +131,13 @@ int64_t scoreAt(const TPoseGridProblem& pb, int level, int a, int i, int j);
 void scoreLattice(const TPoseGridProblem& pb, int a, int i, int j, int s, int n,
 				  std::vector<int64_t>& out);
 
+/** The sums S_h(a, i[c], j[c]) of n <= 4 nodes that read one level h at one heading a (the
+ * children of one split, a few cells apart), in one pass over the points: out[c] is the sum,
+ * or -1 if it is below required[c] (found out as soon as the sum so far plus 255 a point still
+ * to come is), the values of n separate bounds. Needs prepare(). */
+void siblingSums(const TPoseGridProblem& pb, int h, int a, int n, const int* i, const int* j,
+				 const int64_t* required, int64_t* out);
+
 /** Upper bound of S over headings [a0, a1] x translations [i0, i0 + 2^h) x [j0, j0 + 2^h),
  * or -1 once it is known to be below `required`. */
 int64_t blockBound(const TPoseGridProblem& pb, int a0, int a1, int h, int i0, int j0,
