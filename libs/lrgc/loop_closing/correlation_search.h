@@ -1,4 +1,5 @@
-/* Internal to lrgc (not installed): the two searches over the correlation pose grid.
+/* Internal to lrgc (not installed): the two searches over the correlation pose grid
+ * (correlation_search.cpp) and their bounds (correlation_bounds.cpp).
  *
  * A pose of the grid is (a, i, j): heading theta_a, translation t_c + (i, j) res. Point k of
  * the patch, rotated by theta_a and moved by t_c, falls in cell base_ak; at (a, i, j) it
@@ -122,6 +123,24 @@ struct TSearchHit
 
 /** S(a, i, j) at pyramid level h (h = 0: the exact score). */
 int64_t scoreAt(const TPoseGridProblem& pb, int level, int a, int i, int j);
+
+/** S_h(a, i, j), or -1 as soon as it is known to be below `required` (the sum so far plus 255
+ * a point still to come). Needs prepare(). */
+int64_t boundedSum(const TPoseGridProblem& pb, int h, int a, int i, int j, int64_t required);
+
+/** What the bound of a node spanning headings [a0, a1] reads: for one heading, level h at
+ * (i0, j0). For several, at any heading of the block a patch point lies within M = ceil(c d)
+ * cells of where it lies at the middle heading am (c: cells the farthest point moves per
+ * heading step, d = max(am - a0, a1 - am); the chord is at most the arc). So every score of the
+ * node is at most the sum over points of the max over the (2^h + 2M)-cell square at
+ * base_am + (i0 - M, j0 - M): one lookup in level H, 2^H >= 2^h + 2M. Without such a level,
+ * or with c unknown: `trivial`, the bound 255 N. */
+struct TBoundLookup
+{
+	bool trivial = false;
+	int level = 0, a = 0, i = 0, j = 0;
+};
+TBoundLookup boundLookup(const TPoseGridProblem& pb, int a0, int a1, int h, int i0, int j0);
 
 /** The exact scores S(a, i + u s, j + v s) of the (2n + 1)^2 lattice |u|, |v| <= n around
  * (i, j) at heading a, in out[(u + n) (2n + 1) + (v + n)]: the same sums as scoreAt pose by
