@@ -337,3 +337,110 @@ TEST(PatchCorrelator, SiblingSumsEqualTheSumsOneByOne)
 	EXPECT_GT(reached, 200);
 	EXPECT_GT(dropped, 200);
 }
+
+// A split's children capped by their parent's chunks (TChunkCap): a child is dropped only when
+// none of its poses reaches the score asked of it (the best exact score over its 2^h x 2^h
+// translations below it), else kept with its own sum, as without the cap; its recorded chunks
+// are the smaller of its own and the parent's, chunk by chunk, and bound its every pose. The
+// children in one pass (siblingSums) give what each gives alone (boundedSum), records too.
+// Two parents: the search's own (the block at level h + 1, whose chunks are each at least the
+// children's: the cap only drops sooner, never others), and the tightest a parent can be (each
+// chunk the largest exact chunk over the block's poses), which must drop children their own sum
+// alone would keep.
+TEST(PatchCorrelator, ChildrenCappedByTheirParentsChunksAreDroppedOnlyWhenNoPoseReaches)
+{
+	namespace d = lrgc::detail;
+	std::mt19937 rng(4711);
+	const TRoomPatch room = roomPatch(rng, CPatchCorrelator(), 0.5, 8);
+	const CCorrelationGrid& map = room.map;
+	d::TPoseGridProblem pb = problemOf(map, room.robot, room.patch, 5, -2, 0.02);
+	pb.prepare();
+	const size_t numChunks = size_t((pb.numPoints + d::kBoundChunk - 1) / d::kBoundChunk);
+	ASSERT_GT(numChunks, 3u);
+	std::uniform_int_distribution<int> level(0, 3), angle(0, pb.numAngles - 1), near(-8, 8),
+		shift(-40, 40);
+	const auto chunksOf = [&](int h, int a, int i, int j)
+	{
+		std::vector<uint16_t> chunks(numChunks);
+		d::TChunkRecord rec{chunks.data()};
+		d::boundedSum(pb, h, a, i, j, std::numeric_limits<int64_t>::min(), {}, &rec);
+		return chunks;
+	};
+	int kept = 0, dropped = 0, droppedByTheCap = 0;
+	for (int trial = 0; trial < 300; ++trial)
+	{
+		const bool tightest = trial % 2 == 1;
+		const int h = level(rng), a = angle(rng), i0 = near(rng), j0 = near(rng);
+		const int half = 1 << h;
+		std::vector<uint16_t> parent = chunksOf(h + 1, a, i0, j0);
+		if (tightest)
+		{
+			std::fill(parent.begin(), parent.end(), 0);
+			for (int u = 0; u < 2 * half; ++u)
+				for (int v = 0; v < 2 * half; ++v)
+				{
+					const std::vector<uint16_t> pose = chunksOf(0, a, i0 + u, j0 + v);
+					for (size_t k = 0; k < numChunks; ++k)
+						parent[k] = std::max(parent[k], pose[k]);
+				}
+		}
+		int64_t parentTotal = 0;
+		for (const uint16_t c : parent) parentTotal += c;
+		const d::TChunkCap cap{parent.data(), parentTotal};
+		int i[4], j[4];
+		int64_t required[4], best[4], out[4], alone[4];
+		std::vector<uint16_t> slots(8 * numChunks, 0);
+		d::TChunkRecord rec[4], recAlone[4];
+		for (int c = 0; c < 4; ++c)
+		{
+			i[c] = i0 + (c / 2) * half, j[c] = j0 + (c % 2) * half;
+			best[c] = 0;
+			for (int u = 0; u < half; ++u)
+				for (int v = 0; v < half; ++v)
+					best[c] = std::max(best[c], d::scoreAt(pb, 0, a, i[c] + u, j[c] + v));
+			required[c] =
+				std::max<int64_t>(1, best[c] + shift(rng) * int64_t(pb.numPoints) / 8);
+			rec[c].chunks = slots.data() + size_t(c) * numChunks;
+			recAlone[c].chunks = slots.data() + size_t(4 + c) * numChunks;
+			alone[c] = d::boundedSum(pb, h, a, i[c], j[c], required[c], cap, &recAlone[c]);
+		}
+		d::siblingSums(pb, h, a, 4, i, j, required, out, cap, rec);
+		for (int c = 0; c < 4; ++c)
+		{
+			const auto where = ::testing::Message()
+							   << "trial " << trial << ", child " << c << ": level " << h
+							   << ", heading " << a << ", (" << i[c] << ", " << j[c]
+							   << "), required " << required[c] << ", best " << best[c]
+							   << (tightest ? ", tightest parent" : ", level h + 1 parent");
+			ASSERT_EQ(out[c], alone[c]) << where;
+			const int64_t own = d::scoreAt(pb, h, a, i[c], j[c]);
+			if (!tightest)
+			{
+				ASSERT_EQ(out[c], own >= required[c] ? own : -1) << where;
+			}
+			if (out[c] < 0)
+			{
+				ASSERT_LT(best[c], required[c]) << where << ": dropped, yet a pose reaches";
+				++dropped, droppedByTheCap += own >= required[c];
+				continue;
+			}
+			++kept;
+			ASSERT_EQ(out[c], own) << where;
+			const std::vector<uint16_t> mine = chunksOf(h, a, i[c], j[c]);
+			int64_t total = 0;
+			for (size_t k = 0; k < numChunks; ++k)
+			{
+				ASSERT_EQ(rec[c].chunks[k], std::min(mine[k], parent[k]))
+					<< where << ", chunk " << k;
+				ASSERT_EQ(recAlone[c].chunks[k], rec[c].chunks[k]) << where << ", chunk " << k;
+				total += rec[c].chunks[k];
+			}
+			ASSERT_EQ(rec[c].total, total) << where;
+			ASSERT_GE(total, best[c]) << where << ": the recorded chunks must bound every pose";
+		}
+	}
+	EXPECT_GT(kept, 200);
+	EXPECT_GT(dropped, 200);
+	EXPECT_GT(droppedByTheCap, 20)
+		<< "the tightest cap must drop children their sum would keep";
+}

@@ -56,6 +56,8 @@ struct Node
 	int a0, a1, h, i0, j0;  // headings [a0, a1], translations [i0, i0 + 2^h) x [j0, j0 + 2^h)
 	int64_t bound;
 	int64_t minIndex;
+	const uint16_t* chunks = nullptr;  // the bound's chunks (TChunkCap), if recorded
+	int64_t chunkTotal = 0;            // their sum
 };
 
 class BranchAndBound
@@ -63,15 +65,18 @@ class BranchAndBound
 public:
 	BranchAndBound(const TPoseGridProblem& pb, int64_t floorScore, const TExclusionZone& z,
 				   bool firstHit)
-		: m_pb(pb), m_zone(z), m_firstHit(firstHit)
+		: m_pb(pb),
+		  m_zone(z),
+		  m_firstHit(firstHit),
+		  m_numChunks(size_t((pb.numPoints + kBoundChunk - 1) / kBoundChunk))
 	{
 		m_best.score = floorScore;
 	}
 
 	TSearchHit run()
 	{
-		std::vector<Node> nodes = topNodes();
-		explore(nodes);
+		std::vector<Node> nodes = topNodes(true);
+		explore(nodes, 0);
 		return hitOf(m_best.a, m_best.i, m_best.j, m_best.score, m_best.index != kNoIndex);
 	}
 
@@ -85,7 +90,8 @@ public:
 	{
 		const auto lower = [](const Node& x, const Node& y)
 		{ return x.bound != y.bound ? x.bound < y.bound : x.minIndex > y.minIndex; };
-		std::priority_queue<Node, std::vector<Node>, decltype(lower)> queue(lower, topNodes());
+		std::priority_queue<Node, std::vector<Node>, decltype(lower)> queue(lower,
+																			topNodes(false));
 		TSearchPeaks out;
 		std::vector<TSearchHit>& peaks = out.peaks;
 		while (!queue.empty() && peaks.size() < k && !m_done)
@@ -96,7 +102,7 @@ public:
 			if (n.h > 0 || n.a0 != n.a1)
 			{
 				Children children;
-				split(n, children);
+				split(n, children, nullptr);
 				for (const Node& c : children) queue.push(c);
 				continue;
 			}
@@ -127,8 +133,9 @@ private:
 	}
 
 	// The top-level nodes: blocks of 2^top translations and 2^top headings (or fewer, see
-	// angleBlock) tiling the translations that put a patch point in the grid, each bounded.
-	std::vector<Node> topNodes()
+	// angleBlock) tiling the translations that put a patch point in the grid, each bounded;
+	// with `recordChunks`, each keeps its chunks (its children's cap) in m_topChunks.
+	std::vector<Node> topNodes(bool recordChunks)
 	{
 		const int maxLevel = m_pb.grid->numLevels() - 1;
 		// Translation blocks of 2^top cells, heading blocks of 2^top steps; the heading
@@ -149,8 +156,12 @@ private:
 			}
 			for (int i0 = r.i0; i0 <= r.i1; i0 += 1 << top)
 				for (int j0 = r.j0; j0 <= r.j1; j0 += 1 << top)
-					consider(a0, a1, top, i0, j0, nodes);
+					consider(a0, a1, top, i0, j0, nodes, recordChunks);
 		}
+		// The pool is complete: point the nodes at their chunks, in order.
+		size_t offset = 0;
+		for (Node& n : nodes)
+			if (n.chunks) n.chunks = m_topChunks.data() + offset, offset += m_numChunks;
 		return nodes;
 	}
 
@@ -189,14 +200,20 @@ private:
 		return true;
 	}
 
-	// Bounds the node and appends it to `out` unless it can be pruned already.
-	template <class Nodes>
-	void consider(int a0, int a1, int h, int i0, int j0, Nodes& out)
+	// Bounds the top node and appends it to `out` unless it can be pruned already; with
+	// `recordChunks` its chunks go to the end of m_topChunks (Node::chunks is set non-null
+	// here only as a mark: topNodes points it into the pool once the pool stops growing).
+	void consider(int a0, int a1, int h, int i0, int j0, std::vector<Node>& out,
+				  bool recordChunks)
 	{
 		int64_t idx = 0, req = 0;
 		if (!admit(a0, a1, h, i0, j0, idx, req)) return;
-		const int64_t b = blockBound(m_pb, a0, a1, h, i0, j0, req);
-		if (b >= 0) out.push_back({a0, a1, h, i0, j0, b, idx});
+		const size_t at = m_topChunks.size();
+		if (recordChunks) m_topChunks.resize(at + m_numChunks);
+		TChunkRecord record{recordChunks ? m_topChunks.data() + at : nullptr};
+		const int64_t b = blockBound(m_pb, a0, a1, h, i0, j0, req, &record);
+		if (b < 0 || !record.chunks) m_topChunks.resize(at);
+		if (b >= 0) out.push_back({a0, a1, h, i0, j0, b, idx, record.chunks, record.total});
 	}
 
 	// The checks before a node's bound: false if it can be pruned without one (a block not
@@ -228,12 +245,16 @@ private:
 		Node* end() { return items + count; }
 	};
 
+	// Depth first, best bound first; the children of a node explored at `depth` keep their
+	// chunks in m_depthChunks[depth + 1] (8 slots), free again once they are explored.
 	template <class Nodes>
-	void explore(Nodes& nodes)
+	void explore(Nodes& nodes, size_t depth)
 	{
 		std::sort(nodes.begin(), nodes.end(),
 				  [](const Node& x, const Node& y)
 				  { return x.bound != y.bound ? x.bound > y.bound : x.minIndex < y.minIndex; });
+		if (m_depthChunks.size() < depth + 2)
+			m_depthChunks.resize(depth + 2, std::vector<uint16_t>(8 * m_numChunks));
 		for (const Node& n : nodes)
 		{
 			if (m_done) return;
@@ -248,17 +269,19 @@ private:
 				continue;
 			}
 			Children children;
-			split(n, children);
-			explore(children);
+			split(n, children, m_depthChunks[depth + 1].data());
+			explore(children, depth + 1);
 		}
 	}
 
 	// The children of a node, each bounded (those that can be pruned already left out):
 	// the heading range and the translation block halved, whichever is not single. The (up
 	// to four) translations of one heading range read one level at one heading: bounded in
-	// one pass (siblingSums).
-	void split(const Node& n, Children& children)
+	// one pass (siblingSums), each capped by the node's chunks (TChunkCap). `slots` (8 of
+	// m_numChunks, or null) receive the children's chunks.
+	void split(const Node& n, Children& children, uint16_t* slots)
 	{
+		const TChunkCap cap{n.chunks, n.chunkTotal};
 		const int W = m_pb.halfCells;
 		const int h = n.h > 0 ? n.h - 1 : 0;
 		const int half = n.h > 0 ? 1 << h : 1;
@@ -280,21 +303,30 @@ private:
 						++m;
 				}
 			if (m == 0) continue;
+			// A leaf has no children to cap: its chunks are not kept.
+			const bool keep = slots && (h > 0 || ca0 != ca1);
+			TChunkRecord rec[4];
+			for (int c = 0; c < m; ++c)
+				rec[c].chunks = keep ? slots + size_t(4 * part + c) * m_numChunks : nullptr;
 			const TBoundLookup at = boundLookup(m_pb, ca0, ca1, h, ci[0], cj[0]);
 			if (at.trivial)
+			{
 				std::fill(bound, bound + m, int64_t(255) * m_pb.numPoints);
+				for (int c = 0; c < m; ++c) rec[c].chunks = nullptr;
+			}
 			else if (m == 1)
-				bound[0] = boundedSum(m_pb, at.level, at.a, at.i, at.j, req[0]);
+				bound[0] = boundedSum(m_pb, at.level, at.a, at.i, at.j, req[0], cap, rec);
 			else
 			{
 				int li[4], lj[4];  // the same shift for every child
 				for (int c = 0; c < m; ++c)
 					li[c] = at.i + ci[c] - ci[0], lj[c] = at.j + cj[c] - cj[0];
-				siblingSums(m_pb, at.level, at.a, m, li, lj, req, bound);
+				siblingSums(m_pb, at.level, at.a, m, li, lj, req, bound, cap, rec);
 			}
 			for (int c = 0; c < m; ++c)
 				if (bound[c] >= 0)
-					children.push_back({ca0, ca1, h, ci[c], cj[c], bound[c], idx[c]});
+					children.push_back({ca0, ca1, h, ci[c], cj[c], bound[c], idx[c],
+										rec[c].chunks, rec[c].total});
 		}
 	}
 
@@ -305,6 +337,9 @@ private:
 	bool m_stopped = false;  // ended by pb.stop
 	Best m_best{};
 	size_t m_evaluations = 0;
+	size_t m_numChunks;                                // chunks of a node's bound
+	std::vector<uint16_t> m_topChunks;                 // the top nodes' chunks
+	std::vector<std::vector<uint16_t>> m_depthChunks;  // per depth, 8 children's chunks
 };
 }  // namespace
 

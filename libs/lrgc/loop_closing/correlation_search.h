@@ -124,9 +124,33 @@ struct TSearchHit
 /** S(a, i, j) at pyramid level h (h = 0: the exact score). */
 int64_t scoreAt(const TPoseGridProblem& pb, int level, int a, int i, int j);
 
+/** A node's bound chunk by chunk: chunk c is the sum over the points [64 c, 64 c + 64) (each
+ * heading's points in the same order, so a chunk holds the same points at every heading). Each
+ * term bounds what its point adds at any pose of the node, so each chunk bounds what its points
+ * add together there; a child's poses are among its parent's, so the parent's chunks bound the
+ * child's chunks too, and sum_c min(child_c, parent_c) bounds every score of the child. A
+ * child's sum is abandoned once its chunks so far (each the smaller of the two) plus the
+ * parent's chunks still to come fall below the score it must reach: far sooner than with 255 a
+ * point still to come. The value kept is still the child's own sum (the nodes kept and their
+ * order do not change); only nodes none of whose poses reach the required score go sooner. */
+constexpr int kBoundChunk = 64;
+struct TChunkCap
+{
+	const uint16_t* parent = nullptr;  //!< the parent's chunks; null: 255 a point
+	int64_t parentTotal = 0;           //!< their sum
+};
+/** Receives a node's chunks (each the smaller of its own and the parent's), for its children.
+ */
+struct TChunkRecord
+{
+	uint16_t* chunks = nullptr;  //!< null: not recorded
+	int64_t total = 0;           //!< out: their sum
+};
+
 /** S_h(a, i, j), or -1 as soon as it is known to be below `required` (the sum so far plus 255
- * a point still to come). Needs prepare(). */
-int64_t boundedSum(const TPoseGridProblem& pb, int h, int a, int i, int j, int64_t required);
+ * a point still to come, or the parent's chunks still to come: TChunkCap). Needs prepare(). */
+int64_t boundedSum(const TPoseGridProblem& pb, int h, int a, int i, int j, int64_t required,
+				   const TChunkCap& cap = {}, TChunkRecord* record = nullptr);
 
 /** What the bound of a node spanning headings [a0, a1] reads: for one heading, level h at
  * (i0, j0). For several, at any heading of the block a patch point lies within M = ceil(c d)
@@ -153,14 +177,17 @@ void scoreLattice(const TPoseGridProblem& pb, int a, int i, int j, int s, int n,
 /** The sums S_h(a, i[c], j[c]) of n <= 4 nodes that read one level h at one heading a (the
  * children of one split, a few cells apart), in one pass over the points: out[c] is the sum,
  * or -1 if it is below required[c] (found out as soon as the sum so far plus 255 a point still
- * to come is), the values of n separate bounds. Needs prepare(). */
+ * to come is, or the parent's chunks still to come: `cap`, their one parent's), the values of
+ * n separate bounds; records[c] (if given) receives node c's chunks. Needs prepare(). */
 void siblingSums(const TPoseGridProblem& pb, int h, int a, int n, const int* i, const int* j,
-				 const int64_t* required, int64_t* out);
+				 const int64_t* required, int64_t* out, const TChunkCap& cap = {},
+				 TChunkRecord* records = nullptr);
 
 /** Upper bound of S over headings [a0, a1] x translations [i0, i0 + 2^h) x [j0, j0 + 2^h),
- * or -1 once it is known to be below `required`. */
+ * or -1 once it is known to be below `required`; `record` (if given) receives its chunks, or
+ * its `chunks` is set null where the bound is the trivial 255 N. */
 int64_t blockBound(const TPoseGridProblem& pb, int a0, int a1, int h, int i0, int j0,
-				   int64_t required);
+				   int64_t required, TChunkRecord* record = nullptr);
 
 TSearchHit searchExhaustive(const TPoseGridProblem& pb, int64_t floorScore,
 							const TExclusionZone& zone);
