@@ -16,11 +16,13 @@
  * patch point inside the grid (the rest score 0, below any positive floor), so a window much
  * wider than the old map costs what the map's extent costs. A bound is abandoned early once the
  * partial sum plus 255 per remaining point cannot reach the required value (the node is pruned
- * anyway, and pruned nodes are the majority). Translations outside an allowed region (the far
- * loop search's old path) are pruned block by block from a pyramid of allowed blocks, before
- * any bound. The k best distinct poses (searchPeaks) take the same nodes best-first from a
- * priority queue instead of depth first, so that one pass yields them all. The bounds
- * themselves (one node's, or a split's children's in one pass) are in correlation_bounds.cpp.
+ * anyway, and pruned nodes are the majority); depth first, a child's test takes its parent's
+ * chunks still to come instead of 255 a point (TChunkCap).
+ * Translations outside an allowed region (the far loop search's old path) are pruned block by
+ * block from a pyramid of allowed blocks, before any bound. The k best distinct poses
+ * (searchPeaks) take the same nodes best-first from a priority queue instead of depth first, so
+ * that one pass yields them all. The bounds themselves (one node's, or a split's children's in
+ * one pass) are in correlation_bounds.cpp.
  */
 #include "correlation_search.h"
 
