@@ -16,8 +16,6 @@ namespace lrgc::detail
 {
 namespace
 {
-constexpr int kChunk = kBoundChunk;
-
 // Whether every lookup of heading a at (dx, dy) from the padded origin falls inside the grid,
 // so that the sum can gather through the row-major offsets without bound checks.
 bool gatherFits(const TPoseGridProblem& pb, int a, int dx, int dy)
@@ -87,9 +85,9 @@ int64_t boundedSum(const TPoseGridProblem& pb, int h, int a, int i, int j, int64
 	{  // every lookup is in range: a plain gather
 		const int32_t* lin = pb.linear.data() + first;
 		const uint8_t* base = data + int64_t(dy) * g.stride() + dx;
-		for (int k0 = 0, c = 0; k0 < pb.numPoints; k0 += kChunk, ++c)
+		for (int k0 = 0, c = 0; k0 < pb.numPoints; k0 += kBoundChunk, ++c)
 		{
-			const int k1 = std::min(pb.numPoints, k0 + kChunk);
+			const int k1 = std::min(pb.numPoints, k0 + kBoundChunk);
 			uint32_t part = 0;
 			for (int k = k0; k < k1; ++k) part += base[lin[k]];
 			if (!sum.add(c, k1 - k0, part, required, record)) return -1;
@@ -99,9 +97,9 @@ int64_t boundedSum(const TPoseGridProblem& pb, int h, int a, int i, int j, int64
 	const unsigned stride = static_cast<unsigned>(g.stride());
 	const unsigned rows = static_cast<unsigned>(g.rows());
 	const int32_t* cells = pb.baseCells.data() + 2 * first;
-	for (int k0 = 0, c = 0; k0 < pb.numPoints; k0 += kChunk, ++c)
+	for (int k0 = 0, c = 0; k0 < pb.numPoints; k0 += kBoundChunk, ++c)
 	{
-		const int k1 = std::min(pb.numPoints, k0 + kChunk);
+		const int k1 = std::min(pb.numPoints, k0 + kBoundChunk);
 		uint32_t part = 0;
 		for (int k = k0; k < k1; ++k)
 		{
@@ -156,9 +154,9 @@ void siblingSums(const TPoseGridProblem& pb, int h, int a, int n, const int* i, 
 	bool alive[4] = {};
 	for (int l = 0; l < lanes; ++l) alive[l] = true;
 	int numAlive = lanes;
-	for (int k0 = 0, c = 0; k0 < pb.numPoints && numAlive > 0; k0 += kChunk, ++c)
+	for (int k0 = 0, c = 0; k0 < pb.numPoints && numAlive > 0; k0 += kBoundChunk, ++c)
 	{
-		const int k1 = std::min(pb.numPoints, k0 + kChunk);
+		const int k1 = std::min(pb.numPoints, k0 + kBoundChunk);
 		uint32_t part[4] = {0, 0, 0, 0};
 		for (int k = k0; k < k1; ++k)
 		{

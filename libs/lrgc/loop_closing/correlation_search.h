@@ -130,9 +130,12 @@ int64_t scoreAt(const TPoseGridProblem& pb, int level, int a, int i, int j);
  * add together there; a child's poses are among its parent's, so the parent's chunks bound the
  * child's chunks too, and sum_c min(child_c, parent_c) bounds every score of the child. A
  * child's sum is abandoned once its chunks so far (each the smaller of the two) plus the
- * parent's chunks still to come fall below the score it must reach: far sooner than with 255 a
- * point still to come. The value kept is still the child's own sum (the nodes kept and their
- * order do not change); only nodes none of whose poses reach the required score go sooner. */
+ * parent's chunks still to come fall below the score it must reach, instead of 255 a point
+ * still to come. A child kept keeps its own sum as its bound. Where each parent chunk is at
+ * least the child's (a translation split: level h + 1 covers the child's block) the same
+ * children are dropped, only sooner; under a heading block's parent the min can be smaller and
+ * drop a child the plain sum would keep, but only one none of whose poses reaches the required
+ * score: the best pose is the same either way. */
 constexpr int kBoundChunk = 64;
 struct TChunkCap
 {
