@@ -98,3 +98,27 @@ TEST(ScanSmoothing, AScanOffItsOdometryFollowsItOnceTheStepsAreWeighedAtTheNewPo
 		}
 	EXPECT_TRUE(seen);
 }
+
+TEST(ScanSmoothing, StepsTheWheelsDidNotMakeLeaveTheOdometrysCalibrationAsItWas)
+{
+	// The drive with a stop after every scan: 200 zero steps whose registration agrees with
+	// them exactly (a still robot's reused match). They say nothing of the odometry's noise;
+	// counted, half the steps would read e = 0 and the median would calibrate it to the floor.
+	std::vector<TPose2D> truth;
+	const auto drive = straightDrive(200, truth, 4);
+	std::vector<TScanStep> stops;
+	for (const TScanStep& step : drive)
+	{
+		stops.push_back(step);
+		TScanStep still = step;
+		still.odometryStep = TPose2D(0, 0, 0);
+		still.fromOdometry = true;
+		still.keyframe = false;
+		stops.push_back(still);
+	}
+	const Eigen::Vector3d moving = lrgc::odometryNoiseScale(drive);
+	const Eigen::Vector3d withStops = lrgc::odometryNoiseScale(stops);
+	EXPECT_GT(moving.minCoeff(), 0.05);
+	EXPECT_TRUE(withStops.isApprox(moving, 0.1))
+		<< withStops.transpose() << " against " << moving.transpose();
+}
