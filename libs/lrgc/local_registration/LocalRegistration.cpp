@@ -188,7 +188,7 @@ TRegistration CLocalRegistration::registerScan(const CPoseGraph& graph,
 	m_patchLinkable = prediction.fromOdometry;
 	resizeWindowFor(prediction);
 	if (m_window.empty()) return reg;  // no keyframe of this session yet
-	if (auto still = stillRegistration(graph, prediction)) return *still;
+	if (auto still = stillRegistration(graph, scan, prediction)) return *still;
 	const CReferenceCloud& cloud = windowCloud(graph, keyframes);
 	const TPose2D newestInMap = graph.pose(*m_cloudNewest);
 	const TPose2D guess = between(newestInMap, priorInMap);
@@ -213,7 +213,7 @@ TRegistration CLocalRegistration::registerScan(const CPoseGraph& graph,
 	// The prediction's match failed or contradicts it: the odometry's alternative, if any.
 	if ((!match || disagreed) && prediction.alternative)
 		if (auto alt = alternativeMatch(cloud, scan, newestInMap, priorInMap, prediction))
-			return placedByAlternative(reg, *alt, newestInMap, prediction);
+			return placedByAlternative(reg, scan, *alt, newestInMap, prediction);
 	const bool standstill = isZeroStep(prediction.motion);
 	// Nothing made the odometry suspect, yet the match is far from it (farFrom: another basin,
 	// people or a hall's pillar rows): the wide search's second opinion, with the same
@@ -255,7 +255,7 @@ TRegistration CLocalRegistration::registerScan(const CPoseGraph& graph,
 	m_lastAccepted.reset();
 	if (!match) return reg;
 	reg.odometryRejected = matchOverrules(*match, reg.wideSearch, guess, prediction, disagrees);
-	return placedByMatch(reg, *match, newestInMap, prediction);
+	return placedByMatch(reg, scan, *match, newestInMap, prediction);
 }
 
 // The match disagrees with the prior: their squared Mahalanobis distance (3 dof) over the
@@ -275,7 +275,8 @@ bool CLocalRegistration::disagreesWith(const TPose2D& guess, const Eigen::Matrix
 		   m_params.glitch_gate_chi2;
 }
 
-TRegistration CLocalRegistration::placedByMatch(TRegistration reg, const TScanMatch& match,
+TRegistration CLocalRegistration::placedByMatch(TRegistration reg, const TScan2D& scan,
+												const TScanMatch& match,
 												const TPose2D& newestInMap,
 												const TMotionPrediction& prediction)
 {
@@ -284,9 +285,13 @@ TRegistration CLocalRegistration::placedByMatch(TRegistration reg, const TScanMa
 	// start of Intel slide 0.6 m per 20 scans (laser-only relation error 0.44 -> 1.48 m).
 	const CLazyCovariance cov = match.covariance();
 	if (prediction.fromOdometry)
-		m_lastPatchMatch = TPatchMatch{*m_cloudNewest, match.scanInRef, cov};
+		m_lastPatchMatch = TPatchMatch{*m_cloudNewest, match.scanInRef, cov, nullptr};
+	// The range image only for the still robot's reuse, its one reader (rangeImageOf bins the
+	// points again where the scan holds no image of its own).
 	if (!reg.odometryRejected && !reg.wideSearch)
-		m_lastAccepted = TPatchMatch{*m_cloudNewest, match.scanInRef, cov};
+		m_lastAccepted =
+			TPatchMatch{*m_cloudNewest, match.scanInRef, cov,
+						m_params.reuse_match_when_still ? rangeImageOf(scan) : nullptr};
 	reg.scanInMap = compose(newestInMap, match.scanInRef);
 	// Newest keyframe's axes -> map's.
 	reg.cov = cov.then([phi = newestInMap.phi](const Eigen::Matrix3d& c)
@@ -298,7 +303,7 @@ TRegistration CLocalRegistration::placedByMatch(TRegistration reg, const TScanMa
 }
 
 std::optional<TRegistration> CLocalRegistration::stillRegistration(
-	const CPoseGraph& graph, const TMotionPrediction& prediction)
+	const CPoseGraph& graph, const TScan2D& scan, const TMotionPrediction& prediction)
 {
 	// Only wheels that really report no motion (odometry, no jump), and only while the patch
 	// the last match was made against is the one in use (m_cloudNewest is reset whenever the
@@ -307,6 +312,11 @@ std::optional<TRegistration> CLocalRegistration::stillRegistration(
 		prediction.odometryJump || !isZeroStep(prediction.motion) ||
 		m_cloudNewest != m_lastAccepted->node)
 		return std::nullopt;
+	// Odometry that lags while the robot moves reads zero too (ACES: 19 of its 2608 zero
+	// steps, the median range change 2-5 cm against 0-1 cm for the others): the scan must
+	// show the place as the matched scan did, bin by bin (medianChange), over most bins.
+	const auto [change, shared] = m_lastAccepted->view->medianChange(*rangeImageOf(scan));
+	if (change > m_params.still_max_range_change_m || shared < 0.5) return std::nullopt;
 	// (node <- scan) = (node <- last scan) (+) (last scan <- scan); the covariance is the
 	// last match's, rotated from the node's axes to the map's.
 	m_lastAccepted->scanInNode = compose(m_lastAccepted->scanInNode, prediction.motion);
@@ -324,13 +334,13 @@ std::optional<TRegistration> CLocalRegistration::stillRegistration(
 // (an odometry glitch of one reading, a turn the jump test took for a jump: MotionPredictor.h),
 // and a match from there agrees with that odometry: it places the scan, as a plain match on
 // its prior would.
-TRegistration CLocalRegistration::placedByAlternative(TRegistration reg,
+TRegistration CLocalRegistration::placedByAlternative(TRegistration reg, const TScan2D& scan,
 													  const TScanMatch& match,
 													  const TPose2D& newestInMap,
 													  const TMotionPrediction& prediction)
 {
 	reg.alternativePrior = true;
-	return placedByMatch(reg, match, newestInMap, followingAlternative(prediction));
+	return placedByMatch(reg, scan, match, newestInMap, followingAlternative(prediction));
 }
 
 std::optional<TScanMatch> CLocalRegistration::alternativeMatch(

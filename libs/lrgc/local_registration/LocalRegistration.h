@@ -295,7 +295,8 @@ private:
 											   const TMotionPrediction& prediction);
 	/** placedByMatch from the alternative's match, the scan following it (reg.alternativePrior,
 	 * followingAlternative). */
-	TRegistration placedByAlternative(TRegistration reg, const TScanMatch& match,
+	TRegistration placedByAlternative(TRegistration reg, const TScan2D& scan,
+									  const TScanMatch& match,
 									  const mrpt::math::TPose2D& newestInMap,
 									  const TMotionPrediction& prediction);
 	/** The wide search's second opinion on a suspect step's plain match that agrees with the
@@ -345,15 +346,19 @@ private:
 		size_t node;
 		mrpt::math::TPose2D scanInNode;
 		CLazyCovariance cov;
+		/** The matched scan's range image (m_lastAccepted: what a still scan must agree
+		 * with; null in m_lastPatchMatch). */
+		std::shared_ptr<const CRangeImage> view;
 	};
 	std::optional<TPatchMatch> m_lastPatchMatch;
 	/** The last scan's registration if it was an accepted plain match (not refused by the
 	 * gate, not from the wide search): what a scan that stands still reuses. */
 	std::optional<TPatchMatch> m_lastAccepted;
 	size_t m_patchLinksWidened = 0;
-	/** A scan whose wheels did not turn, against the patch its predecessor was matched to:
-	 * that match moved by the odometry step (reuse_match_when_still); else nullopt. */
-	std::optional<TRegistration> stillRegistration(const CPoseGraph& graph,
+	/** A scan whose wheels did not turn and whose ranges agree with the last accepted
+	 * match's scan, against the patch that scan was matched to: that match moved by the
+	 * odometry step (reuse_match_when_still); else nullopt. */
+	std::optional<TRegistration> stillRegistration(const CPoseGraph& graph, const TScan2D& scan,
 												   const TMotionPrediction& prediction);
 	/** `m` (newest keyframe <- scan) disagrees with the prior `guess` of covariance
 	 * `priorCov` beyond glitch_gate_chi2 (the match's deferred covariance read only where the
@@ -361,9 +366,9 @@ private:
 	bool disagreesWith(const mrpt::math::TPose2D& guess, const Eigen::Matrix3d& priorCov,
 					   const TScanMatch& m) const;
 	/** `reg` (its odometryRejected and wideSearch set) placed by `match` against the patch of
-	 * the newest keyframe at newestInMap; remembers the match for the patch link and for a
-	 * scan that stands still. */
-	TRegistration placedByMatch(TRegistration reg, const TScanMatch& match,
+	 * the newest keyframe at newestInMap; remembers the match for the patch link and, with
+	 * `scan`'s range image, for a scan that stands still. */
+	TRegistration placedByMatch(TRegistration reg, const TScan2D& scan, const TScanMatch& match,
 								const mrpt::math::TPose2D& newestInMap,
 								const TMotionPrediction& prediction);
 

@@ -46,6 +46,9 @@ void TLocalRegistrationParams::loadFromConfigFile(const mrpt::config::CConfigFil
 	requireParam(pairwise_link_weight > 0 && pairwise_link_weight <= 1, s,
 				 "pairwise_link_weight", "must be in (0, 1]");
 	reuse_match_when_still = readBool(c, s, "reuse_match_when_still", reuse_match_when_still);
+	still_max_range_change_m =
+		readDouble(c, s, "still_max_range_change_m", still_max_range_change_m);
+	requireParam(still_max_range_change_m >= 0, s, "still_max_range_change_m", "must be >= 0");
 	requireParam(wide_search_angle >= 0 && wide_search_angle <= M_PI, s,
 				 "wide_search_angle_deg", "must be in [0, 180]");
 }
@@ -86,6 +89,9 @@ void TLocalRegistrationParams::saveToConfigFile(mrpt::config::CConfigFileBase& c
 	writeValue(c, s, "reuse_match_when_still", reuse_match_when_still,
 			   "A scan with a zero odometry step takes the last match's pose relative to the "
 			   "unchanged window instead of being matched again");
+	writeValue(c, s, "still_max_range_change_m", still_max_range_change_m,
+			   "[m] ... while the median change of its ranges (per 1 deg bin) against the "
+			   "matched scan's is at most this");
 }
 
 }  // namespace lrgc

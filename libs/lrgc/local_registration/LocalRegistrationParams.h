@@ -56,10 +56,16 @@ struct TLocalRegistrationParams : public mrpt::config::CLoadableOptions
 	 * accepted match's pose relative to the window, composed with that step, and its
 	 * covariance. Such a match would only re-measure the same pose (the wheels already
 	 * overrule one that moves the robot); ACES stands still for 35 % of its scans. Off by
-	 * default: together with the loop worker's budget per spacing travelled it made the second
-	 * pass of Intel driven four times over (odometry restarting) add 1111 keyframes instead of
-	 * 34 (each change alone: 2097 and 2138 keyframes in all); not understood yet. */
+	 * default (stop 62, doc/parameters.md): ACES 0.94x CPU but the same wall time (5 paired
+	 * runs), issue 29's ACES pieces test 0.00009 m worse over six starts, and on Killian one
+	 * scan (11370) at 32-51 ms where main's worst is 37-41 ms. */
 	bool reuse_match_when_still = false;
+	/** [m] ... and only while the scan's ranges agree with the matched scan's: the median
+	 * change of the nearest return per 1 deg bearing bin (CRangeImage::medianChange) at most
+	 * this. Wheels that stand still while the robot moves (lagging odometry: 19 of ACES's
+	 * 2608 zero steps, 2-5 cm) fail it; a still laser's own noise (ACES's 1 cm steps: 0 or 1
+	 * cm) passes. A noisier laser fails it and is matched again, as without the reuse. */
+	double still_max_range_change_m = 0.015;
 
 	void loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
 							const std::string& s) override;

@@ -120,7 +120,7 @@ bool CLocalRegistration::reseedPatchMatch(CPoseGraph& graph, const TKeyframes& k
 	const auto match = plainMatch(patch, keyframes[newNode].scan, start);  // cov at once
 	if (!match || CScanMatcher::distinctHypotheses(start, match->scanInRef)) return false;
 	// The keyframe stands where the patch puts it, placed by a scan match.
-	m_lastPatchMatch = TPatchMatch{from, match->scanInRef, match->cov};
+	m_lastPatchMatch = TPatchMatch{from, match->scanInRef, match->cov, nullptr};
 	graph.setPose(newNode, compose(graph.pose(from), match->scanInRef));
 	m_unplaced.erase(std::find(m_unplaced.begin(), m_unplaced.end(), newNode));
 	++m_keyframesReseeded;

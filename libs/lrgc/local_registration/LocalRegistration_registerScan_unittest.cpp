@@ -227,7 +227,9 @@ TEST(LocalRegistration, aFailedPlainMatchIsRetriedOverTheOdometrysHeadingError)
 
 // reuse_match_when_still: a robot whose wheels report no motion keeps the last match's pose
 // relative to the unchanged window; a re-match of another scan from there would move it by
-// the scans' noise. Moving the window (invalidate) or a real step makes the scan match again.
+// the scans' noise. Moving the window (invalidate), a real step, or ranges that show the robot
+// moved on while its wheels read zero (lagging odometry: still_max_range_change_m) make the
+// scan match again.
 TEST(LocalRegistration, aScanThatStandsStillReusesTheLastMatchWhileTheWindowIsUnchanged)
 {
 	const TKnownRun run;
@@ -240,17 +242,20 @@ TEST(LocalRegistration, aScanThatStandsStillReusesTheLastMatchWhileTheWindowIsUn
 	std::mt19937 rng(5);
 	const TScan2D first = lrgc::test::simulateScan(run.world, scanTruth, {}, rng);
 	const TScan2D second = lrgc::test::simulateScan(run.world, scanTruth, {}, rng);
-	const auto odometryStep = [](const TPose2D& motion)
+	const TPose2D movedOn = compose(scanTruth, TPose2D(0.06, 0, 0));
+	const TScan2D ahead = lrgc::test::simulateScan(run.world, movedOn, {}, rng);
+	const auto odometryStep = [](const TPose2D& motion, double var)
 	{
 		lrgc::TMotionPrediction m;
 		m.motion = motion;
-		m.cov = Eigen::Vector3d(1e-4, 1e-4, 1e-4).asDiagonal();
+		m.cov = Eigen::Vector3d(var, var, var).asDiagonal();
 		m.fromOdometry = true;
 		m.stepSeconds = 0.2;
 		return m;
 	};
 	const TPose2D still(0, 0, 0), creep(0.002, 0, 0);
-	const auto run2 = [&](bool reuse, bool moveWindow, const TPose2D& step)
+	const auto runNext = [&](bool reuse, bool moveWindow, const TPose2D& step,
+							 const TScan2D& next, const TPose2D& nextTruth, double var)
 	{
 		TStageParams p;
 		p.local.reuse_match_when_still = reuse;
@@ -258,14 +263,16 @@ TEST(LocalRegistration, aScanThatStandsStillReusesTheLastMatchWhileTheWindowIsUn
 		for (size_t i = 0; i < 6; ++i) local.enterKeyframe(i, false, graph);
 		const TPose2D prior = compose(scanTruth, TPose2D(0.03, -0.02, 0.01));
 		const TRegistration a = local.registerScan(graph, keyframes, first, prior,
-												   odometryStep(TPose2D(0.15, 0, 0)));
+												   odometryStep(TPose2D(0.15, 0, 0), 1e-4));
 		if (moveWindow) local.invalidate();
 		const TRegistration b = local.registerScan(
-			graph, keyframes, second, compose(a.scanInMap, step), odometryStep(step));
+			graph, keyframes, next, compose(a.scanInMap, step), odometryStep(step, var));
 		EXPECT_TRUE(a.matched && b.matched);
-		EXPECT_LT(positionError(scanTruth, b.scanInMap), 0.02);
+		EXPECT_LT(positionError(nextTruth, b.scanInMap), 0.02);
 		return std::make_pair(a, b);
 	};
+	const auto run2 = [&](bool reuse, bool moveWindow, const TPose2D& step)
+	{ return runNext(reuse, moveWindow, step, second, scanTruth, 1e-4); };
 	const auto [a, b] = run2(true, false, still);
 	EXPECT_EQ(b.scanInMap, a.scanInMap);
 	EXPECT_TRUE(b.cov.get().isApprox(a.cov.get()));
@@ -276,6 +283,10 @@ TEST(LocalRegistration, aScanThatStandsStillReusesTheLastMatchWhileTheWindowIsUn
 	EXPECT_TRUE(std::apply(differs, run2(true, true, still)));
 	const auto [c, d] = run2(true, false, creep);
 	EXPECT_FALSE(d.scanInMap == compose(c.scanInMap, creep));
+	// Wheels that read zero while the robot rolled 6 cm on (within the odometry's 6.3 cm std,
+	// so that a match may move it): matched again, where it is.
+	const auto [e, f] = runNext(true, false, still, ahead, movedOn, 4e-3);
+	EXPECT_GT(positionError(e.scanInMap, f.scanInMap), 0.04);
 }
 
 TEST(LocalRegistration, aTurnInPlaceWhosePlainMatchSlidesAlongTheHallIsMatchedAgainAtItsHeading)

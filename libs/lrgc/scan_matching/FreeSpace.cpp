@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <utility>
 
 namespace lrgc
 {
@@ -85,6 +87,23 @@ bool CRangeImage::inFreeSpace(const Eigen::Vector2d& d, double margin, bool* kno
 	const float f = m_nearest3[static_cast<size_t>(bearingBin(d.x(), d.y()))];
 	if (known) *known = f > 0;
 	return d.norm() < f - margin;
+}
+
+std::pair<double, double> CRangeImage::medianChange(const CRangeImage& other) const
+{
+	std::vector<float> change;
+	change.reserve(m_nearest3.size());
+	size_t either = 0;
+	for (size_t b = 0; b < m_nearest3.size(); ++b)
+	{
+		const float r = m_nearest3[b], o = other.m_nearest3[b];
+		either += r > 0 || o > 0;
+		if (r > 0 && o > 0) change.push_back(std::abs(o - r));
+	}
+	if (change.empty()) return {std::numeric_limits<double>::infinity(), 0.0};
+	auto mid = change.begin() + change.size() / 2;
+	std::nth_element(change.begin(), mid, change.end());
+	return {*mid, double(change.size()) / double(either)};
 }
 
 std::shared_ptr<const CRangeImage> rangeImageOf(const TScan2D& scan)

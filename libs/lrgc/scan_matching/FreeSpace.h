@@ -12,6 +12,7 @@
 #include <mrpt/math/TPose2D.h>
 
 #include <memory>
+#include <utility>
 #include <vector>
 
 namespace lrgc
@@ -33,6 +34,12 @@ public:
 	/** True if d (sensor frame) lies more than margin [m] in front of the returns of the bins
 	 * around its bearing; *known (if given): all those bins hold a return. */
 	bool inFreeSpace(const Eigen::Vector2d& d, double margin, bool* known = nullptr) const;
+
+	/** [m] The median over the bearing bins known in both images of the change in their
+	 * nearest return, |other - this|, and [0..1] those bins' share of the bins known in
+	 * either: how far a scan taken from what may be the same pose differs from this one's
+	 * (CLocalRegistration's still robot). {inf, 0} where no bin is known in both. */
+	std::pair<double, double> medianChange(const CRangeImage& other) const;
 
 	/** Number of points binned: rangeImageOf's check against a scan changed since. */
 	size_t numPoints() const { return m_numPoints; }

@@ -53,6 +53,35 @@ TEST(FreeSpace, aScanPushedIntoSeenFreeSpaceViolatesItAndTheTrueOneDoesNot)
 	EXPECT_DOUBLE_EQ(views.scanViolation(wallScan(), {1.5, 0, 0}, 0.1), 0.0);
 }
 
+// The still robot's check (CLocalRegistration::stillRegistration): the same view changes by
+// nothing, a person 1 m away across a fifth of it does not move the median, a step of 5 cm
+// towards the wall changes it by 5-7 cm (5 cm / cos(bearing)), and a view half gone shares half
+// its bins.
+TEST(FreeSpace, medianChangeIsTheTypicalRangeChangeOverTheBinsBothSee)
+{
+	const TScan2D wall = wallScan();
+	const CRangeImage img(wall.points);
+	EXPECT_EQ(img.medianChange(img), std::make_pair(0.0, 1.0));
+
+	TScan2D people = wall;
+	for (size_t i = 0; i < people.points.size() / 5; ++i) people.points[i] *= 0.25;
+	EXPECT_LT(img.medianChange(CRangeImage(people.points)).first, 1e-6);
+
+	TScan2D nearer = wall;
+	for (auto& p : nearer.points) p *= 3.95 / 4.0;
+	const auto [change, shared] = img.medianChange(CRangeImage(nearer.points));
+	EXPECT_GT(change, 0.05 - 1e-6);
+	EXPECT_LT(change, 0.05 / std::cos(40 * M_PI / 180));
+	EXPECT_DOUBLE_EQ(shared, 1.0);
+
+	TScan2D half = wall;
+	half.points.resize(wall.points.size() / 2);
+	const double halfShared = img.medianChange(CRangeImage(half.points)).second;
+	EXPECT_GT(halfShared, 0.45);
+	EXPECT_LT(halfShared, 0.55);
+	EXPECT_EQ(img.medianChange(CRangeImage({})).second, 0.0) << "nothing seen in both";
+}
+
 TEST(FreeSpace, bearingBinIsTheAtan2FormulaEverywhere)
 {
 	const double bin = M_PI / 180;
