@@ -91,6 +91,14 @@ inline double translationNorm(const TPose2D& p)
 	return std::hypot(p.x, p.y);
 }
 
+/** An odometry step the wheels did not make: under 1 mm and 1 mrad (encoder ticks round to
+ * zero). Local registration trusts it over a match that moves the robot; the scan smoothing
+ * leaves it out of the odometry's calibration. */
+inline bool isZeroStep(const TPose2D& motion)
+{
+	return translationNorm(motion) < 1e-3 && std::abs(motion.phi) < 1e-3;
+}
+
 /** Chi-square of the disagreement between two independent estimates of one relative pose:
  *     d = v(expected^-1 (+) measured),   chi2 = d^T C^-1 d   [-, 3 dof]
  * with C the sum of both covariances over (x [m], y [m], phi [rad]) in the frame the poses

@@ -109,12 +109,6 @@ bool matchOverrules(const TScanMatch& m, bool wide, const mrpt::math::TPose2D& g
 	return disagrees(m) &&
 		   (wide || !onlyReversesTheWheels(guess, prediction, m, disagrees, 0.0));
 }
-
-/** A step the wheels did not make: under 1 mm and 1 mrad (encoder ticks round to zero). */
-bool isZeroStep(const mrpt::math::TPose2D& motion)
-{
-	return translationNorm(motion) < 1e-3 && std::abs(motion.phi) < 1e-3;
-}
 }  // namespace
 
 /** `won` (a wide search's winner), unless it disagrees with the prior only by putting the robot

@@ -346,8 +346,8 @@ private:
 		size_t node;
 		mrpt::math::TPose2D scanInNode;
 		CLazyCovariance cov;
-		/** The matched scan's range image (m_lastAccepted: what a still scan must agree
-		 * with; null in m_lastPatchMatch). */
+		/** The matched scan's range image, what a still scan must agree with: read from
+		 * m_lastAccepted only, and set only while reuse_match_when_still is on. */
 		std::shared_ptr<const CRangeImage> view;
 	};
 	std::optional<TPatchMatch> m_lastPatchMatch;

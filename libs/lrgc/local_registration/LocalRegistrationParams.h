@@ -58,7 +58,7 @@ struct TLocalRegistrationParams : public mrpt::config::CLoadableOptions
 	 * overrule one that moves the robot); ACES stands still for 35 % of its scans. Off by
 	 * default (stop 62, doc/parameters.md): ACES 0.94x CPU but the same wall time (5 paired
 	 * runs), issue 29's ACES pieces test 0.00009 m worse over six starts, and on Killian one
-	 * scan (11370) at 32-51 ms where main's worst is 37-41 ms. */
+	 * scan (11370) at 32-51 ms over five runs where main's worst is 36-41 ms. */
 	bool reuse_match_when_still = false;
 	/** [m] ... and only while the scan's ranges agree with the matched scan's: the median
 	 * change of the nearest return per 1 deg bearing bin (CRangeImage::medianChange) at most

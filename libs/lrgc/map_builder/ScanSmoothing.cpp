@@ -132,8 +132,7 @@ Eigen::Vector3d odometryNoiseScale(const std::vector<TScanStep>& s)
 		// reused (reuse_match_when_still), and ACES stands still for 35 % of its steps: the
 		// median would read the matcher, not the odometry (the spread of issue 29's ACES
 		// pieces test over six starts, 0.03742 -> 0.03719 m; doc/architecture.md, stop 62).
-		if (translationNorm(s[i].odometryStep) < 1e-3 && std::abs(s[i].odometryStep.phi) < 1e-3)
-			continue;
+		if (isZeroStep(s[i].odometryStep)) continue;
 		const Eigen::Vector3d e =
 			toVector(between(s[i].odometryStep, between(s[i - 1].pose, s[i].pose)));
 		for (int c = 0; c < 3; ++c) z2[c].push_back(e[c] * e[c] / s[i].stepCov(c, c));
