@@ -4,6 +4,7 @@
 #include <lrgc/pose_graph/PoseGraphOptimizer.h>
 #include <lrgc/pose_graph/PoseGraphProblem.h>
 
+#include <mrpt/core/exceptions.h>
 #include <mrpt/poses/CPose2D.h>
 #include <mrpt/poses/CPosePDFGaussianInf.h>
 
@@ -87,6 +88,53 @@ mrpt::graphs::CNetworkOfPoses2DInf toMrptLeastSquares(const CPoseGraph& g,
 	}
 	net.root = 0;
 	return net;
+}
+
+mrpt::graphs::CNetworkOfPoses2DInf toMrpt(const CPoseGraph& g)
+{
+	mrpt::graphs::CNetworkOfPoses2DInf net;
+	for (size_t i = 0; i < g.numNodes(); ++i) net.nodes[i] = mrpt::poses::CPose2D(g.pose(i));
+	for (size_t id = 0; id < g.numLinks(); ++id)
+	{
+		if (!g.isLinkEnabled(id)) continue;
+		const TLink& l = g.link(id);
+		mrpt::poses::CPosePDFGaussianInf edge;
+		edge.mean = mrpt::poses::CPose2D(l.toInFrom);
+		for (int r = 0; r < 3; ++r)
+			for (int c = 0; c < 3; ++c) edge.cov_inv(r, c) = l.information(r, c);
+		net.insertEdgeAtEnd(l.from, l.to, edge);
+	}
+	net.root = 0;
+	return net;
+}
+
+CPoseGraph poseGraphFromMrpt(const mrpt::graphs::CNetworkOfPoses2DInf& net,
+							 LinkType nonSequentialType)
+{
+	CPoseGraph g;
+	size_t expected = 0;
+	for (const auto& [id, p] : net.nodes)  // std::map: ascending ids
+	{
+		if (id != expected)
+			THROW_EXCEPTION_FMT(
+				"poseGraphFromMrpt: node ids must be 0..n-1, found id %zu where %zu was "
+				"expected",
+				static_cast<size_t>(id), expected);
+		g.addNode({p.x(), p.y(), p.phi()});
+		++expected;
+	}
+	for (const auto& [ids, e] : net.edges)
+	{
+		TLink l;
+		l.from = ids.first;
+		l.to = ids.second;
+		l.toInFrom = {e.mean.x(), e.mean.y(), e.mean.phi()};
+		for (int r = 0; r < 3; ++r)
+			for (int c = 0; c < 3; ++c) l.information(r, c) = e.cov_inv(r, c);
+		l.type = (l.to == l.from + 1) ? LinkType::Odometry : nonSequentialType;
+		g.addLink(l);
+	}
+	return g;
 }
 
 }  // namespace lrgc

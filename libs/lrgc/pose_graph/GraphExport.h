@@ -28,6 +28,17 @@
 
 namespace lrgc
 {
+/** Nodes as VERTEX_SE2, enabled links as EDGE_SE2 with their own information; root = node 0.
+ * Node ids are the indices. Write it with saveToTextFile(). The link type is not kept. (Kept
+ * out of CPoseGraph, whose header every stage includes: MRPT's network header alone is 3 s of
+ * a compiler's parsing.) */
+mrpt::graphs::CNetworkOfPoses2DInf toMrpt(const CPoseGraph& g);
+
+/** From an MRPT network with node ids 0..n-1 (throws otherwise). The .graph format has no
+ * link types: a link to == from + 1 becomes Odometry, any other `nonSequentialType`. */
+CPoseGraph poseGraphFromMrpt(const mrpt::graphs::CNetworkOfPoses2DInf& net,
+							 LinkType nonSequentialType = LinkType::LoopClosure);
+
 /** One EDGE_SE2 per node pair, each the information-weighted fusion of the pair's enabled
  * links with the weights of the optimiser `params` (see the file comment). */
 mrpt::graphs::CNetworkOfPoses2DInf toMrptLeastSquares(const CPoseGraph& g,

@@ -63,7 +63,7 @@ CPoseGraph throughGraphFile(const mrpt::graphs::CNetworkOfPoses2DInf& net,
 	net.saveToTextFile(file);
 	mrpt::graphs::CNetworkOfPoses2DInf back;
 	back.loadFromTextFile(file);
-	return CPoseGraph::fromMrpt(back);
+	return poseGraphFromMrpt(back);
 }
 
 size_t nodePairs(const CPoseGraph& g)
@@ -95,7 +95,7 @@ TEST(GraphExport, ParallelAndReversedLinksFuseIntoTheSameOptimum)
 	EXPECT_LT(test::maxPoseDifference(fused, ours), 1e-3);
 
 	// The old export: every link written, the reader keeps one per pair.
-	CPoseGraph collapsed = throughGraphFile(ours.toMrpt(), "graph_export_collapsed");
+	CPoseGraph collapsed = throughGraphFile(toMrpt(ours), "graph_export_collapsed");
 	EXPECT_LT(collapsed.numLinks(), ours.numLinks());
 	CPoseGraphOptimizer(tight(false)).optimize(collapsed, 0);
 	EXPECT_GT(test::maxPoseDifference(collapsed, ours), 1e-2);

@@ -2,8 +2,6 @@
 #include <lrgc/pose_graph/PoseGraph.h>
 
 #include <mrpt/core/exceptions.h>
-#include <mrpt/poses/CPose2D.h>
-#include <mrpt/poses/CPosePDFGaussianInf.h>
 
 #include <Eigen/Cholesky>
 #include <algorithm>
@@ -147,53 +145,6 @@ const std::vector<size_t>& CPoseGraph::linksOf(size_t node) const
 {
 	checkNode(node, "linksOf");
 	return m_adjacency[node];
-}
-
-mrpt::graphs::CNetworkOfPoses2DInf CPoseGraph::toMrpt() const
-{
-	mrpt::graphs::CNetworkOfPoses2DInf net;
-	for (size_t i = 0; i < m_poses.size(); ++i) net.nodes[i] = mrpt::poses::CPose2D(m_poses[i]);
-	for (size_t id = 0; id < m_links.size(); ++id)
-	{
-		if (!m_enabled[id]) continue;
-		const TLink& l = m_links[id];
-		mrpt::poses::CPosePDFGaussianInf edge;
-		edge.mean = mrpt::poses::CPose2D(l.toInFrom);
-		for (int r = 0; r < 3; ++r)
-			for (int c = 0; c < 3; ++c) edge.cov_inv(r, c) = l.information(r, c);
-		net.insertEdgeAtEnd(l.from, l.to, edge);
-	}
-	net.root = 0;
-	return net;
-}
-
-CPoseGraph CPoseGraph::fromMrpt(const mrpt::graphs::CNetworkOfPoses2DInf& net,
-								LinkType nonSequentialType)
-{
-	CPoseGraph g;
-	size_t expected = 0;
-	for (const auto& [id, p] : net.nodes)  // std::map: ascending ids
-	{
-		if (id != expected)
-			THROW_EXCEPTION_FMT(
-				"CPoseGraph::fromMrpt: node ids must be 0..n-1, found id %zu where %zu was "
-				"expected",
-				static_cast<size_t>(id), expected);
-		g.addNode({p.x(), p.y(), p.phi()});
-		++expected;
-	}
-	for (const auto& [ids, e] : net.edges)
-	{
-		TLink l;
-		l.from = ids.first;
-		l.to = ids.second;
-		l.toInFrom = {e.mean.x(), e.mean.y(), e.mean.phi()};
-		for (int r = 0; r < 3; ++r)
-			for (int c = 0; c < 3; ++c) l.information(r, c) = e.cov_inv(r, c);
-		l.type = (l.to == l.from + 1) ? LinkType::Odometry : nonSequentialType;
-		g.addLink(l);
-	}
-	return g;
 }
 
 std::vector<std::vector<size_t>> visitsOf(std::vector<size_t> nodes, size_t maxGap)

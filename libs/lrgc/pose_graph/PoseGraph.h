@@ -12,7 +12,6 @@
  */
 #pragma once
 
-#include <mrpt/graphs/CNetworkOfPoses.h>
 #include <mrpt/math/TPose2D.h>
 
 #include <Eigen/Core>
@@ -73,15 +72,6 @@ public:
 	 * soon as node 0 is reached): 0 in a graph of one piece; the first node of a piece not yet
 	 * joined to the map (a session mapped in its own frame) otherwise. O(n + m) at most. */
 	size_t lowestJoinedNode(size_t node) const;
-
-	/** Nodes as VERTEX_SE2, enabled links as EDGE_SE2 with their information; root = node 0.
-	 * Node ids are the indices. Write it with saveToTextFile(). The link type is not kept. */
-	mrpt::graphs::CNetworkOfPoses2DInf toMrpt() const;
-
-	/** From an MRPT network with node ids 0..n-1 (throws otherwise). The .graph format has no
-	 * link types: a link to == from + 1 becomes Odometry, any other `nonSequentialType`. */
-	static CPoseGraph fromMrpt(const mrpt::graphs::CNetworkOfPoses2DInf& net,
-							   LinkType nonSequentialType = LinkType::LoopClosure);
 
 private:
 	void checkNode(size_t node, const char* where) const;

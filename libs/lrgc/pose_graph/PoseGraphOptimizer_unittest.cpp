@@ -2,6 +2,7 @@
  * optimiser, windowed solves, parameters. False loop closures:
  * PoseGraphOptimizerRobust_unittest. */
 #include <gtest/gtest.h>
+#include <lrgc/pose_graph/GraphExport.h>
 #include <lrgc/pose_graph/PoseGraphOptimizer.h>
 #include "manhattan_pose_graph.h"
 #include <lrgc/common/se2.h>
@@ -323,7 +324,7 @@ TEST(PoseGraphOptimizer, ReachesMrptLevMarqChi2OnCircle50)
 
 	// MRPT's Levenberg-Marquardt on the same problem, written by us as EDGE_SE2.
 	const std::string dir = lrgc::test::makeTempDir("posegraph_mrpt_reference");
-	start.toMrpt().saveToTextFile(dir + "/in.graph");
+	toMrpt(start).saveToTextFile(dir + "/in.graph");
 	const std::string cmd = "graph-slam --2d --levmarq --max-iters 100 -q -i " + dir +
 							"/in.graph -o " + dir + "/out.graph </dev/null >" + dir +
 							"/log.txt 2>&1";

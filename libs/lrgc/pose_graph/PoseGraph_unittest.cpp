@@ -2,6 +2,7 @@
  * through an MRPT .graph text file; the floor of a denoised scan's loop link (LinkNoise.h). */
 #include <gtest/gtest.h>
 #include <lrgc/pose_graph/LinkNoise.h>
+#include <lrgc/pose_graph/GraphExport.h>
 #include <lrgc/pose_graph/PoseGraph.h>
 #include "manhattan_pose_graph.h"
 #include <lrgc/pose_graph/PoseGraphOptimizer.h>
@@ -80,7 +81,7 @@ TEST(PoseGraph, DisabledLinkIsIgnoredButKeepsItsId)
 	g.setLinkEnabled(wrong, false);
 	EXPECT_FALSE(g.isLinkEnabled(wrong));
 	EXPECT_NEAR(totalChi2(g), 0.0, 1e-12);
-	EXPECT_EQ(g.toMrpt().edges.size(), 1u);
+	EXPECT_EQ(toMrpt(g).edges.size(), 1u);
 	EXPECT_EQ(g.link(wrong).to, 2u);
 	g.setLinkEnabled(wrong, true);
 	EXPECT_NEAR(totalChi2(g), 9.0, 1e-12);
@@ -160,11 +161,11 @@ TEST(PoseGraph, RoundTripThroughMrptGraphFile)
 {
 	const auto sim = simulateManhattanPoseGraph(300, 6, 0.05, 0.01, 3);
 	const std::string file = lrgc::test::makeTempDir("posegraph_roundtrip") + "/g.graph";
-	sim.graph.toMrpt().saveToTextFile(file);
+	toMrpt(sim.graph).saveToTextFile(file);
 
 	mrpt::graphs::CNetworkOfPoses2DInf net;
 	net.loadFromTextFile(file);
-	const CPoseGraph back = CPoseGraph::fromMrpt(net);
+	const CPoseGraph back = poseGraphFromMrpt(net);
 	ASSERT_EQ(back.numNodes(), sim.graph.numNodes());
 	ASSERT_EQ(back.numLinks(), sim.graph.numLinks());
 	// MRPT writes 6 significant digits.
@@ -200,7 +201,7 @@ TEST(PoseGraph, FromMrptRejectsNonContiguousIds)
 	mrpt::graphs::CNetworkOfPoses2DInf net;
 	net.nodes[0] = mrpt::poses::CPose2D(0, 0, 0);
 	net.nodes[2] = mrpt::poses::CPose2D(1, 0, 0);
-	EXPECT_THROW(CPoseGraph::fromMrpt(net), std::exception);
+	EXPECT_THROW(poseGraphFromMrpt(net), std::exception);
 }
 
 // A loop link's floor (LinkNoise.h): as configured for scans with their ranges as measured
