@@ -14,6 +14,7 @@
 #include <lrgc/map_builder/CMetricMapBuilderLRGC.h>
 #include <lrgc_apps/RunOutputs.h>
 #include <lrgc_apps/io/LogReader.h>
+#include <mrpt/maps/COccupancyGridMap2D.h>
 
 #include <algorithm>
 #include <chrono>

@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 #include <lrgc/common/se2.h>
 #include <lrgc_apps/io/PoseGraphText.h>
+#include <mrpt/maps/COccupancyGridMap2D.h>
 #include <mrpt/maps/CSimpleMap.h>
 
 #include <iostream>

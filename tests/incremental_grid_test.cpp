@@ -5,6 +5,7 @@
  * keyframe of its first 4000 scans. */
 #include <gtest/gtest.h>
 #include <lrgc/map_builder/CMetricMapBuilderLRGC.h>
+#include <lrgc/map_builder/IncrementalGrid.h>
 #include <lrgc_apps/io/LogReader.h>
 
 #include "test_data.h"

@@ -12,6 +12,7 @@
 #include <lrgc/loop_closing/LoopWork.h>
 #include <lrgc/map_builder/TestAccess.h>
 #include <gtest/gtest.h>
+#include <mrpt/maps/COccupancyGridMap2D.h>
 #include <mrpt/maps/CSimpleMap.h>
 #include <mrpt/obs/CObservationOdometry.h>
 

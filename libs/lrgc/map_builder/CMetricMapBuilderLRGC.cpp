@@ -7,6 +7,7 @@
 #include <lrgc/local_registration/SweepEstimator.h>
 #include <lrgc/loop_closing/LoopCloser.h>
 #include <lrgc/loop_closing/LoopClosing.h>
+#include <lrgc/map_builder/IncrementalGrid.h>
 #include <lrgc/map_builder/KeyframeReuse.h>
 
 #include <Eigen/Dense>

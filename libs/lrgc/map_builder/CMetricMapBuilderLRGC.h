@@ -27,7 +27,7 @@
 #include <lrgc/map_builder/LaserSelector.h>
 #include <lrgc/common/StopToken.h>
 #include <lrgc/loop_closing/LoopCloserStats.h>
-#include <lrgc/map_builder/IncrementalGrid.h>
+#include <lrgc/map_builder/GridKeyframes.h>
 #include <lrgc/map_builder/MapBuilderParams.h>
 #include <lrgc/map_builder/Trajectory.h>
 #include <lrgc/scan_matching/DeferredCovariance.h>
@@ -35,7 +35,6 @@
 #include <lrgc/scan_matching/RangeDenoiser.h>
 #include <lrgc/pose_graph/PoseGraph.h>
 #include <mrpt/maps/CMultiMetricMap.h>
-#include <mrpt/maps/COccupancyGridMap2D.h>
 #include <mrpt/slam/CMetricMapBuilder.h>
 
 #include <chrono>
@@ -44,10 +43,16 @@
 #include <optional>
 #include <string>
 
+namespace mrpt::maps
+{
+class COccupancyGridMap2D;  // buildOccupancyGrid's result: include its header to use it
+}
+
 namespace lrgc
 {
 // The stages are the builder's internals: users see its products (graph, keyframes,
 // trajectory) and its parameters, not the classes that make them.
+class CIncrementalGrid;
 class CMotionPredictor;
 class CLocalRegistration;
 class CSweepEstimator;
@@ -224,7 +229,7 @@ public:
 	/** Loop-closing counters and per-closure times (empty stats if loop closing is off). */
 	TLoopCloserStats loopCloserStats() const;
 	/** Occupancy grid of the current estimate, from the keyframes' scans (a copy). */
-	mrpt::maps::COccupancyGridMap2D::Ptr buildOccupancyGrid() const;
+	std::shared_ptr<mrpt::maps::COccupancyGridMap2D> buildOccupancyGrid() const;
 	/** What the grid is built from: each keyframe's laser (shared, never modified) at its
 	 * current pose; a snapshot for building the grid elsewhere (CIncrementalGrid). */
 	TGridKeyframes gridKeyframes() const;
@@ -302,7 +307,7 @@ private:
 	void warn(std::string message);
 	// The grid (CMetricMapBuilderLRGC_grid.cpp).
 	TGridKeyframes gridKeyframesLocked() const;
-	const mrpt::maps::COccupancyGridMap2D::Ptr& updatedGridLocked() const;
+	const std::shared_ptr<mrpt::maps::COccupancyGridMap2D>& updatedGridLocked() const;
 	/** The base's critical section, also from const getters (it guards the state, not the
 	 * object's constness). */
 	std::unique_lock<std::mutex> lockMap() const

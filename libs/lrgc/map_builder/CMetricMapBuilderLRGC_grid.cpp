@@ -3,6 +3,7 @@
  * CIncrementalGrid so that a call after a scan costs the scans added or moved, not a build of
  * the whole map. */
 #include <lrgc/map_builder/CMetricMapBuilderLRGC.h>
+#include <lrgc/map_builder/IncrementalGrid.h>
 #include <algorithm>
 
 namespace lrgc

@@ -7,6 +7,7 @@
 
 #include <lrgc/common/se2.h>
 #include <lrgc/map_builder/CMetricMapBuilderLRGC.h>
+#include <mrpt/maps/COccupancyGridMap2D.h>
 #include <mrpt/maps/CSimpleMap.h>
 #include <mrpt/obs/CObservationOdometry.h>
 

@@ -12,6 +12,7 @@
 #include "atomic_file.h"
 
 #include <lrgc/pose_graph/GraphExport.h>
+#include <mrpt/maps/COccupancyGridMap2D.h>
 #include <mrpt/maps/CSimpleMap.h>
 
 #include <unistd.h>

@@ -12,6 +12,7 @@
 
 #include <lrgc/common/CpuTime.h>
 #include <lrgc/map_builder/CMetricMapBuilderLRGC.h>
+#include <mrpt/maps/COccupancyGridMap2D.h>
 #include <mrpt/core/bits_math.h>
 #include <mrpt/core/format.h>
 
