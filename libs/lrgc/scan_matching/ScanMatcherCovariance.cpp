@@ -212,12 +212,7 @@ TBread breadByCluster(const std::vector<TCorrespondence>& corr, double c, double
 			s = k.w * (k.e0 * k.J0 + k.e1 * k.J1);
 			Eigen::Matrix<double, 3, 2> J;
 			J << k.J0, k.J1;
-			const Eigen::Vector2d e(k.e0, k.e1);
-			Eigen::Matrix2d D =
-				k.w * Eigen::Matrix2d::Identity() - 2 * k.w * k.w / c2 * e * e.transpose();
-			const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(D);
-			D = es.eigenvectors() * es.eigenvalues().cwiseMax(0.0).asDiagonal() *
-				es.eigenvectors().transpose();
+			const Eigen::Matrix2d D = cauchyPointBread(k.w, Eigen::Vector2d(k.e0, k.e1), c2);
 			Mk = J * D * J.transpose();
 		}
 		b.Hpsi += Mk;
@@ -281,6 +276,14 @@ Eigen::Matrix3d jackknifeSpread(const TBread& b, const TMatrixUpTo3& Ho, const T
 	return Csand;
 }
 }  // namespace
+
+Eigen::Matrix2d cauchyPointBread(double w, const Eigen::Vector2d& e, double c2)
+{
+	const double e2 = e.squaredNorm();
+	if (1 - 2 * w * e2 / c2 >= 0)
+		return w * Eigen::Matrix2d::Identity() - 2 * w * w / c2 * e * e.transpose();
+	return w * (Eigen::Matrix2d::Identity() - e * e.transpose() / e2);
+}
 
 // The pose covariance: on the observable subspace the larger (psdMaxOnSubspace) of the model
 // sandwich H^-1 B H^-1 and the cluster jackknife's (with more than 3 clusters); along the

@@ -53,6 +53,13 @@ TScaledInfo analyseInformation(const Eigen::Matrix3d& H, const Eigen::Matrix3d& 
 							   double L, double scale, double unobservableStd);
 Eigen::Vector3d solveStep(const TScaledInfo& I, const Eigen::Vector3d& g);
 
+/** A POINT correspondence's bread term: the Cauchy psi(e) = w e's derivative
+ * d psi / d e = w I - 2 w^2 e e^T / c^2 (w = 1 / (1 + |e|^2 / c^2), e [m], c2 = c^2 [m^2]),
+ * floored to PSD. Across e its eigenvalue is w; along e it is w (1 - 2 w |e|^2 / c^2), the
+ * only one that can be negative (|e| > c): floored at 0, the term is w (I - u u^T), u = e /
+ * |e|. */
+Eigen::Matrix2d cauchyPointBread(double w, const Eigen::Vector2d& e, double c2);
+
 /** Covariance of (tx, ty, phi): cluster-robust sandwich, bounded below by the i.i.d. model,
  * unobservableStd^2 along unobservable directions. `cluster` [m] is the side of the reference
  * cells whose residuals are treated as correlated. */
