@@ -59,6 +59,26 @@ TOrientedLink fuse(const std::vector<TOrientedLink>& links)
 	const Eigen::Vector3d d = info.ldlt().solve(weighted);
 	return {compose(z1, TPose2D(d.x(), d.y(), d.z())), info};
 }
+
+/** The network's nodes: g's poses (VERTEX_SE2), node ids the indices; root = node 0. */
+mrpt::graphs::CNetworkOfPoses2DInf nodesOf(const CPoseGraph& g)
+{
+	mrpt::graphs::CNetworkOfPoses2DInf net;
+	for (size_t i = 0; i < g.numNodes(); ++i) net.nodes[i] = mrpt::poses::CPose2D(g.pose(i));
+	net.root = 0;
+	return net;
+}
+
+/** One EDGE_SE2: z = (a <- b) with its information. */
+void addEdge(mrpt::graphs::CNetworkOfPoses2DInf& net, size_t a, size_t b, const TPose2D& z,
+			 const Eigen::Matrix3d& information)
+{
+	mrpt::poses::CPosePDFGaussianInf edge;
+	edge.mean = mrpt::poses::CPose2D(z);
+	for (int r = 0; r < 3; ++r)
+		for (int c = 0; c < 3; ++c) edge.cov_inv(r, c) = information(r, c);
+	net.insertEdgeAtEnd(a, b, edge);
+}
 }  // namespace
 
 mrpt::graphs::CNetworkOfPoses2DInf toMrptLeastSquares(const CPoseGraph& g,
@@ -75,36 +95,24 @@ mrpt::graphs::CNetworkOfPoses2DInf toMrptLeastSquares(const CPoseGraph& g,
 		else
 			pairs[{l.to, l.from}].push_back(reversed(l.toInFrom, info));
 	}
-	mrpt::graphs::CNetworkOfPoses2DInf net;
-	for (size_t i = 0; i < g.numNodes(); ++i) net.nodes[i] = mrpt::poses::CPose2D(g.pose(i));
+	mrpt::graphs::CNetworkOfPoses2DInf net = nodesOf(g);
 	for (const auto& [ends, links] : pairs)
 	{
 		const TOrientedLink f = links.size() == 1 ? links.front() : fuse(links);
-		mrpt::poses::CPosePDFGaussianInf edge;
-		edge.mean = mrpt::poses::CPose2D(f.z);
-		for (int r = 0; r < 3; ++r)
-			for (int c = 0; c < 3; ++c) edge.cov_inv(r, c) = f.information(r, c);
-		net.insertEdgeAtEnd(ends.first, ends.second, edge);
+		addEdge(net, ends.first, ends.second, f.z, f.information);
 	}
-	net.root = 0;
 	return net;
 }
 
 mrpt::graphs::CNetworkOfPoses2DInf toMrpt(const CPoseGraph& g)
 {
-	mrpt::graphs::CNetworkOfPoses2DInf net;
-	for (size_t i = 0; i < g.numNodes(); ++i) net.nodes[i] = mrpt::poses::CPose2D(g.pose(i));
+	mrpt::graphs::CNetworkOfPoses2DInf net = nodesOf(g);
 	for (size_t id = 0; id < g.numLinks(); ++id)
 	{
 		if (!g.isLinkEnabled(id)) continue;
 		const TLink& l = g.link(id);
-		mrpt::poses::CPosePDFGaussianInf edge;
-		edge.mean = mrpt::poses::CPose2D(l.toInFrom);
-		for (int r = 0; r < 3; ++r)
-			for (int c = 0; c < 3; ++c) edge.cov_inv(r, c) = l.information(r, c);
-		net.insertEdgeAtEnd(l.from, l.to, edge);
+		addEdge(net, l.from, l.to, l.toInFrom, l.information);
 	}
-	net.root = 0;
 	return net;
 }
 
