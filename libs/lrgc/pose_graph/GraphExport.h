@@ -30,8 +30,8 @@ namespace lrgc
 {
 /** Nodes as VERTEX_SE2, enabled links as EDGE_SE2 with their own information; root = node 0.
  * Node ids are the indices. Write it with saveToTextFile(). The link type is not kept. (Kept
- * out of CPoseGraph, whose header every stage includes: MRPT's network header alone is 3 s of
- * a compiler's parsing.) */
+ * out of CPoseGraph, whose header every stage includes: MRPT's network header alone takes
+ * 3.7 s to parse.) */
 mrpt::graphs::CNetworkOfPoses2DInf toMrpt(const CPoseGraph& g);
 
 /** From an MRPT network with node ids 0..n-1 (throws otherwise). The .graph format has no
