@@ -4,7 +4,9 @@
  *
  * Worlds: `building` is GlassBuilding's (makeGlassBuildingWorld(5, glass), 100 x 60 m, laps of
  * the 178 m loop around the courtyard block); `atrium` is makeGlassAtriumWorld (160 x 100 m
- * by default, wide halls around a railed atrium, laps of the halls' 392 m centre loop).
+ * by default, wide halls around a railed atrium, laps of the halls' 392 m centre loop);
+ * `museum` is makeMuseumWorld (64 x 28 m, two galleries lined with identical niches, laps of
+ * the 136 m loop around their central block).
  *
  * Figures per run (as GlassBuilding's, tests/glass_building_test.cpp):
  *  - unmatched scans; relations from every fifth scan to the scans about 1, 5 and 9.8 s later,
@@ -19,7 +21,8 @@
  *
  * Run: build/bin/glass_stress world=atrium laps=3 seeds="1 2 3" [odo=2] [bias=1] [glass=0.1]
  *      [dropout=0.3] [period=0.7] [step=0.4] [loops=1] [hall=12] [length=160] [width=100]
- *      [ini=params.ini] [places=1] [links=1] [turns=2] [around=K]
+ *      [ini=params.ini] [places=1] [links=1] [turns=2] [around=K] [maxturn=80] [range=80]
+ *      [people=25] [scale=1.04]
  * (odo: odometry noise, times the default model; bias: the odometry turns that many times the
  * true turn; glass: share of beams a pane returns; dropout: TLaserSimParams::maxRangeDropRate;
  * period [s] and step [m] between scans; ini: lrgc's parameters; places=1 lists the revisited
@@ -27,8 +30,11 @@
  * 16.27 (their error and claimed stds along the weak and strong axes, loop_recall.h);
  * turns=D lists consecutive keyframes whose relative heading in the final graph is off the
  * truth's by more than D deg (with loops=0: local registration's own steps); around=K lists
- * every link with an end in keyframes K-4 .. K+4, what it claims against the truth. Seed s:
- * world seed s (atrium), trajectory seed 60 + s, laser seed s.)
+ * every link with an end in keyframes K-4 .. K+4, what it claims against the truth; maxturn:
+ * the largest turn in place between two scans [deg] (0: 34.4, 0.6 rad); range: the laser's
+ * maximum range [m]; people: that many people walking (CCrowd, seed 200 + s); scale: the
+ * odometry travels that many times the true translation. Seed s:
+ * world seed s (atrium, museum), trajectory seed 60 + s, laser seed s.)
  */
 #include <lrgc/common/se2.h>
 #include <lrgc_apps/eval/loop_recall.h>
@@ -45,7 +51,7 @@
 #include <sstream>
 #include <string>
 
-#include "synthetic_run.h"
+#include "synthetic_eval.h"
 
 using namespace lrgc::test;
 using lrgc::CMetricMapBuilderLRGC;
@@ -61,7 +67,8 @@ struct TOptions
 		{"bias", "1"},       {"glass", "0.1"}, {"dropout", "0.3"}, {"period", "0.7"},
 		{"step", "0.4"},     {"loops", "1"},   {"hall", "12"},     {"length", "160"},
 		{"width", "100"},    {"ini", ""},      {"places", "0"},    {"links", "0"},
-		{"turns", "0"},      {"around", "-1"}};
+		{"turns", "0"},      {"around", "-1"}, {"maxturn", "0"},   {"range", "80"},
+		{"people", "0"},     {"scale", "1"}};
 	double num(const std::string& k) const { return std::stod(kv.at(k)); }
 };
 
@@ -72,6 +79,11 @@ TTrajectory laps(const TOptions& o, uint32_t seed)
 	{
 		lap = {{78, 12}, {78, 45}, {22, 45}, {22, 12}};
 		wp = {{22, 12}};
+	}
+	else if (o.kv.at("world") == "museum")
+	{
+		lap = {{58, 6}, {58, 22}, {6, 22}, {6, 6}};  // makeMuseumWorld's 64 x 28 m
+		wp = {{14, 6}};
 	}
 	else
 	{
@@ -85,55 +97,12 @@ TTrajectory laps(const TOptions& o, uint32_t seed)
 	TOdometryNoise noise;
 	const double k = o.num("odo");
 	noise.a1 *= k, noise.a2 *= k, noise.a3 *= k, noise.a4 *= k;
-	TTrajectory tr = makeTrajectory(wp, o.num("step"), noise, seed, 0.6);
-	// A gyro-like scale error: the odometry turns `bias` times the true turn.
-	for (size_t i = 0; i < tr.odometryIncrements.size(); ++i)
-		tr.odometryIncrements[i].phi +=
-			(o.num("bias") - 1) * lrgc::between(tr.truePoses[i], tr.truePoses[i + 1]).phi;
-	rebuildOdometryPoses(tr);
+	const double maxTurn = o.num("maxturn") > 0 ? mrpt::DEG2RAD(o.num("maxturn")) : 0.6;
+	TTrajectory tr = makeTrajectory(wp, o.num("step"), noise, seed, maxTurn);
+	// Gyro and wheel scale errors: the odometry turns `bias` times the true turn and travels
+	// `scale` times the true translation.
+	scaleOdometry(tr, o.num("bias"), o.num("scale"));
 	return tr;
-}
-
-TSyntheticRunOptions longRangeLaser(const TOptions& o, uint32_t seed)
-{
-	TSyntheticRunOptions opt;
-	opt.scanPeriod = o.num("period");
-	opt.laser.beams = 181;
-	opt.laser.maxRange = 80;
-	opt.laser.rangeNoiseStd = 0.01;
-	opt.laser.dropRate = 0.02;
-	opt.laser.outlierRate = 0.005;
-	opt.laser.maxRangeDropRate = o.num("dropout");
-	opt.laser.mixedPixelRate = 1;
-	opt.beamOffsetStep = mrpt::DEG2RAD(0.25);
-	opt.beamOffsetCycle = 4;
-	opt.laserSeed = seed;
-	return opt;
-}
-
-std::vector<ev::TRelation> relations(const std::vector<TPose2D>& truth, double period,
-									 bool longOnes)
-{
-	std::vector<ev::TRelation> rel;
-	auto add = [&](size_t a, size_t b)
-	{
-		rel.push_back({mrpt::Clock::toDouble(syntheticStepTime(a, period)),
-					   mrpt::Clock::toDouble(syntheticStepTime(b, period)),
-					   lrgc::between(truth[a], truth[b])});
-	};
-	if (!longOnes)
-	{
-		for (size_t k = 0; k < truth.size(); k += 5)
-			for (const double dt : {1.0, 5.0, 9.8})
-				if (const size_t j = std::max<size_t>(1, size_t(dt / period));
-					k + j < truth.size())
-					add(k, k + j);
-		return rel;
-	}
-	const size_t gap = size_t(60 / period);
-	for (size_t a = 0; a < truth.size(); a += 10)
-		for (size_t b = a + gap; b < truth.size(); b += 10) add(a, b);
-	return rel;
 }
 
 /** Kept loop links whose chi2 by the truth exceeds 16.27: error and claimed stds along the
@@ -216,12 +185,13 @@ void printLinksAround(const CMetricMapBuilderLRGC& b, const TTrajectory& tr, siz
 
 void runOne(const TOptions& o, uint32_t seed)
 {
-	const bool atrium = o.kv.at("world") != "building";
+	const std::string& name = o.kv.at("world");
 	TGlassAtriumShape shape;
 	shape.hall = o.num("hall"), shape.length = o.num("length"), shape.width = o.num("width");
 	shape.glassReturn = o.num("glass");
-	const CSyntheticWorld world =
-		atrium ? makeGlassAtriumWorld(seed, shape) : makeGlassBuildingWorld(5, o.num("glass"));
+	const CSyntheticWorld world = name == "building" ? makeGlassBuildingWorld(5, o.num("glass"))
+								  : name == "museum" ? makeMuseumWorld(seed)
+													 : makeGlassAtriumWorld(seed, shape);
 	const TTrajectory tr = laps(o, 60 + seed);
 	const double clearance = minClearance(world, tr.truePoses);
 	lrgc::TLRGCParams p;
@@ -230,22 +200,21 @@ void runOne(const TOptions& o, uint32_t seed)
 	p.builder.loop_closing = o.num("loops") != 0;
 	CMetricMapBuilderLRGC builder(p);
 	builder.setMinLoggingLevel(mrpt::system::LVL_ERROR);
+	TSyntheticRunOptions laser =
+		longRangeSick(o.num("period"), o.num("range"), o.num("dropout"), seed);
+	// People walking anywhere in the world's bounding box (CCrowd keeps them off the robot).
+	const CCrowd crowd(world.bounds(), int(o.num("people")), 200 + seed);
+	if (o.num("people") > 0) laser.crowd = &crowd;
 	const auto t0 = std::chrono::steady_clock::now();
-	feedBuilder(builder, world, tr, longRangeLaser(o, seed));
+	feedBuilder(builder, world, tr, laser);
 	const double secs =
 		std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
-	std::vector<ev::TTimedPose2D> poses;
-	for (const auto& s : builder.trajectory())
-		poses.push_back({mrpt::Clock::toDouble(s.timestamp), s.robotInMap});
-	const ev::CTrajectory2D traj(poses);
 	const double period = o.num("period");
-	const auto shortRel = ev::evaluateRelations(traj, relations(tr.truePoses, period, false));
-	const auto longRel = ev::evaluateRelations(traj, relations(tr.truePoses, period, true));
-	std::vector<ev::TRecallKeyframe> kfs;
-	for (const auto& kf : builder.keyframes())
-		kfs.push_back({period * double(kf.scanIndex), tr.truePoses.at(kf.scanIndex)});
-	const auto recall = ev::evaluateLoopRecall(builder.graph(), kfs);
+	const auto& est = builder.trajectory();
+	const auto shortRel = evaluateOnTruth(est, truthRelations(tr.truePoses, period, false));
+	const auto longRel = evaluateOnTruth(est, truthRelations(tr.truePoses, period, true));
+	const auto recall = truthLoopRecall(builder, tr.truePoses, period);
 	const auto err = trajectoryError(builder.trajectory(), tr.truePoses);
 	std::vector<TPose2D> odo;
 	for (const auto& q : tr.odometryPoses)

@@ -26,7 +26,7 @@
 #include <algorithm>
 #include <cstdio>
 
-#include "synthetic_run.h"
+#include "synthetic_eval.h"
 
 using namespace lrgc::test;
 using lrgc::CMetricMapBuilderLRGC;
@@ -46,54 +46,6 @@ TTrajectory twoLaps(uint32_t seed)
 	noise.a1 *= 2, noise.a2 *= 2, noise.a3 *= 2, noise.a4 *= 2;
 	return makeTrajectory(wp, 0.4, noise, seed, 0.6);
 }
-
-TSyntheticRunOptions longRangeLaser(uint32_t seed)
-{
-	TSyntheticRunOptions opt;
-	opt.scanPeriod = kPeriod;
-	opt.laser.beams = 181;
-	opt.laser.maxRange = 80;
-	opt.laser.rangeNoiseStd = 0.01;
-	opt.laser.dropRate = 0.02;
-	opt.laser.outlierRate = 0.005;
-	opt.laser.maxRangeDropRate = 0.15;
-	opt.laser.mixedPixelRate = 1;
-	opt.beamOffsetStep = mrpt::DEG2RAD(0.25);
-	opt.beamOffsetCycle = 4;
-	opt.laserSeed = seed;
-	return opt;
-}
-
-/** lrgc-eval's relation metric over relations from every fifth scan to the scans about 1, 5
- * and 9.8 s later (at least the next), the truth exact. */
-lrgc::apps::eval::TRelationEvaluation shortRelations(const lrgc::TTrajectory& est,
-													 const std::vector<TPose2D>& truth)
-{
-	namespace ev = lrgc::apps::eval;
-	std::vector<ev::TTimedPose2D> poses;
-	for (const auto& s : est)
-		poses.push_back({mrpt::Clock::toDouble(s.timestamp), s.robotInMap});
-	std::vector<ev::TRelation> rel;
-	for (size_t k = 0; k < truth.size(); k += 5)
-		for (const double dt : {1.0, 5.0, 9.8})
-			if (const size_t j = std::max<size_t>(1, size_t(dt / kPeriod));
-				k + j < truth.size())
-				rel.push_back({mrpt::Clock::toDouble(syntheticStepTime(k, kPeriod)),
-							   mrpt::Clock::toDouble(syntheticStepTime(k + j, kPeriod)),
-							   lrgc::between(truth[k], truth[k + j])});
-	return ev::evaluateRelations(ev::CTrajectory2D(poses), rel);
-}
-
-/** Loop recall over the revisited places (see the top of the file), by the definition that
- * lrgc-eval --loops applies to real logs (lrgc_apps/eval/loop_recall.h), the truth exact. */
-lrgc::apps::eval::TLoopRecall loopRecall(const CMetricMapBuilderLRGC& builder,
-										 const std::vector<TPose2D>& truth)
-{
-	std::vector<lrgc::apps::eval::TRecallKeyframe> kfs;
-	for (const auto& kf : builder.keyframes())
-		kfs.push_back({kPeriod * double(kf.scanIndex), truth.at(kf.scanIndex)});
-	return lrgc::apps::eval::evaluateLoopRecall(builder.graph(), kfs);
-}
 }  // namespace
 
 TEST(GlassBuilding, registrationAndLoopsSurviveMixedReturns)
@@ -103,10 +55,11 @@ TEST(GlassBuilding, registrationAndLoopsSurviveMixedReturns)
 	ASSERT_GT(minClearance(world, tr.truePoses), 0.5);
 	CMetricMapBuilderLRGC builder;
 	builder.setMinLoggingLevel(mrpt::system::LVL_ERROR);
-	feedBuilder(builder, world, tr, longRangeLaser(3));
+	feedBuilder(builder, world, tr, longRangeSick(kPeriod, 80, 0.15, 3));
 
-	const auto rel = shortRelations(builder.trajectory(), tr.truePoses);
-	const auto recall = loopRecall(builder, tr.truePoses);
+	const auto rel =
+		evaluateOnTruth(builder.trajectory(), truthRelations(tr.truePoses, kPeriod, false));
+	const auto recall = truthLoopRecall(builder, tr.truePoses, kPeriod);
 	const auto& st = builder.stats();
 	const auto& ls = builder.loopCloserStats();
 	std::printf(

@@ -166,6 +166,36 @@ void rebuildOdometryPoses(TTrajectory& tr)
 		tr.odometryPoses.push_back(lrgc::compose(tr.odometryPoses.back(), inc));
 }
 
+void scaleOdometry(TTrajectory& tr, double turnScale, double travelScale)
+{
+	for (size_t i = 0; i < tr.odometryIncrements.size(); ++i)
+	{
+		const mrpt::math::TPose2D step = lrgc::between(tr.truePoses[i], tr.truePoses[i + 1]);
+		tr.odometryIncrements[i].phi += (turnScale - 1) * step.phi;
+		tr.odometryIncrements[i].x += (travelScale - 1) * step.x;
+		tr.odometryIncrements[i].y += (travelScale - 1) * step.y;
+	}
+	rebuildOdometryPoses(tr);
+}
+
+TSyntheticRunOptions longRangeSick(double scanPeriod, double maxRange, double maxRangeDropRate,
+								   uint32_t laserSeed)
+{
+	TSyntheticRunOptions opt;
+	opt.scanPeriod = scanPeriod;
+	opt.laser.beams = 181;
+	opt.laser.maxRange = maxRange;
+	opt.laser.rangeNoiseStd = 0.01;
+	opt.laser.dropRate = 0.02;
+	opt.laser.outlierRate = 0.005;
+	opt.laser.maxRangeDropRate = maxRangeDropRate;
+	opt.laser.mixedPixelRate = 1;
+	opt.beamOffsetStep = mrpt::DEG2RAD(0.25);
+	opt.beamOffsetCycle = 4;
+	opt.laserSeed = laserSeed;
+	return opt;
+}
+
 CSyntheticWorld makeRingCorridorWorld(double W, double H, double w, uint32_t seed, int boxes)
 {
 	ASSERT_(W > 2 * w && H > 2 * w && w > 0.6);

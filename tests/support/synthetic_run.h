@@ -98,6 +98,19 @@ TLoopLinkAudit auditLoopLinks(const lrgc::CMetricMapBuilderLRGC& builder,
  * wheel slip). */
 void rebuildOdometryPoses(TTrajectory& tr);
 
+/** Scale errors of the odometry: each increment turns `turnScale` times the true turn (a gyro's
+ * scale error) and travels `travelScale` times the true translation (a wheel's), on top of
+ * its noise; then the odometry poses are integrated again. */
+void scaleOdometry(TTrajectory& tr, double turnScale, double travelScale);
+
+/** The long-range SICK of issue 28's 80-minute log as the simulator models it, scans every
+ * `scanPeriod` [s]: 181 beams over 180 deg out to `maxRange` [m], 1 cm range noise, 2 % of the
+ * beams dropped and 0.5 % spurious, mixed pixels wherever a beam straddles an edge,
+ * `maxRangeDropRate` of the far and grazing returns lost, and the four start angles of its
+ * ROBOTLASER lines (0.25 deg apart). */
+TSyntheticRunOptions longRangeSick(double scanPeriod, double maxRange, double maxRangeDropRate,
+								   uint32_t laserSeed);
+
 /** A rectangular ring corridor (an office floor around a central block): outer walls
  * (0,0)-(W,H), inner block (w,w)-(W-w,H-w), and `boxes` small boxes (0.3 m) against the
  * outer walls at seeded places, so that motion along a corridor is observable only near a

@@ -177,6 +177,14 @@ CSyntheticWorld makeOpenHallWorld(uint32_t seed, double L = 60, double W = 30, i
  * inside with a laser shorter than L/2 every place looks like the one `pitch` metres on. */
 CSyntheticWorld makeAlcoveGalleryWorld(double L = 80, double W = 8, double pitch = 4);
 
+/** A museum of two parallel galleries, corners (0,0)-(L,W): outer long walls and both long
+ * faces of a central block (x from 12 to L - 12, 4 m thick, across y = W / 2) lined with
+ * identical niches (2 m wide, 1.5 m deep, one every `pitch` [m]), plain end walls, and six
+ * 0.6 m plinths at seeded places in the end halls. A loop runs around the block through both
+ * galleries and end halls, e.g. (6, 6) - (L - 6, 6) - (L - 6, W - 6) - (6, W - 6); along a
+ * gallery every place looks like the one `pitch` metres on. */
+CSyntheticWorld makeMuseumWorld(uint32_t seed, double L = 64, double W = 28, double pitch = 4);
+
 /** A 100 x 60 m building, corners (0,0)-(100,60), of mixed returns for a long laser (issue 28,
  * the 80 m SICK's log): a glass-walled courtyard block (34,22)-(66,38) in the middle, whose
  * south and north faces are panes (`glassReturn` of the beams come back, the rest go on to

@@ -1,5 +1,6 @@
 /* World builders of synthetic_world.h: a furnished room, a corridor, repeated rooms, an open
- * hall, an alcove gallery, a glass building; and the crowd walking through a world. */
+ * hall, an alcove gallery, a museum, a glass building; and the crowd walking through a world.
+ */
 #include "synthetic_world.h"
 
 #include <mrpt/core/exceptions.h>
@@ -132,6 +133,56 @@ CSyntheticWorld makeOpenHallWorld(uint32_t seed, double L, double W, int alcoves
 	for (int row = 1; row <= 3; ++row)
 		for (double px = (row == 2 ? 10.0 : 5.0); px < L - 2; px += 10)
 			w.addCircle({px, row * W / 4}, kPillar, 12);
+	return w;
+}
+
+namespace
+{
+/** A wall along x at height y from x0 to x1 (x0 < x1), cut by 2 m wide niches `depth` [m]
+ * deep (towards +y for depth > 0, -y for depth < 0), one every `pitch` [m] from x0 + pitch / 2
+ * while a whole niche fits 1 m before x1. */
+void addNichedWallAlongX(CSyntheticWorld& w, double x0, double x1, double y, double depth,
+						 double pitch)
+{
+	constexpr double kWidth = 2.0;
+	double x = x0;
+	for (double s = x0 + pitch / 2 - kWidth / 2; s + kWidth < x1 - 1; s += pitch)
+	{
+		w.addSegment({x, y}, {s, y});
+		w.addSegment({s, y}, {s, y + depth});
+		w.addSegment({s, y + depth}, {s + kWidth, y + depth});
+		w.addSegment({s + kWidth, y + depth}, {s + kWidth, y});
+		x = s + kWidth;
+	}
+	w.addSegment({x, y}, {x1, y});
+}
+}  // namespace
+
+CSyntheticWorld makeMuseumWorld(uint32_t seed, double L, double W, double pitch)
+{
+	ASSERT_(L > 40 && W > 20 && pitch > 2.5);
+	CSyntheticWorld w;
+	constexpr double kDepth = 1.5, kBlockEnd = 12, kBlockHalf = 2;
+	// Outer walls: the long ones niched inwards-out, the ends plain.
+	addNichedWallAlongX(w, 0, L, 0, -kDepth, pitch);
+	addNichedWallAlongX(w, 0, L, W, kDepth, pitch);
+	w.addSegment({0, 0}, {0, W});
+	w.addSegment({L, 0}, {L, W});
+	// The central block between the two galleries, niched on both long faces, plain ends.
+	const double y0 = W / 2 - kBlockHalf, y1 = W / 2 + kBlockHalf;
+	addNichedWallAlongX(w, kBlockEnd, L - kBlockEnd, y0, kDepth, pitch);
+	addNichedWallAlongX(w, kBlockEnd, L - kBlockEnd, y1, -kDepth, pitch);
+	w.addSegment({kBlockEnd, y0}, {kBlockEnd, y1});
+	w.addSegment({L - kBlockEnd, y0}, {L - kBlockEnd, y1});
+	// A few plinths (0.6 m squares) at seeded places in the two end halls, 1-2.5 m from a wall.
+	std::mt19937 rng(seed);
+	std::uniform_real_distribution<double> u(0, 1);
+	for (int i = 0; i < 6; ++i)
+	{
+		const double x = i % 2 == 0 ? 1 + 1.5 * u(rng) : L - 1 - 1.5 * u(rng);
+		const double y = 3 + (W - 6) * u(rng);
+		w.addBox({x, y}, 0.3, 0.3);
+	}
 	return w;
 }
 

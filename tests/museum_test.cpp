@@ -1,0 +1,78 @@
+/* A museum mapped from sparse scans (issue 28: "a museum hall, rows of similar alcoves, sparse
+ * scans"): full SLAM in makeMuseumWorld, two 64 m galleries lined with identical niches around
+ * a central block, with visitors walking. Three laps of the 136 m loop around the block, one
+ * scan a metre (1 s apart) and turns in place of up to 80 deg between two scans; odometry
+ * twice as noisy as the default model that turns 5 % and travels 4 % too much (the sparse
+ * variants' scale errors, bench/make-sparse-log); a 30 m SICK (longRangeSick), so that from a
+ * gallery's end its far end is out of reach and every niche looks like the next.
+ *
+ * Figures, from exact ground truth, as bench/glass_stress world=museum prints them:
+ *  - relations under 10 s apart off by more than 2 deg (local registration's heading tail);
+ *  - the mean error of long relations (every tenth scan to every tenth at least 60 s later):
+ *    what a bent gallery or a wrong closure shows;
+ *  - loop recall over the revisited 10 m places and false closures (synthetic_eval.h).
+ */
+#include <gtest/gtest.h>
+
+#include <cstdio>
+
+#include "synthetic_eval.h"
+
+using namespace lrgc::test;
+using lrgc::CMetricMapBuilderLRGC;
+
+namespace
+{
+constexpr double kPeriod = 1.0;  // [s] between scans, 1 m apart
+
+TTrajectory threeLaps(uint32_t seed)
+{
+	const std::vector<Eigen::Vector2d> lap{{58, 6}, {58, 22}, {6, 22}, {6, 6}};
+	std::vector<Eigen::Vector2d> wp{{14, 6}};
+	for (int i = 0; i < 3; ++i) wp.insert(wp.end(), lap.begin(), lap.end());
+	wp.emplace_back(42, 6);
+	TOdometryNoise noise;
+	noise.a1 *= 2, noise.a2 *= 2, noise.a3 *= 2, noise.a4 *= 2;
+	TTrajectory tr = makeTrajectory(wp, 1.0, noise, seed, mrpt::DEG2RAD(80.0));
+	scaleOdometry(tr, 1.05, 1.04);
+	return tr;
+}
+}  // namespace
+
+TEST(MuseumSparse, galleriesStayStraightAndTheirRevisitsClose)
+{
+	for (const uint32_t seed : {1u, 2u})
+	{
+		const CSyntheticWorld world = makeMuseumWorld(seed);
+		const TTrajectory tr = threeLaps(60 + seed);
+		ASSERT_GT(minClearance(world, tr.truePoses), 3.0);
+		const CCrowd visitors(world.bounds(), 15, 200 + seed);
+		TSyntheticRunOptions opt = longRangeSick(kPeriod, 30, 0.3, seed);
+		opt.crowd = &visitors;
+		CMetricMapBuilderLRGC builder;
+		builder.setMinLoggingLevel(mrpt::system::LVL_ERROR);
+		feedBuilder(builder, world, tr, opt);
+
+		const auto& est = builder.trajectory();
+		const auto shortRel = evaluateOnTruth(est, truthRelations(tr.truePoses, kPeriod, false));
+		const auto longRel = evaluateOnTruth(est, truthRelations(tr.truePoses, kPeriod, true));
+		const auto recall = truthLoopRecall(builder, tr.truePoses, kPeriod);
+		const auto& st = builder.stats();
+		std::printf(
+			"[ museum ] seed %u: %zu scans (%zu unmatched), %zu keyframes; relations < 10 s: "
+			"%zu over 2 deg of %zu; long relations %.3f m mean (max %.2f); loop recall %zu / "
+			"%zu places, %zu false closures\n",
+			seed, st.scans, st.unmatchedScans, st.keyframes, shortRel.shortOver2deg,
+			shortRel.shortCount, longRel.trans_m.mean, longRel.trans_m.max, recall.closed,
+			recall.places.size(), recall.falseClosures);
+		// Issue 28's bars (under 1 % over 2 deg, recall >= 90 %, no false closure) and a bent
+		// gallery's: main at d504d19 keeps the long relations at 0.017-0.031 m on seeds 1-8
+		// (bench/glass_stress world=museum, doc/generalisation.md), the museum the issue
+		// names is at 0.127 m against a bar of 0.10 m.
+		EXPECT_GT(recall.places.size(), 10U) << "laps 2 and 3 must revisit lap 1";
+		EXPECT_EQ(recall.falseClosures, 0U) << lrgc::apps::eval::recallReport(recall);
+		EXPECT_GE(recall.recall(), 0.9) << "seed " << seed;
+		EXPECT_LT(shortRel.shortOver2degShare(), 0.01) << "seed " << seed;
+		EXPECT_LT(longRel.trans_m.mean, 0.05) << "seed " << seed << ": a gallery bent";
+	}
+}
