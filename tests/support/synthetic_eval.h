@@ -61,9 +61,9 @@ inline lrgc::apps::eval::TRelationEvaluation evaluateOnTruth(
 /** Loop recall of the builder's final graph over the revisited places (10 m places of
  * keyframes within 2 m of one at least 60 s older; a place is closed by a true loop link kept
  * in the final graph), by the definition lrgc-eval --loops applies to real logs. */
-inline lrgc::apps::eval::TLoopRecall truthLoopRecall(const lrgc::CMetricMapBuilderLRGC& builder,
-													 const std::vector<mrpt::math::TPose2D>& truth,
-													 double period)
+inline lrgc::apps::eval::TLoopRecall truthLoopRecall(
+	const lrgc::CMetricMapBuilderLRGC& builder, const std::vector<mrpt::math::TPose2D>& truth,
+	double period)
 {
 	std::vector<lrgc::apps::eval::TRecallKeyframe> kfs;
 	for (const auto& kf : builder.keyframes())
