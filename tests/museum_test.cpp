@@ -37,42 +37,71 @@ TTrajectory threeLaps(uint32_t seed)
 	scaleOdometry(tr, 1.05, 1.04);
 	return tr;
 }
+
+struct TMuseumRun
+{
+	lrgc::apps::eval::TRelationEvaluation shortRel, longRel;
+	lrgc::apps::eval::TLoopRecall recall;
+};
+
+/** World seed `seed`, trajectory seed 60 + seed, 15 visitors (seed 200 + seed), the defaults
+ * but for loop closing. */
+TMuseumRun runMuseum(uint32_t seed, bool loopClosing)
+{
+	const CSyntheticWorld world = makeMuseumWorld(seed);
+	const TTrajectory tr = threeLaps(60 + seed);
+	EXPECT_GT(minClearance(world, tr.truePoses), 3.0);
+	const CCrowd visitors(world.bounds(), 15, 200 + seed);
+	TSyntheticRunOptions opt = longRangeSick(kPeriod, 30, 0.3, seed);
+	opt.crowd = &visitors;
+	lrgc::TLRGCParams p;
+	p.builder.loop_closing = loopClosing;
+	CMetricMapBuilderLRGC builder(p);
+	builder.setMinLoggingLevel(mrpt::system::LVL_ERROR);
+	feedBuilder(builder, world, tr, opt);
+
+	const auto& est = builder.trajectory();
+	TMuseumRun r{evaluateOnTruth(est, truthRelations(tr.truePoses, kPeriod, false)),
+				 evaluateOnTruth(est, truthRelations(tr.truePoses, kPeriod, true)),
+				 truthLoopRecall(builder, tr.truePoses, kPeriod)};
+	std::printf(
+		"[ museum ] seed %u%s: %zu scans (%zu unmatched), %zu keyframes; relations < 10 s: "
+		"%zu over 2 deg of %zu; long relations %.3f m mean (max %.2f); loop recall %zu / %zu "
+		"places, %zu false closures\n",
+		seed, loopClosing ? "" : " (local registration alone)", builder.stats().scans,
+		builder.stats().unmatchedScans, builder.stats().keyframes, r.shortRel.shortOver2deg,
+		r.shortRel.shortCount, r.longRel.trans_m.mean, r.longRel.trans_m.max, r.recall.closed,
+		r.recall.places.size(), r.recall.falseClosures);
+	return r;
+}
 }  // namespace
 
 TEST(MuseumSparse, galleriesStayStraightAndTheirRevisitsClose)
 {
 	for (const uint32_t seed : {1u, 2u})
 	{
-		const CSyntheticWorld world = makeMuseumWorld(seed);
-		const TTrajectory tr = threeLaps(60 + seed);
-		ASSERT_GT(minClearance(world, tr.truePoses), 3.0);
-		const CCrowd visitors(world.bounds(), 15, 200 + seed);
-		TSyntheticRunOptions opt = longRangeSick(kPeriod, 30, 0.3, seed);
-		opt.crowd = &visitors;
-		CMetricMapBuilderLRGC builder;
-		builder.setMinLoggingLevel(mrpt::system::LVL_ERROR);
-		feedBuilder(builder, world, tr, opt);
-
-		const auto& est = builder.trajectory();
-		const auto shortRel = evaluateOnTruth(est, truthRelations(tr.truePoses, kPeriod, false));
-		const auto longRel = evaluateOnTruth(est, truthRelations(tr.truePoses, kPeriod, true));
-		const auto recall = truthLoopRecall(builder, tr.truePoses, kPeriod);
-		const auto& st = builder.stats();
-		std::printf(
-			"[ museum ] seed %u: %zu scans (%zu unmatched), %zu keyframes; relations < 10 s: "
-			"%zu over 2 deg of %zu; long relations %.3f m mean (max %.2f); loop recall %zu / "
-			"%zu places, %zu false closures\n",
-			seed, st.scans, st.unmatchedScans, st.keyframes, shortRel.shortOver2deg,
-			shortRel.shortCount, longRel.trans_m.mean, longRel.trans_m.max, recall.closed,
-			recall.places.size(), recall.falseClosures);
+		const TMuseumRun r = runMuseum(seed, true);
 		// Issue 28's bars (under 1 % over 2 deg, recall >= 90 %, no false closure) and a bent
-		// gallery's: main at d504d19 keeps the long relations at 0.017-0.031 m on seeds 1-8
+		// gallery's: main at 6e021f6 keeps the long relations at 0.017-0.031 m on seeds 1-8
 		// (bench/glass_stress world=museum, doc/generalisation.md), the museum the issue
 		// names is at 0.127 m against a bar of 0.10 m.
-		EXPECT_GT(recall.places.size(), 10U) << "laps 2 and 3 must revisit lap 1";
-		EXPECT_EQ(recall.falseClosures, 0U) << lrgc::apps::eval::recallReport(recall);
-		EXPECT_GE(recall.recall(), 0.9) << "seed " << seed;
-		EXPECT_LT(shortRel.shortOver2degShare(), 0.01) << "seed " << seed;
-		EXPECT_LT(longRel.trans_m.mean, 0.05) << "seed " << seed << ": a gallery bent";
+		EXPECT_GT(r.recall.places.size(), 10U) << "laps 2 and 3 must revisit lap 1";
+		EXPECT_EQ(r.recall.falseClosures, 0U) << lrgc::apps::eval::recallReport(r.recall);
+		EXPECT_GE(r.recall.recall(), 0.9) << "seed " << seed;
+		EXPECT_LT(r.shortRel.shortOver2degShare(), 0.01) << "seed " << seed;
+		EXPECT_LT(r.longRel.trans_m.mean, 0.05) << "seed " << seed << ": a gallery bent";
 	}
+}
+
+// Issue 28 item 3 (an unmatched scan never bends the map) where nothing repairs it later: seed
+// 4's turn in place of 80 deg at (6, 6) among visitors. The odometry turns 10.9 deg too far;
+// the plain match fails and the wide search's winner matches 43.8 % of the scan (rms 2.1 cm).
+// With [ScanMatcher] wide_min_inlier_fraction at 0.45 (until session 64) it was refused, the
+// odometry's turn stood and the map after it turned with it: long relations 3.07 m, worst scan
+// 10.4 m and 11.1 deg off. At 0.40 it is taken: 0.038 m, worst scan 0.09 m and 0.2 deg.
+TEST(MuseumSparse, aTurnInPlaceAmongVisitorsDoesNotBendLocalRegistration)
+{
+	const TMuseumRun r = runMuseum(4, false);
+	EXPECT_LT(r.shortRel.shortOver2degShare(), 0.01);
+	EXPECT_LT(r.longRel.trans_m.mean, 0.05) << "the map turned at a corner";
 }

@@ -184,10 +184,11 @@ TEST(LRGCParams, AnOldFullIniLoadsAsTheDefaultsWithAWarningPerRenamedKey)
 	const mrpt::config::CConfigFile old(path);
 	lrgc::TLRGCParams p;
 	const std::vector<std::string> warnings = p.loadReportingRenames(old, {});
-	// The defaults, but for the two defaults changed since 7c31216, which the file sets.
+	// The defaults, but for the three defaults changed since 7c31216, which the file sets.
 	lrgc::TLRGCParams expected;
 	expected.revisits.radius_m = 1.0;      // 2 m since stop 35 (RevisitLinkerParams.h)
 	expected.revisits.min_index_gap = 40;  // 15 since the revisit sweep's checks (recall2)
+	expected.matcher.wide_min_inlier_fraction = 0.45;  // 0.40 since session 64 (the museum)
 	EXPECT_EQ(saved(p), saved(expected));
 	EXPECT_EQ(warnings.size(), lrgc::TLRGCParams::renamedKeys().size());
 	const auto has = [&](const std::string& w)

@@ -34,7 +34,7 @@ struct TScanMatcherParams : public mrpt::config::CLoadableOptions
 	/** matchWide: the winner must match at least this fraction of the scan's points. True
 	 * glitch recoveries on the benchmark logs match 53-90 %; a false 108-deg "recovery" on
 	 * Intel matched 29 % (issue 11). */
-	double wide_min_inlier_fraction = 0.45;
+	double wide_min_inlier_fraction = 0.40;
 
 	void loadFromConfigFile(const mrpt::config::CConfigFileBase& source,
 							const std::string& section) override;
