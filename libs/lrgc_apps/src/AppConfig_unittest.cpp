@@ -33,6 +33,8 @@ TEST(AppConfig, AnOldFullIniGivesTheDefaultsAndAWarningPerOldKey)
 	lrgc::apps::TAppConfig expected;
 	expected.lrgc.revisits.radius_m = 1.0;      // 2 m since stop 35 (RevisitLinkerParams.h)
 	expected.lrgc.revisits.min_index_gap = 40;  // 15 since the revisit sweep's checks (recall2)
+	// 0.40 since session 64 (the museum, ScanMatcherParams.h)
+	expected.lrgc.matcher.wide_min_inlier_fraction = 0.45;
 	EXPECT_EQ(saved(cfg), saved(expected));
 	EXPECT_EQ(cfg.warnings.size(),
 			  lrgc::TLRGCParams::renamedKeys().size() + lrgc::apps::appRenamedKeys().size());
