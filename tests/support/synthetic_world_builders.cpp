@@ -163,7 +163,7 @@ CSyntheticWorld makeMuseumWorld(uint32_t seed, double L, double W, double pitch)
 	ASSERT_(L > 40 && W > 20 && pitch > 2.5);
 	CSyntheticWorld w;
 	constexpr double kDepth = 1.5, kBlockEnd = 12, kBlockHalf = 2;
-	// Outer walls: the long ones niched inwards-out, the ends plain.
+	// Outer walls: niches set outwards into the long ones, the ends plain.
 	addNichedWallAlongX(w, 0, L, 0, -kDepth, pitch);
 	addNichedWallAlongX(w, 0, L, W, kDepth, pitch);
 	w.addSegment({0, 0}, {0, W});
