@@ -354,7 +354,7 @@ void CReferenceCloud::fitLines(const TScanMatcherParams& p, const std::vector<do
 	{
 		const size_t end = std::min(n, (block + 1) * kFitsPerBlock);
 		for (size_t i = block * kFitsPerBlock; i < end; ++i)
-			newPos[i] = fitAnchor(i, p.normal_radius_m, w, fitSigma2[i]);
+			newPos[i] = fitAnchor(i, p, w, fitSigma2[i]);
 	};
 	const size_t blocks = (n + kFitsPerBlock - 1) / kFitsPerBlock;
 	if (parallel && blocks > 1)
@@ -374,35 +374,49 @@ void CReferenceCloud::fitLines(const TScanMatcherParams& p, const std::vector<do
 
 // Anchor i's line fit (fitLines): the neighbourhood is widened (radius r0, 2 r0, 4 r0) while it
 // has too few points or is too thick: range noise thickens a small neighbourhood, a corner
-// stays thick at every size. Returns the anchor's position (projected onto its line); sets
-// `sigma2` to the fit's noise estimate l2 W / (n - 2).
-Eigen::Vector2d CReferenceCloud::fitAnchor(size_t i, double r0, const std::vector<double>& w,
-										   double& sigma2)
+// stays thick at every size. Then, where the far fit is on, once more within R = range x
+// far_fit_angle (capped), if that is wider: a wall at range r is sampled every r x (beam
+// spacing) by one scan, R = 3 deg x r holds three such returns of a 1-degree laser either
+// side. Returns the anchor's position (projected onto its line); sets `sigma2` to the fit's
+// noise estimate l2 W / (n - 2).
+Eigen::Vector2d CReferenceCloud::fitAnchor(size_t i, const TScanMatcherParams& p,
+										   const std::vector<double>& w, double& sigma2)
 {
 	const Eigen::Vector2d x = m_anchors[i].pos;
+	const double r0 = p.normal_radius_m;
 	double r = r0;
 	TMoments mo;
+	const auto toLine = [&](const TLineFromMoments& f, double radius)
+	{
+		TAnchor& a = m_anchors[i];
+		a.normal = f.n;
+		a.isLine = true;
+		a.fitRadius = static_cast<float>(radius);
+		// sum w u^2 = W t^T C t = W l1 (t is C's eigenvector of l1).
+		const double suu = mo.W * f.l1;
+		m_lineFits[i] = TLineFit{x, f.m, radius, mo.W, suu};
+		a.u = static_cast<float>((x - f.m).dot(f.t));
+		// slope variance sigma^2 / sum w u^2, sigma^2 filled in by fitLines
+		a.normalVar = static_cast<float>(suu > 0 ? 1 / suu : 0);
+		sigma2 = f.l2 * mo.W / static_cast<double>(mo.count - 2);
+		return Eigen::Vector2d(f.m + (x - f.m).dot(f.t) * f.t);
+	};
 	for (int widen = 0; widen < 3; ++widen, r *= 2)
 	{
 		// Only the widest neighbourhood's nearest neighbour is used (below the loop).
 		mo = widen < 2 ? momentsWithin<false>(m_grid, w, i, x, r)
 					   : momentsWithin<true>(m_grid, w, i, x, r);
-		const auto f = lineOf(mo, x);
-		if (!f) continue;
-		TAnchor& a = m_anchors[i];
-		a.normal = f->n;
-		a.isLine = true;
-		a.fitRadius = r;
-		// sum w u^2 = W t^T C t = W l1 (t is C's eigenvector of l1).
-		const double suu = mo.W * f->l1;
-		m_lineFits[i] = TLineFit{x, f->m, r, mo.W, suu};
-		a.u = static_cast<float>((x - f->m).dot(f->t));
-		// slope variance sigma^2 / sum w u^2, sigma^2 filled in by fitLines
-		a.normalVar = static_cast<float>(suu > 0 ? 1 / suu : 0);
-		sigma2 = f->l2 * mo.W / static_cast<double>(mo.count - 2);
-		return f->m + (x - f->m).dot(f->t) * f->t;
+		if (const auto f = lineOf(mo, x)) return toLine(*f, r);
 	}
-	// count and nearest2 are of the widest neighbourhood here (r is twice its radius now, as
+	const double far = std::min(p.far_fit_max_radius_m, x.norm() * p.far_fit_angle);
+	if (far > 4 * r0)
+	{
+		const TMoments widest = mo;
+		mo = momentsWithin<true>(m_grid, w, i, x, far);
+		if (const auto f = lineOf(mo, x)) return toLine(*f, far);
+		mo = widest;
+	}
+	// count and nearest2 are of the 4 r0 neighbourhood here (r is twice its radius now, as
 	// the cap of the spacing).
 	m_anchors[i].usable = mo.count >= 3;
 	m_anchors[i].samplingVar = static_cast<float>(std::min(r * r, mo.nearest2) / 12);

@@ -261,8 +261,8 @@ private:
 	void fitLines(const TScanMatcherParams& p, const std::vector<double>& weights,
 				  const TParallelFor& parallel);
 	/** Sets `sigma2` to the fit's noise estimate if anchor i is a LINE (else leaves it). */
-	Eigen::Vector2d fitAnchor(size_t i, double r0, const std::vector<double>& w,
-							  double& sigma2);
+	Eigen::Vector2d fitAnchor(size_t i, const TScanMatcherParams& p,
+							  const std::vector<double>& w, double& sigma2);
 
 	std::vector<TAnchor> m_anchors;
 	CAnchorGrid m_grid;

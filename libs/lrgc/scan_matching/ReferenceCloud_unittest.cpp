@@ -7,6 +7,7 @@
 #include <Eigen/Geometry>
 #include <cmath>
 #include <iostream>
+#include <random>
 #include <tuple>
 #include <vector>
 
@@ -388,4 +389,39 @@ TEST(ReferenceCloud, voxelSideFollowsTheNoiseInPowersOfTwo)
 	EXPECT_DOUBLE_EQ(CReferenceCloud::cellForNoise(0.02, 0.5, 0.075), 0.04);  // maxCell
 	EXPECT_DOUBLE_EQ(CReferenceCloud::cellForNoise(0.02, 0.5, 0.2), 0.16);
 	EXPECT_DOUBLE_EQ(CReferenceCloud::cellForNoise(0.02, 0.5, 0.01), 0.02);  // never below res
+}
+
+/* The far fit (TScanMatcherParams::far_fit_angle): one scan of a 1-degree laser samples a wall
+ * 60 m away every 1.05 m, so no return has 3 neighbours within 4 normal_radius_m (0.6 m): all
+ * are isolated, never matched. Fitted again within 3 deg x 60 m = 3.1 m, they are LINE anchors
+ * on the wall, with its normal. */
+TEST(ReferenceCloud, aFarWallOfOneScanIsLinesOnlyWithTheFarFit)
+{
+	TScan2D scan;
+	scan.maxRange = 80;
+	std::mt19937 rng(5);
+	std::normal_distribution<double> noise(0, 0.01);
+	for (int deg = -20; deg <= 20; ++deg)
+	{
+		const double th = deg * M_PI / 180, range = 60 / std::cos(th) + noise(rng);
+		scan.points.emplace_back(range * std::cos(th), range * std::sin(th));
+	}
+	TScanMatcherParams p;
+	const CReferenceCloud without = CReferenceCloud::fromScan(scan, p);
+	for (const auto& a : without.anchors()) EXPECT_FALSE(a.isLine || a.usable);
+
+	p.far_fit_angle = mrpt::DEG2RAD(3.0);
+	const CReferenceCloud with = CReferenceCloud::fromScan(scan, p);
+	size_t lines = 0;
+	for (const auto& a : with.anchors())
+		if (a.isLine)
+		{
+			++lines;
+			EXPECT_GT(std::abs(a.normal.x()), 0.999) << "at y = " << a.pos.y();
+			EXPECT_NEAR(a.pos.x(), 60, 0.05);
+			EXPECT_NEAR(a.fitRadius, a.pos.norm() * mrpt::DEG2RAD(3.0), 0.01);  // 3.1-3.4 m
+		}
+	// All but the two end returns (two neighbours within R, on one side: a line needs 4
+	// points).
+	EXPECT_EQ(lines + 2, with.size()) << "every inner return of the wall is a line";
 }

@@ -20,6 +20,8 @@ void TScanMatcherParams::loadFromConfigFile(const mrpt::config::CConfigFileBase&
 		readDouble(c, s, "max_correspondence_dist_m", max_correspondence_dist_m);
 	d.ref_resolution_m = readDouble(c, s, "ref_resolution_m", ref_resolution_m);
 	d.normal_radius_m = readDouble(c, s, "normal_radius_m", normal_radius_m);
+	d.far_fit_angle = readDegrees(c, s, "far_fit_angle_deg", far_fit_angle);
+	d.far_fit_max_radius_m = readDouble(c, s, "far_fit_max_radius_m", far_fit_max_radius_m);
 	d.min_inlier_fraction = readDouble(c, s, "min_inlier_fraction", min_inlier_fraction);
 	d.min_inliers = readInt(c, s, "min_inliers", min_inliers);
 	d.max_rms_residual_m = readDouble(c, s, "max_rms_residual_m", max_rms_residual_m);
@@ -46,6 +48,11 @@ void TScanMatcherParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
 			   "[m] voxel size reducing the reference points");
 	writeValue(c, s, "normal_radius_m", normal_radius_m,
 			   "[m] neighbourhood radius of the reference line fits (widened x4 where sparse)");
+	writeDegrees(c, s, "far_fit_angle_deg", far_fit_angle,
+				 "[deg] a point with no line within 4 normal_radius_m is fitted again within "
+				 "range x this (a long-range laser's far walls); 0: off");
+	writeValue(c, s, "far_fit_max_radius_m", far_fit_max_radius_m,
+			   "[m] the far fit's widest neighbourhood");
 	writeValue(c, s, "min_inlier_fraction", min_inlier_fraction,
 			   "[0..1] of the scan points; fewer inliers: no match");
 	writeValue(c, s, "min_inliers", min_inliers,
@@ -77,6 +84,9 @@ void TScanMatcherParams::validate(const std::string& s) const
 				 "must be in (0, 1) m");
 	requireParam(normal_radius_m > ref_resolution_m, s, "normal_radius_m",
 				 "must be > ref_resolution_m");
+	requireParam(far_fit_angle >= 0 && far_fit_angle < M_PI / 2, s, "far_fit_angle_deg",
+				 "must be in [0, 90) deg");
+	requireParam(far_fit_max_radius_m > 0, s, "far_fit_max_radius_m", "must be > 0");
 	requireParam(min_inlier_fraction >= 0 && min_inlier_fraction <= 1, s, "min_inlier_fraction",
 				 "must be in [0, 1]");
 	requireParam(min_inliers >= 3, s, "min_inliers", "must be >= 3 (3 DOF)");

@@ -16,8 +16,17 @@ struct TScanMatcherParams : public mrpt::config::CLoadableOptions
 {
 	int max_iterations = 50;  //!< Gauss-Newton iterations before giving up (no convergence)
 	double max_correspondence_dist_m = 0.5;  //!< [m] initial gate: farther pairs are not formed
-	double ref_resolution_m = 0.02;     //!< [m] voxel size for reducing the reference points
-	double normal_radius_m = 0.15;      //!< [m] neighbourhood radius of the local line fits
+	double ref_resolution_m = 0.02;  //!< [m] voxel size for reducing the reference points
+	double normal_radius_m = 0.15;   //!< [m] neighbourhood radius of the local line fits
+	/** [rad] (key far_fit_angle_deg) The far fit: a point whose neighbourhoods up to 4
+	 * normal_radius_m hold no line is fitted once more within range x this (range from the
+	 * reference frame's origin, the sensor of a scan, the newest keyframe of a patch), up to
+	 * far_fit_max_radius_m, where that is wider. A long-range laser samples a wall at range r
+	 * every r x (beam spacing): 1 m at 60 m for a 1-degree laser, so its far walls are
+	 * isolated returns, never matched, without it. 0: off (the default: on with 3 deg, issue
+	 * 28's hall and sparse logs improve, two chaotic tests fail; doc/generalisation.md). */
+	double far_fit_angle = 0;
+	double far_fit_max_radius_m = 4.0;  //!< [m] the far fit's widest neighbourhood
 	double min_inlier_fraction = 0.25;  //!< of the scan's points, below it: no match
 	int min_inliers = 20;               //!< absolute minimum of inlier points
 	double max_rms_residual_m = 0.1;    //!< [m] inlier RMS residual above it: no match
