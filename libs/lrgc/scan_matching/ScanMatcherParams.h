@@ -23,8 +23,10 @@ struct TScanMatcherParams : public mrpt::config::CLoadableOptions
 	 * reference frame's origin, the sensor of a scan, the newest keyframe of a patch), up to
 	 * far_fit_max_radius_m, where that is wider. A long-range laser samples a wall at range r
 	 * every r x (beam spacing): 1 m at 60 m for a 1-degree laser, so its far walls are
-	 * isolated returns, never matched, without it. 0: off (the default: on with 3 deg, issue
-	 * 28's hall and sparse logs improve, two chaotic tests fail; doc/generalisation.md). */
+	 * isolated returns, never matched, without it. 0: off, the default: at 3 deg the sparse
+	 * logs and the crowded hall improve, but a glass atrium's map breaks (lines fitted through
+	 * returns from behind the panes) and three e2e tests fail (doc/generalisation.md, "The
+	 * far fit"). */
 	double far_fit_angle = 0;
 	double far_fit_max_radius_m = 4.0;  //!< [m] the far fit's widest neighbourhood
 	double min_inlier_fraction = 0.25;  //!< of the scan's points, below it: no match
