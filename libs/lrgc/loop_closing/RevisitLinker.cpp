@@ -157,6 +157,7 @@ std::optional<CRevisitLinker::TCandidate> CRevisitLinker::candidate(
 	c.guess = between(sw.graph.pose(c.old), pk);
 	if (same)
 	{
+		c.single = true;
 		c.reference = std::make_shared<const CReferenceCloud>(
 			CReferenceCloud::fromScan(keyframes[c.old].scan, m_matcherParams));
 		return c;
@@ -287,6 +288,43 @@ bool CRevisitLinker::passesChecks(const TSweep& sw, const TKeyframes& keyframes,
 	return std::none_of(refuses.begin(), refuses.end(), [](char r) { return r != 0; });
 }
 
+namespace
+{
+/** [0..1] The share of `ref`'s reduced points that are isolated returns (no line, too few
+ * neighbours within 4 normal_radius_m: CReferenceCloud::TAnchor::usable). */
+double isolatedShare(const CReferenceCloud& ref)
+{
+	if (ref.empty()) return 0;
+	size_t isolated = 0;
+	for (const auto& a : ref.anchors()) isolated += !a.usable;
+	return static_cast<double>(isolated) / static_cast<double>(ref.size());
+}
+}  // namespace
+
+/* One old scan of a long-range laser in a wide hall is mostly isolated returns: a wall 60 m
+ * away is sampled every 1.05 m by a 1-degree laser, and a line fit reaches 0.6 m. Matched
+ * against it, a revisit explains only its near returns (the crowded hall's north leg: 2-10 %
+ * of k's points within 0.1 m at the map's own guess); the old keyframes around it together
+ * sample those walls densely (doc/generalisation.md, session 65). */
+std::optional<TScanMatch> CRevisitLinker::matchCandidate(const TSweep& sw,
+														 const TKeyframes& keyframes, size_t k,
+														 TCandidate& c,
+														 const TParallelFor& parallel) const
+{
+	const TScan2D& scan = keyframes[k].scan;
+	const auto accepted = [&](const std::optional<TScanMatch>& m)
+	{ return m && m->inlierFraction >= m_params.min_inlier_fraction; };
+	auto m = m_matcher.match(*c.reference, scan, c.guess);
+	if (accepted(m) || !c.single || !m_params.region_retry ||
+		isolatedShare(*c.reference) < m_params.region_min_isolated_share)
+		return accepted(m) ? m : std::nullopt;
+	c.reference = std::make_shared<const CReferenceCloud>(
+		oldRegion(sw, keyframes, k, c.old, scan.points, c.guess, parallel, true));
+	c.single = false;
+	m = m_matcher.match(*c.reference, scan, c.guess);
+	return accepted(m) ? m : std::nullopt;
+}
+
 size_t CRevisitLinker::linkRevisits(CPoseGraph& graph, const TKeyframes& keyframes) const
 {
 	const size_t n = graph.numNodes();
@@ -309,10 +347,10 @@ size_t CRevisitLinker::linkRevisits(CPoseGraph& graph, const TKeyframes& keyfram
 	for (size_t k = (m_params.min_index_gap + 1 + s) / s * s - 1;
 		 k < n && !m_stop.stopRequested(); k += s)
 	{
-		const auto c = candidate(sw, keyframes, k, parallel);
+		auto c = candidate(sw, keyframes, k, parallel);
 		if (!c) continue;
-		const auto m = m_matcher.match(*c->reference, keyframes[k].scan, c->guess);
-		if (!m || m->inlierFraction < m_params.min_inlier_fraction) continue;
+		const auto m = matchCandidate(sw, keyframes, k, *c, parallel);
+		if (!m) continue;
 		if (!fixesItsHeading(*m)) continue;
 		if (disagreementChi2(c->guess, m->scanInRef, prior + m->cov) > m_params.gate_chi2 ||
 			!passesChecks(sw, keyframes, k, *c, *m, prior, parallel))

@@ -10,12 +10,15 @@
  * lie close together are a trustworthy guess:
  *   for every `stride`-th keyframe k, the nearest old keyframe j (index gap > min_index_gap)
  *   within `radius` and `max_phi_deg` of k's pose, not yet linked near (k, j) (no link
- *   between k +- 2 and j +- 2), is scan matched (guess: the current relative pose). The
- *   match is kept if at least `min_inlier_fraction` of k's points matched and it agrees with
- * the guess (squared Mahalanobis distance <= gate_chi2, under the match covariance plus a prior
- * of `prior_std_xy_m` / `prior_std_phi_deg`); it becomes a LoopClosure link (robust in the
- *   back-end, so a wrong one is down-weighted by the final optimisation).
- * Frames: poses (map <- robot) from the graph; links (from <- to). Units: m, rad.
+ *   between k +- 2 and j +- 2), is scan matched (guess: the current relative pose); where
+ *   that fails and a quarter of j's scan is isolated returns (`region_retry`: a long-range
+ *   laser's far walls, one return a metre, which no line fit holds), k is matched again
+ *   against every old keyframe within 3 `radius` placed by the map, as a candidate facing
+ *   away is. The match is kept if at least `min_inlier_fraction` of k's points matched and it
+ * agrees with the guess (squared Mahalanobis distance <= gate_chi2, under the match covariance
+ * plus a prior of `prior_std_xy_m` / `prior_std_phi_deg`); it becomes a LoopClosure link
+ * (robust in the back-end, so a wrong one is down-weighted by the final optimisation). Frames:
+ * poses (map <- robot) from the graph; links (from <- to). Units: m, rad.
  */
 #pragma once
 
@@ -62,11 +65,18 @@ private:
 		mrpt::math::TPose2D guess;  //!< (old <- k) by the current poses
 		/** In old's frame; shared, so that a check's match may defer its covariance. */
 		std::shared_ptr<const CReferenceCloud> reference;
+		bool single = false;  //!< the reference is old's scan alone (a same-heading candidate)
 	};
 	std::vector<std::pair<size_t, double>> oldNear(const TSweep& sw, size_t k,
 												   double reach) const;
 	std::optional<TCandidate> candidate(const TSweep& sw, const TKeyframes& keyframes, size_t k,
 										const TParallelFor& parallel) const;
+	/** k's match against c's reference; where that fails on a single old scan of mostly
+	 * isolated returns (region_retry), c's reference becomes the old map's region and k is
+	 * matched again against it. */
+	std::optional<TScanMatch> matchCandidate(const TSweep& sw, const TKeyframes& keyframes,
+											 size_t k, TCandidate& c,
+											 const TParallelFor& parallel) const;
 	/** k's patch (keyframes k +- patch_check_keyframes in k's frame) and the old map's region
 	 * (old's frame) where it falls at a pose of k in old's frame. */
 	struct TPatch

@@ -18,6 +18,9 @@ void TRevisitLinkerParams::loadFromConfigFile(const mrpt::config::CConfigFileBas
 	patch_check_keyframes = readCount(c, s, "patch_check_keyframes", patch_check_keyframes);
 	ambiguity_check = readBool(c, s, "ambiguity_check", ambiguity_check);
 	max_heading_std = readDegrees(c, s, "max_heading_std_deg", max_heading_std);
+	region_retry = readBool(c, s, "region_retry", region_retry);
+	region_min_isolated_share =
+		readDouble(c, s, "region_min_isolated_share", region_min_isolated_share);
 	min_inlier_fraction = readDouble(c, s, "min_inlier_fraction", min_inlier_fraction);
 	gate_chi2 = readDouble(c, s, "gate_chi2", gate_chi2);
 	prior_std_xy_m = readDouble(c, s, "prior_std_xy_m", prior_std_xy_m);
@@ -28,6 +31,8 @@ void TRevisitLinkerParams::loadFromConfigFile(const mrpt::config::CConfigFileBas
 	requireParam(stride >= 1, s, "stride", "must be >= 1");
 	requireParam(min_inlier_fraction > 0 && min_inlier_fraction <= 1, s, "min_inlier_fraction",
 				 "must be in (0, 1]");
+	requireParam(region_min_isolated_share >= 0 && region_min_isolated_share <= 1, s,
+				 "region_min_isolated_share", "must be in [0, 1]");
 	requireParam(gate_chi2 > 0, s, "gate_chi2", "must be > 0");
 	requireParam(max_heading_std >= 0, s, "max_heading_std_deg", "must be >= 0");
 	requireParam(prior_std_xy_m > 0, s, "prior_std_xy_m", "must be > 0");
@@ -55,6 +60,12 @@ void TRevisitLinkerParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
 			   "A match must explain more of the scan than any other optimum within the prior");
 	writeDegrees(c, s, "max_heading_std_deg", max_heading_std,
 				 "[deg] A match must fix the heading at its position to this std (0: any)");
+	writeValue(c, s, "region_retry", region_retry,
+			   "A failed match against one old scan of mostly isolated returns is matched "
+			   "again against the old map's region");
+	writeValue(
+		c, s, "region_min_isolated_share", region_min_isolated_share,
+		"[0..1] ... where at least this share of that scan's points are isolated returns");
 	writeValue(c, s, "min_inlier_fraction", min_inlier_fraction,
 			   "Least fraction of the keyframe's points matched");
 	writeValue(c, s, "gate_chi2", gate_chi2,

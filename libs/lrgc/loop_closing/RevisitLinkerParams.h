@@ -47,6 +47,15 @@ struct TRevisitLinkerParams : public mrpt::config::CLoadableOptions
 	 * fixesItsHeading); 0: no bound. True links on the sparse and harsh logs: under 0.75 deg;
 	 * the two false ones of harsh Intel b80: 2.3-7.8 deg (doc/generalisation.md). */
 	double max_heading_std = mrpt::DEG2RAD(1.5);
+	/** A same-heading candidate is matched against the old keyframe's scan alone; where that
+	 * fails and at least region_min_isolated_share of that scan's reduced points are isolated
+	 * returns (no line and too few neighbours: a long-range laser's far walls, one return a
+	 * metre at 60 m), it is matched again against the old map's region, every old keyframe
+	 * within 3 radius_m, as an any-heading candidate is (RevisitLinker.h). */
+	bool region_retry = true;
+	/** [0..1] Session 65: 0.25 leaves the four dense and four sparse logs byte for byte and
+	 * closes every revisited place of the glass atrium (doc/generalisation.md). */
+	double region_min_isolated_share = 0.25;
 	double min_inlier_fraction = 0.5;  //!< least fraction of k's points matched
 	double gate_chi2 = 16.27;          //!< [chi2, 3 dof] agreement of the match with the guess
 	double prior_std_xy_m = 0.3;       //!< [m] std of the guess (loop-closed map)
