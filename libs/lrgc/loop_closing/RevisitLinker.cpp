@@ -315,9 +315,10 @@ std::optional<TScanMatch> CRevisitLinker::matchCandidate(const TSweep& sw,
 	const auto accepted = [&](const std::optional<TScanMatch>& m)
 	{ return m && m->inlierFraction >= m_params.min_inlier_fraction; };
 	auto m = m_matcher.match(*c.reference, scan, c.guess);
-	if (accepted(m) || !c.single || !m_params.region_retry ||
+	if (accepted(m)) return m;
+	if (!c.single || !m_params.region_retry ||
 		isolatedShare(*c.reference) < m_params.region_min_isolated_share)
-		return accepted(m) ? m : std::nullopt;
+		return std::nullopt;
 	c.reference = std::make_shared<const CReferenceCloud>(
 		oldRegion(sw, keyframes, k, c.old, scan.points, c.guess, parallel, true));
 	c.single = false;

@@ -386,19 +386,20 @@ Eigen::Vector2d CReferenceCloud::fitAnchor(size_t i, const TScanMatcherParams& p
 	const double r0 = p.normal_radius_m;
 	double r = r0;
 	TMoments mo;
-	const auto toLine = [&](const TLineFromMoments& f, double radius)
+	// Anchor i made a LINE by the fit f of the moments m within radius [m].
+	const auto toLine = [&](const TMoments& m, const TLineFromMoments& f, double radius)
 	{
 		TAnchor& a = m_anchors[i];
 		a.normal = f.n;
 		a.isLine = true;
 		a.fitRadius = static_cast<float>(radius);
 		// sum w u^2 = W t^T C t = W l1 (t is C's eigenvector of l1).
-		const double suu = mo.W * f.l1;
-		m_lineFits[i] = TLineFit{x, f.m, radius, mo.W, suu};
+		const double suu = m.W * f.l1;
+		m_lineFits[i] = TLineFit{x, f.m, radius, m.W, suu};
 		a.u = static_cast<float>((x - f.m).dot(f.t));
 		// slope variance sigma^2 / sum w u^2, sigma^2 filled in by fitLines
 		a.normalVar = static_cast<float>(suu > 0 ? 1 / suu : 0);
-		sigma2 = f.l2 * mo.W / static_cast<double>(mo.count - 2);
+		sigma2 = f.l2 * m.W / static_cast<double>(m.count - 2);
 		return Eigen::Vector2d(f.m + (x - f.m).dot(f.t) * f.t);
 	};
 	for (int widen = 0; widen < 3; ++widen, r *= 2)
@@ -406,15 +407,13 @@ Eigen::Vector2d CReferenceCloud::fitAnchor(size_t i, const TScanMatcherParams& p
 		// Only the widest neighbourhood's nearest neighbour is used (below the loop).
 		mo = widen < 2 ? momentsWithin<false>(m_grid, w, i, x, r)
 					   : momentsWithin<true>(m_grid, w, i, x, r);
-		if (const auto f = lineOf(mo, x)) return toLine(*f, r);
+		if (const auto f = lineOf(mo, x)) return toLine(mo, *f, r);
 	}
 	const double far = std::min(p.far_fit_max_radius_m, x.norm() * p.far_fit_angle);
 	if (far > 4 * r0)
 	{
-		const TMoments widest = mo;
-		mo = momentsWithin<true>(m_grid, w, i, x, far);
-		if (const auto f = lineOf(mo, x)) return toLine(*f, far);
-		mo = widest;
+		const TMoments farMo = momentsWithin<false>(m_grid, w, i, x, far);
+		if (const auto f = lineOf(farMo, x)) return toLine(farMo, *f, far);
 	}
 	// count and nearest2 are of the 4 r0 neighbourhood here (r is twice its radius now, as
 	// the cap of the spacing).
