@@ -51,7 +51,8 @@ TAuditedLoopLink audit(const lrgc::TLink& l, const std::optional<TRecallJudge::T
 	a.chi2 = e.dot(l.information * e);
 	a.error = e;
 	a.information = l.information;
-	a.agrees = (a.offXY_m <= p.maxXY_m && a.offPhi_rad <= p.maxPhi_rad) || a.chi2 <= p.maxChi2;
+	const double maxXY = std::hypot(p.maxXY_m, p.maxXYPerRelation_m * double(a.relations));
+	a.agrees = (a.offXY_m <= maxXY && a.offPhi_rad <= p.maxPhi_rad) || a.chi2 <= p.maxChi2;
 	return a;
 }
 

@@ -110,3 +110,24 @@ TEST(RelationTruth, withoutARevisitRelationThereIsNoRevisit)
 	EXPECT_EQ(r.notJudged, 1U);
 	EXPECT_EQ(r.falseClosures, 0U);
 }
+
+// The judge's own error grows with its path (TLoopRecallParams::maxXYPerRelation_m): 0.4 m off
+// is false over 3 relations (above) but within what 13 relations may drift themselves
+// (sqrt(0.3^2 + (13 x 0.03)^2) = 0.49 m); 0.6 m off is false over 13 as well.
+TEST(RelationTruth, theToleranceGrowsWithTheRelationsOnThePath)
+{
+	TRelationRun run;
+	run.link(12, 49, {0.4, 0, 0});  // x = 12 out and back: 12 -> 6 -> 55 -> 49
+	run.link(13, 48, {0.6, 0, 0});  // x = 13: 13 -> 6 -> 55 -> 48
+	const CRelationTruth truth(run.relations, run.kfs);
+	ASSERT_EQ(truth.relationsBetween(12, 49), 13U);
+	ASSERT_EQ(truth.relationsBetween(13, 48), 15U);
+	const TLoopRecall r = evaluateLoopRecall(run.graph, run.kfs, truth);
+	ASSERT_EQ(r.loopLinks.size(), 2U);
+	EXPECT_TRUE(r.loopLinks[0].judged && r.loopLinks[0].agrees);
+	EXPECT_TRUE(r.loopLinks[1].judged);
+	EXPECT_FALSE(r.loopLinks[1].agrees);  // sqrt(0.3^2 + 0.45^2) = 0.54 m
+	TLoopRecallParams fixed;
+	fixed.maxXYPerRelation_m = 0;  // the fixed 0.3 m of before: both false
+	EXPECT_EQ(evaluateLoopRecall(run.graph, run.kfs, truth, fixed).falseClosures, 2U);
+}
