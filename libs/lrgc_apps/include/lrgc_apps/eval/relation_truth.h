@@ -11,7 +11,8 @@
  * relations onto kept scans. Each relation has a small error of its own, and a path of k of
  * them drifts like a random walk of k steps, so the hop limit bounds the judge's own error
  * (moved relations composed of 2-4 that join the same pair of scans disagree in heading by a
- * median 0.3-0.6 deg, at most 2.5 deg: doc/generalisation.md).
+ * median 0.3-0.6 deg, at most 2.5 deg: doc/generalisation.md), and a link's position
+ * tolerance grows with the path (TLoopRecallParams::maxXYPerRelation_m).
  *
  * A keyframe is anchored at the relation timestamp equal to its scan's time (within
  * `tolerance_s`). One whose scan no relation names (bench/make-sparse-log keeps a scan the
