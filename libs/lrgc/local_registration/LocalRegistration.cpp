@@ -151,6 +151,11 @@ CLocalRegistration::CLocalRegistration(const TLocalRegistrationParams& p,
 	// covariances (CReferenceCloud::freeSpaceViolation: the same value on any threads).
 	m_matcher.setFreeSpaceParallel([this](size_t n, const std::function<void(size_t)>& fn)
 								   { parallelFor(n, fn); });
+	TScanMatcherParams crowd = m_matcherParams;
+	crowd.free_space_min_run_m = p.crowd_min_run_m;
+	m_crowdMatcher = CScanMatcher(crowd);
+	m_crowdMatcher.setFreeSpaceParallel([this](size_t n, const std::function<void(size_t)>& fn)
+										{ parallelFor(n, fn); });
 }
 
 CLocalRegistration::~CLocalRegistration() = default;  // the helper's jobs end first
@@ -160,15 +165,24 @@ CLocalRegistration::~CLocalRegistration() = default;  // the helper's jobs end f
 // part and the shared walls would be confirmed by the pairwise matches started from it (sparse
 // MIT-CSAIL 334 -> 335: patch and pairwise links both 6 deg off).
 // With `deferOn` (the shared `cloud`) the match's covariance is deferred (matchDeferred).
-std::optional<TScanMatch> CLocalRegistration::plainMatch(const CReferenceCloud& cloud,
+std::optional<TScanMatch> CLocalRegistration::plainMatch(const CScanMatcher& matcher,
+														 const CReferenceCloud& cloud,
 														 const TScan2D& scan,
 														 const TPose2D& guess,
 														 const TCloudPtr& deferOn)
 {
-	std::optional<TScanMatch> match = deferOn ? m_matcher.matchDeferred(deferOn, scan, guess)
-											  : m_matcher.match(cloud, scan, guess);
-	if (match) match = m_matcher.refitLoose(cloud, scan, *match, deferOn);
+	std::optional<TScanMatch> match = deferOn ? matcher.matchDeferred(deferOn, scan, guess)
+											  : matcher.match(cloud, scan, guess);
+	if (match) match = matcher.refitLoose(cloud, scan, *match, deferOn);
 	return match;
+}
+
+// A loose prior (sparse steps): people standing where the window saw through do not refuse
+// the plain match, as the prior that would stand instead is the worse guess (crowd_min_run_m).
+const CScanMatcher& CLocalRegistration::plainMatcherFor(const Eigen::Matrix3d& priorCov) const
+{
+	return std::sqrt(priorCov(2, 2)) > m_params.crowd_min_prior_std ? m_crowdMatcher
+																	: m_matcher;
 }
 
 TRegistration CLocalRegistration::registerScan(const CPoseGraph& graph,
@@ -188,7 +202,7 @@ TRegistration CLocalRegistration::registerScan(const CPoseGraph& graph,
 	const TPose2D guess = between(newestInMap, priorInMap);
 
 	auto disagrees = [&](const TScanMatch& m) { return disagreesWith(guess, priorCov, m); };
-	std::optional<TScanMatch> match = plainMatch(cloud, scan, guess, m_cloud);
+	auto match = plainMatch(plainMatcherFor(priorCov), cloud, scan, guess, m_cloud);
 	// A pause in the scans, a large predicted turn or an odometry jump (the prior is then the
 	// constant-velocity one), and the plain match failed or contradicts the prior: the
 	// odometry may lag or jump, so the wide search decides and may overrule the prior, but

@@ -179,8 +179,13 @@ public:
 	size_t linkAndOptimize(CPoseGraph& graph, const TKeyframes& keyframes,
 						   const TLink& odometryLink);
 
-	/** The wide rotational search (CScanMatcher::matchWide) honours `stop`. */
-	void setStopToken(const CStopToken& stop) { m_matcher.setStopToken(stop); }
+	/** Every match of this stage, the wide rotational search (CScanMatcher::matchWide) among
+	 * them, honours `stop`. */
+	void setStopToken(const CStopToken& stop)
+	{
+		m_matcher.setStopToken(stop);
+		m_crowdMatcher.setStopToken(stop);
+	}
 
 	/** Poses changed outside the window (loop closure): rebuild the patch on next use. */
 	void invalidate() { m_cloudNewest.reset(); }
@@ -318,7 +323,18 @@ private:
 	 * (CScanMatcher::refitLoose); nullopt if the match fails. */
 	std::optional<TScanMatch> plainMatch(const CReferenceCloud& cloud, const TScan2D& scan,
 										 const mrpt::math::TPose2D& guess,
-										 const TCloudPtr& deferOn = {});
+										 const TCloudPtr& deferOn = {})
+	{
+		return plainMatch(m_matcher, cloud, scan, guess, deferOn);
+	}
+	/** The plain match's matcher for a prior of covariance priorCov (x, y, phi): m_crowdMatcher
+	 * where its heading std exceeds crowd_min_prior_std, else m_matcher. */
+	const CScanMatcher& plainMatcherFor(const Eigen::Matrix3d& priorCov) const;
+	/** plainMatch() by `matcher` (m_matcher, or plainMatcherFor's: registerScan). */
+	std::optional<TScanMatch> plainMatch(const CScanMatcher& matcher,
+										 const CReferenceCloud& cloud, const TScan2D& scan,
+										 const mrpt::math::TPose2D& guess,
+										 const TCloudPtr& deferOn);
 	/** A failed plain match retried (registerScan): matchWide over the heading the
 	 * odometry's error may span, kRetryAngle, or kRetryTurnAngle for a step turning more than
 	 * kRetryTurn, with starts kRetryStep apart (LocalRegistration_wide.cpp); nullopt unless the
@@ -335,6 +351,9 @@ private:
 	TLocalRegistrationParams m_params;
 	TScanMatcherParams m_matcherParams;
 	CScanMatcher m_matcher;
+	/** m_matcher but for free_space_min_run_m = crowd_min_run_m: the plain match where the
+	 * prior is loose (registerScan). */
+	CScanMatcher m_crowdMatcher;
 	CPoseGraphOptimizer m_optimizer;
 	TCloudPtr keyframeCloud(size_t node, const TKeyframes& keyframes);
 	void cacheKeyframeCloud(size_t node, TCloudPtr cloud);

@@ -25,6 +25,10 @@ void TLocalRegistrationParams::loadFromConfigFile(const mrpt::config::CConfigFil
 		readDouble(c, s, "max_free_space_violation", max_free_space_violation);
 	requireParam(max_free_space_violation >= 0 && max_free_space_violation <= 1, s,
 				 "max_free_space_violation", "must be in [0, 1]");
+	crowd_min_run_m = readDouble(c, s, "crowd_min_run_m", crowd_min_run_m);
+	requireParam(crowd_min_run_m >= 0, s, "crowd_min_run_m", "must be >= 0");
+	crowd_min_prior_std = readDegrees(c, s, "crowd_min_prior_std_deg", crowd_min_prior_std);
+	requireParam(crowd_min_prior_std >= 0, s, "crowd_min_prior_std_deg", "must be >= 0");
 	requireParam(glitch_min_turn >= 0, s, "glitch_min_turn_deg", "must be >= 0");
 	link_noise.load(c, s, "");
 	requireParam(window_size >= 2 && window_size <= 100, s, "window_size",
@@ -79,6 +83,12 @@ void TLocalRegistrationParams::saveToConfigFile(mrpt::config::CConfigFileBase& c
 	writeValue(c, s, "max_free_space_violation", max_free_space_violation,
 			   "Local matches: tolerated fraction of points where the window saw free space "
 			   "(replaces [ScanMatcher] max_free_space_violation here)");
+	writeValue(c, s, "crowd_min_run_m", crowd_min_run_m,
+			   "[m] Where the prior's heading std exceeds crowd_min_prior_std_deg, the plain "
+			   "match's free-space check counts only runs of violating points this long "
+			   "(people are narrower); 0: off");
+	writeDegrees(c, s, "crowd_min_prior_std_deg", crowd_min_prior_std,
+				 "[deg] The prior's heading std above which crowd_min_run_m applies");
 	writeValue(c, s, "patch_link", patch_link,
 			   "Link each keyframe to the previous one by its match against the window patch "
 			   "(scan to map)");

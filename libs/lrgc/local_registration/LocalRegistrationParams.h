@@ -36,6 +36,18 @@ struct TLocalRegistrationParams : public mrpt::config::CLoadableOptions
 	 * prior a wrong match is unlikely, while people walking through the window's scans and
 	 * glass make the strict loop-closing value reject good local matches on real logs. */
 	double max_free_space_violation = 0.3;
+	/** [m] A crowd in the window's free space: where the prior's heading std exceeds
+	 * crowd_min_prior_std, the plain match's free-space check counts only runs of violating
+	 * points at least this long (people are narrower, a misplaced wall is longer); 0: off.
+	 * Sparse steps among visitors (a museum, 1.5 m a scan, a 20 m laser, 25 people): their
+	 * right matches were refused, the prior stood and the map bent (doc/generalisation.md,
+	 * the museum). Where the prior is tight (dense steps) refusing a match costs little, and
+	 * the crowded hall keeps the strict count there. */
+	double crowd_min_run_m = 0.8;
+	/** [rad] (key crowd_min_prior_std_deg) The prior's heading std above which
+	 * crowd_min_run_m applies: about 1.2 deg a dense step in the crowded hall, 4-5 deg a
+	 * sparse one in the museum. */
+	double crowd_min_prior_std = mrpt::DEG2RAD(2.0);
 	TLinkNoise link_noise;  //!< pairwise links; keys link_floor_xy_m [m], link_floor_phi_deg
 	/** Noise floor of the patch link; keys patch_link_floor_xy_m [m], patch_link_floor_phi_deg.
 	 * Tighter than the pairwise links': the patch of K scans has dense, well-fitted lines.

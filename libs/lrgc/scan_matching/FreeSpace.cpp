@@ -170,10 +170,11 @@ void CScanViolation::flag(size_t begin, size_t end)
 	}
 }
 
-double CScanViolation::share() const
+double CScanViolation::share(double minRun_m) const
 {
 	const size_t n = m_viol.size();
 	if (n == 0) return 0;
+	if (minRun_m > 0) return longRunsShare(minRun_m);
 	size_t count = 0;
 	for (size_t i = 0; i < n; ++i)
 	{
@@ -182,6 +183,24 @@ double CScanViolation::share() const
 		const bool next =
 			i + 1 < n && m_viol[i + 1] && (m_inRef[i] - m_inRef[i + 1]).norm() < kWallGap_m;
 		count += m_viol[i] && (prev || next);
+	}
+	return static_cast<double>(count) / n;
+}
+
+double CScanViolation::longRunsShare(double minRun_m) const
+{
+	const size_t n = m_viol.size();
+	size_t count = 0;
+	for (size_t i = 0; i < n;)
+	{
+		size_t j =
+			i + 1;  // [i, j): a run of flagged points, each within kWallGap_m of the last
+		if (m_viol[i])
+			while (j < n && m_viol[j] && (m_inRef[j] - m_inRef[j - 1]).norm() < kWallGap_m) ++j;
+		// Two points at least (share()'s flagged neighbour), spanning minRun_m end to end.
+		if (m_viol[i] && j - i >= 2 && (m_inRef[j - 1] - m_inRef[i]).norm() >= minRun_m)
+			count += j - i;
+		i = j;
 	}
 	return static_cast<double>(count) / n;
 }

@@ -99,10 +99,15 @@ public:
 	size_t size() const { return m_viol.size(); }
 	/** Tests points [begin, end) against the views. */
 	void flag(size_t begin, size_t end);
-	/** The share of flagged points with a flagged neighbour within kWallGap_m (all flagged). */
-	double share() const;
+	/** The share of flagged points with a flagged neighbour within kWallGap_m (all flagged).
+	 * With minRun_m > 0, only runs of such points (consecutive in scan order, each within
+	 * kWallGap_m of the last) that span at least minRun_m [m] count: a person standing where
+	 * the views saw through is a run of about 0.3-0.5 m, a misplaced wall a longer one. */
+	double share(double minRun_m = 0) const;
 
 private:
+	double longRunsShare(double minRun_m) const;  //!< share() with minRun_m > 0
+
 	const CFreeSpaceViews& m_views;
 	const std::vector<Eigen::Vector2d>& m_pts;
 	double m_margin, m_c0, m_s0;

@@ -53,6 +53,31 @@ TEST(FreeSpace, aScanPushedIntoSeenFreeSpaceViolatesItAndTheTrueOneDoesNot)
 	EXPECT_DOUBLE_EQ(views.scanViolation(wallScan(), {1.5, 0, 0}, 0.1), 0.0);
 }
 
+// A crowd's count ([LocalRegistration] crowd_min_run_m): the wall seen at x = 4 m, and a scan
+// of it with a person (a 0.4 m blob at x = 2 m) in the view's free space, and one with a
+// 3 m piece of wall 1.5 m too near. With runs of 0.8 m at least only the wall piece counts.
+TEST(FreeSpace, aPersonIsAShortRunAndAMisplacedWallALongOne)
+{
+	CFreeSpaceViews views;
+	views.add(wallScan(), {0, 0, 0});
+	TScan2D person = wallScan(), misplaced = wallScan();
+	for (double y = -0.2; y <= 0.2 + 1e-9; y += 0.05)  // 9 returns off the person
+		person.points.emplace_back(2.0, y);
+	for (auto& p : misplaced.points)
+		if (std::abs(p.y()) < 1.5) p.x() = 2.5;  // the middle 3 m of the wall, 1.5 m too near
+	auto share = [&](const TScan2D& scan, double minRun)
+	{
+		CScanViolation v(views, scan, {0, 0, 0}, 0.1);
+		v.flag(0, v.size());
+		return v.share(minRun);
+	};
+	EXPECT_NEAR(share(person, 0), 9.0 / person.points.size(), 1e-12);
+	EXPECT_DOUBLE_EQ(share(person, 0.8), 0.0) << "a 0.4 m run";
+	const double wall = share(misplaced, 0);
+	EXPECT_GT(wall, 0.4);
+	EXPECT_DOUBLE_EQ(share(misplaced, 0.8), wall) << "one 3 m run";
+}
+
 // The still robot's check (CLocalRegistration::stillRegistration): the same view changes by
 // nothing, a person 1 m away across a fifth of it does not move the median, a step of 5 cm
 // towards the wall changes it by 5-7 cm (5 cm / cos(bearing)), and a view half gone shares half

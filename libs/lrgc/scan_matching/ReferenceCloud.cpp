@@ -91,7 +91,7 @@ CReferenceCloud CReferenceCloud::fromScan(const TScan2D& scan, const TScanMatche
 
 double CReferenceCloud::freeSpaceViolation(const TScan2D& scan,
 										   const mrpt::math::TPose2D& scanInRef, double margin,
-										   const TParallelFor& parallel) const
+										   const TParallelFor& parallel, double minRun_m) const
 {
 	if (scan.points.empty()) return 0;
 	CScanViolation scanToRef(m_views, scan, scanInRef, margin);
@@ -124,7 +124,7 @@ double CReferenceCloud::freeSpaceViolation(const TScan2D& scan,
 	size_t known = 0, viol = 0;
 	for (const auto& [k, v] : counts) known += k, viol += v;
 	const double refToScan = known >= 20 ? static_cast<double>(viol) / known : 0.0;
-	return std::max(scanToRef.share(), refToScan);
+	return std::max(scanToRef.share(minRun_m), refToScan);
 }
 
 std::pair<size_t, size_t> CReferenceCloud::anchorsInFreeSpace(

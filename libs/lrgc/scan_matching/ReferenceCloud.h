@@ -231,9 +231,11 @@ public:
 	 * Returns the larger. A wrong alignment moves walls into space the other side saw empty.
 	 * `parallel`, if given, runs the two directions' tests in parts on a cloud of several
 	 * views (kFreeSpaceParts ranges of the scan's points, as many of the anchors; flags and
-	 * integer counts, so the same value on any threads). */
+	 * integer counts, so the same value on any threads). With minRun_m > 0 the scan -> ref
+	 * share counts only runs of at least that length (CScanViolation::share). */
 	double freeSpaceViolation(const TScan2D& scan, const mrpt::math::TPose2D& scanInRef,
-							  double margin, const TParallelFor& parallel = {}) const;
+							  double margin, const TParallelFor& parallel = {},
+							  double minRun_m = 0) const;
 
 	/** Calls fn(index) for every usable anchor within radius [m] of q. */
 	template <class F>

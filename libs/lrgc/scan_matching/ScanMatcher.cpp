@@ -341,8 +341,9 @@ std::optional<TScanMatch> CScanMatcher::matchPoints(
 	// (a violation is a share, never above 1: at max_free_space_violation 1 the check is off).
 	if (P.max_free_space_violation < 1)
 	{
-		m.freeSpaceViolation = ref.freeSpaceViolation(
-			*checked, m.scanInRef, freeSpaceMargin(scale), m_freeSpaceParallel);
+		m.freeSpaceViolation =
+			ref.freeSpaceViolation(*checked, m.scanInRef, freeSpaceMargin(scale),
+								   m_freeSpaceParallel, P.free_space_min_run_m);
 		if (m.freeSpaceViolation > P.max_free_space_violation) return std::nullopt;
 	}
 	// Residuals of anchors closer than this share reference noise (the line fit neighbourhood

@@ -37,6 +37,11 @@ struct TScanMatcherParams : public mrpt::config::CLoadableOptions
 	 * match. Used by loop closing and revisits; local registration matches with its own
 	 * [LocalRegistration] max_free_space_violation instead. */
 	double max_free_space_violation = 0.15;
+	/** [m] The free-space check counts only runs of violating scan points this long
+	 * (CScanViolation::share); 0: every violating point with a violating neighbour. Not a
+	 * [ScanMatcher] key: local registration sets it for some plain matches
+	 * ([LocalRegistration] crowd_min_run_m). */
+	double free_space_min_run_m = 0;
 	double unobservable_std_m = 1.0;  //!< [m] std reported along directions the data do not fix
 	double wide_search_step = 7.5 * M_PI / 180;  //!< [rad] matchWide's heading step (key _deg)
 	/** matchWide: lead the winner needs over every distinct alternative and over the guess's
