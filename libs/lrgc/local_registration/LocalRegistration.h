@@ -337,8 +337,10 @@ private:
 										 const TCloudPtr& deferOn);
 	/** A failed plain match retried (registerScan): matchWide over the heading the
 	 * odometry's error may span, kRetryAngle, or kRetryTurnAngle for a step turning more than
-	 * kRetryTurn, with starts kRetryStep apart (LocalRegistration_wide.cpp); nullopt unless the
-	 * winner turns more than kRetryStep / 2 from the guess. */
+	 * kRetryTurn, with starts kRetryStep apart (LocalRegistration_wide.cpp); where the only
+	 * rivals share the winner's heading (matchWide's sharedHeading), the scan matched again
+	 * from the guess's position at that heading. nullopt unless the winner turns more than
+	 * kRetryStep / 2 from the guess. */
 	std::optional<TScanMatch> retriedMatch(const CReferenceCloud& cloud, const TScan2D& scan,
 										   const mrpt::math::TPose2D& guess,
 										   const TMotionPrediction& prediction);
@@ -346,7 +348,7 @@ private:
 	 * (0: wide_search_step), run by this thread and the helper. */
 	std::optional<TScanMatch> wideMatch(const CReferenceCloud& cloud, const TScan2D& scan,
 										const mrpt::math::TPose2D& guess, double angle,
-										double step);
+										double step, double* sharedHeading = nullptr);
 
 	TLocalRegistrationParams m_params;
 	TScanMatcherParams m_matcherParams;

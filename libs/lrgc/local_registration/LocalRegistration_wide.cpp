@@ -10,6 +10,8 @@
 #include <cmath>
 #include <mrpt/math/wrap2pi.h>
 
+#include <limits>
+
 namespace lrgc
 {
 namespace
@@ -100,8 +102,17 @@ std::optional<TScanMatch> CLocalRegistration::retriedMatch(const CReferenceCloud
 {
 	const double angle =
 		std::abs(prediction.motion.phi) > kRetryTurn ? kRetryTurnAngle : kRetryAngle;
-	auto won =
-		wideMatch(cloud, scan, guess, std::min(angle, m_params.wide_search_angle), kRetryStep);
+	double heading = std::numeric_limits<double>::quiet_NaN();
+	auto won = wideMatch(cloud, scan, guess, std::min(angle, m_params.wide_search_angle),
+						 kRetryStep, &heading);
+	// Rivals that share the winner's heading (a niche further along, people): the heading is
+	// clear, the position is not. Matched again from the prior's position at that heading,
+	// kept if it passes the plain match's checks and stays at that heading.
+	if (!won && std::isfinite(heading))
+		if (auto again = plainMatch(cloud, scan, TPose2D(guess.x, guess.y, heading), m_cloud);
+			again &&
+			std::abs(mrpt::math::wrapToPi(again->scanInRef.phi - heading)) <= kRetryStep / 2)
+			won = std::move(again);
 	// A winner within half a step of the guess's heading is the guess's own start, the basin
 	// the plain match had already reached and failed its checks in (people, clutter): the
 	// prior stands. The retry is for a heading the plain match could not reach.
@@ -113,11 +124,12 @@ std::optional<TScanMatch> CLocalRegistration::retriedMatch(const CReferenceCloud
 std::optional<TScanMatch> CLocalRegistration::wideMatch(const CReferenceCloud& cloud,
 														const TScan2D& scan,
 														const TPose2D& guess, double angle,
-														double step)
+														double step, double* sharedHeading)
 {
 	return m_matcher.matchWide(
 		cloud, scan, guess, angle,
-		[this](size_t n, const std::function<void(size_t)>& fn) { parallelFor(n, fn); }, step);
+		[this](size_t n, const std::function<void(size_t)>& fn) { parallelFor(n, fn); }, step,
+		sharedHeading);
 }
 
 }  // namespace lrgc

@@ -387,10 +387,14 @@ double CScanMatcher::explainedFraction(const CReferenceCloud& ref, const TScan2D
 	return explainedFractionOf(ref, scan.points, scanInRef, m_params.max_rms_residual_m);
 }
 
-std::optional<TScanMatch> CScanMatcher::matchWide(
-	const CReferenceCloud& ref, const TScan2D& scan, const mrpt::math::TPose2D& guess,
-	double searchAngle, const TParallelFor& parallel, double stepArg) const
+std::optional<TScanMatch> CScanMatcher::matchWide(const CReferenceCloud& ref,
+												  const TScan2D& scan,
+												  const mrpt::math::TPose2D& guess,
+												  double searchAngle,
+												  const TParallelFor& parallel, double stepArg,
+												  double* sharedHeading) const
 {
+	if (sharedHeading) *sharedHeading = std::numeric_limits<double>::quiet_NaN();
 	ASSERT_(searchAngle >= 0 && stepArg >= 0);
 	const double step = stepArg > 0 ? stepArg : m_params.wide_search_step;
 	const double margin = m_params.wide_ambiguity_margin;
@@ -427,9 +431,17 @@ std::optional<TScanMatch> CScanMatcher::matchWide(
 	std::sort(found.begin(), found.end(),
 			  [](const auto& a, const auto& b) { return a.first > b.first; });
 	const auto& [bestScore, bestPose] = found.front();
+	bool rivalled = false, otherHeading = false;
 	for (size_t i = 1; i < found.size(); ++i)
 		if (distinct(bestPose, found[i].second) && bestScore - found[i].first < margin)
-			return std::nullopt;
+			rivalled = true,
+			otherHeading |=
+				std::abs(mrpt::math::wrapToPi(found[i].second.phi - bestPose.phi)) > step / 2;
+	if (rivalled)
+	{
+		if (sharedHeading && !otherHeading) *sharedHeading = bestPose.phi;
+		return std::nullopt;
+	}
 	// Refine the winner with the whole scan, match()'s checks applying, and ask for a clear
 	// majority of the scan matched.
 	auto won =

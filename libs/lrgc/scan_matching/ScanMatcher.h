@@ -120,12 +120,14 @@ public:
 	 * guess was right"), converged on the whole scan. Else nullopt.
 	 * The starts are independent: `parallel`, if given, runs them (TParallelFor), with the
 	 * same result as one after the other. `step_rad` > 0 replaces wide_search_step as the
-	 * heading step between starts. */
+	 * heading step between starts. `sharedHeading`, if given, is set to the best start's
+	 * heading [rad] where (2) alone refuses it and every rival within the margin lies within
+	 * half a step of that heading (the heading is clear, the position is not); else NaN. */
 	std::optional<TScanMatch> matchWide(const CReferenceCloud& ref, const TScan2D& scan,
 										const mrpt::math::TPose2D& guessScanInRef,
 										double searchAngle_rad,
-										const TParallelFor& parallel = {},
-										double step_rad = 0) const;
+										const TParallelFor& parallel = {}, double step_rad = 0,
+										double* sharedHeading = nullptr) const;
 
 	/** [m] The margin of a match's free-space check (CReferenceCloud::freeSpaceViolation):
 	 * 4 robust residual stds `residualStd` [m] of the match, at least 0.1 m. */
