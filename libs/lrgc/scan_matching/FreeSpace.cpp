@@ -193,13 +193,16 @@ double CScanViolation::longRunsShare(double minRun_m) const
 	size_t count = 0;
 	for (size_t i = 0; i < n;)
 	{
-		size_t j =
-			i + 1;  // [i, j): a run of flagged points, each within kWallGap_m of the last
-		if (m_viol[i])
-			while (j < n && m_viol[j] && (m_inRef[j] - m_inRef[j - 1]).norm() < kWallGap_m) ++j;
-		// Two points at least (share()'s flagged neighbour), spanning minRun_m end to end.
-		if (m_viol[i] && j - i >= 2 && (m_inRef[j - 1] - m_inRef[i]).norm() >= minRun_m)
-			count += j - i;
+		if (!m_viol[i])
+		{
+			++i;
+			continue;
+		}
+		// [i, j): a run of flagged points, each within kWallGap_m of the last; it counts with
+		// two points at least (share()'s flagged neighbour), spanning minRun_m end to end.
+		size_t j = i + 1;
+		while (j < n && m_viol[j] && (m_inRef[j] - m_inRef[j - 1]).norm() < kWallGap_m) ++j;
+		if (j - i >= 2 && (m_inRef[j - 1] - m_inRef[i]).norm() >= minRun_m) count += j - i;
 		i = j;
 	}
 	return static_cast<double>(count) / n;
