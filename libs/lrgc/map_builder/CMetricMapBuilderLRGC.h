@@ -289,6 +289,11 @@ private:
 	 * nothing online, re-matched against the map around them (KeyframeRematch.h); the other
 	 * scans hanging from a keyframe moved keep their place in the map. */
 	void rematchUnmatchedKeyframes();
+	/** End of the run, before the final optimisation: the session's first keyframe, placed
+	 * online by the first matches against it alone, re-matched against the map around it as
+	 * an unmatched keyframe is (KeyframeRematch.h); where it moves, the map is moved rigidly
+	 * instead, so that the first pose stays where the session started it. */
+	void rematchFirstKeyframe();
 	/** Takes in what applying loop results did (links, closures, moved poses). */
 	void recordLoopUpdate(const TLoopUpdate& u);
 	bool isNewKeyframe(const mrpt::math::TPose2D& scanInMap) const;

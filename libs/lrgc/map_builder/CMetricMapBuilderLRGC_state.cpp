@@ -80,7 +80,11 @@ void CMetricMapBuilderLRGC::finish()
 		m_stats.revisitLinks = added;
 		MRPT_LOG_INFO_FMT("end of run: %zu revisit links re-matched", added);
 	}
-	if (m_loops) rematchUnmatchedKeyframes();
+	if (m_loops)
+	{
+		rematchUnmatchedKeyframes();
+		rematchFirstKeyframe();
+	}
 	CPoseGraphOptimizer optimizer(m_params.optimizer);
 	optimizer.setStopToken(m_stop);
 	const auto report = optimizer.optimize(m_graph, 0, {}, m_frozenNodes);
@@ -149,6 +153,33 @@ void CMetricMapBuilderLRGC::rematchUnmatchedKeyframes()
 	m_stats.keyframesLeftUnmatched = candidates.size() - moved.size();
 	MRPT_LOG_INFO_FMT("end of run: %zu of %zu unmatched keyframes re-matched", moved.size(),
 					  candidates.size());
+}
+
+void CMetricMapBuilderLRGC::rematchFirstKeyframe()
+{
+	// Node 0 is the map's anchor: the first keyframe of a new session (not of a saved map
+	// continued, whose nodes are frozen). Online only the keyframes right after it were
+	// matched against it, each against it alone, so one wrong first match turns the whole map
+	// about the start (harsh museum, seed 1: the first step matched 8.5 deg off, agreeing with
+	// odometry 7.4 deg off, and the map 6.9 m off its start 45 m away); later passes through
+	// the start place are linked to keyframes 1 and after, never to 0.
+	if (m_frozenNodes > 0 || m_graph.numNodes() < 3) return;
+	CKeyframeRematcher rematcher(m_params.matcher, m_params.local.wide_search_angle,
+								 m_params.local.glitch_gate_chi2,
+								 m_predictor->constantVelocityCov(), m_params.loop.link_noise);
+	rematcher.setStopToken(m_stop);
+	const TPose2D start = m_graph.pose(0);
+	const auto moved = rematcher.rematch(m_graph, m_keyframes, {0}, m_pieceFirst.value_or(0));
+	if (moved.empty()) return;
+	// The match moved node 0 against the map; the map moves instead, rigidly (every node of
+	// node 0's frame by T = start (+) moved^-1), so node 0 is back at its start pose. The
+	// scans hanging from node 0 were matched against it alone: they stay with it.
+	const TPose2D T = compose(start, inverse(m_graph.pose(0)));
+	const size_t end = m_pieceFirst.value_or(m_graph.numNodes());
+	for (size_t j = 0; j < end; ++j) m_graph.setPose(j, compose(T, m_graph.pose(j)));
+	++m_stats.keyframesRematched;
+	++m_stats.loopClosureLinks;  // stats.json: loop_links' rematch_or_reuse
+	MRPT_LOG_INFO("end of run: the first keyframe re-matched, the map turned about it");
 }
 
 void CMetricMapBuilderLRGC::settleIsolatedScans()

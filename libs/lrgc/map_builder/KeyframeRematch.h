@@ -39,6 +39,10 @@
  *      scans after the turn followed that patch link 81 deg off).
  * An unmatched keyframe without evidence stays on its odometry prior: the scan never bends the
  * map (issue 28 item 3). The final optimisation then places every keyframe.
+ * The session's first keyframe goes through the same steps
+ * (CMetricMapBuilderLRGC::rematchFirstKeyframe): online, only the next keyframes were matched
+ * against it, each against it alone, and one wrong match there turns the whole map about the
+ * start.
  * Frames: poses (map <- robot); links (from <- to). Units: m, rad.
  */
 #pragma once
