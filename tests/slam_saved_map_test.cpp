@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include "app_runner.h"
+#include "mirrored_sena.h"
 #include "test_data.h"
 
 using namespace lrgc::test;
@@ -30,6 +31,28 @@ std::string field(const std::string& json, const std::string& key)
 	return json.substr(b, json.find_first_of(",}\n", b) - b);
 }
 }  // namespace
+
+// A start must fit scan by scan, not only the correlation's grid (CLocalizer::probeMatchesMap).
+// Without that check, the mirrored scans' patch passed the paper's filters after 149 scans
+// (a corridor is a corridor in a mirror), and tracking then matched no scan well: kidnapped
+// five scans later, and every scan reported localised.
+TEST(SlamSavedMap, senaSeenInAMirrorFindsNoStart)
+{
+	LRGC_SKIP_IF_MISSING(senaRawlogPath());
+	const std::string dir = makeTempDir("slam_mirror_" + std::to_string(::getpid()));
+	const auto map = runProcess(binaryPath("lrgc-slam"), {"--input", senaRawlogPath(), "--out",
+														  dir + "/map", "--quiet"});
+	ASSERT_EQ(map.exitCode, 0) << map.output;
+	writeMirroredSena(dir + "/mirror.rawlog");
+	const auto loc =
+		runProcess(binaryPath("lrgc-slam"), {"--input", dir + "/mirror.rawlog", "--localize",
+											 dir + "/map", "--out", dir + "/loc", "--quiet"});
+	EXPECT_EQ(loc.exitCode, 1) << loc.output;
+	EXPECT_NE(loc.output.find("no start found"), std::string::npos) << loc.output;
+	const std::string stats = readTextFile(dir + "/loc/stats.json");
+	EXPECT_EQ(field(stats, "kidnapped"), "0") << stats;
+	EXPECT_NE(field(stats, "refused_by_scan_check"), "0") << stats;
+}
 
 TEST(SlamSavedMap, senaContinuedAndLocalisedOnItsOwnMap)
 {

@@ -27,6 +27,7 @@
 
 #include "app_runner.h"
 #include "child_process.h"
+#include "mirrored_sena.h"
 #include "test_data.h"
 
 namespace fs = std::filesystem;
@@ -96,34 +97,6 @@ void writeRepeatedSena(const std::string& path, int laps)
 			}
 			out << *actions << *frame;
 		}
-}
-
-// SENA seen in a mirror: every scan's readings in reverse order (y -> -y), no odometry. A
-// building shaped like no part of SENA's, so that global localisation on SENA's map rejects
-// every attempt and goes on trying with ever larger patches.
-void writeMirroredSena(const std::string& path)
-{
-	const auto reader = lrgc::apps::openLog(senaRawlogPath());
-	mrpt::io::CFileGZOutputStream file(path);
-	auto out = mrpt::serialization::archiveFrom(file);
-	while (auto e = reader->next())
-	{
-		auto frame = mrpt::obs::CSensoryFrame::Create();
-		for (const auto& obs : *e->observations)
-		{
-			auto scan = std::dynamic_pointer_cast<mrpt::obs::CObservation2DRangeScan>(obs);
-			if (!scan) continue;
-			auto mirrored = mrpt::obs::CObservation2DRangeScan::Create(*scan);
-			const size_t n = scan->getScanSize();
-			for (size_t i = 0; i < n; ++i)
-			{
-				mirrored->setScanRange(i, scan->getScanRange(n - 1 - i));
-				mirrored->setScanRangeValidity(i, scan->getScanRangeValidity(n - 1 - i));
-			}
-			frame->insert(mirrored);
-		}
-		out << mrpt::obs::CActionCollection() << *frame;
-	}
 }
 
 // Runs lrgc-slam on the long log, waits for its first progress line (mid-run), sends `sig`

@@ -78,12 +78,16 @@ struct TLocalizerStats
 	size_t localizedScans = 0;                //!< scans with a map pose (the trajectory)
 	size_t scansBeforeStart = 0;              //!< scans taken before the start was found
 	size_t goodMatches = 0, poorMatches = 0;  //!< tracking against the map, once started
-	size_t recentMatches = 0;          //!< of the poor ones, placed by the log's recent scans
-	size_t lostEvents = 0;             //!< lost_after poor matches in a row
-	size_t kidnapEvents = 0;           //!< kidnap_after scans in a row contradicting the map
-	size_t relocalizations = 0;        //!< lost, then found again by global localisation
-	size_t recoveredByTracking = 0;    //!< lost, then a good tracking match came first
-	size_t globalAttempts = 0;         //!< global correlations (start and relocalisations)
+	size_t recentMatches = 0;        //!< of the poor ones, placed by the log's recent scans
+	size_t lostEvents = 0;           //!< lost_after poor matches in a row
+	size_t kidnapEvents = 0;         //!< kidnap_after scans in a row contradicting the map
+	size_t relocalizations = 0;      //!< lost, then found again by global localisation
+	size_t recoveredByTracking = 0;  //!< lost, then a good tracking match came first
+	size_t globalAttempts = 0;       //!< global correlations (start and relocalisations)
+	/** Of the correlations that passed the filters, those refused because the probe's
+	 * newest keyframe scan, placed there, failed tracking's match against the map
+	 * (CLocalizer::probeMatchesMap). */
+	size_t globalRefusedByScan = 0;
 	double globalSeconds = 0;          //!< their total time [s], on the search thread
 	double globalModelledSeconds = 0;  //!< their modelled time (TGlobalLocation) [s]
 	/** Time the tracking thread waited for the search thread to keep up with the modelled
@@ -187,6 +191,9 @@ private:
 	void applySearchResult(const TGlobalLocation& location, double stamp);
 	TSearchArea searchArea(const mrpt::math::TPose2D& newestInProbe) const;
 	void adoptFinderPoses(const TStartFound& found);
+	/** A global correlation's pose checked scan by scan: the probe's newest keyframe, placed
+	 * where `found` puts it, must make a good tracking match against the map there. */
+	bool probeMatchesMap(const TStartFound& found);
 	void record(TLocalizationEvent::Kind kind, double stamp, double jump = 0,
 				double window = 0);
 	/** Matches the scan (map, else recent scans); true if the map match is good.

@@ -81,6 +81,12 @@ void CLocalizer::applySearchResult(const TGlobalLocation& location, double stamp
 		m_stats.lastRejection = m_finder->lastRejection();
 		return;
 	}
+	if (!probeMatchesMap(*found))
+	{
+		++m_stats.globalRefusedByScan;
+		m_stats.lastRejection = "the newest scan does not match the map where the patch fits";
+		return;
+	}
 	const bool starting = !m_stats.started;
 	const TPose2D before = m_pose;
 	adoptFinderPoses(*found);
@@ -98,6 +104,25 @@ void CLocalizer::applySearchResult(const TGlobalLocation& location, double stamp
 	const double jump = translationNorm(between(before, m_pose));
 	MRPT_LOG_WARN_FMT("relocalised at t=%.3f: the pose moved %.2f m", stamp, jump);
 	record(Kind::Relocalized, stamp, jump, m_inFlightWindow);
+}
+
+// The paper's filters judge the patch's correlation with the map's blurred grid, cell by cell
+// (0.10 m cells for a search, [Localization] search_resolution_m). A patch of corridors can
+// pass them where the map's corridors run alike but its scans do not fit: SENA's scans seen
+// in a mirror (y -> -y) were placed after 149 scans, then every tracked scan after that
+// matched poorly and five in a row contradicted the map (kidnapped). So the pose is taken only
+// if the probe's newest keyframe, at that pose, makes the match tracking would call good
+// (isGoodMatch: min_inlier_fraction of the scan, within gate_chi2 of the pose under the
+// correlation's covariance, the match's and the map's floor). Where no map keyframe lies
+// within track_radius_m of it, there is nothing to check it against: the pose stands.
+bool CLocalizer::probeMatchesMap(const TStartFound& found)
+{
+	const CMetricMapBuilderLRGC& probe = m_finder->probe();
+	const size_t newest = probe.graph().numNodes() - 1;
+	const TPose2D poseInMap = compose(found.probeInMap, probe.graph().pose(newest));
+	if (!referenceNear(poseInMap, false)) return true;
+	const TPose2D guess = between(m_refInMap, poseInMap);
+	return isGoodMatch(matchReference(probe.keyframes()[newest].scan, guess), guess, found.cov);
 }
 
 // The finder's scans get their map poses: appended at the start, replacing the tracked ones

@@ -78,6 +78,7 @@ std::string localizationStatsJson(const TLocalizerStats& s, const TRunSummary& r
 	  << "  \"relocalizations\": " << s.relocalizations << ",\n"
 	  << "  \"recovered_by_tracking\": " << s.recoveredByTracking << ",\n"
 	  << "  \"global_localization\": {\"attempts\": " << s.globalAttempts
+	  << ", \"refused_by_scan_check\": " << s.globalRefusedByScan
 	  << ", \"total_s\": " << s.globalSeconds << ", \"modelled_s\": " << s.globalModelledSeconds
 	  << ", \"replay_wait_s\": " << s.replayWaitSeconds
 	  << ", \"replay_wait_max_ms\": " << 1e3 * s.replayWaitMaxSeconds
