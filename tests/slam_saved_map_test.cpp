@@ -32,11 +32,12 @@ std::string field(const std::string& json, const std::string& key)
 }
 }  // namespace
 
-// A start must fit scan by scan, not only the correlation's grid (CLocalizer::probeMatchesMap).
-// Without that check, the mirrored scans' patch passed the paper's filters after 149 scans
-// (a corridor is a corridor in a mirror), and tracking then matched no scan well: kidnapped
-// five scans later, and every scan reported localised.
-TEST(SlamSavedMap, senaSeenInAMirrorFindsNoStart)
+// A start must fit scan by scan, not only the correlation's grid (CLocalizer::probeMatchesMap,
+// and CPieceJoiner's scan check for a continued map). Without that check, the mirrored scans'
+// patch passed the paper's filters after 149 scans (a corridor is a corridor in a mirror), and
+// tracking then matched no scan well: kidnapped five scans later, and every scan reported
+// localised.
+TEST(SlamSavedMap, senaSeenInAMirrorFindsNoStartAndJoinsNot)
 {
 	LRGC_SKIP_IF_MISSING(senaRawlogPath());
 	const std::string dir = makeTempDir("slam_mirror_" + std::to_string(::getpid()));
@@ -52,6 +53,16 @@ TEST(SlamSavedMap, senaSeenInAMirrorFindsNoStart)
 	const std::string stats = readTextFile(dir + "/loc/stats.json");
 	EXPECT_EQ(field(stats, "kidnapped"), "0") << stats;
 	EXPECT_NE(field(stats, "refused_by_scan_check"), "0") << stats;
+
+	// Continued as a piece: joined by the grid alone before the check (38 % of its scan
+	// matched), now kept apart.
+	const auto cont =
+		runProcess(binaryPath("lrgc-slam"), {"--input", dir + "/mirror.rawlog", "--initial-map",
+											 dir + "/map", "--out", dir + "/cont", "--quiet"});
+	ASSERT_EQ(cont.exitCode, 0) << cont.output;
+	EXPECT_NE(cont.output.find("was not joined"), std::string::npos) << cont.output;
+	const std::string contStats = readTextFile(dir + "/cont/stats.json");
+	EXPECT_NE(contStats.find("\"joined\": false"), std::string::npos) << contStats;
 }
 
 TEST(SlamSavedMap, senaContinuedAndLocalisedOnItsOwnMap)

@@ -1,8 +1,8 @@
 /* SENA seen in a mirror (e2e tests): every scan's readings in reverse order (y -> -y in the
  * laser's frame), no odometry. Corridors and rooms alike, but a building no part of SENA's map
  * looks like scan by scan; a patch of its corridors can still pass the correlation's filters
- * somewhere (SlamSavedMap.senaSeenInAMirrorFindsNoStart). Header only: it reads the rawlog
- * with lrgc_apps, which the e2e tests link and lrgc_test_support does not. */
+ * somewhere (SlamSavedMap.senaSeenInAMirrorFindsNoStartAndJoinsNot). Header only: it reads the
+ * rawlog with lrgc_apps, which the e2e tests link and lrgc_test_support does not. */
 #pragma once
 
 #include <lrgc_apps/io/LogReader.h>

@@ -23,7 +23,16 @@ std::optional<TPieceJoin> CPieceJoiner::service(const CMetricMapBuilderLRGC& bui
 	ASSERTMSG_(first, "CPieceJoiner::service: the builder maps no piece apart");
 	m_logClock = std::max(m_logClock, now);
 	if (auto location = m_worker.takeIfDue(m_logClock))
-		if (auto join = conclude(*location)) return join;
+		if (auto join = conclude(*location))
+		{
+			// The scan check: a join the piece's own scan does not confirm is refused, and the
+			// search goes on (SENA seen in a mirror joined SENA's map by the grid alone).
+			const std::string problem =
+				builder.pieceJoinProblem(join->node, join->nodeInMap, join->cov);
+			if (problem.empty()) return join;
+			++m_refusedByScan;
+			m_lastRejection = "the scan check: " + problem;
+		}
 	const CPoseGraph& g = builder.graph();
 	const size_t n = g.numNodes() - *first;  // the piece's keyframes
 	if (m_worker.busy() || n == 0 || !m_schedule.due(n)) return std::nullopt;

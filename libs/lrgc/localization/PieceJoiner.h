@@ -11,7 +11,10 @@
  * thread and its result is taken at the scan the log fixes (due = submitted + modelled work /
  * search_budget_ms_per_s), so an offline run is deterministic and the mapping thread never
  * waits for a search it could do without. A result is accepted only if it passes the three
- * filters of [PatchCorrelator] (score, ambiguity, variance), as the start of a log is.
+ * filters of [PatchCorrelator] (score, ambiguity, variance), as the start of a log is, and if
+ * the piece's keyframe, placed there, matches the map's keyframes around it
+ * (CMetricMapBuilderLRGC::pieceJoinProblem; as a localisation's start,
+ * CLocalizer::probeMatchesMap): a patch of corridors can pass the filters in a mirror.
  * The old map is copied into the correlation grid at construction: the piece's own keyframes
  * are never searched.
  */
@@ -64,6 +67,8 @@ public:
 	double replayWaitSeconds() const { return m_worker.waitedSeconds(); }
 	/** Why the last attempt failed ("score 0.41 < min_score 0.60"), empty before one. */
 	const std::string& lastRejection() const { return m_lastRejection; }
+	/** Correlations that passed the filters but not the scan check (service()). */
+	size_t refusedByScan() const { return m_refusedByScan; }
 
 private:
 	std::optional<TPieceJoin> conclude(const TGlobalLocation& location);
@@ -76,7 +81,7 @@ private:
 	std::optional<TPatchRequest> m_inFlight;
 	size_t m_inFlightNode = 0;
 	double m_logClock = -1e300;  //!< latest log time so far [s]: never backwards
-	size_t m_attempts = 0;
+	size_t m_attempts = 0, m_refusedByScan = 0;
 	double m_seconds = 0;
 	std::string m_lastRejection;
 };

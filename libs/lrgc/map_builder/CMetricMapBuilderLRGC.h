@@ -181,6 +181,11 @@ public:
 	 * loop link ties `node` to the nearest map keyframe. Returns the (map <- piece) applied. */
 	mrpt::math::TPose2D joinPiece(size_t node, const mrpt::math::TPose2D& nodeInMap,
 								  const Eigen::Matrix3d& cov);
+	/** Why joinPiece(node, nodeInMap, cov) would link the piece by the correlation alone:
+	 * the scan match of `node` against the map's keyframes around `nodeInMap` failed or does
+	 * not confirm it (linkToMap); empty where it confirms it. Requires pieceFirstNode(). */
+	std::string pieceJoinProblem(size_t node, const mrpt::math::TPose2D& nodeInMap,
+								 const Eigen::Matrix3d& cov) const;
 	/** The laser the map is built from (first seen, or restored). */
 	const std::string& laserLabel() const { return m_lasers.label(); }
 	mrpt::poses::CPose3DPDF::Ptr getCurrentPoseEstimation() const override;

@@ -80,6 +80,14 @@ void CMetricMapBuilderLRGC::freezeMap()
 	if (m_loops) m_loops->setFrozenNodes(m_frozenNodes);
 }
 
+std::string CMetricMapBuilderLRGC::pieceJoinProblem(size_t node, const TPose2D& nodeInMap,
+													const Eigen::Matrix3d& cov) const
+{
+	const auto lock = lockMap();
+	ASSERTMSG_(m_pieceFirst, "pieceJoinProblem(): no piece is being mapped apart");
+	return linkToMap(node, nodeInMap, cov, *m_pieceFirst).problem;
+}
+
 TPose2D CMetricMapBuilderLRGC::joinPiece(size_t node, const TPose2D& nodeInMap,
 										 const Eigen::Matrix3d& cov)
 {

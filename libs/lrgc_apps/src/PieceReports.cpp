@@ -60,6 +60,7 @@ void recordJoinerFigures(const CPieceJoiner& joiner, const CMetricMapBuilderLRGC
 						 TRunSummary& run)
 {
 	run.startAttempts = joiner.attempts();
+	run.joinsRefusedByScan = joiner.refusedByScan();
 	run.startSeconds = joiner.secondsSpent();
 	run.joinReplayWaitSeconds = joiner.replayWaitSeconds();
 	run.lastJoinRejection = joiner.lastRejection();

@@ -233,6 +233,7 @@ std::string initialMapJson(const TRunSummary& run)
 		   ", \"joined\": " + (run.joined ? "true" : "false") +
 		   ", \"start_found_after_scans\": " + std::to_string(run.startScans) +
 		   ", \"start_attempts\": " + std::to_string(run.startAttempts) +
+		   ", \"refused_by_scan_check\": " + std::to_string(run.joinsRefusedByScan) +
 		   ", \"start_search_s\": " + std::to_string(run.startSeconds) +
 		   ", \"replay_wait_s\": " + std::to_string(run.joinReplayWaitSeconds) +
 		   ", \"frame\": " + jsonString(run.frame) + "},\n";

@@ -43,6 +43,7 @@ struct TRunSummary
 	bool joined = false;               //!< the piece was joined to the map
 	size_t startScans = 0;             //!< scans mapped when the piece was joined (or in all)
 	size_t startAttempts = 0;          //!< global correlations tried
+	size_t joinsRefusedByScan = 0;     //!< of them, passed the filters but not the scan check
 	double startSeconds = 0;           //!< their time on the search thread [s]
 	double joinReplayWaitSeconds = 0;  //!< the mapping thread's wait for that thread [s]
 	/** The frame the log's poses are stated in: "map", or the piece's own ("the log's first
