@@ -84,8 +84,8 @@ struct TLocalizerStats
 	size_t relocalizations = 0;      //!< lost, then found again by global localisation
 	size_t recoveredByTracking = 0;  //!< lost, then a good tracking match came first
 	size_t globalAttempts = 0;       //!< global correlations (start and relocalisations)
-	/** Of the correlations that passed the filters, those refused because the probe's
-	 * newest keyframe scan, placed there, failed tracking's match against the map
+	/** Of the correlations that passed the filters, those refused because a keyframe of the
+	 * patch, placed there, failed tracking's match against the map
 	 * (CLocalizer::probeMatchesMap). */
 	size_t globalRefusedByScan = 0;
 	double globalSeconds = 0;          //!< their total time [s], on the search thread
@@ -191,8 +191,9 @@ private:
 	void applySearchResult(const TGlobalLocation& location, double stamp);
 	TSearchArea searchArea(const mrpt::math::TPose2D& newestInProbe) const;
 	void adoptFinderPoses(const TStartFound& found);
-	/** A global correlation's pose checked scan by scan: the probe's newest keyframe, placed
-	 * where `found` puts it, must make a good tracking match against the map there. */
+	/** A global correlation's pose checked scan by scan: each keyframe of the accepted patch
+	 * (the probe's newest found.patchKeyframes), placed where `found` puts it, must make a
+	 * good tracking match against the map there. */
 	bool probeMatchesMap(const TStartFound& found);
 	void record(TLocalizationEvent::Kind kind, double stamp, double jump = 0,
 				double window = 0);

@@ -12,7 +12,7 @@
  * search_budget_ms_per_s), so an offline run is deterministic and the mapping thread never
  * waits for a search it could do without. A result is accepted only if it passes the three
  * filters of [PatchCorrelator] (score, ambiguity, variance), as the start of a log is, and if
- * the piece's keyframe, placed there, matches the map's keyframes around it
+ * each keyframe of the patch, placed there, matches the map's keyframes around it
  * (CMetricMapBuilderLRGC::pieceJoinProblem; as a localisation's start,
  * CLocalizer::probeMatchesMap): a patch of corridors can pass the filters in a mirror.
  * The old map is copied into the correlation grid at construction: the piece's own keyframes
@@ -72,6 +72,9 @@ public:
 
 private:
 	std::optional<TPieceJoin> conclude(const TGlobalLocation& location);
+	/** Why the patch's keyframes, placed by `join`, do not confirm it; empty if they do. */
+	std::string patchProblem(const CMetricMapBuilderLRGC& builder,
+							 const TPieceJoin& join) const;
 
 	TLocalizationParams m_params;
 	CGlobalLocalizer m_global;

@@ -183,7 +183,9 @@ public:
 								  const Eigen::Matrix3d& cov);
 	/** Why joinPiece(node, nodeInMap, cov) would link the piece by the correlation alone:
 	 * the scan match of `node` against the map's keyframes around `nodeInMap` failed or does
-	 * not confirm it (linkToMap); empty where it confirms it. Requires pieceFirstNode(). */
+	 * not confirm it (linkToMap); empty where it confirms it, and where no map keyframe lies
+	 * within [LoopCloser] overlap_radius_m of it (nothing to check it against). Requires
+	 * pieceFirstNode(). */
 	std::string pieceJoinProblem(size_t node, const mrpt::math::TPose2D& nodeInMap,
 								 const Eigen::Matrix3d& cov) const;
 	/** The laser the map is built from (first seen, or restored). */
