@@ -45,9 +45,14 @@ TEST(SlamSavedMap, senaSeenInAMirrorFindsNoStartAndJoinsNot)
 														  dir + "/map", "--quiet"});
 	ASSERT_EQ(map.exitCode, 0) << map.output;
 	writeMirroredSena(dir + "/mirror.rawlog");
-	const auto loc =
-		runProcess(binaryPath("lrgc-slam"), {"--input", dir + "/mirror.rawlog", "--localize",
-											 dir + "/map", "--out", dir + "/loc", "--quiet"});
+	// The mirrored log on SENA's map: `mode` --localize or --initial-map, outputs in dir/out.
+	const auto onTheMap = [&](const std::string& mode, const std::string& out)
+	{
+		return runProcess(binaryPath("lrgc-slam"),
+						  {"--input", dir + "/mirror.rawlog", mode, dir + "/map", "--out",
+						   dir + "/" + out, "--quiet"});
+	};
+	const auto loc = onTheMap("--localize", "loc");
 	EXPECT_EQ(loc.exitCode, 1) << loc.output;
 	EXPECT_NE(loc.output.find("no start found"), std::string::npos) << loc.output;
 	const std::string stats = readTextFile(dir + "/loc/stats.json");
@@ -56,9 +61,7 @@ TEST(SlamSavedMap, senaSeenInAMirrorFindsNoStartAndJoinsNot)
 
 	// Continued as a piece: joined by the grid alone before the check (38 % of its scan
 	// matched), now kept apart.
-	const auto cont =
-		runProcess(binaryPath("lrgc-slam"), {"--input", dir + "/mirror.rawlog", "--initial-map",
-											 dir + "/map", "--out", dir + "/cont", "--quiet"});
+	const auto cont = onTheMap("--initial-map", "cont");
 	ASSERT_EQ(cont.exitCode, 0) << cont.output;
 	EXPECT_NE(cont.output.find("was not joined"), std::string::npos) << cont.output;
 	const std::string contStats = readTextFile(dir + "/cont/stats.json");

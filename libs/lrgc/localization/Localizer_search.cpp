@@ -84,7 +84,8 @@ void CLocalizer::applySearchResult(const TGlobalLocation& location, double stamp
 	if (!probeMatchesMap(*found))
 	{
 		++m_stats.globalRefusedByScan;
-		m_stats.lastRejection = "the newest scan does not match the map where the patch fits";
+		m_stats.lastRejection =
+			"a scan of the patch does not match the map where the patch fits";
 		return;
 	}
 	const bool starting = !m_stats.started;

@@ -58,6 +58,7 @@ class CLocalRegistration;
 class CSweepEstimator;
 class CLoopClosing;
 class CKeyframeReuse;
+class CKeyframeRematcher;
 struct TReusedKeyframe;
 struct TRegistration;
 struct TLoopUpdate;
@@ -301,6 +302,8 @@ private:
 	 * an unmatched keyframe is (KeyframeRematch.h); where it moves, the map is moved rigidly
 	 * instead, so that the first pose stays where the session started it. */
 	void rematchFirstKeyframe();
+	/** The end-of-run re-matcher of both, with this builder's parameters and stop token. */
+	CKeyframeRematcher keyframeRematcher() const;
 	/** Takes in what applying loop results did (links, closures, moved poses). */
 	void recordLoopUpdate(const TLoopUpdate& u);
 	bool isNewKeyframe(const mrpt::math::TPose2D& scanInMap) const;
@@ -340,6 +343,7 @@ private:
 		TLink link;
 		mrpt::math::TPose2D nodeInMap;  //!< where the link puts `node`
 		std::string problem;            //!< why the match was not used; empty if it was
+		bool mapAround = false;  //!< a map keyframe lies within overlap_radius_m: matched
 	};
 	TMapLink linkToMap(size_t node, const mrpt::math::TPose2D& guess,
 					   const Eigen::Matrix3d& cov, size_t mapEnd) const;

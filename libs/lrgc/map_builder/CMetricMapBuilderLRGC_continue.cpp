@@ -322,7 +322,8 @@ CMetricMapBuilderLRGC::TMapLink CMetricMapBuilderLRGC::linkToMap(size_t node,
 	TMapLink out{{nearest, node, guess, linkInformation(covInNearest, m_params.loop.link_noise),
 				  LinkType::LoopClosure},
 				 guessInMap,
-				 {}};
+				 {},
+				 !scans.empty()};
 	// The old scans were taken at another time: their agreement with a new scan is limited by
 	// the loop links' noise floor, as is the correlation's with the match.
 	if (m && m->inlierFraction >= m_params.local.min_link_inlier_fraction &&

@@ -85,11 +85,8 @@ std::string CMetricMapBuilderLRGC::pieceJoinProblem(size_t node, const TPose2D& 
 {
 	const auto lock = lockMap();
 	ASSERTMSG_(m_pieceFirst, "pieceJoinProblem(): no piece is being mapped apart");
-	bool near = false;
-	for (size_t j = 0; j < *m_pieceFirst && !near; ++j)
-		near = translationNorm(between(m_graph.pose(j), nodeInMap)) <=
-			   m_params.loop.overlap_radius_m;
-	return near ? linkToMap(node, nodeInMap, cov, *m_pieceFirst).problem : std::string();
+	const TMapLink j = linkToMap(node, nodeInMap, cov, *m_pieceFirst);
+	return j.mapAround ? j.problem : std::string();
 }
 
 TPose2D CMetricMapBuilderLRGC::joinPiece(size_t node, const TPose2D& nodeInMap,

@@ -136,10 +136,7 @@ void CMetricMapBuilderLRGC::rematchUnmatchedKeyframes()
 			candidates.push_back(s.node);
 	}
 	if (candidates.empty()) return;
-	CKeyframeRematcher rematcher(m_params.matcher, m_params.local.wide_search_angle,
-								 m_params.local.glitch_gate_chi2,
-								 m_predictor->constantVelocityCov(), m_params.loop.link_noise);
-	rematcher.setStopToken(m_stop);
+	const CKeyframeRematcher rematcher = keyframeRematcher();
 	const auto moved =
 		rematcher.rematch(m_graph, m_keyframes, candidates, m_pieceFirst.value_or(0));
 	// The other scans hanging from a moved keyframe were registered against the window's
@@ -155,6 +152,15 @@ void CMetricMapBuilderLRGC::rematchUnmatchedKeyframes()
 					  candidates.size());
 }
 
+CKeyframeRematcher CMetricMapBuilderLRGC::keyframeRematcher() const
+{
+	CKeyframeRematcher rematcher(m_params.matcher, m_params.local.wide_search_angle,
+								 m_params.local.glitch_gate_chi2,
+								 m_predictor->constantVelocityCov(), m_params.loop.link_noise);
+	rematcher.setStopToken(m_stop);
+	return rematcher;
+}
+
 void CMetricMapBuilderLRGC::rematchFirstKeyframe()
 {
 	// Node 0 is the map's anchor: the first keyframe of a new session (not of a saved map
@@ -164,10 +170,7 @@ void CMetricMapBuilderLRGC::rematchFirstKeyframe()
 	// odometry 7.4 deg off, and the map 6.9 m off its start 45 m away); later passes through
 	// the start place are linked to keyframes 1 and after, never to 0.
 	if (m_frozenNodes > 0 || m_graph.numNodes() < 3) return;
-	CKeyframeRematcher rematcher(m_params.matcher, m_params.local.wide_search_angle,
-								 m_params.local.glitch_gate_chi2,
-								 m_predictor->constantVelocityCov(), m_params.loop.link_noise);
-	rematcher.setStopToken(m_stop);
+	const CKeyframeRematcher rematcher = keyframeRematcher();
 	const TPose2D start = m_graph.pose(0);
 	const auto moved = rematcher.rematch(m_graph, m_keyframes, {0}, m_pieceFirst.value_or(0));
 	if (moved.empty()) return;
